@@ -1,0 +1,98 @@
+//! Objective evaluations per second of each optimiser on Sphere-30 and
+//! Rastrigin-30, against the bare cost of the function alone.
+//!
+//! Every benchmark reports its throughput in evaluations (criterion's
+//! "elements"), so the optimiser's overhead ratio is
+//! `time per evaluation inside the optimiser / time per bare evaluation`;
+//! the target is ≤ 2 (the optimiser's own work per evaluation costs at most
+//! one Sphere-30 evaluation). `make bench` prints the ratio table at the end.
+
+use std::hint::black_box;
+use std::path::Path;
+
+use criterion::{BenchmarkId, Criterion, Throughput};
+use metabezier::functions::{Function, TestProblem};
+use metabezier::optim::{Algorithm, Optimiser};
+use metabezier::problem::Problem;
+use metabezier::rng::{run_rng, Draw};
+
+const BUDGET: u64 = 20_000;
+const POINTS: usize = 1024;
+
+fn bench_function(c: &mut Criterion, f: Function) {
+    let problem = TestProblem::new(f, 30).unwrap();
+    let mut rng = run_rng(1);
+    let points: Vec<Vec<f64>> = (0..POINTS)
+        .map(|_| {
+            problem
+                .bounds()
+                .iter()
+                .map(|b| b.lerp(rng.unit()))
+                .collect()
+        })
+        .collect();
+    let mut group = c.benchmark_group(format!("{}-30", f.name()));
+    group.throughput(Throughput::Elements(POINTS as u64));
+    group.bench_function("bare", |b| {
+        b.iter(|| {
+            let mut s = 0.0;
+            for x in &points {
+                s += problem.objective(black_box(x));
+            }
+            s
+        })
+    });
+    group.throughput(Throughput::Elements(BUDGET));
+    for name in Algorithm::NAMES {
+        let algo = Algorithm::default_for(name).unwrap();
+        group.bench_with_input(BenchmarkId::from_parameter(name), &algo, |b, algo| {
+            let mut seed = 0;
+            b.iter(|| {
+                seed += 1;
+                algo.run(&problem, BUDGET, &mut run_rng(seed)).best_value
+            })
+        });
+    }
+    group.finish();
+}
+
+/// Reads criterion's mean time per iteration (ns) of one benchmark.
+fn mean_ns(group: &str, id: &str) -> Option<f64> {
+    let path = Path::new("target/criterion")
+        .join(group)
+        .join(id)
+        .join("new/estimates.json");
+    let text = std::fs::read_to_string(path).ok()?;
+    let at = text.find("\"mean\"")?;
+    let rest = &text[at..];
+    let p = rest.find("\"point_estimate\":")? + "\"point_estimate\":".len();
+    let end = rest[p..].find([',', '}'])?;
+    rest[p..p + end].trim().parse().ok()
+}
+
+fn main() {
+    let mut c = Criterion::default().configure_from_args();
+    bench_function(&mut c, Function::Sphere);
+    bench_function(&mut c, Function::Rastrigin);
+    c.final_summary();
+    println!("\nTime per evaluation inside each optimiser against the bare function:");
+    println!("ratio = ns/eval ÷ bare ns; overhead = (ns/eval − bare ns) in units of one bare Sphere-30 evaluation");
+    println!(
+        "{:<14} {:>6} {:>10} {:>10} {:>8} {:>9}",
+        "function", "algo", "ns/eval", "bare ns", "ratio", "overhead"
+    );
+    let sphere_bare = mean_ns("sphere-30", "bare").map(|t| t / POINTS as f64);
+    for f in ["sphere-30", "rastrigin-30"] {
+        let bare = mean_ns(f, "bare").map(|t| t / POINTS as f64);
+        for name in Algorithm::NAMES {
+            if let (Some(run), Some(bare), Some(sphere)) = (mean_ns(f, name), bare, sphere_bare) {
+                let per_eval = run / BUDGET as f64;
+                let ratio = per_eval / bare;
+                let overhead = (per_eval - bare) / sphere;
+                println!(
+                    "{f:<14} {name:>6} {per_eval:>10.1} {bare:>10.1} {ratio:>8.2} {overhead:>9.2}"
+                );
+            }
+        }
+    }
+}

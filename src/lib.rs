@@ -1,0 +1,20 @@
+//! metabezier: curve reconstruction by metaheuristics on (rational) Bézier
+//! functions, with a reproducible experiment runner.
+//!
+//! Data flows one way: a [`spec::Spec`] is checked, the [`runner`] executes
+//! its seeded runs with the [`optim`] optimisers on [`problem::Problem`]s
+//! such as the [`functions`], and [`records`] writes the tidy CSV results.
+#![warn(missing_docs)]
+
+pub mod cli;
+pub mod error;
+pub mod functions;
+pub mod geometry;
+pub mod optim;
+pub mod problem;
+pub mod records;
+pub mod report;
+pub mod rng;
+pub mod runner;
+pub mod spec;
+pub mod stats;

@@ -1,0 +1,276 @@
+//! The evaluation budget: counts objective evaluations, keeps the best-so-far
+//! and records the convergence trace.
+//!
+//! This is the "executor" of the argmin split: an optimiser asks the
+//! [`Evaluator`] for every objective value, so budgets are counted in
+//! evaluations for every algorithm alike, and the trace is recorded the same
+//! way for all of them.
+
+use crate::problem::{Bounds, Problem};
+
+/// The best-so-far value after a given number of evaluations.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TracePoint {
+    /// Evaluations used so far.
+    pub evaluations: u64,
+    /// The smallest objective value seen in those evaluations.
+    pub best: f64,
+}
+
+/// What an optimiser run produced.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Outcome {
+    /// The best decision vector found.
+    pub best_x: Vec<f64>,
+    /// Its objective value (`+∞` if no finite value was ever seen).
+    pub best_value: f64,
+    /// Objective evaluations used (never more than the budget).
+    pub evaluations: u64,
+    /// The first evaluation count at which the best value reached the
+    /// target, if a target was set and reached.
+    pub evaluations_to_target: Option<u64>,
+    /// Best-so-far at the checkpoints (log-spaced by default), ending at the
+    /// last evaluation.
+    pub trace: Vec<TracePoint>,
+}
+
+/// Log-spaced evaluation counts `round(10^(k/per_decade))`, deduplicated, up
+/// to and including `budget`; the convergence checkpoints of a run.
+pub fn log_checkpoints(budget: u64, per_decade: u32) -> Vec<u64> {
+    let mut out: Vec<u64> = Vec::new();
+    let per_decade = per_decade.max(1);
+    let mut k = 0u32;
+    loop {
+        let e = 10f64.powf(f64::from(k) / f64::from(per_decade)).round() as u64;
+        if e >= budget {
+            break;
+        }
+        if out.last() != Some(&e) {
+            out.push(e);
+        }
+        k += 1;
+    }
+    if budget > 0 {
+        out.push(budget);
+    }
+    out
+}
+
+/// Maps a NaN to `+∞`, so that a NaN objective ranks worse than any finite
+/// value under `<` and never wins a comparison.
+#[inline]
+pub fn sanitise(value: f64) -> f64 {
+    if value.is_nan() {
+        f64::INFINITY
+    } else {
+        value
+    }
+}
+
+/// Counts evaluations against a budget, tracks the best-so-far and records
+/// the trace. Optimisers call [`Evaluator::evaluate`] for every objective
+/// value and stop when [`Evaluator::remaining`] is zero.
+pub struct Evaluator<'p, P: Problem + ?Sized> {
+    problem: &'p P,
+    budget: u64,
+    used: u64,
+    best_value: f64,
+    best_x: Vec<f64>,
+    target: f64,
+    hit: Option<u64>,
+    checkpoints: Vec<u64>,
+    next_checkpoint: usize,
+    trace: Vec<TracePoint>,
+}
+
+impl<'p, P: Problem + ?Sized> Evaluator<'p, P> {
+    /// An evaluator for `problem` allowing `budget` evaluations, with
+    /// log-spaced checkpoints (10 per decade) and no target.
+    pub fn new(problem: &'p P, budget: u64) -> Self {
+        let dim = problem.dim();
+        Self {
+            problem,
+            budget,
+            used: 0,
+            best_value: f64::INFINITY,
+            best_x: vec![f64::NAN; dim],
+            target: f64::NEG_INFINITY,
+            hit: None,
+            checkpoints: log_checkpoints(budget, 10),
+            next_checkpoint: 0,
+            trace: Vec::new(),
+        }
+    }
+
+    /// Records the first evaluation count at which the best value is `≤ target`
+    /// (`f* + threshold` in a benchmark study).
+    pub fn with_target(mut self, target: f64) -> Self {
+        self.target = target;
+        self
+    }
+
+    /// Replaces the checkpoints at which the best-so-far is recorded; they
+    /// must be ascending. The final evaluation is always recorded too.
+    pub fn with_checkpoints(mut self, mut checkpoints: Vec<u64>) -> Self {
+        checkpoints.retain(|&c| c > 0 && c <= self.budget);
+        checkpoints.dedup();
+        self.checkpoints = checkpoints;
+        self
+    }
+
+    /// The problem being minimised.
+    #[inline]
+    pub fn problem(&self) -> &'p P {
+        self.problem
+    }
+
+    /// The problem's bounds.
+    #[inline]
+    pub fn bounds(&self) -> &'p [Bounds] {
+        self.problem.bounds()
+    }
+
+    /// The problem's dimension.
+    #[inline]
+    pub fn dim(&self) -> usize {
+        self.problem.dim()
+    }
+
+    /// The total budget in evaluations.
+    #[inline]
+    pub fn budget(&self) -> u64 {
+        self.budget
+    }
+
+    /// Evaluations used so far.
+    #[inline]
+    pub fn used(&self) -> u64 {
+        self.used
+    }
+
+    /// Evaluations left in the budget.
+    #[inline]
+    pub fn remaining(&self) -> u64 {
+        self.budget - self.used
+    }
+
+    /// The fraction of the budget used, `t/NI` in the thesis's notation.
+    #[inline]
+    pub fn progress(&self) -> f64 {
+        if self.budget == 0 {
+            1.0
+        } else {
+            self.used as f64 / self.budget as f64
+        }
+    }
+
+    /// The best value seen so far.
+    #[inline]
+    pub fn best_value(&self) -> f64 {
+        self.best_value
+    }
+
+    /// Evaluates `f(x)`, counts it, and returns the value with NaN mapped to
+    /// `+∞`. Once the budget is spent it returns `+∞` without evaluating.
+    #[inline]
+    pub fn evaluate(&mut self, x: &[f64]) -> f64 {
+        debug_assert_eq!(x.len(), self.problem.dim());
+        if self.used >= self.budget {
+            return f64::INFINITY;
+        }
+        let value = sanitise(self.problem.objective(x));
+        self.used += 1;
+        if value < self.best_value {
+            self.best_value = value;
+            self.best_x.copy_from_slice(x);
+            if self.hit.is_none() && value <= self.target {
+                self.hit = Some(self.used);
+            }
+        }
+        if self.checkpoints.get(self.next_checkpoint) == Some(&self.used) {
+            self.trace.push(TracePoint {
+                evaluations: self.used,
+                best: self.best_value,
+            });
+            self.next_checkpoint += 1;
+        }
+        value
+    }
+
+    /// Ends the run and returns its [`Outcome`].
+    pub fn finish(mut self) -> Outcome {
+        if self.used > 0 && self.trace.last().map(|p| p.evaluations) != Some(self.used) {
+            self.trace.push(TracePoint {
+                evaluations: self.used,
+                best: self.best_value,
+            });
+        }
+        Outcome {
+            best_x: self.best_x,
+            best_value: self.best_value,
+            evaluations: self.used,
+            evaluations_to_target: self.hit,
+            trace: self.trace,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct Line;
+    impl Problem for Line {
+        fn dim(&self) -> usize {
+            1
+        }
+        fn bounds(&self) -> &[Bounds] {
+            const B: [Bounds; 1] = [Bounds::new(-1.0, 1.0)];
+            &B
+        }
+        fn objective(&self, x: &[f64]) -> f64 {
+            if x[0] == 0.5 {
+                f64::NAN
+            } else {
+                x[0]
+            }
+        }
+    }
+
+    #[test]
+    fn checkpoints_are_log_spaced_and_end_at_budget() {
+        assert_eq!(log_checkpoints(10, 1), vec![1, 10]);
+        assert_eq!(log_checkpoints(1000, 1), vec![1, 10, 100, 1000]);
+        assert_eq!(log_checkpoints(3, 10), vec![1, 2, 3]);
+        let c = log_checkpoints(100_000, 10);
+        assert!(c.windows(2).all(|w| w[0] < w[1]));
+        // 51 grid points 10^(k/10), k = 0..=50, less the three that round
+        // onto their predecessor (1.26→1, 1.995→2, 3.16→3).
+        assert_eq!(c.len(), 48);
+        assert_eq!(log_checkpoints(0, 10), Vec::<u64>::new());
+    }
+
+    #[test]
+    fn counts_budget_tracks_best_and_target() {
+        let mut ev = Evaluator::new(&Line, 4).with_target(-0.5);
+        assert_eq!(ev.evaluate(&[0.5]), f64::INFINITY, "NaN ranks worst");
+        assert_eq!(ev.evaluate(&[0.2]), 0.2);
+        assert_eq!(ev.evaluate(&[-0.7]), -0.7);
+        assert_eq!(ev.evaluate(&[0.9]), 0.9);
+        assert_eq!(ev.remaining(), 0);
+        assert_eq!(
+            ev.evaluate(&[-1.0]),
+            f64::INFINITY,
+            "no evaluation past the budget"
+        );
+        let out = ev.finish();
+        assert_eq!(out.evaluations, 4);
+        assert_eq!(out.best_value, -0.7);
+        assert_eq!(out.best_x, vec![-0.7]);
+        assert_eq!(out.evaluations_to_target, Some(3));
+        let evals: Vec<u64> = out.trace.iter().map(|p| p.evaluations).collect();
+        assert_eq!(evals, vec![1, 2, 3, 4]);
+        assert_eq!(out.trace[0].best, f64::INFINITY);
+        assert_eq!(out.trace[3].best, -0.7);
+    }
+}

@@ -1,0 +1,182 @@
+//! The optimisers of the thesis's chapter 4 and the interface they share.
+//!
+//! Every optimiser minimises a [`Problem`] through an [`Evaluator`], which
+//! counts the objective evaluations against a budget, so that algorithms
+//! are compared at equal cost. Optimisers take their random number
+//! generator from the caller and keep no global state.
+//!
+//! | spec name | algorithm | source |
+//! |---|---|---|
+//! | `hs` | [`HarmonySearch`] | Geem, Kim & Loganathan 2001 |
+//! | `ghs` | [`GlobalBestHarmonySearch`] | Omran & Mahdavi 2008 |
+//! | `ga` | [`GeneticAlgorithm`] | real-coded GA (Goldberg 1989; Eshelman & Schaffer 1993) |
+//! | `pso` | [`ParticleSwarm`] | Kennedy & Eberhart 1995; Shi & Eberhart 1998 |
+//! | `mhs` | [`ModifiedHarmonySearch`] | the thesis (reconstructed) |
+
+pub mod evaluator;
+pub mod ga;
+pub mod ghs;
+pub mod harmony;
+pub mod hs;
+pub mod mhs;
+pub mod params;
+pub mod pso;
+
+use std::fmt;
+
+use rand::RngCore;
+
+pub use evaluator::{Evaluator, Outcome, TracePoint};
+pub use ga::GeneticAlgorithm;
+pub use ghs::GlobalBestHarmonySearch;
+pub use hs::HarmonySearch;
+pub use mhs::ModifiedHarmonySearch;
+pub use params::{ParamDef, ParamSet};
+pub use pso::ParticleSwarm;
+
+use crate::problem::{BoundPolicy, Problem};
+use params::{Kind, Setting};
+
+/// A minimiser of box-bounded problems under an evaluation budget.
+pub trait Optimiser {
+    /// Minimises `eval`'s problem until its budget is spent, drawing all
+    /// randomness from `rng`.
+    fn minimise<P: Problem + ?Sized, R: RngCore + ?Sized>(
+        &self,
+        eval: &mut Evaluator<'_, P>,
+        rng: &mut R,
+    );
+
+    /// Minimises `problem` with `budget` evaluations and returns the outcome.
+    fn run<P: Problem + ?Sized, R: RngCore + ?Sized>(
+        &self,
+        problem: &P,
+        budget: u64,
+        rng: &mut R,
+    ) -> Outcome {
+        let mut eval = Evaluator::new(problem, budget);
+        self.minimise(&mut eval, rng);
+        eval.finish()
+    }
+}
+
+/// A parameter combination that is invalid as a whole (each value may be
+/// in range on its own), naming the parameter to change.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParamError {
+    /// The parameter to change.
+    pub param: &'static str,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl ParamError {
+    /// An error about `param`.
+    pub fn new(param: &'static str, message: String) -> Self {
+        Self { param, message }
+    }
+}
+
+impl fmt::Display for ParamError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for ParamError {}
+
+/// The shared `bounds` parameter: how values outside the box are repaired.
+pub const BOUNDS_PARAM: ParamDef = ParamDef {
+    name: "bounds",
+    doc: "bound handling: \"clip\" or \"reflect\"",
+    kind: Kind::Choice(&BoundPolicy::NAMES),
+    default: Setting::Choice("clip"),
+};
+
+/// Reads the [`BOUNDS_PARAM`] of a parameter set.
+pub fn policy_param(p: &ParamSet) -> BoundPolicy {
+    BoundPolicy::from_name(p.choice("bounds")).unwrap_or_default()
+}
+
+/// One of the five optimisers, configured; the unit an experiment spec names.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Algorithm {
+    /// Harmony Search.
+    Hs(HarmonySearch),
+    /// Global-best Harmony Search.
+    Ghs(GlobalBestHarmonySearch),
+    /// Real-coded Genetic Algorithm.
+    Ga(GeneticAlgorithm),
+    /// Particle Swarm Optimisation.
+    Pso(ParticleSwarm),
+    /// Modified Harmony Search (reconstruction).
+    Mhs(ModifiedHarmonySearch),
+}
+
+impl Algorithm {
+    /// The spec names of the algorithms.
+    pub const NAMES: [&'static str; 5] = ["hs", "ghs", "ga", "pso", "mhs"];
+
+    /// The parameter declarations of the algorithm called `name`.
+    pub fn params(name: &str) -> Option<&'static [ParamDef]> {
+        Some(match name {
+            "hs" => &hs::PARAMS,
+            "ghs" => &ghs::PARAMS,
+            "ga" => &ga::PARAMS,
+            "pso" => &pso::PARAMS,
+            "mhs" => &mhs::PARAMS,
+            _ => return None,
+        })
+    }
+
+    /// Builds the algorithm called `name` from a parameter set made from
+    /// [`Algorithm::params`]`(name)`.
+    pub fn from_params(name: &str, p: &ParamSet) -> Result<Self, ParamError> {
+        Ok(match name {
+            "hs" => Self::Hs(HarmonySearch::from_params(p)?),
+            "ghs" => Self::Ghs(GlobalBestHarmonySearch::from_params(p)?),
+            "ga" => Self::Ga(GeneticAlgorithm::from_params(p)?),
+            "pso" => Self::Pso(ParticleSwarm::from_params(p)?),
+            "mhs" => Self::Mhs(ModifiedHarmonySearch::from_params(p)?),
+            other => {
+                return Err(ParamError::new(
+                    "algorithm",
+                    format!("unknown algorithm \"{other}\""),
+                ))
+            }
+        })
+    }
+
+    /// The algorithm with its default parameters.
+    pub fn default_for(name: &str) -> Option<Self> {
+        let defs = Self::params(name)?;
+        Self::from_params(name, &ParamSet::defaults(defs)).ok()
+    }
+
+    /// The spec name of this algorithm.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Hs(_) => "hs",
+            Self::Ghs(_) => "ghs",
+            Self::Ga(_) => "ga",
+            Self::Pso(_) => "pso",
+            Self::Mhs(_) => "mhs",
+        }
+    }
+}
+
+impl Optimiser for Algorithm {
+    fn minimise<P: Problem + ?Sized, R: RngCore + ?Sized>(
+        &self,
+        eval: &mut Evaluator<'_, P>,
+        rng: &mut R,
+    ) {
+        match self {
+            Self::Hs(a) => a.minimise(eval, rng),
+            Self::Ghs(a) => a.minimise(eval, rng),
+            Self::Ga(a) => a.minimise(eval, rng),
+            Self::Pso(a) => a.minimise(eval, rng),
+            Self::Mhs(a) => a.minimise(eval, rng),
+        }
+    }
+}

@@ -1,0 +1,345 @@
+//! Declared, validated algorithm parameters.
+//!
+//! Each optimiser declares its parameters as a table of [`ParamDef`]s (name,
+//! meaning, admissible range and default). Experiment specs are checked
+//! against these tables before anything runs, and a run's parameters are
+//! recorded as the canonical text [`ParamSet::canonical`].
+
+use std::borrow::Cow;
+use std::fmt;
+
+/// The admissible values of one parameter.
+#[derive(Clone, Copy, Debug)]
+pub enum Kind {
+    /// An integer in `min..=max`.
+    Count {
+        /// Smallest admissible value.
+        min: u64,
+        /// Largest admissible value.
+        max: u64,
+    },
+    /// A finite real number in `[min, max]`, or `(min, max]` when `open_min`.
+    Real {
+        /// Lower end of the range.
+        min: f64,
+        /// Upper end of the range.
+        max: f64,
+        /// Whether `min` itself is excluded.
+        open_min: bool,
+    },
+    /// One of a fixed set of names.
+    Choice(&'static [&'static str]),
+    /// A `+`-separated list of names from a fixed set, such as `"hs+ga+pso"`.
+    Sequence(&'static [&'static str]),
+}
+
+/// A resolved parameter value.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Setting {
+    /// An integer.
+    Count(u64),
+    /// A real number.
+    Real(f64),
+    /// A name from a [`Kind::Choice`].
+    Choice(&'static str),
+    /// Names from a [`Kind::Sequence`], in order.
+    Sequence(Cow<'static, [&'static str]>),
+}
+
+impl fmt::Display for Setting {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Setting::Count(n) => write!(f, "{n}"),
+            Setting::Real(x) => write!(f, "{x}"),
+            Setting::Choice(s) => f.write_str(s),
+            Setting::Sequence(v) => f.write_str(&v.join("+")),
+        }
+    }
+}
+
+/// A raw value from a spec, before validation.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Raw {
+    /// A TOML integer.
+    Int(i64),
+    /// A TOML float.
+    Float(f64),
+    /// A TOML string.
+    Text(String),
+    /// Any other TOML type, by its name (`"boolean"`, `"table"`, ...).
+    Other(&'static str),
+}
+
+impl fmt::Display for Raw {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Raw::Int(n) => write!(f, "{n}"),
+            Raw::Float(x) => write!(f, "{x}"),
+            Raw::Text(s) => write!(f, "\"{s}\""),
+            Raw::Other(t) => write!(f, "a {t}"),
+        }
+    }
+}
+
+/// The declaration of one algorithm parameter.
+#[derive(Clone, Debug)]
+pub struct ParamDef {
+    /// The key used in specs and in the canonical text.
+    pub name: &'static str,
+    /// What it means, with its symbol in the literature.
+    pub doc: &'static str,
+    /// Admissible values.
+    pub kind: Kind,
+    /// The value used when a spec does not give one.
+    pub default: Setting,
+}
+
+impl ParamDef {
+    /// What this parameter admits, as a phrase for error messages.
+    pub fn expected(&self) -> String {
+        match self.kind {
+            Kind::Count { min, max } if max == u64::MAX => format!("an integer ≥ {min}"),
+            Kind::Count { min, max } => format!("an integer in {min}..={max}"),
+            Kind::Real { min, max, open_min } => {
+                let lo = if open_min { "(" } else { "[" };
+                let fmt_end = |x: f64| {
+                    if x.is_infinite() {
+                        if x > 0.0 { "∞" } else { "−∞" }.to_string()
+                    } else {
+                        format!("{x}")
+                    }
+                };
+                format!("a real number in {lo}{}, {}]", fmt_end(min), fmt_end(max))
+            }
+            Kind::Choice(names) => format!("one of {}", quoted_list(names)),
+            Kind::Sequence(names) => format!(
+                "a \"+\"-separated list of {}, such as \"{}\"",
+                quoted_list(names),
+                names.join("+")
+            ),
+        }
+    }
+
+    /// Checks a raw spec value against this declaration.
+    pub fn check(&self, raw: &Raw) -> Result<Setting, String> {
+        let bad = || format!("expected {}, found {raw}", self.expected());
+        match (self.kind, raw) {
+            (Kind::Count { min, max }, Raw::Int(n)) => {
+                let n = u64::try_from(*n).map_err(|_| bad())?;
+                if n < min || n > max {
+                    return Err(bad());
+                }
+                Ok(Setting::Count(n))
+            }
+            (Kind::Real { min, max, open_min }, Raw::Int(_) | Raw::Float(_)) => {
+                let x = match raw {
+                    Raw::Int(n) => *n as f64,
+                    Raw::Float(x) => *x,
+                    _ => unreachable!(),
+                };
+                let above = if open_min { x > min } else { x >= min };
+                if !x.is_finite() || !above || x > max {
+                    return Err(bad());
+                }
+                Ok(Setting::Real(x))
+            }
+            (Kind::Choice(names), Raw::Text(s)) => names
+                .iter()
+                .find(|n| **n == s)
+                .map(|n| Setting::Choice(n))
+                .ok_or_else(bad),
+            (Kind::Sequence(names), Raw::Text(s)) => {
+                let mut out = Vec::new();
+                for part in s.split('+') {
+                    let part = part.trim();
+                    match names.iter().find(|n| **n == part) {
+                        Some(n) => out.push(*n),
+                        None => return Err(bad()),
+                    }
+                }
+                Ok(Setting::Sequence(Cow::Owned(out)))
+            }
+            _ => Err(bad()),
+        }
+    }
+}
+
+/// `"a", "b" or "c"`.
+pub fn quoted_list(names: &[&str]) -> String {
+    let quoted: Vec<String> = names.iter().map(|n| format!("\"{n}\"")).collect();
+    match quoted.len() {
+        0 => String::new(),
+        1 => quoted[0].clone(),
+        n => format!("{} or {}", quoted[..n - 1].join(", "), quoted[n - 1]),
+    }
+}
+
+/// A complete, validated assignment of an algorithm's parameters.
+#[derive(Clone, Debug)]
+pub struct ParamSet {
+    defs: &'static [ParamDef],
+    values: Vec<Setting>,
+}
+
+impl ParamSet {
+    /// All parameters at their defaults.
+    pub fn defaults(defs: &'static [ParamDef]) -> Self {
+        Self {
+            defs,
+            values: defs.iter().map(|d| d.default.clone()).collect(),
+        }
+    }
+
+    /// The declarations this set follows.
+    pub fn defs(&self) -> &'static [ParamDef] {
+        self.defs
+    }
+
+    /// Sets one parameter from a raw value; the error names what was expected.
+    pub fn set(&mut self, name: &str, raw: &Raw) -> Result<(), String> {
+        let i = self
+            .defs
+            .iter()
+            .position(|d| d.name == name)
+            .ok_or_else(|| format!("unknown parameter \"{name}\""))?;
+        self.values[i] = self.defs[i].check(raw)?;
+        Ok(())
+    }
+
+    /// Sets a parameter to an already validated value (panics if `name` is
+    /// not declared: a programming error).
+    pub fn put(&mut self, name: &str, value: Setting) {
+        let i = self
+            .defs
+            .iter()
+            .position(|d| d.name == name)
+            .unwrap_or_else(|| panic!("parameter {name} is not declared"));
+        self.values[i] = value;
+    }
+
+    fn value(&self, name: &str) -> &Setting {
+        let i = self
+            .defs
+            .iter()
+            .position(|d| d.name == name)
+            .unwrap_or_else(|| panic!("parameter {name} is not declared"));
+        &self.values[i]
+    }
+
+    /// An integer parameter (panics if `name` is not a declared count: a
+    /// programming error, not a user error).
+    pub fn count(&self, name: &str) -> u64 {
+        match self.value(name) {
+            Setting::Count(n) => *n,
+            other => panic!("parameter {name} is {other:?}, not a count"),
+        }
+    }
+
+    /// A real parameter (panics if `name` is not a declared real).
+    pub fn real(&self, name: &str) -> f64 {
+        match self.value(name) {
+            Setting::Real(x) => *x,
+            other => panic!("parameter {name} is {other:?}, not a real"),
+        }
+    }
+
+    /// A choice parameter (panics if `name` is not a declared choice).
+    pub fn choice(&self, name: &str) -> &'static str {
+        match self.value(name) {
+            Setting::Choice(s) => s,
+            other => panic!("parameter {name} is {other:?}, not a choice"),
+        }
+    }
+
+    /// A sequence parameter (panics if `name` is not a declared sequence).
+    pub fn sequence(&self, name: &str) -> &[&'static str] {
+        match self.value(name) {
+            Setting::Sequence(v) => v,
+            other => panic!("parameter {name} is {other:?}, not a sequence"),
+        }
+    }
+
+    /// `name=value;name=value;...` in declaration order: the stable text that
+    /// identifies a parameter cell in `runs.csv` and in seed derivation.
+    pub fn canonical(&self) -> String {
+        let parts: Vec<String> = self
+            .defs
+            .iter()
+            .zip(&self.values)
+            .map(|(d, v)| format!("{}={v}", d.name))
+            .collect();
+        parts.join(";")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    static DEFS: [ParamDef; 4] = [
+        ParamDef {
+            name: "hms",
+            doc: "memory size",
+            kind: Kind::Count {
+                min: 1,
+                max: u64::MAX,
+            },
+            default: Setting::Count(5),
+        },
+        ParamDef {
+            name: "hmcr",
+            doc: "rate",
+            kind: Kind::Real {
+                min: 0.0,
+                max: 1.0,
+                open_min: false,
+            },
+            default: Setting::Real(0.9),
+        },
+        ParamDef {
+            name: "bounds",
+            doc: "policy",
+            kind: Kind::Choice(&["clip", "reflect"]),
+            default: Setting::Choice("clip"),
+        },
+        ParamDef {
+            name: "operators",
+            doc: "ops",
+            kind: Kind::Sequence(&["hs", "ga", "pso"]),
+            default: Setting::Sequence(Cow::Borrowed(&["hs"])),
+        },
+    ];
+
+    #[test]
+    fn checks_ranges_and_types_with_clear_messages() {
+        let mut p = ParamSet::defaults(&DEFS);
+        assert_eq!(
+            p.set("hmcr", &Raw::Float(1.5)).unwrap_err(),
+            "expected a real number in [0, 1], found 1.5"
+        );
+        assert_eq!(
+            p.set("hms", &Raw::Int(0)).unwrap_err(),
+            "expected an integer ≥ 1, found 0"
+        );
+        assert_eq!(
+            p.set("hms", &Raw::Float(2.5)).unwrap_err(),
+            "expected an integer ≥ 1, found 2.5"
+        );
+        assert_eq!(
+            p.set("bounds", &Raw::Text("wrap".into())).unwrap_err(),
+            "expected one of \"clip\" or \"reflect\", found \"wrap\""
+        );
+        assert_eq!(
+            p.set("operators", &Raw::Text("hs+de".into())).unwrap_err(),
+            "expected a \"+\"-separated list of \"hs\", \"ga\" or \"pso\", such as \"hs+ga+pso\", found \"hs+de\""
+        );
+        assert_eq!(
+            p.set("hmc", &Raw::Int(1)).unwrap_err(),
+            "unknown parameter \"hmc\""
+        );
+        p.set("hmcr", &Raw::Int(1)).unwrap();
+        p.set("operators", &Raw::Text("ga + pso".into())).unwrap();
+        assert_eq!(p.canonical(), "hms=5;hmcr=1;bounds=clip;operators=ga+pso");
+        assert_eq!(p.sequence("operators"), ["ga", "pso"]);
+    }
+}

@@ -1,0 +1,514 @@
+//! Run records and the tidy CSV files they are written to.
+//!
+//! * `runs.csv`: one row per run (the columns of [`RUNS_HEADER`]);
+//! * `convergence.csv`: long format, the best-so-far of each run at
+//!   log-spaced evaluation counts;
+//! * `timing.csv`: wall time per run, kept apart so that `runs.csv` and
+//!   `convergence.csv` are byte-identical whatever the thread count;
+//! * `journal.csv`: while a campaign runs, each finished run is appended
+//!   here as one self-checking line, so an interrupted campaign resumes
+//!   without losing finished runs.
+//!
+//! Reals are written in Rust's shortest round-trip form, so reading a file
+//! back gives bit-identical values.
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use crate::error::Error;
+use crate::optim::TracePoint;
+
+/// The result of one run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunRecord {
+    /// The cell's label.
+    pub algorithm: String,
+    /// The optimiser's spec name (`hs`, `ghs`, `ga`, `pso`, `mhs`).
+    pub kind: String,
+    /// The canonical parameter text `name=value;...`.
+    pub params: String,
+    /// The problem's name.
+    pub problem: String,
+    /// The problem's dimension.
+    pub dim: usize,
+    /// The run's evaluation budget.
+    pub budget: u64,
+    /// The run number, from 0.
+    pub run: u32,
+    /// The run's derived seed.
+    pub seed: u64,
+    /// The best objective value found.
+    pub best: f64,
+    /// `best − f*`.
+    pub error: f64,
+    /// Evaluations used.
+    pub evaluations: u64,
+    /// First evaluation count at which `f ≤ f* + threshold`, if reached.
+    pub evaluations_to_target: Option<u64>,
+    /// Whether the threshold was reached.
+    pub success: bool,
+    /// The best-so-far at the convergence checkpoints.
+    pub trace: Vec<TracePoint>,
+    /// Wall time of the run in seconds (not part of the reproducible output).
+    pub wall_seconds: f64,
+}
+
+/// Identifies a run within a campaign: (cell key, problem key, run).
+pub type RunKey = (String, String, u32);
+
+impl RunRecord {
+    /// The cell key `label:kind[params]`, as [`crate::spec::Cell::key`].
+    pub fn cell_key(&self) -> String {
+        format!("{}:{}[{}]", self.algorithm, self.kind, self.params)
+    }
+
+    /// The problem key `problem-dim`.
+    pub fn problem_key(&self) -> String {
+        format!("{}-{}", self.problem, self.dim)
+    }
+
+    /// The run's key.
+    pub fn key(&self) -> RunKey {
+        (self.cell_key(), self.problem_key(), self.run)
+    }
+}
+
+/// The columns of `runs.csv`.
+pub const RUNS_HEADER: [&str; 13] = [
+    "algorithm",
+    "kind",
+    "params",
+    "problem",
+    "dim",
+    "budget",
+    "run",
+    "seed",
+    "best",
+    "error",
+    "evaluations",
+    "evaluations_to_target",
+    "success",
+];
+
+/// The columns of `convergence.csv`.
+pub const CONVERGENCE_HEADER: [&str; 9] = [
+    "algorithm",
+    "kind",
+    "params",
+    "problem",
+    "dim",
+    "run",
+    "evaluations",
+    "best",
+    "error",
+];
+
+/// The columns of `timing.csv`.
+pub const TIMING_HEADER: [&str; 7] = [
+    "algorithm",
+    "kind",
+    "params",
+    "problem",
+    "dim",
+    "run",
+    "wall_seconds",
+];
+
+/// A real in shortest round-trip form: plain notation for magnitudes in
+/// `[1e-4, 1e16)` and zero, scientific notation otherwise.
+pub fn fmt_real(x: f64) -> String {
+    let a = x.abs();
+    if x == 0.0 || !x.is_finite() || (1e-4..1e16).contains(&a) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+fn run_fields(r: &RunRecord) -> Vec<String> {
+    vec![
+        r.algorithm.clone(),
+        r.kind.clone(),
+        r.params.clone(),
+        r.problem.clone(),
+        r.dim.to_string(),
+        r.budget.to_string(),
+        r.run.to_string(),
+        r.seed.to_string(),
+        fmt_real(r.best),
+        fmt_real(r.error),
+        r.evaluations.to_string(),
+        r.evaluations_to_target
+            .map_or(String::new(), |e| e.to_string()),
+        r.success.to_string(),
+    ]
+}
+
+fn csv_bytes<I: IntoIterator<Item = Vec<String>>>(header: &[&str], rows: I) -> Vec<u8> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(header).expect("writing to memory");
+    for row in rows {
+        w.write_record(&row).expect("writing to memory");
+    }
+    w.into_inner().expect("writing to memory")
+}
+
+/// The bytes of `runs.csv` for records in their final order.
+pub fn runs_csv(records: &[RunRecord]) -> Vec<u8> {
+    csv_bytes(&RUNS_HEADER, records.iter().map(run_fields))
+}
+
+/// The bytes of `convergence.csv` for records in their final order;
+/// `optimum` gives `f*` of a record so the error column can be filled.
+pub fn convergence_csv(records: &[RunRecord], optimum: impl Fn(&RunRecord) -> f64) -> Vec<u8> {
+    let rows = records.iter().flat_map(|r| {
+        let f_star = optimum(r);
+        r.trace.iter().map(move |p| {
+            vec![
+                r.algorithm.clone(),
+                r.kind.clone(),
+                r.params.clone(),
+                r.problem.clone(),
+                r.dim.to_string(),
+                r.run.to_string(),
+                p.evaluations.to_string(),
+                fmt_real(p.best),
+                fmt_real(p.best - f_star),
+            ]
+        })
+    });
+    csv_bytes(&CONVERGENCE_HEADER, rows)
+}
+
+/// The bytes of `timing.csv`.
+pub fn timing_csv(records: &[RunRecord]) -> Vec<u8> {
+    let rows = records.iter().map(|r| {
+        vec![
+            r.algorithm.clone(),
+            r.kind.clone(),
+            r.params.clone(),
+            r.problem.clone(),
+            r.dim.to_string(),
+            r.run.to_string(),
+            fmt_real(r.wall_seconds),
+        ]
+    });
+    csv_bytes(&TIMING_HEADER, rows)
+}
+
+/// One journal line (no header): the `runs.csv` fields, the trace as
+/// `evaluations:best|...`, the wall time, and the sentinel `ok` that marks
+/// the line as complete.
+pub fn journal_line(r: &RunRecord) -> Vec<u8> {
+    let mut fields = run_fields(r);
+    let trace: Vec<String> = r
+        .trace
+        .iter()
+        .map(|p| format!("{}:{}", p.evaluations, fmt_real(p.best)))
+        .collect();
+    fields.push(trace.join("|"));
+    fields.push(fmt_real(r.wall_seconds));
+    fields.push("ok".into());
+    let mut w = csv::WriterBuilder::new()
+        .has_headers(false)
+        .from_writer(Vec::new());
+    w.write_record(&fields).expect("writing to memory");
+    w.into_inner().expect("writing to memory")
+}
+
+fn parse<T: std::str::FromStr>(
+    path: &Path,
+    line: u64,
+    column: &str,
+    text: &str,
+) -> Result<T, Error> {
+    text.parse().map_err(|_| {
+        Error::data(
+            path,
+            line,
+            format!("column {column}: cannot read \"{text}\""),
+        )
+    })
+}
+
+fn record_from_fields(path: &Path, line: u64, f: &csv::StringRecord) -> Result<RunRecord, Error> {
+    if f.len() < RUNS_HEADER.len() {
+        return Err(Error::data(
+            path,
+            line,
+            format!("expected {} columns, found {}", RUNS_HEADER.len(), f.len()),
+        ));
+    }
+    let get = |i: usize| f.get(i).unwrap_or("");
+    let success = match get(12) {
+        "true" => true,
+        "false" => false,
+        other => {
+            return Err(Error::data(
+                path,
+                line,
+                format!("column success: expected true or false, found \"{other}\""),
+            ))
+        }
+    };
+    Ok(RunRecord {
+        algorithm: get(0).to_owned(),
+        kind: get(1).to_owned(),
+        params: get(2).to_owned(),
+        problem: get(3).to_owned(),
+        dim: parse(path, line, "dim", get(4))?,
+        budget: parse(path, line, "budget", get(5))?,
+        run: parse(path, line, "run", get(6))?,
+        seed: parse(path, line, "seed", get(7))?,
+        best: parse(path, line, "best", get(8))?,
+        error: parse(path, line, "error", get(9))?,
+        evaluations: parse(path, line, "evaluations", get(10))?,
+        evaluations_to_target: match get(11) {
+            "" => None,
+            t => Some(parse(path, line, "evaluations_to_target", t)?),
+        },
+        success,
+        trace: Vec::new(),
+        wall_seconds: 0.0,
+    })
+}
+
+fn open_csv(path: &Path, headers: bool) -> Result<csv::Reader<std::fs::File>, Error> {
+    let file = std::fs::File::open(path).map_err(|e| Error::io("read", path, e))?;
+    Ok(csv::ReaderBuilder::new()
+        .has_headers(headers)
+        .flexible(true)
+        .from_reader(file))
+}
+
+fn check_header(
+    path: &Path,
+    reader: &mut csv::Reader<std::fs::File>,
+    expected: &[&str],
+) -> Result<(), Error> {
+    let header = reader
+        .headers()
+        .map_err(|e| Error::data(path, 1, e.to_string()))?;
+    let found: Vec<&str> = header.iter().collect();
+    if found != expected {
+        return Err(Error::data(
+            path,
+            1,
+            format!(
+                "expected the columns {}, found {}",
+                expected.join(","),
+                found.join(",")
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Reads the records of a journal, ignoring an incomplete last line (the
+/// trace of an interruption); a malformed line elsewhere is an error.
+pub fn read_journal(path: &Path) -> Result<Vec<RunRecord>, Error> {
+    let text = std::fs::read(path).map_err(|e| Error::io("read", path, e))?;
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .from_reader(&text[..]);
+    let rows: Vec<_> = reader.records().collect();
+    let mut out = Vec::new();
+    let n = rows.len();
+    for (i, row) in rows.into_iter().enumerate() {
+        let line = i as u64 + 1;
+        let last = i + 1 == n;
+        let complete = match &row {
+            Ok(r) => r.len() == RUNS_HEADER.len() + 3 && r.get(RUNS_HEADER.len() + 2) == Some("ok"),
+            Err(_) => false,
+        };
+        if !complete {
+            if last {
+                break;
+            }
+            return Err(Error::data(path, line, "malformed journal line"));
+        }
+        let r = row.expect("checked above");
+        let mut rec = record_from_fields(path, line, &r)?;
+        let trace_text = r.get(RUNS_HEADER.len()).unwrap_or("");
+        if !trace_text.is_empty() {
+            for part in trace_text.split('|') {
+                let (e, b) = part
+                    .split_once(':')
+                    .ok_or_else(|| Error::data(path, line, "malformed trace"))?;
+                rec.trace.push(TracePoint {
+                    evaluations: parse(path, line, "trace", e)?,
+                    best: parse(path, line, "trace", b)?,
+                });
+            }
+        }
+        rec.wall_seconds = parse(
+            path,
+            line,
+            "wall_seconds",
+            r.get(RUNS_HEADER.len() + 1).unwrap_or(""),
+        )?;
+        out.push(rec);
+    }
+    Ok(out)
+}
+
+/// Reads `runs.csv` alone (traces empty, wall time 0): the input of reports,
+/// which may also come from outside this tool.
+pub fn read_runs(path: &Path) -> Result<Vec<RunRecord>, Error> {
+    let mut reader = open_csv(path, true)?;
+    check_header(path, &mut reader, &RUNS_HEADER)?;
+    let mut out = Vec::new();
+    for (i, row) in reader.records().enumerate() {
+        let line = i as u64 + 2;
+        let row = row.map_err(|e| Error::data(path, line, e.to_string()))?;
+        out.push(record_from_fields(path, line, &row)?);
+    }
+    Ok(out)
+}
+
+/// Reads a finished campaign directory's `runs.csv`, `convergence.csv` and
+/// `timing.csv` back into complete records.
+pub fn read_results(dir: &Path) -> Result<Vec<RunRecord>, Error> {
+    let runs_path = dir.join("runs.csv");
+    let mut records = read_runs(&runs_path)?;
+    let index: HashMap<RunKey, usize> = records
+        .iter()
+        .enumerate()
+        .map(|(i, r)| (r.key(), i))
+        .collect();
+    let lookup = |path: &Path, line: u64, row: &csv::StringRecord| -> Result<usize, Error> {
+        let run: u32 = parse(path, line, "run", row.get(5).unwrap_or(""))?;
+        let key = (
+            format!("{}:{}[{}]", &row[0], &row[1], &row[2]),
+            format!("{}-{}", &row[3], &row[4]),
+            run,
+        );
+        index
+            .get(&key)
+            .copied()
+            .ok_or_else(|| Error::data(path, line, "this run is not in runs.csv"))
+    };
+    let conv_path = dir.join("convergence.csv");
+    let mut reader = open_csv(&conv_path, true)?;
+    check_header(&conv_path, &mut reader, &CONVERGENCE_HEADER)?;
+    for (i, row) in reader.records().enumerate() {
+        let line = i as u64 + 2;
+        let row = row.map_err(|e| Error::data(&conv_path, line, e.to_string()))?;
+        if row.len() != CONVERGENCE_HEADER.len() {
+            return Err(Error::data(&conv_path, line, "wrong number of columns"));
+        }
+        let k = lookup(&conv_path, line, &row)?;
+        records[k].trace.push(TracePoint {
+            evaluations: parse(&conv_path, line, "evaluations", &row[6])?,
+            best: parse(&conv_path, line, "best", &row[7])?,
+        });
+    }
+    let timing_path = dir.join("timing.csv");
+    let mut reader = open_csv(&timing_path, true)?;
+    check_header(&timing_path, &mut reader, &TIMING_HEADER)?;
+    for (i, row) in reader.records().enumerate() {
+        let line = i as u64 + 2;
+        let row = row.map_err(|e| Error::data(&timing_path, line, e.to_string()))?;
+        if row.len() != TIMING_HEADER.len() {
+            return Err(Error::data(&timing_path, line, "wrong number of columns"));
+        }
+        let k = lookup(&timing_path, line, &row)?;
+        records[k].wall_seconds = parse(&timing_path, line, "wall_seconds", &row[6])?;
+    }
+    Ok(records)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn record(run: u32) -> RunRecord {
+        RunRecord {
+            algorithm: "HS, tuned".into(),
+            kind: "hs".into(),
+            params: "hms=5;hmcr=0.9".into(),
+            problem: "sphere".into(),
+            dim: 10,
+            budget: 1000,
+            run,
+            seed: u64::MAX - 3,
+            best: 1.234_567_890_123_456_7e-13,
+            error: 1.234_567_890_123_456_7e-13,
+            evaluations: 1000,
+            evaluations_to_target: if run == 0 { None } else { Some(17) },
+            success: run != 0,
+            trace: vec![
+                TracePoint {
+                    evaluations: 1,
+                    best: f64::INFINITY,
+                },
+                TracePoint {
+                    evaluations: 10,
+                    best: 0.1 + 0.2,
+                },
+            ],
+            wall_seconds: 0.0125,
+        }
+    }
+
+    #[test]
+    fn reals_round_trip_exactly() {
+        for x in [
+            0.0,
+            -0.0,
+            0.1 + 0.2,
+            1e-300,
+            5e-324,
+            1.7976931348623157e308,
+            123456.789,
+            f64::INFINITY,
+        ] {
+            let back: f64 = fmt_real(x).parse().unwrap();
+            assert_eq!(back.to_bits(), x.to_bits(), "{x}");
+        }
+        assert_eq!(fmt_real(0.5), "0.5");
+        assert_eq!(fmt_real(2.5e-7), "2.5e-7");
+    }
+
+    #[test]
+    fn journal_round_trips_and_drops_a_torn_last_line() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("journal.csv");
+        let mut bytes = journal_line(&record(0));
+        bytes.extend(journal_line(&record(1)));
+        let torn = journal_line(&record(2));
+        bytes.extend(&torn[..torn.len() - 5]);
+        std::fs::write(&path, &bytes).unwrap();
+        let back = read_journal(&path).unwrap();
+        assert_eq!(back, vec![record(0), record(1)]);
+    }
+
+    #[test]
+    fn a_malformed_line_in_the_middle_is_an_error() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("journal.csv");
+        let mut bytes = b"garbage,line\n".to_vec();
+        bytes.extend(journal_line(&record(1)));
+        std::fs::write(&path, &bytes).unwrap();
+        let err = read_journal(&path).unwrap_err().to_string();
+        assert!(
+            err.ends_with("journal.csv:1: malformed journal line"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn result_files_round_trip() {
+        let dir = tempfile::tempdir().unwrap();
+        let recs = vec![record(0), record(1)];
+        std::fs::write(dir.path().join("runs.csv"), runs_csv(&recs)).unwrap();
+        std::fs::write(
+            dir.path().join("convergence.csv"),
+            convergence_csv(&recs, |_| 0.0),
+        )
+        .unwrap();
+        std::fs::write(dir.path().join("timing.csv"), timing_csv(&recs)).unwrap();
+        assert_eq!(read_results(dir.path()).unwrap(), recs);
+    }
+}

@@ -1,0 +1,511 @@
+//! The report's view of a results directory: the runs grouped by cell
+//! (algorithm label, kind, parameters) and problem (function, dimension),
+//! plus the provenance read from `spec.toml` and `meta.toml`.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use crate::error::Error;
+use crate::records::{read_results, read_runs, RunRecord};
+
+/// One run, reduced to what the report uses.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Run {
+    /// The run number, from 0 (the pairing key of the signed-rank test).
+    pub run: u32,
+    /// The run's evaluation budget.
+    pub budget: u64,
+    /// Final error `f − f*`.
+    pub error: f64,
+    /// Evaluations used.
+    pub evaluations: u64,
+    /// First evaluation count at which the threshold was reached.
+    pub evaluations_to_target: Option<u64>,
+    /// Whether the threshold was reached.
+    pub success: bool,
+    /// Best-so-far error `f − f*` at the convergence checkpoints.
+    pub trace: Vec<(u64, f64)>,
+    /// Wall time of the run, when `timing.csv` was read.
+    pub wall_seconds: Option<f64>,
+}
+
+/// An algorithm cell: a label with one parameter setting.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Cell {
+    /// The `algorithm` column.
+    pub label: String,
+    /// The optimiser (`kind` column).
+    pub kind: String,
+    /// The canonical parameter text.
+    pub params: String,
+    /// The name shown in tables and plots: the label, followed by the
+    /// parameters that distinguish it when several cells share the label.
+    pub name: String,
+    /// Whether the cell comes from the external `runs.csv`.
+    pub external: bool,
+}
+
+/// A problem: a benchmark function at a dimension.
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub(crate) struct Problem {
+    /// The function's name.
+    pub function: String,
+    /// The dimension D.
+    pub dim: usize,
+}
+
+impl Problem {
+    /// `sphere, D = 10`.
+    pub fn title(&self) -> String {
+        format!("{}, D = {}", self.function, self.dim)
+    }
+}
+
+/// All runs of a report, indexed by problem and cell.
+#[derive(Clone, Debug)]
+pub(crate) struct Dataset {
+    /// Cells in order of first appearance (results first, external after).
+    pub cells: Vec<Cell>,
+    /// Problems in order of first appearance.
+    pub problems: Vec<Problem>,
+    /// `runs[problem][cell]`, sorted by run number (empty when the cell did
+    /// not run the problem).
+    runs: Vec<Vec<Vec<Run>>>,
+    /// Whether `convergence.csv` was read (some run has a trace).
+    pub has_convergence: bool,
+    /// Whether `timing.csv` was read.
+    pub has_timing: bool,
+    /// Number of runs read.
+    pub total_runs: usize,
+    /// Remarks about the input, shown in the report.
+    pub notes: Vec<String>,
+}
+
+impl Dataset {
+    /// The runs of `cell` on `problem`, sorted by run number.
+    pub fn runs(&self, problem: usize, cell: usize) -> &[Run] {
+        self.runs
+            .get(problem)
+            .and_then(|p| p.get(cell))
+            .map_or(&[], |v| v.as_slice())
+    }
+
+    /// The final errors of `cell` on `problem`, in run order.
+    pub fn errors(&self, problem: usize, cell: usize) -> Vec<f64> {
+        self.runs(problem, cell).iter().map(|r| r.error).collect()
+    }
+
+    /// Builds a dataset from records; `external` marks records from the
+    /// external file (their labels are already disambiguated).
+    pub fn from_records(records: Vec<(RunRecord, bool)>) -> Dataset {
+        let mut cell_index: BTreeMap<(String, String, String), usize> = BTreeMap::new();
+        let mut cells: Vec<Cell> = Vec::new();
+        let mut problem_index: BTreeMap<Problem, usize> = BTreeMap::new();
+        let mut problems: Vec<Problem> = Vec::new();
+        let mut grouped: BTreeMap<(usize, usize), BTreeMap<u32, Run>> = BTreeMap::new();
+        let mut duplicates = 0usize;
+        let mut has_convergence = false;
+        let total_runs = records.len();
+        for (r, external) in records {
+            let key = (r.algorithm.clone(), r.kind.clone(), r.params.clone());
+            let c = *cell_index.entry(key).or_insert_with(|| {
+                cells.push(Cell {
+                    label: r.algorithm.clone(),
+                    kind: r.kind.clone(),
+                    params: r.params.clone(),
+                    name: String::new(),
+                    external,
+                });
+                cells.len() - 1
+            });
+            let problem = Problem {
+                function: r.problem.clone(),
+                dim: r.dim,
+            };
+            let p = *problem_index.entry(problem.clone()).or_insert_with(|| {
+                problems.push(problem);
+                problems.len() - 1
+            });
+            let f_star = r.best - r.error;
+            let trace: Vec<(u64, f64)> = r
+                .trace
+                .iter()
+                .map(|t| (t.evaluations, t.best - f_star))
+                .collect();
+            has_convergence |= !trace.is_empty();
+            let run = Run {
+                run: r.run,
+                budget: r.budget,
+                error: r.error,
+                evaluations: r.evaluations,
+                evaluations_to_target: r.evaluations_to_target,
+                success: r.success,
+                trace,
+                wall_seconds: Some(r.wall_seconds),
+            };
+            match grouped.entry((p, c)).or_default().entry(r.run) {
+                std::collections::btree_map::Entry::Occupied(_) => duplicates += 1,
+                std::collections::btree_map::Entry::Vacant(slot) => {
+                    slot.insert(run);
+                }
+            }
+        }
+        let mut runs = vec![vec![Vec::new(); cells.len()]; problems.len()];
+        for ((p, c), slot) in grouped {
+            runs[p][c] = slot.into_values().collect();
+        }
+        name_cells(&mut cells);
+        let mut notes = Vec::new();
+        if duplicates > 0 {
+            notes.push(format!(
+                "{duplicates} row(s) repeat the run number of an earlier row of the same \
+                 algorithm and problem; only the first of each was used."
+            ));
+        }
+        Dataset {
+            cells,
+            problems,
+            runs,
+            has_convergence,
+            has_timing: false,
+            total_runs,
+            notes,
+        }
+    }
+
+    /// Forgets the wall times (when `timing.csv` was not read, the records
+    /// carry a placeholder 0).
+    fn clear_timing(&mut self) {
+        for p in &mut self.runs {
+            for c in p {
+                for r in c {
+                    r.wall_seconds = None;
+                }
+            }
+        }
+    }
+
+    /// Forgets the wall times of external cells.
+    fn clear_external_timing(&mut self) {
+        for p in &mut self.runs {
+            for (c, runs) in p.iter_mut().enumerate() {
+                if self.cells.get(c).is_some_and(|cell| cell.external) {
+                    for r in runs {
+                        r.wall_seconds = None;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Splits the canonical parameter text `a=1;b=2` into (name, value) pairs.
+pub(crate) fn parse_params(params: &str) -> Vec<(String, String)> {
+    params
+        .split(';')
+        .filter(|s| !s.is_empty())
+        .map(|s| match s.split_once('=') {
+            Some((k, v)) => (k.trim().to_owned(), v.trim().to_owned()),
+            None => (s.trim().to_owned(), String::new()),
+        })
+        .collect()
+}
+
+/// The parameter names whose values differ among `cells` (in order of first
+/// appearance).
+pub(crate) fn varying_params(cells: &[&Cell]) -> Vec<String> {
+    let mut names: Vec<String> = Vec::new();
+    let mut values: BTreeMap<String, Vec<Option<String>>> = BTreeMap::new();
+    for (i, cell) in cells.iter().enumerate() {
+        for (k, v) in parse_params(&cell.params) {
+            if !values.contains_key(&k) {
+                names.push(k.clone());
+            }
+            let entry = values.entry(k).or_insert_with(|| vec![None; cells.len()]);
+            if let Some(slot) = entry.get_mut(i) {
+                *slot = Some(v);
+            }
+        }
+    }
+    names
+        .into_iter()
+        .filter(|k| {
+            values.get(k).is_some_and(|vs| {
+                let first = &vs[0];
+                vs.iter().any(|v| v != first)
+            })
+        })
+        .collect()
+}
+
+/// The value of parameter `name` in a cell, if set.
+pub(crate) fn param_value(cell: &Cell, name: &str) -> Option<String> {
+    parse_params(&cell.params)
+        .into_iter()
+        .find(|(k, _)| k == name)
+        .map(|(_, v)| v)
+}
+
+/// Gives every cell a unique display name: the label alone when it is the
+/// only cell with that label, else the label with the varying parameters.
+fn name_cells(cells: &mut [Cell]) {
+    let mut by_label: BTreeMap<String, Vec<usize>> = BTreeMap::new();
+    for (i, c) in cells.iter().enumerate() {
+        by_label.entry(c.label.clone()).or_default().push(i);
+    }
+    let mut names = vec![String::new(); cells.len()];
+    for idx in by_label.values() {
+        if idx.len() == 1 {
+            names[idx[0]] = cells[idx[0]].label.clone();
+            continue;
+        }
+        let group: Vec<&Cell> = idx.iter().map(|&i| &cells[i]).collect();
+        let varying = varying_params(&group);
+        for &i in idx {
+            let c = &cells[i];
+            let shown: Vec<String> = varying
+                .iter()
+                .map(|k| format!("{k}={}", param_value(c, k).unwrap_or_else(|| "-".into())))
+                .collect();
+            names[i] = if shown.is_empty() {
+                format!("{} [{}]", c.label, c.kind)
+            } else {
+                format!("{} ({})", c.label, shown.join(", "))
+            };
+        }
+    }
+    // Any remaining clash (a label that looks like another's full name).
+    let mut seen: BTreeMap<String, usize> = BTreeMap::new();
+    for (i, name) in names.iter_mut().enumerate() {
+        let n = seen.entry(name.clone()).or_insert(0);
+        *n += 1;
+        if *n > 1 {
+            *name = format!("{name} #{}", *n);
+        }
+        cells[i].name = name.clone();
+    }
+}
+
+/// Reads the runs of a results directory and of an optional external
+/// `runs.csv`.
+pub(crate) fn load(dir: &Path, external: Option<&Path>) -> Result<Dataset, Error> {
+    let runs_path = dir.join("runs.csv");
+    let conv = dir.join("convergence.csv").is_file();
+    let timing = dir.join("timing.csv").is_file();
+    let mut notes = Vec::new();
+    let records = if conv && timing {
+        read_results(dir)?
+    } else {
+        let missing: Vec<&str> = [(conv, "convergence.csv"), (timing, "timing.csv")]
+            .iter()
+            .filter(|(present, _)| !present)
+            .map(|(_, f)| *f)
+            .collect();
+        notes.push(format!(
+            "{} not found in the results directory: only runs.csv was read, so the plots \
+             that need it are skipped.",
+            missing.join(" and ")
+        ));
+        read_runs(&runs_path)?
+    };
+    if records.is_empty() {
+        return Err(Error::data(&runs_path, 0, "no runs to report"));
+    }
+    let internal_labels: std::collections::BTreeSet<String> =
+        records.iter().map(|r| r.algorithm.clone()).collect();
+    let mut all: Vec<(RunRecord, bool)> = records.into_iter().map(|r| (r, false)).collect();
+    if let Some(ext) = external {
+        let ext_records = read_runs(ext)?;
+        let mut renamed: std::collections::BTreeSet<String> = Default::default();
+        for mut r in ext_records {
+            if internal_labels.contains(&r.algorithm) {
+                renamed.insert(r.algorithm.clone());
+                r.algorithm = format!("{} (external)", r.algorithm);
+            }
+            all.push((r, true));
+        }
+        if !renamed.is_empty() {
+            let list: Vec<String> = renamed.into_iter().collect();
+            notes.push(format!(
+                "The external file uses the label(s) {} of the results directory; its \
+                 runs are shown as \"<label> (external)\".",
+                list.join(", ")
+            ));
+        }
+    }
+    let mut ds = Dataset::from_records(all);
+    ds.has_timing = timing && conv;
+    if !ds.has_timing {
+        ds.clear_timing();
+    }
+    ds.clear_external_timing();
+    notes.append(&mut ds.notes);
+    ds.notes = notes;
+    Ok(ds)
+}
+
+/// What the report says about where the results come from.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct Provenance {
+    /// The experiment name.
+    pub name: Option<String>,
+    /// The spec's description.
+    pub description: Option<String>,
+    /// Master seed.
+    pub seed: Option<String>,
+    /// Runs per (cell, problem).
+    pub runs: Option<String>,
+    /// The spec's budget text (`budget` or `budget_per_dim`).
+    pub budget: Option<String>,
+    /// Success threshold on `f − f*`.
+    pub threshold: Option<f64>,
+    /// `tool version` from meta.toml.
+    pub tool: Option<String>,
+    /// Hash of the spec text from meta.toml.
+    pub spec_hash: Option<String>,
+    /// Whether `spec.toml` was found and parsed.
+    pub spec_found: bool,
+    /// Whether `meta.toml` was found and parsed.
+    pub meta_found: bool,
+    /// Problems reading the two files.
+    pub notes: Vec<String>,
+}
+
+fn value_text(v: &toml::Value) -> String {
+    match v {
+        toml::Value::String(s) => s.clone(),
+        other => other.to_string(),
+    }
+}
+
+fn read_toml(path: &Path, notes: &mut Vec<String>) -> Option<toml::Table> {
+    let text = match std::fs::read_to_string(path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            notes.push(format!("{} not found.", file_name(path)));
+            return None;
+        }
+        Err(e) => {
+            notes.push(format!("{} cannot be read: {e}.", file_name(path)));
+            return None;
+        }
+    };
+    match toml::from_str::<toml::Table>(&text) {
+        Ok(t) => Some(t),
+        Err(e) => {
+            let msg = e.message().to_owned();
+            notes.push(format!("{} is not valid TOML: {msg}.", file_name(path)));
+            None
+        }
+    }
+}
+
+fn file_name(path: &Path) -> String {
+    path.file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default()
+}
+
+/// Reads `spec.toml` and `meta.toml` of `dir`; missing or malformed files
+/// leave fields empty and add a note.
+pub(crate) fn provenance(dir: &Path) -> Provenance {
+    let mut p = Provenance::default();
+    let mut notes = Vec::new();
+    if let Some(spec) = read_toml(&dir.join("spec.toml"), &mut notes) {
+        p.spec_found = true;
+        if let Some(exp) = spec.get("experiment").and_then(|v| v.as_table()) {
+            p.name = exp.get("name").map(value_text);
+            p.description = exp.get("description").map(value_text);
+            p.seed = exp.get("seed").map(value_text);
+            p.runs = exp.get("runs").map(value_text);
+            p.budget = match (exp.get("budget"), exp.get("budget_per_dim")) {
+                (Some(b), _) => Some(value_text(b)),
+                (None, Some(b)) => Some(format!("{} × D", value_text(b))),
+                (None, None) => None,
+            };
+            p.threshold = exp.get("threshold").and_then(|v| match v {
+                toml::Value::Float(f) => Some(*f),
+                toml::Value::Integer(i) => Some(*i as f64),
+                _ => None,
+            });
+        }
+    }
+    if let Some(meta) = read_toml(&dir.join("meta.toml"), &mut notes) {
+        p.meta_found = true;
+        let tool = meta.get("tool").map(value_text);
+        let version = meta.get("version").map(value_text);
+        p.tool = match (tool, version) {
+            (Some(t), Some(v)) => Some(format!("{t} {v}")),
+            (None, Some(v)) => Some(v),
+            (Some(t), None) => Some(t),
+            (None, None) => None,
+        };
+        p.spec_hash = meta.get("spec_fnv1a64").map(value_text);
+        if p.name.is_none() {
+            p.name = meta.get("experiment").map(value_text);
+        }
+        if p.seed.is_none() {
+            p.seed = meta.get("master_seed").map(value_text);
+        }
+    }
+    p.notes = notes;
+    p
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cell(label: &str, params: &str) -> Cell {
+        Cell {
+            label: label.into(),
+            kind: "mhs".into(),
+            params: params.into(),
+            name: String::new(),
+            external: false,
+        }
+    }
+
+    #[test]
+    fn names_show_the_varying_parameters() {
+        let mut cells = vec![
+            cell("HS", "hms=5;hmcr=0.9"),
+            cell("MHS", "hms=5;hmcr=0.7;bw=0.01"),
+            cell("MHS", "hms=5;hmcr=0.9;bw=0.01"),
+            cell("MHS", "hms=5;hmcr=0.9;bw=0.1"),
+        ];
+        name_cells(&mut cells);
+        let names: Vec<&str> = cells.iter().map(|c| c.name.as_str()).collect();
+        assert_eq!(
+            names,
+            [
+                "HS",
+                "MHS (hmcr=0.7, bw=0.01)",
+                "MHS (hmcr=0.9, bw=0.01)",
+                "MHS (hmcr=0.9, bw=0.1)"
+            ]
+        );
+    }
+
+    #[test]
+    fn same_label_and_params_but_other_kind() {
+        let mut cells = vec![cell("X", "a=1"), cell("X", "a=1")];
+        cells[1].kind = "hs".into();
+        name_cells(&mut cells);
+        assert_eq!(cells[0].name, "X [mhs]");
+        assert_eq!(cells[1].name, "X [hs]");
+    }
+
+    #[test]
+    fn params_parse_leniently() {
+        assert_eq!(
+            parse_params("a=1;b;c=x=y;"),
+            vec![
+                ("a".to_owned(), "1".to_owned()),
+                ("b".to_owned(), String::new()),
+                ("c".to_owned(), "x=y".to_owned())
+            ]
+        );
+        assert!(parse_params("").is_empty());
+    }
+}

@@ -1,0 +1,249 @@
+//! Descriptive statistics of the final errors and the success measures of
+//! every (cell, problem).
+
+use crate::stats::{success_summary, summarize, RunOutcome, SuccessSummary, Summary};
+
+use super::data::{Dataset, Run};
+use super::format::{csv_opt, evaluations, percent, sci, sci_opt, Table};
+
+/// The statistics of one (cell, problem).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct CellStats {
+    /// Number of runs.
+    pub runs: usize,
+    /// Summary of the final errors; `None` when an error is NaN.
+    pub summary: Option<Summary>,
+    /// Success rate, mean evaluations to success and aRT.
+    pub success: Option<SuccessSummary>,
+}
+
+/// The COCO outcome of a run: for a successful run the evaluations until the
+/// target was first reached, for an unsuccessful one all its evaluations.
+pub(crate) fn outcome(r: &Run) -> RunOutcome {
+    if r.success {
+        RunOutcome::new(r.evaluations_to_target.unwrap_or(r.evaluations), true)
+    } else {
+        RunOutcome::new(r.evaluations, false)
+    }
+}
+
+/// `stats[problem][cell]`, `None` where the cell did not run the problem.
+pub(crate) fn compute(ds: &Dataset) -> Vec<Vec<Option<CellStats>>> {
+    (0..ds.problems.len())
+        .map(|p| {
+            (0..ds.cells.len())
+                .map(|c| {
+                    let runs = ds.runs(p, c);
+                    if runs.is_empty() {
+                        return None;
+                    }
+                    let errors: Vec<f64> = runs.iter().map(|r| r.error).collect();
+                    let outcomes: Vec<RunOutcome> = runs.iter().map(outcome).collect();
+                    Some(CellStats {
+                        runs: runs.len(),
+                        summary: summarize(&errors).ok(),
+                        success: success_summary(&outcomes).ok(),
+                    })
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// The descriptive table: one row per (problem, cell).
+pub(crate) fn table(ds: &Dataset, stats: &[Vec<Option<CellStats>>]) -> Table {
+    let mut t = Table {
+        stem: "descriptive".into(),
+        title: "Final error and success per algorithm and problem".into(),
+        intro: vec![
+            "Final error f − f* over the independent runs: best (minimum), worst \
+             (maximum), mean, sample standard deviation (n − 1) and median. SR is the \
+             success rate (runs with f − f* ≤ threshold); \"evals to success\" is the mean \
+             number of evaluations to reach the threshold over the successful runs; aRT is \
+             COCO's average runtime, the evaluations of all runs (to the first success for \
+             a successful run, all for an unsuccessful one) divided by the number of \
+             successes (— when no run succeeded, i.e. infinite)."
+                .into(),
+        ],
+        md_header: [
+            "Problem",
+            "D",
+            "Algorithm",
+            "Runs",
+            "Best",
+            "Worst",
+            "Mean",
+            "SD",
+            "Median",
+            "SR",
+            "Evals to success",
+            "aRT",
+        ]
+        .map(String::from)
+        .to_vec(),
+        csv_header: [
+            "problem",
+            "dim",
+            "algorithm",
+            "kind",
+            "params",
+            "runs",
+            "best",
+            "worst",
+            "mean",
+            "sd",
+            "median",
+            "q1",
+            "q3",
+            "successes",
+            "success_rate",
+            "mean_evaluations_to_success",
+            "aRT",
+        ]
+        .map(String::from)
+        .to_vec(),
+        ..Table::default()
+    };
+    let mut nan = false;
+    for (p, problem) in ds.problems.iter().enumerate() {
+        for (c, cell) in ds.cells.iter().enumerate() {
+            let Some(Some(s)) = stats.get(p).and_then(|row| row.get(c)) else {
+                continue;
+            };
+            nan |= s.summary.is_none();
+            let sm = s.summary.as_ref();
+            let sc = s.success.as_ref();
+            t.md_rows.push(vec![
+                problem.function.clone(),
+                problem.dim.to_string(),
+                cell.name.clone(),
+                s.runs.to_string(),
+                sci_opt(sm.map(|x| x.best)),
+                sci_opt(sm.map(|x| x.worst)),
+                sci_opt(sm.map(|x| x.mean)),
+                sci_opt(sm.and_then(|x| x.std_dev)),
+                sci_opt(sm.map(|x| x.median)),
+                sc.map_or_else(|| "\u{2014}".into(), |x| percent(x.success_rate)),
+                evaluations(sc.and_then(|x| x.mean_evaluations_to_success)),
+                evaluations(sc.and_then(|x| x.average_runtime)),
+            ]);
+            t.csv_rows.push(vec![
+                problem.function.clone(),
+                problem.dim.to_string(),
+                cell.label.clone(),
+                cell.kind.clone(),
+                cell.params.clone(),
+                s.runs.to_string(),
+                csv_opt(sm.map(|x| x.best)),
+                csv_opt(sm.map(|x| x.worst)),
+                csv_opt(sm.map(|x| x.mean)),
+                csv_opt(sm.and_then(|x| x.std_dev)),
+                csv_opt(sm.map(|x| x.median)),
+                csv_opt(sm.map(|x| x.q1)),
+                csv_opt(sm.map(|x| x.q3)),
+                sc.map_or_else(String::new, |x| x.successes.to_string()),
+                csv_opt(sc.map(|x| x.success_rate)),
+                csv_opt(sc.and_then(|x| x.mean_evaluations_to_success)),
+                csv_opt(sc.and_then(|x| x.average_runtime)),
+            ]);
+        }
+    }
+    if nan {
+        t.intro
+            .push("Some final errors are NaN: their summaries are left empty (—).".into());
+    }
+    t.intro.push(format!(
+        "SD is — for a single run; numbers are rounded to three significant digits \
+         here ({} rows; full precision in the CSV).",
+        t.md_rows.len()
+    ));
+    t
+}
+
+/// A "mean (sd)" cell for the paper-style comparison table.
+pub(crate) fn mean_sd(s: Option<&CellStats>) -> String {
+    match s.and_then(|s| s.summary.as_ref()) {
+        None => "\u{2014}".into(),
+        Some(x) => match x.std_dev {
+            Some(sd) => format!("{} ({})", sci(x.mean), sci(sd)),
+            None => sci(x.mean),
+        },
+    }
+}
+
+/// The mean final error of a cell on a problem, when defined.
+pub(crate) fn mean_error(stats: &[Vec<Option<CellStats>>], p: usize, c: usize) -> Option<f64> {
+    stats
+        .get(p)?
+        .get(c)?
+        .as_ref()?
+        .summary
+        .as_ref()
+        .map(|s| s.mean)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::records::RunRecord;
+
+    fn rec(run: u32, error: f64, evals_to_target: Option<u64>) -> (RunRecord, bool) {
+        (
+            RunRecord {
+                algorithm: "A".into(),
+                kind: "hs".into(),
+                params: "x=1".into(),
+                problem: "sphere".into(),
+                dim: 2,
+                budget: 1000,
+                run,
+                seed: u64::from(run),
+                best: error,
+                error,
+                evaluations: 1000,
+                evaluations_to_target: evals_to_target,
+                success: evals_to_target.is_some(),
+                trace: Vec::new(),
+                wall_seconds: 0.0,
+            },
+            false,
+        )
+    }
+
+    #[test]
+    fn art_counts_evaluations_to_target_of_successes_and_all_of_failures() {
+        let ds = Dataset::from_records(vec![
+            rec(0, 1e-9, Some(100)),
+            rec(1, 0.5, None),
+            rec(2, 1e-9, Some(300)),
+            rec(3, 0.2, None),
+        ]);
+        let stats = compute(&ds);
+        let s = stats[0][0].as_ref().unwrap();
+        let sc = s.success.as_ref().unwrap();
+        assert_eq!(sc.success_rate, 0.5);
+        assert_eq!(sc.mean_evaluations_to_success, Some(200.0));
+        assert_eq!(
+            sc.average_runtime,
+            Some((100.0 + 1000.0 + 300.0 + 1000.0) / 2.0)
+        );
+        let t = table(&ds, &stats);
+        assert_eq!(t.md_rows.len(), 1);
+        assert_eq!(t.md_rows[0][9], "50%");
+        assert_eq!(t.md_rows[0][11], "1200");
+        assert_eq!(t.csv_rows[0][16], "1200");
+    }
+
+    #[test]
+    fn single_run_and_nan() {
+        let ds = Dataset::from_records(vec![rec(0, f64::NAN, None)]);
+        let stats = compute(&ds);
+        let t = table(&ds, &stats);
+        assert_eq!(t.md_rows[0][6], "\u{2014}");
+        assert_eq!(t.md_rows[0][11], "\u{2014}");
+        assert_eq!(mean_sd(stats[0][0].as_ref()), "\u{2014}");
+        let ds = Dataset::from_records(vec![rec(0, 0.25, None)]);
+        let stats = compute(&ds);
+        assert_eq!(mean_sd(stats[0][0].as_ref()), "2.50e-01");
+    }
+}

@@ -1,0 +1,313 @@
+//! Number formatting and the [`Table`] type rendered both as a Markdown
+//! table (rounded, the way papers print numbers) and as a CSV file (full
+//! precision, for further processing).
+
+use crate::error::Error;
+use crate::records::fmt_real;
+
+/// A table of the report: Markdown and CSV renderings of the same rows.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Table {
+    /// The file stem under `tables/` (`descriptive` → `tables/descriptive.csv`).
+    pub stem: String,
+    /// The section title in `report.md`.
+    pub title: String,
+    /// Paragraphs shown before the table (what it contains, how to read it).
+    pub intro: Vec<String>,
+    /// Column names of the Markdown table.
+    pub md_header: Vec<String>,
+    /// Markdown rows (formatted numbers).
+    pub md_rows: Vec<Vec<String>>,
+    /// Column names of the CSV file.
+    pub csv_header: Vec<String>,
+    /// CSV rows (full-precision numbers).
+    pub csv_rows: Vec<Vec<String>>,
+}
+
+impl Table {
+    /// The CSV bytes of the table.
+    pub fn csv_bytes(&self) -> Result<Vec<u8>, Error> {
+        let mut w = csv::WriterBuilder::new()
+            .flexible(true)
+            .from_writer(Vec::new());
+        let fail = |e: csv::Error| Error::Campaign(format!("cannot format a report table: {e}"));
+        w.write_record(&self.csv_header).map_err(fail)?;
+        for row in &self.csv_rows {
+            w.write_record(row).map_err(fail)?;
+        }
+        w.into_inner()
+            .map_err(|e| Error::Campaign(format!("cannot format a report table: {e}")))
+    }
+
+    /// The Markdown table (header, alignment row and rows), ending in a newline.
+    pub fn markdown(&self) -> String {
+        markdown_table(&self.md_header, &self.md_rows)
+    }
+}
+
+/// A GitHub-flavoured Markdown table; the first column is left-aligned, the
+/// others right-aligned.
+pub(crate) fn markdown_table(header: &[String], rows: &[Vec<String>]) -> String {
+    let mut s = String::new();
+    let line = |cells: &[String]| -> String {
+        let mut l = String::from("|");
+        for c in cells {
+            l.push(' ');
+            l.push_str(&md_escape(c));
+            l.push_str(" |");
+        }
+        l.push('\n');
+        l
+    };
+    s.push_str(&line(header));
+    s.push('|');
+    for i in 0..header.len() {
+        s.push_str(if i == 0 || is_text_column(rows, i) {
+            " :-- |"
+        } else {
+            " --: |"
+        });
+    }
+    s.push('\n');
+    for row in rows {
+        let mut cells = row.clone();
+        cells.resize(header.len(), String::new());
+        s.push_str(&line(&cells));
+    }
+    s
+}
+
+/// Whether column `i` holds text (left-aligned) rather than numbers: most
+/// of its non-empty cells start with a letter and are not `inf`, `NaN` or
+/// `n/a`.
+fn is_text_column(rows: &[Vec<String>], i: usize) -> bool {
+    let (mut text, mut filled) = (0usize, 0usize);
+    for cell in rows.iter().filter_map(|r| r.get(i)) {
+        let c = cell.trim();
+        if c.is_empty() {
+            continue;
+        }
+        filled += 1;
+        let letter = c
+            .chars()
+            .next()
+            .is_some_and(|ch| ch.is_alphabetic() || ch == '`');
+        if letter && !matches!(c, "inf" | "NaN" | "n/a") && !c.starts_with("n/a ") {
+            text += 1;
+        }
+    }
+    filled > 0 && 2 * text >= filled
+}
+
+/// Escapes text for a Markdown table cell: pipes, backslashes, line breaks.
+pub(crate) fn md_escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for ch in text.chars() {
+        match ch {
+            '|' => out.push_str("\\|"),
+            '\\' => out.push_str("\\\\"),
+            '\n' | '\r' | '\t' => out.push(' '),
+            '*' => out.push_str("\\*"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// Scientific notation with `digits` significant digits and a signed
+/// two-digit exponent, as results tables print errors: `1.23e-05`; zero is
+/// `0`, infinities `inf`/`-inf`, NaN `NaN`.
+pub(crate) fn sci_digits(x: f64, digits: usize) -> String {
+    if x.is_nan() {
+        return "NaN".into();
+    }
+    if x.is_infinite() {
+        return if x > 0.0 { "inf".into() } else { "-inf".into() };
+    }
+    if x == 0.0 {
+        return "0".into();
+    }
+    let decimals = digits.saturating_sub(1);
+    let s = format!("{x:.decimals$e}");
+    // Rust writes `1.23e-5`: pad the exponent to a sign and two digits.
+    match s.split_once('e') {
+        Some((mantissa, exp)) => {
+            let (sign, digits) = match exp.strip_prefix('-') {
+                Some(d) => ('-', d),
+                None => ('+', exp),
+            };
+            format!("{mantissa}e{sign}{digits:0>2}")
+        }
+        None => s,
+    }
+}
+
+/// An error or other real in three significant digits (see [`sci_digits`]).
+pub(crate) fn sci(x: f64) -> String {
+    sci_digits(x, 3)
+}
+
+/// An optional real in three significant digits, `—` when absent.
+pub(crate) fn sci_opt(x: Option<f64>) -> String {
+    x.map_or_else(|| "\u{2014}".to_owned(), sci)
+}
+
+/// A p-value: three significant digits in scientific notation below 0.001,
+/// else three decimals.
+pub(crate) fn p_value(p: f64) -> String {
+    if p.is_finite() && p >= 0.001 {
+        format!("{p:.3}")
+    } else {
+        sci_digits(p, 3)
+    }
+}
+
+/// A mean number of evaluations: rounded to an integer below one million,
+/// scientific notation above; `—` when absent.
+pub(crate) fn evaluations(x: Option<f64>) -> String {
+    match x {
+        None => "\u{2014}".into(),
+        Some(v) if v.is_finite() && v.abs() < 1e6 => format!("{v:.0}"),
+        Some(v) => sci(v),
+    }
+}
+
+/// A fraction as a percentage without decimals, `60%`.
+pub(crate) fn percent(x: f64) -> String {
+    if x.is_finite() {
+        format!("{:.0}%", 100.0 * x)
+    } else {
+        "\u{2014}".into()
+    }
+}
+
+/// A real with two decimals (average ranks).
+pub(crate) fn fixed2(x: f64) -> String {
+    if x.is_finite() {
+        format!("{x:.2}")
+    } else {
+        sci(x)
+    }
+}
+
+/// A real for a CSV file: shortest round-trip text (see [`fmt_real`]).
+pub(crate) fn csv_real(x: f64) -> String {
+    fmt_real(x)
+}
+
+/// An optional real for a CSV file: empty when absent.
+pub(crate) fn csv_opt(x: Option<f64>) -> String {
+    x.map_or_else(String::new, fmt_real)
+}
+
+/// Unicode superscript form of an integer: `-3` → `⁻³`.
+fn superscript(k: i64) -> String {
+    k.to_string()
+        .chars()
+        .map(|c| match c {
+            '-' => '\u{207b}',
+            '0' => '\u{2070}',
+            '1' => '\u{b9}',
+            '2' => '\u{b2}',
+            '3' => '\u{b3}',
+            d => char::from_u32(0x2070 + d.to_digit(10).unwrap_or(0)).unwrap_or(d),
+        })
+        .collect()
+}
+
+/// A tick label for a log10 axis position `x`: `10⁻⁸` on whole decades
+/// (`1`, `10` for 10⁰ and 10¹), else two significant digits with the power
+/// of ten, `3×10⁻⁸`.
+pub(crate) fn pow_tick(x: f64) -> String {
+    if !x.is_finite() {
+        return String::new();
+    }
+    let k = x.round();
+    if (x - k).abs() < 1e-6 {
+        return match k as i64 {
+            0 => "1".into(),
+            1 => "10".into(),
+            k => format!("10{}", superscript(k)),
+        };
+    }
+    let e = x.floor();
+    let m = 10f64.powf(x - e);
+    let m = format!("{m:.1}");
+    let m = m.trim_end_matches('0').trim_end_matches('.');
+    match e as i64 {
+        0 => m.to_owned(),
+        e => format!("{m}×10{}", superscript(e)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scientific_notation_as_in_papers() {
+        assert_eq!(sci(1.234_567e-5), "1.23e-05");
+        assert_eq!(sci(9.999e-6), "1.00e-05");
+        assert_eq!(sci(12345.0), "1.23e+04");
+        assert_eq!(sci(-0.5), "-5.00e-01");
+        assert_eq!(sci(0.0), "0");
+        assert_eq!(sci(f64::INFINITY), "inf");
+        assert_eq!(sci(f64::NAN), "NaN");
+        assert_eq!(sci_digits(3.0e-120, 2), "3.0e-120");
+        assert_eq!(sci_opt(None), "\u{2014}");
+    }
+
+    #[test]
+    fn other_formats() {
+        assert_eq!(p_value(0.0312), "0.031");
+        assert_eq!(p_value(1.0), "1.000");
+        assert_eq!(p_value(1.9e-6), "1.90e-06");
+        assert_eq!(evaluations(Some(1234.4)), "1234");
+        assert_eq!(evaluations(Some(2.5e7)), "2.50e+07");
+        assert_eq!(evaluations(None), "\u{2014}");
+        assert_eq!(percent(0.6), "60%");
+        assert_eq!(fixed2(2.345), "2.35");
+        assert_eq!(pow_tick(-8.0), "10\u{207b}\u{2078}");
+        assert_eq!(pow_tick(-10.000000000001), "10\u{207b}\u{b9}\u{2070}");
+        assert_eq!(pow_tick(0.0), "1");
+        assert_eq!(pow_tick(1.0), "10");
+        assert_eq!(pow_tick(23.0), "10\u{b2}\u{b3}");
+        assert_eq!(pow_tick(3e-8f64.log10()), "3×10\u{207b}\u{2078}");
+        assert_eq!(pow_tick(2500f64.log10()), "2.5×10\u{b3}");
+        assert_eq!(pow_tick(5f64.log10()), "5");
+        assert_eq!(pow_tick(f64::NEG_INFINITY), "");
+    }
+
+    #[test]
+    fn markdown_escapes_and_pads() {
+        let t = markdown_table(
+            &["a".into(), "b".into()],
+            &[vec!["x|y".into()], vec!["1".into(), "2".into()]],
+        );
+        assert_eq!(t, "| a | b |\n| :-- | --: |\n| x\\|y |  |\n| 1 | 2 |\n");
+        let t = markdown_table(
+            &["n".into(), "name".into(), "value".into()],
+            &[
+                vec!["1".into(), "HS".into(), "inf".into()],
+                vec!["2".into(), "PSO".into(), "1.0e-03".into()],
+            ],
+        );
+        assert!(t.contains("| :-- | :-- | --: |"), "{t}");
+    }
+
+    #[test]
+    fn csv_quotes_fields() {
+        let t = Table {
+            csv_header: vec!["algorithm".into(), "params".into()],
+            csv_rows: vec![vec!["HS, tuned".into(), "a=1;b=2".into()]],
+            ..Table::default()
+        };
+        let bytes = t.csv_bytes().unwrap();
+        assert_eq!(
+            String::from_utf8(bytes).unwrap(),
+            "algorithm,params\n\"HS, tuned\",a=1;b=2\n"
+        );
+    }
+}

@@ -1,0 +1,373 @@
+//! Reports on a finished campaign: descriptive tables, significance tests
+//! against a reference algorithm, the Friedman ranking, parameter-tuning
+//! summaries and plots, written next to the results as `report.md`,
+//! `tables/*.csv` and `plots/*.{svg,png}`.
+//!
+//! The input is a results directory of `metabezier run` (`runs.csv`, and
+//! when present `convergence.csv`, `timing.csv`, `spec.toml`, `meta.toml`),
+//! optionally with an external `runs.csv` whose algorithms are added to the
+//! comparison. All statistics come from [`crate::stats`]. The output is
+//! deterministic: the same input gives byte-identical `report.md` and CSV
+//! files (and plots). Every file is written atomically.
+//!
+//! A "cell" is an algorithm configuration (label and parameters); cells that
+//! share a label are shown with their distinguishing parameters, e.g.
+//! `MHS (hmcr=0.9, bw=0.01)`. A "problem" is a function at a dimension.
+
+mod data;
+mod descriptive;
+mod format;
+mod markdown;
+mod plots;
+mod render;
+mod significance;
+mod tuning;
+
+use std::path::{Path, PathBuf};
+
+use crate::error::{write_atomic, Error};
+
+use self::format::Table;
+
+/// How to build a report.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReportOptions {
+    /// The algorithm every other one is tested against: a label (`MHS`) or
+    /// a full configuration name as shown in the report (`MHS (hmcr=0.9)`).
+    /// By default `MHS` if present, else the first algorithm. When a label
+    /// has several configurations, the first one is the reference.
+    pub reference: Option<String>,
+    /// Significance level of the tests (default 0.05); the Nemenyi critical
+    /// difference is tabulated for 0.05 and 0.10 only.
+    pub alpha: f64,
+    /// An extra `runs.csv` (for example from another tool) whose algorithms
+    /// are added to the comparison; it has no convergence or timing data.
+    pub external: Option<PathBuf>,
+}
+
+impl Default for ReportOptions {
+    fn default() -> Self {
+        ReportOptions {
+            reference: None,
+            alpha: crate::stats::DEFAULT_ALPHA,
+            external: None,
+        }
+    }
+}
+
+/// What [`write_report`] wrote.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReportSummary {
+    /// The Markdown report, `<dir>/report.md`.
+    pub report: PathBuf,
+    /// The CSV tables under `<dir>/tables/`.
+    pub tables: Vec<PathBuf>,
+    /// The plots under `<dir>/plots/`, SVG and PNG.
+    pub plots: Vec<PathBuf>,
+    /// Number of algorithm configurations (cells) compared.
+    pub algorithms: usize,
+    /// Number of problems (function, dimension).
+    pub problems: usize,
+    /// Number of runs read.
+    pub runs: usize,
+    /// The reference algorithm of the tests, if there were tests.
+    pub reference: Option<String>,
+    /// Parts that were skipped and why (also stated in the report).
+    pub notes: Vec<String>,
+}
+
+/// Chooses the reference cell: the requested label or name, else `MHS`,
+/// else the first cell. Returns the cell and a note when a label matched
+/// several configurations.
+fn resolve_reference(
+    ds: &data::Dataset,
+    requested: Option<&str>,
+) -> Result<(usize, Option<String>), Error> {
+    let by_label = |label: &str| ds.cells.iter().position(|c| c.label == label);
+    let found = match requested {
+        Some(r) => ds
+            .cells
+            .iter()
+            .position(|c| c.name == r)
+            .or_else(|| by_label(r))
+            .ok_or_else(|| {
+                let names: Vec<&str> = ds.cells.iter().map(|c| c.name.as_str()).collect();
+                Error::Campaign(format!(
+                    "the reference algorithm \"{r}\" is not in the results; the algorithms are: {}",
+                    names.join(", ")
+                ))
+            })?,
+        None => by_label("MHS").unwrap_or(0),
+    };
+    let cell = &ds.cells[found];
+    let same_label = ds.cells.iter().filter(|c| c.label == cell.label).count();
+    let note = (same_label > 1 && requested != Some(cell.name.as_str())).then(|| {
+        format!(
+            "{} has {same_label} configurations; the reference is the first of them, {}. \
+             Pass a full configuration name to choose another.",
+            cell.label, cell.name
+        )
+    });
+    Ok((found, note))
+}
+
+fn create_dir(path: &Path) -> Result<(), Error> {
+    std::fs::create_dir_all(path).map_err(|e| Error::io("create the directory", path, e))
+}
+
+/// The table of the compared algorithm configurations.
+fn algorithms_table(ds: &data::Dataset) -> Table {
+    let mut t = Table {
+        stem: "algorithms".into(),
+        title: "Algorithms".into(),
+        intro: vec![
+            "The algorithm configurations compared, with their complete parameters.".into(),
+        ],
+        md_header: ["Algorithm", "Optimiser", "Parameters", "Source"]
+            .map(String::from)
+            .to_vec(),
+        csv_header: ["name", "algorithm", "kind", "params", "external"]
+            .map(String::from)
+            .to_vec(),
+        ..Table::default()
+    };
+    for c in &ds.cells {
+        t.md_rows.push(vec![
+            c.name.clone(),
+            c.kind.clone(),
+            format!("`{}`", c.params.replace('`', "'")),
+            if c.external { "external" } else { "results" }.into(),
+        ]);
+        t.csv_rows.push(vec![
+            c.name.clone(),
+            c.label.clone(),
+            c.kind.clone(),
+            c.params.clone(),
+            c.external.to_string(),
+        ]);
+    }
+    t
+}
+
+/// The table of the problems with their budgets and run counts.
+fn problems_table(ds: &data::Dataset) -> Table {
+    let mut t = Table {
+        stem: "problems".into(),
+        title: "Problems".into(),
+        intro: vec!["Each problem is a benchmark function at a dimension D.".into()],
+        md_header: ["Problem", "D", "Budget", "Algorithms", "Runs"]
+            .map(String::from)
+            .to_vec(),
+        csv_header: ["problem", "dim", "budget", "algorithms", "runs"]
+            .map(String::from)
+            .to_vec(),
+        ..Table::default()
+    };
+    for (p, problem) in ds.problems.iter().enumerate() {
+        let mut budgets: Vec<u64> = Vec::new();
+        let mut algorithms = 0usize;
+        let mut runs = 0usize;
+        for c in 0..ds.cells.len() {
+            let r = ds.runs(p, c);
+            if !r.is_empty() {
+                algorithms += 1;
+                runs += r.len();
+            }
+            budgets.extend(r.iter().map(|x| x.budget));
+        }
+        budgets.sort_unstable();
+        budgets.dedup();
+        let budget = budgets
+            .iter()
+            .map(u64::to_string)
+            .collect::<Vec<_>>()
+            .join(" / ");
+        t.md_rows.push(vec![
+            problem.function.clone(),
+            problem.dim.to_string(),
+            budget.clone(),
+            algorithms.to_string(),
+            runs.to_string(),
+        ]);
+        t.csv_rows.push(vec![
+            problem.function.clone(),
+            problem.dim.to_string(),
+            budget,
+            algorithms.to_string(),
+            runs.to_string(),
+        ]);
+    }
+    t
+}
+
+/// Writes the report of the results directory `dir`: `report.md`, the
+/// tables as CSV under `dir/tables/` and the plots as SVG and PNG under
+/// `dir/plots/`.
+///
+/// Errors when `runs.csv` (or the external file) is missing or malformed,
+/// when `options` are invalid, or when a file cannot be written. Missing
+/// convergence or timing data, a single algorithm, a single run or no
+/// successful run are not errors: the parts that need them are skipped and
+/// the report says so.
+pub fn write_report(dir: &Path, options: &ReportOptions) -> Result<ReportSummary, Error> {
+    if !(options.alpha > 0.0 && options.alpha < 1.0) {
+        return Err(Error::Campaign(format!(
+            "the significance level must lie strictly between 0 and 1, not {}",
+            options.alpha
+        )));
+    }
+    let alpha = options.alpha;
+    let ds = data::load(dir, options.external.as_deref())?;
+    let provenance = data::provenance(dir);
+    let stats = descriptive::compute(&ds);
+    let mut notes: Vec<String> = Vec::new();
+
+    let mut tables: Vec<Table> = vec![algorithms_table(&ds), problems_table(&ds)];
+    tables.push(descriptive::table(&ds, &stats));
+
+    let mut reference_name = None;
+    let mut reference_note = None;
+    let mut tests_text = None;
+    if ds.cells.len() >= 2 {
+        let (reference, note) = resolve_reference(&ds, options.reference.as_deref())?;
+        reference_name = Some(ds.cells[reference].name.clone());
+        reference_note = note;
+        let s = significance::significance(&ds, reference, alpha);
+        if !s.skipped_problems.is_empty() {
+            let names: Vec<String> = s
+                .skipped_problems
+                .iter()
+                .map(|&p| ds.problems[p].title())
+                .collect();
+            notes.push(format!(
+                "The reference {} did not run {}: no tests there.",
+                ds.cells[reference].name,
+                names.join("; ")
+            ));
+        }
+        tables.push(significance::comparison_table(&ds, &stats, &s, alpha));
+        tables.push(significance::wilcoxon_table(&ds, &s, alpha));
+        tables.push(significance::mann_whitney_table(&ds, &s, alpha));
+        tables.push(significance::marks_summary_table(&ds, &s));
+        let f = significance::friedman_report(&ds, &stats, alpha);
+        tables.push(significance::friedman_table(&ds, &f, alpha));
+    } else {
+        if let Some(r) = &options.reference {
+            // Still check the name, so that a typo is not silently ignored.
+            resolve_reference(&ds, Some(r))?;
+        }
+        let text = "There is a single algorithm configuration: no significance test, \
+                    Friedman ranking or Nemenyi critical difference can be computed."
+            .to_owned();
+        notes.push(text.clone());
+        tests_text = Some(text);
+    }
+
+    let grids = tuning::grids(&ds);
+    let mut heat_maps = Vec::new();
+    let mut tuning_tables = Vec::new();
+    for g in &grids {
+        tuning_tables.extend(tuning::tables(&ds, g, &stats));
+        match tuning::heat_map(&ds, g, &stats) {
+            Some(h) => heat_maps.push(h),
+            None if g.varying.len() != 2 => notes.push(tuning::no_heat_map_note(g)),
+            None => notes.push(format!(
+                "{}: no heat map, no mean error is defined on the grid.",
+                g.label
+            )),
+        }
+    }
+
+    let (figures, plot_notes) = plots::figures(&ds, &stats, heat_maps, provenance.threshold);
+    notes.extend(plot_notes);
+
+    // Write the files: tables, plots, then the report itself.
+    let tables_dir = dir.join("tables");
+    let plots_dir = dir.join("plots");
+    create_dir(&tables_dir)?;
+    create_dir(&plots_dir)?;
+    let mut table_paths = Vec::new();
+    for t in tables.iter().chain(&tuning_tables) {
+        let path = tables_dir.join(format!("{}.csv", t.stem));
+        write_atomic(&path, &t.csv_bytes()?)?;
+        table_paths.push(path);
+    }
+    let mut plot_paths = Vec::new();
+    for p in &figures {
+        plot_paths.extend(render::save(&p.figure, &plots_dir, &p.stem)?);
+    }
+
+    let mut budgets: Vec<u64> = Vec::new();
+    let mut run_counts: Vec<usize> = Vec::new();
+    for p in 0..ds.problems.len() {
+        for c in 0..ds.cells.len() {
+            let runs = ds.runs(p, c);
+            budgets.extend(runs.iter().map(|r| r.budget));
+            if !runs.is_empty() {
+                run_counts.push(runs.len());
+            }
+        }
+    }
+    run_counts.sort_unstable();
+    run_counts.dedup();
+    budgets.sort_unstable();
+    budgets.dedup();
+
+    let mut md = markdown::header(&markdown::Header {
+        provenance: &provenance,
+        ds: &ds,
+        reference: reference_name.clone(),
+        reference_note,
+        alpha,
+        external: options.external.as_ref().map(|p| p.display().to_string()),
+        budgets,
+        run_counts,
+        dir_name: dir.file_name().map(|n| n.to_string_lossy().into_owned()),
+    });
+    md.push_str("## Setup\n\n");
+    for t in &tables[..2] {
+        md.push_str(&markdown::table_section(t, 3));
+    }
+    md.push_str("## Results\n\n");
+    md.push_str(&markdown::table_section(&tables[2], 3));
+    md.push_str("## Statistical tests\n\n");
+    match &tests_text {
+        Some(text) => md.push_str(&markdown::paragraph(text)),
+        None => {
+            for t in &tables[3..] {
+                md.push_str(&markdown::table_section(t, 3));
+            }
+        }
+    }
+    if !tuning_tables.is_empty() {
+        md.push_str("## Parameter tuning\n\n");
+        for t in &tuning_tables {
+            md.push_str(&markdown::table_section(t, 3));
+        }
+    }
+    md.push_str("## Plots\n\n");
+    if figures.is_empty() {
+        md.push_str(&markdown::paragraph(
+            "No plot could be drawn from these results.",
+        ));
+    }
+    for p in &figures {
+        md.push_str(&markdown::plot_section(p));
+    }
+    md.push_str(&markdown::notes_section("Skipped or limited parts", &notes));
+    let report = dir.join("report.md");
+    let mut bytes = md.trim_end().as_bytes().to_vec();
+    bytes.push(b'\n');
+    write_atomic(&report, &bytes)?;
+
+    Ok(ReportSummary {
+        report,
+        tables: table_paths,
+        plots: plot_paths,
+        algorithms: ds.cells.len(),
+        problems: ds.problems.len(),
+        runs: ds.total_runs,
+        reference: reference_name,
+        notes,
+    })
+}

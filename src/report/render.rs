@@ -1,0 +1,391 @@
+//! Rendering plumbing for the plots: the vendored font, the colour palette,
+//! text measurement, shared legends, and writing a figure as SVG and PNG
+//! (both through [`write_atomic`]).
+//!
+//! Text is drawn with plotters' `ab_glyph` renderer and DejaVu Sans, embedded
+//! with `include_bytes!` (see `assets/fonts/PROVENANCE`), so no system font
+//! library is needed. SVG files name the family `sans-serif`.
+
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+use plotters::coord::types::RangedCoordf64;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+use plotters::style::FontStyle;
+
+use crate::error::{write_atomic, Error};
+
+/// DejaVu Sans 2.37 from Debian's fonts-dejavu-core 2.37-6 (Bitstream Vera
+/// licence; see `assets/fonts/LICENSE`).
+static DEJAVU_SANS: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+
+/// The font family every text of the plots uses.
+pub(crate) const FAMILY: &str = "sans-serif";
+
+/// Registers the embedded font with plotters once per process.
+fn ensure_font() -> Result<(), Error> {
+    static REGISTERED: OnceLock<bool> = OnceLock::new();
+    let ok = *REGISTERED.get_or_init(|| {
+        plotters::style::register_font(FAMILY, FontStyle::Normal, DEJAVU_SANS).is_ok()
+    });
+    if ok {
+        Ok(())
+    } else {
+        Err(Error::Campaign(
+            "the embedded DejaVu Sans font could not be loaded".into(),
+        ))
+    }
+}
+
+/// A drawing failure, as text.
+#[derive(Debug)]
+pub(crate) struct PlotError(pub String);
+
+impl<E: std::error::Error + Send + Sync> From<DrawingAreaErrorKind<E>> for PlotError {
+    fn from(e: DrawingAreaErrorKind<E>) -> Self {
+        PlotError(e.to_string())
+    }
+}
+
+/// The result of drawing.
+pub(crate) type DrawResult = Result<(), PlotError>;
+
+/// Something that draws itself on any plotters backend.
+pub(crate) trait Draw {
+    /// Width and height in pixels.
+    fn size(&self) -> (u32, u32);
+    /// Draws on the whole canvas.
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult;
+}
+
+/// Writes `figure` as `<dir>/<stem>.svg` and `<dir>/<stem>.png`; returns the
+/// two paths.
+pub(crate) fn save<F: Draw>(figure: &F, dir: &Path, stem: &str) -> Result<Vec<PathBuf>, Error> {
+    ensure_font()?;
+    let (w, h) = figure.size();
+    let fail =
+        |kind: &str, e: PlotError| Error::Campaign(format!("cannot draw {stem}.{kind}: {}", e.0));
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
+        figure.draw(&root).map_err(|e| fail("svg", e))?;
+        root.present()
+            .map_err(|e| fail("svg", PlotError::from(e)))?;
+    }
+    let svg_path = dir.join(format!("{stem}.svg"));
+    write_atomic(&svg_path, svg.as_bytes())?;
+
+    // The bitmap backend encodes PNG only to a file: render to a scratch
+    // file beside the target, then publish its bytes atomically.
+    let png_path = dir.join(format!("{stem}.png"));
+    static SCRATCH: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let n = SCRATCH.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let scratch = dir.join(format!(".{stem}.{}-{n}.render.png", std::process::id()));
+    let drawn = (|| -> DrawResult {
+        let root = BitMapBackend::new(&scratch, (w, h)).into_drawing_area();
+        figure.draw(&root)?;
+        root.present()?;
+        Ok(())
+    })();
+    let bytes = drawn
+        .map_err(|e| fail("png", e))
+        .and_then(|()| std::fs::read(&scratch).map_err(|e| Error::io("read", &scratch, e)));
+    let _ = std::fs::remove_file(&scratch);
+    write_atomic(&png_path, &bytes?)?;
+    Ok(vec![svg_path, png_path])
+}
+
+/// Tableau's 10 colours, then their light variants; cycled beyond 20.
+const PALETTE: [(u8, u8, u8); 20] = [
+    (0x1f, 0x77, 0xb4),
+    (0xff, 0x7f, 0x0e),
+    (0x2c, 0xa0, 0x2c),
+    (0xd6, 0x27, 0x28),
+    (0x94, 0x67, 0xbd),
+    (0x8c, 0x56, 0x4b),
+    (0xe3, 0x77, 0xc2),
+    (0x7f, 0x7f, 0x7f),
+    (0xbc, 0xbd, 0x22),
+    (0x17, 0xbe, 0xcf),
+    (0xae, 0xc7, 0xe8),
+    (0xff, 0xbb, 0x78),
+    (0x98, 0xdf, 0x8a),
+    (0xff, 0x98, 0x96),
+    (0xc5, 0xb0, 0xd5),
+    (0xc4, 0x9c, 0x94),
+    (0xf7, 0xb6, 0xd2),
+    (0xc7, 0xc7, 0xc7),
+    (0xdb, 0xdb, 0x8d),
+    (0x9e, 0xda, 0xe5),
+];
+
+/// The colour of the `i`-th algorithm.
+pub(crate) fn colour(i: usize) -> RGBColor {
+    let (r, g, b) = PALETTE[i % PALETTE.len()];
+    RGBColor(r, g, b)
+}
+
+/// The viridis colour map at `t` ∈ [0, 1] (linear between 9 samples).
+pub(crate) fn viridis(t: f64) -> RGBColor {
+    const STOPS: [(u8, u8, u8); 9] = [
+        (68, 1, 84),
+        (71, 44, 122),
+        (59, 81, 139),
+        (44, 113, 142),
+        (33, 144, 141),
+        (39, 173, 129),
+        (92, 200, 99),
+        (170, 220, 50),
+        (253, 231, 37),
+    ];
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let x = t * (STOPS.len() - 1) as f64;
+    let i = (x.floor() as usize).min(STOPS.len() - 2);
+    let f = x - i as f64;
+    let lerp = |a: u8, b: u8| (f64::from(a) + (f64::from(b) - f64::from(a)) * f).round() as u8;
+    let (a, b) = (STOPS[i], STOPS[i + 1]);
+    RGBColor(lerp(a.0, b.0), lerp(a.1, b.1), lerp(a.2, b.2))
+}
+
+/// A text style of the plot font.
+pub(crate) fn font(size: u32) -> TextStyle<'static> {
+    TextStyle::from((FAMILY, f64::from(size)).into_font())
+}
+
+/// Width of `text` in pixels at `size` (an estimate when the font fails).
+pub(crate) fn text_width(text: &str, size: u32) -> u32 {
+    let _ = ensure_font();
+    (FAMILY, f64::from(size))
+        .into_font()
+        .box_size(text)
+        .map(|(w, _)| w)
+        .unwrap_or_else(|_| (text.chars().count() as u32) * size * 6 / 10)
+}
+
+/// Font size of legend entries.
+pub(crate) const LEGEND_FONT: u32 = 15;
+const LEGEND_ROW: u32 = 24;
+const SWATCH: u32 = 26;
+
+/// Positions of legend entries (row, x offset) wrapped to `width`.
+fn legend_layout(entries: &[(String, RGBColor)], width: u32) -> Vec<(u32, u32)> {
+    let mut out = Vec::with_capacity(entries.len());
+    let (mut row, mut x) = (0u32, 12u32);
+    for (name, _) in entries {
+        let w = SWATCH + 6 + text_width(name, LEGEND_FONT) + 22;
+        if x > 12 && x + w > width.saturating_sub(12) {
+            row += 1;
+            x = 12;
+        }
+        out.push((row, x));
+        x += w;
+    }
+    out
+}
+
+/// Height of a shared legend strip of `entries` at `width`.
+pub(crate) fn legend_height(entries: &[(String, RGBColor)], width: u32) -> u32 {
+    let rows = legend_layout(entries, width)
+        .last()
+        .map_or(0, |&(r, _)| r + 1);
+    rows * LEGEND_ROW + 8
+}
+
+/// Draws a shared legend strip: a line swatch and the name of every entry.
+pub(crate) fn draw_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    entries: &[(String, RGBColor)],
+) -> DrawResult {
+    let (w, _) = area.dim_in_pixel();
+    let style = font(LEGEND_FONT).pos(Pos::new(HPos::Left, VPos::Center));
+    for ((name, c), (row, x)) in entries.iter().zip(legend_layout(entries, w)) {
+        let y = (4 + row * LEGEND_ROW + LEGEND_ROW / 2) as i32;
+        let x = x as i32;
+        area.draw(&PathElement::new(
+            vec![(x, y), (x + SWATCH as i32, y)],
+            c.stroke_width(3),
+        ))?;
+        area.draw_text(name, &style, (x + SWATCH as i32 + 6, y))?;
+    }
+    Ok(())
+}
+
+/// Draws a centred title line.
+pub(crate) fn draw_title<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    text: &str,
+    size: u32,
+) -> DrawResult {
+    let (w, h) = area.dim_in_pixel();
+    let style = font(size).pos(Pos::new(HPos::Center, VPos::Center));
+    area.draw_text(text, &style, ((w / 2) as i32, (h / 2) as i32))?;
+    Ok(())
+}
+
+/// Largest value drawn on a log axis; larger ones are drawn at this value
+/// (plotters' log-axis ticks must stay finite).
+pub(crate) const LOG_MAX: f64 = 1e300;
+/// Smallest value drawn on a log axis.
+pub(crate) const LOG_MIN: f64 = 1e-300;
+
+/// The lower end of a log axis for values that may be ≤ 0: 1e-16, or a
+/// decade below the smallest positive value when that is smaller (never
+/// below [`LOG_MIN`]).
+pub(crate) fn log_floor(values: impl IntoIterator<Item = f64>) -> f64 {
+    let min_pos = values
+        .into_iter()
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    if min_pos < 1e-16 {
+        10f64.powf(min_pos.log10().floor() - 1.0).max(LOG_MIN)
+    } else {
+        1e-16
+    }
+}
+
+/// A value for a log axis: at least `floor`, at most [`LOG_MAX`].
+pub(crate) fn on_log_axis(v: f64, floor: f64) -> f64 {
+    v.max(floor).min(LOG_MAX)
+}
+
+/// A log-axis range covering positive `lo..hi` with some margin, at least
+/// about one decade wide, within [`LOG_MIN`]..[`LOG_MAX`].
+pub(crate) fn log_range(lo: f64, hi: f64) -> (f64, f64) {
+    let clamp = |v: f64| {
+        if v.is_finite() && v > 0.0 {
+            v.clamp(LOG_MIN, LOG_MAX).log10()
+        } else {
+            -16.0
+        }
+    };
+    let (mut a, mut b) = (clamp(lo), clamp(hi));
+    if b < a {
+        b = a;
+    }
+    a -= 0.15;
+    b += 0.15;
+    if b - a < 1.2 {
+        let m = (a + b) / 2.0;
+        a = m - 0.6;
+        b = m + 0.6;
+    }
+    let (lmin, lmax) = (LOG_MIN.log10(), LOG_MAX.log10());
+    if a < lmin {
+        b = (b + lmin - a).min(lmax);
+        a = lmin;
+    }
+    if b > lmax {
+        a = (a - (b - lmax)).max(lmin);
+        b = lmax;
+    }
+    (10f64.powf(a), 10f64.powf(b))
+}
+
+/// log10 of a positive value (the coordinate of log-scaled axes, which are
+/// drawn as linear axes of log10 values with power-of-ten labels).
+pub(crate) fn lg(v: f64) -> f64 {
+    v.log10()
+}
+
+/// log10 of both ends of a range.
+pub(crate) fn lg_range(r: (f64, f64)) -> (f64, f64) {
+    (lg(r.0), lg(r.1))
+}
+
+/// Light grid lines for axes in log10 space: at 2..9 × 10^k when the axis
+/// spans at most 6 decades, else at every decade (up to 60).
+pub(crate) fn draw_minor_decades<DB: DrawingBackend>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    x: (f64, f64),
+    y: (f64, f64),
+    on_x: bool,
+    on_y: bool,
+) -> DrawResult {
+    let light = RGBColor(238, 238, 238).stroke_width(1);
+    let positions = |(lo, hi): (f64, f64)| -> Vec<f64> {
+        let span = hi - lo;
+        if !(span.is_finite() && span > 0.0) || span > 60.0 {
+            return Vec::new();
+        }
+        let (k0, k1) = (lo.floor() as i64, hi.ceil() as i64);
+        let mut out = Vec::new();
+        for k in k0..=k1 {
+            if span <= 6.0 {
+                for m in 2..=9 {
+                    out.push(k as f64 + f64::from(m).log10());
+                }
+            } else {
+                out.push(k as f64);
+            }
+        }
+        out.retain(|v| *v > lo && *v < hi);
+        out
+    };
+    if on_x {
+        chart.draw_series(
+            positions(x)
+                .into_iter()
+                .map(|v| PathElement::new(vec![(v, y.0), (v, y.1)], light)),
+        )?;
+    }
+    if on_y {
+        chart.draw_series(
+            positions(y)
+                .into_iter()
+                .map(|v| PathElement::new(vec![(x.0, v), (x.1, v)], light)),
+        )?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ranges_and_floors() {
+        assert_eq!(log_floor([0.0, 1e-3, 5.0]), 1e-16);
+        assert_eq!(log_floor([0.0, 3e-20]), 1e-21);
+        assert_eq!(log_floor([f64::NAN, -1.0]), 1e-16);
+        assert_eq!(log_floor([0.0, 5e-324]), LOG_MIN);
+        for (lo, hi) in [
+            (1e300, 1e300),
+            (f64::MAX, f64::MAX),
+            (5e-324, 5e-324),
+            (1e-300, 1e300),
+        ] {
+            let (a, b) = log_range(lo, hi);
+            assert!(
+                a.is_finite() && b.is_finite() && a > 0.0 && b > a,
+                "{lo} {hi}: {a} {b}"
+            );
+            assert!(
+                a >= LOG_MIN * 0.999 && b <= LOG_MAX * 1.001,
+                "{lo} {hi}: {a} {b}"
+            );
+        }
+        let (lo, hi) = log_range(1.0, 1.0);
+        assert!(lo < 1.0 && hi > 1.0 && hi / lo >= 10.0);
+        let (lo, hi) = log_range(0.0, f64::INFINITY);
+        assert!(lo > 0.0 && hi > lo);
+    }
+
+    #[test]
+    fn colours() {
+        assert_eq!(viridis(0.0), RGBColor(68, 1, 84));
+        assert_eq!(viridis(1.0), RGBColor(253, 231, 37));
+        assert_eq!(viridis(f64::NAN), RGBColor(68, 1, 84));
+        assert_eq!(colour(0), colour(20));
+    }
+
+    #[test]
+    fn the_font_measures_text() {
+        assert!(text_width("MHS (hmcr=0.9)", 15) > text_width("MHS", 15));
+    }
+}

@@ -1,0 +1,468 @@
+//! Parameter tuning: grids of cells that share a label and differ in their
+//! parameters (e.g. MHS over hmcr × bw), the best setting per problem and
+//! overall, and the data of the heat maps.
+
+use std::collections::BTreeMap;
+
+use crate::stats::friedman;
+
+use super::data::{param_value, varying_params, Dataset};
+use super::descriptive::{mean_error, CellStats};
+use super::format::{csv_real, fixed2, sci_opt, Table};
+
+/// Cells with one label that differ in their parameters.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Grid {
+    /// The shared label.
+    pub label: String,
+    /// A file-name-safe form of the label, unique among grids.
+    pub slug: String,
+    /// The cells, in order of appearance.
+    pub cells: Vec<usize>,
+    /// The parameters whose values differ among the cells.
+    pub varying: Vec<String>,
+}
+
+impl Grid {
+    /// The varying parameters of `cell`: `hmcr=0.7, bw=0.01`.
+    pub fn setting(&self, ds: &Dataset, cell: usize) -> String {
+        let Some(c) = ds.cells.get(cell) else {
+            return String::new();
+        };
+        self.varying
+            .iter()
+            .map(|k| format!("{k}={}", param_value(c, k).unwrap_or_else(|| "-".into())))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+fn slug(label: &str) -> String {
+    let s: String = label
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() {
+                c.to_ascii_lowercase()
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    let s = s.trim_matches('_').to_owned();
+    if s.is_empty() {
+        "grid".into()
+    } else {
+        s
+    }
+}
+
+/// The parameter grids of a dataset, in order of their first cell.
+pub(crate) fn grids(ds: &Dataset) -> Vec<Grid> {
+    let mut by_label: BTreeMap<&str, Vec<usize>> = BTreeMap::new();
+    let mut order: Vec<&str> = Vec::new();
+    for (i, c) in ds.cells.iter().enumerate() {
+        let entry = by_label.entry(c.label.as_str()).or_default();
+        if entry.is_empty() {
+            order.push(c.label.as_str());
+        }
+        entry.push(i);
+    }
+    let mut out: Vec<Grid> = Vec::new();
+    let mut slugs: BTreeMap<String, usize> = BTreeMap::new();
+    for label in order {
+        let cells = by_label.get(label).cloned().unwrap_or_default();
+        if cells.len() < 2 {
+            continue;
+        }
+        let refs: Vec<_> = cells.iter().map(|&i| &ds.cells[i]).collect();
+        let varying = varying_params(&refs);
+        if varying.is_empty() {
+            continue;
+        }
+        let mut s = slug(label);
+        let n = slugs.entry(s.clone()).or_insert(0);
+        *n += 1;
+        if *n > 1 {
+            s = format!("{s}_{n}");
+        }
+        out.push(Grid {
+            label: label.to_owned(),
+            slug: s,
+            cells,
+            varying,
+        });
+    }
+    out
+}
+
+/// The best cell of `grid` on problem `p`: lowest mean final error, ties
+/// broken by the median and then by the order of the cells.
+pub(crate) fn best_on_problem(
+    grid: &Grid,
+    stats: &[Vec<Option<CellStats>>],
+    p: usize,
+) -> Option<usize> {
+    let mut best: Option<(usize, f64, f64)> = None;
+    for &c in &grid.cells {
+        let Some(s) = stats
+            .get(p)
+            .and_then(|r| r.get(c))
+            .and_then(|x| x.as_ref())
+            .and_then(|x| x.summary.as_ref())
+        else {
+            continue;
+        };
+        let better = match best {
+            None => true,
+            Some((_, m, med)) => s.mean.total_cmp(&m).then(s.median.total_cmp(&med)).is_lt(),
+        };
+        if better {
+            best = Some((c, s.mean, s.median));
+        }
+    }
+    best.map(|b| b.0)
+}
+
+/// Mean ranks of the grid's settings over the problems on which every
+/// setting has a defined mean error: (problems used, rank per grid cell).
+pub(crate) fn mean_ranks(
+    ds: &Dataset,
+    grid: &Grid,
+    stats: &[Vec<Option<CellStats>>],
+) -> Option<(Vec<usize>, Vec<f64>)> {
+    let mut blocks = Vec::new();
+    let mut rows = Vec::new();
+    for p in 0..ds.problems.len() {
+        let row: Option<Vec<f64>> = grid
+            .cells
+            .iter()
+            .map(|&c| mean_error(stats, p, c).filter(|m| !m.is_nan()))
+            .collect();
+        if let Some(row) = row {
+            blocks.push(p);
+            rows.push(row);
+        }
+    }
+    let f = friedman(&rows).ok()?;
+    Some((blocks, f.average_ranks))
+}
+
+/// The tables of a grid: the best setting per problem and overall, and the
+/// mean rank of every setting.
+pub(crate) fn tables(ds: &Dataset, grid: &Grid, stats: &[Vec<Option<CellStats>>]) -> Vec<Table> {
+    let params = grid.varying.join(" × ");
+    let mut best = Table {
+        stem: format!("tuning_best_{}", grid.slug),
+        title: format!(
+            "Parameter tuning of {}: best setting ({params})",
+            grid.label
+        ),
+        intro: vec![format!(
+            "{} settings of {} vary {}. Per problem, the best setting has the lowest \
+             mean final error (ties: lowest median). Overall, the best setting has the \
+             lowest mean rank over the problems (settings ranked by mean final error \
+             within each problem, rank 1 = best).",
+            grid.cells.len(),
+            grid.label,
+            params
+        )],
+        md_header: ["Problem", "D", "Best setting", "Mean error", "Median error"]
+            .map(String::from)
+            .to_vec(),
+        csv_header: [
+            "problem",
+            "dim",
+            "algorithm",
+            "params",
+            "setting",
+            "mean",
+            "median",
+            "mean_rank",
+        ]
+        .map(String::from)
+        .to_vec(),
+        ..Table::default()
+    };
+    for (p, problem) in ds.problems.iter().enumerate() {
+        let Some(c) = best_on_problem(grid, stats, p) else {
+            continue;
+        };
+        let s = stats[p][c].as_ref().and_then(|x| x.summary.as_ref());
+        best.md_rows.push(vec![
+            problem.function.clone(),
+            problem.dim.to_string(),
+            grid.setting(ds, c),
+            sci_opt(s.map(|x| x.mean)),
+            sci_opt(s.map(|x| x.median)),
+        ]);
+        best.csv_rows.push(vec![
+            problem.function.clone(),
+            problem.dim.to_string(),
+            grid.label.clone(),
+            ds.cells[c].params.clone(),
+            grid.setting(ds, c),
+            s.map_or_else(String::new, |x| csv_real(x.mean)),
+            s.map_or_else(String::new, |x| csv_real(x.median)),
+            String::new(),
+        ]);
+    }
+    let mut ranks = Table {
+        stem: format!("tuning_ranks_{}", grid.slug),
+        title: format!(
+            "Parameter tuning of {}: mean rank of every setting",
+            grid.label
+        ),
+        md_header: ["Position", "Setting", "Mean rank"]
+            .map(String::from)
+            .to_vec(),
+        csv_header: ["position", "algorithm", "params", "setting", "mean_rank"]
+            .map(String::from)
+            .to_vec(),
+        ..Table::default()
+    };
+    match mean_ranks(ds, grid, stats) {
+        Some((blocks, r)) => {
+            ranks.intro.push(format!(
+                "Mean rank of the mean final error over the {} problem(s) run by every \
+                 setting (rank 1 = lowest error, ties share the average rank).",
+                blocks.len()
+            ));
+            let mut order: Vec<usize> = (0..r.len()).collect();
+            order.sort_by(|&a, &b| r[a].total_cmp(&r[b]).then(a.cmp(&b)));
+            for (pos, &i) in order.iter().enumerate() {
+                let c = grid.cells[i];
+                ranks.md_rows.push(vec![
+                    (pos + 1).to_string(),
+                    grid.setting(ds, c),
+                    fixed2(r[i]),
+                ]);
+                ranks.csv_rows.push(vec![
+                    (pos + 1).to_string(),
+                    grid.label.clone(),
+                    ds.cells[c].params.clone(),
+                    grid.setting(ds, c),
+                    csv_real(r[i]),
+                ]);
+            }
+            if let Some(&i) = order.first() {
+                let c = grid.cells[i];
+                let tied = r.iter().filter(|&&x| x == r[i]).count() - 1;
+                let mut setting = grid.setting(ds, c);
+                if tied > 0 {
+                    setting.push_str(&format!(
+                        " (tied with {tied} other setting(s); the first in spec order is shown)"
+                    ));
+                }
+                best.md_rows.push(vec![
+                    "overall (mean rank)".into(),
+                    String::new(),
+                    setting,
+                    format!("rank {}", fixed2(r[i])),
+                    String::new(),
+                ]);
+                best.csv_rows.push(vec![
+                    "overall".into(),
+                    String::new(),
+                    grid.label.clone(),
+                    ds.cells[c].params.clone(),
+                    grid.setting(ds, c),
+                    String::new(),
+                    String::new(),
+                    csv_real(r[i]),
+                ]);
+            }
+        }
+        None => ranks.intro.push(
+            "No problem was run by every setting with a defined mean error: no ranks.".into(),
+        ),
+    }
+    vec![best, ranks]
+}
+
+/// One problem's panel of a heat map.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct HeatPanel {
+    /// The problem's title.
+    pub title: String,
+    /// Mean final error, `mean[y][x]`; `None` where undefined.
+    pub mean: Vec<Vec<Option<f64>>>,
+    /// The best cell (y, x), if any.
+    pub best: Option<(usize, usize)>,
+}
+
+/// The data of one heat map: mean final error over a two-parameter grid,
+/// one panel per problem.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct HeatMap {
+    /// The grid's label.
+    pub label: String,
+    /// File-name-safe label.
+    pub slug: String,
+    /// Parameter on the horizontal axis.
+    pub x_param: String,
+    /// Parameter on the vertical axis.
+    pub y_param: String,
+    /// Its values, in increasing order when numeric.
+    pub x_values: Vec<String>,
+    /// Its values, in increasing order when numeric.
+    pub y_values: Vec<String>,
+    /// Per problem: title, `mean[y][x]` and the best (y, x).
+    pub panels: Vec<HeatPanel>,
+}
+
+fn sorted_values(values: Vec<String>) -> Vec<String> {
+    let mut v: Vec<String> = Vec::new();
+    for x in values {
+        if !v.contains(&x) {
+            v.push(x);
+        }
+    }
+    let numeric: Option<Vec<f64>> = v.iter().map(|s| s.parse::<f64>().ok()).collect();
+    if let Some(nums) = numeric {
+        let mut pairs: Vec<(f64, String)> = nums.into_iter().zip(v).collect();
+        pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
+        pairs.into_iter().map(|p| p.1).collect()
+    } else {
+        v
+    }
+}
+
+/// The heat map of a grid that varies exactly two parameters.
+pub(crate) fn heat_map(
+    ds: &Dataset,
+    grid: &Grid,
+    stats: &[Vec<Option<CellStats>>],
+) -> Option<HeatMap> {
+    if grid.varying.len() != 2 {
+        return None;
+    }
+    let (xp, yp) = (&grid.varying[0], &grid.varying[1]);
+    let value = |c: usize, k: &str| param_value(&ds.cells[c], k).unwrap_or_else(|| "-".into());
+    let x_values = sorted_values(grid.cells.iter().map(|&c| value(c, xp)).collect());
+    let y_values = sorted_values(grid.cells.iter().map(|&c| value(c, yp)).collect());
+    let mut panels = Vec::new();
+    for (p, problem) in ds.problems.iter().enumerate() {
+        let mut m = vec![vec![None; x_values.len()]; y_values.len()];
+        let mut any = false;
+        let mut best_pos = None;
+        let best = best_on_problem(grid, stats, p);
+        for &c in &grid.cells {
+            let xi = x_values.iter().position(|v| *v == value(c, xp));
+            let yi = y_values.iter().position(|v| *v == value(c, yp));
+            if let (Some(xi), Some(yi)) = (xi, yi) {
+                let mean = mean_error(stats, p, c).filter(|v| !v.is_nan());
+                any |= mean.is_some();
+                m[yi][xi] = mean;
+                if best == Some(c) {
+                    best_pos = Some((yi, xi));
+                }
+            }
+        }
+        if any {
+            panels.push(HeatPanel {
+                title: problem.title(),
+                mean: m,
+                best: best_pos,
+            });
+        }
+    }
+    if panels.is_empty() {
+        return None;
+    }
+    Some(HeatMap {
+        label: grid.label.clone(),
+        slug: grid.slug.clone(),
+        x_param: xp.clone(),
+        y_param: yp.clone(),
+        x_values,
+        y_values,
+        panels,
+    })
+}
+
+/// A compact text of a mean error for a heat-map cell: `1.2e-03`.
+pub(crate) fn cell_label(v: f64) -> String {
+    super::format::sci_digits(v, 2)
+}
+
+/// The note on a grid that varies more than two parameters.
+pub(crate) fn no_heat_map_note(grid: &Grid) -> String {
+    format!(
+        "{} varies {} parameters ({}): no heat map (it needs exactly two); see the \
+         tuning tables.",
+        grid.label,
+        grid.varying.len(),
+        grid.varying.join(", ")
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::records::RunRecord;
+    use crate::report::descriptive::compute;
+
+    fn rec(alg: &str, params: &str, problem: &str, run: u32, error: f64) -> (RunRecord, bool) {
+        (
+            RunRecord {
+                algorithm: alg.into(),
+                kind: "mhs".into(),
+                params: params.into(),
+                problem: problem.into(),
+                dim: 2,
+                budget: 100,
+                run,
+                seed: 0,
+                best: error,
+                error,
+                evaluations: 100,
+                evaluations_to_target: None,
+                success: false,
+                trace: Vec::new(),
+                wall_seconds: 0.0,
+            },
+            false,
+        )
+    }
+
+    #[test]
+    fn grid_best_settings_and_heat_map() {
+        let mut v = Vec::new();
+        for run in 0..3 {
+            for (hmcr, bw, e1, e2) in [
+                ("0.9", "0.1", 1.0, 4.0),
+                ("0.7", "0.1", 2.0, 1.0),
+                ("0.9", "0.01", 0.5, 3.0),
+                ("0.7", "0.01", 3.0, 2.0),
+            ] {
+                let params = format!("hms=5;hmcr={hmcr};bw={bw}");
+                v.push(rec("MHS", &params, "f", run, e1));
+                v.push(rec("MHS", &params, "g", run, e2));
+            }
+            v.push(rec("HS", "hms=5", "f", run, 9.0));
+        }
+        let ds = Dataset::from_records(v);
+        let stats = compute(&ds);
+        let g = grids(&ds);
+        assert_eq!(g.len(), 1);
+        assert_eq!(g[0].varying, ["hmcr", "bw"]);
+        let t = tables(&ds, &g[0], &stats);
+        assert_eq!(t[0].md_rows[0][2], "hmcr=0.9, bw=0.01");
+        assert_eq!(t[0].md_rows[1][2], "hmcr=0.7, bw=0.1");
+        // Ranks on f and g: (0.9,0.1): 2,4 → 3; (0.7,0.1): 3,1 → 2; (0.9,0.01):
+        // 1,3 → 2; (0.7,0.01): 4,2 → 3. The tie goes to the first setting.
+        assert_eq!(
+            t[0].md_rows[2][2],
+            "hmcr=0.7, bw=0.1 (tied with 1 other setting(s); the first in spec order is shown)"
+        );
+        assert_eq!(t[0].md_rows[2][3], "rank 2.00");
+        assert_eq!(t[1].md_rows[0][1], "hmcr=0.7, bw=0.1");
+        assert_eq!(t[1].md_rows[1][1], "hmcr=0.9, bw=0.01");
+        assert_eq!(t[1].md_rows[3][1], "hmcr=0.7, bw=0.01");
+        let h = heat_map(&ds, &g[0], &stats).unwrap();
+        assert_eq!(h.x_values, ["0.7", "0.9"]);
+        assert_eq!(h.y_values, ["0.01", "0.1"]);
+        assert_eq!(h.panels[0].mean[0][1], Some(0.5));
+        assert_eq!(h.panels[0].best, Some((0, 1)));
+    }
+}

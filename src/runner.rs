@@ -1,0 +1,436 @@
+//! The campaign runner: spec → seeded runs in parallel → records on disk.
+//!
+//! Runs execute in parallel with rayon, but the output does not depend on
+//! the thread count: each run's seed is derived from the spec alone
+//! ([`crate::rng::derive_seed`]), and the rows are written in the
+//! campaign's fixed order (problem, cell, run) once all runs are done.
+//! Finished runs are journalled as they complete, so `--resume` continues
+//! an interrupted campaign without redoing them, and `--shard K/N` runs one
+//! slice of a campaign for [`merge`] to join.
+
+use std::collections::HashMap;
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use crate::error::{write_atomic, Error};
+use crate::optim::evaluator::log_checkpoints;
+use crate::optim::{Evaluator, Optimiser};
+use crate::records::{self, RunKey, RunRecord};
+use crate::rng::{derive_seed, fnv1a64, run_rng, RNG_NAME};
+use crate::spec::{RunId, Spec};
+
+/// One slice `K/N` of a campaign: the runs whose index `i` has `i mod N = K − 1`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shard {
+    /// This slice, from 1.
+    pub k: usize,
+    /// The number of slices.
+    pub n: usize,
+}
+
+impl Shard {
+    /// Parses `K/N` with `1 ≤ K ≤ N`.
+    pub fn parse(text: &str) -> Result<Shard, String> {
+        let bad =
+            || format!("expected a shard as K/N with 1 ≤ K ≤ N, such as 2/8, found \"{text}\"");
+        let (k, n) = text.split_once('/').ok_or_else(bad)?;
+        let k: usize = k.trim().parse().map_err(|_| bad())?;
+        let n: usize = n.trim().parse().map_err(|_| bad())?;
+        if k == 0 || n == 0 || k > n {
+            return Err(bad());
+        }
+        Ok(Shard { k, n })
+    }
+
+    /// Whether run `index` belongs to this slice.
+    pub fn contains(self, index: usize) -> bool {
+        index % self.n == self.k - 1
+    }
+}
+
+impl std::fmt::Display for Shard {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}/{}", self.k, self.n)
+    }
+}
+
+/// How to run a campaign.
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    /// Output directory; default `results/<name>` (or
+    /// `results/<name>/shard-K-of-N` for a shard).
+    pub out: Option<PathBuf>,
+    /// Worker threads; default all cores.
+    pub threads: Option<usize>,
+    /// Continue a campaign whose output directory already holds runs.
+    pub resume: bool,
+    /// Run only this slice.
+    pub shard: Option<Shard>,
+    /// Stop after this many new runs (the rest can be resumed later).
+    pub max_runs: Option<usize>,
+    /// Show a progress bar (only ever drawn when stderr is a terminal).
+    pub progress: bool,
+}
+
+/// What a campaign did.
+#[derive(Clone, Debug)]
+pub struct Summary {
+    /// The output directory.
+    pub out: PathBuf,
+    /// Runs in this campaign (or shard).
+    pub total: usize,
+    /// Runs found already finished.
+    pub reused: usize,
+    /// Runs executed now.
+    pub executed: usize,
+    /// Whether every run is finished and the result files are written.
+    pub complete: bool,
+}
+
+/// Executes one run: derives its seed, minimises, and records the outcome.
+pub fn execute(spec: &Spec, id: RunId) -> RunRecord {
+    let entry = &spec.problems[id.problem];
+    let cell = &spec.cells[id.cell];
+    let seed = derive_seed(spec.seed, &cell.key(), &entry.key(), id.run);
+    let mut rng = run_rng(seed);
+    let problem = entry.instance();
+    let f_star = entry.function.optimum_value();
+    let start = Instant::now();
+    let mut eval = Evaluator::new(&problem, entry.budget)
+        .with_target(f_star + spec.threshold)
+        .with_checkpoints(log_checkpoints(entry.budget, spec.checkpoints_per_decade));
+    cell.algorithm.minimise(&mut eval, &mut rng);
+    let outcome = eval.finish();
+    let wall_seconds = start.elapsed().as_secs_f64();
+    RunRecord {
+        algorithm: cell.label.clone(),
+        kind: cell.algorithm.name().to_owned(),
+        params: cell.params.canonical(),
+        problem: entry.function.name().to_owned(),
+        dim: entry.dim,
+        budget: entry.budget,
+        run: id.run,
+        seed,
+        best: outcome.best_value,
+        error: outcome.best_value - f_star,
+        evaluations: outcome.evaluations,
+        evaluations_to_target: outcome.evaluations_to_target,
+        success: outcome.evaluations_to_target.is_some(),
+        trace: outcome.trace,
+        wall_seconds,
+    }
+}
+
+/// The `meta.toml` of a campaign directory.
+fn meta_toml(spec: &Spec, shard: Option<Shard>, runs: usize) -> String {
+    let mut s = String::new();
+    s.push_str("# Written by metabezier; see the README for the file formats.\n");
+    s.push_str(&format!(
+        "tool = \"metabezier\"\nversion = \"{}\"\n",
+        env!("CARGO_PKG_VERSION")
+    ));
+    s.push_str(&format!("experiment = \"{}\"\n", spec.name));
+    s.push_str(&format!("master_seed = {}\n", spec.seed));
+    s.push_str(&format!("rng = \"{RNG_NAME}\"\n"));
+    s.push_str(
+        "seed_derivation = \"seed = splitmix64 folded over (master_seed, fnv1a64(cell key), fnv1a64(problem key), run); cell key = label:kind[params], problem key = problem-dim\"\n",
+    );
+    s.push_str(&format!(
+        "spec_fnv1a64 = \"{:016x}\"\n",
+        fnv1a64(&spec.text)
+    ));
+    s.push_str(&format!("runs = {runs}\n"));
+    if let Some(sh) = shard {
+        s.push_str(&format!("shard = \"{sh}\"\n"));
+    }
+    s
+}
+
+fn default_out(spec: &Spec, shard: Option<Shard>) -> PathBuf {
+    let base = Path::new("results").join(&spec.name);
+    match shard {
+        Some(s) => base.join(format!("shard-{}-of-{}", s.k, s.n)),
+        None => base,
+    }
+}
+
+/// Maps every run key of the spec to its position in the fixed order.
+fn key_index(spec: &Spec) -> HashMap<RunKey, usize> {
+    let cell_keys: Vec<String> = spec.cells.iter().map(|c| c.key()).collect();
+    let problem_keys: Vec<String> = spec.problems.iter().map(|p| p.key()).collect();
+    spec.run_ids()
+        .into_iter()
+        .map(|id| {
+            (
+                (
+                    cell_keys[id.cell].clone(),
+                    problem_keys[id.problem].clone(),
+                    id.run,
+                ),
+                id.index,
+            )
+        })
+        .collect()
+}
+
+/// Writes the three result files of `records` (already in final order).
+fn write_results(spec: &Spec, out: &Path, records: &[RunRecord]) -> Result<(), Error> {
+    let optimum: HashMap<String, f64> = spec
+        .problems
+        .iter()
+        .map(|p| (p.function.name().to_owned(), p.function.optimum_value()))
+        .collect();
+    write_atomic(&out.join("runs.csv"), &records::runs_csv(records))?;
+    write_atomic(
+        &out.join("convergence.csv"),
+        &records::convergence_csv(records, |r| optimum.get(&r.problem).copied().unwrap_or(0.0)),
+    )?;
+    write_atomic(&out.join("timing.csv"), &records::timing_csv(records))?;
+    Ok(())
+}
+
+/// Runs (or resumes) a campaign and writes `runs.csv`, `convergence.csv`,
+/// `timing.csv`, a copy of the spec and `meta.toml` into the output directory.
+pub fn run_campaign(spec: &Spec, opts: &RunOptions) -> Result<Summary, Error> {
+    let out = opts
+        .out
+        .clone()
+        .unwrap_or_else(|| default_out(spec, opts.shard));
+    let journal_path = out.join("journal.csv");
+    let runs_path = out.join("runs.csv");
+    let spec_copy = out.join("spec.toml");
+    let has_state = journal_path.exists() || runs_path.exists();
+    if has_state && !opts.resume {
+        return Err(Error::Campaign(format!(
+            "{} already holds runs of a campaign; pass --resume to continue it (finished runs are kept), or choose another --out",
+            out.display()
+        )));
+    }
+    std::fs::create_dir_all(&out).map_err(|e| Error::io("create the directory", &out, e))?;
+
+    let index = key_index(spec);
+    let mut done: HashMap<usize, RunRecord> = HashMap::new();
+    if has_state {
+        if let Ok(old) = std::fs::read_to_string(&spec_copy) {
+            if old != spec.text {
+                return Err(Error::Campaign(format!(
+                    "cannot resume: {} differs from {}, the copy made when the campaign started, so finished runs would not match; restore the spec or choose another --out",
+                    spec.path.display(),
+                    spec_copy.display()
+                )));
+            }
+        }
+        let meta_path = out.join("meta.toml");
+        if let Ok(meta) = std::fs::read_to_string(&meta_path) {
+            let old_shard = meta
+                .lines()
+                .find_map(|l| l.strip_prefix("shard = \""))
+                .map(|s| s.trim_end_matches('"').to_owned());
+            let new_shard = opts.shard.map(|s| s.to_string());
+            if old_shard != new_shard {
+                return Err(Error::Campaign(format!(
+                    "cannot resume: {} was started as shard {}, not {}",
+                    out.display(),
+                    old_shard.as_deref().unwrap_or("(none)"),
+                    new_shard.as_deref().unwrap_or("(none)")
+                )));
+            }
+        }
+        let mut found = Vec::new();
+        if runs_path.exists() {
+            found.extend(records::read_results(&out)?);
+        }
+        if journal_path.exists() {
+            found.extend(records::read_journal(&journal_path)?);
+        }
+        for r in found {
+            let i = *index.get(&r.key()).ok_or_else(|| {
+                Error::Campaign(format!(
+                    "cannot resume: {} holds run {} of {} on {}, which the spec does not define",
+                    out.display(),
+                    r.run,
+                    r.cell_key(),
+                    r.problem_key()
+                ))
+            })?;
+            done.insert(i, r);
+        }
+    }
+
+    let ids: Vec<RunId> = spec
+        .run_ids()
+        .into_iter()
+        .filter(|id| opts.shard.is_none_or(|s| s.contains(id.index)))
+        .collect();
+    let total = ids.len();
+    write_atomic(&spec_copy, spec.text.as_bytes())?;
+    write_atomic(
+        &out.join("meta.toml"),
+        meta_toml(spec, opts.shard, total).as_bytes(),
+    )?;
+
+    // Rewrite the journal with what is known (drops a torn last line), then append.
+    let mut journal_bytes = Vec::new();
+    let mut reused: Vec<&RunRecord> = done.values().collect();
+    reused.sort_by_key(|r| index[&r.key()]);
+    for r in &reused {
+        journal_bytes.extend(records::journal_line(r));
+    }
+    write_atomic(&journal_path, &journal_bytes)?;
+    let reused = done.len();
+
+    let mut todo: Vec<RunId> = ids
+        .iter()
+        .copied()
+        .filter(|id| !done.contains_key(&id.index))
+        .collect();
+    if let Some(m) = opts.max_runs {
+        todo.truncate(m);
+    }
+    let journal = std::fs::OpenOptions::new()
+        .append(true)
+        .open(&journal_path)
+        .map_err(|e| Error::io("open", &journal_path, e))?;
+    let journal = Mutex::new(journal);
+    let bar = if opts.progress && std::io::stderr().is_terminal() {
+        let bar = indicatif::ProgressBar::new(todo.len() as u64);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{prefix} [{elapsed_precise}] {wide_bar} {pos}/{len} runs (eta {eta})",
+            )
+            .expect("valid template"),
+        );
+        bar.set_prefix(spec.name.clone());
+        bar
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(opts.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| Error::Campaign(format!("cannot start worker threads: {e}")))?;
+    let new: Vec<Result<RunRecord, Error>> = pool.install(|| {
+        todo.par_iter()
+            .map(|id| {
+                let rec = execute(spec, *id);
+                let line = records::journal_line(&rec);
+                let mut j = journal.lock().unwrap_or_else(|p| p.into_inner());
+                j.write_all(&line)
+                    .and_then(|_| j.flush())
+                    .map_err(|e| Error::io("append to", &journal_path, e))?;
+                drop(j);
+                bar.inc(1);
+                Ok(rec)
+            })
+            .collect()
+    });
+    bar.finish_and_clear();
+    let executed = new.len();
+    for (id, rec) in todo.iter().zip(new) {
+        done.insert(id.index, rec?);
+    }
+
+    let complete = ids.iter().all(|id| done.contains_key(&id.index));
+    if complete {
+        let ordered: Vec<RunRecord> = ids
+            .iter()
+            .map(|id| done.remove(&id.index).expect("complete"))
+            .collect();
+        write_results(spec, &out, &ordered)?;
+        std::fs::remove_file(&journal_path).map_err(|e| Error::io("remove", &journal_path, e))?;
+    }
+    Ok(Summary {
+        out,
+        total,
+        reused,
+        executed,
+        complete,
+    })
+}
+
+/// Joins the result directories of shards of one campaign into one
+/// directory whose files equal those of an unsharded run.
+pub fn merge(spec: &Spec, dirs: &[PathBuf], out: Option<PathBuf>) -> Result<Summary, Error> {
+    let out = out.unwrap_or_else(|| default_out(spec, None));
+    let index = key_index(spec);
+    let mut done: HashMap<usize, RunRecord> = HashMap::new();
+    for dir in dirs {
+        let copy = dir.join("spec.toml");
+        let text = std::fs::read_to_string(&copy).map_err(|e| Error::io("read", &copy, e))?;
+        if text != spec.text {
+            return Err(Error::Campaign(format!(
+                "cannot merge: {} was made from a different spec than {}",
+                copy.display(),
+                spec.path.display()
+            )));
+        }
+        if !dir.join("runs.csv").exists() {
+            return Err(Error::Campaign(format!(
+                "cannot merge: {} has no runs.csv; finish that shard first (run it again with --resume)",
+                dir.display()
+            )));
+        }
+        for r in records::read_results(dir)? {
+            let i = *index.get(&r.key()).ok_or_else(|| {
+                Error::Campaign(format!(
+                    "cannot merge: {} holds run {} of {} on {}, which the spec does not define",
+                    dir.display(),
+                    r.run,
+                    r.cell_key(),
+                    r.problem_key()
+                ))
+            })?;
+            if let Some(prev) = done.get(&i) {
+                let same = RunRecord {
+                    wall_seconds: prev.wall_seconds,
+                    ..r.clone()
+                };
+                if &same != prev {
+                    return Err(Error::Campaign(format!(
+                        "cannot merge: run {} of {} on {} differs between shards",
+                        r.run,
+                        r.cell_key(),
+                        r.problem_key()
+                    )));
+                }
+            }
+            done.insert(i, r);
+        }
+    }
+    let ids = spec.run_ids();
+    let missing: Vec<usize> = ids
+        .iter()
+        .filter(|id| !done.contains_key(&id.index))
+        .map(|id| id.index)
+        .collect();
+    if !missing.is_empty() {
+        return Err(Error::Campaign(format!(
+            "cannot merge: {} of {} runs are missing (the first is run #{}); merge all shards of the campaign",
+            missing.len(),
+            ids.len(),
+            missing[0]
+        )));
+    }
+    std::fs::create_dir_all(&out).map_err(|e| Error::io("create the directory", &out, e))?;
+    let ordered: Vec<RunRecord> = ids
+        .iter()
+        .map(|id| done.remove(&id.index).expect("complete"))
+        .collect();
+    write_atomic(&out.join("spec.toml"), spec.text.as_bytes())?;
+    write_atomic(
+        &out.join("meta.toml"),
+        meta_toml(spec, None, ids.len()).as_bytes(),
+    )?;
+    write_results(spec, &out, &ordered)?;
+    Ok(Summary {
+        out,
+        total: ids.len(),
+        reused: ids.len(),
+        executed: 0,
+        complete: true,
+    })
+}

@@ -1,0 +1,786 @@
+//! TOML experiment specs: what to run, checked completely before anything runs.
+//!
+//! ```toml
+//! [experiment]
+//! name = "quick"            # results go to results/<name>/
+//! seed = 2026               # master seed
+//! runs = 5                  # independent runs per (algorithm cell, problem)
+//! budget = 20000            # objective evaluations per run (or budget_per_dim)
+//! threshold = 1e-8          # success when f − f* ≤ threshold
+//!
+//! [[problem]]
+//! function = ["sphere", "rastrigin"]   # a name or a list of names
+//! dim = [10, 30]                       # a dimension or a list
+//!
+//! [[algorithm]]
+//! name = "mhs"
+//! label = "MHS"             # optional; defaults to the name
+//! hmcr = [0.7, 0.8, 0.9]    # a list expands into a grid of cells
+//! ```
+//!
+//! Every error names the file, line, column and field, says what was
+//! expected and lists the valid choices.
+
+use std::fmt;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use toml::de::{DeTable, DeValue};
+use toml::Spanned;
+
+use crate::functions::{Function, TestProblem};
+use crate::optim::params::{quoted_list, Raw, Setting};
+use crate::optim::{Algorithm, ParamDef, ParamSet};
+
+/// A spec that failed to load, located in its file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpecError {
+    /// The spec file.
+    pub path: PathBuf,
+    /// 1-based line of the offending text (0 when the file could not be read).
+    pub line: usize,
+    /// 1-based column, in characters.
+    pub column: usize,
+    /// The field, as a path such as `algorithm[2].hmcr`.
+    pub field: String,
+    /// What is wrong and what was expected.
+    pub message: String,
+}
+
+impl fmt::Display for SpecError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.line == 0 {
+            write!(f, "{}: {}", self.path.display(), self.message)
+        } else if self.field.is_empty() {
+            write!(
+                f,
+                "{}:{}:{}: {}",
+                self.path.display(),
+                self.line,
+                self.column,
+                self.message
+            )
+        } else {
+            write!(
+                f,
+                "{}:{}:{}: {}: {}",
+                self.path.display(),
+                self.line,
+                self.column,
+                self.field,
+                self.message
+            )
+        }
+    }
+}
+
+impl std::error::Error for SpecError {}
+
+/// One benchmark problem of a spec: a function at a dimension, with its budget.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProblemEntry {
+    /// The benchmark function.
+    pub function: Function,
+    /// Its dimension.
+    pub dim: usize,
+    /// Objective evaluations per run.
+    pub budget: u64,
+}
+
+impl ProblemEntry {
+    /// The stable key `function-dim`, used in seeds and for resuming.
+    pub fn key(&self) -> String {
+        format!("{}-{}", self.function.name(), self.dim)
+    }
+
+    /// The problem instance.
+    pub fn instance(&self) -> TestProblem {
+        TestProblem::new(self.function, self.dim).expect("dimension checked when the spec loaded")
+    }
+}
+
+/// One algorithm cell: a configured algorithm with its label.
+#[derive(Clone, Debug)]
+pub struct Cell {
+    /// The label shown in results (`algorithm` column).
+    pub label: String,
+    /// The configured optimiser.
+    pub algorithm: Algorithm,
+    /// Its complete parameter set, defaults filled in.
+    pub params: ParamSet,
+}
+
+impl Cell {
+    /// The stable key `label:name[params]`, used in seeds and for resuming.
+    pub fn key(&self) -> String {
+        format!(
+            "{}:{}[{}]",
+            self.label,
+            self.algorithm.name(),
+            self.params.canonical()
+        )
+    }
+}
+
+/// A loaded, validated experiment spec.
+#[derive(Clone, Debug)]
+pub struct Spec {
+    /// Where it was read from.
+    pub path: PathBuf,
+    /// Its exact text (copied next to the results).
+    pub text: String,
+    /// The experiment name; results go to `results/<name>/`.
+    pub name: String,
+    /// The master seed from which each run's seed is derived.
+    pub seed: u64,
+    /// Runs per (cell, problem).
+    pub runs: u32,
+    /// Success when `f − f* ≤ threshold`.
+    pub threshold: f64,
+    /// Convergence checkpoints per decade of evaluations.
+    pub checkpoints_per_decade: u32,
+    /// The problems, in spec order.
+    pub problems: Vec<ProblemEntry>,
+    /// The algorithm cells, in spec order (grids expanded).
+    pub cells: Vec<Cell>,
+}
+
+/// One run of a campaign: indices into the spec and the run number.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RunId {
+    /// Position in the campaign's fixed order (problem, cell, run).
+    pub index: usize,
+    /// Index into [`Spec::problems`].
+    pub problem: usize,
+    /// Index into [`Spec::cells`].
+    pub cell: usize,
+    /// The run number, from 0.
+    pub run: u32,
+}
+
+impl Spec {
+    /// Reads and validates a spec file.
+    pub fn load(path: &Path) -> Result<Spec, SpecError> {
+        let text = std::fs::read_to_string(path).map_err(|e| SpecError {
+            path: path.to_owned(),
+            line: 0,
+            column: 0,
+            field: String::new(),
+            message: format!("cannot read the spec: {e}"),
+        })?;
+        Spec::parse(path, &text)
+    }
+
+    /// Validates spec text; `path` is used in error messages.
+    pub fn parse(path: &Path, text: &str) -> Result<Spec, SpecError> {
+        Parser { path, text }.spec()
+    }
+
+    /// All runs in the campaign's fixed order: problem, then cell, then run.
+    pub fn run_ids(&self) -> Vec<RunId> {
+        let mut out =
+            Vec::with_capacity(self.problems.len() * self.cells.len() * self.runs as usize);
+        for problem in 0..self.problems.len() {
+            for cell in 0..self.cells.len() {
+                for run in 0..self.runs {
+                    out.push(RunId {
+                        index: out.len(),
+                        problem,
+                        cell,
+                        run,
+                    });
+                }
+            }
+        }
+        out
+    }
+
+    /// The total objective evaluations the campaign will spend.
+    pub fn total_evaluations(&self) -> u64 {
+        let per_cell: u64 = self.problems.iter().map(|p| p.budget).sum();
+        per_cell * self.cells.len() as u64 * u64::from(self.runs)
+    }
+}
+
+struct Parser<'a> {
+    path: &'a Path,
+    text: &'a str,
+}
+
+type Table<'i> = DeTable<'i>;
+type Value<'i> = Spanned<DeValue<'i>>;
+
+const EXPERIMENT_KEYS: [&str; 8] = [
+    "name",
+    "description",
+    "seed",
+    "runs",
+    "budget",
+    "budget_per_dim",
+    "threshold",
+    "checkpoints_per_decade",
+];
+const PROBLEM_KEYS: [&str; 4] = ["function", "dim", "budget", "budget_per_dim"];
+
+fn type_name(v: &DeValue<'_>) -> &'static str {
+    match v {
+        DeValue::String(_) => "string",
+        DeValue::Integer(_) => "integer",
+        DeValue::Float(_) => "float",
+        DeValue::Boolean(_) => "boolean",
+        DeValue::Datetime(_) => "datetime",
+        DeValue::Array(_) => "array",
+        DeValue::Table(_) => "table",
+    }
+}
+
+fn raw(v: &DeValue<'_>) -> Raw {
+    match v {
+        DeValue::Integer(i) => match i64::from_str_radix(i.as_str(), i.radix()) {
+            Ok(n) => Raw::Int(n),
+            Err(_) => Raw::Other("integer out of range"),
+        },
+        DeValue::Float(x) => match x.as_str().parse::<f64>() {
+            Ok(f) => Raw::Float(f),
+            Err(_) => Raw::Other("float"),
+        },
+        DeValue::String(s) => Raw::Text(s.to_string()),
+        other => Raw::Other(type_name(other)),
+    }
+}
+
+/// The closest name within edit distance 2, for "did you mean" hints.
+fn suggest<'n>(word: &str, names: &[&'n str]) -> Option<&'n str> {
+    fn distance(a: &str, b: &str) -> usize {
+        let b: Vec<char> = b.chars().collect();
+        let mut prev: Vec<usize> = (0..=b.len()).collect();
+        for (i, ca) in a.chars().enumerate() {
+            let mut cur = vec![i + 1; b.len() + 1];
+            for (j, cb) in b.iter().enumerate() {
+                let sub = prev[j] + usize::from(ca != *cb);
+                cur[j + 1] = sub.min(prev[j + 1] + 1).min(cur[j] + 1);
+            }
+            prev = cur;
+        }
+        prev[b.len()]
+    }
+    names
+        .iter()
+        .map(|n| (distance(word, n), *n))
+        .filter(|(d, _)| *d <= 2)
+        .min_by_key(|(d, _)| *d)
+        .map(|(_, n)| n)
+}
+
+fn choices_hint(word: &str, names: &[&str]) -> String {
+    match suggest(word, names) {
+        Some(s) => format!(
+            "did you mean \"{s}\"? Valid choices: {}",
+            quoted_list(names)
+        ),
+        None => format!("valid choices: {}", quoted_list(names)),
+    }
+}
+
+impl<'a> Parser<'a> {
+    fn error(&self, span: Range<usize>, field: &str, message: String) -> SpecError {
+        let start = span.start.min(self.text.len());
+        let before = &self.text[..start];
+        let line = before.matches('\n').count() + 1;
+        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+        let column = self.text[line_start..start].chars().count() + 1;
+        SpecError {
+            path: self.path.to_owned(),
+            line,
+            column,
+            field: field.to_owned(),
+            message,
+        }
+    }
+
+    fn spec(&self) -> Result<Spec, SpecError> {
+        let doc = DeTable::parse(self.text).map_err(|e| {
+            let span = e.span().unwrap_or(0..0);
+            let msg = e.message().trim().to_string();
+            self.error(span, "", format!("invalid TOML: {msg}"))
+        })?;
+        let root = doc.get_ref();
+        let whole = 0..0;
+        for (k, _) in root.iter() {
+            let key: &str = k.get_ref();
+            if !["experiment", "problem", "algorithm"].contains(&key) {
+                return Err(self.error(
+                    k.span(),
+                    key,
+                    format!(
+                        "unknown section; {}",
+                        choices_hint(key, &["experiment", "problem", "algorithm"])
+                    ),
+                ));
+            }
+        }
+        let experiment = self.get(root, "experiment").ok_or_else(|| {
+            self.error(
+                whole.clone(),
+                "experiment",
+                "missing [experiment] section".into(),
+            )
+        })?;
+        let experiment = self.table(experiment, "experiment")?;
+        self.check_keys(experiment, "experiment", &EXPERIMENT_KEYS)?;
+
+        let name_v = self.required(experiment, "experiment", "name", doc.span())?;
+        let name = self.string(name_v, "experiment.name")?;
+        if name.is_empty()
+            || !name
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.')
+            || name.starts_with('.')
+        {
+            return Err(self.error(
+                name_v.span(),
+                "experiment.name",
+                format!("expected a name of letters, digits, '-', '_' or '.' (it names the results directory), found \"{name}\""),
+            ));
+        }
+        let seed_v = self.required(experiment, "experiment", "seed", doc.span())?;
+        let seed = self.integer(seed_v, "experiment.seed", 0, i64::MAX as u64)?;
+        let runs_v = self.required(experiment, "experiment", "runs", doc.span())?;
+        let runs = self.integer(runs_v, "experiment.runs", 1, u64::from(u32::MAX))? as u32;
+        let budget = self.budget(experiment, "experiment")?;
+        let threshold = match self.get(experiment, "threshold") {
+            Some(v) => {
+                let t = self.real(v, "experiment.threshold")?;
+                if !t.is_finite() || t < 0.0 {
+                    return Err(self.error(
+                        v.span(),
+                        "experiment.threshold",
+                        format!("expected a finite real number ≥ 0, found {t}"),
+                    ));
+                }
+                t
+            }
+            None => 1e-8,
+        };
+        let checkpoints_per_decade = match self.get(experiment, "checkpoints_per_decade") {
+            Some(v) => self.integer(v, "experiment.checkpoints_per_decade", 1, 1000)? as u32,
+            None => 10,
+        };
+        if let Some(v) = self.get(experiment, "description") {
+            self.string(v, "experiment.description")?;
+        }
+
+        let problems = self.problems(root, budget, doc.span())?;
+        let cells = self.cells(root, doc.span())?;
+        Ok(Spec {
+            path: self.path.to_owned(),
+            text: self.text.to_owned(),
+            name,
+            seed,
+            runs,
+            threshold,
+            checkpoints_per_decade,
+            problems,
+            cells,
+        })
+    }
+
+    fn get<'t, 'i>(&self, table: &'t Table<'i>, key: &str) -> Option<&'t Value<'i>> {
+        table
+            .iter()
+            .find(|(k, _)| k.get_ref() == key)
+            .map(|(_, v)| v)
+    }
+
+    fn required<'t, 'i>(
+        &self,
+        table: &'t Table<'i>,
+        section: &str,
+        key: &str,
+        span: Range<usize>,
+    ) -> Result<&'t Value<'i>, SpecError> {
+        self.get(table, key).ok_or_else(|| {
+            self.error(
+                span,
+                &format!("{section}.{key}"),
+                format!("missing required field \"{key}\" in [{section}]"),
+            )
+        })
+    }
+
+    fn check_keys(
+        &self,
+        table: &Table<'_>,
+        section: &str,
+        allowed: &[&str],
+    ) -> Result<(), SpecError> {
+        for (k, _) in table.iter() {
+            let key: &str = k.get_ref();
+            if !allowed.contains(&key) {
+                return Err(self.error(
+                    k.span(),
+                    &format!("{section}.{key}"),
+                    format!("unknown field; {}", choices_hint(key, allowed)),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn table<'t, 'i>(&self, v: &'t Value<'i>, field: &str) -> Result<&'t Table<'i>, SpecError> {
+        match v.get_ref() {
+            DeValue::Table(t) => Ok(t),
+            other => Err(self.error(
+                v.span(),
+                field,
+                format!("expected a table, found a {}", type_name(other)),
+            )),
+        }
+    }
+
+    fn string(&self, v: &Value<'_>, field: &str) -> Result<String, SpecError> {
+        match v.get_ref() {
+            DeValue::String(s) => Ok(s.to_string()),
+            other => Err(self.error(
+                v.span(),
+                field,
+                format!("expected a string, found a {}", type_name(other)),
+            )),
+        }
+    }
+
+    fn integer(&self, v: &Value<'_>, field: &str, min: u64, max: u64) -> Result<u64, SpecError> {
+        let expected = if max >= i64::MAX as u64 {
+            format!("an integer ≥ {min}")
+        } else {
+            format!("an integer in {min}..={max}")
+        };
+        match raw(v.get_ref()) {
+            Raw::Int(n) if n >= 0 && (n as u64) >= min && (n as u64) <= max => Ok(n as u64),
+            r => Err(self.error(v.span(), field, format!("expected {expected}, found {r}"))),
+        }
+    }
+
+    fn real(&self, v: &Value<'_>, field: &str) -> Result<f64, SpecError> {
+        match raw(v.get_ref()) {
+            Raw::Int(n) => Ok(n as f64),
+            Raw::Float(x) => Ok(x),
+            r => Err(self.error(
+                v.span(),
+                field,
+                format!("expected a real number, found {r}"),
+            )),
+        }
+    }
+
+    /// The elements of a value that may be a single item or a list.
+    fn one_or_many<'t, 'i>(
+        &self,
+        v: &'t Value<'i>,
+        field: &str,
+    ) -> Result<Vec<&'t Value<'i>>, SpecError> {
+        match v.get_ref() {
+            DeValue::Array(items) => {
+                if items.is_empty() {
+                    return Err(self.error(
+                        v.span(),
+                        field,
+                        "expected a value or a non-empty list, found an empty list".into(),
+                    ));
+                }
+                Ok(items.iter().collect())
+            }
+            _ => Ok(vec![v]),
+        }
+    }
+
+    /// `budget` or `budget_per_dim` of a table, if present (not both).
+    fn budget(&self, table: &Table<'_>, section: &str) -> Result<Option<Budget>, SpecError> {
+        let fixed = self.get(table, "budget");
+        let per_dim = self.get(table, "budget_per_dim");
+        match (fixed, per_dim) {
+            (Some(_), Some(p)) => Err(self.error(
+                p.span(),
+                &format!("{section}.budget_per_dim"),
+                "give either \"budget\" or \"budget_per_dim\", not both".into(),
+            )),
+            (Some(b), None) => Ok(Some(Budget::Fixed(self.integer(
+                b,
+                &format!("{section}.budget"),
+                1,
+                u64::MAX,
+            )?))),
+            (None, Some(p)) => Ok(Some(Budget::PerDim(self.integer(
+                p,
+                &format!("{section}.budget_per_dim"),
+                1,
+                u64::MAX,
+            )?))),
+            (None, None) => Ok(None),
+        }
+    }
+
+    fn array_of_tables<'t, 'i>(
+        &self,
+        root: &'t Table<'i>,
+        key: &str,
+        span: Range<usize>,
+    ) -> Result<Vec<&'t Value<'i>>, SpecError> {
+        let v = self.get(root, key).ok_or_else(|| {
+            self.error(
+                span,
+                key,
+                format!("missing [[{key}]] entries; the spec needs at least one"),
+            )
+        })?;
+        match v.get_ref() {
+            DeValue::Array(items) if !items.is_empty() => Ok(items.iter().collect()),
+            other => Err(self.error(
+                v.span(),
+                key,
+                format!(
+                    "expected one or more [[{key}]] tables, found a {}",
+                    type_name(other)
+                ),
+            )),
+        }
+    }
+
+    fn problems(
+        &self,
+        root: &Table<'_>,
+        default_budget: Option<Budget>,
+        span: Range<usize>,
+    ) -> Result<Vec<ProblemEntry>, SpecError> {
+        let mut out: Vec<ProblemEntry> = Vec::new();
+        for (i, entry) in self
+            .array_of_tables(root, "problem", span)?
+            .into_iter()
+            .enumerate()
+        {
+            let section = format!("problem[{}]", i + 1);
+            let table = self.table(entry, &section)?;
+            self.check_keys(table, &section, &PROBLEM_KEYS)?;
+            let budget = self.budget(table, &section)?.or(default_budget).ok_or_else(|| {
+                self.error(
+                    entry.span(),
+                    &format!("{section}.budget"),
+                    "no budget: give \"budget\" or \"budget_per_dim\" in [experiment] or in this [[problem]]".into(),
+                )
+            })?;
+            let fv = self.required(table, &section, "function", entry.span())?;
+            let field = format!("{section}.function");
+            let mut functions = Vec::new();
+            for v in self.one_or_many(fv, &field)? {
+                let name = self.string(v, &field)?;
+                let f = Function::from_name(&name).ok_or_else(|| {
+                    let names: Vec<&str> = Function::ALL.iter().map(|f| f.name()).collect();
+                    self.error(
+                        v.span(),
+                        &field,
+                        format!(
+                            "unknown function \"{name}\"; {}",
+                            choices_hint(&name, &names)
+                        ),
+                    )
+                })?;
+                functions.push((f, v.span()));
+            }
+            let dims: Vec<(Option<usize>, Range<usize>)> = match self.get(table, "dim") {
+                Some(dv) => {
+                    let field = format!("{section}.dim");
+                    self.one_or_many(dv, &field)?
+                        .into_iter()
+                        .map(|v| {
+                            Ok((
+                                Some(self.integer(v, &field, 1, 1_000_000)? as usize),
+                                v.span(),
+                            ))
+                        })
+                        .collect::<Result<_, SpecError>>()?
+                }
+                None => vec![(None, entry.span())],
+            };
+            for (f, fspan) in &functions {
+                for (dim, dspan) in &dims {
+                    let dim = match (dim, f.fixed_dim()) {
+                        (Some(d), _) => *d,
+                        (None, Some(d)) => d,
+                        (None, None) => {
+                            return Err(self.error(
+                                fspan.clone(),
+                                &format!("{section}.dim"),
+                                format!(
+                                    "missing \"dim\": {} is scalable and needs a dimension",
+                                    f.name()
+                                ),
+                            ))
+                        }
+                    };
+                    if let Err(e) = TestProblem::new(*f, dim) {
+                        return Err(self.error(
+                            dspan.clone(),
+                            &format!("{section}.dim"),
+                            e.to_string(),
+                        ));
+                    }
+                    let p = ProblemEntry {
+                        function: *f,
+                        dim,
+                        budget: budget.for_dim(dim),
+                    };
+                    if out.iter().any(|q| q.key() == p.key()) {
+                        return Err(self.error(
+                            fspan.clone(),
+                            &section,
+                            format!("problem {} is listed twice", p.key()),
+                        ));
+                    }
+                    out.push(p);
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    fn cells(&self, root: &Table<'_>, span: Range<usize>) -> Result<Vec<Cell>, SpecError> {
+        let mut out: Vec<Cell> = Vec::new();
+        for (i, entry) in self
+            .array_of_tables(root, "algorithm", span)?
+            .into_iter()
+            .enumerate()
+        {
+            let section = format!("algorithm[{}]", i + 1);
+            let table = self.table(entry, &section)?;
+            let nv = self.required(table, &section, "name", entry.span())?;
+            let name = self.string(nv, &format!("{section}.name"))?;
+            let defs: &'static [ParamDef] = Algorithm::params(&name).ok_or_else(|| {
+                self.error(
+                    nv.span(),
+                    &format!("{section}.name"),
+                    format!(
+                        "unknown algorithm \"{name}\"; {}",
+                        choices_hint(&name, &Algorithm::NAMES)
+                    ),
+                )
+            })?;
+            let label = match self.get(table, "label") {
+                Some(v) => {
+                    let l = self.string(v, &format!("{section}.label"))?;
+                    if l.is_empty() || l.contains(['\n', '\r', '"']) {
+                        return Err(self.error(
+                            v.span(),
+                            &format!("{section}.label"),
+                            "expected a non-empty label without quotes or line breaks".into(),
+                        ));
+                    }
+                    l
+                }
+                None => name.clone(),
+            };
+            // Each parameter's admissible values, in declaration order.
+            let mut axes: Vec<Vec<(Setting, Range<usize>)>> = Vec::new();
+            let base = ParamSet::defaults(defs);
+            let param_names: Vec<&str> = defs.iter().map(|d| d.name).collect();
+            for (k, _) in table.iter() {
+                let key: &str = k.get_ref();
+                if key == "name" || key == "label" {
+                    continue;
+                }
+                if !param_names.contains(&key) {
+                    let mut valid = vec!["name", "label"];
+                    valid.extend(&param_names);
+                    return Err(self.error(
+                        k.span(),
+                        &format!("{section}.{key}"),
+                        format!(
+                            "unknown parameter for {name}; {}",
+                            choices_hint(key, &valid)
+                        ),
+                    ));
+                }
+            }
+            for def in defs {
+                let Some(v) = self.get(table, def.name) else {
+                    axes.push(Vec::new());
+                    continue;
+                };
+                let field = format!("{section}.{}", def.name);
+                let mut values = Vec::new();
+                for item in self.one_or_many(v, &field)? {
+                    let setting = def
+                        .check(&raw(item.get_ref()))
+                        .map_err(|m| self.error(item.span(), &field, m))?;
+                    values.push((setting, item.span()));
+                }
+                axes.push(values);
+            }
+            // The cartesian product, first parameter slowest.
+            let mut combos: Vec<Vec<usize>> = vec![Vec::new()];
+            for axis in &axes {
+                let n = axis.len().max(1);
+                combos = combos
+                    .into_iter()
+                    .flat_map(|c| {
+                        (0..n).map(move |k| {
+                            let mut c = c.clone();
+                            c.push(k);
+                            c
+                        })
+                    })
+                    .collect();
+            }
+            for combo in combos {
+                let mut params = base.clone();
+                let mut spans = Vec::new();
+                for ((def, axis), k) in defs.iter().zip(&axes).zip(&combo) {
+                    if let Some((setting, sp)) = axis.get(*k) {
+                        params.put(def.name, setting.clone());
+                        spans.push((def.name, sp.clone()));
+                    }
+                }
+                let algorithm = Algorithm::from_params(&name, &params).map_err(|e| {
+                    let sp = spans
+                        .iter()
+                        .find(|(n, _)| *n == e.param)
+                        .map_or(entry.span(), |(_, s)| s.clone());
+                    self.error(sp, &format!("{section}.{}", e.param), e.message.clone())
+                })?;
+                let cell = Cell {
+                    label: label.clone(),
+                    algorithm,
+                    params,
+                };
+                if out.iter().any(|c| c.key() == cell.key()) {
+                    return Err(self.error(
+                        entry.span(),
+                        &section,
+                        format!(
+                            "algorithm cell {} [{}] appears twice; give the entries different labels or parameters",
+                            cell.label,
+                            cell.params.canonical()
+                        ),
+                    ));
+                }
+                out.push(cell);
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// A budget as written in a spec.
+#[derive(Clone, Copy, Debug)]
+enum Budget {
+    Fixed(u64),
+    PerDim(u64),
+}
+
+impl Budget {
+    fn for_dim(self, dim: usize) -> u64 {
+        match self {
+            Budget::Fixed(b) => b,
+            Budget::PerDim(b) => b.saturating_mul(dim as u64),
+        }
+    }
+}

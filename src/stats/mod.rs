@@ -1,0 +1,42 @@
+//! Statistics for comparing optimisers: descriptive summaries, success
+//! measures (success rate, COCO aRT), midranks, the Wilcoxon signed-rank,
+//! Mann–Whitney U and Friedman tests, the Nemenyi critical difference, Holm's
+//! correction and the "+ / − / ≈" marks of metaheuristics papers.
+//!
+//! Pure functions on slices of `f64`; the tests reproduce SciPy 1.17.1
+//! (`scipy.stats.wilcoxon`, `mannwhitneyu`, `friedmanchisquare`) and
+//! statsmodels 0.15.0 (`multipletests(method="holm")`). Bad input (empty
+//! samples, NaN, ragged matrices) yields a [`StatsError`], never a panic.
+
+mod descriptive;
+mod error;
+mod friedman;
+mod holm;
+mod hypothesis;
+mod mannwhitney;
+mod mark;
+mod nemenyi;
+mod ranks;
+mod success;
+mod wilcoxon;
+
+#[cfg(test)]
+mod reference_tests;
+
+pub use descriptive::{quantile, quantile_sorted, summarize, Summary};
+pub use error::StatsError;
+pub use friedman::{friedman, FriedmanResult};
+pub use holm::holm_bonferroni;
+pub use hypothesis::{Alternative, PValueMethod};
+pub use mannwhitney::{mann_whitney_u, MannWhitneyResult, MANN_WHITNEY_EXACT_MAX_MIN_N};
+pub use mark::{Mark, MarkTally, DEFAULT_ALPHA};
+pub use nemenyi::{nemenyi_critical_difference, nemenyi_q};
+pub use ranks::{average_ranks, tie_term, Ranks};
+pub use success::{
+    average_runtime, mean_evaluations_to_success, success_rate, success_summary, RunOutcome,
+    SuccessSummary,
+};
+pub use wilcoxon::{
+    wilcoxon, wilcoxon_signed_rank, wilcoxon_signed_rank_with, WilcoxonResult,
+    WILCOXON_EXACT_MAX_N, WILCOXON_PERMUTATION_MAX_N,
+};

@@ -1,0 +1,127 @@
+//! The command line: exit codes, messages and the files a run leaves.
+
+use std::process::Command;
+
+fn metabezier() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_metabezier"))
+}
+
+#[test]
+fn a_bad_spec_fails_with_its_message_and_writes_nothing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = tmp.path().join("bad.toml");
+    std::fs::write(
+        &spec,
+        "[experiment]\nname = \"bad\"\nseed = 1\nruns = 1\nbudget = 10\n\n[[problem]]\nfunction = \"sphere\"\ndim = 2\n\n[[algorithm]]\nname = \"hs\"\nhmcr = 2\n",
+    )
+    .unwrap();
+    let out = metabezier()
+        .current_dir(tmp.path())
+        .args(["run", "bad.toml"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert_eq!(
+        stderr,
+        "metabezier: error: bad.toml:13:8: algorithm[1].hmcr: expected a real number in [0, 1], found 2\n"
+    );
+    assert!(
+        !tmp.path().join("results").exists(),
+        "nothing is written for a bad spec"
+    );
+}
+
+#[test]
+fn run_writes_the_result_files_and_check_describes_the_plan() {
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::write(
+        tmp.path().join("small.toml"),
+        "[experiment]\nname = \"small\"\nseed = 7\nruns = 2\nbudget = 300\n\n[[problem]]\nfunction = \"sphere\"\ndim = 3\n\n[[algorithm]]\nname = \"mhs\"\nhmcr = [0.8, 0.9]\n",
+    )
+    .unwrap();
+    let check = metabezier()
+        .current_dir(tmp.path())
+        .args(["check", "small.toml"])
+        .output()
+        .unwrap();
+    assert!(check.status.success());
+    let text = String::from_utf8(check.stdout).unwrap();
+    assert!(
+        text.contains("1 problems × 2 algorithm cells × 2 runs = 4 runs, 1200 evaluations"),
+        "{text}"
+    );
+
+    let out = metabezier()
+        .current_dir(tmp.path())
+        .args(["run", "small.toml", "--threads", "2", "--quiet"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        out.stderr.is_empty(),
+        "no progress bar when stderr is not a terminal"
+    );
+    let dir = tmp.path().join("results/small");
+    for f in [
+        "runs.csv",
+        "convergence.csv",
+        "timing.csv",
+        "spec.toml",
+        "meta.toml",
+    ] {
+        assert!(dir.join(f).exists(), "{f} missing");
+    }
+    let leftovers: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".tmp") || n == "journal.csv")
+        .collect();
+    assert!(leftovers.is_empty(), "{leftovers:?}");
+    let meta = std::fs::read_to_string(dir.join("meta.toml")).unwrap();
+    assert!(meta.contains("rng = \"Xoshiro256PlusPlus"), "{meta}");
+    assert!(meta.contains("master_seed = 7"), "{meta}");
+
+    // A second run without --resume refuses to touch the finished campaign.
+    let again = metabezier()
+        .current_dir(tmp.path())
+        .args(["run", "small.toml"])
+        .output()
+        .unwrap();
+    assert_eq!(again.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&again.stderr).contains("pass --resume"));
+}
+
+#[test]
+fn list_shows_every_algorithm_and_function() {
+    let out = metabezier().arg("list").output().unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    for name in [
+        "hs",
+        "ghs",
+        "ga",
+        "pso",
+        "mhs",
+        "hmcr",
+        "par_min",
+        "sphere",
+        "six_hump_camel",
+    ] {
+        assert!(text.contains(name), "{name} missing from:\n{text}");
+    }
+}
+
+#[test]
+fn usage_errors_exit_with_two() {
+    let out = metabezier()
+        .args(["run", "x.toml", "--shard", "5/3"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("expected a shard as K/N"));
+}

@@ -1,0 +1,225 @@
+//! Every optimiser, seeded, solves Sphere-10 to a stated target within a
+//! stated budget (1e-6; 1e-2 for GHS, which has no fine-tuning bandwidth),
+//! never evaluates outside the bounds, spends exactly its budget, and ranks
+//! NaN objectives last instead of crashing.
+
+use std::cell::Cell;
+
+use metabezier::functions::{Function, TestProblem};
+use metabezier::optim::{Algorithm, Optimiser, ParamSet};
+use metabezier::problem::{Bounds, Problem};
+use metabezier::rng::run_rng;
+
+/// Wraps a problem and counts evaluations outside its bounds.
+struct Guarded<P> {
+    inner: P,
+    outside: Cell<u64>,
+    calls: Cell<u64>,
+}
+
+impl<P: Problem> Guarded<P> {
+    fn new(inner: P) -> Self {
+        Self {
+            inner,
+            outside: Cell::new(0),
+            calls: Cell::new(0),
+        }
+    }
+}
+
+impl<P: Problem> Problem for Guarded<P> {
+    fn dim(&self) -> usize {
+        self.inner.dim()
+    }
+    fn bounds(&self) -> &[Bounds] {
+        self.inner.bounds()
+    }
+    fn objective(&self, x: &[f64]) -> f64 {
+        self.calls.set(self.calls.get() + 1);
+        if x.iter().zip(self.bounds()).any(|(v, b)| !b.contains(*v)) {
+            self.outside.set(self.outside.get() + 1);
+        }
+        self.inner.objective(x)
+    }
+}
+
+/// An algorithm with some parameters changed from their defaults.
+fn configured(name: &str, changes: &[(&str, metabezier::optim::params::Raw)]) -> Algorithm {
+    let mut p = ParamSet::defaults(Algorithm::params(name).unwrap());
+    for (k, v) in changes {
+        p.set(k, v).unwrap();
+    }
+    Algorithm::from_params(name, &p).unwrap()
+}
+
+use metabezier::optim::params::Raw;
+
+/// The settings, budgets and targets under which each optimiser must solve
+/// Sphere-10 (stated here, and in the README). GHS only ever samples values
+/// already in memory, copies of the best harmony's coordinates or uniform
+/// values, so its precision stalls near 1e-4 to 1e-8 (Omran & Mahdavi 2008,
+/// Table 3, report a mean of 1e-5 on Sphere-30); its target is 1e-2, which
+/// random search in [−100, 100]¹⁰ never reaches.
+fn sphere_settings() -> Vec<(Algorithm, u64, f64)> {
+    vec![
+        (
+            configured(
+                "hs",
+                &[
+                    ("bw_decay", Raw::Text("exponential".into())),
+                    ("bw", Raw::Float(0.01)),
+                    ("bw_min", Raw::Float(1e-7)),
+                ],
+            ),
+            200_000,
+            1e-6,
+        ),
+        (Algorithm::default_for("ghs").unwrap(), 200_000, 1e-2),
+        (Algorithm::default_for("ga").unwrap(), 200_000, 1e-6),
+        (Algorithm::default_for("pso").unwrap(), 200_000, 1e-6),
+        (
+            configured(
+                "mhs",
+                &[
+                    ("bw_decay", Raw::Text("exponential".into())),
+                    ("bw_min", Raw::Float(1e-7)),
+                ],
+            ),
+            200_000,
+            1e-6,
+        ),
+    ]
+}
+
+#[test]
+fn every_optimiser_solves_sphere_10_within_its_budget_and_bounds() {
+    for (algo, budget, target) in sphere_settings() {
+        let problem = Guarded::new(TestProblem::new(Function::Sphere, 10).unwrap());
+        let out = algo.run(&problem, budget, &mut run_rng(12345));
+        assert!(
+            out.best_value < target,
+            "{} reached only {:e} in {budget} evaluations (target {target:e})",
+            algo.name(),
+            out.best_value
+        );
+        assert_eq!(
+            out.evaluations,
+            budget,
+            "{} did not spend its budget",
+            algo.name()
+        );
+        assert_eq!(
+            problem.calls.get(),
+            budget,
+            "{} evaluated past its budget",
+            algo.name()
+        );
+        assert_eq!(
+            problem.outside.get(),
+            0,
+            "{} evaluated outside the bounds",
+            algo.name()
+        );
+        assert_eq!(problem.objective(&out.best_x), out.best_value);
+    }
+}
+
+#[test]
+fn every_optimiser_stays_inside_different_per_variable_bounds() {
+    // Very different scales per variable, optimum near a corner, both bound policies.
+    struct Skewed(Vec<Bounds>);
+    impl Problem for Skewed {
+        fn dim(&self) -> usize {
+            self.0.len()
+        }
+        fn bounds(&self) -> &[Bounds] {
+            &self.0
+        }
+        fn objective(&self, x: &[f64]) -> f64 {
+            x.iter()
+                .zip(&self.0)
+                .map(|(v, b)| (v - b.upper - 1.0).powi(2))
+                .sum()
+        }
+    }
+    let bounds = vec![
+        Bounds::new(-1e-3, 1e-3),
+        Bounds::new(0.0, 10.0),
+        Bounds::new(-500.0, 500.0),
+        Bounds::new(0.01, 10.0),
+    ];
+    for name in Algorithm::NAMES {
+        for policy in ["clip", "reflect"] {
+            let algo = if name == "ghs" {
+                Algorithm::default_for(name).unwrap()
+            } else {
+                configured(name, &[("bounds", Raw::Text(policy.into()))])
+            };
+            let problem = Guarded::new(Skewed(bounds.clone()));
+            let out = algo.run(&problem, 5000, &mut run_rng(3));
+            assert_eq!(
+                problem.outside.get(),
+                0,
+                "{name} with {policy} left the bounds"
+            );
+            assert_eq!(out.evaluations, 5000);
+        }
+    }
+}
+
+#[test]
+fn nan_objectives_rank_last_and_never_crash() {
+    // NaN on half the box: the optimisers must still find the finite optimum.
+    struct HalfNan(Vec<Bounds>);
+    impl Problem for HalfNan {
+        fn dim(&self) -> usize {
+            self.0.len()
+        }
+        fn bounds(&self) -> &[Bounds] {
+            &self.0
+        }
+        fn objective(&self, x: &[f64]) -> f64 {
+            if x[0] > 0.5 {
+                f64::NAN
+            } else if x[1] > 0.9 {
+                f64::INFINITY
+            } else {
+                x.iter().map(|v| v * v).sum()
+            }
+        }
+    }
+    for name in Algorithm::NAMES {
+        let algo = Algorithm::default_for(name).unwrap();
+        let problem = HalfNan(vec![Bounds::new(-1.0, 1.0); 3]);
+        let out = algo.run(&problem, 3000, &mut run_rng(8));
+        assert!(out.best_value.is_finite(), "{name}: {}", out.best_value);
+        assert!(out.best_x[0] <= 0.5, "{name} kept a NaN point");
+        assert!(out.trace.iter().all(|p| !p.best.is_nan()));
+    }
+}
+
+#[test]
+fn budgets_smaller_than_a_population_are_respected() {
+    for name in Algorithm::NAMES {
+        let algo = Algorithm::default_for(name).unwrap();
+        for budget in [0, 1, 2, 7] {
+            let problem = Guarded::new(TestProblem::new(Function::Rastrigin, 4).unwrap());
+            let out = algo.run(&problem, budget, &mut run_rng(1));
+            assert_eq!(out.evaluations, budget, "{name}");
+            assert_eq!(problem.calls.get(), budget, "{name}");
+        }
+    }
+}
+
+#[test]
+fn same_seed_same_outcome_different_seed_different_outcome() {
+    for name in Algorithm::NAMES {
+        let algo = Algorithm::default_for(name).unwrap();
+        let p = TestProblem::new(Function::Ackley, 6).unwrap();
+        let a = algo.run(&p, 3000, &mut run_rng(5));
+        let b = algo.run(&p, 3000, &mut run_rng(5));
+        let c = algo.run(&p, 3000, &mut run_rng(6));
+        assert_eq!(a, b, "{name} is not deterministic");
+        assert_ne!(a.best_x, c.best_x, "{name} ignores its seed");
+    }
+}

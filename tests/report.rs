@@ -1,0 +1,468 @@
+//! Reports on campaign results: the files exist, the tables hold the
+//! expected rows, the marks are right on data whose outcome is known, and
+//! the same input gives the same bytes.
+//!
+//! Set `METABEZIER_REPORT_KEEP=DIR` to copy the generated results and
+//! reports to DIR for inspection.
+
+use std::path::{Path, PathBuf};
+
+use metabezier::report::{write_report, ReportOptions};
+use metabezier::runner::{run_campaign, RunOptions};
+use metabezier::spec::Spec;
+
+/// 2 functions (at two dimensions, for the scalability plot) × 3 algorithms
+/// × 5 runs, with an MHS grid over hmcr × bw in a second spec.
+const SPEC: &str = r#"
+[experiment]
+name = "report_test"
+description = "Tiny campaign for the report tests"
+seed = 4242
+runs = 5
+budget = 3000
+threshold = 1e-3
+
+[[problem]]
+function = ["sphere", "rastrigin"]
+dim = [2, 4]
+
+[[algorithm]]
+name = "hs"
+label = "HS"
+
+[[algorithm]]
+name = "pso"
+label = "PSO"
+swarm = 10
+
+[[algorithm]]
+name = "mhs"
+label = "MHS"
+"#;
+
+const GRID_SPEC: &str = r#"
+[experiment]
+name = "report_grid"
+seed = 7
+runs = 3
+budget = 1500
+threshold = 1e-2
+
+[[problem]]
+function = ["sphere", "rastrigin"]
+dim = 3
+
+[[algorithm]]
+name = "hs"
+label = "HS"
+
+[[algorithm]]
+name = "mhs"
+label = "MHS"
+hmcr = [0.7, 0.9, 0.99]
+bw = [0.001, 0.01]
+"#;
+
+fn campaign(tmp: &Path, name: &str, text: &str) -> PathBuf {
+    let path = tmp.join(format!("{name}.toml"));
+    std::fs::write(&path, text).unwrap();
+    let spec = Spec::parse(&path, text).unwrap();
+    let out = tmp.join(name);
+    let opts = RunOptions {
+        out: Some(out.clone()),
+        threads: Some(2),
+        ..RunOptions::default()
+    };
+    assert!(run_campaign(&spec, &opts).unwrap().complete);
+    out
+}
+
+fn keep(dir: &Path, name: &str) {
+    if let Some(target) = std::env::var_os("METABEZIER_REPORT_KEEP") {
+        let target = PathBuf::from(target).join(name);
+        copy_dir(dir, &target);
+    }
+}
+
+fn copy_dir(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for entry in std::fs::read_dir(from).unwrap() {
+        let entry = entry.unwrap();
+        let dest = to.join(entry.file_name());
+        if entry.file_type().unwrap().is_dir() {
+            copy_dir(&entry.path(), &dest);
+        } else {
+            std::fs::copy(entry.path(), dest).unwrap();
+        }
+    }
+}
+
+fn read(path: &Path) -> String {
+    std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+fn all_files(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
+    let mut out = Vec::new();
+    for sub in ["tables", "plots"] {
+        let mut entries: Vec<PathBuf> = std::fs::read_dir(dir.join(sub))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .collect();
+        entries.sort();
+        for p in entries {
+            let bytes = std::fs::read(&p).unwrap();
+            out.push((p, bytes));
+        }
+    }
+    out.push((
+        dir.join("report.md"),
+        std::fs::read(dir.join("report.md")).unwrap(),
+    ));
+    out
+}
+
+#[test]
+fn report_of_a_small_campaign() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = campaign(tmp.path(), "results", SPEC);
+    let summary = write_report(&dir, &ReportOptions::default()).unwrap();
+    assert_eq!(summary.algorithms, 3);
+    assert_eq!(summary.problems, 4);
+    assert_eq!(summary.runs, 4 * 3 * 5);
+    assert_eq!(summary.reference.as_deref(), Some("MHS"));
+    for t in [
+        "algorithms",
+        "problems",
+        "descriptive",
+        "comparison",
+        "wilcoxon",
+        "mann_whitney",
+        "marks_summary",
+        "friedman",
+    ] {
+        assert!(dir.join("tables").join(format!("{t}.csv")).is_file(), "{t}");
+    }
+    for p in ["convergence", "boxplots", "scalability"] {
+        for ext in ["svg", "png"] {
+            let path = dir.join("plots").join(format!("{p}.{ext}"));
+            assert!(path.is_file(), "{}", path.display());
+        }
+        let png = std::fs::read(dir.join("plots").join(format!("{p}.png"))).unwrap();
+        assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    }
+    assert!(summary.plots.iter().all(|p| p.is_file()));
+    assert!(summary.tables.iter().all(|p| p.is_file()));
+
+    // One descriptive row per (cell, problem), with the CSV columns.
+    let desc = read(&dir.join("tables/descriptive.csv"));
+    let mut lines = desc.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "problem,dim,algorithm,kind,params,runs,best,worst,mean,sd,median,q1,q3,successes,\
+         success_rate,mean_evaluations_to_success,aRT"
+    );
+    let rows: Vec<&str> = lines.collect();
+    assert_eq!(rows.len(), 4 * 3);
+    for (f, d) in [
+        ("sphere", 2),
+        ("sphere", 4),
+        ("rastrigin", 2),
+        ("rastrigin", 4),
+    ] {
+        for a in ["HS", "PSO", "MHS"] {
+            let prefix = format!("{f},{d},{a},");
+            assert!(
+                rows.iter()
+                    .any(|r| r.starts_with(&prefix) && r.contains(",5,")),
+                "no row {prefix}"
+            );
+        }
+    }
+    // Two tests per non-reference algorithm and problem.
+    let wil = read(&dir.join("tables/wilcoxon.csv"));
+    assert_eq!(wil.lines().count(), 1 + 4 * 2);
+    assert!(wil.lines().skip(1).all(|l| l.contains(",MHS,")));
+    let marks = read(&dir.join("tables/marks_summary.csv"));
+    assert_eq!(marks.lines().count(), 1 + 2 * 2);
+    let friedman = read(&dir.join("tables/friedman.csv"));
+    assert_eq!(friedman.lines().count(), 1 + 3);
+
+    let md = read(&dir.join("report.md"));
+    assert!(md.starts_with("# Report: report_test\n"));
+    for needle in [
+        "**Master seed:** 4242",
+        "**Runs per algorithm and problem:** 5",
+        "**Budget (objective evaluations per run):** 3000",
+        "**Success threshold:** f − f\\* ≤ 1.0e-03",
+        "**Tool version:** metabezier ",
+        "CSV: [`tables/descriptive.csv`](tables/descriptive.csv)",
+        "![Convergence](plots/convergence.png)",
+        "![Final error distributions](plots/boxplots.png)",
+        "![Scalability](plots/scalability.png)",
+        "Holm's step-down correction is applied per problem",
+        "its mean final error over the runs",
+        "cannot be significant whatever the data",
+        "| +/≈/− |",
+    ] {
+        assert!(md.contains(needle), "report.md lacks {needle:?}");
+    }
+    keep(&dir, "small");
+
+    // Deterministic: a second report gives the same bytes everywhere.
+    let first = all_files(&dir);
+    write_report(&dir, &ReportOptions::default()).unwrap();
+    let second = all_files(&dir);
+    assert_eq!(first.len(), second.len());
+    for ((p, a), (_, b)) in first.iter().zip(&second) {
+        assert!(a == b, "{} differs between two reports", p.display());
+    }
+
+    // Another reference by label, and an unknown one.
+    let s = write_report(
+        &dir,
+        &ReportOptions {
+            reference: Some("PSO".into()),
+            ..ReportOptions::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(s.reference.as_deref(), Some("PSO"));
+    let err = write_report(
+        &dir,
+        &ReportOptions {
+            reference: Some("NOPE".into()),
+            ..ReportOptions::default()
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(err.contains("\"NOPE\" is not in the results"), "{err}");
+}
+
+#[test]
+fn report_of_a_parameter_grid() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = campaign(tmp.path(), "grid", GRID_SPEC);
+    let summary = write_report(&dir, &ReportOptions::default()).unwrap();
+    assert_eq!(summary.algorithms, 7);
+    // The reference label has 6 configurations: the first is used.
+    assert!(summary
+        .reference
+        .as_deref()
+        .unwrap()
+        .starts_with("MHS (hmcr=0.7, bw=0.001)"));
+    let best = read(&dir.join("tables/tuning_best_mhs.csv"));
+    // Header, one row per problem and the overall row.
+    assert_eq!(best.lines().count(), 1 + 2 + 1);
+    assert!(best.lines().last().unwrap().starts_with("overall,,MHS,"));
+    let ranks = read(&dir.join("tables/tuning_ranks_mhs.csv"));
+    assert_eq!(ranks.lines().count(), 1 + 6);
+    for ext in ["svg", "png"] {
+        assert!(dir
+            .join("plots")
+            .join(format!("tuning_mhs.{ext}"))
+            .is_file());
+    }
+    let md = read(&dir.join("report.md"));
+    assert!(md.contains("## Parameter tuning"));
+    assert!(md.contains("![Parameter grid of MHS](plots/tuning_mhs.png)"));
+    keep(&dir, "grid");
+}
+
+const HEADER: &str = "algorithm,kind,params,problem,dim,budget,run,seed,best,error,evaluations,evaluations_to_target,success\n";
+
+/// A runs.csv written by hand: `rows` of (algorithm, problem, run, error,
+/// evaluations to target).
+fn hand_made(rows: &[(&str, &str, u32, f64, Option<u64>)]) -> String {
+    let mut s = HEADER.to_owned();
+    for (alg, problem, run, error, ett) in rows {
+        s.push_str(&format!(
+            "{alg},hs,hms=5,{problem},2,1000,{run},{run},{error},{error},1000,{},{}\n",
+            ett.map_or(String::new(), |e| e.to_string()),
+            ett.is_some()
+        ));
+    }
+    s
+}
+
+#[test]
+fn marks_on_hand_made_runs_with_a_known_outcome() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("hand");
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut rows = Vec::new();
+    for run in 0..10u32 {
+        let x = f64::from(run);
+        // A beats the reference R on every run, B loses on every run,
+        // C equals R exactly.
+        rows.push(("R", "sphere", run, 1.0 + x, Some(500)));
+        rows.push(("A", "sphere", run, 0.5 + x, Some(100)));
+        rows.push(("B", "sphere", run, 2.0 + 2.0 * x, None));
+        rows.push(("C", "sphere", run, 1.0 + x, Some(500)));
+    }
+    std::fs::write(dir.join("runs.csv"), hand_made(&rows)).unwrap();
+    let s = write_report(
+        &dir,
+        &ReportOptions {
+            reference: Some("R".into()),
+            ..ReportOptions::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(s.reference.as_deref(), Some("R"));
+    let wil = read(&dir.join("tables/wilcoxon.csv"));
+    let mark = |alg: &str| -> String {
+        let line = wil
+            .lines()
+            .find(|l| l.starts_with(&format!("sphere,2,{alg},")))
+            .unwrap();
+        line.split(',').nth(15).unwrap().to_owned()
+    };
+    assert_eq!(mark("A"), "+");
+    assert_eq!(mark("B"), "-");
+    assert_eq!(mark("C"), "=");
+    let mw = read(&dir.join("tables/mann_whitney.csv"));
+    assert!(mw.lines().count() == 4);
+    let comparison = read(&dir.join("report.md"));
+    assert!(comparison.contains("1/0/0"), "{comparison}");
+    assert!(comparison.contains("0/0/1"));
+    assert!(comparison.contains("0/1/0"));
+    // Only runs.csv: convergence and scalability plots are skipped, the
+    // ECDF and box plots are drawn.
+    assert!(dir.join("plots/boxplots.png").is_file());
+    assert!(dir.join("plots/ecdf.png").is_file());
+    assert!(!dir.join("plots/convergence.png").exists());
+    let md = read(&dir.join("report.md"));
+    assert!(md.contains("convergence plot skipped"));
+    assert!(md.contains("scalability plot skipped"));
+    assert!(md.contains("convergence.csv and timing.csv not found"));
+    assert!(md.contains("spec.toml not found"));
+    keep(&dir, "hand");
+}
+
+#[test]
+fn degenerate_inputs_do_not_fail() {
+    let tmp = tempfile::tempdir().unwrap();
+    // A single algorithm, a single run, no success, a zero and a huge error.
+    let dir = tmp.path().join("single");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("runs.csv"),
+        hand_made(&[("A", "sphere", 0, 0.0, None), ("A", "step", 0, 1e300, None)]),
+    )
+    .unwrap();
+    let s = write_report(&dir, &ReportOptions::default()).unwrap();
+    assert_eq!(s.reference, None);
+    let md = read(&dir.join("report.md"));
+    assert!(md.contains("single algorithm configuration: no significance test"));
+    assert!(md.contains("runtime ECDF skipped: no run reached the success threshold"));
+    assert!(!dir.join("tables/wilcoxon.csv").exists());
+
+    // NaN and infinite errors, duplicate run numbers, odd labels.
+    let dir = tmp.path().join("odd");
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut text = hand_made(&[
+        ("A|B", "sphere", 0, f64::NAN, None),
+        ("A|B", "sphere", 0, 1.0, None),
+        ("A|B", "sphere", 1, f64::INFINITY, None),
+        ("\"x, y\"", "sphere", 0, 2.0, Some(3)),
+        ("\"x, y\"", "sphere", 1, 3.0, None),
+    ]);
+    text.push('\n');
+    std::fs::write(dir.join("runs.csv"), text).unwrap();
+    std::fs::write(dir.join("spec.toml"), "this is not = = toml").unwrap();
+    let s = write_report(&dir, &ReportOptions::default()).unwrap();
+    assert_eq!(s.algorithms, 2);
+    let md = read(&dir.join("report.md"));
+    assert!(md.contains("repeat the run number"));
+    assert!(md.contains("spec.toml is not valid TOML"));
+    assert!(md.contains("A\\|B"));
+
+    // Header only: an error, not a panic.
+    let dir = tmp.path().join("empty");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("runs.csv"), HEADER).unwrap();
+    let err = write_report(&dir, &ReportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("no runs to report"), "{err}");
+
+    // No runs.csv at all, a bad column, a bad α.
+    let err = write_report(&tmp.path().join("missing"), &ReportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("runs.csv"), "{err}");
+    let dir = tmp.path().join("bad");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("runs.csv"),
+        format!("{HEADER}A,hs,,sphere,two,1,0,0,1,1,1,,false\n"),
+    )
+    .unwrap();
+    let err = write_report(&dir, &ReportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("column dim"), "{err}");
+    let err = write_report(
+        &dir,
+        &ReportOptions {
+            alpha: 1.5,
+            ..ReportOptions::default()
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(err.contains("significance level"), "{err}");
+}
+
+#[test]
+fn external_runs_join_the_comparison() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("base");
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut rows = Vec::new();
+    for run in 0..10u32 {
+        rows.push((
+            "MHS",
+            "sphere",
+            run,
+            1e-9 * f64::from(run + 1),
+            Some(200 + run as u64),
+        ));
+        rows.push(("HS", "sphere", run, 1e-2 * f64::from(run + 1), None));
+    }
+    std::fs::write(dir.join("runs.csv"), hand_made(&rows)).unwrap();
+    let ext = tmp.path().join("other.csv");
+    let mut ext_rows = Vec::new();
+    for run in 0..10u32 {
+        ext_rows.push((
+            "CMA-ES",
+            "sphere",
+            run,
+            1e-12 * f64::from(run + 1),
+            Some(100),
+        ));
+        ext_rows.push(("HS", "sphere", run, 1e-3 * f64::from(run + 1), None));
+    }
+    std::fs::write(&ext, hand_made(&ext_rows)).unwrap();
+    let s = write_report(
+        &dir,
+        &ReportOptions {
+            external: Some(ext.clone()),
+            ..ReportOptions::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(s.algorithms, 4);
+    assert_eq!(s.reference.as_deref(), Some("MHS"));
+    let algs = read(&dir.join("tables/algorithms.csv"));
+    assert!(algs.contains("CMA-ES,CMA-ES,hs,hms=5,true"));
+    assert!(algs.contains("HS (external),HS (external),hs,hms=5,true"));
+    let md = read(&dir.join("report.md"));
+    assert!(md.contains("**External runs:**"));
+    assert!(md.contains("shown as \"&lt;label&gt; (external)\""));
+    let wil = read(&dir.join("tables/wilcoxon.csv"));
+    let cma = wil.lines().find(|l| l.contains(",CMA-ES,")).unwrap();
+    assert!(cma.ends_with(",+,"), "{cma}");
+    keep(&dir, "external");
+}

@@ -1,0 +1,191 @@
+//! Every kind of bad spec gets its own exact message: file, line, column,
+//! field, what was expected and the valid choices.
+
+use std::path::Path;
+
+use metabezier::spec::Spec;
+
+const BASE: &str = r#"[experiment]
+name = "t"
+seed = 1
+runs = 2
+budget = 100
+
+[[problem]]
+function = "sphere"
+dim = 2
+
+[[algorithm]]
+name = "hs"
+"#;
+
+fn error_of(text: &str) -> String {
+    match Spec::parse(Path::new("spec.toml"), text) {
+        Ok(_) => panic!("the spec was accepted:\n{text}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+fn with_line(extra: &str) -> String {
+    format!("{BASE}{extra}\n")
+}
+
+#[test]
+fn the_base_spec_is_valid() {
+    let spec = Spec::parse(Path::new("spec.toml"), BASE).unwrap();
+    assert_eq!(spec.run_ids().len(), 2);
+    assert_eq!(spec.threshold, 1e-8);
+}
+
+#[test]
+fn out_of_range_parameters_are_refused_before_anything_runs() {
+    assert_eq!(
+        error_of(&with_line("hmcr = 1.5")),
+        "spec.toml:13:8: algorithm[1].hmcr: expected a real number in [0, 1], found 1.5"
+    );
+    assert_eq!(
+        error_of(&with_line("par = -0.1")),
+        "spec.toml:13:7: algorithm[1].par: expected a real number in [0, 1], found -0.1"
+    );
+    assert_eq!(
+        error_of(&with_line("hms = 0")),
+        "spec.toml:13:7: algorithm[1].hms: expected an integer in 1..=100000, found 0"
+    );
+    assert_eq!(
+        error_of(&BASE.replace("budget = 100", "budget = 0")),
+        "spec.toml:5:10: experiment.budget: expected an integer ≥ 1, found 0"
+    );
+    assert_eq!(
+        error_of(&BASE.replace("name = \"hs\"", "name = \"mhs\"\nl = 0")),
+        "spec.toml:13:5: algorithm[1].l: expected an integer in 1..=1000, found 0"
+    );
+    assert_eq!(
+        error_of(&BASE.replace("runs = 2", "runs = 0")),
+        "spec.toml:4:8: experiment.runs: expected an integer in 1..=4294967295, found 0"
+    );
+    // A bad value inside a grid list is located at the element.
+    assert_eq!(
+        error_of(&with_line("hmcr = [0.7, 0.8, 1.9]")),
+        "spec.toml:13:19: algorithm[1].hmcr: expected a real number in [0, 1], found 1.9"
+    );
+}
+
+#[test]
+fn unknown_names_list_the_valid_choices() {
+    assert_eq!(
+        error_of(&BASE.replace("name = \"hs\"", "name = \"hz\"")),
+        "spec.toml:12:8: algorithm[1].name: unknown algorithm \"hz\"; did you mean \"hs\"? \
+         Valid choices: \"hs\", \"ghs\", \"ga\", \"pso\" or \"mhs\""
+    );
+    assert_eq!(
+        error_of(&BASE.replace("name = \"hs\"", "name = \"simplex\"")),
+        "spec.toml:12:8: algorithm[1].name: unknown algorithm \"simplex\"; \
+         valid choices: \"hs\", \"ghs\", \"ga\", \"pso\" or \"mhs\""
+    );
+    assert_eq!(
+        error_of(&with_line("hmc = 0.9")),
+        "spec.toml:13:1: algorithm[1].hmc: unknown parameter for hs; did you mean \"hms\"? \
+         Valid choices: \"name\", \"label\", \"hms\", \"hmcr\", \"par\", \"bw\", \"bw_decay\", \"bw_min\" or \"bounds\""
+    );
+    assert_eq!(
+        error_of(&BASE.replace("\"sphere\"", "\"rastrign\"")),
+        "spec.toml:8:12: problem[1].function: unknown function \"rastrign\"; did you mean \"rastrigin\"? \
+         Valid choices: \"sphere\", \"schwefel_2_22\", \"rosenbrock\", \"step\", \"schwefel_1_2\", \
+         \"schwefel_2_26\", \"rastrigin\", \"ackley\", \"griewank\" or \"six_hump_camel\""
+    );
+    assert_eq!(
+        error_of(&BASE.replace("budget = 100", "budjet = 100")),
+        "spec.toml:5:1: experiment.budjet: unknown field; did you mean \"budget\"? Valid choices: \
+         \"name\", \"description\", \"seed\", \"runs\", \"budget\", \"budget_per_dim\", \"threshold\" \
+         or \"checkpoints_per_decade\""
+    );
+    assert_eq!(
+        error_of(&with_line("bounds = \"wrap\"")),
+        "spec.toml:13:10: algorithm[1].bounds: expected one of \"clip\" or \"reflect\", found \"wrap\""
+    );
+    assert_eq!(
+        error_of(&format!("{BASE}\n[[algorithms]]\nname = \"ga\"\n")),
+        "spec.toml:14:3: algorithms: unknown section; did you mean \"algorithm\"? \
+         Valid choices: \"experiment\", \"problem\" or \"algorithm\""
+    );
+}
+
+#[test]
+fn wrong_types_say_what_was_expected() {
+    assert_eq!(
+        error_of(&with_line("hmcr = \"high\"")),
+        "spec.toml:13:8: algorithm[1].hmcr: expected a real number in [0, 1], found \"high\""
+    );
+    assert_eq!(
+        error_of(&BASE.replace("seed = 1", "seed = \"one\"")),
+        "spec.toml:3:8: experiment.seed: expected an integer ≥ 0, found \"one\""
+    );
+    assert_eq!(
+        error_of(&with_line("hms = 2.5")),
+        "spec.toml:13:7: algorithm[1].hms: expected an integer in 1..=100000, found 2.5"
+    );
+}
+
+#[test]
+fn inconsistent_specs_are_refused() {
+    assert_eq!(
+        error_of(&BASE.replace("\"sphere\"\ndim = 2", "\"six_hump_camel\"\ndim = 30")),
+        "spec.toml:9:7: problem[1].dim: six_hump_camel is defined only for dimension 2, not 30"
+    );
+    assert_eq!(
+        error_of(&BASE.replace(
+            "name = \"hs\"",
+            "name = \"ghs\"\npar_min = 0.9\npar_max = 0.5"
+        )),
+        "spec.toml:13:11: algorithm[1].par_min: par_min (0.9) must not exceed par_max (0.5)"
+    );
+    assert_eq!(
+        error_of(&with_line("hmcr = []")),
+        "spec.toml:13:8: algorithm[1].hmcr: expected a value or a non-empty list, found an empty list"
+    );
+    assert_eq!(
+        error_of(&format!("{BASE}\n[[algorithm]]\nname = \"hs\"\n")),
+        "spec.toml:14:1: algorithm[2]: algorithm cell hs [hms=5;hmcr=0.9;par=0.3;bw=0.01;bw_decay=none;bw_min=0.000001;bounds=clip] \
+         appears twice; give the entries different labels or parameters"
+    );
+    assert_eq!(
+        error_of(&BASE.replace("budget = 100\n", "")),
+        "spec.toml:6:1: problem[1].budget: no budget: give \"budget\" or \"budget_per_dim\" in [experiment] or in this [[problem]]"
+    );
+    assert_eq!(
+        error_of(&BASE.replace("budget = 100", "budget = 100\nbudget_per_dim = 10")),
+        "spec.toml:6:18: experiment.budget_per_dim: give either \"budget\" or \"budget_per_dim\", not both"
+    );
+}
+
+#[test]
+fn missing_parts_and_broken_toml_are_located() {
+    assert_eq!(
+        error_of(&BASE.replace("name = \"t\"\n", "")),
+        "spec.toml:1:1: experiment.name: missing required field \"name\" in [experiment]"
+    );
+    assert_eq!(
+        error_of(&BASE.replace("[experiment]", "[experiment")),
+        "spec.toml:1:12: invalid TOML: unclosed table, expected `]`"
+    );
+    assert_eq!(
+        error_of("[experiment]\nname = \"t\"\nseed = 1\nruns = 1\nbudget = 5\n"),
+        "spec.toml:1:1: problem: missing [[problem]] entries; the spec needs at least one"
+    );
+    assert_eq!(
+        error_of(&BASE.replace("name = \"t\"", "name = \"../etc\"")),
+        "spec.toml:2:8: experiment.name: expected a name of letters, digits, '-', '_' or '.' \
+         (it names the results directory), found \"../etc\""
+    );
+}
+
+#[test]
+fn a_missing_file_is_named() {
+    let e = Spec::load(Path::new("no/such/spec.toml"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("no/such/spec.toml: cannot read the spec: "),
+        "{e}"
+    );
+}
