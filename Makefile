@@ -9,7 +9,7 @@ help:
 	@echo "make quick          run experiments/quick.toml (seconds) into results/quick/"
 	@echo "make test           the whole test suite, rustfmt check and clippy -D warnings"
 	@echo "make bench          criterion benchmarks (optimiser overhead per evaluation)"
-	@echo "make reproduce-ch4  the chapter-4 benchmark campaign into results/ch4_benchmarks/"
+	@echo "make reproduce-ch4  chapter 4: benchmarks, scalability, MHS tuning, with reports (results/ch4_*/)"
 	@echo "make reproduce-all  every chapter that exists so far"
 
 build:
@@ -19,6 +19,7 @@ $(BIN): build
 
 quick: build
 	$(BIN) run $(SPECS)/quick.toml --resume
+	$(BIN) report results/quick
 
 test:
 	$(CARGO) fmt --all -- --check
@@ -28,8 +29,14 @@ test:
 bench:
 	$(CARGO) bench --locked --bench optimisers
 
+CH4 := ch4_benchmarks ch4_scalability ch4_tuning
+
+# Each campaign resumes where an interrupted one stopped; the report is
+# regenerated from the finished results.
 reproduce-ch4: build
-	$(BIN) run $(SPECS)/ch4_benchmarks.toml --resume
+	@for e in $(CH4); do \
+	  $(BIN) run $(SPECS)/$$e.toml --resume && $(BIN) report results/$$e || exit 1; \
+	done
 
 reproduce-all: reproduce-ch4
 
@@ -40,4 +47,4 @@ lint:
 	$(CARGO) clippy --all-targets -- -D warnings
 
 clean-results:
-	rm -rf results/quick results/ch4_benchmarks
+	rm -rf results/quick $(addprefix results/,$(CH4))

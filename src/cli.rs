@@ -1,5 +1,7 @@
 //! The command line: argument parsing and dispatch to the library.
 
+use std::fmt::Write as _;
+use std::io::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -11,6 +13,13 @@ use crate::optim::Algorithm;
 use crate::report::{self, ReportOptions};
 use crate::runner::{self, RunOptions, Shard};
 use crate::spec::Spec;
+
+/// Appends one line of output to the buffer printed when the command ends.
+macro_rules! say {
+    ($out:expr, $($arg:tt)*) => {
+        let _ = writeln!($out, $($arg)*);
+    };
+}
 
 /// metabezier: curve reconstruction by metaheuristics, and a reproducible
 /// experiment runner for the optimisers.
@@ -82,7 +91,14 @@ enum Command {
 /// Parses the command line, runs it, and reports errors on stderr.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
-    match dispatch(cli) {
+    let mut text = String::new();
+    let result = dispatch(cli, &mut text);
+    // A closed pipe (`metabezier list | head`) is not an error worth a panic.
+    let mut stdout = std::io::stdout().lock();
+    let _ = stdout
+        .write_all(text.as_bytes())
+        .and_then(|()| stdout.flush());
+    match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("metabezier: error: {e}");
@@ -91,7 +107,7 @@ pub fn main() -> ExitCode {
     }
 }
 
-fn dispatch(cli: Cli) -> Result<(), Error> {
+fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
     match cli.command {
         Command::Run {
             spec,
@@ -121,16 +137,20 @@ fn dispatch(cli: Cli) -> Result<(), Error> {
                     s.total
                 )
             };
-            println!(
+            say!(
+                w,
                 "{}: {} runs ({} reused, {} executed), {state}",
-                spec.name, s.total, s.reused, s.executed
+                spec.name,
+                s.total,
+                s.reused,
+                s.executed
             );
             Ok(())
         }
         Command::Check { spec } => {
             let spec = Spec::load(&spec)?;
-            println!("{}: valid", spec.path.display());
-            println!(
+            say!(w, "{}: valid", spec.path.display());
+            say!(w,
                 "experiment {} (seed {}): {} problems × {} algorithm cells × {} runs = {} runs, {} evaluations",
                 spec.name,
                 spec.seed,
@@ -141,10 +161,10 @@ fn dispatch(cli: Cli) -> Result<(), Error> {
                 spec.total_evaluations()
             );
             for p in &spec.problems {
-                println!("  problem {} (budget {})", p.key(), p.budget);
+                say!(w, "  problem {} (budget {})", p.key(), p.budget);
             }
             for c in &spec.cells {
-                println!("  cell    {} [{}]", c.label, c.params.canonical());
+                say!(w, "  cell    {} [{}]", c.label, c.params.canonical());
             }
             Ok(())
         }
@@ -153,7 +173,8 @@ fn dispatch(cli: Cli) -> Result<(), Error> {
             let text = std::fs::read_to_string(&copy).map_err(|e| Error::io("read", &copy, e))?;
             let spec = Spec::parse(&copy, &text)?;
             let s = runner::merge(&spec, &dirs, out)?;
-            println!(
+            say!(
+                w,
                 "{}: merged {} shard directories, {} runs, into {}",
                 spec.name,
                 dirs.len(),
@@ -174,7 +195,8 @@ fn dispatch(cli: Cli) -> Result<(), Error> {
                 external,
             };
             let s = report::write_report(&dir, &opts)?;
-            println!(
+            say!(
+                w,
                 "{}: {} algorithm configurations × {} problems, {} runs; {} tables, {} plots",
                 s.report.display(),
                 s.algorithms,
@@ -184,16 +206,20 @@ fn dispatch(cli: Cli) -> Result<(), Error> {
                 s.plots.len()
             );
             for note in &s.notes {
-                println!("  note: {note}");
+                say!(w, "  note: {note}");
             }
             Ok(())
         }
         Command::List => {
-            println!("Algorithms (parameters with defaults and admissible values):");
+            say!(
+                w,
+                "Algorithms (parameters with defaults and admissible values):"
+            );
             for name in Algorithm::NAMES {
-                println!("\n  {name}");
+                say!(w, "\n  {name}");
                 for d in Algorithm::params(name).unwrap_or(&[]) {
-                    println!(
+                    say!(
+                        w,
                         "    {:<10} = {:<12} {} ({})",
                         d.name,
                         d.default.to_string(),
@@ -202,14 +228,15 @@ fn dispatch(cli: Cli) -> Result<(), Error> {
                     );
                 }
             }
-            println!("\nBenchmark functions (name, domain, optimum):");
+            say!(w, "\nBenchmark functions (name, domain, optimum):");
             for f in Function::ALL {
                 let b = f.domain();
                 let dim = match f.fixed_dim() {
                     Some(d) => format!(", dimension {d} only"),
                     None => String::new(),
                 };
-                println!(
+                say!(
+                    w,
                     "  {:<16} [{}, {}]^D, f* = {}{dim}",
                     f.name(),
                     b.lower,

@@ -94,6 +94,52 @@ fn run_writes_the_result_files_and_check_describes_the_plan() {
         .unwrap();
     assert_eq!(again.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&again.stderr).contains("pass --resume"));
+
+    // `report` turns the directory into report.md, tables and plots.
+    let report = metabezier()
+        .current_dir(tmp.path())
+        .args(["report", "results/small"])
+        .output()
+        .unwrap();
+    assert!(
+        report.status.success(),
+        "{}",
+        String::from_utf8_lossy(&report.stderr)
+    );
+    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(md.contains("## Statistical tests"), "{md}");
+    for f in [
+        "tables/descriptive.csv",
+        "plots/convergence.svg",
+        "plots/convergence.png",
+    ] {
+        assert!(dir.join(f).exists(), "{f} missing");
+    }
+    // An unknown reference names the algorithms that exist.
+    let bad = metabezier()
+        .current_dir(tmp.path())
+        .args(["report", "results/small", "--reference", "XYZ"])
+        .output()
+        .unwrap();
+    assert_eq!(bad.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(
+        err.contains("XYZ") && err.contains("mhs (hmcr=0.8)"),
+        "{err}"
+    );
+}
+
+#[test]
+fn report_of_a_missing_directory_names_the_file() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = metabezier()
+        .current_dir(tmp.path())
+        .args(["report", "nowhere"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("nowhere/runs.csv"), "{err}");
 }
 
 #[test]

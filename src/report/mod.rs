@@ -270,7 +270,7 @@ pub fn write_report(dir: &Path, options: &ReportOptions) -> Result<ReportSummary
         tuning_tables.extend(tuning::tables(&ds, g, &stats));
         match tuning::heat_map(&ds, g, &stats) {
             Some(h) => heat_maps.push(h),
-            None if g.varying.len() != 2 => notes.push(tuning::no_heat_map_note(g)),
+            None if g.varying.len() < 2 => {}
             None => notes.push(format!(
                 "{}: no heat map, no mean error is defined on the grid.",
                 g.label

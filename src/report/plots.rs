@@ -1180,20 +1180,34 @@ impl Heat {
 }
 
 fn heat(map: HeatMap) -> Plot {
+    let kv: Vec<String> = map.fixed.iter().map(|(k, v)| format!("{k}={v}")).collect();
+    let (fixed, suffix) = if kv.is_empty() {
+        (String::new(), String::new())
+    } else {
+        (
+            format!(
+                " The grid varies more parameters; the map is its slice through the \
+                 overall best setting, with {} fixed.",
+                kv.join(", ")
+            ),
+            format!(" ({})", kv.join(", ")),
+        )
+    };
     let caption = format!(
         "Mean final error f − f* of {} over its {} × {} grid ({} horizontally, {} \
          vertically), one panel per problem; colours follow log10 of the mean error on \
          a per-panel scale (dark = low error), the value is printed in each cell and the \
-         red frame marks the best setting of the panel (lowest mean error).",
+         red frame marks the best setting of the panel (lowest mean error).{fixed}",
         map.label, map.x_param, map.y_param, map.x_param, map.y_param
     );
+
     Plot {
         stem: format!("tuning_{}", map.slug),
         title: format!("Parameter grid of {}", map.label),
         caption,
         figure: Figure::Heat(Heat {
             title: format!(
-                "{}: mean final error over {} × {}",
+                "{}: mean final error over {} × {}{suffix}",
                 map.label, map.x_param, map.y_param
             ),
             map,

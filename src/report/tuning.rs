@@ -308,6 +308,23 @@ pub(crate) struct HeatMap {
     pub y_values: Vec<String>,
     /// Per problem: title, `mean[y][x]` and the best (y, x).
     pub panels: Vec<HeatPanel>,
+    /// For a grid of more than two parameters, the other parameters and the
+    /// values at which the map slices the grid (those of the overall best
+    /// setting); empty for a two-parameter grid.
+    pub fixed: Vec<(String, String)>,
+}
+
+/// The two axes of a grid's heat map: `hmcr` × `bw` when both vary (the
+/// classical HS tuning pair), else the first two varying parameters.
+fn heat_axes(grid: &Grid) -> Option<(String, String)> {
+    let has = |k: &str| grid.varying.iter().any(|v| v == k);
+    if has("hmcr") && has("bw") {
+        return Some(("hmcr".into(), "bw".into()));
+    }
+    match grid.varying.as_slice() {
+        [a, b, ..] => Some((a.clone(), b.clone())),
+        _ => None,
+    }
 }
 
 fn sorted_values(values: Vec<String>) -> Vec<String> {
@@ -327,17 +344,42 @@ fn sorted_values(values: Vec<String>) -> Vec<String> {
     }
 }
 
-/// The heat map of a grid that varies exactly two parameters.
+/// The heat map of a grid that varies at least two parameters.
+///
+/// With more than two, the map is the slice of the grid through the overall
+/// best setting (lowest mean rank, [`mean_ranks`]): the parameters off the
+/// axes keep that setting's values, and [`HeatMap::fixed`] names them.
 pub(crate) fn heat_map(
     ds: &Dataset,
     grid: &Grid,
     stats: &[Vec<Option<CellStats>>],
 ) -> Option<HeatMap> {
-    if grid.varying.len() != 2 {
-        return None;
-    }
-    let (xp, yp) = (&grid.varying[0], &grid.varying[1]);
+    let (xp, yp) = heat_axes(grid)?;
     let value = |c: usize, k: &str| param_value(&ds.cells[c], k).unwrap_or_else(|| "-".into());
+    let mut fixed: Vec<(String, String)> = Vec::new();
+    if grid.varying.len() > 2 {
+        let (_, ranks) = mean_ranks(ds, grid, stats)?;
+        let mut order: Vec<usize> = (0..ranks.len()).collect();
+        order.sort_by(|&a, &b| ranks[a].total_cmp(&ranks[b]).then(a.cmp(&b)));
+        let best = grid.cells[*order.first()?];
+        fixed = grid
+            .varying
+            .iter()
+            .filter(|k| **k != xp && **k != yp)
+            .map(|k| (k.clone(), value(best, k)))
+            .collect();
+    }
+    let slice: Vec<usize> = grid
+        .cells
+        .iter()
+        .copied()
+        .filter(|&c| fixed.iter().all(|(k, v)| value(c, k) == *v))
+        .collect();
+    let grid = &Grid {
+        cells: slice,
+        ..grid.clone()
+    };
+    let (xp, yp) = (&xp, &yp);
     let x_values = sorted_values(grid.cells.iter().map(|&c| value(c, xp)).collect());
     let y_values = sorted_values(grid.cells.iter().map(|&c| value(c, yp)).collect());
     let mut panels = Vec::new();
@@ -377,23 +419,13 @@ pub(crate) fn heat_map(
         x_values,
         y_values,
         panels,
+        fixed,
     })
 }
 
 /// A compact text of a mean error for a heat-map cell: `1.2e-03`.
 pub(crate) fn cell_label(v: f64) -> String {
     super::format::sci_digits(v, 2)
-}
-
-/// The note on a grid that varies more than two parameters.
-pub(crate) fn no_heat_map_note(grid: &Grid) -> String {
-    format!(
-        "{} varies {} parameters ({}): no heat map (it needs exactly two); see the \
-         tuning tables.",
-        grid.label,
-        grid.varying.len(),
-        grid.varying.join(", ")
-    )
 }
 
 #[cfg(test)]
@@ -463,6 +495,40 @@ mod tests {
         assert_eq!(h.x_values, ["0.7", "0.9"]);
         assert_eq!(h.y_values, ["0.01", "0.1"]);
         assert_eq!(h.panels[0].mean[0][1], Some(0.5));
+        assert_eq!(h.panels[0].best, Some((0, 1)));
+    }
+
+    #[test]
+    fn a_wider_grid_is_mapped_through_its_best_setting() {
+        // l varies too: l=3 is better everywhere, so the hmcr × bw map is the
+        // l=3 slice, whatever order the parameters come in.
+        let mut v = Vec::new();
+        for run in 0..2 {
+            for l in ["1", "3"] {
+                for (bw, hmcr, e) in [
+                    ("0.1", "0.9", 4.0),
+                    ("0.1", "0.7", 3.0),
+                    ("0.01", "0.9", 2.0),
+                ] {
+                    let e = if l == "3" { e / 10.0 } else { e };
+                    let params = format!("l={l};bw={bw};hmcr={hmcr}");
+                    v.push(rec("MHS", &params, "f", run, e));
+                }
+            }
+        }
+        let ds = Dataset::from_records(v);
+        let stats = compute(&ds);
+        let g = grids(&ds);
+        assert_eq!(g[0].varying, ["l", "bw", "hmcr"]);
+        let h = heat_map(&ds, &g[0], &stats).unwrap();
+        assert_eq!((h.x_param.as_str(), h.y_param.as_str()), ("hmcr", "bw"));
+        assert_eq!(h.fixed, [("l".to_string(), "3".to_string())]);
+        assert_eq!(h.y_values, ["0.01", "0.1"]);
+        assert_eq!(h.panels[0].mean[1][0], Some(0.3));
+        assert_eq!(
+            h.panels[0].mean[0][0], None,
+            "(hmcr 0.7, bw 0.01) was not run"
+        );
         assert_eq!(h.panels[0].best, Some((0, 1)));
     }
 }
