@@ -18,6 +18,7 @@ mod data;
 mod descriptive;
 mod format;
 mod markdown;
+mod overlay;
 mod plots;
 mod render;
 mod significance;
@@ -28,6 +29,7 @@ use std::path::{Path, PathBuf};
 use crate::error::{write_atomic, Error};
 
 use self::format::Table;
+pub use self::overlay::{OverlayCurve, OverlayFigure, OverlayPanel};
 
 /// How to build a report.
 #[derive(Clone, Debug, PartialEq)]

@@ -1,0 +1,228 @@
+//! Overlay figures of fitted outlines: the data points, each fitted curve
+//! and, optionally, its control polygons, drawn at equal scale in x and y.
+//!
+//! The figure knows nothing of how the curves were fitted: it takes
+//! polylines. It is used by `metabezier fit` (`fit.svg`, `fit.png`) and by
+//! the chapter-5 report (one panel per fitting function).
+
+use std::path::{Path, PathBuf};
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::render::{colour, draw_legend, draw_title, font, legend_height, save, Draw, DrawResult};
+use crate::error::Error;
+use crate::geometry::Point;
+
+/// One fitted outline drawn over the data.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OverlayCurve {
+    /// Legend text, e.g. `rational-cubic, G1 (E = 12.3)`.
+    pub label: String,
+    /// Each segment sampled densely, in order.
+    pub segments: Vec<Vec<Point>>,
+    /// The control polygon of each segment (drawn thin and dashed-looking);
+    /// empty to omit.
+    pub control_polygons: Vec<Vec<Point>>,
+}
+
+/// One panel: the data points and the curves fitted to them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OverlayPanel {
+    /// Panel title.
+    pub title: String,
+    /// The data points `R_i`.
+    pub data: Vec<Point>,
+    /// The fitted curves, each in its own colour.
+    pub curves: Vec<OverlayCurve>,
+    /// Whether y grows downwards in the source (image rows): the panel is
+    /// then drawn with y flipped so the shape looks as in the image.
+    pub y_down: bool,
+}
+
+/// A figure of one or more overlay panels with a shared title.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OverlayFigure {
+    /// Figure title.
+    pub title: String,
+    /// The panels, laid out in a grid of at most `columns` columns.
+    pub panels: Vec<OverlayPanel>,
+    /// Maximum panels per row.
+    pub columns: usize,
+}
+
+const PANEL: u32 = 560;
+const TITLE_H: u32 = 40;
+
+impl OverlayFigure {
+    fn legend(&self) -> Vec<(String, RGBColor)> {
+        let mut out: Vec<(String, RGBColor)> = vec![("data".into(), RGBColor(120, 120, 120))];
+        // Curve colours follow their position in the panel.
+        let n = self.panels.iter().map(|p| p.curves.len()).max().unwrap_or(0);
+        for i in 0..n {
+            let label = self
+                .panels
+                .iter()
+                .find_map(|p| p.curves.get(i).map(|c| c.label.clone()))
+                .unwrap_or_default();
+            out.push((label, colour(i)));
+        }
+        out
+    }
+
+    fn shape(&self) -> (usize, usize) {
+        let cols = self.columns.max(1).min(self.panels.len().max(1));
+        let rows = self.panels.len().div_ceil(cols).max(1);
+        (rows, cols)
+    }
+
+    /// Writes the figure as `<dir>/<stem>.svg` and `<dir>/<stem>.png`.
+    pub fn save(&self, dir: &Path, stem: &str) -> Result<Vec<PathBuf>, Error> {
+        save(self, dir, stem)
+    }
+}
+
+/// The bounding box of the points, made square (equal scale) with a 4 %
+/// margin.
+fn square_box(points: impl Iterator<Item = Point>) -> ((f64, f64), (f64, f64)) {
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for p in points.filter(|p| p.x.is_finite() && p.y.is_finite()) {
+        x0 = x0.min(p.x);
+        x1 = x1.max(p.x);
+        y0 = y0.min(p.y);
+        y1 = y1.max(p.y);
+    }
+    if x0 > x1 {
+        return ((0.0, 1.0), (0.0, 1.0));
+    }
+    let half = ((x1 - x0).max(y1 - y0) * 0.52).max(1e-9);
+    let (cx, cy) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0);
+    ((cx - half, cx + half), (cy - half, cy + half))
+}
+
+fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &OverlayPanel) -> DrawResult {
+    let all = panel
+        .data
+        .iter()
+        .copied()
+        .chain(panel.curves.iter().flat_map(|c| c.segments.iter().flatten().copied()));
+    let ((x0, x1), (y0, y1)) = square_box(all);
+    let y_range = if panel.y_down { y1..y0 } else { y0..y1 };
+    let mut chart = ChartBuilder::on(area)
+        .caption(&panel.title, font(18))
+        .margin(8)
+        .x_label_area_size(36)
+        .y_label_area_size(52)
+        .build_cartesian_2d(x0..x1, y_range)?;
+    chart
+        .configure_mesh()
+        .light_line_style(RGBColor(235, 235, 235))
+        .label_style(font(13))
+        .x_desc("x")
+        .y_desc("y")
+        .axis_desc_style(font(14))
+        .draw()?;
+    let grey = RGBColor(120, 120, 120);
+    chart.draw_series(
+        panel
+            .data
+            .iter()
+            .map(|p| Circle::new((p.x, p.y), 2, grey.filled())),
+    )?;
+    for (i, curve) in panel.curves.iter().enumerate() {
+        let c = colour(i);
+        for poly in &curve.control_polygons {
+            chart.draw_series(std::iter::once(PathElement::new(
+                poly.iter().map(|p| (p.x, p.y)).collect::<Vec<_>>(),
+                c.mix(0.45).stroke_width(1),
+            )))?;
+            chart.draw_series(
+                poly.iter()
+                    .map(|p| Rectangle::new([(p.x, p.y), (p.x, p.y)], c.stroke_width(4))),
+            )?;
+        }
+        for seg in &curve.segments {
+            chart.draw_series(std::iter::once(PathElement::new(
+                seg.iter().map(|p| (p.x, p.y)).collect::<Vec<_>>(),
+                c.stroke_width(2),
+            )))?;
+        }
+        // Segment ends: the break points of the piecewise fit.
+        chart.draw_series(curve.segments.iter().filter_map(|s| s.first()).map(|p| {
+            Circle::new((p.x, p.y), 4, c.stroke_width(2))
+        }))?;
+    }
+    Ok(())
+}
+
+impl Draw for OverlayFigure {
+    fn size(&self) -> (u32, u32) {
+        let (rows, cols) = self.shape();
+        let w = PANEL * cols as u32;
+        (w, TITLE_H + legend_height(&self.legend(), w) + PANEL * rows as u32)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult {
+        root.fill(&WHITE)?;
+        let (w, _) = self.size();
+        let (title, rest) = root.split_vertically(TITLE_H);
+        draw_title(&title, &self.title, 20)?;
+        let legend = self.legend();
+        let (strip, body) = rest.split_vertically(legend_height(&legend, w));
+        draw_legend(&strip, &legend)?;
+        let (rows, cols) = self.shape();
+        let cells = body.split_evenly((rows, cols));
+        for (panel, cell) in self.panels.iter().zip(cells.iter()) {
+            draw_panel(cell, panel)?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn circle(n: usize, r: f64) -> Vec<Point> {
+        (0..n)
+            .map(|i| {
+                let a = std::f64::consts::TAU * i as f64 / n as f64;
+                Point::new(r * a.cos(), r * a.sin())
+            })
+            .collect()
+    }
+
+    #[test]
+    fn an_overlay_is_written_as_svg_and_png() {
+        let dir = tempfile::tempdir().unwrap();
+        let data = circle(60, 10.0);
+        let fig = OverlayFigure {
+            title: "circle".into(),
+            panels: vec![OverlayPanel {
+                title: "one".into(),
+                data: data.clone(),
+                curves: vec![OverlayCurve {
+                    label: "fit".into(),
+                    segments: vec![data[..31].to_vec(), data[30..].to_vec()],
+                    control_polygons: vec![vec![data[0], Point::new(0.0, 20.0), data[30]]],
+                }],
+                y_down: true,
+            }],
+            columns: 2,
+        };
+        let files = fig.save(dir.path(), "fit").unwrap();
+        assert_eq!(files.len(), 2);
+        let svg = std::fs::read_to_string(&files[0]).unwrap();
+        assert!(svg.contains("circle") && svg.contains("<polyline"), "{svg:.300}");
+        let png = std::fs::read(&files[1]).unwrap();
+        assert_eq!(&png[1..4], b"PNG");
+    }
+
+    #[test]
+    fn the_box_is_square_around_the_points() {
+        let ((x0, x1), (y0, y1)) =
+            square_box([Point::new(0.0, 0.0), Point::new(10.0, 2.0)].into_iter());
+        assert!(((x1 - x0) - (y1 - y0)).abs() < 1e-12);
+        assert!(x0 < 0.0 && x1 > 10.0 && y0 < 1.0 - 5.0 && y1 > 1.0 + 5.0);
+    }
+}
