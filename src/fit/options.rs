@@ -68,6 +68,13 @@ pub struct SearchSpaceOptions {
     pub pt: f64,
     /// `[T_min, T_max]`, the range of the G¹ ratio `T`; default `[0.05, 5]`.
     pub t_range: (f64, f64),
+    /// Whether `t_range` is scaled by `ρ = (|C′_m − C′₀|/m)/|C_m − C_{m−1}|`,
+    /// the new segment's chord per degree over the previous segment's last
+    /// leg, so that it bounds the new first leg relative to the new segment
+    /// rather than to the previous one (our choice, default `true`; with
+    /// `false`, `T ∈ [T_min, T_max]` as given, which keeps neighbouring
+    /// segments within a length ratio of about `T_max`).
+    pub scale_t_range: bool,
     /// `[w_min, w_max]`, the range of every free rational weight; default
     /// `[0.01, 10]`. Must satisfy `0 < w_min < w_max`.
     pub weight_range: (f64, f64),
@@ -87,6 +94,7 @@ impl Default for SearchSpaceOptions {
             alpha_size: 0.5,
             pt: 0.0,
             t_range: (0.05, 5.0),
+            scale_t_range: true,
             weight_range: (0.01, 10.0),
             margin: 0.5,
             tangent_points: 3,

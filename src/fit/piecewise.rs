@@ -455,7 +455,9 @@ pub struct SplitOptions {
     /// Split while the largest orthogonal distance exceeds this (data
     /// units, `> 0`).
     pub tolerance: f64,
-    /// Split a corner span at most this many levels deep; default 8.
+    /// How many times the fit starting at one data point may be rejected
+    /// and split (the left part starts at the same point, the rest starts
+    /// afresh at the split point); default 8.
     pub max_depth: u32,
     /// The fewest points a segment made by a split may have; the function's
     /// own minimum applies if that is larger. Default 0.
@@ -515,7 +517,9 @@ pub fn fit_adaptive<S: SegmentSolver + ?Sized>(
             if fit.metrics.max_distance > split.tolerance && depth < split.max_depth && lo <= hi {
                 let m = (p + fit.metrics.max_index).clamp(lo, hi);
                 discarded += fit.metrics.evaluations;
-                stack.push((m, q, depth + 1));
+                // The rest starts afresh at m; the piece starting at p has
+                // been rejected once more.
+                stack.push((m, q, 0));
                 stack.push((p, m, depth + 1));
             } else {
                 segments.push(fit);

@@ -130,7 +130,7 @@ struct Controls {
 /// |---|---|---|
 /// | [`Start::Free`] (first segment, C⁰) | `C₁.x, C₁.y` | |
 /// | [`Start::C1`] | none (`C₁` derived) | |
-/// | [`Start::G1`] | `T` | |
+/// | [`Start::G1`] | `T` (its range: [`SearchSpaceOptions::scale_t_range`]) | |
 /// | | | cubics: `C₂.x, C₂.y`; rationals: `w₁` (`h₁`), rational cubic: `w₂` |
 ///
 /// so the dimensions are, for Free / C¹ / G¹: quadratic 2 / 0 / 1, rational
@@ -257,7 +257,14 @@ impl SegmentProblem {
             C1Var::Derived(_) => {}
             C1Var::Ratio(i, leg) => {
                 let (lo, hi) = self.search.t_range;
-                bounds[i] = Bounds::new(lo, hi);
+                let chord = c0.distance(self.points[self.points.len() - 1]);
+                let rho = chord / self.function.degree() as f64 / leg.hypot();
+                let rho = if self.search.scale_t_range && rho.is_finite() && rho > 0.0 {
+                    rho
+                } else {
+                    1.0
+                };
+                bounds[i] = Bounds::new(lo * rho, hi * rho);
                 let l2 = leg.hypot2();
                 let t = if l2 > 0.0 {
                     (g.a1 - c0).dot(leg) / l2
