@@ -8,6 +8,7 @@
 
 pub mod cli;
 pub mod error;
+pub mod fit;
 pub mod functions;
 pub mod geometry;
 pub mod optim;

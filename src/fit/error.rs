@@ -1,0 +1,165 @@
+//! Why a fit was refused.
+
+use std::fmt;
+
+use super::FunctionType;
+
+/// An invalid fitting request, with a message saying what to change.
+#[derive(Clone, Debug, PartialEq)]
+pub enum FitError {
+    /// A segment has fewer data points than its function needs
+    /// ([`FunctionType::min_points`]).
+    TooFewPoints {
+        /// The segment's position along the outline (0-based).
+        segment: usize,
+        /// Index of its first data point.
+        first: usize,
+        /// Index of its last data point (it may wrap around a closed outline).
+        last: usize,
+        /// Points found.
+        found: usize,
+        /// Points needed.
+        needed: usize,
+        /// The function being fitted.
+        function: FunctionType,
+    },
+    /// The outline has too few points to fit anything.
+    TooFewOutlinePoints {
+        /// Points given.
+        found: usize,
+        /// Points needed.
+        needed: usize,
+    },
+    /// A data point has a NaN or infinite coordinate.
+    NonFinitePoint {
+        /// Its index.
+        index: usize,
+    },
+    /// A split tolerance is not finite and positive.
+    InvalidTolerance(f64),
+    /// The weight range `[w_min, w_max]` is not `0 < w_min < w_max < ∞`.
+    InvalidWeightRange {
+        /// The lower end given.
+        min: f64,
+        /// The upper end given.
+        max: f64,
+    },
+    /// The G¹ ratio range `[T_min, T_max]` is not `0 < T_min < T_max < ∞`.
+    InvalidTRange {
+        /// The lower end given.
+        min: f64,
+        /// The upper end given.
+        max: f64,
+    },
+    /// Another option is outside its domain.
+    InvalidOption {
+        /// The option's name.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+        /// The admissible values.
+        expected: &'static str,
+    },
+    /// A break index is not a point of the outline.
+    BreakOutOfRange {
+        /// The index given.
+        index: usize,
+        /// The number of points.
+        len: usize,
+    },
+    /// Break indices must be strictly increasing.
+    BreaksNotSorted {
+        /// Position in the list of the offending index.
+        position: usize,
+        /// The index before it.
+        previous: usize,
+        /// The offending index.
+        index: usize,
+    },
+    /// Fewer segments were requested than the corners make.
+    TooFewSegments {
+        /// Segments requested.
+        requested: usize,
+        /// The least possible (one per span between corners).
+        minimum: usize,
+    },
+    /// The decision vector has the wrong length.
+    DimensionMismatch {
+        /// The problem's dimension.
+        expected: usize,
+        /// The length given.
+        found: usize,
+    },
+}
+
+impl fmt::Display for FitError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            FitError::TooFewPoints {
+                segment,
+                first,
+                last,
+                found,
+                needed,
+                function,
+            } => write!(
+                f,
+                "segment {segment} (points {first}..={last}) has {found} data point(s), \
+                 but a {function} segment needs at least {needed}; \
+                 use fewer segments or a lower-degree function"
+            ),
+            FitError::TooFewOutlinePoints { found, needed } => write!(
+                f,
+                "the outline has {found} point(s); at least {needed} are needed"
+            ),
+            FitError::NonFinitePoint { index } => {
+                write!(f, "data point {index} has a non-finite coordinate")
+            }
+            FitError::InvalidTolerance(t) => write!(
+                f,
+                "the split tolerance must be a finite distance > 0, found {t}"
+            ),
+            FitError::InvalidWeightRange { min, max } => write!(
+                f,
+                "the weight range [{min}, {max}] is invalid: rational weights must stay \
+                 strictly positive, so it needs 0 < w_min < w_max (finite), e.g. [0.01, 10]"
+            ),
+            FitError::InvalidTRange { min, max } => write!(
+                f,
+                "the G1 ratio range [{min}, {max}] is invalid: it needs 0 < T_min < T_max \
+                 (finite), e.g. [0.05, 5]"
+            ),
+            FitError::InvalidOption {
+                name,
+                value,
+                expected,
+            } => write!(f, "option {name} = {value} is invalid: expected {expected}"),
+            FitError::BreakOutOfRange { index, len } => write!(
+                f,
+                "break index {index} is out of range for an outline of {len} points \
+                 (valid: 0..={})",
+                len.saturating_sub(1)
+            ),
+            FitError::BreaksNotSorted {
+                position,
+                previous,
+                index,
+            } => write!(
+                f,
+                "break indices must be strictly increasing, but break {position} is {index} \
+                 after {previous}"
+            ),
+            FitError::TooFewSegments { requested, minimum } => write!(
+                f,
+                "{requested} segment(s) requested, but the corners split the outline into \
+                 {minimum} span(s); ask for at least {minimum}"
+            ),
+            FitError::DimensionMismatch { expected, found } => write!(
+                f,
+                "the decision vector has {found} value(s), the problem {expected}"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for FitError {}

@@ -1,0 +1,75 @@
+//! Piecewise Bézier fitting of outline points: the thesis's curve
+//! reconstruction problem.
+//!
+//! Data points `R₀..R_N` along an outline are split at break points into
+//! segments; each segment is fitted with a quadratic, cubic, rational
+//! quadratic or rational cubic Bézier function whose end control points are
+//! the segment's first and last data points, minimising
+//! `E = Σᵢ |Rᵢ − P(sᵢ)|²` at parameters `sᵢ` (chord length by default).
+//! Segments are fitted in sequence; each joins the previous one with C⁰, C¹
+//! or G¹ continuity (Farin 2002, §10.2 and §13.6).
+//!
+//! The split follows argmin's: a [`SegmentProblem`] is an ordinary
+//! box-bounded [`crate::problem::Problem`] (and a
+//! [`crate::optim::lm::LeastSquares`] problem) that knows nothing of the
+//! algorithm solving it, and a [`SegmentSolver`] — any of the
+//! metaheuristics ([`OptimiserSolver`]), Levenberg–Marquardt ([`LmSolver`])
+//! or both ([`HybridSolver`]) — knows nothing of curves.
+//!
+//! | module | concept |
+//! |---|---|
+//! | [`FunctionType`], [`Segment`] | the four curve families and a fitted segment |
+//! | [`SegmentProblem`], [`Start`] | one segment's decision variables, box and objective |
+//! | [`search_space`] | the thesis's search-space technique (reconstructed) |
+//! | [`linear_fit`] | fixed-weight linear least squares |
+//! | [`SegmentSolver`] | metaheuristic, LM and hybrid solvers |
+//! | [`fit_piecewise`], [`fit_segment_count`], [`fit_adaptive`] | whole outlines |
+//! | [`SegmentMetrics`], [`FitMetrics`] | E, RMS, max orthogonal distance, evaluations |
+//!
+//! ```
+//! use std::f64::consts::FRAC_PI_2;
+//! use metabezier::fit::{fit_piecewise, FitOptions, FunctionType, LmSolver};
+//! use metabezier::geometry::{Continuity, Parameterisation, Point, RationalQuadBez};
+//!
+//! // A unit circle: four quarter arcs, each sampled at 50 uniform parameters.
+//! let mut pts = Vec::new();
+//! for k in 0..4 {
+//!     let arc = RationalQuadBez::circular_arc(Point::ZERO, 1.0, k as f64 * FRAC_PI_2, FRAC_PI_2)?;
+//!     pts.extend((0..50).map(|j| arc.eval(j as f64 / 50.0)));
+//! }
+//! // Four rational quadratics joined G¹ recover the circle exactly.
+//! let mut options = FitOptions::new(FunctionType::RationalQuadratic, Continuity::G1);
+//! options.parameterisation = Parameterisation::Uniform;
+//! let fit = fit_piecewise(&pts, true, &[0, 50, 100, 150], &options, &mut LmSolver::default())
+//!     .expect("valid input");
+//! assert_eq!(fit.metrics.segments, 4);
+//! assert!(fit.joins_hold(1e-9));
+//! assert!(fit.metrics.max_distance < 1e-9);
+//! # Ok::<(), metabezier::geometry::GeometryError>(())
+//! ```
+
+mod error;
+mod function;
+mod linear;
+mod metrics;
+mod options;
+mod piecewise;
+mod problem;
+pub mod search_space;
+mod segment;
+mod solver;
+
+pub use error::FitError;
+pub use function::FunctionType;
+pub use linear::linear_fit;
+pub use metrics::{segment_metrics, FitMetrics, SegmentMetrics};
+pub use options::{FitOptions, GuessRule, SearchSpace, SearchSpaceOptions};
+pub use piecewise::{
+    equal_arc_breaks, fit_adaptive, fit_piecewise, fit_segment_count, ClosingJoint, FittedSegment,
+    PiecewiseFit, SplitOptions,
+};
+pub use problem::{SegmentProblem, Start};
+pub use segment::Segment;
+pub use solver::{
+    HybridSolver, LmSolver, LmStart, OptimiserSolver, SegmentSolver, Solution, SolvePart,
+};

@@ -1,0 +1,238 @@
+//! The options of a fit, all with defaults and all validated in one place.
+
+use super::{FitError, FunctionType};
+use crate::geometry::{Continuity, Parameterisation};
+
+/// How the box the optimisers search is built.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum SearchSpace {
+    /// The thesis's search-space technique (chapter 5, **reconstructed**;
+    /// see [`crate::fit::search_space`]): a box of half-width
+    /// `α_size·|C_m − C₀|` per coordinate around first guesses of the inner
+    /// control points.
+    #[default]
+    Technique,
+    /// The naive alternative: every control point coordinate may lie anywhere
+    /// in the bounding box of the segment's data, enlarged on each side by
+    /// `margin` times its larger side.
+    BoundingBox,
+}
+
+impl SearchSpace {
+    /// The names accepted in experiment specs, in the order of the enum.
+    pub const NAMES: [&'static str; 2] = ["technique", "bounding-box"];
+
+    /// Parses a spec name.
+    pub fn from_name(name: &str) -> Option<SearchSpace> {
+        match name {
+            "technique" => Some(SearchSpace::Technique),
+            "bounding-box" | "bounding_box" | "bbox" => Some(SearchSpace::BoundingBox),
+            _ => None,
+        }
+    }
+
+    /// The spec name.
+    pub fn name(self) -> &'static str {
+        match self {
+            SearchSpace::Technique => "technique",
+            SearchSpace::BoundingBox => "bounding-box",
+        }
+    }
+}
+
+/// Where the first guesses `A₁′, A₂′` of the technique come from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum GuessRule {
+    /// The thesis's quarter points: the cubic passes through `R_Q1` at
+    /// `s = 1/4` and `R_Q3` at `s = 3/4` (the quadratic through `R_mid` at
+    /// `s = 1/2`), whatever the data's own parameters are.
+    #[default]
+    QuarterPoints,
+    /// The same interpolation at the actual parameters `s_Q1`, `s_Q3`
+    /// (`s_mid`) of those points, a 2×2 solve.
+    ActualParams,
+}
+
+/// The options of the search box (see [`crate::fit::search_space`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SearchSpaceOptions {
+    /// Technique or bounding box.
+    pub kind: SearchSpace,
+    /// Where the technique's first guesses come from.
+    pub guess: GuessRule,
+    /// `α_size`: the box's half-width per coordinate is `α_size·|C_m − C₀|`;
+    /// default 0.5 (our choice; the thesis's value is lost). Must be `> 0`.
+    pub alpha_size: f64,
+    /// `pt ∈ [0, 1]`: how far the guesses move towards the end tangent lines
+    /// estimated from the data (0 = not at all, the default).
+    pub pt: f64,
+    /// `[T_min, T_max]`, the range of the G¹ ratio `T`; default `[0.05, 5]`.
+    pub t_range: (f64, f64),
+    /// Whether `t_range` is scaled by `ρ = (|C′_m − C′₀|/m)/|C_m − C_{m−1}|`,
+    /// the new segment's chord per degree over the previous segment's last
+    /// leg, so that it bounds the new first leg relative to the new segment
+    /// rather than to the previous one (our choice, default `true`; with
+    /// `false`, `T ∈ [T_min, T_max]` as given, which keeps neighbouring
+    /// segments within a length ratio of about `T_max`).
+    pub scale_t_range: bool,
+    /// `[w_min, w_max]`, the range of every free rational weight; default
+    /// `[0.01, 10]`. Must satisfy `0 < w_min < w_max`.
+    pub weight_range: (f64, f64),
+    /// The bounding box's enlargement on each side, as a fraction of its
+    /// larger side; default 0.5. Must be `≥ 0`.
+    pub margin: f64,
+    /// How many data points, counted from each end, estimate an end tangent
+    /// for `pt` (the chord from the end point to the `k`-th point); default 3.
+    pub tangent_points: usize,
+}
+
+impl Default for SearchSpaceOptions {
+    fn default() -> Self {
+        Self {
+            kind: SearchSpace::Technique,
+            guess: GuessRule::QuarterPoints,
+            alpha_size: 0.5,
+            pt: 0.0,
+            t_range: (0.05, 5.0),
+            scale_t_range: true,
+            weight_range: (0.01, 10.0),
+            margin: 0.5,
+            tangent_points: 3,
+        }
+    }
+}
+
+impl SearchSpaceOptions {
+    /// Checks every option, naming the first invalid one.
+    pub fn validate(&self) -> Result<(), FitError> {
+        let (wmin, wmax) = self.weight_range;
+        if !(wmin.is_finite() && wmax.is_finite() && wmin > 0.0 && wmin < wmax) {
+            return Err(FitError::InvalidWeightRange {
+                min: wmin,
+                max: wmax,
+            });
+        }
+        let (tmin, tmax) = self.t_range;
+        if !(tmin.is_finite() && tmax.is_finite() && tmin > 0.0 && tmin < tmax) {
+            return Err(FitError::InvalidTRange {
+                min: tmin,
+                max: tmax,
+            });
+        }
+        if !(self.alpha_size.is_finite() && self.alpha_size > 0.0) {
+            return Err(FitError::InvalidOption {
+                name: "alpha_size",
+                value: self.alpha_size,
+                expected: "a finite number > 0",
+            });
+        }
+        if !(0.0..=1.0).contains(&self.pt) {
+            return Err(FitError::InvalidOption {
+                name: "pt",
+                value: self.pt,
+                expected: "a number in [0, 1]",
+            });
+        }
+        if !(self.margin.is_finite() && self.margin >= 0.0) {
+            return Err(FitError::InvalidOption {
+                name: "margin",
+                value: self.margin,
+                expected: "a finite number ≥ 0",
+            });
+        }
+        if self.tangent_points == 0 {
+            return Err(FitError::InvalidOption {
+                name: "tangent_points",
+                value: 0.0,
+                expected: "an integer ≥ 1",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Everything a piecewise fit needs besides the data, the breaks and the solver.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FitOptions {
+    /// The function fitted to each segment; default rational cubic (the
+    /// thesis's title function).
+    pub function: FunctionType,
+    /// The continuity at interior joints; default C¹.
+    pub continuity: Continuity,
+    /// How data parameters are assigned; default chord length.
+    pub parameterisation: Parameterisation,
+    /// The search box.
+    pub search: SearchSpaceOptions,
+    /// Objective evaluations per segment (per solve); default 10 000.
+    pub budget_per_segment: u64,
+    /// Rounds of Newton parameter correction after each segment's solve
+    /// (Schneider 1990, "Reparameterize"): each round moves every interior
+    /// `s_i` one Newton step towards the foot of `R_i` on the curve and
+    /// solves again, with a fresh `budget_per_segment`. Default 0 (the
+    /// thesis keeps the parameters fixed).
+    pub reparameterise: u32,
+}
+
+impl Default for FitOptions {
+    fn default() -> Self {
+        Self {
+            function: FunctionType::RationalCubic,
+            continuity: Continuity::C1,
+            parameterisation: Parameterisation::ChordLength,
+            search: SearchSpaceOptions::default(),
+            budget_per_segment: 10_000,
+            reparameterise: 0,
+        }
+    }
+}
+
+impl FitOptions {
+    /// Default options for `function` joined with `continuity`.
+    pub fn new(function: FunctionType, continuity: Continuity) -> FitOptions {
+        FitOptions {
+            function,
+            continuity,
+            ..FitOptions::default()
+        }
+    }
+
+    /// Checks every option.
+    pub fn validate(&self) -> Result<(), FitError> {
+        self.search.validate()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_valid_and_bad_values_are_named() {
+        assert!(FitOptions::default().validate().is_ok());
+        let mut s = SearchSpaceOptions {
+            weight_range: (0.0, 10.0),
+            ..Default::default()
+        };
+        assert!(matches!(
+            s.validate(),
+            Err(FitError::InvalidWeightRange { .. })
+        ));
+        for bad in [(-1.0, 2.0), (3.0, 3.0), (5.0, 1.0), (0.1, f64::INFINITY)] {
+            s.weight_range = bad;
+            assert!(s.validate().is_err(), "{bad:?}");
+        }
+        s.weight_range = (0.01, 10.0);
+        s.t_range = (0.0, 1.0);
+        assert!(matches!(s.validate(), Err(FitError::InvalidTRange { .. })));
+        s.t_range = (0.05, 5.0);
+        s.pt = 1.5;
+        let e = s.validate().unwrap_err();
+        assert!(e.to_string().contains("pt"), "{e}");
+        s.pt = 0.5;
+        s.alpha_size = 0.0;
+        assert!(s.validate().is_err());
+        for n in SearchSpace::NAMES {
+            assert_eq!(SearchSpace::from_name(n).unwrap().name(), n);
+        }
+    }
+}

@@ -1,0 +1,809 @@
+//! One segment's fitting problem: the decision variables, their box and the
+//! objective `E = Σᵢ |Rᵢ − P(sᵢ)|²`.
+//!
+//! The problem knows nothing of the algorithm that solves it (argmin's split):
+//! it implements [`Problem`] for the metaheuristics and [`LeastSquares`] for
+//! Levenberg–Marquardt.
+
+use super::search_space::{guesses, point_box};
+use super::{FitError, FunctionType, SearchSpaceOptions, Segment};
+use crate::geometry::{
+    Continuity, CubicBez, Curve, Parameterisation, Point, QuadBez, RationalCubicBez,
+    RationalQuadBez, SegmentEnd,
+};
+use crate::optim::lm::LeastSquares;
+use crate::problem::{Bounds, Problem};
+
+/// How a segment starts: its start point `C′₀` is always the first data
+/// point; the join with the previous segment decides `C′₁`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Start {
+    /// The first segment of an open outline, or a C⁰ join: `C′₁` is free.
+    Free,
+    /// A C¹ join after a segment with end derivative `D = Q′(1)`:
+    /// `C′₁ = C′₀ + D/(m w′₁)` (`w′₁ = 1` for polynomial segments), i.e.
+    /// `C′₁ = C₃ + (w₂w′₀)/(w₃w′₁)(C₃ − C₂)` for rational cubics and
+    /// `C′₁ = C₂ + (h₁/h′₁)(C₂ − C₁)` for rational quadratics in standard
+    /// form (Farin 2002, eq. 13.10).
+    C1 {
+        /// The previous segment's end derivative `Q′(1)`.
+        derivative: Point,
+    },
+    /// A G¹ join after a segment whose last control leg is
+    /// `L = C_m − C_{m−1}`: `C′₁ = C′₀ + T·L` with a free `T > 0`
+    /// (Farin 2002, §10.2; the thesis's "T: parameter to locate new
+    /// position of CP1").
+    G1 {
+        /// The previous segment's last leg `C_m − C_{m−1}`.
+        leg: Point,
+    },
+}
+
+impl Start {
+    /// The start of a segment that follows `previous` with `continuity`.
+    pub fn after<L: SegmentEnd + ?Sized>(previous: &L, continuity: Continuity) -> Start {
+        match continuity {
+            Continuity::C0 => Start::Free,
+            Continuity::C1 => Start::C1 {
+                derivative: previous.end_derivative(),
+            },
+            Continuity::G1 => {
+                let (a, b) = previous.end_leg();
+                Start::G1 { leg: b - a }
+            }
+        }
+    }
+
+    /// The start tangent direction this join imposes, if any.
+    pub fn tangent(self) -> Option<Point> {
+        match self {
+            Start::Free => None,
+            Start::C1 { derivative } => Some(derivative),
+            Start::G1 { leg } => Some(leg),
+        }
+    }
+}
+
+/// How `C₁` is obtained from the decision vector.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum C1Var {
+    /// `C₁ = (x[i], x[i+1])`.
+    Free(usize),
+    /// `C₁ = C₀ + D/(m w₁)` (C¹ join).
+    Derived(Point),
+    /// `C₁ = C₀ + x[i]·L` (G¹ join).
+    Ratio(usize, Point),
+}
+
+/// Where each quantity sits in the decision vector.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Layout {
+    c1: C1Var,
+    c2: Option<usize>,
+    w1: Option<usize>,
+    w2: Option<usize>,
+    dim: usize,
+}
+
+impl Layout {
+    fn new(function: FunctionType, start: Start) -> Layout {
+        let mut dim = 0;
+        let mut take = |k: usize| {
+            let i = dim;
+            dim += k;
+            i
+        };
+        let c1 = match start {
+            Start::Free => C1Var::Free(take(2)),
+            Start::C1 { derivative } => C1Var::Derived(derivative),
+            Start::G1 { leg } => C1Var::Ratio(take(1), leg),
+        };
+        let c2 = (function.degree() == 3).then(|| take(2));
+        let w1 = function.is_rational().then(|| take(1));
+        let w2 = (function == FunctionType::RationalCubic).then(|| take(1));
+        Layout {
+            c1,
+            c2,
+            w1,
+            w2,
+            dim,
+        }
+    }
+}
+
+/// The control points (`c[0..=m]`, unused slots zero) and inner weights of a
+/// decision vector; polynomial segments have `w₁ = w₂ = 1`.
+#[derive(Clone, Copy, Debug)]
+struct Controls {
+    c: [Point; 4],
+    w1: f64,
+    w2: f64,
+}
+
+/// The segment fitting problem of the thesis: data points `R₀..R_n` with
+/// parameters `s₀ = 0 < … < s_n = 1`, end control points fixed at `R₀` and
+/// `R_n`, and the objective `E(x) = Σᵢ |Rᵢ − P(sᵢ)|²`.
+///
+/// **Decision vector** (in this order; `m` the degree):
+///
+/// | start | `C₁` part | then |
+/// |---|---|---|
+/// | [`Start::Free`] (first segment, C⁰) | `C₁.x, C₁.y` | |
+/// | [`Start::C1`] | none (`C₁` derived) | |
+/// | [`Start::G1`] | `T` (its range: [`SearchSpaceOptions::scale_t_range`]) | |
+/// | | | cubics: `C₂.x, C₂.y`; rationals: `w₁` (`h₁`), rational cubic: `w₂` |
+///
+/// so the dimensions are, for Free / C¹ / G¹: quadratic 2 / 0 / 1, rational
+/// quadratic 3 / 1 / 2, cubic 4 / 2 / 3, rational cubic 6 / 4 / 5. A
+/// quadratic with a C¹ join is fully determined (dimension 0).
+///
+/// **Evaluation.** The objective and the residuals evaluate the curve with
+/// the explicit Bernstein form of the fixed degree (no allocation, no de
+/// Casteljau), so one evaluation of `E` costs about as much as evaluating
+/// the curve at the `n + 1` parameters.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SegmentProblem {
+    function: FunctionType,
+    start: Start,
+    points: Vec<Point>,
+    params: Vec<f64>,
+    layout: Layout,
+    bounds: Vec<Bounds>,
+    guess: Vec<f64>,
+    search: SearchSpaceOptions,
+}
+
+impl SegmentProblem {
+    /// The problem of fitting `function` to `points` at the local parameters
+    /// `params` (same length, `s₀ = 0`, `s_n = 1` expected), starting as
+    /// `start` says, with the search box of `search`.
+    ///
+    /// Fails if the options are invalid, the lengths differ, a point is not
+    /// finite or there are fewer than [`FunctionType::min_points`] points.
+    pub fn new(
+        function: FunctionType,
+        points: Vec<Point>,
+        params: Vec<f64>,
+        start: Start,
+        search: &SearchSpaceOptions,
+    ) -> Result<SegmentProblem, FitError> {
+        search.validate()?;
+        if let Some(index) = points.iter().position(|p| !p.is_finite()) {
+            return Err(FitError::NonFinitePoint { index });
+        }
+        let needed = function.min_points();
+        if points.len() < needed {
+            return Err(FitError::TooFewPoints {
+                segment: 0,
+                first: 0,
+                last: points.len().saturating_sub(1),
+                found: points.len(),
+                needed,
+                function,
+            });
+        }
+        if params.len() != points.len() {
+            return Err(FitError::DimensionMismatch {
+                expected: points.len(),
+                found: params.len(),
+            });
+        }
+        let layout = Layout::new(function, start);
+        let mut problem = SegmentProblem {
+            function,
+            start,
+            points,
+            params,
+            layout,
+            bounds: Vec::new(),
+            guess: Vec::new(),
+            search: *search,
+        };
+        problem.build_search_space();
+        Ok(problem)
+    }
+
+    /// As [`SegmentProblem::new`], with the parameters of `points` computed
+    /// by `parameterisation` (on the segment's own points, which equals
+    /// `sᵢ = (tᵢ − t_a)/(t_b − t_a)` of the whole outline's parameters).
+    pub fn with_parameterisation(
+        function: FunctionType,
+        points: Vec<Point>,
+        parameterisation: Parameterisation,
+        start: Start,
+        search: &SearchSpaceOptions,
+    ) -> Result<SegmentProblem, FitError> {
+        let params = parameterisation.params(&points);
+        SegmentProblem::new(function, points, params, start, search)
+    }
+
+    /// The same problem with new parameters (same box); used by parameter
+    /// correction.
+    pub fn with_params(&self, params: Vec<f64>) -> Result<SegmentProblem, FitError> {
+        if params.len() != self.points.len() {
+            return Err(FitError::DimensionMismatch {
+                expected: self.points.len(),
+                found: params.len(),
+            });
+        }
+        Ok(SegmentProblem {
+            params,
+            ..self.clone()
+        })
+    }
+
+    /// Computes the box and the centre guess from the search options.
+    fn build_search_space(&mut self) {
+        let g = guesses(
+            self.function,
+            &self.points,
+            &self.params,
+            self.start.tangent(),
+            &self.search,
+        );
+        let dim = self.layout.dim;
+        let mut bounds = vec![Bounds::new(0.0, 0.0); dim];
+        let mut guess = vec![0.0; dim];
+        let c0 = self.points[0];
+        let set_point = |bounds: &mut [Bounds], guess: &mut [f64], i: usize, a: Point| {
+            let b = point_box(a, &self.points, &self.search);
+            bounds[i] = Bounds::new(b.lower.x, b.upper.x);
+            bounds[i + 1] = Bounds::new(b.lower.y, b.upper.y);
+            guess[i] = bounds[i].clip(a.x);
+            guess[i + 1] = bounds[i + 1].clip(a.y);
+        };
+        match self.layout.c1 {
+            C1Var::Free(i) => set_point(&mut bounds, &mut guess, i, g.a1),
+            C1Var::Derived(_) => {}
+            C1Var::Ratio(i, leg) => {
+                let (lo, hi) = self.search.t_range;
+                let chord = c0.distance(self.points[self.points.len() - 1]);
+                let rho = chord / self.function.degree() as f64 / leg.hypot();
+                let rho = if self.search.scale_t_range && rho.is_finite() && rho > 0.0 {
+                    rho
+                } else {
+                    1.0
+                };
+                bounds[i] = Bounds::new(lo * rho, hi * rho);
+                let l2 = leg.hypot2();
+                let t = if l2 > 0.0 {
+                    (g.a1 - c0).dot(leg) / l2
+                } else {
+                    1.0
+                };
+                guess[i] = bounds[i].clip(t);
+            }
+        }
+        if let (Some(i), Some(a2)) = (self.layout.c2, g.a2) {
+            set_point(&mut bounds, &mut guess, i, a2);
+        }
+        let (wlo, whi) = self.search.weight_range;
+        for i in [self.layout.w1, self.layout.w2].into_iter().flatten() {
+            bounds[i] = Bounds::new(wlo, whi);
+            guess[i] = bounds[i].clip(1.0);
+        }
+        self.bounds = bounds;
+        self.guess = guess;
+    }
+
+    /// The function fitted.
+    pub fn function(&self) -> FunctionType {
+        self.function
+    }
+
+    /// How the segment starts.
+    pub fn start(&self) -> Start {
+        self.start
+    }
+
+    /// The data points `R₀..R_n`.
+    pub fn points(&self) -> &[Point] {
+        &self.points
+    }
+
+    /// The parameters `s₀..s_n`.
+    pub fn params(&self) -> &[f64] {
+        &self.params
+    }
+
+    /// The search options the box was built with.
+    pub fn search(&self) -> &SearchSpaceOptions {
+        &self.search
+    }
+
+    /// The centre of the search space as a decision vector: the first guesses
+    /// `A₁′, A₂′` (or the `T` that best matches `A₁′`) and unit weights, all
+    /// clipped into the box.
+    pub fn guess(&self) -> &[f64] {
+        &self.guess
+    }
+
+    /// The name of each decision variable (`"C1.x"`, `"T"`, `"w2"`, …).
+    pub fn variable_names(&self) -> Vec<&'static str> {
+        let mut names = vec![""; self.layout.dim];
+        match self.layout.c1 {
+            C1Var::Free(i) => {
+                names[i] = "C1.x";
+                names[i + 1] = "C1.y";
+            }
+            C1Var::Derived(_) => {}
+            C1Var::Ratio(i, _) => names[i] = "T",
+        }
+        if let Some(i) = self.layout.c2 {
+            names[i] = "C2.x";
+            names[i + 1] = "C2.y";
+        }
+        if let Some(i) = self.layout.w1 {
+            names[i] = if self.function.degree() == 2 {
+                "h1"
+            } else {
+                "w1"
+            };
+        }
+        if let Some(i) = self.layout.w2 {
+            names[i] = "w2";
+        }
+        names
+    }
+
+    /// Whether `x` is a weight (`w₁`, `w₂`, `h₁`) position; the rest enter
+    /// the curve linearly once the weights are fixed.
+    pub fn is_weight(&self, index: usize) -> bool {
+        self.layout.w1 == Some(index) || self.layout.w2 == Some(index)
+    }
+
+    #[inline]
+    fn controls(&self, x: &[f64]) -> Controls {
+        debug_assert_eq!(x.len(), self.layout.dim);
+        let n = self.points.len() - 1;
+        let c0 = self.points[0];
+        let cn = self.points[n];
+        let m = self.function.degree();
+        let w1 = self.layout.w1.map_or(1.0, |i| x[i]);
+        let w2 = self.layout.w2.map_or(1.0, |i| x[i]);
+        let c1 = match self.layout.c1 {
+            C1Var::Free(i) => Point::new(x[i], x[i + 1]),
+            C1Var::Derived(d) => c0 + d / (m as f64 * w1),
+            C1Var::Ratio(i, leg) => c0 + leg * x[i],
+        };
+        let c = if m == 3 {
+            let i = self.layout.c2.expect("cubic layouts have C2");
+            [c0, c1, Point::new(x[i], x[i + 1]), cn]
+        } else {
+            [c0, c1, cn, Point::ZERO]
+        };
+        Controls { c, w1, w2 }
+    }
+
+    /// The fitted geometry for the decision vector `x`, clipped into the box
+    /// first (so the weights are positive). Panics if `x.len() != dim`.
+    pub fn segment(&self, x: &[f64]) -> Segment {
+        assert_eq!(x.len(), self.layout.dim, "decision vector length");
+        let clipped: Vec<f64> = x
+            .iter()
+            .zip(&self.bounds)
+            .map(|(&v, b)| b.clip(v))
+            .collect();
+        let k = self.controls(&clipped);
+        let [c0, c1, c2, c3] = k.c;
+        let invalid = "weights clipped into a positive range and finite points";
+        match self.function {
+            FunctionType::Quadratic => Segment::Quadratic(QuadBez::new(c0, c1, c2)),
+            FunctionType::Cubic => Segment::Cubic(CubicBez::new(c0, c1, c2, c3)),
+            FunctionType::RationalQuadratic => {
+                Segment::RationalQuadratic(RationalQuadBez::new(c0, c1, c2, k.w1).expect(invalid))
+            }
+            FunctionType::RationalCubic => Segment::RationalCubic(
+                RationalCubicBez::new(c0, c1, c2, c3, k.w1, k.w2).expect(invalid),
+            ),
+        }
+    }
+
+    /// Writes the residuals `Rᵢ − P(sᵢ)` as `(x, y)` pairs into `out`
+    /// (`out.len() == 2(n + 1)`), without allocation.
+    pub fn residuals(&self, x: &[f64], out: &mut [f64]) {
+        let k = self.controls(x);
+        debug_assert_eq!(out.len(), 2 * self.points.len());
+        let pairs = out.chunks_exact_mut(2).zip(&self.points).zip(&self.params);
+        macro_rules! fill {
+            ($eval:expr) => {
+                for ((o, &r), &s) in pairs {
+                    let p = $eval(s);
+                    o[0] = r.x - p.x;
+                    o[1] = r.y - p.y;
+                }
+            };
+        }
+        match self.function {
+            FunctionType::Quadratic => fill!(|s| quad(&k, s)),
+            FunctionType::Cubic => fill!(|s| cubic(&k, s)),
+            FunctionType::RationalQuadratic => fill!(|s| rquad(&k, s)),
+            FunctionType::RationalCubic => fill!(|s| rcubic(&k, s)),
+        }
+    }
+
+    /// Writes the Jacobian `∂rₖ/∂x_j` of [`SegmentProblem::residuals`]
+    /// row-major (`2(n + 1)` rows, `dim` columns) into `jac`.
+    ///
+    /// With `P = Σ w_k B_k C_k / W`, `W = Σ w_k B_k`:
+    /// `∂P/∂C_k = w_k B_k / W` (times the identity), `∂P/∂w_k = B_k (C_k − P)/W`,
+    /// and through the joins `∂C₁/∂T = L` (G¹), `∂C₁/∂w₁ = −D/(m w₁²)` (C¹);
+    /// the residual's derivative is minus that of `P`.
+    pub fn jacobian(&self, x: &[f64], jac: &mut [f64]) {
+        let dim = self.layout.dim;
+        debug_assert_eq!(jac.len(), 2 * self.points.len() * dim);
+        if dim == 0 {
+            return;
+        }
+        let k = self.controls(x);
+        let m = self.function.degree();
+        let w = [1.0, k.w1, if m == 3 { k.w2 } else { 1.0 }, 1.0];
+        for (i, &s) in self.params.iter().enumerate() {
+            let t = 1.0 - s;
+            let b: [f64; 4] = if m == 3 {
+                [t * t * t, 3.0 * t * t * s, 3.0 * t * s * s, s * s * s]
+            } else {
+                [t * t, 2.0 * t * s, s * s, 0.0]
+            };
+            let mut wsum = 0.0;
+            let mut num = Point::ZERO;
+            for j in 0..=m {
+                wsum += w[j] * b[j];
+                num += k.c[j] * (w[j] * b[j]);
+            }
+            let p = num / wsum;
+            let a1 = w[1] * b[1] / wsum;
+            let (rx, ry) = jac[2 * i * dim..2 * (i + 1) * dim].split_at_mut(dim);
+            let mut put = |j: usize, d: Point| {
+                rx[j] = -d.x;
+                ry[j] = -d.y;
+            };
+            match self.layout.c1 {
+                C1Var::Free(j) => {
+                    put(j, Point::new(a1, 0.0));
+                    put(j + 1, Point::new(0.0, a1));
+                }
+                C1Var::Derived(_) => {}
+                C1Var::Ratio(j, leg) => put(j, leg * a1),
+            }
+            if let Some(j) = self.layout.c2 {
+                let a2 = w[2] * b[2] / wsum;
+                put(j, Point::new(a2, 0.0));
+                put(j + 1, Point::new(0.0, a2));
+            }
+            if let Some(j) = self.layout.w1 {
+                let mut d = (k.c[1] - p) * (b[1] / wsum);
+                if let C1Var::Derived(dv) = self.layout.c1 {
+                    d += dv * (-a1 / (m as f64 * w[1] * w[1]));
+                }
+                put(j, d);
+            }
+            if let Some(j) = self.layout.w2 {
+                put(j, (k.c[2] - p) * (b[2] / wsum));
+            }
+        }
+    }
+
+    /// One Newton step of every interior parameter towards the foot of its
+    /// data point on `curve`: `s ← s − g/g′` with `g = (Q(s) − R)·Q′(s)`,
+    /// `g′ = |Q′|² + (Q − R)·Q″` (Schneider 1990, "NewtonRaphsonRootFind"),
+    /// clamped to `[0, 1]`; a step with `g′ ≤ 0` is skipped. The ends stay
+    /// at 0 and 1.
+    pub fn corrected_params<C: Curve + ?Sized>(&self, curve: &C) -> Vec<f64> {
+        let n = self.params.len() - 1;
+        let mut out = self.params.clone();
+        for (i, o) in out.iter_mut().enumerate().take(n).skip(1) {
+            let (r, s) = (self.points[i], self.params[i]);
+            let q = curve.eval(s);
+            let d1 = curve.deriv(s);
+            let d2 = curve.deriv2(s);
+            let g = (q - r).dot(d1);
+            let gp = d1.hypot2() + (q - r).dot(d2);
+            if gp > 0.0 && gp.is_finite() {
+                let next = s - g / gp;
+                if next.is_finite() {
+                    *o = next.clamp(0.0, 1.0);
+                }
+            }
+        }
+        out
+    }
+}
+
+/// `P(s)` of the quadratic: `(1−s)²C₀ + 2(1−s)s C₁ + s²C₂`.
+#[inline(always)]
+fn quad(k: &Controls, s: f64) -> Point {
+    let t = 1.0 - s;
+    let (b0, b1, b2) = (t * t, 2.0 * t * s, s * s);
+    Point::new(
+        b0 * k.c[0].x + b1 * k.c[1].x + b2 * k.c[2].x,
+        b0 * k.c[0].y + b1 * k.c[1].y + b2 * k.c[2].y,
+    )
+}
+
+/// `P(s)` of the cubic in the explicit Bernstein form.
+#[inline(always)]
+fn cubic(k: &Controls, s: f64) -> Point {
+    let t = 1.0 - s;
+    let (tt, ss) = (t * t, s * s);
+    let (b0, b1, b2, b3) = (tt * t, 3.0 * tt * s, 3.0 * t * ss, ss * s);
+    Point::new(
+        b0 * k.c[0].x + b1 * k.c[1].x + b2 * k.c[2].x + b3 * k.c[3].x,
+        b0 * k.c[0].y + b1 * k.c[1].y + b2 * k.c[2].y + b3 * k.c[3].y,
+    )
+}
+
+/// `Q(s)` of the rational quadratic `(b₀C₀ + h₁b₁C₁ + b₂C₂)/(b₀ + h₁b₁ + b₂)`.
+#[inline(always)]
+fn rquad(k: &Controls, s: f64) -> Point {
+    let t = 1.0 - s;
+    let (b0, b1, b2) = (t * t, 2.0 * k.w1 * t * s, s * s);
+    let inv = 1.0 / (b0 + b1 + b2);
+    Point::new(
+        (b0 * k.c[0].x + b1 * k.c[1].x + b2 * k.c[2].x) * inv,
+        (b0 * k.c[0].y + b1 * k.c[1].y + b2 * k.c[2].y) * inv,
+    )
+}
+
+/// `Q(s)` of the rational cubic `Σ w_k b_k C_k / Σ w_k b_k`.
+#[inline(always)]
+fn rcubic(k: &Controls, s: f64) -> Point {
+    let t = 1.0 - s;
+    let (tt, ss) = (t * t, s * s);
+    let (b0, b1, b2, b3) = (tt * t, 3.0 * k.w1 * tt * s, 3.0 * k.w2 * t * ss, ss * s);
+    let inv = 1.0 / (b0 + b1 + b2 + b3);
+    Point::new(
+        (b0 * k.c[0].x + b1 * k.c[1].x + b2 * k.c[2].x + b3 * k.c[3].x) * inv,
+        (b0 * k.c[0].y + b1 * k.c[1].y + b2 * k.c[2].y + b3 * k.c[3].y) * inv,
+    )
+}
+
+/// `Σᵢ |Rᵢ − f(sᵢ)|²`.
+#[inline(always)]
+fn sum_sq<F: Fn(f64) -> Point>(points: &[Point], params: &[f64], f: F) -> f64 {
+    let mut e = 0.0;
+    for (&r, &s) in points.iter().zip(params) {
+        let p = f(s);
+        let (dx, dy) = (r.x - p.x, r.y - p.y);
+        e += dx * dx + dy * dy;
+    }
+    e
+}
+
+impl Problem for SegmentProblem {
+    fn dim(&self) -> usize {
+        self.layout.dim
+    }
+
+    fn bounds(&self) -> &[Bounds] {
+        &self.bounds
+    }
+
+    /// `E(x) = Σᵢ |Rᵢ − P(sᵢ)|²`, allocation-free.
+    fn objective(&self, x: &[f64]) -> f64 {
+        let k = self.controls(x);
+        let (pts, ps) = (&self.points[..], &self.params[..]);
+        match self.function {
+            FunctionType::Quadratic => sum_sq(pts, ps, |s| quad(&k, s)),
+            FunctionType::Cubic => sum_sq(pts, ps, |s| cubic(&k, s)),
+            FunctionType::RationalQuadratic => sum_sq(pts, ps, |s| rquad(&k, s)),
+            FunctionType::RationalCubic => sum_sq(pts, ps, |s| rcubic(&k, s)),
+        }
+    }
+}
+
+impl LeastSquares for SegmentProblem {
+    fn residual_count(&self) -> usize {
+        2 * self.points.len()
+    }
+
+    fn residuals(&self, x: &[f64], out: &mut [f64]) {
+        SegmentProblem::residuals(self, x, out)
+    }
+
+    fn jacobian(&self, x: &[f64], jac: &mut [f64]) -> bool {
+        SegmentProblem::jacobian(self, x, jac);
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample<C: Curve>(c: &C, n: usize) -> (Vec<Point>, Vec<f64>) {
+        let params: Vec<f64> = (0..=n).map(|k| k as f64 / n as f64).collect();
+        (params.iter().map(|&s| c.eval(s)).collect(), params)
+    }
+
+    fn starts() -> [Start; 3] {
+        [
+            Start::Free,
+            Start::C1 {
+                derivative: Point::new(3.0, 1.0),
+            },
+            Start::G1 {
+                leg: Point::new(1.0, 0.5),
+            },
+        ]
+    }
+
+    #[test]
+    fn dimensions_follow_the_joins() {
+        let c = CubicBez::new(
+            Point::ZERO,
+            Point::new(1.0, 2.0),
+            Point::new(3.0, 2.0),
+            Point::new(4.0, 0.0),
+        );
+        let (pts, ps) = sample(&c, 20);
+        let o = SearchSpaceOptions::default();
+        let expect = [[2, 0, 1], [4, 2, 3], [3, 1, 2], [6, 4, 5]];
+        for (f, dims) in FunctionType::ALL.iter().zip(expect) {
+            for (start, d) in starts().into_iter().zip(dims) {
+                let p = SegmentProblem::new(*f, pts.clone(), ps.clone(), start, &o).unwrap();
+                assert_eq!(p.dim(), d, "{f} {start:?}");
+                assert_eq!(p.bounds().len(), d);
+                assert_eq!(p.variable_names().len(), d);
+                assert!(p.variable_names().iter().all(|n| !n.is_empty()));
+                assert!(p
+                    .guess()
+                    .iter()
+                    .zip(p.bounds())
+                    .all(|(&g, b)| b.contains(g)));
+            }
+        }
+    }
+
+    #[test]
+    fn objective_matches_the_geometry_and_residuals() {
+        let c = CubicBez::new(
+            Point::ZERO,
+            Point::new(1.0, 2.0),
+            Point::new(3.0, 2.0),
+            Point::new(4.0, 0.0),
+        );
+        let (mut pts, ps) = sample(&c, 30);
+        for (i, p) in pts.iter_mut().enumerate().skip(1) {
+            p.y += 0.01 * ((i * 7 % 5) as f64 - 2.0);
+        }
+        let o = SearchSpaceOptions::default();
+        for f in FunctionType::ALL {
+            for start in starts() {
+                let p = SegmentProblem::new(f, pts.clone(), ps.clone(), start, &o).unwrap();
+                let x: Vec<f64> = p.bounds().iter().map(|b| b.lerp(0.37)).collect();
+                let seg = p.segment(&x);
+                let e = p.objective(&x);
+                let e_geom = seg.sse(&pts, &ps);
+                assert!(
+                    (e - e_geom).abs() <= 1e-12 * e_geom.max(1.0),
+                    "{f} {start:?}"
+                );
+                let mut r = vec![0.0; p.residual_count()];
+                p.residuals(&x, &mut r);
+                let e_r: f64 = r.iter().map(|v| v * v).sum();
+                assert!((e - e_r).abs() <= 1e-12 * e.max(1.0));
+                assert_eq!(seg.start(), pts[0]);
+                assert_eq!(seg.end(), pts[30]);
+            }
+        }
+    }
+
+    #[test]
+    fn analytic_jacobian_matches_finite_differences() {
+        let c = CubicBez::new(
+            Point::ZERO,
+            Point::new(1.0, 2.0),
+            Point::new(3.0, 2.0),
+            Point::new(4.0, 0.0),
+        );
+        let (pts, ps) = sample(&c, 12);
+        let o = SearchSpaceOptions::default();
+        for f in FunctionType::ALL {
+            for start in starts() {
+                let p = SegmentProblem::new(f, pts.clone(), ps.clone(), start, &o).unwrap();
+                let d = p.dim();
+                let m = p.residual_count();
+                let x: Vec<f64> = p.bounds().iter().map(|b| b.lerp(0.41)).collect();
+                let mut jac = vec![0.0; m * d];
+                p.jacobian(&x, &mut jac);
+                let (mut rp, mut rm) = (vec![0.0; m], vec![0.0; m]);
+                for j in 0..d {
+                    let h = 1e-6;
+                    let mut xp = x.clone();
+                    xp[j] += h;
+                    p.residuals(&xp, &mut rp);
+                    xp[j] -= 2.0 * h;
+                    p.residuals(&xp, &mut rm);
+                    for k in 0..m {
+                        let fd = (rp[k] - rm[k]) / (2.0 * h);
+                        let an = jac[k * d + j];
+                        assert!(
+                            (fd - an).abs() < 1e-6 * (1.0 + fd.abs()),
+                            "{f} {start:?} var {j} row {k}: fd {fd} an {an}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn joins_are_built_in() {
+        let prev = RationalCubicBez::new(
+            Point::new(-4.0, 1.0),
+            Point::new(-3.0, 2.0),
+            Point::new(-1.0, -1.0),
+            Point::ZERO,
+            0.7,
+            1.8,
+        )
+        .unwrap();
+        let next = CubicBez::new(
+            Point::ZERO,
+            Point::new(1.0, 2.0),
+            Point::new(3.0, 2.0),
+            Point::new(4.0, 0.0),
+        );
+        let (pts, ps) = sample(&next, 20);
+        let o = SearchSpaceOptions::default();
+        for f in FunctionType::ALL {
+            for cont in [Continuity::C1, Continuity::G1] {
+                let p =
+                    SegmentProblem::new(f, pts.clone(), ps.clone(), Start::after(&prev, cont), &o)
+                        .unwrap();
+                let x: Vec<f64> = p.bounds().iter().map(|b| b.lerp(0.8)).collect();
+                let seg = p.segment(&x);
+                assert!(
+                    crate::geometry::check_join(&prev, &seg, cont, 1e-12),
+                    "{f} {cont:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn errors_are_explained() {
+        let o = SearchSpaceOptions::default();
+        let pts = vec![
+            Point::ZERO,
+            Point::new(1.0, 1.0),
+            Point::new(2.0, 0.0),
+            Point::new(3.0, 0.0),
+        ];
+        let e = SegmentProblem::with_parameterisation(
+            FunctionType::RationalCubic,
+            pts.clone(),
+            Parameterisation::ChordLength,
+            Start::Free,
+            &o,
+        )
+        .unwrap_err();
+        assert!(matches!(
+            e,
+            FitError::TooFewPoints {
+                found: 4,
+                needed: 5,
+                ..
+            }
+        ));
+        let msg = e.to_string();
+        assert!(
+            msg.contains("4 data point") && msg.contains("at least 5"),
+            "{msg}"
+        );
+        let bad = SearchSpaceOptions {
+            weight_range: (-1.0, 1.0),
+            ..o
+        };
+        let e = SegmentProblem::with_parameterisation(
+            FunctionType::Cubic,
+            pts,
+            Parameterisation::ChordLength,
+            Start::Free,
+            &bad,
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("strictly positive"), "{e}");
+    }
+}

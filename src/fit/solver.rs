@@ -1,0 +1,231 @@
+//! Solvers of one segment problem: any metaheuristic, Levenberg–Marquardt,
+//! or a metaheuristic followed by an LM polish.
+//!
+//! A [`SegmentSolver`] only sees a [`SegmentProblem`] and a budget; the
+//! piecewise fit does not know which algorithm it is driving.
+
+use rand::RngCore;
+
+use super::{linear_fit, SegmentProblem};
+use crate::optim::lm::{LevenbergMarquardt, Termination};
+use crate::optim::Optimiser;
+use crate::problem::Problem;
+
+/// One stage of a solve (a hybrid has two).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SolvePart {
+    /// What ran (`"metaheuristic"`, `"lm"`, …).
+    pub name: String,
+    /// The best `E` after this stage.
+    pub value: f64,
+    /// Evaluations this stage used.
+    pub evaluations: u64,
+}
+
+/// The result of solving one segment problem.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Solution {
+    /// The best decision vector.
+    pub x: Vec<f64>,
+    /// Its objective `E`.
+    pub value: f64,
+    /// Evaluations used in all (never more than the budget given).
+    pub evaluations: u64,
+    /// The stages, in order.
+    pub parts: Vec<SolvePart>,
+}
+
+impl Solution {
+    /// The solution of a problem without variables: `E` of the only curve
+    /// there is, for one evaluation (none if the budget is 0).
+    pub fn fixed(problem: &SegmentProblem, budget: u64) -> Solution {
+        let (value, evaluations) = if budget > 0 {
+            (problem.objective(&[]), 1)
+        } else {
+            (f64::INFINITY, 0)
+        };
+        Solution {
+            x: Vec::new(),
+            value,
+            evaluations,
+            parts: vec![SolvePart {
+                name: "determined".into(),
+                value,
+                evaluations,
+            }],
+        }
+    }
+}
+
+/// Minimises a segment problem within a budget of objective evaluations.
+pub trait SegmentSolver {
+    /// Solves `problem` with at most `budget` evaluations.
+    fn solve(&mut self, problem: &SegmentProblem, budget: u64) -> Solution;
+}
+
+impl<S: SegmentSolver + ?Sized> SegmentSolver for &mut S {
+    fn solve(&mut self, problem: &SegmentProblem, budget: u64) -> Solution {
+        (**self).solve(problem, budget)
+    }
+}
+
+/// Any [`Optimiser`] as a segment solver, drawing from its own generator
+/// (successive segments continue the same random stream, so a piecewise fit
+/// is reproducible from one seed).
+#[derive(Clone, Debug)]
+pub struct OptimiserSolver<O: Optimiser, R: RngCore> {
+    /// The optimiser.
+    pub optimiser: O,
+    /// Its random generator.
+    pub rng: R,
+    /// The name reported in [`SolvePart::name`]; default `"metaheuristic"`.
+    pub label: String,
+}
+
+impl<O: Optimiser, R: RngCore> OptimiserSolver<O, R> {
+    /// The solver running `optimiser` with `rng`.
+    pub fn new(optimiser: O, rng: R) -> Self {
+        Self {
+            optimiser,
+            rng,
+            label: "metaheuristic".into(),
+        }
+    }
+
+    /// The same with the stage name `label`.
+    pub fn with_label(mut self, label: impl Into<String>) -> Self {
+        self.label = label.into();
+        self
+    }
+}
+
+impl<O: Optimiser, R: RngCore> SegmentSolver for OptimiserSolver<O, R> {
+    fn solve(&mut self, problem: &SegmentProblem, budget: u64) -> Solution {
+        if problem.dim() == 0 {
+            return Solution::fixed(problem, budget);
+        }
+        let out = self.optimiser.run(problem, budget, &mut self.rng);
+        Solution {
+            value: out.best_value,
+            evaluations: out.evaluations,
+            parts: vec![SolvePart {
+                name: self.label.clone(),
+                value: out.best_value,
+                evaluations: out.evaluations,
+            }],
+            x: out.best_x,
+        }
+    }
+}
+
+/// Where Levenberg–Marquardt starts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum LmStart {
+    /// From [`linear_fit`] (unit weights), clipped into the box.
+    #[default]
+    LinearFit,
+    /// From the centre of the search space, [`SegmentProblem::guess`].
+    Guess,
+}
+
+/// Levenberg–Marquardt ([`LevenbergMarquardt`]) as a segment solver, the
+/// exact reference.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LmSolver {
+    /// The LM settings.
+    pub lm: LevenbergMarquardt,
+    /// The starting point.
+    pub start: LmStart,
+}
+
+impl LmSolver {
+    /// LM with default settings from `start`.
+    pub fn new(start: LmStart) -> Self {
+        Self {
+            lm: LevenbergMarquardt::default(),
+            start,
+        }
+    }
+}
+
+impl SegmentSolver for LmSolver {
+    fn solve(&mut self, problem: &SegmentProblem, budget: u64) -> Solution {
+        if problem.dim() == 0 {
+            return Solution::fixed(problem, budget);
+        }
+        let x0 = match self.start {
+            LmStart::LinearFit => linear_fit(problem),
+            LmStart::Guess => problem.guess().to_vec(),
+        };
+        let out = self.lm.minimise(problem, &x0, budget);
+        Solution {
+            value: out.value,
+            evaluations: out.evaluations,
+            parts: vec![SolvePart {
+                name: "lm".into(),
+                value: out.value,
+                evaluations: out.evaluations,
+            }],
+            x: out.x,
+        }
+    }
+}
+
+/// A metaheuristic on a share of the budget, then Levenberg–Marquardt from
+/// its best point with the rest; both stages are reported.
+#[derive(Clone, Debug)]
+pub struct HybridSolver<O: Optimiser, R: RngCore> {
+    /// The global stage.
+    pub global: OptimiserSolver<O, R>,
+    /// The local polish.
+    pub lm: LevenbergMarquardt,
+    /// The share of the budget for the global stage, in `[0, 1]`; default 0.8.
+    pub global_share: f64,
+}
+
+impl<O: Optimiser, R: RngCore> HybridSolver<O, R> {
+    /// `optimiser` on 80% of the budget, then LM.
+    pub fn new(optimiser: O, rng: R) -> Self {
+        Self {
+            global: OptimiserSolver::new(optimiser, rng),
+            lm: LevenbergMarquardt::default(),
+            global_share: 0.8,
+        }
+    }
+}
+
+impl<O: Optimiser, R: RngCore> SegmentSolver for HybridSolver<O, R> {
+    fn solve(&mut self, problem: &SegmentProblem, budget: u64) -> Solution {
+        if problem.dim() == 0 {
+            return Solution::fixed(problem, budget);
+        }
+        let share = self.global_share.clamp(0.0, 1.0);
+        let first = ((budget as f64 * share).round() as u64).min(budget);
+        let global = self.global.solve(problem, first);
+        let rest = budget - global.evaluations;
+        let x0 = if global.x.iter().all(|v| v.is_finite()) && global.evaluations > 0 {
+            global.x.clone()
+        } else {
+            linear_fit(problem)
+        };
+        let polish = self.lm.minimise(problem, &x0, rest);
+        let mut parts = global.parts.clone();
+        parts.push(SolvePart {
+            name: "lm".into(),
+            value: polish.value,
+            evaluations: polish.evaluations,
+        });
+        let (x, value) =
+            if polish.value <= global.value || polish.termination == Termination::NoVariables {
+                (polish.x, polish.value)
+            } else {
+                (global.x, global.value)
+            };
+        Solution {
+            x,
+            value,
+            evaluations: global.evaluations + polish.evaluations,
+            parts,
+        }
+    }
+}
