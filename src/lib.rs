@@ -11,6 +11,7 @@ pub mod error;
 pub mod functions;
 pub mod geometry;
 pub mod optim;
+pub mod outline;
 pub mod problem;
 pub mod records;
 pub mod report;
