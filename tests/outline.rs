@@ -56,6 +56,8 @@ fn horse_is_one_counter_clockwise_loop() {
     )
     .unwrap();
     assert_eq!(centres.len(), 1);
+    // Pinned: the number of border pixels (after removing consecutive repeats).
+    assert_eq!(centres[0].len(), 2054);
     let lost = pixels - centres[0].area();
     assert!(
         (lost - 0.5 * horse.perimeter()).abs() < 0.1 * horse.perimeter(),

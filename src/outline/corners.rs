@@ -181,14 +181,17 @@ pub fn break_points(outline: &Outline, options: &CornerOptions, min_pieces: usiz
     breaks
 }
 
-/// The pieces of `outline` between consecutive `breaks` (sorted indices), as
+/// The pieces of `outline` between consecutive `breaks` (indices; sorted,
+/// deduplicated and those out of range dropped first), as
 /// open outlines that share their end points; on a closed outline the last
 /// piece wraps around to the first break (a single break gives the whole loop
 /// with its first point repeated at the end).
 pub fn split_at(outline: &Outline, breaks: &[usize]) -> Vec<Outline> {
     let p = &outline.points;
     let n = p.len();
-    let b: Vec<usize> = breaks.iter().copied().filter(|&i| i < n).collect();
+    let mut b: Vec<usize> = breaks.iter().copied().filter(|&i| i < n).collect();
+    b.sort_unstable();
+    b.dedup();
     let mut out: Vec<Outline> = b
         .windows(2)
         .map(|w| Outline::new(p[w[0]..=w[1]].to_vec(), false))
@@ -250,6 +253,10 @@ mod tests {
         );
         assert_eq!(split_at(&s, &[0, 25, 50, 75]).len(), 4);
         assert_eq!(split_at(&s, &[0, 25, 50, 75])[3].points.len(), 26);
+        assert_eq!(
+            split_at(&s, &[50, 0, 400, 25, 75, 25]),
+            split_at(&s, &[0, 25, 50, 75])
+        );
     }
 
     #[test]

@@ -252,6 +252,17 @@ pub fn grey_outlines(
             height: grey.height as u32,
         });
     }
+    if grey.pixels.len() != grey.width * grey.height {
+        return Err(OutlineError::Image {
+            path: path.to_owned(),
+            message: format!(
+                "{} grey levels for {}×{} pixels",
+                grey.pixels.len(),
+                grey.width,
+                grey.height
+            ),
+        });
+    }
     let (binary, _) = binarize(grey, options).ok_or_else(|| OutlineError::UniformImage {
         path: path.to_owned(),
         level: grey.pixels[0],
@@ -475,6 +486,16 @@ mod tests {
         let e = grey_outlines(&g, &ImageOptions::default(), Path::new("e.png")).unwrap_err();
         assert!(
             e.to_string().contains("e.png: the image is empty (0×0"),
+            "{e}"
+        );
+        let g = GreyImage {
+            width: 2,
+            height: 2,
+            pixels: vec![],
+        };
+        let e = grey_outlines(&g, &ImageOptions::default(), Path::new("m.png")).unwrap_err();
+        assert!(
+            e.to_string().contains("0 grey levels for 2×2 pixels"),
             "{e}"
         );
     }
