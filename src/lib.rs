@@ -12,6 +12,7 @@ pub mod fit;
 pub mod functions;
 pub mod geometry;
 pub mod optim;
+pub mod outline;
 pub mod problem;
 pub mod records;
 pub mod report;

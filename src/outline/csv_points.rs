@@ -1,0 +1,213 @@
+//! Outlines from CSV point lists: one `x,y` pair per line.
+//!
+//! Lines starting with `#` are comments and blank lines are skipped; cells
+//! may be padded with spaces. The first record is a header, and skipped, if
+//! neither of its cells is a number (such as `x,y`). The outline is closed
+//! when its last point repeats the first (the repeat is dropped) or when
+//! [`CsvOptions::closed`] says so. Coordinates are taken as given (a y-up
+//! frame is assumed).
+
+use std::path::Path;
+
+use super::{Outline, OutlineError};
+use crate::geometry::Point;
+
+/// Options for reading a CSV point list.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CsvOptions {
+    /// `Some(true)` or `Some(false)` forces a closed or an open outline;
+    /// `None` closes it when the last point equals the first.
+    pub closed: Option<bool>,
+    /// The fewest points accepted (after dropping a closing repeat).
+    pub min_points: usize,
+}
+
+impl Default for CsvOptions {
+    /// Closed when the last point repeats the first, at least 3 points.
+    fn default() -> Self {
+        CsvOptions {
+            closed: None,
+            min_points: 3,
+        }
+    }
+}
+
+/// Parses a finite number, or `None`.
+fn number(cell: &str) -> Option<f64> {
+    cell.parse::<f64>().ok().filter(|v| v.is_finite())
+}
+
+/// Reads the CSV point list at `path` (see the module documentation).
+pub fn load_csv(path: &Path, options: &CsvOptions) -> Result<Outline, OutlineError> {
+    let bytes = std::fs::read(path).map_err(|source| OutlineError::Io {
+        path: path.to_owned(),
+        source,
+    })?;
+    csv_from_bytes(&bytes, path, options)
+}
+
+/// Reads a CSV point list from `bytes`; `path` only names the source in errors.
+pub fn csv_from_bytes(
+    bytes: &[u8],
+    path: &Path,
+    options: &CsvOptions,
+) -> Result<Outline, OutlineError> {
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .comment(Some(b'#'))
+        .trim(csv::Trim::All)
+        .from_reader(bytes);
+    // The 1-based line where a record starts. The reader's position points
+    // before the comment and empty lines it skipped (and its line count
+    // ignores comments), so skip them forward from the byte offset.
+    let line_of = |pos: Option<&csv::Position>| {
+        pos.map_or(0, |p| {
+            let mut start = (p.byte() as usize).min(bytes.len());
+            let mut line = 1 + bytes[..start].iter().filter(|&&b| b == b'\n').count() as u64;
+            while let Some(len) = bytes[start..].iter().position(|&b| b == b'\n') {
+                let text = &bytes[start..start + len];
+                if !(text.is_empty() || text == b"\r" || text.starts_with(b"#")) {
+                    break;
+                }
+                start += len + 1;
+                line += 1;
+            }
+            line
+        })
+    };
+    let mut points = Vec::new();
+    let mut first = true;
+    for record in reader.records() {
+        let record = record.map_err(|e| OutlineError::Csv {
+            path: path.to_owned(),
+            line: line_of(e.position()),
+            message: match e.kind() {
+                csv::ErrorKind::Utf8 { .. } => "expected UTF-8 text".to_string(),
+                _ => e.to_string(),
+            },
+        })?;
+        let line = line_of(record.position());
+        // A line of only spaces is a record with one empty cell.
+        if record.len() == 1 && record[0].is_empty() {
+            continue;
+        }
+        if record.len() != 2 {
+            return Err(OutlineError::CsvFields {
+                path: path.to_owned(),
+                line,
+                found: record.len(),
+            });
+        }
+        let (x, y) = (number(&record[0]), number(&record[1]));
+        if first && x.is_none() && y.is_none() {
+            first = false;
+            continue; // a header such as "x,y"
+        }
+        first = false;
+        let bad = |column: usize| OutlineError::CsvNumber {
+            path: path.to_owned(),
+            line,
+            column,
+            text: record[column - 1].to_string(),
+        };
+        let x = x.ok_or_else(|| bad(1))?;
+        let y = y.ok_or_else(|| bad(2))?;
+        points.push(Point::new(x, y));
+    }
+    let repeats = points.len() > 1 && points.first() == points.last();
+    if repeats {
+        points.pop();
+    }
+    let closed = options.closed.unwrap_or(repeats);
+    if points.len() < options.min_points {
+        return Err(OutlineError::TooFewPoints {
+            path: path.to_owned(),
+            found: points.len(),
+            need: options.min_points,
+        });
+    }
+    Ok(Outline::new(points, closed))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read(text: &str) -> Result<Outline, OutlineError> {
+        csv_from_bytes(
+            text.as_bytes(),
+            Path::new("pts.csv"),
+            &CsvOptions::default(),
+        )
+    }
+
+    #[test]
+    fn header_comments_and_closing_repeat() {
+        let o = read("# a triangle\nx, y\n0,0\n\n 4 , 0\n# apex\n0,3\n0,0\n").unwrap();
+        assert!(o.closed);
+        assert_eq!(
+            o.points,
+            vec![Point::ZERO, Point::new(4.0, 0.0), Point::new(0.0, 3.0)]
+        );
+        let open = read("0,0\n4,0\n0,3\n1e1,-2.5\n").unwrap();
+        assert!(!open.closed);
+        assert_eq!(open.points[3], Point::new(10.0, -2.5));
+        let forced = csv_from_bytes(
+            b"0,0\n4,0\n0,3\n",
+            Path::new("p.csv"),
+            &CsvOptions {
+                closed: Some(true),
+                ..CsvOptions::default()
+            },
+        )
+        .unwrap();
+        assert!(forced.closed);
+    }
+
+    #[test]
+    fn errors_name_file_line_and_cell() {
+        let e = read("x,y\n0,0\n1,zero\n2,2\n").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "pts.csv:3: column 2 (y): expected a finite number, found \"zero\""
+        );
+        let e = read("0,0\n1,1\nnan,2\n").unwrap_err();
+        assert!(
+            matches!(
+                e,
+                OutlineError::CsvNumber {
+                    line: 3,
+                    column: 1,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        let e = read("# c\n\n#\n0,0\n1,1\n# c\nnan,2\n").unwrap_err();
+        assert!(
+            matches!(
+                e,
+                OutlineError::CsvNumber {
+                    line: 7,
+                    column: 1,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        let e = read("0,0\n1,1,1\n").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "pts.csv:2: expected 2 cells \"x,y\", found 3"
+        );
+        let e = read("0,0\n1,1\n0,0\n").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "pts.csv: 2 point(s) found, but an outline needs at least 3"
+        );
+        let e = csv_from_bytes(b"0,0\n\xff,1\n", Path::new("b.csv"), &CsvOptions::default())
+            .unwrap_err();
+        assert!(e.to_string().starts_with("b.csv:2: "), "{e}");
+    }
+}

@@ -1,0 +1,258 @@
+//! Errors raised while reading an outline from an image, a CSV file or a font.
+
+use std::fmt;
+use std::io;
+use std::path::PathBuf;
+
+/// Why an outline could not be loaded; every message names the file and says
+/// what was expected. None of these is a panic.
+#[derive(Debug)]
+pub enum OutlineError {
+    /// The input string is not `*.png`, `*.csv` or `font:PATH:GLYPH`.
+    BadInput {
+        /// The input string as given.
+        input: String,
+        /// What is wrong with it.
+        message: String,
+    },
+    /// A file could not be opened or read.
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's error.
+        source: io::Error,
+    },
+    /// An image file could not be decoded (corrupt, truncated or not a PNG).
+    Image {
+        /// The file.
+        path: PathBuf,
+        /// The decoder's explanation.
+        message: String,
+    },
+    /// An image has no pixels (a width or height of 0).
+    EmptyImage {
+        /// The file.
+        path: PathBuf,
+        /// Width in pixels.
+        width: u32,
+        /// Height in pixels.
+        height: u32,
+    },
+    /// Every pixel has the same grey level, so no threshold separates a shape
+    /// from the background.
+    UniformImage {
+        /// The file.
+        path: PathBuf,
+        /// The single grey level (0–255).
+        level: u8,
+    },
+    /// No foreground boundary is left after the minimum-area filter.
+    NoShape {
+        /// The file.
+        path: PathBuf,
+        /// The minimum area asked for, in px².
+        min_area: f64,
+        /// The area of the largest boundary found, in px² (0 if none).
+        largest: f64,
+    },
+    /// A font file could not be parsed.
+    Font {
+        /// The font file.
+        path: PathBuf,
+        /// The parser's explanation.
+        message: String,
+    },
+    /// The font has no glyph for the character.
+    MissingGlyph {
+        /// The font file.
+        path: PathBuf,
+        /// The character asked for.
+        glyph: char,
+    },
+    /// The glyph exists but has no outline (such as a space).
+    NoOutline {
+        /// The font file.
+        path: PathBuf,
+        /// The character asked for.
+        glyph: char,
+    },
+    /// A CSV file has fewer points than needed.
+    TooFewPoints {
+        /// The CSV file.
+        path: PathBuf,
+        /// Points found (after dropping a closing duplicate).
+        found: usize,
+        /// Points needed.
+        need: usize,
+    },
+    /// A CSV cell is not a finite number.
+    CsvNumber {
+        /// The CSV file.
+        path: PathBuf,
+        /// 1-based line.
+        line: u64,
+        /// 1-based column (1 = x, 2 = y).
+        column: usize,
+        /// The text found in the cell.
+        text: String,
+    },
+    /// A CSV line does not have exactly two cells `x,y`.
+    CsvFields {
+        /// The CSV file.
+        path: PathBuf,
+        /// 1-based line.
+        line: u64,
+        /// Number of cells found.
+        found: usize,
+    },
+    /// A CSV file is malformed in another way (such as invalid UTF-8).
+    Csv {
+        /// The CSV file.
+        path: PathBuf,
+        /// 1-based line, or 0 if unknown.
+        line: u64,
+        /// The reader's explanation.
+        message: String,
+    },
+}
+
+/// `'g' (U+0067)`: a character with its code point, so that invisible or
+/// look-alike characters are unambiguous in messages.
+pub(crate) fn describe_char(c: char) -> String {
+    if c.is_control() || c.is_whitespace() {
+        format!("U+{:04X}", c as u32)
+    } else {
+        format!("'{c}' (U+{:04X})", c as u32)
+    }
+}
+
+impl fmt::Display for OutlineError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::BadInput { input, message } => write!(f, "input \"{input}\": {message}"),
+            Self::Io { path, source } => write!(f, "{}: cannot read: {source}", path.display()),
+            Self::Image { path, message } => write!(
+                f,
+                "{}: cannot decode the image (expected a PNG file): {message}",
+                path.display()
+            ),
+            Self::EmptyImage {
+                path,
+                width,
+                height,
+            } => write!(
+                f,
+                "{}: the image is empty ({width}×{height} pixels); expected at least 1×1",
+                path.display()
+            ),
+            Self::UniformImage { path, level } => write!(
+                f,
+                "{}: every pixel has grey level {level}, so no threshold separates a shape \
+                 from the background",
+                path.display()
+            ),
+            Self::NoShape {
+                path,
+                min_area,
+                largest,
+            } => write!(
+                f,
+                "{}: no shape with an area of at least {min_area} px² (the largest boundary \
+                 found encloses {largest} px²); lower the minimum area or check the foreground \
+                 setting",
+                path.display()
+            ),
+            Self::Font { path, message } => write!(
+                f,
+                "{}: cannot read the font (expected a TrueType or OpenType file): {message}",
+                path.display()
+            ),
+            Self::MissingGlyph { path, glyph } => write!(
+                f,
+                "{}: the font has no glyph for {}",
+                path.display(),
+                describe_char(*glyph)
+            ),
+            Self::NoOutline { path, glyph } => write!(
+                f,
+                "{}: the glyph for {} has no outline (nothing to reconstruct)",
+                path.display(),
+                describe_char(*glyph)
+            ),
+            Self::TooFewPoints { path, found, need } => write!(
+                f,
+                "{}: {found} point(s) found, but an outline needs at least {need}",
+                path.display()
+            ),
+            Self::CsvNumber {
+                path,
+                line,
+                column,
+                text,
+            } => {
+                let axis = if *column == 1 { "x" } else { "y" };
+                write!(
+                    f,
+                    "{}:{line}: column {column} ({axis}): expected a finite number, found \"{text}\"",
+                    path.display()
+                )
+            }
+            Self::CsvFields { path, line, found } => write!(
+                f,
+                "{}:{line}: expected 2 cells \"x,y\", found {found}",
+                path.display()
+            ),
+            Self::Csv {
+                path,
+                line: 0,
+                message,
+            } => write!(f, "{}: {message}", path.display()),
+            Self::Csv {
+                path,
+                line,
+                message,
+            } => write!(f, "{}:{line}: {message}", path.display()),
+        }
+    }
+}
+
+impl std::error::Error for OutlineError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Self::Io { source, .. } => Some(source),
+            _ => None,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn messages_name_the_file_and_the_place() {
+        let e = OutlineError::CsvNumber {
+            path: "pts.csv".into(),
+            line: 7,
+            column: 2,
+            text: "abc".into(),
+        };
+        assert_eq!(
+            e.to_string(),
+            "pts.csv:7: column 2 (y): expected a finite number, found \"abc\""
+        );
+        let e = OutlineError::MissingGlyph {
+            path: "f.otf".into(),
+            glyph: '漢',
+        };
+        assert_eq!(
+            e.to_string(),
+            "f.otf: the font has no glyph for '漢' (U+6F22)"
+        );
+        let e = OutlineError::NoOutline {
+            path: "f.otf".into(),
+            glyph: ' ',
+        };
+        assert!(e.to_string().contains("U+0020"), "{e}");
+    }
+}

@@ -1,0 +1,48 @@
+//! Outline input: ordered boundary points from PNG images, CSV point lists
+//! and font glyphs, and their segmentation at corners, as data for curve
+//! reconstruction.
+//!
+//! One concept per module, in the style of [`crate::geometry`]:
+//! [`Outline`] (the ordered points), Otsu thresholding and Suzuki–Abe
+//! border following for images, CSV point lists, exact glyph outlines
+//! (TrueType quadratic, CFF cubic) with their dense sampling and true break
+//! points, corner detection, and the `*.png` / `*.csv` / `font:PATH:GLYPH`
+//! input strings of the command line.
+//!
+//! Every outline is in a y-up frame. Image pixel `(col, row)` of an image of
+//! height `H` is the point `(col, H − 1 − row)`; CSV coordinates are taken as
+//! given; glyphs are in font units. Outer boundaries run counter-clockwise.
+//!
+//! ```no_run
+//! use metabezier::outline::{load, parse_input, Options};
+//!
+//! let input = parse_input("data/outlines/horse.png")?;
+//! let outlines = load(&input, &Options::default())?;
+//! println!("{} points", outlines[0].len());
+//! # Ok::<(), metabezier::outline::OutlineError>(())
+//! ```
+
+mod border;
+mod corners;
+mod csv_points;
+mod error;
+mod glyph;
+mod image;
+mod input;
+mod otsu;
+mod polygon;
+
+pub use self::image::{
+    binarize, boundaries, grey_outlines, load_grey, load_image, luminance, select_outlines,
+    Boundary, BoundaryPoints, Foreground, GreyImage, ImageOptions, Threshold,
+};
+pub use border::{find_borders, BinaryImage, Border, BorderKind, Side};
+pub use corners::{
+    break_points, equal_arc_breaks, find_corners, split_at, turning_angles, CornerOptions,
+};
+pub use csv_points::{csv_from_bytes, load_csv, CsvOptions};
+pub use error::OutlineError;
+pub use glyph::{glyph_from_bytes, load_glyph, Glyph, SampledContour, Sampling, Segment};
+pub use input::{load, parse_glyph, parse_input, Input, Options};
+pub use otsu::{histogram, otsu_threshold};
+pub use polygon::{Orientation, Outline};
