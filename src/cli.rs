@@ -8,8 +8,12 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 use crate::error::Error;
+use crate::fit::{FitOptions, FunctionType, SearchSpace};
 use crate::functions::Function;
+use crate::geometry::Continuity;
 use crate::optim::Algorithm;
+use crate::outline::{CornerOptions, ImageOptions, Sampling};
+use crate::reconstruction::{files, Method, Reconstruction, Segmentation, Source};
 use crate::report::{self, ReportOptions};
 use crate::runner::{self, RunOptions, Shard};
 use crate::spec::Spec;
@@ -84,8 +88,58 @@ enum Command {
         #[arg(long, value_name = "CSV")]
         external: Option<PathBuf>,
     },
+    /// Fit piecewise (rational) Bézier curves to an outline.
+    Fit(FitArgs),
     /// List the algorithms with their parameters, and the benchmark functions.
     List,
+}
+
+/// Arguments of `metabezier fit`.
+#[derive(Debug, clap::Args)]
+struct FitArgs {
+    /// A PNG image, a CSV file of x,y points, or font:PATH:GLYPH.
+    input: String,
+    /// The fitting function.
+    #[arg(long, default_value = "rational-cubic", value_parser = clap::builder::PossibleValuesParser::new(FunctionType::NAMES))]
+    function: String,
+    /// Continuity at the joints between segments.
+    #[arg(long, default_value = "g1", value_parser = clap::builder::PossibleValuesParser::new(Continuity::NAMES))]
+    continuity: String,
+    /// hs, ghs, ga, pso, mhs; lm (Levenberg–Marquardt, the exact reference);
+    /// or a metaheuristic polished by LM: hs+lm, …, mhs+lm. Default parameters.
+    #[arg(long, default_value = "mhs")]
+    algorithm: String,
+    /// A fixed number of segments (split at corners, then at equal arc length).
+    #[arg(long, conflicts_with_all = ["tolerance", "true_breaks"])]
+    segments: Option<usize>,
+    /// Split recursively until every data point is within PX of the curve.
+    #[arg(long, value_name = "PX", conflicts_with = "true_breaks")]
+    tolerance: Option<f64>,
+    /// For a glyph: break at the font's own segment ends.
+    #[arg(long)]
+    true_breaks: bool,
+    /// Corner threshold: turning angle in degrees over --corner-k points
+    /// (0 disables corner detection).
+    #[arg(long, default_value_t = 60.0)]
+    corner_angle: f64,
+    /// Neighbourhood of the corner test, in points.
+    #[arg(long, default_value_t = 5)]
+    corner_k: usize,
+    /// Which outline of the input: 0 is the largest.
+    #[arg(long, default_value_t = 0)]
+    contour: usize,
+    /// Search space: the thesis's technique or the data's bounding box.
+    #[arg(long, default_value = "technique", value_parser = clap::builder::PossibleValuesParser::new(SearchSpace::NAMES))]
+    search_space: String,
+    /// Seed of the random generator (Xoshiro256++).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Objective evaluations per segment.
+    #[arg(long, value_name = "EVALS", default_value_t = 10_000, value_parser = clap::value_parser!(u64).range(1..))]
+    budget: u64,
+    /// Output directory.
+    #[arg(long, default_value = "results/fit")]
+    out: PathBuf,
 }
 
 /// Parses the command line, runs it, and reports errors on stderr.
@@ -210,6 +264,7 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
             }
             Ok(())
         }
+        Command::Fit(args) => fit(args, w),
         Command::List => {
             say!(
                 w,
@@ -247,4 +302,115 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
             Ok(())
         }
     }
+}
+
+/// `metabezier fit`: load, segment, fit, write the files.
+fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
+    let fail = |m: String| Error::Campaign(m);
+    let function = FunctionType::from_name(&a.function).expect("clap checked the name");
+    let continuity = Continuity::from_name(&a.continuity).expect("clap checked the name");
+    let (base, polish) = Method::parse_name(&a.algorithm).ok_or_else(|| {
+        fail(format!(
+            "--algorithm: unknown algorithm \"{}\"; valid choices: {}",
+            a.algorithm,
+            Method::names().join(", ")
+        ))
+    })?;
+    let method = match base {
+        None => Method::Exact,
+        Some(b) => {
+            let alg = Algorithm::default_for(b).expect("a known algorithm");
+            if polish {
+                Method::Hybrid(alg)
+            } else {
+                Method::Metaheuristic(alg)
+            }
+        }
+    };
+    let source = Source::load(
+        &a.input,
+        std::path::Path::new(""),
+        a.contour,
+        &ImageOptions::default(),
+        Sampling::default(),
+    )
+    .map_err(|e| fail(e.to_string()))?;
+    let segmentation = match (a.segments, a.tolerance, a.true_breaks) {
+        (Some(n), _, _) => Segmentation::Count(n),
+        (_, Some(t), _) => {
+            if !(t.is_finite() && t > 0.0) {
+                return Err(fail(format!(
+                    "--tolerance: expected a distance > 0 (data units), found {t}"
+                )));
+            }
+            Segmentation::Tolerance(t)
+        }
+        (_, _, true) => Segmentation::Breaks(source.true_breaks.clone().ok_or_else(|| {
+            fail(format!(
+                "--true-breaks: {} is not a glyph, so it has no true break points; use --segments or --tolerance",
+                a.input
+            ))
+        })?),
+        (None, None, false) => Segmentation::Count(8),
+    };
+    let mut options = FitOptions::new(function, continuity);
+    options.budget_per_segment = a.budget;
+    options.search.kind = SearchSpace::from_name(&a.search_space).expect("clap checked the name");
+    let r = Reconstruction {
+        outline: &source.outline,
+        segmentation,
+        corners: (a.corner_angle > 0.0).then_some(CornerOptions {
+            k: a.corner_k.max(1),
+            angle_deg: a.corner_angle,
+        }),
+        options,
+    };
+    let start = std::time::Instant::now();
+    let fit = r
+        .fit(&method, a.seed)
+        .map_err(|e| fail(format!("{}: {e}", a.input)))?;
+    let wall = start.elapsed().as_secs_f64();
+    let case = [
+        ("input", a.input.clone()),
+        ("contour", a.contour.to_string()),
+        ("function", function.name().to_owned()),
+        ("continuity", continuity.name().to_owned()),
+        ("algorithm", method.name()),
+        ("seed", a.seed.to_string()),
+        ("budget_per_segment", a.budget.to_string()),
+        ("search_space", r.options.search.kind.name().to_owned()),
+    ];
+    let title = format!(
+        "{}: {} {}, {}",
+        source.label(),
+        function.name(),
+        continuity.name().to_uppercase(),
+        method.name()
+    );
+    let paths = files::write_fit(&a.out, &title, &source.outline.points, &fit, &case, wall)?;
+    let m = &fit.metrics;
+    say!(
+        w,
+        "{}: {} points, {} segments, E = {:.6e}, RMS = {:.4e}, max distance = {:.4e}, {} evaluations, {:.3} s",
+        source.label(),
+        m.points,
+        m.segments,
+        m.sse,
+        m.rms,
+        m.max_distance,
+        m.evaluations,
+        wall
+    );
+    if let Some(c) = fit.closing {
+        say!(
+            w,
+            "  closing joint (C0 only): tangent angle {:.3}°, relative derivative gap {:.3e}",
+            c.angle_degrees,
+            c.relative_derivative_gap
+        );
+    }
+    for p in paths {
+        say!(w, "  wrote {}", p.display());
+    }
+    Ok(())
 }

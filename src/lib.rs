@@ -14,6 +14,7 @@ pub mod geometry;
 pub mod optim;
 pub mod outline;
 pub mod problem;
+pub mod reconstruction;
 pub mod records;
 pub mod report;
 pub mod rng;

@@ -4,7 +4,7 @@
 //!
 //! **This is a reconstruction.** The thesis chapter that defines MHS is lost;
 //! its list of symbols keeps "D_l: temporary harmony vectors in MHS" and
-//! "α: random number in [0,1]". What follows is this project's documented,
+//! "α: random number in \[0,1\]". What follows is this project's documented,
 //! configurable reading of that description, not the thesis's own text.
 
 use rand::RngCore;

@@ -51,7 +51,7 @@ pub struct OverlayFigure {
     pub columns: usize,
 }
 
-const PANEL: u32 = 560;
+const PANEL: u32 = 760;
 const TITLE_H: u32 = 40;
 
 impl OverlayFigure {

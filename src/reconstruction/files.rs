@@ -1,0 +1,188 @@
+//! The files of a fit: one CSV row per segment (control points, weights,
+//! segment metrics), the fit's totals, and the overlay figure.
+//!
+//! Numbers are written with Rust's shortest round-trip formatting, so the
+//! files are byte-identical for the same fit. Wall time goes to a separate
+//! `timing.csv`, as in campaign results.
+
+use std::path::{Path, PathBuf};
+
+use crate::error::{write_atomic, Error};
+use crate::fit::PiecewiseFit;
+use crate::geometry::{Curve, Point};
+use crate::report::{OverlayCurve, OverlayFigure, OverlayPanel};
+
+/// Control points per segment row: enough for a cubic (`C0..C3`).
+const MAX_CONTROL: usize = 4;
+
+/// Header of the per-segment columns of `fit.csv` (and of campaign
+/// `fits.csv`, after its run columns).
+pub fn segment_header() -> Vec<String> {
+    let mut h: Vec<String> = ["segment", "first", "last", "points", "join", "function"]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    for i in 0..MAX_CONTROL {
+        h.push(format!("c{i}x"));
+        h.push(format!("c{i}y"));
+    }
+    for i in 0..MAX_CONTROL {
+        h.push(format!("w{i}"));
+    }
+    h.extend(
+        ["sse", "rms", "max_distance", "evaluations"]
+            .iter()
+            .map(|s| s.to_string()),
+    );
+    h
+}
+
+/// One row per segment of `fit`, matching [`segment_header`]: quadratic
+/// segments leave `c3x, c3y, w3` empty, polynomial segments have unit
+/// weights.
+pub fn segment_rows(fit: &PiecewiseFit) -> Vec<Vec<String>> {
+    fit.segments
+        .iter()
+        .enumerate()
+        .map(|(k, s)| {
+            let mut row = vec![
+                k.to_string(),
+                s.first.to_string(),
+                s.last.to_string(),
+                s.metrics.points.to_string(),
+                s.join.name().to_owned(),
+                s.segment.function().name().to_owned(),
+            ];
+            let cps = s.segment.control_points();
+            for i in 0..MAX_CONTROL {
+                match cps.get(i) {
+                    Some(p) => {
+                        row.push(p.x.to_string());
+                        row.push(p.y.to_string());
+                    }
+                    None => row.extend([String::new(), String::new()]),
+                }
+            }
+            let ws = s.segment.weights();
+            for i in 0..MAX_CONTROL {
+                row.push(ws.get(i).map_or(String::new(), |w| w.to_string()));
+            }
+            row.push(s.metrics.sse.to_string());
+            row.push(s.metrics.rms.to_string());
+            row.push(s.metrics.max_distance.to_string());
+            row.push(s.metrics.evaluations.to_string());
+            row
+        })
+        .collect()
+}
+
+/// Formats rows as CSV (fields are numbers and plain names, so no quoting
+/// is needed; a field with a comma or quote is quoted anyway).
+pub fn csv_text(header: &[String], rows: &[Vec<String>]) -> String {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(header).expect("writing to memory");
+    for r in rows {
+        w.write_record(r).expect("writing to memory");
+    }
+    String::from_utf8(w.into_inner().expect("writing to memory")).expect("CSV of UTF-8 fields")
+}
+
+/// The fitted curve of `fit` for an overlay: each segment sampled at 64
+/// points and, if `polygons`, its control polygon.
+pub fn overlay_curve(label: String, fit: &PiecewiseFit, polygons: bool) -> OverlayCurve {
+    const SAMPLES: usize = 64;
+    OverlayCurve {
+        label,
+        segments: fit
+            .segments
+            .iter()
+            .map(|s| {
+                (0..=SAMPLES)
+                    .map(|j| s.segment.eval(j as f64 / SAMPLES as f64))
+                    .collect()
+            })
+            .collect(),
+        control_polygons: if polygons {
+            fit.segments
+                .iter()
+                .map(|s| s.segment.control_points())
+                .collect()
+        } else {
+            Vec::new()
+        },
+    }
+}
+
+/// Writes `fit.csv`, `metrics.csv`, `timing.csv`, `fit.svg` and `fit.png`
+/// into `dir` (created if missing); returns the paths.
+///
+/// `case` holds the descriptive columns of `metrics.csv` (input, function,
+/// continuity, method, seed, …), written before the fit's totals.
+pub fn write_fit(
+    dir: &Path,
+    title: &str,
+    data: &[Point],
+    fit: &PiecewiseFit,
+    case: &[(&str, String)],
+    wall_seconds: f64,
+) -> Result<Vec<PathBuf>, Error> {
+    std::fs::create_dir_all(dir).map_err(|e| Error::io("create the directory", dir, e))?;
+    let mut written = Vec::new();
+
+    let fit_csv = dir.join("fit.csv");
+    write_atomic(
+        &fit_csv,
+        csv_text(&segment_header(), &segment_rows(fit)).as_bytes(),
+    )?;
+    written.push(fit_csv);
+
+    let m = &fit.metrics;
+    let mut header: Vec<String> = case.iter().map(|(k, _)| k.to_string()).collect();
+    let mut row: Vec<String> = case.iter().map(|(_, v)| v.clone()).collect();
+    let closing = fit.closing;
+    for (k, v) in [
+        ("points", m.points.to_string()),
+        ("segments", m.segments.to_string()),
+        ("sse", m.sse.to_string()),
+        ("rms", m.rms.to_string()),
+        ("max_distance", m.max_distance.to_string()),
+        ("evaluations", m.evaluations.to_string()),
+        (
+            "closing_angle_degrees",
+            closing.map_or(String::new(), |c| c.angle_degrees.to_string()),
+        ),
+        (
+            "closing_relative_derivative_gap",
+            closing.map_or(String::new(), |c| c.relative_derivative_gap.to_string()),
+        ),
+    ] {
+        header.push(k.to_owned());
+        row.push(v);
+    }
+    let metrics_csv = dir.join("metrics.csv");
+    write_atomic(&metrics_csv, csv_text(&header, &[row]).as_bytes())?;
+    written.push(metrics_csv);
+
+    let timing_csv = dir.join("timing.csv");
+    write_atomic(
+        &timing_csv,
+        csv_text(&["wall_seconds".into()], &[vec![wall_seconds.to_string()]]).as_bytes(),
+    )?;
+    written.push(timing_csv);
+
+    let figure = OverlayFigure {
+        title: title.to_owned(),
+        panels: vec![OverlayPanel {
+            title: format!(
+                "{} segments, E = {:.4e}, max distance {:.3e}",
+                m.segments, m.sse, m.max_distance
+            ),
+            data: data.to_vec(),
+            curves: vec![overlay_curve("fit".into(), fit, true)],
+            y_down: false,
+        }],
+        columns: 1,
+    };
+    written.extend(figure.save(dir, "fit")?);
+    Ok(written)
+}

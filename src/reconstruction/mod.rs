@@ -1,0 +1,356 @@
+//! Curve reconstruction end to end: an outline source, how it is cut into
+//! segments, and the method that fits each segment.
+//!
+//! This is the glue between [`crate::outline`] (where the data points come
+//! from), [`crate::fit`] (the fitting problem and its solvers) and
+//! [`crate::optim`] (the metaheuristics). Both `metabezier fit` and fitting
+//! campaigns declared in a spec go through [`Reconstruction::fit`], so a
+//! campaign run and a single command-line fit of the same case with the
+//! same seed give the same curve.
+
+pub mod files;
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use crate::fit::{
+    fit_adaptive, fit_piecewise, fit_segment_count, FitError, FitOptions, HybridSolver, LmSolver,
+    OptimiserSolver, PiecewiseFit, SegmentSolver, SplitOptions,
+};
+use crate::optim::Algorithm;
+use crate::outline::{
+    find_corners, load_glyph, load_image, parse_input, CornerOptions, ImageOptions, Input,
+    Outline, OutlineError, Sampling,
+};
+use crate::rng::run_rng;
+
+/// How a segment problem is solved.
+#[derive(Clone, Debug)]
+pub enum Method {
+    /// One of the metaheuristics (HS, GHS, GA, PSO, MHS) with its settings.
+    Metaheuristic(Algorithm),
+    /// The exact reference: Levenberg–Marquardt (Levenberg 1944; Marquardt
+    /// 1963) from the linear least-squares fit with unit weights.
+    Exact,
+    /// A metaheuristic on 80 % of the budget, then a Levenberg–Marquardt
+    /// polish from its best vector on the rest.
+    Hybrid(Algorithm),
+}
+
+impl Method {
+    /// The name of the exact method in specs and on the command line.
+    pub const EXACT: &'static str = "lm";
+    /// The suffix that turns a metaheuristic into a hybrid (`mhs+lm`).
+    pub const POLISH_SUFFIX: &'static str = "+lm";
+
+    /// Every method name: the metaheuristics, `lm`, and each `<name>+lm`.
+    pub fn names() -> Vec<String> {
+        let mut out: Vec<String> = Algorithm::NAMES.iter().map(|s| s.to_string()).collect();
+        out.push(Self::EXACT.into());
+        out.extend(
+            Algorithm::NAMES
+                .iter()
+                .map(|n| format!("{n}{}", Self::POLISH_SUFFIX)),
+        );
+        out
+    }
+
+    /// Splits a method name into the metaheuristic whose parameters it
+    /// takes (`None` for `lm`) and whether it is polished by LM; `None` if
+    /// the name is unknown.
+    pub fn parse_name(name: &str) -> Option<(Option<&str>, bool)> {
+        if name == Self::EXACT {
+            return Some((None, false));
+        }
+        let (base, polish) = match name.strip_suffix(Self::POLISH_SUFFIX) {
+            Some(base) => (base, true),
+            None => (name, false),
+        };
+        Algorithm::NAMES
+            .contains(&base)
+            .then_some((Some(base), polish))
+    }
+
+    /// The method's name: `hs`, `lm`, `mhs+lm`, ….
+    pub fn name(&self) -> String {
+        match self {
+            Method::Metaheuristic(a) => a.name().to_owned(),
+            Method::Exact => Self::EXACT.to_owned(),
+            Method::Hybrid(a) => format!("{}{}", a.name(), Self::POLISH_SUFFIX),
+        }
+    }
+
+    /// Whether the method draws random numbers (LM alone does not).
+    pub fn is_stochastic(&self) -> bool {
+        !matches!(self, Method::Exact)
+    }
+}
+
+/// How an outline is cut into segments.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Segmentation {
+    /// This many segments: split at the corners, then at equal arc length.
+    Count(usize),
+    /// Schneider's recursive split until every segment's largest orthogonal
+    /// distance is at most this (data units).
+    Tolerance(f64),
+    /// These break indices, used as given (corners are not searched).
+    Breaks(Vec<usize>),
+}
+
+/// Where the data points come from and which contour is fitted.
+#[derive(Clone, Debug)]
+pub struct Source {
+    /// The input as the user wrote it (`horse.png`, `pts.csv`,
+    /// `font:PATH:GLYPH`).
+    pub input: String,
+    /// The parsed input, with paths resolved.
+    pub parsed: Input,
+    /// The outline fitted.
+    pub outline: Outline,
+    /// For a glyph, the sampled indices where its exact segments start.
+    pub true_breaks: Option<Vec<usize>>,
+    /// For a glyph, its height (font units), the scale of its errors.
+    pub glyph_height: Option<f64>,
+}
+
+/// A source could not be read.
+#[derive(Debug)]
+pub struct SourceError(pub OutlineError);
+
+impl fmt::Display for SourceError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        self.0.fmt(f)
+    }
+}
+
+impl std::error::Error for SourceError {}
+
+impl Source {
+    /// Loads `input` (resolving relative paths against `base`) and picks
+    /// its `contour`-th outline: for an image its shapes by decreasing
+    /// area, for a glyph its contours by decreasing area, for a CSV file
+    /// its only one. Glyphs are sampled with `sampling`.
+    pub fn load(
+        input: &str,
+        base: &Path,
+        contour: usize,
+        image: &ImageOptions,
+        sampling: Sampling,
+    ) -> Result<Source, SourceError> {
+        let parsed = match parse_input(input).map_err(SourceError)? {
+            Input::Image(p) => Input::Image(resolve(base, &p)),
+            Input::Csv(p) => Input::Csv(resolve(base, &p)),
+            Input::Glyph { font, glyph } => Input::Glyph {
+                font: resolve(base, &font),
+                glyph,
+            },
+        };
+        let pick = |n: usize| -> Result<usize, SourceError> {
+            if contour < n {
+                Ok(contour)
+            } else {
+                Err(SourceError(OutlineError::BadInput {
+                    input: input.to_owned(),
+                    message: format!(
+                        "contour {contour} was asked for, but it has {n} (numbered from 0)"
+                    ),
+                }))
+            }
+        };
+        let (outline, true_breaks, glyph_height) = match &parsed {
+            Input::Image(path) => {
+                let mut shapes = load_image(path, image).map_err(SourceError)?;
+                let k = pick(shapes.len())?;
+                (shapes.swap_remove(k), None, None)
+            }
+            Input::Csv(path) => {
+                let o = crate::outline::load_csv(path, &Default::default()).map_err(SourceError)?;
+                pick(1)?;
+                (o, None, None)
+            }
+            Input::Glyph { font, glyph } => {
+                let g = load_glyph(font, *glyph).map_err(SourceError)?;
+                let mut contours = g.sample(sampling);
+                contours.sort_by(|a, b| b.outline.area().total_cmp(&a.outline.area()));
+                let k = pick(contours.len())?;
+                let c = contours.swap_remove(k);
+                (c.outline, Some(c.breaks), Some(g.height()))
+            }
+        };
+        Ok(Source {
+            input: input.to_owned(),
+            parsed,
+            outline,
+            true_breaks,
+            glyph_height,
+        })
+    }
+
+    /// A short name for tables and file names: the file stem, or
+    /// `<font stem>-<glyph>` for a glyph.
+    pub fn label(&self) -> String {
+        let stem = |p: &Path| {
+            p.file_stem()
+                .map_or_else(|| "input".into(), |s| s.to_string_lossy().into_owned())
+        };
+        match &self.parsed {
+            Input::Image(p) | Input::Csv(p) => stem(p),
+            Input::Glyph { font, glyph } => {
+                let g = if glyph.is_ascii_alphanumeric() {
+                    glyph.to_string()
+                } else {
+                    format!("U+{:04X}", u32::from(*glyph))
+                };
+                format!("{}-{g}", stem(font))
+            }
+        }
+    }
+}
+
+fn resolve(base: &Path, p: &Path) -> PathBuf {
+    if p.is_absolute() {
+        p.to_owned()
+    } else {
+        base.join(p)
+    }
+}
+
+/// One fitting task: the data, the segmentation, the fit options and the
+/// corner detector.
+#[derive(Clone, Debug)]
+pub struct Reconstruction<'a> {
+    /// The outline fitted.
+    pub outline: &'a Outline,
+    /// How it is cut into segments.
+    pub segmentation: Segmentation,
+    /// Corner detection for [`Segmentation::Count`] and
+    /// [`Segmentation::Tolerance`]; `None` finds no corners.
+    pub corners: Option<CornerOptions>,
+    /// Function, continuity, parameterisation, search space and budget per
+    /// segment.
+    pub options: FitOptions,
+}
+
+impl Reconstruction<'_> {
+    /// The corner indices this reconstruction splits at first.
+    pub fn corner_indices(&self) -> Vec<usize> {
+        match (&self.segmentation, self.corners) {
+            (Segmentation::Breaks(_), _) | (_, None) => Vec::new(),
+            (_, Some(c)) => find_corners(self.outline, &c),
+        }
+    }
+
+    /// Fits the outline with `method`; a stochastic method draws from
+    /// Xoshiro256++ seeded with `seed` ([`run_rng`]), one stream for all
+    /// segments in order.
+    pub fn fit(&self, method: &Method, seed: u64) -> Result<PiecewiseFit, FitError> {
+        match method {
+            Method::Exact => self.fit_with(&mut LmSolver::default()),
+            Method::Metaheuristic(a) => {
+                self.fit_with(&mut OptimiserSolver::new(a.clone(), run_rng(seed)).with_label(a.name()))
+            }
+            Method::Hybrid(a) => self.fit_with(&mut HybridSolver::new(a.clone(), run_rng(seed))),
+        }
+    }
+
+    /// Fits the outline with any segment solver.
+    pub fn fit_with<S: SegmentSolver + ?Sized>(&self, solver: &mut S) -> Result<PiecewiseFit, FitError> {
+        let points = &self.outline.points;
+        let closed = self.outline.closed;
+        match &self.segmentation {
+            Segmentation::Breaks(b) => fit_piecewise(points, closed, b, &self.options, solver),
+            Segmentation::Count(n) => fit_segment_count(
+                points,
+                closed,
+                &self.corner_indices(),
+                *n,
+                &self.options,
+                solver,
+            ),
+            Segmentation::Tolerance(t) => fit_adaptive(
+                points,
+                closed,
+                &self.corner_indices(),
+                &SplitOptions::new(*t),
+                &self.options,
+                solver,
+            ),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{Continuity, Point};
+    use crate::fit::FunctionType;
+
+    #[test]
+    fn method_names_round_trip() {
+        for name in Method::names() {
+            let (base, polish) = Method::parse_name(&name).unwrap();
+            let m = match (base, polish) {
+                (None, _) => Method::Exact,
+                (Some(b), false) => Method::Metaheuristic(Algorithm::default_for(b).unwrap()),
+                (Some(b), true) => Method::Hybrid(Algorithm::default_for(b).unwrap()),
+            };
+            assert_eq!(m.name(), name);
+        }
+        assert!(Method::parse_name("hz").is_none());
+        assert!(Method::parse_name("lm+lm").is_none());
+    }
+
+    fn square(n: usize) -> Outline {
+        // A square with rounded-off sampling: n points per side, closed.
+        let corners = [
+            Point::new(0.0, 0.0),
+            Point::new(10.0, 0.0),
+            Point::new(10.0, 10.0),
+            Point::new(0.0, 10.0),
+        ];
+        let mut pts = Vec::new();
+        for k in 0..4 {
+            let (a, b) = (corners[k], corners[(k + 1) % 4]);
+            for j in 0..n {
+                pts.push(a.lerp(b, j as f64 / n as f64));
+            }
+        }
+        Outline::new(pts, true)
+    }
+
+    #[test]
+    fn a_square_is_cut_at_its_corners_and_fitted_exactly() {
+        let outline = square(20);
+        let r = Reconstruction {
+            outline: &outline,
+            segmentation: Segmentation::Count(4),
+            corners: Some(CornerOptions::default()),
+            options: FitOptions::new(FunctionType::Cubic, Continuity::G1),
+        };
+        assert_eq!(r.corner_indices(), vec![0, 20, 40, 60]);
+        let fit = r.fit(&Method::Exact, 1).unwrap();
+        assert_eq!(fit.breaks(), vec![0, 20, 40, 60]);
+        assert!(fit.metrics.max_distance < 1e-6, "{:?}", fit.metrics);
+    }
+
+    #[test]
+    fn the_same_seed_gives_the_same_fit() {
+        let outline = square(12);
+        let mut options = FitOptions::new(FunctionType::RationalCubic, Continuity::C1);
+        options.budget_per_segment = 2000;
+        let r = Reconstruction {
+            outline: &outline,
+            segmentation: Segmentation::Count(4),
+            corners: Some(CornerOptions::default()),
+            options,
+        };
+        let m = Method::Metaheuristic(Algorithm::default_for("mhs").unwrap());
+        let a = r.fit(&m, 7).unwrap();
+        let b = r.fit(&m, 7).unwrap();
+        let c = r.fit(&m, 8).unwrap();
+        assert_eq!(a.metrics.sse.to_bits(), b.metrics.sse.to_bits());
+        assert_ne!(a.metrics.sse.to_bits(), c.metrics.sse.to_bits());
+        assert_eq!(a.metrics.evaluations, 4 * 2000);
+    }
+}
