@@ -16,7 +16,9 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use crate::error::Error;
+use crate::fit::PiecewiseFit;
 use crate::optim::TracePoint;
+use crate::reconstruction::files::{segment_rows, SEGMENT_HEADER};
 
 /// The result of one run.
 #[derive(Clone, Debug, PartialEq)]
@@ -49,8 +51,155 @@ pub struct RunRecord {
     pub success: bool,
     /// The best-so-far at the convergence checkpoints.
     pub trace: Vec<TracePoint>,
+    /// For a fitting problem, the fitted outline (`fits.csv`, `segments.csv`).
+    pub fit: Option<FitDetail>,
     /// Wall time of the run in seconds (not part of the reproducible output).
     pub wall_seconds: f64,
+}
+
+/// What a fitting run adds to its record: the fit's accuracy beyond `E`
+/// and every segment's control points.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FitDetail {
+    /// `√(E/N)`.
+    pub rms: f64,
+    /// The largest orthogonal distance of a data point to the curve.
+    pub max_distance: f64,
+    /// On a closed outline, the tangent angle at the closing joint
+    /// (degrees), where only C⁰ is imposed.
+    pub closing_angle_degrees: Option<f64>,
+    /// On a closed outline, the relative derivative gap there.
+    pub closing_relative_derivative_gap: Option<f64>,
+    /// One row per segment, in the columns of [`SEGMENT_HEADER`].
+    pub segments: Vec<Vec<String>>,
+}
+
+impl FitDetail {
+    /// The detail of a finished fit.
+    pub fn of(fit: &PiecewiseFit) -> FitDetail {
+        FitDetail {
+            rms: fit.metrics.rms,
+            max_distance: fit.metrics.max_distance,
+            closing_angle_degrees: fit.closing.map(|c| c.angle_degrees),
+            closing_relative_derivative_gap: fit.closing.map(|c| c.relative_derivative_gap),
+            segments: segment_rows(fit),
+        }
+    }
+
+    /// The run-level columns of `fits.csv` after the run key.
+    fn fields(&self) -> Vec<String> {
+        let opt = |x: Option<f64>| x.map_or(String::new(), fmt_real);
+        vec![
+            fmt_real(self.rms),
+            fmt_real(self.max_distance),
+            opt(self.closing_angle_degrees),
+            opt(self.closing_relative_derivative_gap),
+        ]
+    }
+
+    /// Reads [`FitDetail::fields`] back (segments empty).
+    fn from_fields(path: &Path, line: u64, f: &[&str]) -> Result<FitDetail, Error> {
+        let opt = |name: &str, t: &str| -> Result<Option<f64>, Error> {
+            if t.is_empty() {
+                Ok(None)
+            } else {
+                parse(path, line, name, t).map(Some)
+            }
+        };
+        Ok(FitDetail {
+            rms: parse(path, line, "rms", f[0])?,
+            max_distance: parse(path, line, "max_distance", f[1])?,
+            closing_angle_degrees: opt("closing_angle_degrees", f[2])?,
+            closing_relative_derivative_gap: opt("closing_relative_derivative_gap", f[3])?,
+            segments: Vec::new(),
+        })
+    }
+
+    /// One journal field: the run-level fields joined by `;`, then each
+    /// segment row joined by `;`, all separated by `|`.
+    fn journal_field(&self) -> String {
+        std::iter::once(self.fields().join(";"))
+            .chain(self.segments.iter().map(|r| r.join(";")))
+            .collect::<Vec<_>>()
+            .join("|")
+    }
+
+    /// Reads [`FitDetail::journal_field`] back.
+    fn from_journal_field(path: &Path, line: u64, text: &str) -> Result<FitDetail, Error> {
+        let mut parts = text.split('|');
+        let head: Vec<&str> = parts.next().unwrap_or("").split(';').collect();
+        if head.len() != FIT_FIELDS.len() {
+            return Err(Error::data(path, line, "malformed fit detail"));
+        }
+        let mut detail = FitDetail::from_fields(path, line, &head)?;
+        for part in parts {
+            let row: Vec<String> = part.split(';').map(str::to_owned).collect();
+            if row.len() != SEGMENT_HEADER.len() {
+                return Err(Error::data(path, line, "malformed segment in the fit detail"));
+            }
+            detail.segments.push(row);
+        }
+        Ok(detail)
+    }
+}
+
+/// The run-level columns of `fits.csv` after the run key.
+const FIT_FIELDS: [&str; 4] = [
+    "rms",
+    "max_distance",
+    "closing_angle_degrees",
+    "closing_relative_derivative_gap",
+];
+
+/// The columns that identify a run in `convergence.csv`, `timing.csv`,
+/// `fits.csv` and `segments.csv`.
+const RUN_KEY_HEADER: [&str; 6] = ["algorithm", "kind", "params", "problem", "dim", "run"];
+
+fn run_key_fields(r: &RunRecord) -> Vec<String> {
+    vec![
+        r.algorithm.clone(),
+        r.kind.clone(),
+        r.params.clone(),
+        r.problem.clone(),
+        r.dim.to_string(),
+        r.run.to_string(),
+    ]
+}
+
+/// The run key columns followed by `rest`.
+fn keyed_header(rest: &[&'static str]) -> Vec<&'static str> {
+    RUN_KEY_HEADER.iter().chain(rest).copied().collect()
+}
+
+/// The bytes of `fits.csv`: one row per fitting run with its RMS, maximum
+/// orthogonal distance and closing-joint mismatch (`E` and evaluations are
+/// in `runs.csv`).
+pub fn fits_csv(records: &[RunRecord]) -> Vec<u8> {
+    let rows = records.iter().filter_map(|r| {
+        r.fit.as_ref().map(|f| {
+            let mut row = run_key_fields(r);
+            row.extend(f.fields());
+            row
+        })
+    });
+    csv_bytes(&keyed_header(&FIT_FIELDS), rows)
+}
+
+/// The bytes of `segments.csv`: one row per segment of every fitting run,
+/// with its control points, weights and metrics.
+pub fn segments_csv(records: &[RunRecord]) -> Vec<u8> {
+    let rows = records.iter().flat_map(|r| {
+        let key = run_key_fields(r);
+        r.fit.iter().flat_map(move |f| {
+            let key = key.clone();
+            f.segments.iter().map(move |seg| {
+                let mut row = key.clone();
+                row.extend(seg.iter().cloned());
+                row
+            })
+        })
+    });
+    csv_bytes(&keyed_header(&SEGMENT_HEADER), rows)
 }
 
 /// Identifies a run within a campaign: (cell key, problem key, run).
@@ -144,7 +293,8 @@ fn run_fields(r: &RunRecord) -> Vec<String> {
     ]
 }
 
-fn csv_bytes<I: IntoIterator<Item = Vec<String>>>(header: &[&str], rows: I) -> Vec<u8> {
+/// CSV bytes of a header and rows.
+pub fn csv_bytes<I: IntoIterator<Item = Vec<String>>>(header: &[&str], rows: I) -> Vec<u8> {
     let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record(header).expect("writing to memory");
     for row in rows {
@@ -207,6 +357,7 @@ pub fn journal_line(r: &RunRecord) -> Vec<u8> {
         .map(|p| format!("{}:{}", p.evaluations, fmt_real(p.best)))
         .collect();
     fields.push(trace.join("|"));
+    fields.push(r.fit.as_ref().map_or(String::new(), FitDetail::journal_field));
     fields.push(fmt_real(r.wall_seconds));
     fields.push("ok".into());
     let mut w = csv::WriterBuilder::new()
@@ -269,6 +420,7 @@ fn record_from_fields(path: &Path, line: u64, f: &csv::StringRecord) -> Result<R
         },
         success,
         trace: Vec::new(),
+        fit: None,
         wall_seconds: 0.0,
     })
 }
@@ -319,7 +471,7 @@ pub fn read_journal(path: &Path) -> Result<Vec<RunRecord>, Error> {
         let line = i as u64 + 1;
         let last = i + 1 == n;
         let complete = match &row {
-            Ok(r) => r.len() == RUNS_HEADER.len() + 3 && r.get(RUNS_HEADER.len() + 2) == Some("ok"),
+            Ok(r) => r.len() == RUNS_HEADER.len() + 4 && r.get(RUNS_HEADER.len() + 3) == Some("ok"),
             Err(_) => false,
         };
         if !complete {
@@ -342,11 +494,15 @@ pub fn read_journal(path: &Path) -> Result<Vec<RunRecord>, Error> {
                 });
             }
         }
+        let fit_text = r.get(RUNS_HEADER.len() + 1).unwrap_or("");
+        if !fit_text.is_empty() {
+            rec.fit = Some(FitDetail::from_journal_field(path, line, fit_text)?);
+        }
         rec.wall_seconds = parse(
             path,
             line,
             "wall_seconds",
-            r.get(RUNS_HEADER.len() + 1).unwrap_or(""),
+            r.get(RUNS_HEADER.len() + 2).unwrap_or(""),
         )?;
         out.push(rec);
     }
@@ -416,6 +572,40 @@ pub fn read_results(dir: &Path) -> Result<Vec<RunRecord>, Error> {
         let k = lookup(&timing_path, line, &row)?;
         records[k].wall_seconds = parse(&timing_path, line, "wall_seconds", &row[6])?;
     }
+    let fits_path = dir.join("fits.csv");
+    if fits_path.exists() {
+        let header = keyed_header(&FIT_FIELDS);
+        let mut reader = open_csv(&fits_path, true)?;
+        check_header(&fits_path, &mut reader, &header)?;
+        for (i, row) in reader.records().enumerate() {
+            let line = i as u64 + 2;
+            let row = row.map_err(|e| Error::data(&fits_path, line, e.to_string()))?;
+            if row.len() != header.len() {
+                return Err(Error::data(&fits_path, line, "wrong number of columns"));
+            }
+            let k = lookup(&fits_path, line, &row)?;
+            let fields: Vec<&str> = row.iter().skip(RUN_KEY_HEADER.len()).collect();
+            records[k].fit = Some(FitDetail::from_fields(&fits_path, line, &fields)?);
+        }
+        let seg_path = dir.join("segments.csv");
+        let header = keyed_header(&SEGMENT_HEADER);
+        let mut reader = open_csv(&seg_path, true)?;
+        check_header(&seg_path, &mut reader, &header)?;
+        for (i, row) in reader.records().enumerate() {
+            let line = i as u64 + 2;
+            let row = row.map_err(|e| Error::data(&seg_path, line, e.to_string()))?;
+            if row.len() != header.len() {
+                return Err(Error::data(&seg_path, line, "wrong number of columns"));
+            }
+            let k = lookup(&seg_path, line, &row)?;
+            let fit = records[k]
+                .fit
+                .as_mut()
+                .ok_or_else(|| Error::data(&seg_path, line, "this run has no row in fits.csv"))?;
+            fit.segments
+                .push(row.iter().skip(RUN_KEY_HEADER.len()).map(str::to_owned).collect());
+        }
+    }
     Ok(records)
 }
 
@@ -448,6 +638,7 @@ mod tests {
                     best: 0.1 + 0.2,
                 },
             ],
+            fit: None,
             wall_seconds: 0.0125,
         }
     }

@@ -18,10 +18,12 @@ use rayon::prelude::*;
 
 use crate::error::{write_atomic, Error};
 use crate::optim::evaluator::log_checkpoints;
-use crate::optim::{Evaluator, Optimiser};
-use crate::records::{self, RunKey, RunRecord};
+use crate::functions::TestProblem;
+use crate::optim::{Evaluator, Optimiser, Outcome};
+use crate::reconstruction::Method;
+use crate::records::{self, FitDetail, RunKey, RunRecord};
 use crate::rng::{derive_seed, fnv1a64, run_rng, RNG_NAME};
-use crate::spec::{RunId, Spec};
+use crate::spec::{ProblemKind, RunId, Spec};
 
 /// One slice `K/N` of a campaign: the runs whose index `i` has `i mod N = K − 1`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -96,31 +98,53 @@ pub fn execute(spec: &Spec, id: RunId) -> RunRecord {
     let entry = &spec.problems[id.problem];
     let cell = &spec.cells[id.cell];
     let seed = derive_seed(spec.seed, &cell.key(), &entry.key(), id.run);
-    let mut rng = run_rng(seed);
-    let problem = entry.instance();
-    let f_star = entry.function.optimum_value();
     let start = Instant::now();
-    let mut eval = Evaluator::new(&problem, entry.budget)
-        .with_target(f_star + spec.threshold)
-        .with_checkpoints(log_checkpoints(entry.budget, spec.checkpoints_per_decade));
-    cell.algorithm.minimise(&mut eval, &mut rng);
-    let outcome = eval.finish();
+    let (outcome, fit) = match (&entry.kind, &cell.method) {
+        (ProblemKind::Benchmark(f), Method::Metaheuristic(algorithm)) => {
+            let problem = TestProblem::new(*f, entry.dim).expect("dimension checked when the spec loaded");
+            let mut eval = Evaluator::new(&problem, entry.budget)
+                .with_target(f.optimum_value() + spec.threshold)
+                .with_checkpoints(log_checkpoints(entry.budget, spec.checkpoints_per_decade));
+            algorithm.minimise(&mut eval, &mut run_rng(seed));
+            (eval.finish(), None)
+        }
+        (ProblemKind::Benchmark(_), _) => {
+            unreachable!("the spec refuses least-squares methods on benchmark functions")
+        }
+        (ProblemKind::Fit(case), method) => {
+            let fit = case
+                .reconstruction()
+                .fit(method, seed)
+                .expect("the segmentation was checked when the spec loaded");
+            let m = &fit.metrics;
+            let success = m.sse <= spec.threshold;
+            let outcome = Outcome {
+                best_x: Vec::new(),
+                best_value: m.sse,
+                evaluations: m.evaluations,
+                evaluations_to_target: success.then_some(m.evaluations),
+                trace: Vec::new(),
+            };
+            (outcome, Some(FitDetail::of(&fit)))
+        }
+    };
     let wall_seconds = start.elapsed().as_secs_f64();
     RunRecord {
         algorithm: cell.label.clone(),
-        kind: cell.algorithm.name().to_owned(),
+        kind: cell.method.name(),
         params: cell.params.canonical(),
-        problem: entry.function.name().to_owned(),
+        problem: entry.name(),
         dim: entry.dim,
         budget: entry.budget,
         run: id.run,
         seed,
         best: outcome.best_value,
-        error: outcome.best_value - f_star,
+        error: outcome.best_value - entry.optimum_value(),
         evaluations: outcome.evaluations,
         evaluations_to_target: outcome.evaluations_to_target,
         success: outcome.evaluations_to_target.is_some(),
         trace: outcome.trace,
+        fit,
         wall_seconds,
     }
 }
@@ -182,7 +206,7 @@ fn write_results(spec: &Spec, out: &Path, records: &[RunRecord]) -> Result<(), E
     let optimum: HashMap<String, f64> = spec
         .problems
         .iter()
-        .map(|p| (p.function.name().to_owned(), p.function.optimum_value()))
+        .map(|p| (p.name(), p.optimum_value()))
         .collect();
     write_atomic(&out.join("runs.csv"), &records::runs_csv(records))?;
     write_atomic(
@@ -190,6 +214,10 @@ fn write_results(spec: &Spec, out: &Path, records: &[RunRecord]) -> Result<(), E
         &records::convergence_csv(records, |r| optimum.get(&r.problem).copied().unwrap_or(0.0)),
     )?;
     write_atomic(&out.join("timing.csv"), &records::timing_csv(records))?;
+    if records.iter().any(|r| r.fit.is_some()) {
+        write_atomic(&out.join("fits.csv"), &records::fits_csv(records))?;
+        write_atomic(&out.join("segments.csv"), &records::segments_csv(records))?;
+    }
     Ok(())
 }
 

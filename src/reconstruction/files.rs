@@ -10,34 +10,40 @@ use std::path::{Path, PathBuf};
 use crate::error::{write_atomic, Error};
 use crate::fit::PiecewiseFit;
 use crate::geometry::{Curve, Point};
+use crate::records::csv_bytes;
 use crate::report::{OverlayCurve, OverlayFigure, OverlayPanel};
 
 /// Control points per segment row: enough for a cubic (`C0..C3`).
 const MAX_CONTROL: usize = 4;
 
-/// Header of the per-segment columns of `fit.csv` (and of campaign
-/// `fits.csv`, after its run columns).
-pub fn segment_header() -> Vec<String> {
-    let mut h: Vec<String> = ["segment", "first", "last", "points", "join", "function"]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
-    for i in 0..MAX_CONTROL {
-        h.push(format!("c{i}x"));
-        h.push(format!("c{i}y"));
-    }
-    for i in 0..MAX_CONTROL {
-        h.push(format!("w{i}"));
-    }
-    h.extend(
-        ["sse", "rms", "max_distance", "evaluations"]
-            .iter()
-            .map(|s| s.to_string()),
-    );
-    h
-}
+/// The per-segment columns of `fit.csv` (and of campaign `segments.csv`,
+/// after its run columns).
+pub const SEGMENT_HEADER: [&str; 22] = [
+    "segment",
+    "first",
+    "last",
+    "points",
+    "join",
+    "function",
+    "c0x",
+    "c0y",
+    "c1x",
+    "c1y",
+    "c2x",
+    "c2y",
+    "c3x",
+    "c3y",
+    "w0",
+    "w1",
+    "w2",
+    "w3",
+    "sse",
+    "rms",
+    "max_distance",
+    "evaluations",
+];
 
-/// One row per segment of `fit`, matching [`segment_header`]: quadratic
+/// One row per segment of `fit`, matching [`SEGMENT_HEADER`]: quadratic
 /// segments leave `c3x, c3y, w3` empty, polynomial segments have unit
 /// weights.
 pub fn segment_rows(fit: &PiecewiseFit) -> Vec<Vec<String>> {
@@ -74,17 +80,6 @@ pub fn segment_rows(fit: &PiecewiseFit) -> Vec<Vec<String>> {
             row
         })
         .collect()
-}
-
-/// Formats rows as CSV (fields are numbers and plain names, so no quoting
-/// is needed; a field with a comma or quote is quoted anyway).
-pub fn csv_text(header: &[String], rows: &[Vec<String>]) -> String {
-    let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record(header).expect("writing to memory");
-    for r in rows {
-        w.write_record(r).expect("writing to memory");
-    }
-    String::from_utf8(w.into_inner().expect("writing to memory")).expect("CSV of UTF-8 fields")
 }
 
 /// The fitted curve of `fit` for an overlay: each segment sampled at 64
@@ -130,14 +125,11 @@ pub fn write_fit(
     let mut written = Vec::new();
 
     let fit_csv = dir.join("fit.csv");
-    write_atomic(
-        &fit_csv,
-        csv_text(&segment_header(), &segment_rows(fit)).as_bytes(),
-    )?;
+    write_atomic(&fit_csv, &csv_bytes(&SEGMENT_HEADER, segment_rows(fit)))?;
     written.push(fit_csv);
 
     let m = &fit.metrics;
-    let mut header: Vec<String> = case.iter().map(|(k, _)| k.to_string()).collect();
+    let mut header: Vec<&str> = case.iter().map(|(k, _)| *k).collect();
     let mut row: Vec<String> = case.iter().map(|(_, v)| v.clone()).collect();
     let closing = fit.closing;
     for (k, v) in [
@@ -156,17 +148,17 @@ pub fn write_fit(
             closing.map_or(String::new(), |c| c.relative_derivative_gap.to_string()),
         ),
     ] {
-        header.push(k.to_owned());
+        header.push(k);
         row.push(v);
     }
     let metrics_csv = dir.join("metrics.csv");
-    write_atomic(&metrics_csv, csv_text(&header, &[row]).as_bytes())?;
+    write_atomic(&metrics_csv, &csv_bytes(&header, [row]))?;
     written.push(metrics_csv);
 
     let timing_csv = dir.join("timing.csv");
     write_atomic(
         &timing_csv,
-        csv_text(&["wall_seconds".into()], &[vec![wall_seconds.to_string()]]).as_bytes(),
+        &csv_bytes(&["wall_seconds"], [vec![wall_seconds.to_string()]]),
     )?;
     written.push(timing_csv);
 

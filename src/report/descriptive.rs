@@ -204,6 +204,7 @@ mod tests {
                 evaluations_to_target: evals_to_target,
                 success: evals_to_target.is_some(),
                 trace: Vec::new(),
+                fit: None,
                 wall_seconds: 0.0,
             },
             false,

@@ -785,6 +785,7 @@ mod tests {
                 evaluations_to_target: None,
                 success: false,
                 trace: Vec::new(),
+                fit: None,
                 wall_seconds: 0.0,
             },
             false,

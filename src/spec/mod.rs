@@ -31,6 +31,11 @@ use toml::Spanned;
 use crate::functions::{Function, TestProblem};
 use crate::optim::params::{quoted_list, Raw, Setting};
 use crate::optim::{Algorithm, ParamDef, ParamSet};
+use crate::reconstruction::Method;
+
+mod fit;
+
+pub use fit::FitCase;
 
 /// A spec that failed to load, located in its file.
 #[derive(Clone, Debug, PartialEq)]
@@ -76,37 +81,64 @@ impl fmt::Display for SpecError {
 
 impl std::error::Error for SpecError {}
 
-/// One benchmark problem of a spec: a function at a dimension, with its budget.
-#[derive(Clone, Debug, PartialEq)]
+/// One problem of a spec, with its budget: a benchmark function at a
+/// dimension, or an outline-fitting case.
+#[derive(Clone, Debug)]
 pub struct ProblemEntry {
-    /// The benchmark function.
-    pub function: Function,
-    /// Its dimension.
+    /// What is solved.
+    pub kind: ProblemKind,
+    /// The dimension of a benchmark function; the number of segments of a
+    /// fitting case.
     pub dim: usize,
-    /// Objective evaluations per run.
+    /// Objective evaluations per run (for a fitting case, over all its
+    /// segments).
     pub budget: u64,
 }
 
+/// What a [`ProblemEntry`] solves.
+#[derive(Clone, Debug)]
+pub enum ProblemKind {
+    /// A benchmark function ([`crate::functions`]).
+    Benchmark(Function),
+    /// A piecewise curve fit of an outline ([`crate::reconstruction`]).
+    Fit(Box<FitCase>),
+}
+
 impl ProblemEntry {
-    /// The stable key `function-dim`, used in seeds and for resuming.
-    pub fn key(&self) -> String {
-        format!("{}-{}", self.function.name(), self.dim)
+    /// The problem's name in results: the function's name, or the fitting
+    /// case's `source/function/continuity[/search-space]`.
+    pub fn name(&self) -> String {
+        match &self.kind {
+            ProblemKind::Benchmark(f) => f.name().to_owned(),
+            ProblemKind::Fit(c) => c.name.clone(),
+        }
     }
 
-    /// The problem instance.
-    pub fn instance(&self) -> TestProblem {
-        TestProblem::new(self.function, self.dim).expect("dimension checked when the spec loaded")
+    /// The stable key `name-dim`, used in seeds and for resuming.
+    pub fn key(&self) -> String {
+        format!("{}-{}", self.name(), self.dim)
+    }
+
+    /// The optimum value `f*` errors are measured from (0 for fitting:
+    /// the error of a fit is its `E`).
+    pub fn optimum_value(&self) -> f64 {
+        match &self.kind {
+            ProblemKind::Benchmark(f) => f.optimum_value(),
+            ProblemKind::Fit(_) => 0.0,
+        }
     }
 }
 
-/// One algorithm cell: a configured algorithm with its label.
+/// One algorithm cell: a configured method with its label.
 #[derive(Clone, Debug)]
 pub struct Cell {
     /// The label shown in results (`algorithm` column).
     pub label: String,
-    /// The configured optimiser.
-    pub algorithm: Algorithm,
-    /// Its complete parameter set, defaults filled in.
+    /// The configured method: a metaheuristic, or for fitting problems
+    /// also `lm` or a metaheuristic polished by LM.
+    pub method: Method,
+    /// Its complete parameter set, defaults filled in (those of the
+    /// metaheuristic; empty for `lm`).
     pub params: ParamSet,
 }
 
@@ -116,7 +148,7 @@ impl Cell {
         format!(
             "{}:{}[{}]",
             self.label,
-            self.algorithm.name(),
+            self.method.name(),
             self.params.canonical()
         )
     }
@@ -220,6 +252,7 @@ const EXPERIMENT_KEYS: [&str; 8] = [
     "threshold",
     "checkpoints_per_decade",
 ];
+const SECTIONS: [&str; 4] = ["experiment", "problem", "fit", "algorithm"];
 const PROBLEM_KEYS: [&str; 4] = ["function", "dim", "budget", "budget_per_dim"];
 
 fn type_name(v: &DeValue<'_>) -> &'static str {
@@ -308,14 +341,11 @@ impl<'a> Parser<'a> {
         let whole = 0..0;
         for (k, _) in root.iter() {
             let key: &str = k.get_ref();
-            if !["experiment", "problem", "algorithm"].contains(&key) {
+            if !SECTIONS.contains(&key) {
                 return Err(self.error(
                     k.span(),
                     key,
-                    format!(
-                        "unknown section; {}",
-                        choices_hint(key, &["experiment", "problem", "algorithm"])
-                    ),
+                    format!("unknown section; {}", choices_hint(key, &SECTIONS)),
                 ));
             }
         }
@@ -370,8 +400,26 @@ impl<'a> Parser<'a> {
             self.string(v, "experiment.description")?;
         }
 
-        let problems = self.problems(root, budget, doc.span())?;
-        let cells = self.cells(root, doc.span())?;
+        let mut problems = Vec::new();
+        if self.get(root, "problem").is_some() || self.get(root, "fit").is_none() {
+            problems = self.problems(root, budget, doc.span())?;
+        }
+        if self.get(root, "fit").is_some() {
+            for p in self.fits(root, budget, doc.span())? {
+                if problems.iter().any(|q: &ProblemEntry| q.key() == p.key()) {
+                    return Err(self.error(
+                        doc.span(),
+                        "fit",
+                        format!("problem {} is listed twice", p.key()),
+                    ));
+                }
+                problems.push(p);
+            }
+        }
+        let benchmarks = problems
+            .iter()
+            .any(|p| matches!(p.kind, ProblemKind::Benchmark(_)));
+        let cells = self.cells(root, doc.span(), benchmarks)?;
         Ok(Spec {
             path: self.path.to_owned(),
             text: self.text.to_owned(),
@@ -625,7 +673,7 @@ impl<'a> Parser<'a> {
                         ));
                     }
                     let p = ProblemEntry {
-                        function: *f,
+                        kind: ProblemKind::Benchmark(*f),
                         dim,
                         budget: budget.for_dim(dim),
                     };
@@ -643,7 +691,12 @@ impl<'a> Parser<'a> {
         Ok(out)
     }
 
-    fn cells(&self, root: &Table<'_>, span: Range<usize>) -> Result<Vec<Cell>, SpecError> {
+    fn cells(
+        &self,
+        root: &Table<'_>,
+        span: Range<usize>,
+        benchmarks: bool,
+    ) -> Result<Vec<Cell>, SpecError> {
         let mut out: Vec<Cell> = Vec::new();
         for (i, entry) in self
             .array_of_tables(root, "algorithm", span)?
@@ -654,16 +707,37 @@ impl<'a> Parser<'a> {
             let table = self.table(entry, &section)?;
             let nv = self.required(table, &section, "name", entry.span())?;
             let name = self.string(nv, &format!("{section}.name"))?;
-            let defs: &'static [ParamDef] = Algorithm::params(&name).ok_or_else(|| {
+            let (base_name, polish) = Method::parse_name(&name).ok_or_else(|| {
+                // Only the methods that can solve this spec's problems.
+                let names = if benchmarks {
+                    Algorithm::NAMES.iter().map(|s| s.to_string()).collect()
+                } else {
+                    Method::names()
+                };
+                let names: Vec<&str> = names.iter().map(String::as_str).collect();
                 self.error(
                     nv.span(),
                     &format!("{section}.name"),
                     format!(
                         "unknown algorithm \"{name}\"; {}",
-                        choices_hint(&name, &Algorithm::NAMES)
+                        choices_hint(&name, &names)
                     ),
                 )
             })?;
+            if benchmarks && (base_name.is_none() || polish) {
+                return Err(self.error(
+                    nv.span(),
+                    &format!("{section}.name"),
+                    format!(
+                        "\"{name}\" uses Levenberg–Marquardt, which solves least-squares fitting problems only, but this spec has [[problem]] benchmark functions; use it with [[fit]] problems, or choose one of {}",
+                        quoted_list(&Algorithm::NAMES)
+                    ),
+                ));
+            }
+            let defs: &'static [ParamDef] = match base_name {
+                Some(b) => Algorithm::params(b).expect("a known algorithm"),
+                None => &[],
+            };
             let label = match self.get(table, "label") {
                 Some(v) => {
                     let l = self.string(v, &format!("{section}.label"))?;
@@ -694,7 +768,8 @@ impl<'a> Parser<'a> {
                         k.span(),
                         &format!("{section}.{key}"),
                         format!(
-                            "unknown parameter for {name}; {}",
+                            "unknown parameter for {name}{}; {}",
+                            if defs.is_empty() { " (it has none)" } else { "" },
                             choices_hint(key, &valid)
                         ),
                     ));
@@ -739,16 +814,26 @@ impl<'a> Parser<'a> {
                         spans.push((def.name, sp.clone()));
                     }
                 }
-                let algorithm = Algorithm::from_params(&name, &params).map_err(|e| {
-                    let sp = spans
-                        .iter()
-                        .find(|(n, _)| *n == e.param)
-                        .map_or(entry.span(), |(_, s)| s.clone());
-                    self.error(sp, &format!("{section}.{}", e.param), e.message.clone())
-                })?;
+                let method = match base_name {
+                    None => Method::Exact,
+                    Some(b) => {
+                        let algorithm = Algorithm::from_params(b, &params).map_err(|e| {
+                            let sp = spans
+                                .iter()
+                                .find(|(n, _)| *n == e.param)
+                                .map_or(entry.span(), |(_, s)| s.clone());
+                            self.error(sp, &format!("{section}.{}", e.param), e.message.clone())
+                        })?;
+                        if polish {
+                            Method::Hybrid(algorithm)
+                        } else {
+                            Method::Metaheuristic(algorithm)
+                        }
+                    }
+                };
                 let cell = Cell {
                     label: label.clone(),
-                    algorithm,
+                    method,
                     params,
                 };
                 if out.iter().any(|c| c.key() == cell.key()) {
