@@ -345,12 +345,12 @@ fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
             }
             Segmentation::Tolerance(t)
         }
-        (_, _, true) => Segmentation::Breaks(source.true_breaks.clone().ok_or_else(|| {
+        (_, _, true) => source.true_segmentation().ok_or_else(|| {
             fail(format!(
                 "--true-breaks: {} is not a glyph, so it has no true break points; use --segments or --tolerance",
                 a.input
             ))
-        })?),
+        })?,
         (None, None, false) => Segmentation::Count(8),
     };
     let mut options = FitOptions::new(function, continuity);

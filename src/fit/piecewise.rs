@@ -335,11 +335,35 @@ pub fn fit_piecewise<S: SegmentSolver + ?Sized>(
     options: &FitOptions,
     solver: &mut S,
 ) -> Result<PiecewiseFit, FitError> {
+    fit_breaks(points, closed, breaks, &[], options, solver)
+}
+
+/// [`fit_piecewise`] with known corners: a segment starting at one of the
+/// `corners` (a subset of `breaks`) joins its predecessor with C⁰ only,
+/// every other interior joint with `options.continuity`. Used for glyphs,
+/// whose exact segments meet at smooth joints and at corners.
+pub fn fit_breaks<S: SegmentSolver + ?Sized>(
+    points: &[Point],
+    closed: bool,
+    breaks: &[usize],
+    corners: &[usize],
+    options: &FitOptions,
+    solver: &mut S,
+) -> Result<PiecewiseFit, FitError> {
     options.validate()?;
     let outline = Outline::new(points, closed, options.function.min_points())?;
     let spans = outline.spans(breaks)?;
-    let mut joins = vec![options.continuity; spans.len()];
-    joins[0] = Continuity::C0;
+    let joins: Vec<Continuity> = spans
+        .iter()
+        .enumerate()
+        .map(|(k, &(a, _))| {
+            if k == 0 || corners.contains(&(a % points.len())) {
+                Continuity::C0
+            } else {
+                options.continuity
+            }
+        })
+        .collect();
     fit_chain(&outline, &spans, &joins, options, solver)
 }
 

@@ -53,6 +53,35 @@ impl Segment {
         }
     }
 
+    /// The direction of travel at the start, `P′(0)` (the first non-zero
+    /// leg of the control polygon if `P′(0)` vanishes).
+    pub fn start_direction(&self) -> Point {
+        let cps = self.control_points();
+        cps.windows(2)
+            .map(|w| w[1] - w[0])
+            .find(|d| d.hypot() > 0.0)
+            .unwrap_or(Point::ZERO)
+    }
+
+    /// The direction of travel at the end, `P′(1)` (the last non-zero leg
+    /// of the control polygon if `P′(1)` vanishes).
+    pub fn end_direction(&self) -> Point {
+        let cps = self.control_points();
+        cps.windows(2)
+            .rev()
+            .map(|w| w[1] - w[0])
+            .find(|d| d.hypot() > 0.0)
+            .unwrap_or(Point::ZERO)
+    }
+
+    fn control_points(&self) -> Vec<Point> {
+        match *self {
+            Segment::Line(a, b) => vec![a, b],
+            Segment::Quad(q) => vec![q.p0, q.p1, q.p2],
+            Segment::Cubic(c) => vec![c.p0, c.p1, c.p2, c.p3],
+        }
+    }
+
     /// The polynomial degree: 1, 2 or 3.
     pub fn degree(&self) -> usize {
         match self {
@@ -112,7 +141,16 @@ pub struct SampledContour {
     pub breaks: Vec<usize>,
     /// For every point, `(segment index, t)` with `point = segment.eval(t)`.
     pub params: Vec<(usize, f64)>,
+    /// The break points (indices into `outline.points`) where the direction
+    /// of travel turns by more than [`CORNER_DEGREES`]: the font's corners.
+    /// At the others the glyph is G¹.
+    pub corners: Vec<usize>,
 }
+
+/// The turning angle above which a joint of a glyph contour is a corner:
+/// fonts store smooth joints with collinear control points, up to the
+/// rounding of coordinates to integer font units.
+pub const CORNER_DEGREES: f64 = 3.0;
 
 /// The exact outline of one glyph of a font.
 #[derive(Clone, Debug, PartialEq)]
@@ -175,10 +213,20 @@ impl Glyph {
                         params.push((j, t));
                     }
                 }
+                let corners = (0..contour.len())
+                    .filter(|&j| {
+                        let before = contour[(j + contour.len() - 1) % contour.len()].end_direction();
+                        let after = contour[j].start_direction();
+                        before.cross(after).atan2(before.dot(after)).abs().to_degrees()
+                            > CORNER_DEGREES
+                    })
+                    .map(|j| breaks[j])
+                    .collect();
                 SampledContour {
                     outline: Outline::new(points, true),
                     breaks,
                     params,
+                    corners,
                 }
             })
             .collect()

@@ -42,7 +42,9 @@ pub use corners::{
 };
 pub use csv_points::{csv_from_bytes, load_csv, CsvOptions};
 pub use error::OutlineError;
-pub use glyph::{glyph_from_bytes, load_glyph, Glyph, SampledContour, Sampling, Segment};
+pub use glyph::{
+    glyph_from_bytes, load_glyph, Glyph, SampledContour, Sampling, Segment, CORNER_DEGREES,
+};
 pub use input::{load, parse_glyph, parse_input, Input, Options};
 pub use otsu::{histogram, otsu_threshold};
 pub use polygon::{Orientation, Outline};

@@ -14,7 +14,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 use crate::fit::{
-    fit_adaptive, fit_piecewise, fit_segment_count, FitError, FitOptions, HybridSolver, LmSolver,
+    fit_adaptive, fit_breaks, fit_segment_count, FitError, FitOptions, HybridSolver, LmSolver,
     OptimiserSolver, PiecewiseFit, SegmentSolver, SplitOptions,
 };
 use crate::optim::Algorithm;
@@ -94,8 +94,14 @@ pub enum Segmentation {
     /// Schneider's recursive split until every segment's largest orthogonal
     /// distance is at most this (data units).
     Tolerance(f64),
-    /// These break indices, used as given (corners are not searched).
-    Breaks(Vec<usize>),
+    /// These break indices, used as given (corners are not searched); the
+    /// joints at `corners` (a subset) are C⁰ only.
+    Breaks {
+        /// Break indices into the outline.
+        breaks: Vec<usize>,
+        /// The breaks that are corners.
+        corners: Vec<usize>,
+    },
 }
 
 /// Where the data points come from and which contour is fitted.
@@ -110,6 +116,8 @@ pub struct Source {
     pub outline: Outline,
     /// For a glyph, the sampled indices where its exact segments start.
     pub true_breaks: Option<Vec<usize>>,
+    /// For a glyph, those of `true_breaks` that are corners.
+    pub true_corners: Option<Vec<usize>>,
     /// For a glyph, its height (font units), the scale of its errors.
     pub glyph_height: Option<f64>,
 }
@@ -127,6 +135,15 @@ impl fmt::Display for SourceError {
 impl std::error::Error for SourceError {}
 
 impl Source {
+    /// The glyph's own segmentation: its true break points, C⁰ at its
+    /// corners; `None` for an image or CSV source.
+    pub fn true_segmentation(&self) -> Option<Segmentation> {
+        Some(Segmentation::Breaks {
+            breaks: self.true_breaks.clone()?,
+            corners: self.true_corners.clone().unwrap_or_default(),
+        })
+    }
+
     /// Loads `input` (resolving relative paths against `base`) and picks
     /// its `contour`-th outline: for an image its shapes by decreasing
     /// area, for a glyph its contours by decreasing area, for a CSV file
@@ -158,16 +175,16 @@ impl Source {
                 }))
             }
         };
-        let (outline, true_breaks, glyph_height) = match &parsed {
+        let (outline, true_breaks, true_corners, glyph_height) = match &parsed {
             Input::Image(path) => {
                 let mut shapes = load_image(path, image).map_err(SourceError)?;
                 let k = pick(shapes.len())?;
-                (shapes.swap_remove(k), None, None)
+                (shapes.swap_remove(k), None, None, None)
             }
             Input::Csv(path) => {
                 let o = crate::outline::load_csv(path, &Default::default()).map_err(SourceError)?;
                 pick(1)?;
-                (o, None, None)
+                (o, None, None, None)
             }
             Input::Glyph { font, glyph } => {
                 let g = load_glyph(font, *glyph).map_err(SourceError)?;
@@ -175,7 +192,7 @@ impl Source {
                 contours.sort_by(|a, b| b.outline.area().total_cmp(&a.outline.area()));
                 let k = pick(contours.len())?;
                 let c = contours.swap_remove(k);
-                (c.outline, Some(c.breaks), Some(g.height()))
+                (c.outline, Some(c.breaks), Some(c.corners), Some(g.height()))
             }
         };
         Ok(Source {
@@ -183,6 +200,7 @@ impl Source {
             parsed,
             outline,
             true_breaks,
+            true_corners,
             glyph_height,
         })
     }
@@ -236,7 +254,7 @@ impl Reconstruction<'_> {
     /// The corner indices this reconstruction splits at first.
     pub fn corner_indices(&self) -> Vec<usize> {
         match (&self.segmentation, self.corners) {
-            (Segmentation::Breaks(_), _) | (_, None) => Vec::new(),
+            (Segmentation::Breaks { .. }, _) | (_, None) => Vec::new(),
             (_, Some(c)) => find_corners(self.outline, &c),
         }
     }
@@ -259,7 +277,9 @@ impl Reconstruction<'_> {
         let points = &self.outline.points;
         let closed = self.outline.closed;
         match &self.segmentation {
-            Segmentation::Breaks(b) => fit_piecewise(points, closed, b, &self.options, solver),
+            Segmentation::Breaks { breaks, corners } => {
+                fit_breaks(points, closed, breaks, corners, &self.options, solver)
+            }
             Segmentation::Count(n) => fit_segment_count(
                 points,
                 closed,

@@ -328,8 +328,8 @@ impl Parser<'_> {
                 .map_err(|e| self.error(item.span(), &input_field, e.to_string()))?;
                 let segmentation = match segs {
                     Segs::Count(n) => Segmentation::Count(n),
-                    Segs::TrueBreaks => match &source.true_breaks {
-                        Some(b) => Segmentation::Breaks(b.clone()),
+                    Segs::TrueBreaks => match source.true_segmentation() {
+                        Some(s) => s,
                         None => {
                             return Err(self.error(
                                 sv.span(),
