@@ -505,6 +505,13 @@ impl SplitOptions {
 /// the data point of largest distance and the left part is refitted, then
 /// the right part, in sequence so every joint keeps its continuity.
 /// Corners are C⁰ joints. Fails if the tolerance is not finite and positive.
+///
+/// The limits can stop the splitting above the tolerance; the result then
+/// says so through `metrics.max_distance`. This happens in particular with
+/// C¹ joins of polynomial functions: each segment runs on its own `[0, 1]`,
+/// so the derivative a short segment inherits from a long one fixes a first
+/// leg proportional to the long one, which only a rational function can
+/// compensate (through `w′₁`). G¹ joins do not have this problem.
 pub fn fit_adaptive<S: SegmentSolver + ?Sized>(
     points: &[Point],
     closed: bool,
@@ -551,4 +558,82 @@ pub fn fit_adaptive<S: SegmentSolver + ?Sized>(
         }
     }
     Ok(finish(&outline, segments, discarded))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn line(n: usize) -> Vec<Point> {
+        (0..n).map(|k| Point::new(k as f64, 0.0)).collect()
+    }
+
+    #[test]
+    fn spans_add_ends_and_wrap() {
+        let pts = line(10);
+        let open = Outline {
+            points: &pts,
+            closed: false,
+        };
+        assert_eq!(open.spans(&[]).unwrap(), vec![(0, 9)]);
+        assert_eq!(open.spans(&[4]).unwrap(), vec![(0, 4), (4, 9)]);
+        assert_eq!(open.spans(&[0, 4, 9]).unwrap(), vec![(0, 4), (4, 9)]);
+        let closed = Outline {
+            points: &pts,
+            closed: true,
+        };
+        assert_eq!(closed.spans(&[]).unwrap(), vec![(0, 10)]);
+        assert_eq!(closed.spans(&[2, 6]).unwrap(), vec![(2, 6), (6, 12)]);
+        assert_eq!(closed.gather(6, 12)[4..], [pts[0], pts[1], pts[2]]);
+        assert!(matches!(
+            closed.spans(&[3, 3]),
+            Err(FitError::BreaksNotSorted { .. })
+        ));
+        assert!(matches!(
+            closed.spans(&[10]),
+            Err(FitError::BreakOutOfRange { index: 10, len: 10 })
+        ));
+    }
+
+    #[test]
+    fn equal_arc_length_breaks() {
+        // 31 equally spaced points, 3 segments: breaks at 10 and 20.
+        let pts = line(31);
+        let (b, corner) = equal_arc_breaks(&pts, false, &[], 3).unwrap();
+        assert_eq!(b, vec![0, 10, 20]);
+        assert_eq!(corner, vec![false, false, false]);
+        // A corner at 6 takes a break; the longer span gets the extra segments.
+        let (b, corner) = equal_arc_breaks(&pts, false, &[6], 4).unwrap();
+        assert_eq!(b, vec![0, 6, 14, 22]);
+        assert_eq!(corner, vec![false, true, false, false]);
+        // Closed, no corners: a regular 30-gon.
+        let pts: Vec<Point> = (0..30)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / 30.0;
+                Point::new(a.cos(), a.sin())
+            })
+            .collect();
+        let (b, _) = equal_arc_breaks(&pts, true, &[], 3).unwrap();
+        assert_eq!(b, vec![0, 10, 20]);
+        assert_eq!(
+            equal_arc_breaks(&pts, true, &[0, 10, 20], 2),
+            Err(FitError::TooFewSegments {
+                requested: 2,
+                minimum: 3
+            })
+        );
+    }
+
+    #[test]
+    fn closing_joint_measures_angle_and_gap() {
+        use crate::geometry::QuadBez;
+        let last = QuadBez::new(Point::new(-1.0, -1.0), Point::new(0.0, -1.0), Point::ZERO);
+        // The last segment arrives along +y; the first leaves along +x.
+        let first = QuadBez::new(Point::ZERO, Point::new(1.0, 0.0), Point::new(2.0, 1.0));
+        let c = ClosingJoint::between(&last, &first);
+        assert_eq!(c.position_gap, 0.0);
+        assert!((c.angle_degrees - 90.0).abs() < 1e-12);
+        assert!((c.derivative_gap - 8f64.sqrt()).abs() < 1e-12);
+        assert!((c.relative_derivative_gap - 8f64.sqrt() / 2.0).abs() < 1e-12);
+    }
 }

@@ -558,16 +558,32 @@ fn rcubic(k: &Controls, s: f64) -> Point {
     )
 }
 
-/// `Σᵢ |Rᵢ − f(sᵢ)|²`.
+/// `Σᵢ |Rᵢ − f(sᵢ)|²`, accumulated in four interleaved partial sums
+/// (points `4k + j` into sum `j`, added as `(a₀ + a₁) + (a₂ + a₃)` at the
+/// end) so that consecutive points do not wait on one addition chain; the
+/// order is fixed, so the value is deterministic.
 #[inline(always)]
 fn sum_sq<F: Fn(f64) -> Point>(points: &[Point], params: &[f64], f: F) -> f64 {
-    let mut e = 0.0;
-    for (&r, &s) in points.iter().zip(params) {
+    let n = points.len().min(params.len());
+    let (points, params) = (&points[..n], &params[..n]);
+    let sq = |r: Point, s: f64| {
         let p = f(s);
         let (dx, dy) = (r.x - p.x, r.y - p.y);
-        e += dx * dx + dy * dy;
+        dx * dx + dy * dy
+    };
+    let mut acc = [0.0; 4];
+    let mut pc = points.chunks_exact(4);
+    let mut sc = params.chunks_exact(4);
+    for (r, s) in (&mut pc).zip(&mut sc) {
+        acc[0] += sq(r[0], s[0]);
+        acc[1] += sq(r[1], s[1]);
+        acc[2] += sq(r[2], s[2]);
+        acc[3] += sq(r[3], s[3]);
     }
-    e
+    for (j, (&r, &s)) in pc.remainder().iter().zip(sc.remainder()).enumerate() {
+        acc[j] += sq(r, s);
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3])
 }
 
 impl Problem for SegmentProblem {

@@ -1,0 +1,118 @@
+//! One evaluation of the segment objective `E = Σ|Rᵢ − P(sᵢ)|²` on a
+//! 500-point segment, for each function type, against evaluating the bare
+//! curve (the geometry type's own `eval_many`) at the same 500 parameters.
+//!
+//! The goal is `E ≈ bare`: the objective builds the control points from the
+//! decision vector on the stack and evaluates the fixed-degree Bernstein
+//! form, with no allocation in the hot path. The table at the end prints
+//! nanoseconds per point and the ratio. Run with
+//! `cargo bench --bench fitting`.
+
+use std::hint::black_box;
+use std::path::Path;
+use std::time::Duration;
+
+use criterion::{Criterion, Throughput};
+use metabezier::fit::{FunctionType, SearchSpaceOptions, Segment, SegmentProblem, Start};
+use metabezier::geometry::{Parameterisation, Point};
+use metabezier::problem::Problem;
+
+const POINTS: usize = 500;
+
+/// A wavy data segment with a little deterministic noise.
+fn data() -> Vec<Point> {
+    (0..POINTS)
+        .map(|k| {
+            let u = k as f64 / (POINTS - 1) as f64;
+            let noise = if k == 0 || k == POINTS - 1 {
+                0.0
+            } else {
+                1e-3 * ((k * 7919 % 101) as f64 / 101.0 - 0.5)
+            };
+            Point::new(10.0 * u, 3.0 * (3.0 * u).sin() + noise)
+        })
+        .collect()
+}
+
+/// The bare curve: the geometry type's own `eval_many` at the parameters,
+/// into a buffer (monomorphised per type, no reduction).
+fn bare_eval(segment: &Segment, params: &[f64], out: &mut [Point]) {
+    match segment {
+        Segment::Quadratic(c) => c.eval_many(params, out),
+        Segment::Cubic(c) => c.eval_many(params, out),
+        Segment::RationalQuadratic(c) => c.eval_many(params, out),
+        Segment::RationalCubic(c) => c.eval_many(params, out),
+    }
+}
+
+fn bench(c: &mut Criterion) {
+    let pts = data();
+    for f in FunctionType::ALL {
+        let problem = SegmentProblem::with_parameterisation(
+            f,
+            pts.clone(),
+            Parameterisation::ChordLength,
+            Start::Free,
+            &SearchSpaceOptions::default(),
+        )
+        .expect("valid segment");
+        let x: Vec<f64> = problem.guess().to_vec();
+        let segment = problem.segment(&x);
+        let params = problem.params().to_vec();
+        let mut group = c.benchmark_group(format!("fit-{}", f.name()));
+        group.throughput(Throughput::Elements(POINTS as u64));
+        group.bench_function("objective", |b| b.iter(|| problem.objective(black_box(&x))));
+        let mut r = vec![0.0; 2 * POINTS];
+        group.bench_function("residuals", |b| {
+            b.iter(|| {
+                problem.residuals(black_box(&x), &mut r);
+                r[POINTS]
+            })
+        });
+        let mut out = vec![Point::ZERO; POINTS];
+        group.bench_function("bare-curve", |b| {
+            b.iter(|| {
+                bare_eval(&segment, black_box(&params), &mut out);
+                out[POINTS / 2]
+            })
+        });
+        group.finish();
+    }
+}
+
+/// Reads criterion's mean time per iteration (ns) of one benchmark.
+fn mean_ns(group: &str, id: &str) -> Option<f64> {
+    let path = Path::new("target/criterion")
+        .join(group)
+        .join(id)
+        .join("new/estimates.json");
+    let text = std::fs::read_to_string(path).ok()?;
+    let at = text.find("\"mean\"")?;
+    let rest = &text[at..];
+    let p = rest.find("\"point_estimate\":")? + "\"point_estimate\":".len();
+    let end = rest[p..].find([',', '}'])?;
+    rest[p..p + end].trim().parse().ok()
+}
+
+fn main() {
+    let mut c = Criterion::default()
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(3))
+        .configure_from_args();
+    bench(&mut c);
+    c.final_summary();
+    println!("\nOne evaluation of E on a {POINTS}-point segment against the bare curve:");
+    println!(
+        "{:<20} {:>12} {:>12} {:>12} {:>8}",
+        "function", "E ns/pt", "resid ns/pt", "bare ns/pt", "E/bare"
+    );
+    for f in FunctionType::NAMES {
+        let g = format!("fit-{f}");
+        let per = |id: &str| mean_ns(&g, id).map(|t| t / POINTS as f64);
+        if let (Some(e), Some(r), Some(bare)) =
+            (per("objective"), per("residuals"), per("bare-curve"))
+        {
+            println!("{f:<20} {e:>12.2} {r:>12.2} {bare:>12.2} {:>8.2}", e / bare);
+        }
+    }
+}
