@@ -10,7 +10,7 @@ use clap::{Parser, Subcommand};
 use crate::error::Error;
 use crate::fit::{FitOptions, FunctionType, SearchSpace};
 use crate::functions::Function;
-use crate::geometry::Continuity;
+use crate::geometry::{Continuity, Parameterisation};
 use crate::optim::Algorithm;
 use crate::outline::{CornerOptions, ImageOptions, Sampling};
 use crate::reconstruction::{files, Method, Reconstruction, Segmentation, Source};
@@ -131,6 +131,13 @@ struct FitArgs {
     /// Search space: the thesis's technique or the data's bounding box.
     #[arg(long, default_value = "technique", value_parser = clap::builder::PossibleValuesParser::new(SearchSpace::NAMES))]
     search_space: String,
+    /// How data points get their curve parameters s_i.
+    #[arg(long, default_value = "chord", value_parser = clap::builder::PossibleValuesParser::new(Parameterisation::NAMES))]
+    parameterisation: String,
+    /// Rounds of Newton parameter correction after each segment's solve
+    /// (Schneider 1990); each round solves again with a fresh budget.
+    #[arg(long, default_value_t = 0)]
+    reparameterise: u32,
     /// Seed of the random generator (Xoshiro256++).
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -355,6 +362,9 @@ fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
     };
     let mut options = FitOptions::new(function, continuity);
     options.budget_per_segment = a.budget;
+    options.parameterisation =
+        Parameterisation::from_name(&a.parameterisation).expect("clap checked the name");
+    options.reparameterise = a.reparameterise;
     options.search.kind = SearchSpace::from_name(&a.search_space).expect("clap checked the name");
     let r = Reconstruction {
         outline: &source.outline,
@@ -379,6 +389,11 @@ fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
         ("seed", a.seed.to_string()),
         ("budget_per_segment", a.budget.to_string()),
         ("search_space", r.options.search.kind.name().to_owned()),
+        (
+            "parameterisation",
+            r.options.parameterisation.name().to_owned(),
+        ),
+        ("reparameterise", a.reparameterise.to_string()),
     ];
     let title = format!(
         "{}: {} {}, {}",

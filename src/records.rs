@@ -135,7 +135,11 @@ impl FitDetail {
         for part in parts {
             let row: Vec<String> = part.split(';').map(str::to_owned).collect();
             if row.len() != SEGMENT_HEADER.len() {
-                return Err(Error::data(path, line, "malformed segment in the fit detail"));
+                return Err(Error::data(
+                    path,
+                    line,
+                    "malformed segment in the fit detail",
+                ));
             }
             detail.segments.push(row);
         }
@@ -357,7 +361,11 @@ pub fn journal_line(r: &RunRecord) -> Vec<u8> {
         .map(|p| format!("{}:{}", p.evaluations, fmt_real(p.best)))
         .collect();
     fields.push(trace.join("|"));
-    fields.push(r.fit.as_ref().map_or(String::new(), FitDetail::journal_field));
+    fields.push(
+        r.fit
+            .as_ref()
+            .map_or(String::new(), FitDetail::journal_field),
+    );
     fields.push(fmt_real(r.wall_seconds));
     fields.push("ok".into());
     let mut w = csv::WriterBuilder::new()
@@ -602,8 +610,12 @@ pub fn read_results(dir: &Path) -> Result<Vec<RunRecord>, Error> {
                 .fit
                 .as_mut()
                 .ok_or_else(|| Error::data(&seg_path, line, "this run has no row in fits.csv"))?;
-            fit.segments
-                .push(row.iter().skip(RUN_KEY_HEADER.len()).map(str::to_owned).collect());
+            fit.segments.push(
+                row.iter()
+                    .skip(RUN_KEY_HEADER.len())
+                    .map(str::to_owned)
+                    .collect(),
+            );
         }
     }
     Ok(records)

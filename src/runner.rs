@@ -17,8 +17,8 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use crate::error::{write_atomic, Error};
-use crate::optim::evaluator::log_checkpoints;
 use crate::functions::TestProblem;
+use crate::optim::evaluator::log_checkpoints;
 use crate::optim::{Evaluator, Optimiser, Outcome};
 use crate::reconstruction::Method;
 use crate::records::{self, FitDetail, RunKey, RunRecord};
@@ -101,7 +101,8 @@ pub fn execute(spec: &Spec, id: RunId) -> RunRecord {
     let start = Instant::now();
     let (outcome, fit) = match (&entry.kind, &cell.method) {
         (ProblemKind::Benchmark(f), Method::Metaheuristic(algorithm)) => {
-            let problem = TestProblem::new(*f, entry.dim).expect("dimension checked when the spec loaded");
+            let problem =
+                TestProblem::new(*f, entry.dim).expect("dimension checked when the spec loaded");
             let mut eval = Evaluator::new(&problem, entry.budget)
                 .with_target(f.optimum_value() + spec.threshold)
                 .with_checkpoints(log_checkpoints(entry.budget, spec.checkpoints_per_decade));

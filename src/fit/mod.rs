@@ -65,8 +65,8 @@ pub use linear::linear_fit;
 pub use metrics::{segment_metrics, FitMetrics, SegmentMetrics};
 pub use options::{FitOptions, GuessRule, SearchSpace, SearchSpaceOptions};
 pub use piecewise::{
-    equal_arc_breaks, fit_adaptive, fit_breaks, fit_piecewise, fit_segment_count, ClosingJoint, FittedSegment,
-    PiecewiseFit, SplitOptions,
+    equal_arc_breaks, fit_adaptive, fit_breaks, fit_piecewise, fit_segment_count, ClosingJoint,
+    FittedSegment, PiecewiseFit, SplitOptions,
 };
 pub use problem::{SegmentProblem, Start};
 pub use segment::Segment;

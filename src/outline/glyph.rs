@@ -215,9 +215,14 @@ impl Glyph {
                 }
                 let corners = (0..contour.len())
                     .filter(|&j| {
-                        let before = contour[(j + contour.len() - 1) % contour.len()].end_direction();
+                        let before =
+                            contour[(j + contour.len() - 1) % contour.len()].end_direction();
                         let after = contour[j].start_direction();
-                        before.cross(after).atan2(before.dot(after)).abs().to_degrees()
+                        before
+                            .cross(after)
+                            .atan2(before.dot(after))
+                            .abs()
+                            .to_degrees()
                             > CORNER_DEGREES
                     })
                     .map(|j| breaks[j])

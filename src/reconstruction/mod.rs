@@ -19,8 +19,8 @@ use crate::fit::{
 };
 use crate::optim::Algorithm;
 use crate::outline::{
-    find_corners, load_glyph, load_image, parse_input, CornerOptions, ImageOptions, Input,
-    Outline, OutlineError, Sampling,
+    find_corners, load_glyph, load_image, parse_input, CornerOptions, ImageOptions, Input, Outline,
+    OutlineError, Sampling,
 };
 use crate::rng::run_rng;
 
@@ -265,15 +265,17 @@ impl Reconstruction<'_> {
     pub fn fit(&self, method: &Method, seed: u64) -> Result<PiecewiseFit, FitError> {
         match method {
             Method::Exact => self.fit_with(&mut LmSolver::default()),
-            Method::Metaheuristic(a) => {
-                self.fit_with(&mut OptimiserSolver::new(a.clone(), run_rng(seed)).with_label(a.name()))
-            }
+            Method::Metaheuristic(a) => self
+                .fit_with(&mut OptimiserSolver::new(a.clone(), run_rng(seed)).with_label(a.name())),
             Method::Hybrid(a) => self.fit_with(&mut HybridSolver::new(a.clone(), run_rng(seed))),
         }
     }
 
     /// Fits the outline with any segment solver.
-    pub fn fit_with<S: SegmentSolver + ?Sized>(&self, solver: &mut S) -> Result<PiecewiseFit, FitError> {
+    pub fn fit_with<S: SegmentSolver + ?Sized>(
+        &self,
+        solver: &mut S,
+    ) -> Result<PiecewiseFit, FitError> {
         let points = &self.outline.points;
         let closed = self.outline.closed;
         match &self.segmentation {
@@ -303,8 +305,8 @@ impl Reconstruction<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{Continuity, Point};
     use crate::fit::FunctionType;
+    use crate::geometry::{Continuity, Point};
 
     #[test]
     fn method_names_round_trip() {

@@ -58,7 +58,12 @@ impl OverlayFigure {
     fn legend(&self) -> Vec<(String, RGBColor)> {
         let mut out: Vec<(String, RGBColor)> = vec![("data".into(), RGBColor(120, 120, 120))];
         // Curve colours follow their position in the panel.
-        let n = self.panels.iter().map(|p| p.curves.len()).max().unwrap_or(0);
+        let n = self
+            .panels
+            .iter()
+            .map(|p| p.curves.len())
+            .max()
+            .unwrap_or(0);
         for i in 0..n {
             let label = self
                 .panels
@@ -100,12 +105,16 @@ fn square_box(points: impl Iterator<Item = Point>) -> ((f64, f64), (f64, f64)) {
     ((cx - half, cx + half), (cy - half, cy + half))
 }
 
-fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &OverlayPanel) -> DrawResult {
-    let all = panel
-        .data
-        .iter()
-        .copied()
-        .chain(panel.curves.iter().flat_map(|c| c.segments.iter().flatten().copied()));
+fn draw_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    panel: &OverlayPanel,
+) -> DrawResult {
+    let all = panel.data.iter().copied().chain(
+        panel
+            .curves
+            .iter()
+            .flat_map(|c| c.segments.iter().flatten().copied()),
+    );
     let ((x0, x1), (y0, y1)) = square_box(all);
     let y_range = if panel.y_down { y1..y0 } else { y0..y1 };
     let mut chart = ChartBuilder::on(area)
@@ -148,9 +157,13 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Overlay
             )))?;
         }
         // Segment ends: the break points of the piecewise fit.
-        chart.draw_series(curve.segments.iter().filter_map(|s| s.first()).map(|p| {
-            Circle::new((p.x, p.y), 4, c.stroke_width(2))
-        }))?;
+        chart.draw_series(
+            curve
+                .segments
+                .iter()
+                .filter_map(|s| s.first())
+                .map(|p| Circle::new((p.x, p.y), 4, c.stroke_width(2))),
+        )?;
     }
     Ok(())
 }
@@ -159,7 +172,10 @@ impl Draw for OverlayFigure {
     fn size(&self) -> (u32, u32) {
         let (rows, cols) = self.shape();
         let w = PANEL * cols as u32;
-        (w, TITLE_H + legend_height(&self.legend(), w) + PANEL * rows as u32)
+        (
+            w,
+            TITLE_H + legend_height(&self.legend(), w) + PANEL * rows as u32,
+        )
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult {
@@ -213,7 +229,10 @@ mod tests {
         let files = fig.save(dir.path(), "fit").unwrap();
         assert_eq!(files.len(), 2);
         let svg = std::fs::read_to_string(&files[0]).unwrap();
-        assert!(svg.contains("circle") && svg.contains("<polyline"), "{svg:.300}");
+        assert!(
+            svg.contains("circle") && svg.contains("<polyline"),
+            "{svg:.300}"
+        );
         let png = std::fs::read(&files[1]).unwrap();
         assert_eq!(&png[1..4], b"PNG");
     }

@@ -290,17 +290,18 @@ impl Parser<'_> {
                 Count(usize),
                 TrueBreaks,
             }
-            let segs = match raw_string(sv) {
-                Some(s) if s == "true-breaks" => Segs::TrueBreaks,
-                Some(s) => {
-                    return Err(self.error(
+            let segs =
+                match raw_string(sv) {
+                    Some(s) if s == "true-breaks" => Segs::TrueBreaks,
+                    Some(s) => return Err(self.error(
                         sv.span(),
                         &seg_field,
-                        format!("expected a number of segments ≥ 1 or \"true-breaks\", found \"{s}\""),
-                    ))
-                }
-                None => Segs::Count(self.integer(sv, &seg_field, 1, 100_000)? as usize),
-            };
+                        format!(
+                            "expected a number of segments ≥ 1 or \"true-breaks\", found \"{s}\""
+                        ),
+                    )),
+                    None => Segs::Count(self.integer(sv, &seg_field, 1, 100_000)? as usize),
+                };
 
             let iv = self.required(table, &section, "input", entry.span())?;
             let input_field = format!("{section}.input");
@@ -376,11 +377,7 @@ impl Parser<'_> {
                                 options,
                             };
                             let dry = dry_run(&case).map_err(|e| {
-                                self.error(
-                                    sv.span(),
-                                    &seg_field,
-                                    format!("{}: {e}", case.name),
-                                )
+                                self.error(sv.span(), &seg_field, format!("{}: {e}", case.name))
                             })?;
                             let segments = dry.segments.len();
                             let p = ProblemEntry {

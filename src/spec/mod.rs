@@ -769,7 +769,11 @@ impl<'a> Parser<'a> {
                         &format!("{section}.{key}"),
                         format!(
                             "unknown parameter for {name}{}; {}",
-                            if defs.is_empty() { " (it has none)" } else { "" },
+                            if defs.is_empty() {
+                                " (it has none)"
+                            } else {
+                                ""
+                            },
                             choices_hint(key, &valid)
                         ),
                     ));
