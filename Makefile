@@ -3,13 +3,14 @@ CARGO ?= cargo
 BIN := target/release/metabezier
 SPECS := experiments
 
-.PHONY: help build quick test bench reproduce-ch4 reproduce-all fmt lint clean-results
+.PHONY: help build quick test bench reproduce-ch4 reproduce-ch5 reproduce-all fmt lint clean-results
 
 help:
 	@echo "make quick          run experiments/quick.toml (seconds) into results/quick/"
 	@echo "make test           the whole test suite, rustfmt check and clippy -D warnings"
-	@echo "make bench          criterion benchmarks (optimiser overhead per evaluation)"
+	@echo "make bench          criterion benchmarks: optimiser overhead per evaluation, cost of E per fitting function"
 	@echo "make reproduce-ch4  chapter 4: benchmarks, scalability, MHS tuning, with reports (results/ch4_*/)"
+	@echo "make reproduce-ch5  chapter 5: curve fitting of four real outlines, search-space study (results/ch5_*/)"
 	@echo "make reproduce-all  every chapter that exists so far"
 
 build:
@@ -24,10 +25,12 @@ quick: build
 test:
 	$(CARGO) fmt --all -- --check
 	$(CARGO) test --release --locked
+	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --no-deps --locked
 	$(CARGO) clippy --release --locked --all-targets -- -D warnings
 
 bench:
 	$(CARGO) bench --locked --bench optimisers
+	$(CARGO) bench --locked --bench fitting
 
 CH4 := ch4_benchmarks ch4_scalability ch4_tuning
 # Extra `report` arguments per experiment: the tuning grid has 81 MHS cells,
@@ -39,7 +42,12 @@ REPORT_ARGS_ch4_tuning := --reference HS
 reproduce-ch4: build
 	$(foreach e,$(CH4),$(BIN) run $(SPECS)/$(e).toml --resume && $(BIN) report results/$(e) $(REPORT_ARGS_$(e)) &&) true
 
-reproduce-all: reproduce-ch4
+CH5 := ch5_outlines ch5_search_space
+
+reproduce-ch5: build
+	$(foreach e,$(CH5),$(BIN) run $(SPECS)/$(e).toml --resume && $(BIN) report results/$(e) $(REPORT_ARGS_$(e)) &&) true
+
+reproduce-all: reproduce-ch4 reproduce-ch5
 
 fmt:
 	$(CARGO) fmt --all
@@ -48,4 +56,4 @@ lint:
 	$(CARGO) clippy --all-targets -- -D warnings
 
 clean-results:
-	rm -rf results/quick $(addprefix results/,$(CH4))
+	rm -rf results/quick $(addprefix results/,$(CH4) $(CH5))

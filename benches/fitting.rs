@@ -5,8 +5,12 @@
 //! The goal is `E ≈ bare`: the objective builds the control points from the
 //! decision vector on the stack and evaluates the fixed-degree Bernstein
 //! form, with no allocation in the hot path. The table at the end prints
-//! nanoseconds per point and the ratio. Run with
-//! `cargo bench --bench fitting`.
+//! nanoseconds per point and the ratio.
+//!
+//! A second group times a whole fit: the vendored horse outline (2,644
+//! points) split recursively until every point is within 1 px, with LM and
+//! with MHS (10,000 evaluations per segment, the `metabezier fit` default).
+//! Run with `cargo bench --bench fitting`.
 
 use std::hint::black_box;
 use std::path::Path;
@@ -94,12 +98,50 @@ fn mean_ns(group: &str, id: &str) -> Option<f64> {
     rest[p..p + end].trim().parse().ok()
 }
 
+/// Fitting the horse at 1 px tolerance, end to end after loading.
+fn horse(c: &mut Criterion) {
+    use metabezier::fit::{FitOptions, FunctionType};
+    use metabezier::geometry::Continuity;
+    use metabezier::optim::Algorithm;
+    use metabezier::outline::{CornerOptions, ImageOptions, Sampling};
+    use metabezier::reconstruction::{Method, Reconstruction, Segmentation, Source};
+    let source = Source::load(
+        "data/outlines/horse.png",
+        Path::new(env!("CARGO_MANIFEST_DIR")),
+        0,
+        &ImageOptions::default(),
+        Sampling::default(),
+    )
+    .expect("the vendored horse");
+    let r = Reconstruction {
+        outline: &source.outline,
+        segmentation: Segmentation::Tolerance(1.0),
+        corners: Some(CornerOptions::default()),
+        options: FitOptions::new(FunctionType::RationalCubic, Continuity::G1),
+    };
+    let mut group = c.benchmark_group("horse-1px");
+    group.sample_size(10);
+    for (name, method) in [
+        ("lm", Method::Exact),
+        (
+            "mhs",
+            Method::Metaheuristic(Algorithm::default_for("mhs").expect("mhs")),
+        ),
+    ] {
+        group.bench_function(name, |b| {
+            b.iter(|| r.fit(&method, 1).expect("a valid fit").metrics.segments)
+        });
+    }
+    group.finish();
+}
+
 fn main() {
     let mut c = Criterion::default()
         .warm_up_time(Duration::from_secs(1))
         .measurement_time(Duration::from_secs(3))
         .configure_from_args();
     bench(&mut c);
+    horse(&mut c);
     c.final_summary();
     println!("\nOne evaluation of E on a {POINTS}-point segment against the bare curve:");
     println!(
@@ -113,6 +155,12 @@ fn main() {
             (per("objective"), per("residuals"), per("bare-curve"))
         {
             println!("{f:<20} {e:>12.2} {r:>12.2} {bare:>12.2} {:>8.2}", e / bare);
+        }
+    }
+    println!("\nThe horse (2,644 points) fitted with rational cubics, G1, at 1 px:");
+    for m in ["lm", "mhs"] {
+        if let Some(t) = mean_ns("horse-1px", m) {
+            println!("{m:<6} {:>10.1} ms", t / 1e6);
         }
     }
 }

@@ -218,8 +218,32 @@ fn write_results(spec: &Spec, out: &Path, records: &[RunRecord]) -> Result<(), E
     if records.iter().any(|r| r.fit.is_some()) {
         write_atomic(&out.join("fits.csv"), &records::fits_csv(records))?;
         write_atomic(&out.join("segments.csv"), &records::segments_csv(records))?;
+        write_atomic(&out.join("outlines.csv"), &outlines_csv(spec))?;
     }
     Ok(())
+}
+
+/// The data points of every fitted source, `source,x,y` in outline order,
+/// so that reports can draw fits over their data without the inputs.
+fn outlines_csv(spec: &Spec) -> Vec<u8> {
+    let mut seen = std::collections::HashSet::new();
+    let rows = spec
+        .problems
+        .iter()
+        .filter_map(|p| match &p.kind {
+            ProblemKind::Fit(c) if seen.insert(c.source_name.clone()) => Some(c),
+            _ => None,
+        })
+        .flat_map(|c| {
+            c.source.outline.points.iter().map(move |q| {
+                vec![
+                    c.source_name.clone(),
+                    records::fmt_real(q.x),
+                    records::fmt_real(q.y),
+                ]
+            })
+        });
+    records::csv_bytes(&["source", "x", "y"], rows)
 }
 
 /// Runs (or resumes) a campaign and writes `runs.csv`, `convergence.csv`,

@@ -8,7 +8,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::error::{write_atomic, Error};
-use crate::fit::PiecewiseFit;
+use crate::fit::{FunctionType, PiecewiseFit, Segment};
 use crate::geometry::{Curve, Point};
 use crate::records::csv_bytes;
 use crate::report::{OverlayCurve, OverlayFigure, OverlayPanel};
@@ -82,21 +82,12 @@ pub fn segment_rows(fit: &PiecewiseFit) -> Vec<Vec<String>> {
         .collect()
 }
 
-/// The fitted curve of `fit` for an overlay: each segment sampled at 64
+/// The fitted curve of `fit` for an overlay: each segment sampled at 65
 /// points and, if `polygons`, its control polygon.
 pub fn overlay_curve(label: String, fit: &PiecewiseFit, polygons: bool) -> OverlayCurve {
-    const SAMPLES: usize = 64;
     OverlayCurve {
         label,
-        segments: fit
-            .segments
-            .iter()
-            .map(|s| {
-                (0..=SAMPLES)
-                    .map(|j| s.segment.eval(j as f64 / SAMPLES as f64))
-                    .collect()
-            })
-            .collect(),
+        segments: fit.segments.iter().map(|s| sample(&s.segment)).collect(),
         control_polygons: if polygons {
             fit.segments
                 .iter()
@@ -177,4 +168,59 @@ pub fn write_fit(
     };
     written.extend(figure.save(dir, "fit")?);
     Ok(written)
+}
+
+/// Rebuilds a segment from the [`SEGMENT_HEADER`] columns of a row (as
+/// written by [`segment_rows`]); `None` if a field is missing or invalid.
+pub fn segment_from_row(row: &[String]) -> Option<Segment> {
+    use crate::geometry::{CubicBez, QuadBez, RationalCubicBez, RationalQuadBez};
+    let col = |name: &str| SEGMENT_HEADER.iter().position(|h| *h == name);
+    let num = |name: &str| -> Option<f64> { row.get(col(name)?)?.parse().ok() };
+    let point = |i: usize| -> Option<Point> {
+        Some(Point::new(num(&format!("c{i}x"))?, num(&format!("c{i}y"))?))
+    };
+    let function = FunctionType::from_name(row.get(col("function")?)?)?;
+    Some(match function {
+        FunctionType::Quadratic => {
+            Segment::Quadratic(QuadBez::new(point(0)?, point(1)?, point(2)?))
+        }
+        FunctionType::Cubic => {
+            Segment::Cubic(CubicBez::new(point(0)?, point(1)?, point(2)?, point(3)?))
+        }
+        FunctionType::RationalQuadratic => Segment::RationalQuadratic(
+            RationalQuadBez::new(point(0)?, point(1)?, point(2)?, num("w1")?).ok()?,
+        ),
+        FunctionType::RationalCubic => Segment::RationalCubic(
+            RationalCubicBez::new(
+                point(0)?,
+                point(1)?,
+                point(2)?,
+                point(3)?,
+                num("w1")?,
+                num("w2")?,
+            )
+            .ok()?,
+        ),
+    })
+}
+
+/// A fitted outline read back from its segment rows, for an overlay.
+pub fn overlay_from_rows(label: String, rows: &[Vec<String>]) -> Option<OverlayCurve> {
+    let segments: Vec<Segment> = rows
+        .iter()
+        .map(|r| segment_from_row(r))
+        .collect::<Option<_>>()?;
+    Some(OverlayCurve {
+        label,
+        segments: segments.iter().map(sample).collect(),
+        control_polygons: Vec::new(),
+    })
+}
+
+/// A segment sampled at 65 uniform parameters, for drawing.
+fn sample(s: &Segment) -> Vec<Point> {
+    const SAMPLES: usize = 64;
+    (0..=SAMPLES)
+        .map(|j| s.eval(j as f64 / SAMPLES as f64))
+        .collect()
 }

@@ -16,6 +16,7 @@
 
 mod data;
 mod descriptive;
+mod fitting;
 mod format;
 mod markdown;
 mod overlay;
@@ -280,8 +281,17 @@ pub fn write_report(dir: &Path, options: &ReportOptions) -> Result<ReportSummary
         }
     }
 
-    let (figures, plot_notes) = plots::figures(&ds, &stats, heat_maps, provenance.threshold);
+    let (mut figures, plot_notes) = plots::figures(&ds, &stats, heat_maps, provenance.threshold);
     notes.extend(plot_notes);
+    let fitting = fitting::section(dir, &ds)?;
+    let fitting_tables = match fitting {
+        Some(f) => {
+            figures.extend(f.figures);
+            notes.extend(f.notes);
+            f.tables
+        }
+        None => Vec::new(),
+    };
 
     // Write the files: tables, plots, then the report itself.
     let tables_dir = dir.join("tables");
@@ -289,7 +299,7 @@ pub fn write_report(dir: &Path, options: &ReportOptions) -> Result<ReportSummary
     create_dir(&tables_dir)?;
     create_dir(&plots_dir)?;
     let mut table_paths = Vec::new();
-    for t in tables.iter().chain(&tuning_tables) {
+    for t in tables.iter().chain(&tuning_tables).chain(&fitting_tables) {
         let path = tables_dir.join(format!("{}.csv", t.stem));
         write_atomic(&path, &t.csv_bytes()?)?;
         table_paths.push(path);
@@ -344,6 +354,12 @@ pub fn write_report(dir: &Path, options: &ReportOptions) -> Result<ReportSummary
     if !tuning_tables.is_empty() {
         md.push_str("## Parameter tuning\n\n");
         for t in &tuning_tables {
+            md.push_str(&markdown::table_section(t, 3));
+        }
+    }
+    if !fitting_tables.is_empty() {
+        md.push_str("## Curve fitting\n\n");
+        for t in &fitting_tables {
             md.push_str(&markdown::table_section(t, 3));
         }
     }

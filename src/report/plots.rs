@@ -52,6 +52,8 @@ pub(crate) enum Figure {
     Scalability(Scalability),
     /// Mean error over a two-parameter grid.
     Heat(Heat),
+    /// Fitted outlines over their data.
+    Overlay(super::overlay::OverlayFigure),
 }
 
 impl Draw for Figure {
@@ -62,6 +64,7 @@ impl Draw for Figure {
             Figure::Ecdf(f) => f.size(),
             Figure::Scalability(f) => f.size(),
             Figure::Heat(f) => f.size(),
+            Figure::Overlay(f) => f.size(),
         }
     }
 
@@ -72,6 +75,7 @@ impl Draw for Figure {
             Figure::Ecdf(f) => f.draw(root),
             Figure::Scalability(f) => f.draw(root),
             Figure::Heat(f) => f.draw(root),
+            Figure::Overlay(f) => f.draw(root),
         }
     }
 }

@@ -54,6 +54,8 @@ pub struct FitCase {
     /// The problem name in results, `source/function/continuity` (and
     /// `/bounding-box` for the naive search space).
     pub name: String,
+    /// The source's name, the first part of `name`.
+    pub source_name: String,
     /// The loaded outline, shared by the cases of one input.
     pub source: Arc<Source>,
     /// How the outline is cut into segments.
@@ -290,18 +292,19 @@ impl Parser<'_> {
                 Count(usize),
                 TrueBreaks,
             }
-            let segs =
-                match raw_string(sv) {
-                    Some(s) if s == "true-breaks" => Segs::TrueBreaks,
-                    Some(s) => return Err(self.error(
+            let segs = match raw_string(sv) {
+                Some(s) if s == "true-breaks" => Segs::TrueBreaks,
+                Some(s) => {
+                    return Err(self.error(
                         sv.span(),
                         &seg_field,
                         format!(
                             "expected a number of segments ≥ 1 or \"true-breaks\", found \"{s}\""
                         ),
-                    )),
-                    None => Segs::Count(self.integer(sv, &seg_field, 1, 100_000)? as usize),
-                };
+                    ))
+                }
+                None => Segs::Count(self.integer(sv, &seg_field, 1, 100_000)? as usize),
+            };
 
             let iv = self.required(table, &section, "input", entry.span())?;
             let input_field = format!("{section}.input");
@@ -368,6 +371,7 @@ impl Parser<'_> {
                             }
                             let case = FitCase {
                                 name,
+                                source_name: source_name.clone(),
                                 source: Arc::clone(&source),
                                 segmentation: segmentation.clone(),
                                 corners: (corner_angle > 0.0).then_some(CornerOptions {

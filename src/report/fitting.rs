@@ -1,0 +1,473 @@
+//! The curve-fitting part of a report, for campaigns with `[[fit]]`
+//! problems: fit quality beyond `E`, the gap of every method to the best
+//! `E` found by any method, whether the hybrid beats both of its parts, and
+//! overlays of the best fit of each function on each outline.
+//!
+//! Problem names of fitting campaigns are `source/function/continuity`,
+//! with `/bounding-box` appended for the naive search space.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use super::data::Dataset;
+use super::format::{sci, Table};
+use super::overlay::{OverlayFigure, OverlayPanel};
+use super::plots::{Figure, Plot};
+use crate::error::Error;
+use crate::geometry::Point;
+use crate::reconstruction::files::overlay_from_rows;
+use crate::records::{fmt_real, read_results, RunRecord};
+
+/// What the fitting section adds to a report.
+pub(crate) struct FittingSection {
+    /// Its tables.
+    pub tables: Vec<Table>,
+    /// Its figures (one overlay per source).
+    pub figures: Vec<Plot>,
+    /// Remarks.
+    pub notes: Vec<String>,
+}
+
+/// A problem name split into its parts.
+struct Case<'a> {
+    source: &'a str,
+    function: &'a str,
+    continuity: &'a str,
+    space: Option<&'a str>,
+}
+
+fn split(name: &str) -> Option<Case<'_>> {
+    let mut parts = name.split('/');
+    let case = Case {
+        source: parts.next()?,
+        function: parts.next()?,
+        continuity: parts.next()?,
+        space: parts.next(),
+    };
+    parts.next().is_none().then_some(case)
+}
+
+fn mean(v: &[f64]) -> f64 {
+    v.iter().sum::<f64>() / v.len() as f64
+}
+
+fn median(v: &[f64]) -> f64 {
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    let n = s.len();
+    if n % 2 == 1 {
+        s[n / 2]
+    } else {
+        (s[n / 2 - 1] + s[n / 2]) / 2.0
+    }
+}
+
+/// Reads `outlines.csv` (source, x, y): the data points of every source.
+fn read_outlines(dir: &Path) -> Result<BTreeMap<String, Vec<Point>>, Error> {
+    let path = dir.join("outlines.csv");
+    let mut out: BTreeMap<String, Vec<Point>> = BTreeMap::new();
+    if !path.exists() {
+        return Ok(out);
+    }
+    let mut reader =
+        csv::Reader::from_path(&path).map_err(|e| Error::data(&path, 0, e.to_string()))?;
+    for (i, row) in reader.records().enumerate() {
+        let line = i as u64 + 2;
+        let row = row.map_err(|e| Error::data(&path, line, e.to_string()))?;
+        let num = |k: usize| -> Result<f64, Error> {
+            row.get(k)
+                .unwrap_or("")
+                .parse()
+                .map_err(|_| Error::data(&path, line, format!("column {}: not a number", k + 1)))
+        };
+        out.entry(row.get(0).unwrap_or("").to_owned())
+            .or_default()
+            .push(Point::new(num(1)?, num(2)?));
+    }
+    Ok(out)
+}
+
+/// The fitting section of the report in `dir`, or `None` if the campaign
+/// has no fitting runs.
+pub(crate) fn section(dir: &Path, ds: &Dataset) -> Result<Option<FittingSection>, Error> {
+    if !dir.join("fits.csv").exists() {
+        return Ok(None);
+    }
+    let records = read_results(dir)?;
+    let cell_name = |r: &RunRecord| -> String {
+        ds.cells
+            .iter()
+            .find(|c| {
+                !c.external && c.label == r.algorithm && c.kind == r.kind && c.params == r.params
+            })
+            .map_or_else(|| r.algorithm.clone(), |c| c.name.clone())
+    };
+    // (problem, cell name) → runs, in the order of first appearance.
+    let mut problems: Vec<String> = Vec::new();
+    let mut cells: Vec<String> = Vec::new();
+    let mut runs: BTreeMap<(usize, usize), Vec<&RunRecord>> = BTreeMap::new();
+    for r in records.iter().filter(|r| r.fit.is_some()) {
+        let p = match problems.iter().position(|q| *q == r.problem) {
+            Some(p) => p,
+            None => {
+                problems.push(r.problem.clone());
+                problems.len() - 1
+            }
+        };
+        let name = cell_name(r);
+        let c = match cells.iter().position(|q| *q == name) {
+            Some(c) => c,
+            None => {
+                cells.push(name);
+                cells.len() - 1
+            }
+        };
+        runs.entry((p, c)).or_default().push(r);
+    }
+    let mut notes = Vec::new();
+
+    // The best E per problem over every method and run.
+    let best: Vec<(f64, String)> = (0..problems.len())
+        .map(|p| {
+            (0..cells.len())
+                .flat_map(|c| {
+                    runs.get(&(p, c))
+                        .into_iter()
+                        .flatten()
+                        .map(move |r| (r.best, c))
+                })
+                .fold((f64::INFINITY, String::new()), |acc, (e, c)| {
+                    if e < acc.0 {
+                        (e, cells[c].clone())
+                    } else {
+                        acc
+                    }
+                })
+        })
+        .collect();
+
+    let mut quality = Table {
+        stem: "fit_quality".into(),
+        title: "Fit quality and the gap to the best E found".into(),
+        intro: vec![
+            "For each fitting problem (source/function/continuity) and method: the mean and \
+             best E = Σ|Rᵢ − P(sᵢ)|² over the runs, the relative gap of the mean to the best E \
+             found by any method on that problem (the exact reference LM included), the mean \
+             RMS distance √(E/N), the mean largest orthogonal distance of a data point to the \
+             curve, and the mean tangent angle at the closing joint of the closed outline, \
+             where only C⁰ is imposed (data units: pixels for images, font units for glyphs)."
+                .into(),
+        ],
+        md_header: [
+            "Problem",
+            "Method",
+            "Runs",
+            "Mean E",
+            "Best E",
+            "Gap of mean",
+            "Mean RMS",
+            "Mean max dist",
+            "Closing angle (°)",
+        ]
+        .map(String::from)
+        .to_vec(),
+        csv_header: [
+            "problem",
+            "method",
+            "runs",
+            "mean_sse",
+            "best_sse",
+            "best_known_sse",
+            "gap",
+            "mean_rms",
+            "mean_max_distance",
+            "mean_closing_angle_degrees",
+        ]
+        .map(String::from)
+        .to_vec(),
+        ..Table::default()
+    };
+    for p in 0..problems.len() {
+        for c in 0..cells.len() {
+            let Some(rs) = runs.get(&(p, c)) else {
+                continue;
+            };
+            let e: Vec<f64> = rs.iter().map(|r| r.best).collect();
+            let fit = |f: fn(&crate::records::FitDetail) -> Option<f64>| -> Vec<f64> {
+                rs.iter()
+                    .filter_map(|r| r.fit.as_ref().and_then(f))
+                    .collect()
+            };
+            let rms = fit(|d| Some(d.rms));
+            let maxd = fit(|d| Some(d.max_distance));
+            let angle = fit(|d| d.closing_angle_degrees.filter(|a| a.is_finite()));
+            let (m, b, known) = (
+                mean(&e),
+                e.iter().copied().fold(f64::INFINITY, f64::min),
+                best[p].0,
+            );
+            let gap = if known > 0.0 {
+                m / known - 1.0
+            } else {
+                f64::NAN
+            };
+            let angle_mean = if angle.is_empty() {
+                f64::NAN
+            } else {
+                mean(&angle)
+            };
+            quality.md_rows.push(vec![
+                problems[p].clone(),
+                cells[c].clone(),
+                rs.len().to_string(),
+                sci(m),
+                sci(b),
+                sci(gap),
+                sci(mean(&rms)),
+                sci(mean(&maxd)),
+                if angle_mean.is_nan() {
+                    "—".into()
+                } else {
+                    format!("{angle_mean:.2}")
+                },
+            ]);
+            quality.csv_rows.push(vec![
+                problems[p].clone(),
+                cells[c].clone(),
+                rs.len().to_string(),
+                fmt_real(m),
+                fmt_real(b),
+                fmt_real(known),
+                fmt_real(gap),
+                fmt_real(mean(&rms)),
+                fmt_real(mean(&maxd)),
+                fmt_real(angle_mean),
+            ]);
+        }
+    }
+
+    // Which function fits each source best, per continuity (and space).
+    let mut functions = Table {
+        stem: "fit_functions".into(),
+        title: "Best E per fitting function".into(),
+        intro: vec![
+            "For each source, continuity and search space, the best E that any method reached \
+             with each fitting function, and the method that reached it. The lowest E of a \
+             row group is the function that fits that outline best."
+                .into(),
+        ],
+        md_header: ["Source", "Continuity", "Function", "Best E", "Found by"]
+            .map(String::from)
+            .to_vec(),
+        csv_header: [
+            "source",
+            "continuity",
+            "search_space",
+            "function",
+            "best_sse",
+            "found_by",
+        ]
+        .map(String::from)
+        .to_vec(),
+        ..Table::default()
+    };
+    let mut order: Vec<usize> = (0..problems.len()).collect();
+    order.sort_by_key(|&p| split(&problems[p]).map(|c| (c.source, c.space, c.continuity, p)));
+    for p in order {
+        let Some(case) = split(&problems[p]) else {
+            continue;
+        };
+        let cont = match case.space {
+            Some(s) => format!("{} ({s})", case.continuity.to_uppercase()),
+            None => case.continuity.to_uppercase(),
+        };
+        functions.md_rows.push(vec![
+            case.source.into(),
+            cont,
+            case.function.into(),
+            sci(best[p].0),
+            best[p].1.clone(),
+        ]);
+        functions.csv_rows.push(vec![
+            case.source.into(),
+            case.continuity.into(),
+            case.space.unwrap_or("technique").into(),
+            case.function.into(),
+            fmt_real(best[p].0),
+            best[p].1.clone(),
+        ]);
+    }
+
+    // Hybrids against their two parts.
+    let mut hybrid = Table {
+        stem: "fit_hybrid".into(),
+        title: "Hybrid against its parts".into(),
+        intro: vec![
+            "For each metaheuristic X run both alone and as X+LM (X on 80 % of the budget, \
+             then a Levenberg–Marquardt polish), with LM alone also run: the median E of X, LM \
+             and X+LM, and whether the hybrid's median is below both."
+                .into(),
+        ],
+        md_header: [
+            "Problem",
+            "X",
+            "Median E of X",
+            "Median E of LM",
+            "Median E of X+LM",
+            "Beats both",
+        ]
+        .map(String::from)
+        .to_vec(),
+        csv_header: [
+            "problem",
+            "x",
+            "median_x",
+            "median_lm",
+            "median_hybrid",
+            "beats_both",
+        ]
+        .map(String::from)
+        .to_vec(),
+        ..Table::default()
+    };
+    let kind_of = |c: usize| -> Option<String> {
+        runs.iter()
+            .find(|((_, cc), _)| *cc == c)
+            .map(|(_, rs)| rs[0].kind.clone())
+    };
+    let kinds: Vec<Option<String>> = (0..cells.len()).map(kind_of).collect();
+    let lm = kinds.iter().position(|k| k.as_deref() == Some("lm"));
+    for p in 0..problems.len() {
+        let Some(lm) = lm else { break };
+        let med = |c: usize| -> Option<f64> {
+            runs.get(&(p, c))
+                .map(|rs| median(&rs.iter().map(|r| r.best).collect::<Vec<_>>()))
+        };
+        for (h, kind) in kinds.iter().enumerate() {
+            let Some(base) = kind.as_deref().and_then(|k| k.strip_suffix("+lm")) else {
+                continue;
+            };
+            let Some(x) = kinds.iter().position(|k| k.as_deref() == Some(base)) else {
+                continue;
+            };
+            let (Some(mx), Some(ml), Some(mh)) = (med(x), med(lm), med(h)) else {
+                continue;
+            };
+            let beats = mh < mx.min(ml) * (1.0 - 1e-9);
+            hybrid.md_rows.push(vec![
+                problems[p].clone(),
+                cells[x].clone(),
+                sci(mx),
+                sci(ml),
+                sci(mh),
+                if beats { "yes" } else { "no" }.into(),
+            ]);
+            hybrid.csv_rows.push(vec![
+                problems[p].clone(),
+                cells[x].clone(),
+                fmt_real(mx),
+                fmt_real(ml),
+                fmt_real(mh),
+                beats.to_string(),
+            ]);
+        }
+    }
+
+    let mut tables = vec![quality, functions];
+    if hybrid.md_rows.is_empty() {
+        notes.push(
+            "no hybrid table: the campaign does not run a metaheuristic X, LM and X+lm together"
+                .into(),
+        );
+    } else {
+        tables.push(hybrid);
+    }
+
+    // Overlays: per source, a panel per function with the best fit of each
+    // continuity (technique search space).
+    let outlines = read_outlines(dir)?;
+    let mut figures = Vec::new();
+    let mut sources: Vec<&str> = problems
+        .iter()
+        .filter_map(|p| split(p).map(|c| c.source))
+        .collect();
+    sources.dedup();
+    let mut seen = std::collections::BTreeSet::new();
+    sources.retain(|s| seen.insert(*s));
+    for source in sources {
+        let Some(data) = outlines.get(source) else {
+            notes.push(format!(
+                "no overlay for {source}: outlines.csv does not hold its points"
+            ));
+            continue;
+        };
+        let mut panels: Vec<OverlayPanel> = Vec::new();
+        let mut function_names: Vec<&str> = Vec::new();
+        for p in &problems {
+            if let Some(c) = split(p) {
+                if c.source == source && c.space.is_none() && !function_names.contains(&c.function)
+                {
+                    function_names.push(c.function);
+                }
+            }
+        }
+        for function in function_names {
+            let mut curves = Vec::new();
+            let mut bests = Vec::new();
+            for (p, name) in problems.iter().enumerate() {
+                let Some(c) = split(name) else { continue };
+                if c.source != source || c.function != function || c.space.is_some() {
+                    continue;
+                }
+                let best_run = runs
+                    .iter()
+                    .filter(|((pp, _), _)| *pp == p)
+                    .flat_map(|(_, rs)| rs.iter())
+                    .min_by(|a, b| a.best.total_cmp(&b.best));
+                let Some(r) = best_run else { continue };
+                let cont = c.continuity.to_uppercase();
+                if let Some(curve) = r
+                    .fit
+                    .as_ref()
+                    .and_then(|f| overlay_from_rows(cont.clone(), &f.segments))
+                {
+                    bests.push(format!("{cont} E = {} ({})", sci(r.best), cell_name(r)));
+                    curves.push(curve);
+                }
+            }
+            panels.push(OverlayPanel {
+                title: format!("{function}: {}", bests.join(", ")),
+                data: data.clone(),
+                curves,
+                y_down: false,
+            });
+        }
+        if panels.is_empty() {
+            continue;
+        }
+        let slug: String = source
+            .chars()
+            .map(|ch| if ch.is_ascii_alphanumeric() { ch } else { '_' })
+            .collect();
+        figures.push(Plot {
+            stem: format!("overlay_{slug}"),
+            title: format!("Best fits of {source}"),
+            caption: format!(
+                "The data points of {source} (grey) and, for each fitting function, the fit \
+                 with the lowest E over all methods and runs for each continuity (circles mark \
+                 the segments' start points; the legend gives E and the method). Equal scale \
+                 in x and y."
+            ),
+            figure: Figure::Overlay(OverlayFigure {
+                title: format!("{source}: best fit of each function"),
+                panels,
+                columns: 2,
+            }),
+        });
+    }
+    Ok(Some(FittingSection {
+        tables,
+        figures,
+        notes,
+    }))
+}
