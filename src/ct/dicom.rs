@@ -247,7 +247,7 @@ pub fn read_dicom_series(paths: &[PathBuf]) -> Result<Volume, CtError> {
         let gap0 = slices[1].location - slices[0].location;
         for w in slices.windows(2) {
             let gap = w[1].location - w[0].location;
-            if !(gap > 0.0) || !same(gap, gap0) {
+            if gap.is_nan() || gap <= 0.0 || !same(gap, gap0) {
                 return Err(CtError::SpacingMismatch {
                     path: w[1].path.clone(),
                     axis: "slice gap",

@@ -7,17 +7,30 @@
 //! in millimetres `x = col·sx`, `y = row·sy` (see [`volume`]); in 3D,
 //! `z = slice·sz`. The volume origin is never added.
 
+pub mod bone;
+pub mod contour;
+pub mod defect;
 pub mod dicom;
 pub mod error;
 pub mod inv3;
+pub mod mask;
 pub mod plist;
+pub mod polyline;
 pub mod volume;
 
+pub use bone::{
+    bone_mask_slice, bone_mask_volume, largest_component_2d, largest_component_3d, threshold_slice,
+    BONE_THRESHOLD_HU,
+};
+pub use contour::{bone_loops, marching_squares, table_contours, TableContours};
+pub use defect::{detect_defect, Defect, DefectParams};
 pub use dicom::{
     read_dicom_dir, read_dicom_file, read_dicom_series, write_dicom_series, DicomSlice,
 };
 pub use error::CtError;
 pub use inv3::{read_inv3, write_inv3};
+pub use mask::{Mask2, Mask3};
+pub use polyline::{Nearest, Polyline};
 pub use volume::{Slice, Spacing, Volume};
 
 /// Index in the original 108-slice ProMED CT 0051 volume of slice 0 of the
