@@ -243,7 +243,8 @@ fn dicom_errors_name_the_file() {
 // ---------------------------------------------------------------- bone, defect
 
 /// Measured bone-gap end points (row, col) in the full volume's slice index.
-const MEASURED_ENDS: [(usize, (usize, usize), (usize, usize)); 3] = [
+type Px = (usize, usize);
+const MEASURED_ENDS: [(usize, Px, Px); 3] = [
     (64, (196, 111), (188, 86)),
     (72, (194, 107), (184, 86)),
     (80, (185, 104), (179, 93)),
