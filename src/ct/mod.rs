@@ -11,12 +11,19 @@ pub mod bone;
 pub mod contour;
 pub mod defect;
 pub mod dicom;
+pub mod edt;
 pub mod error;
 pub mod inv3;
 pub mod mask;
+pub mod mesh;
+pub mod metrics;
+pub mod mirror;
 pub mod plist;
 pub mod polyline;
+pub mod stl;
+pub mod triangulate;
 pub mod volume;
+pub mod voxelise;
 
 pub use bone::{
     bone_mask_slice, bone_mask_volume, largest_component_2d, largest_component_3d, threshold_slice,
@@ -27,11 +34,21 @@ pub use defect::{detect_defect, Defect, DefectParams};
 pub use dicom::{
     read_dicom_dir, read_dicom_file, read_dicom_series, write_dicom_series, DicomSlice,
 };
+pub use edt::edt_squared;
 pub use error::CtError;
 pub use inv3::{read_inv3, write_inv3};
 pub use mask::{Mask2, Mask3};
+pub use mesh::{loft, Mesh};
+pub use metrics::{
+    boundary_dice, contour_deviation, dice, hd95, percentile, surface, surface_distances,
+    ContourDeviation,
+};
+pub use mirror::{estimate_midline, mirror_template, reflect, Midline, MirrorTemplate};
 pub use polyline::{Nearest, Polyline};
+pub use stl::{parse_stl, stl_bytes, write_stl};
+pub use triangulate::ear_clip;
 pub use volume::{Slice, Spacing, Volume};
+pub use voxelise::voxelise;
 
 /// Index in the original 108-slice ProMED CT 0051 volume of slice 0 of the
 /// vendored extract `data/ct0051/ct0051_z040-100.inv3` (see its PROVENANCE.md).
