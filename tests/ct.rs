@@ -511,7 +511,7 @@ fn midline_of_a_symmetric_synthetic_ring() {
             let q = dx.hypot(dy);
             (0.8..=1.0).contains(&q)
         });
-        let ml = estimate_midline(&[m.clone()], 0.5).unwrap();
+        let ml = estimate_midline(std::slice::from_ref(&m), 0.5).unwrap();
         assert!((ml.col - centre).abs() <= 0.25, "{} vs {centre}", ml.col);
         assert!((ml.x - ml.col * 0.5).abs() < 1e-12);
         // Exactly symmetric on the pixel grid when 2·centre is an integer.
