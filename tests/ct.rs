@@ -471,8 +471,6 @@ fn table_contours_of_intact_and_defect_slices() {
     let d = detect_defect(&m, s.sx, s.sy, &DefectParams::default()).unwrap();
     let t = table_contours(&loops, Some((d.a_mm, d.b_mm))).unwrap();
     assert!(!t.intact && !t.outer.closed && !t.inner.closed);
-    let o = t.outer.vertex_mean();
-    let _ = o;
     let centre = d.centre;
     let mean_r = |p: &Polyline| {
         p.points.iter().map(|q| q.distance(centre)).sum::<f64>() / p.points.len() as f64
@@ -900,4 +898,79 @@ fn loft_of_real_outer_tables_is_watertight_and_voxelises_back() {
             areas[k]
         );
     }
+}
+
+// ---------------------------------------------------------------- rendering
+
+#[test]
+fn overlay_and_mesh_previews_render() {
+    let v = ct0051();
+    let s = v.slice(vz(72));
+    let m = bone_mask_slice(&s, BONE_THRESHOLD_HU).unwrap();
+    let d = detect_defect(&m, s.sx, s.sy, &DefectParams::default()).unwrap();
+    let t = table_contours(
+        &bone_loops(&s, &m, BONE_THRESHOLD_HU),
+        Some((d.a_mm, d.b_mm)),
+    )
+    .unwrap();
+    let red = [255, 0, 0];
+    let overlay = Overlay {
+        polylines: vec![
+            (t.outer.clone(), [0, 200, 0]),
+            (t.inner.clone(), [0, 120, 255]),
+        ],
+        points: vec![("A".into(), d.a_mm, red), ("B".into(), d.b_mm, red)],
+        vertical_lines: vec![(128.0 * s.sx, [255, 255, 0])],
+    };
+    let png = slice_overlay_png(&s, Window::BONE, 2, &overlay).unwrap();
+    let img = image::load_from_memory(&png).unwrap().to_rgb8();
+    assert_eq!(img.dimensions(), (512, 512));
+    // The marker of A is drawn at its pixel (scaled ×2, centre of the block).
+    let (ar, ac) = d.a;
+    assert_eq!(img.get_pixel(ac as u32 * 2 + 1, ar as u32 * 2 + 1).0, red);
+    // Bone window: air is black, the M_x line yellow.
+    assert_eq!(img.get_pixel(2, 300).0, [0, 0, 0]);
+    assert_eq!(img.get_pixel(257, 5).0, [255, 255, 0]);
+    let dir = tempfile::tempdir().unwrap();
+    write_png(&dir.path().join("z072.png"), &png).unwrap();
+
+    // A lofted cylinder seen along −z is a shaded disc; from the side a rectangle.
+    let secs = vec![
+        circle(Point::new(0.0, 0.0), 10.0, 60),
+        circle(Point::new(0.0, 0.0), 10.0, 60),
+    ];
+    let mesh = loft(&secs, &[0.0, 30.0], 48).unwrap();
+    let top = mesh_view_rgb(
+        &[(&mesh, [200, 180, 160])],
+        View {
+            direction: [0.0, 0.0, -1.0],
+            up: [0.0, 1.0, 0.0],
+        },
+        100,
+    );
+    let at = |buf: &[u8], x: usize, y: usize| {
+        [
+            buf[(y * 100 + x) * 3],
+            buf[(y * 100 + x) * 3 + 1],
+            buf[(y * 100 + x) * 3 + 2],
+        ]
+    };
+    assert_eq!(at(&top, 50, 50), [200, 180, 160]); // cap faces the viewer: full light
+    assert_eq!(at(&top, 1, 1), [255, 255, 255]);
+    let side = mesh_view_rgb(
+        &[(&mesh, [200, 180, 160])],
+        View {
+            direction: [0.0, 1.0, 0.0],
+            up: [0.0, 0.0, 1.0],
+        },
+        100,
+    );
+    let centre = at(&side, 50, 50);
+    let edge = at(&side, 50 - 15, 50);
+    assert!(
+        centre[0] > edge[0],
+        "Lambert: darker towards the silhouette"
+    );
+    let png = encode_png(&side, 100, 100).unwrap();
+    assert!(image::load_from_memory(&png).is_ok());
 }

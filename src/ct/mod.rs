@@ -20,6 +20,7 @@ pub mod metrics;
 pub mod mirror;
 pub mod plist;
 pub mod polyline;
+pub mod render;
 pub mod stl;
 pub mod triangulate;
 pub mod volume;
@@ -45,6 +46,7 @@ pub use metrics::{
 };
 pub use mirror::{estimate_midline, mirror_template, reflect, Midline, MirrorTemplate};
 pub use polyline::{Nearest, Polyline};
+pub use render::{encode_png, mesh_view_rgb, slice_overlay_png, write_png, Overlay, View, Window};
 pub use stl::{parse_stl, stl_bytes, write_stl};
 pub use triangulate::ear_clip;
 pub use volume::{Slice, Spacing, Volume};
