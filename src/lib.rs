@@ -7,6 +7,7 @@
 #![warn(missing_docs)]
 
 pub mod cli;
+pub mod ct;
 pub mod error;
 pub mod fit;
 pub mod functions;

@@ -187,8 +187,8 @@ pub(crate) fn section(dir: &Path, ds: &Dataset) -> Result<Option<FittingSection>
         .to_vec(),
         ..Table::default()
     };
-    for p in 0..problems.len() {
-        for c in 0..cells.len() {
+    for (p, problem) in problems.iter().enumerate() {
+        for (c, cell) in cells.iter().enumerate() {
             let Some(rs) = runs.get(&(p, c)) else {
                 continue;
             };
@@ -217,8 +217,8 @@ pub(crate) fn section(dir: &Path, ds: &Dataset) -> Result<Option<FittingSection>
                 mean(&angle)
             };
             quality.md_rows.push(vec![
-                problems[p].clone(),
-                cells[c].clone(),
+                problem.clone(),
+                cell.clone(),
                 rs.len().to_string(),
                 sci(m),
                 sci(b),
@@ -232,8 +232,8 @@ pub(crate) fn section(dir: &Path, ds: &Dataset) -> Result<Option<FittingSection>
                 },
             ]);
             quality.csv_rows.push(vec![
-                problems[p].clone(),
-                cells[c].clone(),
+                problem.clone(),
+                cell.clone(),
                 rs.len().to_string(),
                 fmt_real(m),
                 fmt_real(b),
@@ -337,7 +337,7 @@ pub(crate) fn section(dir: &Path, ds: &Dataset) -> Result<Option<FittingSection>
     };
     let kinds: Vec<Option<String>> = (0..cells.len()).map(kind_of).collect();
     let lm = kinds.iter().position(|k| k.as_deref() == Some("lm"));
-    for p in 0..problems.len() {
+    for (p, problem) in problems.iter().enumerate() {
         let Some(lm) = lm else { break };
         let med = |c: usize| -> Option<f64> {
             runs.get(&(p, c))
@@ -355,7 +355,7 @@ pub(crate) fn section(dir: &Path, ds: &Dataset) -> Result<Option<FittingSection>
             };
             let beats = mh < mx.min(ml) * (1.0 - 1e-9);
             hybrid.md_rows.push(vec![
-                problems[p].clone(),
+                problem.clone(),
                 cells[x].clone(),
                 sci(mx),
                 sci(ml),
@@ -363,7 +363,7 @@ pub(crate) fn section(dir: &Path, ds: &Dataset) -> Result<Option<FittingSection>
                 if beats { "yes" } else { "no" }.into(),
             ]);
             hybrid.csv_rows.push(vec![
-                problems[p].clone(),
+                problem.clone(),
                 cells[x].clone(),
                 fmt_real(mx),
                 fmt_real(ml),

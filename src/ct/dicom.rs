@@ -1,0 +1,436 @@
+//! DICOM CT series: a reader for uncompressed single-frame grey-scale images
+//! (implicit or explicit VR little endian) and a minimal explicit-VR
+//! little-endian CT writer, built on the pure-Rust `dicom-object` crate.
+//!
+//! Attributes used (DICOM PS3.3, C.7.6.2 Image Plane and C.7.6.3 Image Pixel
+//! modules, C.11.1 Modality LUT): Rows, Columns, BitsAllocated (8 or 16),
+//! BitsStored, PixelRepresentation, SamplesPerPixel (1), RescaleSlope and
+//! RescaleIntercept (`HU = raw·slope + intercept`), PixelSpacing (row
+//! spacing, column spacing), ImagePositionPatient and ImageOrientationPatient
+//! (slice position along the normal `n = r × c`), else SliceLocation, else
+//! InstanceNumber.
+
+use std::path::{Path, PathBuf};
+
+use dicom_core::value::{PrimitiveValue, Value};
+use dicom_core::{DataElement, Tag, VR};
+use dicom_dictionary_std::{tags, uids};
+use dicom_object::{FileMetaTableBuilder, InMemDicomObject};
+
+use super::error::CtError;
+use super::volume::{Spacing, Volume};
+use crate::error::write_atomic;
+
+/// One decoded DICOM image: HU samples and its geometry.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DicomSlice {
+    /// The file it came from.
+    pub path: PathBuf,
+    /// Rows.
+    pub rows: usize,
+    /// Columns.
+    pub cols: usize,
+    /// Spacing between rows (y) in mm, PixelSpacing\[0\].
+    pub row_spacing: f64,
+    /// Spacing between columns (x) in mm, PixelSpacing\[1\].
+    pub col_spacing: f64,
+    /// ImagePositionPatient (x, y, z) of the first pixel in mm, if present.
+    pub position: Option<[f64; 3]>,
+    /// Position along the slice normal in mm, used to sort a series.
+    pub location: f64,
+    /// SliceThickness in mm, if present.
+    pub thickness: Option<f64>,
+    /// Row-major HU samples (`raw·slope + intercept`, rounded, clamped to i16).
+    pub hu: Vec<i16>,
+}
+
+fn get_f64s(obj: &InMemDicomObject, tag: Tag) -> Option<Vec<f64>> {
+    obj.element_opt(tag)
+        .ok()
+        .flatten()
+        .and_then(|e| e.to_multi_float64().ok())
+}
+
+fn get_int(obj: &InMemDicomObject, tag: Tag) -> Option<i64> {
+    obj.element_opt(tag)
+        .ok()
+        .flatten()
+        .and_then(|e| e.to_int::<i64>().ok())
+}
+
+/// Reads one DICOM file into HU. Errors (naming the file): unreadable or not
+/// DICOM, compressed or big-endian transfer syntax, more than one frame or
+/// sample per pixel, bits allocated other than 8/16, missing Rows, Columns,
+/// PixelSpacing or PixelData, or pixel data of the wrong length.
+pub fn read_dicom_file(path: &Path) -> Result<DicomSlice, CtError> {
+    let bad = |m: String| CtError::dicom(path, m);
+    let file = dicom_object::open_file(path).map_err(|e| bad(e.to_string()))?;
+    let ts = file
+        .meta()
+        .transfer_syntax()
+        .trim_end_matches('\0')
+        .to_string();
+    if ts != uids::IMPLICIT_VR_LITTLE_ENDIAN && ts != uids::EXPLICIT_VR_LITTLE_ENDIAN {
+        return Err(bad(format!(
+            "transfer syntax {ts} is not supported (only uncompressed little endian: {} or {})",
+            uids::IMPLICIT_VR_LITTLE_ENDIAN,
+            uids::EXPLICIT_VR_LITTLE_ENDIAN
+        )));
+    }
+    let obj: &InMemDicomObject = &file;
+    let need = |tag: Tag, name: &str| {
+        get_int(obj, tag).ok_or_else(|| CtError::dicom(path, format!("missing or bad {name}")))
+    };
+    let rows = need(tags::ROWS, "Rows")?;
+    let cols = need(tags::COLUMNS, "Columns")?;
+    if rows <= 0 || cols <= 0 {
+        return Err(bad(format!("image size {rows}x{cols} is empty")));
+    }
+    let (rows, cols) = (rows as usize, cols as usize);
+    let bits = need(tags::BITS_ALLOCATED, "BitsAllocated")?;
+    if bits != 8 && bits != 16 {
+        return Err(bad(format!(
+            "BitsAllocated {bits} is not supported (8 or 16)"
+        )));
+    }
+    let stored = get_int(obj, tags::BITS_STORED).unwrap_or(bits);
+    if !(1..=bits).contains(&stored) {
+        return Err(bad(format!(
+            "BitsStored {stored} exceeds BitsAllocated {bits}"
+        )));
+    }
+    let signed = get_int(obj, tags::PIXEL_REPRESENTATION).unwrap_or(0) == 1;
+    if get_int(obj, tags::SAMPLES_PER_PIXEL).unwrap_or(1) != 1 {
+        return Err(bad(
+            "only one sample per pixel (grey scale) is supported".into()
+        ));
+    }
+    if get_int(obj, tags::NUMBER_OF_FRAMES).unwrap_or(1) != 1 {
+        return Err(bad("multi-frame images are not supported".into()));
+    }
+    let spacing = get_f64s(obj, tags::PIXEL_SPACING)
+        .filter(|v| v.len() == 2 && v.iter().all(|s| s.is_finite() && *s > 0.0))
+        .ok_or_else(|| bad("missing or bad PixelSpacing".into()))?;
+    let slope = get_f64s(obj, tags::RESCALE_SLOPE)
+        .and_then(|v| v.first().copied())
+        .unwrap_or(1.0);
+    let intercept = get_f64s(obj, tags::RESCALE_INTERCEPT)
+        .and_then(|v| v.first().copied())
+        .unwrap_or(0.0);
+    let position = get_f64s(obj, tags::IMAGE_POSITION_PATIENT)
+        .filter(|v| v.len() == 3)
+        .map(|v| [v[0], v[1], v[2]]);
+    let orientation = get_f64s(obj, tags::IMAGE_ORIENTATION_PATIENT).filter(|v| v.len() == 6);
+    let location = match (position, orientation) {
+        (Some(p), Some(o)) => {
+            let n = [
+                o[1] * o[5] - o[2] * o[4],
+                o[2] * o[3] - o[0] * o[5],
+                o[0] * o[4] - o[1] * o[3],
+            ];
+            p[0] * n[0] + p[1] * n[1] + p[2] * n[2]
+        }
+        (Some(p), None) => p[2],
+        _ => get_f64s(obj, tags::SLICE_LOCATION)
+            .and_then(|v| v.first().copied())
+            .or_else(|| get_int(obj, tags::INSTANCE_NUMBER).map(|i| i as f64))
+            .unwrap_or(0.0),
+    };
+    let thickness = get_f64s(obj, tags::SLICE_THICKNESS).and_then(|v| v.first().copied());
+
+    let pixel = obj
+        .element_opt(tags::PIXEL_DATA)
+        .map_err(|e| bad(e.to_string()))?
+        .ok_or_else(|| bad("no PixelData".into()))?;
+    let n = rows * cols;
+    // Raw stored words, independent of the host's byte order.
+    let words: Vec<u16> = match pixel.value() {
+        Value::Primitive(PrimitiveValue::U16(v)) if bits == 16 => v.to_vec(),
+        Value::Primitive(PrimitiveValue::I16(v)) if bits == 16 => {
+            v.iter().map(|&x| x as u16).collect()
+        }
+        Value::Primitive(PrimitiveValue::U8(v)) if bits == 16 => v
+            .chunks_exact(2)
+            .map(|c| u16::from_le_bytes([c[0], c[1]]))
+            .collect(),
+        Value::Primitive(PrimitiveValue::U8(v)) => v.iter().map(|&b| b as u16).collect(),
+        Value::Primitive(PrimitiveValue::U16(v)) => v
+            .iter()
+            .flat_map(|w| w.to_le_bytes())
+            .map(|b| b as u16)
+            .collect(),
+        _ => {
+            return Err(bad(
+                "PixelData is encapsulated or of an unexpected type".into()
+            ))
+        }
+    };
+    if words.len() < n {
+        return Err(bad(format!(
+            "PixelData holds {} samples, {rows}x{cols} needs {n}",
+            words.len()
+        )));
+    }
+    let mask: u32 = if stored >= 32 {
+        u32::MAX
+    } else {
+        (1u32 << stored) - 1
+    };
+    let hu = words[..n]
+        .iter()
+        .map(|&w| {
+            let u = (w as u32) & mask;
+            let raw = if signed && stored > 0 && (u >> (stored - 1)) & 1 == 1 {
+                u as i64 - (1i64 << stored)
+            } else {
+                u as i64
+            };
+            let v = (raw as f64 * slope + intercept).round();
+            v.clamp(i16::MIN as f64, i16::MAX as f64) as i16
+        })
+        .collect();
+    Ok(DicomSlice {
+        path: path.to_owned(),
+        rows,
+        cols,
+        row_spacing: spacing[0],
+        col_spacing: spacing[1],
+        position,
+        location,
+        thickness,
+        hu,
+    })
+}
+
+fn same(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-3 * a.abs().max(b.abs()).max(1.0)
+}
+
+/// Stacks DICOM files into a volume, sorted by position along the slice
+/// normal (z increasing). Refuses (naming the first offending file) slices of
+/// different sizes, different pixel spacing, or uneven gaps between slice
+/// positions (relative tolerance 10⁻³); a single slice gets its
+/// SliceThickness (or 1 mm) as z spacing.
+pub fn read_dicom_series(paths: &[PathBuf]) -> Result<Volume, CtError> {
+    if paths.is_empty() {
+        return Err(CtError::Invalid("empty DICOM series: no files".into()));
+    }
+    let mut slices = paths
+        .iter()
+        .map(|p| read_dicom_file(p))
+        .collect::<Result<Vec<_>, _>>()?;
+    slices.sort_by(|a, b| a.location.total_cmp(&b.location));
+    let first = &slices[0];
+    for s in &slices[1..] {
+        if (s.rows, s.cols) != (first.rows, first.cols) {
+            return Err(CtError::SizeMismatch {
+                path: s.path.clone(),
+                expected: (first.rows, first.cols),
+                found: (s.rows, s.cols),
+            });
+        }
+        for (axis, e, f) in [
+            ("row", first.row_spacing, s.row_spacing),
+            ("column", first.col_spacing, s.col_spacing),
+        ] {
+            if !same(e, f) {
+                return Err(CtError::SpacingMismatch {
+                    path: s.path.clone(),
+                    axis,
+                    expected: e,
+                    found: f,
+                });
+            }
+        }
+    }
+    let sz = if slices.len() > 1 {
+        let gap0 = slices[1].location - slices[0].location;
+        for w in slices.windows(2) {
+            let gap = w[1].location - w[0].location;
+            if gap.is_nan() || gap <= 0.0 || !same(gap, gap0) {
+                return Err(CtError::SpacingMismatch {
+                    path: w[1].path.clone(),
+                    axis: "slice gap",
+                    expected: gap0,
+                    found: gap,
+                });
+            }
+        }
+        (slices[slices.len() - 1].location - slices[0].location) / (slices.len() - 1) as f64
+    } else {
+        first.thickness.filter(|t| *t > 0.0).unwrap_or(1.0)
+    };
+    let origin = first.position.unwrap_or([0.0, 0.0, first.location]);
+    let (nx, ny, nz) = (first.cols, first.rows, slices.len());
+    let spacing = Spacing {
+        x: first.col_spacing,
+        y: first.row_spacing,
+        z: sz,
+    };
+    let mut data = Vec::with_capacity(nx * ny * nz);
+    for s in slices {
+        data.extend_from_slice(&s.hu);
+    }
+    Volume::new(nx, ny, nz, spacing, origin, data)
+}
+
+/// Reads every regular file of `dir` as one DICOM series (see
+/// [`read_dicom_series`]); any file that is not valid DICOM is an error.
+pub fn read_dicom_dir(dir: &Path) -> Result<Volume, CtError> {
+    let mut paths = Vec::new();
+    for entry in std::fs::read_dir(dir).map_err(|e| CtError::io(dir, e))? {
+        let entry = entry.map_err(|e| CtError::io(dir, e))?;
+        let p = entry.path();
+        if p.is_file() {
+            paths.push(p);
+        }
+    }
+    paths.sort();
+    read_dicom_series(&paths)
+}
+
+/// A DICOM decimal string (≤ 16 characters, PS3.5 6.2) for `v`: the
+/// shortest round-trip representation when it fits.
+fn ds(v: f64) -> String {
+    let s = format!("{v}");
+    if s.len() <= 16 {
+        return s;
+    }
+    for prec in (1..=15).rev() {
+        let s = format!("{v:.prec$e}");
+        if s.len() <= 16 {
+            return s;
+        }
+    }
+    format!("{v:.0}")
+}
+
+/// A deterministic UID under the `2.25` root (ITU-T X.667 UUID-derived) from
+/// a text key (FNV-1a 64-bit, twice).
+fn uid(key: &str) -> String {
+    let fnv = |seed: u64| {
+        key.bytes().fold(seed, |h, b| {
+            (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
+        })
+    };
+    let hi = fnv(0xcbf2_9ce4_8422_2325) as u128;
+    let lo = fnv(0x8422_2325_cbf2_9ce4) as u128;
+    format!("2.25.{}", (hi << 64 | lo) >> 1)
+}
+
+/// The bytes of slice `z` of `volume` as a single-frame CT Image Storage
+/// DICOM file (explicit VR little endian; signed 16-bit samples
+/// `raw = HU + 1024`, RescaleSlope 1, RescaleIntercept −1024; axial
+/// orientation 1\0\0\0\1\0; ImagePositionPatient = origin + (0, 0, z·sz)).
+/// `series` keys the deterministic study/series/instance UIDs.
+pub fn dicom_slice_bytes(volume: &Volume, z: usize, series: &str) -> Result<Vec<u8>, CtError> {
+    let sl = volume.slice(z);
+    let mut words = Vec::with_capacity(sl.data.len());
+    for &hu in sl.data {
+        let raw = hu as i32 + 1024;
+        let raw = i16::try_from(raw).map_err(|_| {
+            CtError::Invalid(format!(
+                "HU {hu} in slice {z} does not fit the DICOM encoding"
+            ))
+        })?;
+        words.push(raw as u16);
+    }
+    let sp = volume.spacing;
+    let pos = [
+        volume.origin[0],
+        volume.origin[1],
+        volume.origin[2] + z as f64 * sp.z,
+    ];
+    let sop = uid(&format!("{series}/{z}"));
+    let s = |t: Tag, vr: VR, v: String| DataElement::new(t, vr, PrimitiveValue::from(v));
+    let u16e = |t: Tag, v: u16| DataElement::new(t, VR::US, PrimitiveValue::from(v));
+    let mut obj = InMemDicomObject::new_empty();
+    obj.put(s(
+        tags::SOP_CLASS_UID,
+        VR::UI,
+        uids::CT_IMAGE_STORAGE.into(),
+    ));
+    obj.put(s(tags::SOP_INSTANCE_UID, VR::UI, sop));
+    obj.put(s(tags::MODALITY, VR::CS, "CT".into()));
+    obj.put(s(tags::PATIENT_NAME, VR::PN, "Anonymous".into()));
+    obj.put(s(
+        tags::STUDY_INSTANCE_UID,
+        VR::UI,
+        uid(&format!("{series}/study")),
+    ));
+    obj.put(s(
+        tags::SERIES_INSTANCE_UID,
+        VR::UI,
+        uid(&format!("{series}/series")),
+    ));
+    obj.put(s(
+        tags::FRAME_OF_REFERENCE_UID,
+        VR::UI,
+        uid(&format!("{series}/frame")),
+    ));
+    obj.put(s(tags::INSTANCE_NUMBER, VR::IS, format!("{}", z + 1)));
+    obj.put(s(tags::SLICE_THICKNESS, VR::DS, ds(sp.z)));
+    obj.put(s(
+        tags::IMAGE_POSITION_PATIENT,
+        VR::DS,
+        format!("{}\\{}\\{}", ds(pos[0]), ds(pos[1]), ds(pos[2])),
+    ));
+    obj.put(s(
+        tags::IMAGE_ORIENTATION_PATIENT,
+        VR::DS,
+        "1\\0\\0\\0\\1\\0".into(),
+    ));
+    obj.put(s(tags::SLICE_LOCATION, VR::DS, ds(pos[2])));
+    obj.put(u16e(tags::SAMPLES_PER_PIXEL, 1));
+    obj.put(s(
+        tags::PHOTOMETRIC_INTERPRETATION,
+        VR::CS,
+        "MONOCHROME2".into(),
+    ));
+    obj.put(u16e(tags::ROWS, sl.ny as u16));
+    obj.put(u16e(tags::COLUMNS, sl.nx as u16));
+    obj.put(s(
+        tags::PIXEL_SPACING,
+        VR::DS,
+        format!("{}\\{}", ds(sp.y), ds(sp.x)),
+    ));
+    obj.put(u16e(tags::BITS_ALLOCATED, 16));
+    obj.put(u16e(tags::BITS_STORED, 16));
+    obj.put(u16e(tags::HIGH_BIT, 15));
+    obj.put(u16e(tags::PIXEL_REPRESENTATION, 1));
+    obj.put(s(tags::RESCALE_INTERCEPT, VR::DS, "-1024".into()));
+    obj.put(s(tags::RESCALE_SLOPE, VR::DS, "1".into()));
+    obj.put(s(tags::RESCALE_TYPE, VR::LO, "HU".into()));
+    obj.put(DataElement::new(
+        tags::PIXEL_DATA,
+        VR::OW,
+        PrimitiveValue::U16(words.into()),
+    ));
+    if sl.nx > u16::MAX as usize || sl.ny > u16::MAX as usize {
+        return Err(CtError::Invalid("slice too large for DICOM".into()));
+    }
+    let file = obj
+        .with_meta(FileMetaTableBuilder::new().transfer_syntax(uids::EXPLICIT_VR_LITTLE_ENDIAN))
+        .map_err(|e| CtError::Invalid(format!("DICOM meta: {e}")))?;
+    let mut bytes = Vec::new();
+    file.write_all(&mut bytes)
+        .map_err(|e| CtError::Invalid(format!("DICOM encoding: {e}")))?;
+    Ok(bytes)
+}
+
+/// Writes slices `z_range` of `volume` into `dir` as `slice_NNNN.dcm`
+/// (see [`dicom_slice_bytes`]), each atomically; returns the paths.
+pub fn write_dicom_series(
+    dir: &Path,
+    volume: &Volume,
+    z_range: std::ops::Range<usize>,
+    series: &str,
+) -> Result<Vec<PathBuf>, CtError> {
+    let mut out = Vec::new();
+    for z in z_range {
+        let p = dir.join(format!("slice_{z:04}.dcm"));
+        write_atomic(&p, &dicom_slice_bytes(volume, z, series)?)?;
+        out.push(p);
+    }
+    Ok(out)
+}

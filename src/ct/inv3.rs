@@ -1,0 +1,191 @@
+//! InVesalius `.inv3` projects: a gzip-compressed tar holding `main.plist`
+//! (an XML property list with `matrix.shape = [nz, ny, nx]`,
+//! `matrix.dtype = "int16"`, `matrix.filename` and `spacing = [sx, sy, sz]`
+//! in mm) and the raw volume `matrix.dat` (little-endian int16 HU, z/y/x
+//! order, no header). Format as written by InVesalius 3 (Amorim et al.,
+//! "InVesalius: an interactive rendering framework for health care support",
+//! ISVC 2015), `invesalius/project.py`.
+
+use std::collections::HashMap;
+use std::io::Read;
+use std::path::Path;
+
+use flate2::read::GzDecoder;
+
+use super::error::CtError;
+use super::plist::{parse_plist, PlistValue};
+use super::volume::{Spacing, Volume};
+use crate::error::write_atomic;
+
+/// Reads the CT volume of an `.inv3` project. Masks and surfaces in the
+/// project are ignored. Errors name the file: a corrupt or truncated gzip/tar
+/// stream, a missing `main.plist` or matrix, a malformed plist, a dtype other
+/// than int16, or a matrix whose byte count is not `2·nx·ny·nz`.
+pub fn read_inv3(path: &Path) -> Result<Volume, CtError> {
+    let file = std::fs::File::open(path).map_err(|e| CtError::io(path, e))?;
+    let mut archive = tar::Archive::new(GzDecoder::new(std::io::BufReader::new(file)));
+    let mut members: HashMap<String, Vec<u8>> = HashMap::new();
+    let entries = archive
+        .entries()
+        .map_err(|e| CtError::inv3(path, format!("bad tar stream: {e}")))?;
+    for entry in entries {
+        let mut entry = entry.map_err(|e| CtError::inv3(path, format!("bad tar entry: {e}")))?;
+        let name = entry
+            .path()
+            .map_err(|e| CtError::inv3(path, format!("bad member name: {e}")))?
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        // Masks and surface meshes can be large and are not needed.
+        if name.starts_with("mask_") || name.ends_with(".vtp") {
+            continue;
+        }
+        let mut bytes = Vec::with_capacity(entry.size() as usize);
+        entry
+            .read_to_end(&mut bytes)
+            .map_err(|e| CtError::inv3(path, format!("member {name}: {e}")))?;
+        members.insert(name, bytes);
+    }
+    let plist_bytes = members
+        .get("main.plist")
+        .ok_or_else(|| CtError::inv3(path, "no main.plist member"))?;
+    let text = std::str::from_utf8(plist_bytes)
+        .map_err(|_| CtError::inv3(path, "main.plist is not UTF-8"))?;
+    let plist = parse_plist(text).map_err(|m| CtError::inv3(path, format!("main.plist: {m}")))?;
+    let matrix = plist
+        .get("matrix")
+        .ok_or_else(|| CtError::inv3(path, "main.plist has no `matrix` entry"))?;
+    let dtype = matrix
+        .get("dtype")
+        .and_then(PlistValue::as_str)
+        .unwrap_or("");
+    if dtype != "int16" {
+        return Err(CtError::inv3(
+            path,
+            format!("matrix dtype {dtype:?} is not supported (only int16)"),
+        ));
+    }
+    let shape: Vec<i64> = matrix
+        .get("shape")
+        .and_then(PlistValue::as_array)
+        .map(|a| a.iter().filter_map(PlistValue::as_i64).collect())
+        .unwrap_or_default();
+    if shape.len() != 3 || shape.iter().any(|&s| s <= 0) {
+        return Err(CtError::inv3(
+            path,
+            format!("matrix shape {shape:?} is not three positive integers"),
+        ));
+    }
+    let (nz, ny, nx) = (shape[0] as usize, shape[1] as usize, shape[2] as usize);
+    let spacing: Vec<f64> = plist
+        .get("spacing")
+        .and_then(PlistValue::as_array)
+        .map(|a| a.iter().filter_map(PlistValue::as_f64).collect())
+        .unwrap_or_default();
+    if spacing.len() != 3 || spacing.iter().any(|&s| !(s.is_finite() && s > 0.0)) {
+        return Err(CtError::inv3(
+            path,
+            format!("spacing {spacing:?} is not three positive numbers"),
+        ));
+    }
+    let filename = matrix
+        .get("filename")
+        .and_then(PlistValue::as_str)
+        .unwrap_or("matrix.dat");
+    let raw = members
+        .get(filename)
+        .ok_or_else(|| CtError::inv3(path, format!("no {filename} member")))?;
+    let expected = 2 * (nx as u64) * (ny as u64) * (nz as u64);
+    if raw.len() as u64 != expected {
+        return Err(CtError::ByteCount {
+            path: path.to_owned(),
+            expected,
+            found: raw.len() as u64,
+        });
+    }
+    let data = raw
+        .chunks_exact(2)
+        .map(|c| i16::from_le_bytes([c[0], c[1]]))
+        .collect();
+    Volume::new(
+        nx,
+        ny,
+        nz,
+        Spacing {
+            x: spacing[0],
+            y: spacing[1],
+            z: spacing[2],
+        },
+        [0.0; 3],
+        data,
+    )
+}
+
+/// The `main.plist` text for `volume` (InVesalius 3 layout, no masks or
+/// surfaces).
+pub fn inv3_plist(volume: &Volume, name: &str) -> String {
+    let esc = name
+        .replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;");
+    let (lo, hi) = volume
+        .data()
+        .iter()
+        .fold((i16::MAX, i16::MIN), |(lo, hi), &v| (lo.min(v), hi.max(v)));
+    format!(
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n\
+<!DOCTYPE plist PUBLIC \"-//Apple Computer//DTD PLIST 1.0//EN\" \"http://www.apple.com/DTDs/PropertyList-1.0.dtd\">\n\
+<plist version=\"1.0\">\n<dict>\n\
+\t<key>annotations</key>\n\t<dict>\n\t</dict>\n\
+\t<key>format_version</key>\n\t<integer>1</integer>\n\
+\t<key>masks</key>\n\t<dict>\n\t</dict>\n\
+\t<key>matrix</key>\n\t<dict>\n\
+\t\t<key>dtype</key>\n\t\t<string>int16</string>\n\
+\t\t<key>filename</key>\n\t\t<string>matrix.dat</string>\n\
+\t\t<key>shape</key>\n\t\t<array>\n\t\t\t<integer>{}</integer>\n\t\t\t<integer>{}</integer>\n\t\t\t<integer>{}</integer>\n\t\t</array>\n\
+\t</dict>\n\
+\t<key>modality</key>\n\t<string>CT</string>\n\
+\t<key>name</key>\n\t<string>{esc}</string>\n\
+\t<key>scalar_range</key>\n\t<array>\n\t\t<integer>{lo}</integer>\n\t\t<integer>{hi}</integer>\n\t</array>\n\
+\t<key>spacing</key>\n\t<array>\n\t\t<real>{:?}</real>\n\t\t<real>{:?}</real>\n\t\t<real>{:?}</real>\n\t</array>\n\
+\t<key>surfaces</key>\n\t<dict>\n\t</dict>\n\
+</dict>\n</plist>\n",
+        volume.nz, volume.ny, volume.nx, volume.spacing.x, volume.spacing.y, volume.spacing.z
+    )
+}
+
+/// The bytes of an `.inv3` file holding `volume` (gzip of a tar with
+/// `main.plist` and `matrix.dat`; deterministic: members have mtime 0).
+pub fn inv3_bytes(volume: &Volume, name: &str) -> Vec<u8> {
+    let plist = inv3_plist(volume, name);
+    let mut matrix = Vec::with_capacity(volume.data().len() * 2);
+    for v in volume.data() {
+        matrix.extend_from_slice(&v.to_le_bytes());
+    }
+    let mut builder = tar::Builder::new(Vec::new());
+    for (member, bytes) in [
+        ("main.plist", plist.as_bytes()),
+        ("matrix.dat", &matrix[..]),
+    ] {
+        let mut header = tar::Header::new_ustar();
+        header.set_size(bytes.len() as u64);
+        header.set_mode(0o644);
+        header.set_mtime(0);
+        header.set_entry_type(tar::EntryType::Regular);
+        // Writing into a Vec cannot fail.
+        builder
+            .append_data(&mut header, member, bytes)
+            .expect("tar into memory");
+    }
+    let tar_bytes = builder.into_inner().expect("tar into memory");
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::best());
+    std::io::Write::write_all(&mut gz, &tar_bytes).expect("gzip into memory");
+    gz.finish().expect("gzip into memory")
+}
+
+/// Writes `volume` as an `.inv3` project readable by [`read_inv3`] and by
+/// InVesalius (atomically, via [`write_atomic`]).
+pub fn write_inv3(path: &Path, volume: &Volume, name: &str) -> Result<(), CtError> {
+    write_atomic(path, &inv3_bytes(volume, name))?;
+    Ok(())
+}

@@ -1,0 +1,60 @@
+//! CT data layer for the cranial-implant chapter (thesis chapter 6): volumes
+//! and their readers (`.inv3`, DICOM), bone segmentation, contours, defect
+//! detection, the mirror technique, meshes and STL, voxel metrics
+//! (AutoImplant, Li & Egger et al. 2021) and preview rendering.
+//!
+//! Frames: voxel `(z, y, x)` = (slice, row, column). In a slice, points are
+//! in millimetres `x = col·sx`, `y = row·sy` (see [`volume`]); in 3D,
+//! `z = slice·sz`. The volume origin is never added.
+
+pub mod bone;
+pub mod contour;
+pub mod defect;
+pub mod dicom;
+pub mod edt;
+pub mod error;
+pub mod inv3;
+pub mod mask;
+pub mod mesh;
+pub mod metrics;
+pub mod mirror;
+pub mod plist;
+pub mod polyline;
+pub mod render;
+pub mod stl;
+pub mod triangulate;
+pub mod volume;
+pub mod voxelise;
+
+pub use bone::{
+    bone_mask_slice, bone_mask_volume, largest_component_2d, largest_component_3d, threshold_slice,
+    BONE_THRESHOLD_HU,
+};
+pub use contour::{bone_loops, marching_squares, table_contours, TableContours};
+pub use defect::{detect_defect, Defect, DefectParams};
+pub use dicom::{
+    read_dicom_dir, read_dicom_file, read_dicom_series, write_dicom_series, DicomSlice,
+};
+pub use edt::edt_squared;
+pub use error::CtError;
+pub use inv3::{read_inv3, write_inv3};
+pub use mask::{Mask2, Mask3};
+pub use mesh::{loft, Mesh};
+pub use metrics::{
+    boundary_dice, contour_deviation, dice, hd95, percentile, surface, surface_distances,
+    ContourDeviation,
+};
+pub use mirror::{estimate_midline, mirror_template, reflect, Midline, MirrorTemplate};
+pub use polyline::{Nearest, Polyline};
+pub use render::{encode_png, mesh_view_rgb, slice_overlay_png, write_png, Overlay, View, Window};
+pub use stl::{parse_stl, stl_bytes, write_stl};
+pub use triangulate::ear_clip;
+pub use volume::{Slice, Spacing, Volume};
+pub use voxelise::voxelise;
+
+/// Index in the original 108-slice ProMED CT 0051 volume of slice 0 of the
+/// vendored extract `data/ct0051/ct0051_z040-100.inv3` (see its PROVENANCE.md).
+pub const CT0051_FIRST_Z: usize = 40;
+
+/// Path of the vendored ProMED CT 0051 extract, relative to the crate root.
+pub const CT0051_PATH: &str = "data/ct0051/ct0051_z040-100.inv3";

@@ -1,0 +1,273 @@
+//! Polylines in a slice's millimetre frame: closed loops (contours,
+//! cross-sections) or open arcs (table contours split at a defect).
+
+use crate::geometry::Point;
+
+/// A polyline; when `closed`, the last point joins back to the first (the
+/// first point is not repeated at the end).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Polyline {
+    /// The vertices in mm.
+    pub points: Vec<Point>,
+    /// Whether the last vertex connects to the first.
+    pub closed: bool,
+}
+
+/// The nearest point of a polyline to a query point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Nearest {
+    /// Index of the segment's first vertex (segment `i` joins `i` and `i+1`,
+    /// or the last and the first vertex when closed).
+    pub segment: usize,
+    /// Position on the segment, in \[0, 1\].
+    pub t: f64,
+    /// The nearest point.
+    pub point: Point,
+    /// Its distance to the query, in mm.
+    pub distance: f64,
+}
+
+/// The distance from `p` to segment `ab` and the parameter of the foot.
+fn segment_foot(p: Point, a: Point, b: Point) -> (f64, Point) {
+    let d = b - a;
+    let l2 = d.hypot2();
+    let t = if l2 > 0.0 {
+        ((p - a).dot(d) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (t, a + d * t)
+}
+
+impl Polyline {
+    /// A closed polyline.
+    pub fn closed(points: Vec<Point>) -> Polyline {
+        Polyline {
+            points,
+            closed: true,
+        }
+    }
+
+    /// An open polyline.
+    pub fn open(points: Vec<Point>) -> Polyline {
+        Polyline {
+            points,
+            closed: false,
+        }
+    }
+
+    /// Number of segments: `n` when closed, `n − 1` when open.
+    pub fn segment_count(&self) -> usize {
+        let n = self.points.len();
+        if n < 2 {
+            0
+        } else if self.closed {
+            n
+        } else {
+            n - 1
+        }
+    }
+
+    /// Segment `i` as its end points.
+    pub fn segment(&self, i: usize) -> (Point, Point) {
+        let n = self.points.len();
+        (self.points[i], self.points[(i + 1) % n])
+    }
+
+    /// Signed area by the shoelace formula `½ Σ (x_i y_{i+1} − x_{i+1} y_i)`
+    /// over the closed loop (an open polyline is closed by its chord).
+    /// Contours of this module have the bone on their left, so outer
+    /// boundaries are positive and holes negative.
+    pub fn signed_area(&self) -> f64 {
+        let n = self.points.len();
+        if n < 3 {
+            return 0.0;
+        }
+        let mut s = 0.0;
+        for i in 0..n {
+            let (a, b) = (self.points[i], self.points[(i + 1) % n]);
+            s += a.cross(b);
+        }
+        s / 2.0
+    }
+
+    /// Total length in mm.
+    pub fn length(&self) -> f64 {
+        (0..self.segment_count())
+            .map(|i| {
+                let (a, b) = self.segment(i);
+                a.distance(b)
+            })
+            .sum()
+    }
+
+    /// The same curve traversed the other way.
+    pub fn reversed(&self) -> Polyline {
+        let mut points = self.points.clone();
+        points.reverse();
+        Polyline {
+            points,
+            closed: self.closed,
+        }
+    }
+
+    /// The mean of the vertices.
+    pub fn vertex_mean(&self) -> Point {
+        let n = self.points.len().max(1) as f64;
+        self.points.iter().fold(Point::ZERO, |s, &p| s + p) / n
+    }
+
+    /// The nearest point to `p` (None for an empty polyline).
+    pub fn nearest(&self, p: Point) -> Option<Nearest> {
+        if self.points.len() == 1 {
+            let q = self.points[0];
+            return Some(Nearest {
+                segment: 0,
+                t: 0.0,
+                point: q,
+                distance: p.distance(q),
+            });
+        }
+        let mut best: Option<Nearest> = None;
+        for i in 0..self.segment_count() {
+            let (a, b) = self.segment(i);
+            let (t, q) = segment_foot(p, a, b);
+            let d = p.distance(q);
+            if best.is_none_or(|n| d < n.distance) {
+                best = Some(Nearest {
+                    segment: i,
+                    t,
+                    point: q,
+                    distance: d,
+                });
+            }
+        }
+        best
+    }
+
+    /// The distance from `p` to the polyline (∞ when empty).
+    pub fn distance_to(&self, p: Point) -> f64 {
+        self.nearest(p).map_or(f64::INFINITY, |n| n.distance)
+    }
+
+    /// Even-odd point-in-polygon test (Jordan curve theorem, crossing number;
+    /// Haines 1994); the polyline is treated as closed.
+    pub fn contains(&self, p: Point) -> bool {
+        let n = self.points.len();
+        let mut inside = false;
+        let mut j = n.wrapping_sub(1);
+        for i in 0..n {
+            let (a, b) = (self.points[i], self.points[j]);
+            if (a.y > p.y) != (b.y > p.y) {
+                let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
+                if p.x < x {
+                    inside = !inside;
+                }
+            }
+            j = i;
+        }
+        inside
+    }
+
+    /// The point at arc length `s` (clamped to \[0, length\]).
+    pub fn point_at(&self, s: f64) -> Point {
+        let mut left = s.max(0.0);
+        for i in 0..self.segment_count() {
+            let (a, b) = self.segment(i);
+            let l = a.distance(b);
+            if left <= l && l > 0.0 {
+                return a.lerp(b, left / l);
+            }
+            left -= l;
+        }
+        if self.closed {
+            self.points[0]
+        } else {
+            *self.points.last().expect("non-empty polyline")
+        }
+    }
+
+    /// `n` points equally spaced by arc length. A closed polyline gives `n`
+    /// points starting at its first vertex (spacing `L/n`); an open one gives
+    /// `n ≥ 2` points from its first to its last vertex (spacing `L/(n−1)`).
+    pub fn resample(&self, n: usize) -> Polyline {
+        assert!(!self.points.is_empty(), "empty polyline");
+        let len = self.length();
+        let step = if self.closed {
+            len / n as f64
+        } else {
+            len / (n.max(2) - 1) as f64
+        };
+        // Walk once over the segments (linear time).
+        let mut out = Vec::with_capacity(n);
+        let mut seg = 0;
+        let mut seg_start = 0.0;
+        let segs = self.segment_count();
+        for k in 0..n {
+            let s = k as f64 * step;
+            while seg < segs {
+                let (a, b) = self.segment(seg);
+                let l = a.distance(b);
+                if s <= seg_start + l || seg + 1 == segs {
+                    break;
+                }
+                seg_start += l;
+                seg += 1;
+            }
+            if segs == 0 {
+                out.push(self.points[0]);
+                continue;
+            }
+            let (a, b) = self.segment(seg);
+            let l = a.distance(b);
+            let t = if l > 0.0 {
+                ((s - seg_start) / l).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            out.push(a.lerp(b, t));
+        }
+        if !self.closed && n >= 2 {
+            out[n - 1] = *self.points.last().expect("non-empty");
+        }
+        Polyline {
+            points: out,
+            closed: self.closed,
+        }
+    }
+
+    /// The sub-arc from `from` to `to` (positions on the polyline as given by
+    /// [`Polyline::nearest`]), following the vertex order; for a closed
+    /// polyline it wraps around. The result is open and starts and ends at
+    /// the exact positions.
+    pub fn sub_arc(&self, from: &Nearest, to: &Nearest) -> Polyline {
+        let n = self.points.len();
+        let mut pts = vec![from.point];
+        let forward = (from.segment, from.t) <= (to.segment, to.t);
+        if !self.closed && !forward {
+            // Open polyline walked backwards: reverse the result of the
+            // forward walk.
+            return self.sub_arc(to, from).reversed();
+        }
+        let mut i = from.segment;
+        if self.closed && !forward {
+            // Wrap: from `from` to the end, then from 0 to `to`.
+            loop {
+                i = (i + 1) % n;
+                pts.push(self.points[i]);
+                if i == to.segment {
+                    break;
+                }
+            }
+        } else {
+            while i < to.segment {
+                i += 1;
+                pts.push(self.points[i]);
+            }
+        }
+        if pts.last() != Some(&to.point) {
+            pts.push(to.point);
+        }
+        Polyline::open(pts)
+    }
+}

@@ -1,0 +1,249 @@
+//! Preview rendering to PNG: a CT slice in a bone window with polylines and
+//! labelled points drawn over it, and a shaded orthographic view of a
+//! triangle mesh (software rasteriser with a z-buffer and Lambert shading,
+//! `I = ambient + (1 − ambient)·|n·v|`, two-sided).
+//!
+//! Labels use plotters' in-memory bitmap backend with the embedded DejaVu
+//! Sans (`assets/fonts/`); PNGs are encoded with the pure-Rust `image`
+//! crate and written with [`write_atomic`].
+
+use std::path::Path;
+use std::sync::OnceLock;
+
+use plotters::prelude::*;
+use plotters::style::FontStyle;
+
+use super::error::CtError;
+use super::mesh::Mesh;
+use super::polyline::Polyline;
+use super::volume::Slice;
+use crate::error::write_atomic;
+use crate::geometry::Point;
+
+static DEJAVU_SANS: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+const FAMILY: &str = "sans-serif";
+
+fn ensure_font() -> bool {
+    static OK: OnceLock<bool> = OnceLock::new();
+    *OK.get_or_init(|| {
+        plotters::style::register_font(FAMILY, FontStyle::Normal, DEJAVU_SANS).is_ok()
+    })
+}
+
+/// A CT display window: grey = clamp((HU − (level − width/2)) / width).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Window {
+    /// Window width in HU.
+    pub width: f64,
+    /// Window level (centre) in HU.
+    pub level: f64,
+}
+
+impl Window {
+    /// The bone window W 2000 / L 500.
+    pub const BONE: Window = Window {
+        width: 2000.0,
+        level: 500.0,
+    };
+
+    /// The grey value (0..=255) of `hu`.
+    pub fn grey(&self, hu: f64) -> u8 {
+        let t = (hu - (self.level - self.width / 2.0)) / self.width;
+        (t.clamp(0.0, 1.0) * 255.0).round() as u8
+    }
+}
+
+/// What to draw over a slice (all in the slice's mm frame).
+#[derive(Clone, Debug, Default)]
+pub struct Overlay {
+    /// Polylines with their RGB colour.
+    pub polylines: Vec<(Polyline, [u8; 3])>,
+    /// Labelled points (label, position, colour).
+    pub points: Vec<(String, Point, [u8; 3])>,
+    /// Vertical lines `x = const` (such as M_x), with colour.
+    pub vertical_lines: Vec<(f64, [u8; 3])>,
+}
+
+/// PNG-encodes an RGB8 buffer.
+pub fn encode_png(rgb: &[u8], w: u32, h: u32) -> Result<Vec<u8>, CtError> {
+    use image::ImageEncoder;
+    let mut out = Vec::new();
+    image::codecs::png::PngEncoder::new(&mut out)
+        .write_image(rgb, w, h, image::ColorType::Rgb8)
+        .map_err(|e| CtError::Invalid(format!("PNG encoding: {e}")))?;
+    Ok(out)
+}
+
+/// The PNG of `slice` in `window`, enlarged `scale` times (nearest
+/// neighbour), with `overlay` drawn on top.
+pub fn slice_overlay_png(
+    slice: &Slice,
+    window: Window,
+    scale: u32,
+    overlay: &Overlay,
+) -> Result<Vec<u8>, CtError> {
+    let scale = scale.max(1);
+    let (w, h) = (slice.nx as u32 * scale, slice.ny as u32 * scale);
+    let mut buf = vec![0u8; (w * h * 3) as usize];
+    for y in 0..h {
+        for x in 0..w {
+            let g = window.grey(slice.get((y / scale) as usize, (x / scale) as usize) as f64);
+            let i = ((y * w + x) * 3) as usize;
+            buf[i..i + 3].copy_from_slice(&[g, g, g]);
+        }
+    }
+    // Pixel coordinates of a mm point: pixel centre (row, col) maps to the
+    // middle of its enlarged block.
+    let s = scale as f64;
+    let to_px = |p: Point| {
+        (
+            ((p.x / slice.sx + 0.5) * s) as i32,
+            ((p.y / slice.sy + 0.5) * s) as i32,
+        )
+    };
+    let font_ok = ensure_font();
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+        let fail = |e: String| CtError::Invalid(format!("drawing the overlay: {e}"));
+        for &(x, c) in &overlay.vertical_lines {
+            let px = ((x / slice.sx + 0.5) * s) as i32;
+            root.draw(&PathElement::new(
+                vec![(px, 0), (px, h as i32)],
+                RGBColor(c[0], c[1], c[2]).stroke_width(1),
+            ))
+            .map_err(|e| fail(e.to_string()))?;
+        }
+        for (poly, c) in &overlay.polylines {
+            let mut pts: Vec<(i32, i32)> = poly.points.iter().map(|&p| to_px(p)).collect();
+            if poly.closed {
+                if let Some(&f) = pts.first() {
+                    pts.push(f);
+                }
+            }
+            root.draw(&PathElement::new(
+                pts,
+                RGBColor(c[0], c[1], c[2]).stroke_width(1),
+            ))
+            .map_err(|e| fail(e.to_string()))?;
+        }
+        for (label, p, c) in &overlay.points {
+            let (x, y) = to_px(*p);
+            let col = RGBColor(c[0], c[1], c[2]);
+            root.draw(&Circle::new((x, y), 3, col.filled()))
+                .map_err(|e| fail(e.to_string()))?;
+            if font_ok && !label.is_empty() {
+                root.draw(&Text::new(
+                    label.clone(),
+                    (x + 5, y - 14),
+                    (FAMILY, 14).into_font().color(&col),
+                ))
+                .map_err(|e| fail(e.to_string()))?;
+            }
+        }
+        root.present().map_err(|e| fail(e.to_string()))?;
+    }
+    encode_png(&buf, w, h)
+}
+
+/// A viewing direction for [`mesh_view_rgb`]: the camera looks along
+/// `direction` (from the eye into the scene); `up` fixes the image's
+/// vertical.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct View {
+    /// Viewing direction (need not be unit).
+    pub direction: [f64; 3],
+    /// Up vector (not parallel to `direction`).
+    pub up: [f64; 3],
+}
+
+fn norm(v: [f64; 3]) -> [f64; 3] {
+    let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    [v[0] / l, v[1] / l, v[2] / l]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// Renders meshes (each with a base colour) orthographically along
+/// `view` into a `size × size` RGB8 buffer, fitted with a 5% margin on a
+/// white background; returns the buffer. Depth test per pixel (z-buffer),
+/// Lambert shading with ambient 0.25.
+pub fn mesh_view_rgb(meshes: &[(&Mesh, [u8; 3])], view: View, size: u32) -> Vec<u8> {
+    let d = norm(view.direction);
+    let right = norm(cross(d, view.up));
+    let up = cross(right, d);
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for (m, _) in meshes {
+        for v in &m.vertices {
+            let p = [dot(*v, right), dot(*v, up)];
+            for k in 0..2 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+    }
+    let n = size as usize;
+    let mut rgb = vec![255u8; n * n * 3];
+    if lo[0] > hi[0] {
+        return rgb;
+    }
+    let span = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-9) * 1.1;
+    let c = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
+    let px = |v: [f64; 3]| {
+        [
+            ((dot(v, right) - c[0]) / span + 0.5) * size as f64,
+            (0.5 - (dot(v, up) - c[1]) / span) * size as f64,
+            dot(v, d),
+        ]
+    };
+    let mut depth = vec![f64::INFINITY; n * n];
+    for (m, base) in meshes {
+        for t in 0..m.triangles.len() {
+            let nrm = m.normal(t);
+            let shade = 0.25 + 0.75 * dot(nrm, d).abs();
+            let col = base.map(|b| (b as f64 * shade).round().clamp(0.0, 255.0) as u8);
+            let [a, b, cc] = m.triangles[t].map(|i| px(m.vertices[i]));
+            let area = (b[0] - a[0]) * (cc[1] - a[1]) - (b[1] - a[1]) * (cc[0] - a[0]);
+            if area.abs() < 1e-12 {
+                continue;
+            }
+            let x0 = a[0].min(b[0]).min(cc[0]).floor().max(0.0) as usize;
+            let x1 = (a[0].max(b[0]).max(cc[0]).ceil() as usize).min(n - 1);
+            let y0 = a[1].min(b[1]).min(cc[1]).floor().max(0.0) as usize;
+            let y1 = (a[1].max(b[1]).max(cc[1]).ceil() as usize).min(n - 1);
+            for y in y0..=y1 {
+                for x in x0..=x1 {
+                    let (qx, qy) = (x as f64 + 0.5, y as f64 + 0.5);
+                    let w0 = ((b[0] - qx) * (cc[1] - qy) - (b[1] - qy) * (cc[0] - qx)) / area;
+                    let w1 = ((cc[0] - qx) * (a[1] - qy) - (cc[1] - qy) * (a[0] - qx)) / area;
+                    let w2 = 1.0 - w0 - w1;
+                    if w0 < 0.0 || w1 < 0.0 || w2 < 0.0 {
+                        continue;
+                    }
+                    let z = w0 * a[2] + w1 * b[2] + w2 * cc[2];
+                    let i = y * n + x;
+                    if z < depth[i] {
+                        depth[i] = z;
+                        rgb[i * 3..i * 3 + 3].copy_from_slice(&col);
+                    }
+                }
+            }
+        }
+    }
+    rgb
+}
+
+/// Writes PNG bytes to `path` atomically.
+pub fn write_png(path: &Path, png: &[u8]) -> Result<(), CtError> {
+    write_atomic(path, png)?;
+    Ok(())
+}
