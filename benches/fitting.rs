@@ -12,6 +12,9 @@
 //! with MHS (10,000 evaluations per segment, the `metabezier fit` default).
 //! Run with `cargo bench --bench fitting`.
 
+mod common;
+
+use common::mean_ns;
 use std::hint::black_box;
 use std::path::Path;
 use std::time::Duration;
@@ -82,20 +85,6 @@ fn bench(c: &mut Criterion) {
         });
         group.finish();
     }
-}
-
-/// Reads criterion's mean time per iteration (ns) of one benchmark.
-fn mean_ns(group: &str, id: &str) -> Option<f64> {
-    let path = Path::new("target/criterion")
-        .join(group)
-        .join(id)
-        .join("new/estimates.json");
-    let text = std::fs::read_to_string(path).ok()?;
-    let at = text.find("\"mean\"")?;
-    let rest = &text[at..];
-    let p = rest.find("\"point_estimate\":")? + "\"point_estimate\":".len();
-    let end = rest[p..].find([',', '}'])?;
-    rest[p..p + end].trim().parse().ok()
 }
 
 /// Fitting the horse at 1 px tolerance, end to end after loading.

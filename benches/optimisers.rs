@@ -7,8 +7,10 @@
 //! the target is ≤ 2 (the optimiser's own work per evaluation costs at most
 //! one Sphere-30 evaluation). `make bench` prints the ratio table at the end.
 
+mod common;
+
+use common::mean_ns;
 use std::hint::black_box;
-use std::path::Path;
 
 use criterion::{BenchmarkId, Criterion, Throughput};
 use metabezier::functions::{Function, TestProblem};
@@ -54,20 +56,6 @@ fn bench_function(c: &mut Criterion, f: Function) {
         });
     }
     group.finish();
-}
-
-/// Reads criterion's mean time per iteration (ns) of one benchmark.
-fn mean_ns(group: &str, id: &str) -> Option<f64> {
-    let path = Path::new("target/criterion")
-        .join(group)
-        .join(id)
-        .join("new/estimates.json");
-    let text = std::fs::read_to_string(path).ok()?;
-    let at = text.find("\"mean\"")?;
-    let rest = &text[at..];
-    let p = rest.find("\"point_estimate\":")? + "\"point_estimate\":".len();
-    let end = rest[p..].find([',', '}'])?;
-    rest[p..p + end].trim().parse().ok()
 }
 
 fn main() {

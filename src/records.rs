@@ -317,18 +317,15 @@ pub fn runs_csv(records: &[RunRecord]) -> Vec<u8> {
 pub fn convergence_csv(records: &[RunRecord], optimum: impl Fn(&RunRecord) -> f64) -> Vec<u8> {
     let rows = records.iter().flat_map(|r| {
         let f_star = optimum(r);
+        let key = run_key_fields(r);
         r.trace.iter().map(move |p| {
-            vec![
-                r.algorithm.clone(),
-                r.kind.clone(),
-                r.params.clone(),
-                r.problem.clone(),
-                r.dim.to_string(),
-                r.run.to_string(),
+            let mut row = key.clone();
+            row.extend([
                 p.evaluations.to_string(),
                 fmt_real(p.best),
                 fmt_real(p.best - f_star),
-            ]
+            ]);
+            row
         })
     });
     csv_bytes(&CONVERGENCE_HEADER, rows)
@@ -337,15 +334,9 @@ pub fn convergence_csv(records: &[RunRecord], optimum: impl Fn(&RunRecord) -> f6
 /// The bytes of `timing.csv`.
 pub fn timing_csv(records: &[RunRecord]) -> Vec<u8> {
     let rows = records.iter().map(|r| {
-        vec![
-            r.algorithm.clone(),
-            r.kind.clone(),
-            r.params.clone(),
-            r.problem.clone(),
-            r.dim.to_string(),
-            r.run.to_string(),
-            fmt_real(r.wall_seconds),
-        ]
+        let mut row = run_key_fields(r);
+        row.push(fmt_real(r.wall_seconds));
+        row
     });
     csv_bytes(&TIMING_HEADER, rows)
 }
@@ -531,6 +522,26 @@ pub fn read_runs(path: &Path) -> Result<Vec<RunRecord>, Error> {
     Ok(out)
 }
 
+/// Reads the rows of a CSV file with `header`, checking the header and
+/// every row's column count, and hands each to `row` with its line number.
+fn read_keyed(
+    path: &Path,
+    header: &[&str],
+    mut row: impl FnMut(&Path, u64, &csv::StringRecord) -> Result<(), Error>,
+) -> Result<(), Error> {
+    let mut reader = open_csv(path, true)?;
+    check_header(path, &mut reader, header)?;
+    for (i, r) in reader.records().enumerate() {
+        let line = i as u64 + 2;
+        let r = r.map_err(|e| Error::data(path, line, e.to_string()))?;
+        if r.len() != header.len() {
+            return Err(Error::data(path, line, "wrong number of columns"));
+        }
+        row(path, line, &r)?;
+    }
+    Ok(())
+}
+
 /// Reads a finished campaign directory's `runs.csv`, `convergence.csv` and
 /// `timing.csv` back into complete records.
 pub fn read_results(dir: &Path) -> Result<Vec<RunRecord>, Error> {
@@ -553,70 +564,56 @@ pub fn read_results(dir: &Path) -> Result<Vec<RunRecord>, Error> {
             .copied()
             .ok_or_else(|| Error::data(path, line, "this run is not in runs.csv"))
     };
-    let conv_path = dir.join("convergence.csv");
-    let mut reader = open_csv(&conv_path, true)?;
-    check_header(&conv_path, &mut reader, &CONVERGENCE_HEADER)?;
-    for (i, row) in reader.records().enumerate() {
-        let line = i as u64 + 2;
-        let row = row.map_err(|e| Error::data(&conv_path, line, e.to_string()))?;
-        if row.len() != CONVERGENCE_HEADER.len() {
-            return Err(Error::data(&conv_path, line, "wrong number of columns"));
-        }
-        let k = lookup(&conv_path, line, &row)?;
-        records[k].trace.push(TracePoint {
-            evaluations: parse(&conv_path, line, "evaluations", &row[6])?,
-            best: parse(&conv_path, line, "best", &row[7])?,
-        });
-    }
-    let timing_path = dir.join("timing.csv");
-    let mut reader = open_csv(&timing_path, true)?;
-    check_header(&timing_path, &mut reader, &TIMING_HEADER)?;
-    for (i, row) in reader.records().enumerate() {
-        let line = i as u64 + 2;
-        let row = row.map_err(|e| Error::data(&timing_path, line, e.to_string()))?;
-        if row.len() != TIMING_HEADER.len() {
-            return Err(Error::data(&timing_path, line, "wrong number of columns"));
-        }
-        let k = lookup(&timing_path, line, &row)?;
-        records[k].wall_seconds = parse(&timing_path, line, "wall_seconds", &row[6])?;
-    }
-    let fits_path = dir.join("fits.csv");
-    if fits_path.exists() {
-        let header = keyed_header(&FIT_FIELDS);
-        let mut reader = open_csv(&fits_path, true)?;
-        check_header(&fits_path, &mut reader, &header)?;
-        for (i, row) in reader.records().enumerate() {
-            let line = i as u64 + 2;
-            let row = row.map_err(|e| Error::data(&fits_path, line, e.to_string()))?;
-            if row.len() != header.len() {
-                return Err(Error::data(&fits_path, line, "wrong number of columns"));
-            }
-            let k = lookup(&fits_path, line, &row)?;
-            let fields: Vec<&str> = row.iter().skip(RUN_KEY_HEADER.len()).collect();
-            records[k].fit = Some(FitDetail::from_fields(&fits_path, line, &fields)?);
-        }
-        let seg_path = dir.join("segments.csv");
-        let header = keyed_header(&SEGMENT_HEADER);
-        let mut reader = open_csv(&seg_path, true)?;
-        check_header(&seg_path, &mut reader, &header)?;
-        for (i, row) in reader.records().enumerate() {
-            let line = i as u64 + 2;
-            let row = row.map_err(|e| Error::data(&seg_path, line, e.to_string()))?;
-            if row.len() != header.len() {
-                return Err(Error::data(&seg_path, line, "wrong number of columns"));
-            }
-            let k = lookup(&seg_path, line, &row)?;
-            let fit = records[k]
-                .fit
-                .as_mut()
-                .ok_or_else(|| Error::data(&seg_path, line, "this run has no row in fits.csv"))?;
-            fit.segments.push(
-                row.iter()
-                    .skip(RUN_KEY_HEADER.len())
-                    .map(str::to_owned)
-                    .collect(),
-            );
-        }
+    read_keyed(
+        &dir.join("convergence.csv"),
+        &CONVERGENCE_HEADER,
+        |path, line, row| {
+            let k = lookup(path, line, row)?;
+            records[k].trace.push(TracePoint {
+                evaluations: parse(path, line, "evaluations", &row[6])?,
+                best: parse(path, line, "best", &row[7])?,
+            });
+            Ok(())
+        },
+    )?;
+    read_keyed(
+        &dir.join("timing.csv"),
+        &TIMING_HEADER,
+        |path, line, row| {
+            let k = lookup(path, line, row)?;
+            records[k].wall_seconds = parse(path, line, "wall_seconds", &row[6])?;
+            Ok(())
+        },
+    )?;
+    if dir.join("fits.csv").exists() {
+        read_keyed(
+            &dir.join("fits.csv"),
+            &keyed_header(&FIT_FIELDS),
+            |path, line, row| {
+                let k = lookup(path, line, row)?;
+                let fields: Vec<&str> = row.iter().skip(RUN_KEY_HEADER.len()).collect();
+                records[k].fit = Some(FitDetail::from_fields(path, line, &fields)?);
+                Ok(())
+            },
+        )?;
+        read_keyed(
+            &dir.join("segments.csv"),
+            &keyed_header(&SEGMENT_HEADER),
+            |path, line, row| {
+                let k = lookup(path, line, row)?;
+                let fit = records[k]
+                    .fit
+                    .as_mut()
+                    .ok_or_else(|| Error::data(path, line, "this run has no row in fits.csv"))?;
+                fit.segments.push(
+                    row.iter()
+                        .skip(RUN_KEY_HEADER.len())
+                        .map(str::to_owned)
+                        .collect(),
+                );
+                Ok(())
+            },
+        )?;
     }
     Ok(records)
 }

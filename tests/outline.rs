@@ -155,7 +155,7 @@ fn a_square_image_has_four_corners_and_a_disk_none() {
     };
     let disk = &grey_outlines(&disk, &ImageOptions::default(), Path::new("disk")).unwrap()[0];
     assert!(find_corners(disk, &CornerOptions::default()).is_empty());
-    let breaks = break_points(disk, &CornerOptions::default(), 4);
+    let (breaks, _) = metabezier::fit::equal_arc_breaks(&disk.points, true, &[], 4).unwrap();
     assert_eq!(breaks.len(), 4);
 }
 

@@ -28,56 +28,32 @@ pub fn threshold_slice(slice: &Slice, threshold: i16) -> Mask2 {
 /// The largest 8-connected component of `mask` (ties: the one met first in
 /// row-major order); an empty mask stays empty.
 pub fn largest_component_2d(mask: &Mask2) -> Mask2 {
-    let (nx, ny) = (mask.nx, mask.ny);
-    let mut label = vec![0u32; nx * ny];
-    let mut best = (0usize, 0u32);
-    let mut next = 0u32;
-    let mut queue = VecDeque::new();
-    for start in 0..nx * ny {
-        if !mask.data[start] || label[start] != 0 {
-            continue;
-        }
-        next += 1;
-        label[start] = next;
-        queue.push_back(start);
-        let mut size = 0;
-        while let Some(i) = queue.pop_front() {
-            size += 1;
-            let (r, c) = ((i / nx) as i64, (i % nx) as i64);
-            for dr in -1..=1 {
-                for dc in -1..=1 {
-                    let (rr, cc) = (r + dr, c + dc);
-                    if mask.get_or_false(rr, cc) {
-                        let j = rr as usize * nx + cc as usize;
-                        if label[j] == 0 {
-                            label[j] = next;
-                            queue.push_back(j);
-                        }
-                    }
-                }
-            }
-        }
-        if size > best.0 {
-            best = (size, next);
-        }
-    }
     Mask2 {
-        nx,
-        ny,
-        data: label.iter().map(|&l| l != 0 && l == best.1).collect(),
+        nx: mask.nx,
+        ny: mask.ny,
+        data: largest_component(&mask.data, mask.nx, mask.ny, 1),
     }
 }
 
 /// The largest 26-connected component of `mask` (ties: first met in z/y/x
 /// order); an empty mask stays empty.
 pub fn largest_component_3d(mask: &Mask3) -> Mask3 {
-    let (nx, ny, nz) = (mask.nx, mask.ny, mask.nz);
-    let mut label = vec![0u32; mask.data.len()];
+    Mask3 {
+        data: largest_component(&mask.data, mask.nx, mask.ny, mask.nz),
+        ..mask.clone()
+    }
+}
+
+/// The largest component of a `nz × ny × nx` grid under 26-connectivity
+/// (8-connectivity when `nz = 1`), by breadth-first labelling; ties go to
+/// the component met first in z/y/x order.
+fn largest_component(data: &[bool], nx: usize, ny: usize, nz: usize) -> Vec<bool> {
+    let mut label = vec![0u32; data.len()];
     let mut best = (0usize, 0u32);
     let mut next = 0u32;
     let mut queue = VecDeque::new();
-    for start in 0..mask.data.len() {
-        if !mask.data[start] || label[start] != 0 {
+    for start in 0..data.len() {
+        if !data[start] || label[start] != 0 {
             continue;
         }
         next += 1;
@@ -91,7 +67,7 @@ pub fn largest_component_3d(mask: &Mask3) -> Mask3 {
                 for yy in y.saturating_sub(1)..=(y + 1).min(ny - 1) {
                     for xx in x.saturating_sub(1)..=(x + 1).min(nx - 1) {
                         let j = (zz * ny + yy) * nx + xx;
-                        if mask.data[j] && label[j] == 0 {
+                        if data[j] && label[j] == 0 {
                             label[j] = next;
                             queue.push_back(j);
                         }
@@ -103,10 +79,7 @@ pub fn largest_component_3d(mask: &Mask3) -> Mask3 {
             best = (size, next);
         }
     }
-    Mask3 {
-        data: label.iter().map(|&l| l != 0 && l == best.1).collect(),
-        ..mask.clone()
-    }
+    label.iter().map(|&l| l != 0 && l == best.1).collect()
 }
 
 /// The bone of one slice: threshold, then the largest 8-connected

@@ -1,4 +1,4 @@
-//! Corner detection and segmentation of outlines by the k-turning angle
+//! Corner detection of outlines by the k-turning angle
 //! (the k-cosine of Rosenfeld & Johnston 1973, "Angle detection on digital
 //! curves", IEEE Trans. Computers C-22(9):875–878), with non-maximum
 //! suppression over the same neighbourhood.
@@ -89,98 +89,6 @@ pub fn find_corners(outline: &Outline, options: &CornerOptions) -> Vec<usize> {
     corners
 }
 
-/// `pieces` break indices splitting a closed outline into pieces of (nearly)
-/// equal arc length, starting at index 0: the point nearest to arc length
-/// `jL/pieces` for `j = 0..pieces` (duplicates removed).
-pub fn equal_arc_breaks(outline: &Outline, pieces: usize) -> Vec<usize> {
-    let n = outline.len();
-    if n == 0 {
-        return Vec::new();
-    }
-    let cum = outline.cumulative_lengths();
-    let total = *cum.last().unwrap_or(&0.0);
-    let m = pieces.max(1);
-    let mut breaks: Vec<usize> = (0..m)
-        .map(|j| {
-            let s = total * j as f64 / m as f64;
-            let i = cum.partition_point(|&c| c < s).min(n - 1);
-            if i > 0 && (s - cum[i - 1]) < (cum[i] - s) {
-                i - 1
-            } else {
-                i
-            }
-        })
-        .collect();
-    breaks.dedup();
-    breaks
-}
-
-/// The break indices that segment `outline` for piecewise fitting.
-///
-/// Closed: the corners; without corners, [`equal_arc_breaks`] into
-/// `min_pieces` pieces from index 0. Open: 0, the corners and `n − 1`. Then,
-/// while there are fewer than `min_pieces` pieces, the longest piece (by arc
-/// length) is split at the point nearest its arc-length middle. Pieces run
-/// between consecutive breaks (cyclically when closed).
-pub fn break_points(outline: &Outline, options: &CornerOptions, min_pieces: usize) -> Vec<usize> {
-    let n = outline.len();
-    if n < 2 {
-        return (0..n).collect();
-    }
-    let corners = find_corners(outline, options);
-    let mut breaks = if outline.closed {
-        if corners.is_empty() {
-            equal_arc_breaks(outline, min_pieces.max(1))
-        } else {
-            corners
-        }
-    } else {
-        let mut b = vec![0];
-        b.extend(corners);
-        b.push(n - 1);
-        b.dedup();
-        b
-    };
-    let cum = outline.cumulative_lengths();
-    let total = *cum.last().unwrap_or(&0.0);
-    let pieces = |b: &[usize]| {
-        if outline.closed {
-            b.len()
-        } else {
-            b.len() - 1
-        }
-    };
-    while pieces(&breaks) < min_pieces {
-        // The longest piece that has an interior point.
-        let m = pieces(&breaks);
-        let span = |j: usize| -> (usize, usize, f64) {
-            let a = breaks[j];
-            if j + 1 < breaks.len() {
-                let b = breaks[j + 1];
-                (a, b, cum[b] - cum[a])
-            } else {
-                // The closing piece of a closed outline, wrapping past n.
-                let b = breaks[0] + n;
-                (a, b, total - cum[a] + cum[breaks[0]])
-            }
-        };
-        let best = (0..m)
-            .map(span)
-            .filter(|&(a, b, _)| b > a + 1)
-            .max_by(|x, y| x.2.total_cmp(&y.2));
-        let Some((a, b, len)) = best else { break };
-        let at = |i: usize| if i < n { cum[i] } else { total + cum[i - n] };
-        let target = at(a) + 0.5 * len;
-        let mid = (a + 1..b)
-            .min_by(|&i, &j| (at(i) - target).abs().total_cmp(&(at(j) - target).abs()))
-            .unwrap_or(a + 1);
-        breaks.push(mid % n);
-        breaks.sort_unstable();
-        breaks.dedup();
-    }
-    breaks
-}
-
 /// The pieces of `outline` between consecutive `breaks` (indices; sorted,
 /// deduplicated and those out of range dropped first), as
 /// open outlines that share their end points; on a closed outline the last
@@ -263,11 +171,9 @@ mod tests {
     fn a_circle_has_none_and_is_split_by_arc_length() {
         let c = circle(100);
         assert!(find_corners(&c, &CornerOptions::default()).is_empty());
-        assert_eq!(
-            break_points(&c, &CornerOptions::default(), 4),
-            vec![0, 25, 50, 75]
-        );
-        assert_eq!(equal_arc_breaks(&c, 3), vec![0, 33, 67]);
+        // Without corners, the fit splits at equal arc length from index 0.
+        let (b, _) = crate::fit::equal_arc_breaks(&c.points, true, &[], 4).unwrap();
+        assert_eq!(b, vec![0, 25, 50, 75]);
     }
 
     #[test]
@@ -281,10 +187,12 @@ mod tests {
             angle_deg: 60.0,
         };
         assert_eq!(find_corners(&l, &opts), vec![9]);
-        assert_eq!(break_points(&l, &opts, 1), vec![0, 9, 19]);
-        let b = break_points(&l, &opts, 3);
-        assert_eq!(b.len(), 4);
+        let (b, corner) = crate::fit::equal_arc_breaks(&l.points, false, &[9], 3).unwrap();
+        assert_eq!(b.len(), 3);
         assert!(b.contains(&9));
+        assert!(corner[b.iter().position(|&i| i == 9).unwrap()]);
+        let mut b = b;
+        b.push(19);
         let pieces = split_at(&l, &b);
         assert_eq!(pieces.len(), 3);
         assert_eq!(pieces[0].points[0], Point::ZERO);
@@ -298,7 +206,7 @@ mod tests {
         c.points[0] = Point::new(25.0, 0.0);
         let corners = find_corners(&c, &CornerOptions::default());
         assert_eq!(corners, vec![0]);
-        let b = break_points(&c, &CornerOptions::default(), 3);
+        let (b, _) = crate::fit::equal_arc_breaks(&c.points, true, &corners, 3).unwrap();
         assert_eq!(b.len(), 3);
         assert_eq!(b[0], 0);
         assert_eq!(split_at(&c, &b).len(), 3);

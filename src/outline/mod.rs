@@ -37,9 +37,7 @@ pub use self::image::{
     Boundary, BoundaryPoints, Foreground, GreyImage, ImageOptions, Threshold,
 };
 pub use border::{find_borders, BinaryImage, Border, BorderKind, Side};
-pub use corners::{
-    break_points, equal_arc_breaks, find_corners, split_at, turning_angles, CornerOptions,
-};
+pub use corners::{find_corners, split_at, turning_angles, CornerOptions};
 pub use csv_points::{csv_from_bytes, load_csv, CsvOptions};
 pub use error::OutlineError;
 pub use glyph::{
