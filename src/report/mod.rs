@@ -283,7 +283,7 @@ pub fn write_report(dir: &Path, options: &ReportOptions) -> Result<ReportSummary
 
     let (mut figures, plot_notes) = plots::figures(&ds, &stats, heat_maps, provenance.threshold);
     notes.extend(plot_notes);
-    let fitting = fitting::section(dir, &ds)?;
+    let fitting = fitting::section(dir, &ds, alpha)?;
     let fitting_tables = match fitting {
         Some(f) => {
             figures.extend(f.figures);
