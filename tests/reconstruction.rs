@@ -253,6 +253,10 @@ name = "hs"
 label = "HS"
 
 [[algorithm]]
+name = "mhs"
+label = "MHS"
+
+[[algorithm]]
 name = "lm"
 label = "LM"
 
@@ -302,10 +306,10 @@ fn a_fitting_campaign_is_reproducible_and_mergeable() {
         );
     }
     let runs = std::fs::read_to_string(one.join("runs.csv")).unwrap();
-    assert_eq!(runs.lines().count(), 1 + 4 * 3 * 2);
+    assert_eq!(runs.lines().count(), 1 + 4 * 4 * 2);
     assert!(runs.contains("MHS+LM,mhs+lm,"), "{runs}");
     let segments = std::fs::read_to_string(one.join("segments.csv")).unwrap();
-    assert_eq!(segments.lines().count(), 1 + 4 * 3 * 2 * 4);
+    assert_eq!(segments.lines().count(), 1 + 4 * 4 * 2 * 4);
     // LM is the exact reference: no metaheuristic run has a lower E on the
     // same case; the hybrid never does worse than LM on this small budget
     // of evaluations.
@@ -327,6 +331,47 @@ fn a_fitting_campaign_is_reproducible_and_mergeable() {
             .len()
             == 4));
     }
+
+    // The rows rebuild the fitted segments: each starts where the previous
+    // one ends.
+    let r0 = records.iter().find(|r| r.fit.is_some()).unwrap();
+    let segs: Vec<_> = r0
+        .fit
+        .as_ref()
+        .unwrap()
+        .segments
+        .iter()
+        .map(|row| metabezier::reconstruction::files::segment_from_row(row).unwrap())
+        .collect();
+    use metabezier::geometry::Curve;
+    for w in segs.windows(2) {
+        assert!(w[0].end().distance(w[1].start()) < 1e-12);
+    }
+
+    // The report adds the fitting section, its tables and an overlay.
+    let summary =
+        metabezier::report::write_report(&one, &metabezier::report::ReportOptions::default())
+            .unwrap();
+    assert!(
+        summary.notes.iter().all(|n| !n.contains("overlay")),
+        "{:?}",
+        summary.notes
+    );
+    let md = std::fs::read_to_string(one.join("report.md")).unwrap();
+    for needle in [
+        "## Curve fitting",
+        "### Fit quality and the gap to the best E found",
+        "### Best E per fitting function",
+        "### Hybrid against its parts",
+        "![Best fits of coin](plots/overlay_coin.png)",
+    ] {
+        assert!(md.contains(needle), "report.md lacks {needle}");
+    }
+    let quality = std::fs::read_to_string(one.join("tables/fit_quality.csv")).unwrap();
+    assert_eq!(quality.lines().count(), 1 + 4 * 4);
+    let hybrid = std::fs::read_to_string(one.join("tables/fit_hybrid.csv")).unwrap();
+    assert_eq!(hybrid.lines().count(), 1 + 4);
+    assert!(one.join("plots/overlay_coin.png").exists());
 
     // Shards merge into the same files, fits included.
     let s1 = tmp.path().join("s1");
