@@ -239,7 +239,7 @@ fn value_at(run: &Run, t: u64) -> Option<f64> {
 fn convergence(ds: &Dataset) -> Result<Plot, String> {
     if !ds.has_convergence {
         return Err(
-            "convergence plot skipped: no convergence data (convergence.csv was not read)".into(),
+            "convergence plot skipped: no run has a best-so-far trace (convergence.csv is missing or empty; fitting runs record none)".into(),
         );
     }
     // Raw (q1, median, q3) curves first, then floor them together.
