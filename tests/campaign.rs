@@ -214,3 +214,35 @@ fn shard_syntax_is_checked() {
         );
     }
 }
+
+#[test]
+fn adding_cells_and_problems_keeps_the_other_runs() {
+    let tmp = tempfile::tempdir().unwrap();
+    let base = spec(tmp.path());
+    let a = run(&base, tmp.path().join("a"), 2);
+    // The same spec with one more problem and one more algorithm cell.
+    let wider = SPEC.replace(
+        "[[problem]]\nfunction = \"six_hump_camel\"",
+        "[[problem]]\nfunction = \"six_hump_camel\"\n\n[[problem]]\nfunction = \"ackley\"\ndim = 3",
+    ) + "\n[[algorithm]]\nname = \"hs\"\nlabel = \"HS-wide\"\nbw = 0.1\n";
+    let path = tmp.path().join("wider.toml");
+    std::fs::write(&path, wider).unwrap();
+    let wider = Spec::load(&path).unwrap();
+    assert_eq!(wider.problems.len(), base.problems.len() + 1);
+    assert_eq!(wider.cells.len(), base.cells.len() + 1);
+    let b = run(&wider, tmp.path().join("b"), 2);
+    let rows = |dir: &Path| -> Vec<String> {
+        String::from_utf8(read(dir, "runs.csv"))
+            .unwrap()
+            .lines()
+            .map(str::to_owned)
+            .collect()
+    };
+    let (ra, rb) = (rows(&a), rows(&b));
+    assert_eq!(rb.len(), 1 + wider.run_ids().len());
+    // Every run of the narrower campaign appears unchanged (seed and
+    // results) in the wider one.
+    for row in &ra {
+        assert!(rb.contains(row), "missing or changed: {row}");
+    }
+}
