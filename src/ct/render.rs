@@ -8,10 +8,8 @@
 //! crate and written with [`write_atomic`].
 
 use std::path::Path;
-use std::sync::OnceLock;
 
 use plotters::prelude::*;
-use plotters::style::FontStyle;
 
 use super::error::CtError;
 use super::mesh::Mesh;
@@ -20,14 +18,11 @@ use super::volume::Slice;
 use crate::error::write_atomic;
 use crate::geometry::Point;
 
-static DEJAVU_SANS: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
-const FAMILY: &str = "sans-serif";
+use crate::report::render::FAMILY;
 
+/// The report's embedded DejaVu Sans, registered once.
 fn ensure_font() -> bool {
-    static OK: OnceLock<bool> = OnceLock::new();
-    *OK.get_or_init(|| {
-        plotters::style::register_font(FAMILY, FontStyle::Normal, DEJAVU_SANS).is_ok()
-    })
+    crate::report::render::ensure_font().is_ok()
 }
 
 /// A CT display window: grey = clamp((HU − (level − width/2)) / width).

@@ -21,7 +21,7 @@ mod format;
 mod markdown;
 mod overlay;
 mod plots;
-mod render;
+pub(crate) mod render;
 mod significance;
 mod tuning;
 

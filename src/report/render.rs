@@ -24,8 +24,9 @@ static DEJAVU_SANS: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
 /// The font family every text of the plots uses.
 pub(crate) const FAMILY: &str = "sans-serif";
 
-/// Registers the embedded font with plotters once per process.
-fn ensure_font() -> Result<(), Error> {
+/// Registers the embedded font with plotters once per process (also used
+/// by the CT previews of [`crate::ct`]).
+pub(crate) fn ensure_font() -> Result<(), Error> {
     static REGISTERED: OnceLock<bool> = OnceLock::new();
     let ok = *REGISTERED.get_or_init(|| {
         plotters::style::register_font(FAMILY, FontStyle::Normal, DEJAVU_SANS).is_ok()
