@@ -55,9 +55,14 @@ pub(crate) struct Problem {
 }
 
 impl Problem {
-    /// `sphere, D = 10`.
+    /// `sphere, D = 10`; for a fitting problem (`source/function/continuity`)
+    /// `horse/cubic/g1, 30 segments`.
     pub fn title(&self) -> String {
-        format!("{}, D = {}", self.function, self.dim)
+        if self.function.contains('/') {
+            format!("{}, {} segments", self.function, self.dim)
+        } else {
+            format!("{}, D = {}", self.function, self.dim)
+        }
     }
 }
 

@@ -157,7 +157,14 @@ fn problems_table(ds: &data::Dataset) -> Table {
     let mut t = Table {
         stem: "problems".into(),
         title: "Problems".into(),
-        intro: vec!["Each problem is a benchmark function at a dimension D.".into()],
+        intro: vec![if ds.problems.iter().any(|p| p.function.contains('/')) {
+            "Each problem is a benchmark function at a dimension D, or a fitting case \
+             source/function/continuity, whose D is its number of segments and whose budget \
+             is the total over its segments."
+                .into()
+        } else {
+            "Each problem is a benchmark function at a dimension D.".into()
+        }],
         md_header: ["Problem", "D", "Budget", "Algorithms", "Runs"]
             .map(String::from)
             .to_vec(),
