@@ -48,7 +48,25 @@ const FIT_KEYS: [&str; 15] = [
     "label",
 ];
 
-/// One outline-fitting problem of a spec.
+/// One outline-fitting problem of a spec, from a `[[fit]]` section.
+///
+/// ```toml
+/// [[fit]]
+/// input = ["../data/outlines/horse.png", "font:../data/outlines/Cantarell-Regular.otf:g"]
+/// function = ["cubic", "rational-cubic"]   # quadratic, cubic, rational-quadratic, rational-cubic
+/// continuity = ["c1", "g1"]                # c0, c1, g1
+/// segments = 24                            # or "true-breaks" for glyphs
+/// search_space = "technique"               # or "bounding-box", or both in a list
+/// budget = 5000                            # evaluations per segment
+/// ```
+///
+/// Relative input paths are resolved against the spec file's directory.
+/// Every combination of input × function × continuity × search space is one
+/// problem, named `source/function/continuity` (with `/bounding-box`
+/// appended for the naive search space). Each input is loaded and each
+/// problem's segmentation is checked when the spec loads, so a missing
+/// image, a glyph absent from its font or a segment with too few points is
+/// reported before anything runs.
 #[derive(Clone, Debug)]
 pub struct FitCase {
     /// The problem name in results, `source/function/continuity` (and

@@ -18,6 +18,10 @@
 //! hmcr = [0.7, 0.8, 0.9]    # a list expands into a grid of cells
 //! ```
 //!
+//! A spec may also hold `[[fit]]` sections, outline-fitting problems
+//! (see [`FitCase`]), beside or instead of `[[problem]]`;
+//! its algorithms may then also be `lm` or `<alg>+lm`.
+//!
 //! Every error names the file, line, column and field, says what was
 //! expected and lists the valid choices.
 
