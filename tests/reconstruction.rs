@@ -412,34 +412,29 @@ fn bad_fitting_specs_get_specific_errors() {
         e.starts_with("8:9: fit[1].input: ") && e.contains("nowhere.png: cannot read"),
         "{e}"
     );
-    let e = spec_error(&format!(
-        "{head}[[fit]]\ninput = \"coin.png\"\nsegments = 4\nweight_range = [0, 10]\n{alg}"
-    ));
-    assert!(
-        e.starts_with("10:16: fit[1].weight_range: expected 0 < min < max (finite) for the rational weights, found [0, 10]: the range must exclude 0"),
-        "{e}"
-    );
-    let e = spec_error(&format!(
-        "{head}[[fit]]\ninput = \"coin.png\"\nsegments = \"true-breaks\"\n{alg}"
-    ));
-    assert!(
-        e.starts_with("9:12: fit[1].segments: \"true-breaks\" needs a glyph input"),
-        "{e}"
-    );
-    let e = spec_error(&format!(
-        "{head}[[fit]]\ninput = \"horse.png\"\nsegments = 5\n{alg}"
-    ));
-    assert!(
-        e.starts_with("9:12: fit[1].segments: horse/rational-cubic/g1: 5 segment(s) requested"),
-        "{e}"
-    );
-    let e = spec_error(&format!(
-        "{head}[[fit]]\ninput = \"coin.png\"\nsegments = 4\nfunction = \"quartic\"\n{alg}"
-    ));
-    assert!(
-        e.starts_with("10:12: fit[1].function: unknown value \"quartic\"; did you mean \"quadratic\"? Valid choices: \"quadratic\""),
-        "{e}"
-    );
+    // (the [[fit]] body after `input`, the start of the expected message)
+    let cases = [
+        (
+            "input = \"coin.png\"\nsegments = 4\nweight_range = [0, 10]",
+            "10:16: fit[1].weight_range: expected 0 < min < max (finite) for the rational weights, found [0, 10]: the range must exclude 0",
+        ),
+        (
+            "input = \"coin.png\"\nsegments = \"true-breaks\"",
+            "9:12: fit[1].segments: \"true-breaks\" needs a glyph input",
+        ),
+        (
+            "input = \"horse.png\"\nsegments = 5",
+            "9:12: fit[1].segments: horse/rational-cubic/g1: 5 segment(s) requested",
+        ),
+        (
+            "input = \"coin.png\"\nsegments = 4\nfunction = \"quartic\"",
+            "10:12: fit[1].function: unknown value \"quartic\"; did you mean \"quadratic\"? Valid choices: \"quadratic\"",
+        ),
+    ];
+    for (body, expected) in cases {
+        let e = spec_error(&format!("{head}[[fit]]\n{body}\n{alg}"));
+        assert!(e.starts_with(expected), "{e}");
+    }
     let e = spec_error(&format!(
         "{head}[[problem]]\nfunction = \"sphere\"\ndim = 2\n\n[[algorithm]]\nname = \"lm\"\n"
     ));
