@@ -17,6 +17,8 @@
 //! |---|---|
 //! | [`wall`] | one slice's outer and inner wall ([`reconstruct_wall`]) |
 //! | [`pipeline`] | the real defect: slices → mesh → voxels ([`reconstruct_defect`]) |
+//! | [`validation`] | artificial defects on intact bone, AutoImplant metrics |
+//! | [`spec`], [`run`] | the TOML experiment and its outputs (`metabezier implant`) |
 
 pub mod pipeline;
 pub mod wall;
@@ -26,3 +28,13 @@ pub use pipeline::{
     Ends, Implant, ImplantError, MidlineSpec, SliceResult, SliceSpec,
 };
 pub use wall::{envelope_radius, reconstruct_wall, Wall, WallInput, WallKind, WallOptions};
+pub mod run;
+pub mod spec;
+pub mod validation;
+
+pub use run::{load_volume, run_implant, solver_for, RunSummary};
+pub use spec::{ImplantSpec, ValidationSpec};
+pub use validation::{
+    case_metrics, evaluate, prepare_case, reconstruct_case, Case, CaseMetrics, PreparedCase,
+    ValidationRow,
+};
