@@ -3,7 +3,7 @@ CARGO ?= cargo
 BIN := target/release/metabezier
 SPECS := experiments
 
-.PHONY: help build quick test bench reproduce-ch4 reproduce-ch5 reproduce-all fmt lint clean-results
+.PHONY: help build quick test bench reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all fmt lint clean-results
 
 help:
 	@echo "make quick          run experiments/quick.toml (seconds) into results/quick/"
@@ -11,6 +11,7 @@ help:
 	@echo "make bench          criterion benchmarks: optimiser overhead per evaluation, cost of E per fitting function"
 	@echo "make reproduce-ch4  chapter 4: benchmarks, scalability, MHS tuning, with reports (results/ch4_*/)"
 	@echo "make reproduce-ch5  chapter 5: curve fitting of four real outlines, search-space study (results/ch5_*/)"
+	@echo "make reproduce-ch6  chapter 6: cranial implant from CT 0051, artificial-defect validation (results/ch6_cranial/)"
 	@echo "make reproduce-all  every chapter that exists so far"
 
 build:
@@ -31,6 +32,7 @@ test:
 bench:
 	$(CARGO) bench --locked --bench optimisers
 	$(CARGO) bench --locked --bench fitting
+	$(CARGO) bench --locked --bench implant
 
 CH4 := ch4_benchmarks ch4_scalability ch4_tuning
 # Extra `report` arguments per experiment: the tuning grid has 81 MHS cells,
@@ -47,7 +49,14 @@ CH5 := ch5_outlines ch5_search_space
 reproduce-ch5: build
 	$(foreach e,$(CH5),$(BIN) run $(SPECS)/$(e).toml --resume && $(BIN) report results/$(e) $(REPORT_ARGS_$(e)) &&) true
 
-reproduce-all: reproduce-ch4 reproduce-ch5
+CH6 := ch6_cranial
+
+# The implant pipeline writes every output atomically and the STL only for a
+# checked mesh; a rerun overwrites the results.
+reproduce-ch6: build
+	$(BIN) implant $(SPECS)/ch6_cranial.toml --out results/ch6_cranial
+
+reproduce-all: reproduce-ch4 reproduce-ch5 reproduce-ch6
 
 fmt:
 	$(CARGO) fmt --all
@@ -56,4 +65,4 @@ lint:
 	$(CARGO) clippy --all-targets -- -D warnings
 
 clean-results:
-	rm -rf results/quick $(addprefix results/,$(CH4) $(CH5))
+	rm -rf results/quick $(addprefix results/,$(CH4) $(CH5) $(CH6))

@@ -92,6 +92,16 @@ enum Command {
     Fit(FitArgs),
     /// List the algorithms with their parameters, and the benchmark functions.
     List,
+    /// Design a cranial implant from CT slices (thesis chapter 6): the real
+    /// defect to implant.stl, overlays, a 3D preview, and the
+    /// artificial-defect validation.
+    Implant {
+        /// The chapter-6 spec (TOML, see `experiments/ch6_cranial.toml`).
+        spec: PathBuf,
+        /// Output directory [default: results/<spec file stem>].
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
 }
 
 /// Arguments of `metabezier fit`.
@@ -272,6 +282,7 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
             Ok(())
         }
         Command::Fit(args) => fit(args, w),
+        Command::Implant { spec, out } => implant(&spec, out, w),
         Command::List => {
             say!(
                 w,
@@ -312,6 +323,27 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
 }
 
 /// `metabezier fit`: load, segment, fit, write the files.
+/// `metabezier implant`: load and check the spec, then run it; nothing is
+/// written when the spec is invalid, and the STL only for a checked mesh.
+fn implant(spec: &std::path::Path, out: Option<PathBuf>, w: &mut String) -> Result<(), Error> {
+    let s = crate::implant::ImplantSpec::load(spec)?;
+    let out = out.unwrap_or_else(|| {
+        let stem = spec
+            .file_stem()
+            .map_or("implant".into(), |n| n.to_string_lossy().into_owned());
+        PathBuf::from("results").join(stem)
+    });
+    let r = crate::implant::run_implant(&s, &out).map_err(|e| Error::Campaign(e.to_string()))?;
+    if let Some(t) = r.pipeline_seconds {
+        say!(w, "real defect: load to STL in {t:.2} s");
+    }
+    if r.validation_rows > 0 {
+        say!(w, "validation: {} rows", r.validation_rows);
+    }
+    say!(w, "{} files written to {}", r.files.len(), out.display());
+    Ok(())
+}
+
 fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
     let fail = |m: String| Error::Campaign(m);
     let function = FunctionType::from_name(&a.function).expect("clap checked the name");

@@ -12,6 +12,7 @@ pub mod error;
 pub mod fit;
 pub mod functions;
 pub mod geometry;
+pub mod implant;
 pub mod optim;
 pub mod outline;
 pub mod problem;

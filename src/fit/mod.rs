@@ -68,7 +68,7 @@ pub use piecewise::{
     equal_arc_breaks, fit_adaptive, fit_breaks, fit_piecewise, fit_segment_count, ClosingJoint,
     FittedSegment, PiecewiseFit, SplitOptions,
 };
-pub use problem::{SegmentProblem, Start};
+pub use problem::{End, SegmentProblem, Start};
 pub use segment::Segment;
 pub use solver::{
     HybridSolver, LmSolver, LmStart, OptimiserSolver, SegmentSolver, Solution, SolvePart,

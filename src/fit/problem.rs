@@ -64,41 +64,92 @@ impl Start {
     }
 }
 
-/// How `C₁` is obtained from the decision vector.
+/// How a segment ends: its end point `C_m` is always the last data point;
+/// an optional join with a known curve *after* it decides `C_{m−1}`.
+///
+/// Used when a segment must fit between two fixed neighbours, as the
+/// cranial-implant outer wall does between the intact contour at A and at B
+/// (thesis chapter 6). The formulas mirror [`Start`] (Farin 2002, §10.2 and
+/// eq. 13.10, read from the end): the end derivative of a (rational) Bézier
+/// segment of degree `m` in standard form is `Q′(1) = m (w_{m−1}/w_m)(C_m − C_{m−1})`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum End {
+    /// No constraint: `C_{m−1}` is free (or set by [`Start`] for a quadratic).
+    #[default]
+    Free,
+    /// A C¹ join before a curve with start derivative `D`:
+    /// `C_{m−1} = C_m − D/(m w_{m−1})` (`w_{m−1} = 1` for polynomial segments).
+    C1 {
+        /// The next curve's start derivative `Q′(0)`.
+        derivative: Point,
+    },
+    /// A G¹ join before a curve whose start tangent (direction of travel) is
+    /// `dir`: `C_{m−1} = C_m − T_end·dir` with a free `T_end > 0`.
+    G1 {
+        /// The next curve's start tangent direction (need not be unit).
+        dir: Point,
+    },
+}
+
+impl End {
+    /// The end tangent direction (direction of travel) this join imposes.
+    pub fn tangent(self) -> Option<Point> {
+        match self {
+            End::Free => None,
+            End::C1 { derivative } => Some(derivative),
+            End::G1 { dir } => Some(dir),
+        }
+    }
+}
+
+/// How an inner control point (`C₁`, or `C_{m−1}` for an end join) is
+/// obtained from the decision vector.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum C1Var {
-    /// `C₁ = (x[i], x[i+1])`.
+    /// `C_k = (x[i], x[i+1])`.
     Free(usize),
     /// `C₁ = C₀ + D/(m w₁)` (C¹ join).
     Derived(Point),
     /// `C₁ = C₀ + x[i]·L` (G¹ join).
     Ratio(usize, Point),
+    /// `C_{m−1} = C_m − D/(m w_{m−1})` (C¹ join at the end).
+    EndDerived(Point),
+    /// `C_{m−1} = C_m − x[i]·dir` (G¹ join at the end).
+    EndRatio(usize, Point),
 }
 
 /// Where each quantity sits in the decision vector.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Layout {
     c1: C1Var,
-    c2: Option<usize>,
+    c2: Option<C1Var>,
     w1: Option<usize>,
     w2: Option<usize>,
     dim: usize,
 }
 
 impl Layout {
-    fn new(function: FunctionType, start: Start) -> Layout {
+    /// The layout; a quadratic with an end join must start [`Start::Free`]
+    /// (checked by the caller), and its `C₁` then comes from the end.
+    fn new(function: FunctionType, start: Start, end: End) -> Layout {
         let mut dim = 0;
         let mut take = |k: usize| {
             let i = dim;
             dim += k;
             i
         };
+        let end_var = |take: &mut dyn FnMut(usize) -> usize| match end {
+            End::Free => C1Var::Free(take(2)),
+            End::C1 { derivative } => C1Var::EndDerived(derivative),
+            End::G1 { dir } => C1Var::EndRatio(take(1), dir),
+        };
         let c1 = match start {
+            Start::Free if function.degree() == 2 => end_var(&mut take),
             Start::Free => C1Var::Free(take(2)),
             Start::C1 { derivative } => C1Var::Derived(derivative),
             Start::G1 { leg } => C1Var::Ratio(take(1), leg),
         };
-        let c2 = (function.degree() == 3).then(|| take(2));
+        let c2 = (function.degree() == 3).then(|| end_var(&mut take));
         let w1 = function.is_rational().then(|| take(1));
         let w2 = (function == FunctionType::RationalCubic).then(|| take(1));
         Layout {
@@ -145,6 +196,7 @@ struct Controls {
 pub struct SegmentProblem {
     function: FunctionType,
     start: Start,
+    end: End,
     points: Vec<Point>,
     params: Vec<f64>,
     layout: Layout,
@@ -188,10 +240,11 @@ impl SegmentProblem {
                 found: params.len(),
             });
         }
-        let layout = Layout::new(function, start);
+        let layout = Layout::new(function, start, End::Free);
         let mut problem = SegmentProblem {
             function,
             start,
+            end: End::Free,
             points,
             params,
             layout,
@@ -215,6 +268,43 @@ impl SegmentProblem {
     ) -> Result<SegmentProblem, FitError> {
         let params = parameterisation.params(&points);
         SegmentProblem::new(function, points, params, start, search)
+    }
+
+    /// The same problem with the end joined as `end` says (see [`End`]): for
+    /// a cubic `C₂` becomes `C₃ − T_end·dir` (G¹, one variable `T_end`
+    /// instead of two) or `C₃ − D/(3w₂)` (C¹, none); for a quadratic `C₁`
+    /// comes from the end instead, which needs [`Start::Free`]. The box and
+    /// the guess are rebuilt; `T_end` gets the same range as the start's `T`.
+    ///
+    /// Fails ([`FitError::InvalidOption`] named `"end"`) for a quadratic
+    /// whose start is also joined (its only inner control point cannot
+    /// satisfy both), or for a zero or non-finite end direction.
+    pub fn with_end(mut self, end: End) -> Result<SegmentProblem, FitError> {
+        if let Some(d) = end.tangent() {
+            if !(d.is_finite() && d.hypot() > 0.0) {
+                return Err(FitError::InvalidOption {
+                    name: "end",
+                    value: d.hypot(),
+                    expected: "a finite, non-zero end tangent",
+                });
+            }
+        }
+        if self.function.degree() == 2 && end != End::Free && self.start != Start::Free {
+            return Err(FitError::InvalidOption {
+                name: "end",
+                value: 2.0,
+                expected: "a free start for a quadratic joined at its end (C₁ is shared)",
+            });
+        }
+        self.end = end;
+        self.layout = Layout::new(self.function, self.start, end);
+        self.build_search_space();
+        Ok(self)
+    }
+
+    /// How the segment ends.
+    pub fn end(&self) -> End {
+        self.end
     }
 
     /// The same problem with new parameters (same box); used by parameter
@@ -245,37 +335,47 @@ impl SegmentProblem {
         let mut bounds = vec![Bounds::new(0.0, 0.0); dim];
         let mut guess = vec![0.0; dim];
         let c0 = self.points[0];
-        let set_point = |bounds: &mut [Bounds], guess: &mut [f64], i: usize, a: Point| {
-            let b = point_box(a, &self.points, &self.search);
-            bounds[i] = Bounds::new(b.lower.x, b.upper.x);
-            bounds[i + 1] = Bounds::new(b.lower.y, b.upper.y);
-            guess[i] = bounds[i].clip(a.x);
-            guess[i + 1] = bounds[i + 1].clip(a.y);
-        };
-        match self.layout.c1 {
-            C1Var::Free(i) => set_point(&mut bounds, &mut guess, i, g.a1),
-            C1Var::Derived(_) => {}
-            C1Var::Ratio(i, leg) => {
-                let (lo, hi) = self.search.t_range;
-                let chord = c0.distance(self.points[self.points.len() - 1]);
-                let rho = chord / self.function.degree() as f64 / leg.hypot();
-                let rho = if self.search.scale_t_range && rho.is_finite() && rho > 0.0 {
-                    rho
-                } else {
-                    1.0
+        let cn = self.points[self.points.len() - 1];
+        let chord = c0.distance(cn);
+        let degree = self.function.degree() as f64;
+        let (search, points) = (&self.search, &self.points);
+        // Fills the box and guess of one inner control point guessed at `a`.
+        let set = |bounds: &mut [Bounds], guess: &mut [f64], var: C1Var, a: Point| {
+            let ratio =
+                |bounds: &mut [Bounds], guess: &mut [f64], i: usize, from: Point, dir: Point| {
+                    let (lo, hi) = search.t_range;
+                    let rho = chord / degree / dir.hypot();
+                    let rho = if search.scale_t_range && rho.is_finite() && rho > 0.0 {
+                        rho
+                    } else {
+                        1.0
+                    };
+                    bounds[i] = Bounds::new(lo * rho, hi * rho);
+                    let l2 = dir.hypot2();
+                    let t = if l2 > 0.0 {
+                        (a - from).dot(dir) / l2
+                    } else {
+                        1.0
+                    };
+                    guess[i] = bounds[i].clip(t);
                 };
-                bounds[i] = Bounds::new(lo * rho, hi * rho);
-                let l2 = leg.hypot2();
-                let t = if l2 > 0.0 {
-                    (g.a1 - c0).dot(leg) / l2
-                } else {
-                    1.0
-                };
-                guess[i] = bounds[i].clip(t);
+            match var {
+                C1Var::Free(i) => {
+                    let b = point_box(a, points, search);
+                    bounds[i] = Bounds::new(b.lower.x, b.upper.x);
+                    bounds[i + 1] = Bounds::new(b.lower.y, b.upper.y);
+                    guess[i] = bounds[i].clip(a.x);
+                    guess[i + 1] = bounds[i + 1].clip(a.y);
+                }
+                C1Var::Derived(_) | C1Var::EndDerived(_) => {}
+                C1Var::Ratio(i, leg) => ratio(bounds, guess, i, c0, leg),
+                // C_{m−1} = C_m − T·dir: T = (C_m − A)·dir/|dir|².
+                C1Var::EndRatio(i, dir) => ratio(bounds, guess, i, cn, -dir),
             }
-        }
-        if let (Some(i), Some(a2)) = (self.layout.c2, g.a2) {
-            set_point(&mut bounds, &mut guess, i, a2);
+        };
+        set(&mut bounds, &mut guess, self.layout.c1, g.a1);
+        if let (Some(var), Some(a2)) = (self.layout.c2, g.a2) {
+            set(&mut bounds, &mut guess, var, a2);
         }
         let (wlo, whi) = self.search.weight_range;
         for i in [self.layout.w1, self.layout.w2].into_iter().flatten() {
@@ -326,12 +426,17 @@ impl SegmentProblem {
                 names[i] = "C1.x";
                 names[i + 1] = "C1.y";
             }
-            C1Var::Derived(_) => {}
+            C1Var::Derived(_) | C1Var::EndDerived(_) => {}
             C1Var::Ratio(i, _) => names[i] = "T",
+            C1Var::EndRatio(i, _) => names[i] = "T_end",
         }
-        if let Some(i) = self.layout.c2 {
-            names[i] = "C2.x";
-            names[i + 1] = "C2.y";
+        match self.layout.c2 {
+            Some(C1Var::Free(i)) => {
+                names[i] = "C2.x";
+                names[i + 1] = "C2.y";
+            }
+            Some(C1Var::EndRatio(i, _)) => names[i] = "T_end",
+            _ => {}
         }
         if let Some(i) = self.layout.w1 {
             names[i] = if self.function.degree() == 2 {
@@ -361,14 +466,18 @@ impl SegmentProblem {
         let m = self.function.degree();
         let w1 = self.layout.w1.map_or(1.0, |i| x[i]);
         let w2 = self.layout.w2.map_or(1.0, |i| x[i]);
-        let c1 = match self.layout.c1 {
+        // `w` is the weight of the control point being derived.
+        let inner = |var: C1Var, w: f64| match var {
             C1Var::Free(i) => Point::new(x[i], x[i + 1]),
-            C1Var::Derived(d) => c0 + d / (m as f64 * w1),
+            C1Var::Derived(d) => c0 + d / (m as f64 * w),
             C1Var::Ratio(i, leg) => c0 + leg * x[i],
+            C1Var::EndDerived(d) => cn - d / (m as f64 * w),
+            C1Var::EndRatio(i, dir) => cn - dir * x[i],
         };
+        let c1 = inner(self.layout.c1, w1);
         let c = if m == 3 {
-            let i = self.layout.c2.expect("cubic layouts have C2");
-            [c0, c1, Point::new(x[i], x[i + 1]), cn]
+            let var = self.layout.c2.expect("cubic layouts have C2");
+            [c0, c1, inner(var, w2), cn]
         } else {
             [c0, c1, cn, Point::ZERO]
         };
@@ -458,28 +567,34 @@ impl SegmentProblem {
                 rx[j] = -d.x;
                 ry[j] = -d.y;
             };
-            match self.layout.c1 {
+            let a2 = w[2] * b[2] / wsum;
+            let mut lin = |var: C1Var, a: f64| match var {
                 C1Var::Free(j) => {
-                    put(j, Point::new(a1, 0.0));
-                    put(j + 1, Point::new(0.0, a1));
+                    put(j, Point::new(a, 0.0));
+                    put(j + 1, Point::new(0.0, a));
                 }
-                C1Var::Derived(_) => {}
-                C1Var::Ratio(j, leg) => put(j, leg * a1),
+                C1Var::Derived(_) | C1Var::EndDerived(_) => {}
+                C1Var::Ratio(j, leg) => put(j, leg * a),
+                C1Var::EndRatio(j, dir) => put(j, dir * -a),
+            };
+            lin(self.layout.c1, a1);
+            if let Some(var) = self.layout.c2 {
+                lin(var, a2);
             }
-            if let Some(j) = self.layout.c2 {
-                let a2 = w[2] * b[2] / wsum;
-                put(j, Point::new(a2, 0.0));
-                put(j + 1, Point::new(0.0, a2));
-            }
+            // ∂C/∂w of a derived control point: −D/(m w²) from the start,
+            // +D/(m w²) from the end.
+            let derived = |var: C1Var, wk: f64, a: f64| match var {
+                C1Var::Derived(dv) => dv * (-a / (m as f64 * wk * wk)),
+                C1Var::EndDerived(dv) => dv * (a / (m as f64 * wk * wk)),
+                _ => Point::ZERO,
+            };
             if let Some(j) = self.layout.w1 {
-                let mut d = (k.c[1] - p) * (b[1] / wsum);
-                if let C1Var::Derived(dv) = self.layout.c1 {
-                    d += dv * (-a1 / (m as f64 * w[1] * w[1]));
-                }
+                let d = (k.c[1] - p) * (b[1] / wsum) + derived(self.layout.c1, w[1], a1);
                 put(j, d);
             }
             if let Some(j) = self.layout.w2 {
-                put(j, (k.c[2] - p) * (b[2] / wsum));
+                let var = self.layout.c2.unwrap_or(C1Var::Free(0));
+                put(j, (k.c[2] - p) * (b[2] / wsum) + derived(var, w[2], a2));
             }
         }
     }
@@ -821,5 +936,156 @@ mod tests {
         )
         .unwrap_err();
         assert!(e.to_string().contains("strictly positive"), "{e}");
+    }
+
+    /// Every function with a start join and an end join (where allowed):
+    /// the joins hold to 1e-9 at both ends for arbitrary decision vectors,
+    /// the analytic Jacobian matches finite differences, and LM recovers a
+    /// curve that satisfies both joins exactly.
+    #[test]
+    fn end_joins_are_built_in() {
+        let prev = RationalCubicBez::new(
+            Point::new(-4.0, 1.0),
+            Point::new(-3.0, 2.0),
+            Point::new(-1.0, -1.0),
+            Point::ZERO,
+            0.7,
+            1.8,
+        )
+        .unwrap();
+        let next = RationalCubicBez::new(
+            Point::new(4.0, 0.0),
+            Point::new(5.0, -2.0),
+            Point::new(7.0, 1.0),
+            Point::new(9.0, 0.5),
+            1.3,
+            0.6,
+        )
+        .unwrap();
+        let mid = CubicBez::new(
+            Point::ZERO,
+            Point::new(1.0, 2.0),
+            Point::new(3.0, 2.0),
+            Point::new(4.0, 0.0),
+        );
+        let (pts, ps) = sample(&mid, 20);
+        let o = SearchSpaceOptions::default();
+        let ends = [
+            (
+                Continuity::C1,
+                End::C1 {
+                    derivative: next.deriv(0.0),
+                },
+            ),
+            (
+                Continuity::G1,
+                End::G1 {
+                    dir: next.deriv(0.0) * 0.1,
+                },
+            ),
+        ];
+        for f in FunctionType::ALL {
+            for start_cont in [Continuity::C0, Continuity::C1, Continuity::G1] {
+                for (end_cont, end) in ends {
+                    let start = Start::after(&prev, start_cont);
+                    let built = SegmentProblem::new(f, pts.clone(), ps.clone(), start, &o)
+                        .unwrap()
+                        .with_end(end);
+                    if f.degree() == 2 && start != Start::Free {
+                        let e = built.unwrap_err();
+                        assert!(e.to_string().contains("free start"), "{e}");
+                        continue;
+                    }
+                    let p = built.unwrap();
+                    assert_eq!(p.end(), end);
+                    assert_eq!(p.variable_names().len(), p.dim());
+                    assert!(p.variable_names().iter().all(|n| !n.is_empty()));
+                    for frac in [0.2, 0.8] {
+                        let x: Vec<f64> = p.bounds().iter().map(|b| b.lerp(frac)).collect();
+                        let seg = p.segment(&x);
+                        assert_eq!(seg.start(), pts[0]);
+                        assert_eq!(seg.end(), pts[20]);
+                        assert!(
+                            crate::geometry::check_join(&seg, &next, end_cont, 1e-9),
+                            "end {f} {start_cont:?} {end_cont:?}: {:?} vs {:?}",
+                            seg.deriv(1.0),
+                            next.deriv(0.0)
+                        );
+                        if start_cont != Continuity::C0 {
+                            assert!(
+                                crate::geometry::check_join(&prev, &seg, start_cont, 1e-9),
+                                "start {f} {start_cont:?} {end_cont:?}"
+                            );
+                        }
+                    }
+                    // Jacobian against central differences.
+                    let (d, m) = (p.dim(), p.residual_count());
+                    let x: Vec<f64> = p.bounds().iter().map(|b| b.lerp(0.41)).collect();
+                    let mut jac = vec![0.0; m * d];
+                    p.jacobian(&x, &mut jac);
+                    let (mut rp, mut rm) = (vec![0.0; m], vec![0.0; m]);
+                    for j in 0..d {
+                        let mut xp = x.clone();
+                        xp[j] += 1e-6;
+                        p.residuals(&xp, &mut rp);
+                        xp[j] -= 2e-6;
+                        p.residuals(&xp, &mut rm);
+                        for k in 0..m {
+                            let fd = (rp[k] - rm[k]) / 2e-6;
+                            let an = jac[k * d + j];
+                            assert!(
+                                (fd - an).abs() < 1e-6 * (1.0 + fd.abs()),
+                                "{f} {start_cont:?} {end_cont:?} var {j} row {k}: fd {fd} an {an}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn end_g1_dimensions_and_exact_recovery() {
+        // A cubic whose end leg points along (1, −2): with End::G1 along that
+        // direction (C₂ = C₃ − T·dir, T = 1) LM recovers it exactly.
+        let c = CubicBez::new(
+            Point::ZERO,
+            Point::new(1.0, 2.0),
+            Point::new(3.0, 2.0),
+            Point::new(4.0, 0.0),
+        );
+        let (pts, ps) = sample(&c, 30);
+        let o = SearchSpaceOptions::default();
+        let expect = [1, 3, 2, 5];
+        for (f, dim) in FunctionType::ALL.into_iter().zip(expect) {
+            let p = SegmentProblem::new(f, pts.clone(), ps.clone(), Start::Free, &o)
+                .unwrap()
+                .with_end(End::G1 {
+                    dir: Point::new(1.0, -2.0),
+                })
+                .unwrap();
+            assert_eq!(p.dim(), dim, "{f}");
+        }
+        let p = SegmentProblem::new(FunctionType::Cubic, pts, ps, Start::Free, &o)
+            .unwrap()
+            .with_end(End::G1 {
+                dir: Point::new(1.0, -2.0),
+            })
+            .unwrap();
+        let x = crate::fit::linear_fit(&p);
+        assert!(p.objective(&x) < 1e-20, "{x:?}");
+        let seg = p.segment(&x);
+        assert!((seg.control_points()[2] - Point::new(3.0, 2.0)).hypot() < 1e-9);
+        let e = SegmentProblem::new(
+            FunctionType::Cubic,
+            p.points().to_vec(),
+            p.params().to_vec(),
+            Start::Free,
+            &o,
+        )
+        .unwrap()
+        .with_end(End::G1 { dir: Point::ZERO })
+        .unwrap_err();
+        assert!(e.to_string().contains("non-zero end tangent"), "{e}");
     }
 }

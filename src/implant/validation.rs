@@ -1,0 +1,237 @@
+//! Validation on "perfect data" (thesis chapter 6; protocol of the
+//! AutoImplant challenge, Li & Egger et al., IEEE TMI 40(9), 2021):
+//! artificial defects are cut out of intact bone, reconstructed, and
+//! compared with the bone that was removed.
+//!
+//! A case is one slice `z`, a position (polar angle `θ_c` in degrees about
+//! the polar centre `(M_x, ȳ)`, image frame: 0° = +x, 90° = +y = down) and
+//! a width `w` (mm, arc length on the outer envelope). The cut is the
+//! wedge of rays `θ_c ± w/(2 r_c)`, `r_c = E(θ_c)`: every bone pixel whose
+//! centre lies in it is removed (the ground truth), so the bone ends are
+//! radial. The reconstruction only reads the contour at rays outside the
+//! wedge (see [`super::wall::reconstruct_wall`]) and the defective bone mask.
+//!
+//! Metrics (one-slice masks, so surfaces are the 2D boundaries):
+//! [`dice`], [`boundary_dice`] within `margin_mm` of the defective skull,
+//! [`hd95`] (mm), and the mean / max [`contour_deviation`] (mm) of the
+//! reconstructed outer wall from the removed outer envelope.
+
+use super::wall::{envelope_radius, reconstruct_wall, Wall, WallInput, WallKind, WallOptions};
+use crate::ct::{
+    bone_loops, bone_mask_slice, boundary_dice, contour_deviation, dice, hd95, voxelise, CtError,
+    Mask2, Mask3, Polyline, Spacing, Volume,
+};
+use crate::fit::SegmentSolver;
+use crate::geometry::Point;
+
+/// One artificial-defect case.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Case {
+    /// The slice (volume index).
+    pub index: usize,
+    /// Position: polar angle of the defect centre in degrees.
+    pub position_deg: f64,
+    /// Width in mm (arc length on the outer envelope).
+    pub width_mm: f64,
+}
+
+/// The prepared case: the defective slice and its ground truth.
+#[derive(Clone, Debug)]
+pub struct PreparedCase {
+    /// The case.
+    pub case: Case,
+    /// The slice's outer contour (largest outer loop, uncut).
+    pub outer: Polyline,
+    /// The polar centre `(M_x, ȳ)`.
+    pub centre: Point,
+    /// `M_x` in mm.
+    pub midline_x: f64,
+    /// A = E(θ₁) and B = E(θ₂), the cut's outer corners.
+    pub a: Point,
+    /// B.
+    pub b: Point,
+    /// The removed bone (ground truth).
+    pub truth: Mask2,
+    /// The bone left after the cut.
+    pub defective: Mask2,
+    /// The removed outer envelope between A and B (reference contour).
+    pub true_outer: Polyline,
+    /// Pixel spacing (x, y) in mm.
+    pub spacing: (f64, f64),
+}
+
+/// Metrics of one reconstruction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CaseMetrics {
+    /// Dice of the implant and the removed bone.
+    pub dice: f64,
+    /// Boundary Dice within the margin of the defective skull.
+    pub boundary_dice: f64,
+    /// 95th-percentile symmetric surface distance (mm).
+    pub hd95: f64,
+    /// Mean outer-contour deviation (mm).
+    pub dev_mean: f64,
+    /// Max outer-contour deviation (mm).
+    pub dev_max: f64,
+}
+
+fn in_wedge(theta: f64, lo: f64, width: f64) -> bool {
+    (theta - lo).rem_euclid(std::f64::consts::TAU) <= width
+}
+
+/// Cuts the case's defect out of slice `case.index` of `volume`.
+pub fn prepare_case(
+    volume: &Volume,
+    case: Case,
+    midline_x: f64,
+    threshold: i16,
+) -> Result<PreparedCase, CtError> {
+    let slice = volume.slice(case.index);
+    let (sx, sy) = (slice.sx, slice.sy);
+    let mask = bone_mask_slice(&slice, threshold)?;
+    let loops = bone_loops(&slice, &mask, threshold);
+    let outer = loops
+        .iter()
+        .filter(|l| l.signed_area() > 0.0)
+        .max_by(|a, b| a.signed_area().total_cmp(&b.signed_area()))
+        .cloned()
+        .ok_or_else(|| CtError::Invalid("no closed bone contour in the slice".into()))?;
+    let centre = Point::new(midline_x, outer.vertex_mean().y);
+    let polys = [&outer];
+    let tc = case.position_deg.to_radians();
+    let rc = envelope_radius(&polys, centre, tc).ok_or_else(|| {
+        CtError::Invalid(format!(
+            "no outer contour at {}° from the centre",
+            case.position_deg
+        ))
+    })?;
+    let half = 0.5 * case.width_mm / rc;
+    let (t1, t2) = (tc - half, tc + half);
+    let pt = |t: f64| -> Result<Point, CtError> {
+        envelope_radius(&polys, centre, t)
+            .map(|r| centre + Point::new(t.cos(), t.sin()) * r)
+            .ok_or_else(|| CtError::Invalid("the defect leaves the outer contour".into()))
+    };
+    let (a, b) = (pt(t1)?, pt(t2)?);
+    let true_outer = Polyline::open(
+        (0..=64)
+            .map(|k| pt(t1 + (t2 - t1) * k as f64 / 64.0))
+            .collect::<Result<Vec<_>, _>>()?,
+    );
+    let mut truth = Mask2::new(mask.nx, mask.ny);
+    let mut defective = mask.clone();
+    for (r, c) in mask.pixels() {
+        let p = Point::new(c as f64 * sx, r as f64 * sy);
+        let th = (p.y - centre.y).atan2(p.x - centre.x);
+        if in_wedge(th, t1, t2 - t1) {
+            truth.set(r, c, true);
+            defective.set(r, c, false);
+        }
+    }
+    if truth.count() == 0 {
+        return Err(CtError::Invalid("the cut removed no bone".into()));
+    }
+    Ok(PreparedCase {
+        case,
+        outer,
+        centre,
+        midline_x,
+        a,
+        b,
+        truth,
+        defective,
+        true_outer,
+        spacing: (sx, sy),
+    })
+}
+
+/// Reconstructs a prepared case with `kind` (the solver is used by
+/// [`WallKind::CurveFit`] only).
+pub fn reconstruct_case<S: SegmentSolver + ?Sized>(
+    p: &PreparedCase,
+    kind: WallKind,
+    options: &WallOptions,
+    solver: &mut S,
+) -> Result<Wall, CtError> {
+    let (sx, sy) = p.spacing;
+    let is_bone = |q: Point| {
+        let (r, c) = ((q.y / sy).round(), (q.x / sx).round());
+        r >= 0.0 && c >= 0.0 && p.defective.get_or_false(r as i64, c as i64)
+    };
+    let outer = [&p.outer];
+    let input = WallInput {
+        outer: &outer,
+        is_bone: &is_bone,
+        centre: p.centre,
+        midline_x: p.midline_x,
+        a: p.a,
+        b: p.b,
+    };
+    reconstruct_wall(&input, kind, options, solver)
+}
+
+/// The metrics of `wall` against the case's ground truth.
+pub fn case_metrics(p: &PreparedCase, wall: &Wall, margin_mm: f64) -> Result<CaseMetrics, CtError> {
+    let (nx, ny) = (p.truth.nx, p.truth.ny);
+    let spacing = Spacing {
+        x: p.spacing.0,
+        y: p.spacing.1,
+        z: 1.0,
+    };
+    let recon = voxelise(&[(0, wall.section.clone())], nx, ny, 1, spacing);
+    let truth = Mask3::from_slices(std::slice::from_ref(&p.truth), spacing);
+    let skull = Mask3::from_slices(std::slice::from_ref(&p.defective), spacing);
+    let hd = if recon.count() == 0 {
+        f64::INFINITY
+    } else {
+        hd95(&recon, &truth)?
+    };
+    let dev = contour_deviation(&wall.outer, &p.true_outer, 0.25)?;
+    Ok(CaseMetrics {
+        dice: dice(&recon, &truth)?,
+        boundary_dice: boundary_dice(&recon, &truth, &skull, margin_mm)?,
+        hd95: hd,
+        dev_mean: dev.mean,
+        dev_max: dev.max,
+    })
+}
+
+/// Validation result row: one case × method × run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ValidationRow {
+    /// The case.
+    pub case: Case,
+    /// Original slice number.
+    pub z: usize,
+    /// `curve:<method>`, `template` or `straight`.
+    pub method: String,
+    /// Run index (0 for deterministic methods).
+    pub run: usize,
+    /// The seed of the run (0 for deterministic methods).
+    pub seed: u64,
+    /// The metrics, or why the case failed.
+    pub metrics: Result<CaseMetrics, String>,
+    /// The fit's E (mm²; 0 for baselines).
+    pub fit_error: f64,
+    /// Join angles at A and B (degrees).
+    pub join_deg: (f64, f64),
+}
+
+/// Runs `kind` on a prepared case and measures it; a failure becomes the
+/// row's error message.
+pub fn evaluate<S: SegmentSolver + ?Sized>(
+    p: &PreparedCase,
+    kind: WallKind,
+    options: &WallOptions,
+    margin_mm: f64,
+    solver: &mut S,
+) -> (Result<CaseMetrics, String>, f64, (f64, f64)) {
+    match reconstruct_case(p, kind, options, solver) {
+        Ok(w) => (
+            case_metrics(p, &w, margin_mm).map_err(|e| e.to_string()),
+            w.fit_error,
+            w.join_angles_deg(),
+        ),
+        Err(e) => (Err(e.to_string()), f64::NAN, (f64::NAN, f64::NAN)),
+    }
+}

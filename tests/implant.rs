@@ -1,0 +1,392 @@
+//! Chapter-6 pipeline on the vendored ProMED CT 0051 extract: the real
+//! defect to a watertight STL, the validation against its baselines, the
+//! spec and CLI errors.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use metabezier::ct::{
+    parse_stl, read_inv3, write_inv3, CtError, Volume, CT0051_FIRST_Z, CT0051_PATH,
+};
+use metabezier::fit::{FunctionType, LmSolver};
+use metabezier::geometry::{Continuity, Curve};
+use metabezier::implant::*;
+
+fn real_config(slices: std::ops::RangeInclusive<usize>) -> DefectConfig {
+    let measured = [
+        (64, (196.0, 111.0), (188.0, 86.0)),
+        (72, (194.0, 107.0), (184.0, 86.0)),
+        (80, (185.0, 104.0), (179.0, 93.0)),
+    ];
+    DefectConfig {
+        first_z: CT0051_FIRST_Z,
+        slices: slices
+            .map(|z| SliceSpec {
+                z,
+                ends: measured
+                    .iter()
+                    .find(|m| m.0 == z)
+                    .map_or(Ends::Auto, |m| Ends::Pixels { a: m.1, b: m.2 }),
+            })
+            .collect(),
+        midline: MidlineSpec::Auto((86..=92).collect()),
+        threshold: 300,
+        wall: WallOptions::default(),
+        ring_points: 120,
+    }
+}
+
+fn volume() -> Volume {
+    read_inv3(Path::new(CT0051_PATH)).unwrap()
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("metabezier-implant-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn real_defect_gives_a_watertight_implant_with_exact_joins() {
+    let v = volume();
+    let cfg = real_config(60..=72);
+    let imp = reconstruct_defect(&v, &cfg, &mut LmSolver::default()).unwrap();
+    assert_eq!(imp.slices.len(), 13);
+    // M_x near the image centre column 128 (·0.957 mm) and a clear symmetry.
+    assert!((imp.midline_x - 124.0).abs() < 3.0, "{}", imp.midline_x);
+    assert!(imp.midline_dice.unwrap() > 0.8);
+    assert!(imp.mesh.is_watertight() && imp.mesh.is_consistently_oriented());
+    assert!(
+        imp.mesh.signed_volume() > 500.0,
+        "{}",
+        imp.mesh.signed_volume()
+    );
+    assert!(imp.mask.count() > 500);
+    for s in &imp.slices {
+        let w = &s.wall;
+        let seg = w.segment.as_ref().unwrap();
+        // A, B fixed; G¹ joins hold to 1e-9 (angle in radians).
+        assert_eq!(seg.start(), w.a);
+        assert_eq!(seg.end(), w.b);
+        let (ja, jb) = w.join_angles_deg();
+        assert!(
+            ja.to_radians() < 1e-9 && jb.to_radians() < 1e-9,
+            "z {}: {ja} {jb}",
+            s.z
+        );
+        // The defect is on the left (x < M_x) and C, D mirror A, B.
+        assert!(w.a.x < imp.midline_x && w.c.x > imp.midline_x);
+        assert!((w.c.x + w.a.x - 2.0 * imp.midline_x).abs() < 1e-9);
+        // The inner wall lies inside the outer: the section has area
+        // roughly width × thickness.
+        let area = w.section.signed_area().abs();
+        let t = 0.5 * (w.thickness.0 + w.thickness.1);
+        let width = w.a.distance(w.b);
+        assert!(
+            area > 0.3 * width * t && area < 2.5 * width * t,
+            "z {}: {area}",
+            s.z
+        );
+    }
+    // At the measured slice 64 the defect is about 25 mm wide.
+    let s64 = imp.slices.iter().find(|s| s.z == 64).unwrap();
+    assert!((s64.wall.a.distance(s64.wall.b) - 25.0).abs() < 6.0);
+}
+
+#[test]
+fn c1_joins_and_every_function_type() {
+    let v = volume();
+    for f in FunctionType::ALL {
+        let mut cfg = real_config(70..=72);
+        cfg.wall.function = f;
+        cfg.wall.continuity = Continuity::C1;
+        let imp = reconstruct_defect(&v, &cfg, &mut LmSolver::default()).unwrap();
+        for s in &imp.slices {
+            let seg = s.wall.segment.unwrap();
+            assert_eq!(seg.function(), f);
+            if f.degree() == 3 {
+                // C¹: the derivative at both ends is the intact neighbour's.
+                let (ta, tb) = s.wall.tangents;
+                let d0 = seg.deriv(0.0).normalize().unwrap();
+                let d1 = seg.deriv(1.0).normalize().unwrap();
+                assert!((d0 - ta).hypot() < 1e-9 && (d1 - tb).hypot() < 1e-9, "{f}");
+            }
+        }
+    }
+}
+
+#[test]
+fn validation_beats_the_template_and_records_midline_crossing() {
+    let v = volume();
+    let mx = resolve_midline(&v, &real_config(60..=61)).unwrap().0;
+    let opts = WallOptions::default();
+    let mut curve_better = 0;
+    let mut n = 0;
+    for pos in [200.0, 340.0] {
+        for w in [20.0, 40.0] {
+            let case = Case {
+                index: 88 - CT0051_FIRST_Z,
+                position_deg: pos,
+                width_mm: w,
+            };
+            let p = prepare_case(&v, case, mx, 300).unwrap();
+            // The cut removes roughly width × thickness of bone.
+            let removed_mm2 = p.truth.count() as f64 * 0.957 * 0.957;
+            assert!(
+                removed_mm2 > 0.5 * w && removed_mm2 < 20.0 * w,
+                "{removed_mm2}"
+            );
+            let (c, _, joins) = evaluate(
+                &p,
+                WallKind::CurveFit,
+                &opts,
+                10.0,
+                &mut LmSolver::default(),
+            );
+            let (t, _, _) = evaluate(
+                &p,
+                WallKind::Template,
+                &opts,
+                10.0,
+                &mut LmSolver::default(),
+            );
+            let (s, _, _) = evaluate(
+                &p,
+                WallKind::Straight,
+                &opts,
+                10.0,
+                &mut LmSolver::default(),
+            );
+            let (c, t, s) = (c.unwrap(), t.unwrap(), s.unwrap());
+            assert!(joins.0 < 1e-6 && joins.1 < 1e-6);
+            for m in [c, t, s] {
+                assert!((0.0..=1.0).contains(&m.dice) && m.hd95 >= 0.0 && m.dev_max >= m.dev_mean);
+            }
+            assert!(c.dice > 0.6, "{pos} {w}: {c:?}");
+            n += 1;
+            curve_better += usize::from(c.dice > t.dice);
+        }
+    }
+    assert!(curve_better * 2 > n, "{curve_better}/{n}");
+    // The posterior midline (270°): the defect crosses M_x.
+    let p = prepare_case(
+        &v,
+        Case {
+            index: 88 - CT0051_FIRST_Z,
+            position_deg: 270.0,
+            width_mm: 30.0,
+        },
+        mx,
+        300,
+    )
+    .unwrap();
+    let e = reconstruct_case(&p, WallKind::CurveFit, &opts, &mut LmSolver::default()).unwrap_err();
+    assert!(matches!(e, CtError::DefectCrossesMidline { .. }));
+    assert!(e.to_string().contains("explicit template"), "{e}");
+}
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_metabezier"))
+}
+
+fn crate_path(p: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join(p)
+        .display()
+        .to_string()
+}
+
+/// Writes a spec into `dir` and runs `metabezier implant` on it; returns
+/// (success, stderr).
+fn run_spec(dir: &Path, text: &str) -> (bool, String) {
+    let spec = dir.join("spec.toml");
+    std::fs::write(&spec, text).unwrap();
+    let out = bin()
+        .arg("implant")
+        .arg(&spec)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn small_spec(volume: &str, extra_implant: &str, defect: &str) -> String {
+    format!(
+        "[implant]\nvolume = \"{volume}\"\nfirst_z = 40\nmidline_slices = [86, 92]\nmethod = \"mhs\"\nbudget = 2000\nseed = 7\n{extra_implant}\n{defect}\n"
+    )
+}
+
+const DEFECT: &str = "[defect]\nslices = [70, 72]\noverlays = [72]\n";
+
+#[test]
+fn cli_writes_byte_identical_csv_and_a_valid_stl() {
+    let dir = tmp("cli");
+    let text = small_spec(&crate_path(CT0051_PATH), "", &format!("{DEFECT}\n[validation]\nslices = [88]\npositions = [200]\nwidths = [20]\nmethods = [\"mhs\", \"lm\"]\nruns = 2\n"));
+    let (ok, err) = run_spec(&dir, &text);
+    assert!(ok, "{err}");
+    let out = dir.join("out");
+    for f in [
+        "implant.stl",
+        "metrics.csv",
+        "validation.csv",
+        "report.md",
+        "timing.txt",
+        "overlay_z072.png",
+        "preview_3d.png",
+        "spec.toml",
+    ] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+    let stl = std::fs::read(out.join("implant.stl")).unwrap();
+    let mesh = parse_stl(&stl, &out.join("implant.stl")).unwrap();
+    assert!(mesh.is_watertight() && mesh.is_consistently_oriented());
+    let csv1 = std::fs::read(out.join("validation.csv")).unwrap();
+    let m1 = std::fs::read(out.join("metrics.csv")).unwrap();
+    // One header + 3 slices; 1 case × (2 baselines + 2 mhs runs + 1 lm).
+    assert_eq!(String::from_utf8_lossy(&m1).lines().count(), 4);
+    assert_eq!(String::from_utf8_lossy(&csv1).lines().count(), 6);
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("Wilcoxon") && report.contains("curve:mhs"));
+    let (ok, err) = run_spec(&dir, &text);
+    assert!(ok, "{err}");
+    assert_eq!(csv1, std::fs::read(out.join("validation.csv")).unwrap());
+    assert_eq!(m1, std::fs::read(out.join("metrics.csv")).unwrap());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn spec_errors_name_line_column_field_and_choices() {
+    let p = Path::new("x.toml");
+    let e = ImplantSpec::parse(
+        p,
+        "[implant]\nvolume = \"v.inv3\"\nfunction = \"cubik\"\n[defect]\nslices = [1, 3]\n",
+    )
+    .unwrap_err();
+    let m = e.to_string();
+    assert!(
+        m.contains("x.toml:3:12") && m.contains("implant.function"),
+        "{m}"
+    );
+    assert!(m.contains("\"rational-cubic\""), "{m}");
+    let e = ImplantSpec::parse(
+        p,
+        "[implant]\nvolume = \"v.inv3\"\nmethod = \"mhz\"\n[defect]\nslices = [1, 3]\n",
+    )
+    .unwrap_err();
+    assert!(
+        e.to_string().contains("implant.method") && e.to_string().contains("\"mhs+lm\""),
+        "{e}"
+    );
+    let e = ImplantSpec::parse(
+        p,
+        "[implant]\nvolume = \"v.inv3\"\n[defect]\nslices = [1, 3]\nsloces = 2\n",
+    )
+    .unwrap_err();
+    assert!(
+        e.to_string().contains("defect.sloces") && e.field == "defect.sloces" && e.line == 5,
+        "{e}"
+    );
+    let e = ImplantSpec::parse(
+        p,
+        "[implant]\nvolume = \"v.inv3\"\n[defect]\nslices = [3, 1]\n",
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("first < last"), "{e}");
+    let e = ImplantSpec::parse(p, "[implant]\nvolume = \"v.inv3\"\n").unwrap_err();
+    assert!(e.to_string().contains("nothing to run"), "{e}");
+    let e = ImplantSpec::parse(p, "[implant]\nvolume = \"v.inv3\"\n[validation]\nslices = [88]\npositions = [1]\nwidths = [0]\n").unwrap_err();
+    assert!(e.field == "validation.widths[0]", "{e}");
+    let ok = ImplantSpec::parse(
+        Path::new("experiments/ch6_cranial.toml"),
+        &std::fs::read_to_string(crate_path("experiments/ch6_cranial.toml")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(ok.defect_config.slices.len(), 29);
+    assert_eq!(ok.validation.as_ref().unwrap().runs, 30);
+    assert!(matches!(
+        ok.defect_config.slices[64 - 56].ends,
+        Ends::Pixels { .. }
+    ));
+}
+
+#[test]
+fn cli_error_no_bone_leaves_no_stl() {
+    let dir = tmp("nobone");
+    let (ok, err) = run_spec(
+        &dir,
+        &small_spec(&crate_path(CT0051_PATH), "threshold = 32000", DEFECT),
+    );
+    assert!(!ok);
+    assert!(err.contains("no bone") && err.contains("32000 HU"), "{err}");
+    assert!(!dir.join("out/implant.stl").exists());
+}
+
+#[test]
+fn cli_error_a_not_on_the_contour() {
+    let dir = tmp("offcontour");
+    let defect =
+        "[defect]\nslices = [70, 72]\n[[defect.end]]\nz = 71\na = [128, 128]\nb = [184, 86]\n";
+    let (ok, err) = run_spec(&dir, &small_spec(&crate_path(CT0051_PATH), "", defect));
+    assert!(!ok);
+    assert!(
+        err.contains("slice z = 71") && err.contains("A is not on the bone contour"),
+        "{err}"
+    );
+    assert!(!dir.join("out/implant.stl").exists());
+}
+
+#[test]
+fn cli_error_defect_crosses_the_midline() {
+    let dir = tmp("midline");
+    // M_x given far to the left, between A and B of the real defect.
+    let (ok, err) = run_spec(
+        &dir,
+        &small_spec(&crate_path(CT0051_PATH), "midline = 92.0", DEFECT),
+    );
+    assert!(!ok);
+    assert!(
+        err.contains("crosses the mid-sagittal line") && err.contains("explicit template"),
+        "{err}"
+    );
+    assert!(!dir.join("out/implant.stl").exists());
+}
+
+#[test]
+fn cli_error_truncated_inv3() {
+    let dir = tmp("trunc");
+    let bytes = std::fs::read(crate_path(CT0051_PATH)).unwrap();
+    let bad = dir.join("bad.inv3");
+    std::fs::write(&bad, &bytes[..bytes.len() / 3]).unwrap();
+    let (ok, err) = run_spec(&dir, &small_spec(&bad.display().to_string(), "", DEFECT));
+    assert!(!ok);
+    assert!(
+        err.contains("bad.inv3") && err.contains("truncated or corrupt .inv3"),
+        "{err}"
+    );
+    assert!(!dir.join("out/implant.stl").exists());
+}
+
+#[test]
+fn cli_error_mismatched_slice_spacing_in_dicom() {
+    use metabezier::ct::write_dicom_series;
+    let dir = tmp("spacing");
+    let v = volume().sub_z(30, 34);
+    let series = dir.join("series");
+    std::fs::create_dir_all(&series).unwrap();
+    let files = write_dicom_series(&series, &v, 0..4, "1.2.3").unwrap();
+    // Drop one slice: the gaps are no longer even.
+    std::fs::remove_file(&files[1]).unwrap();
+    let (ok, err) = run_spec(&dir, &small_spec(&series.display().to_string(), "", DEFECT));
+    assert!(!ok);
+    assert!(err.contains("mismatched slice spacing"), "{err}");
+    assert!(!dir.join("out/implant.stl").exists());
+    // And an intact round trip still reads (write_inv3 + read, sanity).
+    let p = dir.join("ok.inv3");
+    write_inv3(&p, &v, "t").unwrap();
+    assert_eq!(read_inv3(&p).unwrap().nz, 4);
+}
