@@ -36,11 +36,9 @@
 //! Errors name the file, line, column and field, say what was expected and
 //! list the valid choices ([`crate::spec::SpecError`]).
 
-use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use toml::de::{DeTable, DeValue};
-use toml::Spanned;
 
 use super::pipeline::{DefectConfig, Ends, MidlineSpec, SliceSpec};
 use super::wall::WallOptions;
@@ -48,9 +46,7 @@ use crate::fit::FunctionType;
 use crate::geometry::Continuity;
 use crate::optim::Algorithm;
 use crate::reconstruction::Method;
-use crate::spec::SpecError;
-
-type Value<'i> = Spanned<DeValue<'i>>;
+use crate::spec::{type_name, Parser, SpecError, Value};
 
 /// The artificial-defect validation part.
 #[derive(Clone, Debug)]
@@ -92,11 +88,6 @@ pub struct ImplantSpec {
     pub validation: Option<ValidationSpec>,
 }
 
-struct P<'a> {
-    path: &'a Path,
-    text: &'a str,
-}
-
 const IMPLANT_KEYS: [&str; 10] = [
     "volume",
     "first_z",
@@ -120,18 +111,6 @@ const VALIDATION_KEYS: [&str; 6] = [
     "margin_mm",
 ];
 
-fn type_name(v: &DeValue<'_>) -> &'static str {
-    match v {
-        DeValue::String(_) => "string",
-        DeValue::Integer(_) => "integer",
-        DeValue::Float(_) => "float",
-        DeValue::Boolean(_) => "boolean",
-        DeValue::Datetime(_) => "datetime",
-        DeValue::Array(_) => "array",
-        DeValue::Table(_) => "table",
-    }
-}
-
 fn quoted(names: &[&str]) -> String {
     names
         .iter()
@@ -140,61 +119,7 @@ fn quoted(names: &[&str]) -> String {
         .join(", ")
 }
 
-impl<'a> P<'a> {
-    fn err(&self, span: Range<usize>, field: &str, message: String) -> SpecError {
-        let start = span.start.min(self.text.len());
-        let before = &self.text[..start];
-        let line = before.matches('\n').count() + 1;
-        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-        SpecError {
-            path: self.path.to_owned(),
-            line,
-            column: self.text[line_start..start].chars().count() + 1,
-            field: field.to_owned(),
-            message,
-        }
-    }
-
-    fn keys(&self, t: &DeTable<'_>, section: &str, allowed: &[&str]) -> Result<(), SpecError> {
-        for (k, _) in t.iter() {
-            let key: &str = k.get_ref();
-            if !allowed.contains(&key) {
-                return Err(self.err(
-                    k.span(),
-                    &format!("{section}.{key}"),
-                    format!("unknown field; valid choices: {}", quoted(allowed)),
-                ));
-            }
-        }
-        Ok(())
-    }
-
-    fn get<'t, 'i>(&self, t: &'t DeTable<'i>, key: &str) -> Option<&'t Value<'i>> {
-        t.iter().find(|(k, _)| k.get_ref() == key).map(|(_, v)| v)
-    }
-
-    fn table<'t, 'i>(&self, v: &'t Value<'i>, field: &str) -> Result<&'t DeTable<'i>, SpecError> {
-        match v.get_ref() {
-            DeValue::Table(t) => Ok(t),
-            o => Err(self.err(
-                v.span(),
-                field,
-                format!("expected a table, found a {}", type_name(o)),
-            )),
-        }
-    }
-
-    fn string(&self, v: &Value<'_>, field: &str) -> Result<String, SpecError> {
-        match v.get_ref() {
-            DeValue::String(s) => Ok(s.to_string()),
-            o => Err(self.err(
-                v.span(),
-                field,
-                format!("expected a string, found a {}", type_name(o)),
-            )),
-        }
-    }
-
+impl Parser<'_> {
     fn int(&self, v: &Value<'_>, field: &str, min: i64, max: i64) -> Result<i64, SpecError> {
         let n = match v.get_ref() {
             DeValue::Integer(i) => i64::from_str_radix(i.as_str(), i.radix()).ok(),
@@ -202,7 +127,7 @@ impl<'a> P<'a> {
         };
         match n {
             Some(n) if (min..=max).contains(&n) => Ok(n),
-            _ => Err(self.err(
+            _ => Err(self.error(
                 v.span(),
                 field,
                 format!(
@@ -213,7 +138,8 @@ impl<'a> P<'a> {
         }
     }
 
-    fn real(&self, v: &Value<'_>, field: &str) -> Result<f64, SpecError> {
+    /// A finite real number (an integer is accepted).
+    fn finite_real(&self, v: &Value<'_>, field: &str) -> Result<f64, SpecError> {
         let x = match v.get_ref() {
             DeValue::Integer(i) => i64::from_str_radix(i.as_str(), i.radix())
                 .ok()
@@ -222,7 +148,7 @@ impl<'a> P<'a> {
             _ => None,
         };
         x.filter(|x| x.is_finite()).ok_or_else(|| {
-            self.err(
+            self.error(
                 v.span(),
                 field,
                 format!("expected a real number, found {}", self.show(v)),
@@ -246,7 +172,7 @@ impl<'a> P<'a> {
     ) -> Result<Vec<&'t Value<'i>>, SpecError> {
         match v.get_ref() {
             DeValue::Array(a) if !a.is_empty() => Ok(a.iter().collect()),
-            o => Err(self.err(
+            o => Err(self.error(
                 v.span(),
                 field,
                 format!(
@@ -264,9 +190,12 @@ impl<'a> P<'a> {
     fn pixel(&self, v: &Value<'_>, field: &str) -> Result<(f64, f64), SpecError> {
         let a = self.array(v, field)?;
         if a.len() != 2 {
-            return Err(self.err(v.span(), field, "expected [row, col] (two numbers)".into()));
+            return Err(self.error(v.span(), field, "expected [row, col] (two numbers)".into()));
         }
-        Ok((self.real(a[0], field)?, self.real(a[1], field)?))
+        Ok((
+            self.finite_real(a[0], field)?,
+            self.finite_real(a[1], field)?,
+        ))
     }
 
     fn method(&self, v: &Value<'_>, field: &str) -> Result<Method, SpecError> {
@@ -274,7 +203,7 @@ impl<'a> P<'a> {
         let bad = || {
             let names = Method::names();
             let names: Vec<&str> = names.iter().map(String::as_str).collect();
-            self.err(
+            self.error(
                 v.span(),
                 field,
                 format!(
@@ -300,7 +229,7 @@ impl<'a> P<'a> {
     fn range(&self, v: &Value<'_>, field: &str) -> Result<(usize, usize), SpecError> {
         let a = self.array(v, field)?;
         if a.len() != 2 {
-            return Err(self.err(
+            return Err(self.error(
                 v.span(),
                 field,
                 "expected [first, last] (two slice numbers)".into(),
@@ -311,7 +240,7 @@ impl<'a> P<'a> {
             self.int(a[1], field, 0, 1 << 20)? as usize,
         );
         if z1 <= z0 {
-            return Err(self.err(
+            return Err(self.error(
                 v.span(),
                 field,
                 format!("expected first < last, found [{z0}, {z1}]"),
@@ -320,20 +249,20 @@ impl<'a> P<'a> {
         Ok((z0, z1))
     }
 
-    fn parse(&self) -> Result<ImplantSpec, SpecError> {
+    fn implant_spec(&self) -> Result<ImplantSpec, SpecError> {
         let doc = DeTable::parse(self.text).map_err(|e| {
             let msg = e.message().trim().to_string();
-            self.err(e.span().unwrap_or(0..0), "", format!("invalid TOML: {msg}"))
+            self.error(e.span().unwrap_or(0..0), "", format!("invalid TOML: {msg}"))
         })?;
         let root = doc.get_ref();
-        self.keys(root, "", &["implant", "defect", "validation"])?;
+        self.check_keys(root, "", &["implant", "defect", "validation"])?;
         let imp = self
             .get(root, "implant")
-            .ok_or_else(|| self.err(0..0, "implant", "missing section [implant]".into()))?;
+            .ok_or_else(|| self.error(0..0, "implant", "missing section [implant]".into()))?;
         let imp = self.table(imp, "implant")?;
-        self.keys(imp, "implant", &IMPLANT_KEYS)?;
+        self.check_keys(imp, "implant", &IMPLANT_KEYS)?;
         let vol = self.get(imp, "volume").ok_or_else(|| {
-            self.err(
+            self.error(
                 0..0,
                 "implant.volume",
                 "missing field: the CT volume (.inv3 file or DICOM directory)".into(),
@@ -358,7 +287,7 @@ impl<'a> P<'a> {
             let s = self.string(v, "implant.function")?;
             let names = ["quadratic", "cubic", "rational-quadratic", "rational-cubic"];
             wall.function = FunctionType::from_name(&s).ok_or_else(|| {
-                self.err(
+                self.error(
                     v.span(),
                     "implant.function",
                     format!(
@@ -371,7 +300,7 @@ impl<'a> P<'a> {
         if let Some(v) = self.get(imp, "continuity") {
             let s = self.string(v, "implant.continuity")?;
             wall.continuity = Continuity::from_name(&s).ok_or_else(|| {
-                self.err(
+                self.error(
                     v.span(),
                     "implant.continuity",
                     format!(
@@ -397,10 +326,10 @@ impl<'a> P<'a> {
             Some(v) => match v.get_ref() {
                 DeValue::String(s) if s.as_ref() == "auto" => MidlineSpec::Auto(midline_slices),
                 DeValue::Integer(_) | DeValue::Float(_) => {
-                    MidlineSpec::Given(self.real(v, "implant.midline")?)
+                    MidlineSpec::Given(self.finite_real(v, "implant.midline")?)
                 }
                 _ => {
-                    return Err(self.err(
+                    return Err(self.error(
                         v.span(),
                         "implant.midline",
                         format!("expected \"auto\" or M_x in mm, found {}", self.show(v)),
@@ -419,9 +348,9 @@ impl<'a> P<'a> {
         let mut overlays = Vec::new();
         let run_defect = if let Some(d) = self.get(root, "defect") {
             let d = self.table(d, "defect")?;
-            self.keys(d, "defect", &DEFECT_KEYS)?;
+            self.check_keys(d, "defect", &DEFECT_KEYS)?;
             let sv = self.get(d, "slices").ok_or_else(|| {
-                self.err(
+                self.error(
                     0..0,
                     "defect.slices",
                     "missing field: [first, last] slice of the defect".into(),
@@ -431,7 +360,7 @@ impl<'a> P<'a> {
             if let Some(v) = self.get(d, "ends") {
                 let s = self.string(v, "defect.ends")?;
                 if s != "auto" {
-                    return Err(self.err(v.span(), "defect.ends", format!("unknown value \"{s}\"; valid choices: \"auto\" (give per-slice ends in [[defect.end]])")));
+                    return Err(self.error(v.span(), "defect.ends", format!("unknown value \"{s}\"; valid choices: \"auto\" (give per-slice ends in [[defect.end]])")));
                 }
             }
             if let Some(v) = self.get(d, "ring_points") {
@@ -457,7 +386,7 @@ impl<'a> P<'a> {
                 let items = match v.get_ref() {
                     DeValue::Array(a) => a.iter().collect::<Vec<_>>(),
                     o => {
-                        return Err(self.err(
+                        return Err(self.error(
                             v.span(),
                             "defect.end",
                             format!("expected [[defect.end]] tables, found a {}", type_name(o)),
@@ -467,10 +396,10 @@ impl<'a> P<'a> {
                 for (i, e) in items.iter().enumerate() {
                     let f = format!("defect.end[{i}]");
                     let t = self.table(e, &f)?;
-                    self.keys(t, &f, &END_KEYS)?;
+                    self.check_keys(t, &f, &END_KEYS)?;
                     let need = |k: &str| {
                         self.get(t, k).ok_or_else(|| {
-                            self.err(
+                            self.error(
                                 e.span(),
                                 &format!("{f}.{k}"),
                                 format!("missing field `{k}`"),
@@ -492,10 +421,10 @@ impl<'a> P<'a> {
             None => None,
             Some(v) => {
                 let t = self.table(v, "validation")?;
-                self.keys(t, "validation", &VALIDATION_KEYS)?;
+                self.check_keys(t, "validation", &VALIDATION_KEYS)?;
                 let need = |k: &str| {
                     self.get(t, k).ok_or_else(|| {
-                        self.err(
+                        self.error(
                             v.span(),
                             &format!("validation.{k}"),
                             format!("missing field `{k}`"),
@@ -507,7 +436,7 @@ impl<'a> P<'a> {
                     self.array(a, &format!("validation.{k}"))?
                         .iter()
                         .enumerate()
-                        .map(|(i, x)| self.real(x, &format!("validation.{k}[{i}]")))
+                        .map(|(i, x)| self.finite_real(x, &format!("validation.{k}[{i}]")))
                         .collect()
                 };
                 let slices = self
@@ -523,7 +452,7 @@ impl<'a> P<'a> {
                 let widths = list_real("widths")?;
                 if let Some((i, _)) = widths.iter().enumerate().find(|(_, w)| **w <= 0.0) {
                     let a = self.array(need("widths")?, "validation.widths")?;
-                    return Err(self.err(
+                    return Err(self.error(
                         a[i].span(),
                         &format!("validation.widths[{i}]"),
                         "expected a width > 0 mm".into(),
@@ -544,7 +473,7 @@ impl<'a> P<'a> {
                 };
                 let margin_mm = match self.get(t, "margin_mm") {
                     None => 10.0,
-                    Some(x) => self.real(x, "validation.margin_mm")?,
+                    Some(x) => self.finite_real(x, "validation.margin_mm")?,
                 };
                 Some(ValidationSpec {
                     slices,
@@ -557,7 +486,7 @@ impl<'a> P<'a> {
             }
         };
         if !run_defect && validation.is_none() {
-            return Err(self.err(
+            return Err(self.error(
                 0..0,
                 "",
                 "nothing to run: add a [defect] or a [validation] section".into(),
@@ -581,7 +510,7 @@ impl ImplantSpec {
     /// Parses `text` as the spec at `path` (relative paths resolve against
     /// its directory).
     pub fn parse(path: &Path, text: &str) -> Result<ImplantSpec, SpecError> {
-        P { path, text }.parse()
+        Parser { path, text }.implant_spec()
     }
 
     /// Reads and parses the spec file.

@@ -238,13 +238,16 @@ impl Spec {
     }
 }
 
-struct Parser<'a> {
-    path: &'a Path,
-    text: &'a str,
+/// The spec reader: the file's path and text, for errors located by line
+/// and column. Its primitives (fields, tables, strings, numbers, known
+/// keys) also serve the chapter-6 implant spec.
+pub(crate) struct Parser<'a> {
+    pub(crate) path: &'a Path,
+    pub(crate) text: &'a str,
 }
 
-type Table<'i> = DeTable<'i>;
-type Value<'i> = Spanned<DeValue<'i>>;
+pub(crate) type Table<'i> = DeTable<'i>;
+pub(crate) type Value<'i> = Spanned<DeValue<'i>>;
 
 const EXPERIMENT_KEYS: [&str; 8] = [
     "name",
@@ -259,7 +262,7 @@ const EXPERIMENT_KEYS: [&str; 8] = [
 const SECTIONS: [&str; 4] = ["experiment", "problem", "fit", "algorithm"];
 const PROBLEM_KEYS: [&str; 4] = ["function", "dim", "budget", "budget_per_dim"];
 
-fn type_name(v: &DeValue<'_>) -> &'static str {
+pub(crate) fn type_name(v: &DeValue<'_>) -> &'static str {
     match v {
         DeValue::String(_) => "string",
         DeValue::Integer(_) => "integer",
@@ -309,7 +312,7 @@ fn suggest<'n>(word: &str, names: &[&'n str]) -> Option<&'n str> {
         .map(|(_, n)| n)
 }
 
-fn choices_hint(word: &str, names: &[&str]) -> String {
+pub(crate) fn choices_hint(word: &str, names: &[&str]) -> String {
     match suggest(word, names) {
         Some(s) => format!(
             "did you mean \"{s}\"? Valid choices: {}",
@@ -320,7 +323,7 @@ fn choices_hint(word: &str, names: &[&str]) -> String {
 }
 
 impl<'a> Parser<'a> {
-    fn error(&self, span: Range<usize>, field: &str, message: String) -> SpecError {
+    pub(crate) fn error(&self, span: Range<usize>, field: &str, message: String) -> SpecError {
         let start = span.start.min(self.text.len());
         let before = &self.text[..start];
         let line = before.matches('\n').count() + 1;
@@ -437,7 +440,7 @@ impl<'a> Parser<'a> {
         })
     }
 
-    fn get<'t, 'i>(&self, table: &'t Table<'i>, key: &str) -> Option<&'t Value<'i>> {
+    pub(crate) fn get<'t, 'i>(&self, table: &'t Table<'i>, key: &str) -> Option<&'t Value<'i>> {
         table
             .iter()
             .find(|(k, _)| k.get_ref() == key)
@@ -460,7 +463,7 @@ impl<'a> Parser<'a> {
         })
     }
 
-    fn check_keys(
+    pub(crate) fn check_keys(
         &self,
         table: &Table<'_>,
         section: &str,
@@ -479,7 +482,11 @@ impl<'a> Parser<'a> {
         Ok(())
     }
 
-    fn table<'t, 'i>(&self, v: &'t Value<'i>, field: &str) -> Result<&'t Table<'i>, SpecError> {
+    pub(crate) fn table<'t, 'i>(
+        &self,
+        v: &'t Value<'i>,
+        field: &str,
+    ) -> Result<&'t Table<'i>, SpecError> {
         match v.get_ref() {
             DeValue::Table(t) => Ok(t),
             other => Err(self.error(
@@ -490,7 +497,7 @@ impl<'a> Parser<'a> {
         }
     }
 
-    fn string(&self, v: &Value<'_>, field: &str) -> Result<String, SpecError> {
+    pub(crate) fn string(&self, v: &Value<'_>, field: &str) -> Result<String, SpecError> {
         match v.get_ref() {
             DeValue::String(s) => Ok(s.to_string()),
             other => Err(self.error(
