@@ -515,13 +515,7 @@ impl ImplantSpec {
 
     /// Reads and parses the spec file.
     pub fn load(path: &Path) -> Result<ImplantSpec, SpecError> {
-        let text = std::fs::read_to_string(path).map_err(|e| SpecError {
-            path: path.to_owned(),
-            line: 0,
-            column: 0,
-            field: String::new(),
-            message: format!("cannot read the spec: {e}"),
-        })?;
+        let text = std::fs::read_to_string(path).map_err(|e| SpecError::unreadable(path, &e))?;
         Self::parse(path, &text)
     }
 }

@@ -85,6 +85,19 @@ impl fmt::Display for SpecError {
 
 impl std::error::Error for SpecError {}
 
+impl SpecError {
+    /// The spec file at `path` could not be read.
+    pub fn unreadable(path: &Path, e: &std::io::Error) -> SpecError {
+        SpecError {
+            path: path.to_owned(),
+            line: 0,
+            column: 0,
+            field: String::new(),
+            message: format!("cannot read the spec: {e}"),
+        }
+    }
+}
+
 /// One problem of a spec, with its budget: a benchmark function at a
 /// dimension, or an outline-fitting case.
 #[derive(Clone, Debug)]
@@ -197,13 +210,7 @@ pub struct RunId {
 impl Spec {
     /// Reads and validates a spec file.
     pub fn load(path: &Path) -> Result<Spec, SpecError> {
-        let text = std::fs::read_to_string(path).map_err(|e| SpecError {
-            path: path.to_owned(),
-            line: 0,
-            column: 0,
-            field: String::new(),
-            message: format!("cannot read the spec: {e}"),
-        })?;
+        let text = std::fs::read_to_string(path).map_err(|e| SpecError::unreadable(path, &e))?;
         Spec::parse(path, &text)
     }
 
