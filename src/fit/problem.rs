@@ -820,6 +820,32 @@ mod tests {
         }
     }
 
+    /// Checks the analytic Jacobian of `p` against central differences
+    /// (step 10⁻⁶) at a point inside its box; `what` names the case.
+    fn assert_jacobian(p: &SegmentProblem, what: &str) {
+        let (d, m) = (p.dim(), p.residual_count());
+        let x: Vec<f64> = p.bounds().iter().map(|b| b.lerp(0.41)).collect();
+        let mut jac = vec![0.0; m * d];
+        p.jacobian(&x, &mut jac);
+        let (mut rp, mut rm) = (vec![0.0; m], vec![0.0; m]);
+        let h = 1e-6;
+        for j in 0..d {
+            let mut xp = x.clone();
+            xp[j] += h;
+            p.residuals(&xp, &mut rp);
+            xp[j] -= 2.0 * h;
+            p.residuals(&xp, &mut rm);
+            for k in 0..m {
+                let fd = (rp[k] - rm[k]) / (2.0 * h);
+                let an = jac[k * d + j];
+                assert!(
+                    (fd - an).abs() < 1e-6 * (1.0 + fd.abs()),
+                    "{what} var {j} row {k}: fd {fd} an {an}"
+                );
+            }
+        }
+    }
+
     #[test]
     fn analytic_jacobian_matches_finite_differences() {
         let c = CubicBez::new(
@@ -833,28 +859,7 @@ mod tests {
         for f in FunctionType::ALL {
             for start in starts() {
                 let p = SegmentProblem::new(f, pts.clone(), ps.clone(), start, &o).unwrap();
-                let d = p.dim();
-                let m = p.residual_count();
-                let x: Vec<f64> = p.bounds().iter().map(|b| b.lerp(0.41)).collect();
-                let mut jac = vec![0.0; m * d];
-                p.jacobian(&x, &mut jac);
-                let (mut rp, mut rm) = (vec![0.0; m], vec![0.0; m]);
-                for j in 0..d {
-                    let h = 1e-6;
-                    let mut xp = x.clone();
-                    xp[j] += h;
-                    p.residuals(&xp, &mut rp);
-                    xp[j] -= 2.0 * h;
-                    p.residuals(&xp, &mut rm);
-                    for k in 0..m {
-                        let fd = (rp[k] - rm[k]) / (2.0 * h);
-                        let an = jac[k * d + j];
-                        assert!(
-                            (fd - an).abs() < 1e-6 * (1.0 + fd.abs()),
-                            "{f} {start:?} var {j} row {k}: fd {fd} an {an}"
-                        );
-                    }
-                }
+                assert_jacobian(&p, &format!("{f} {start:?}"));
             }
         }
     }
@@ -1019,26 +1024,7 @@ mod tests {
                         }
                     }
                     // Jacobian against central differences.
-                    let (d, m) = (p.dim(), p.residual_count());
-                    let x: Vec<f64> = p.bounds().iter().map(|b| b.lerp(0.41)).collect();
-                    let mut jac = vec![0.0; m * d];
-                    p.jacobian(&x, &mut jac);
-                    let (mut rp, mut rm) = (vec![0.0; m], vec![0.0; m]);
-                    for j in 0..d {
-                        let mut xp = x.clone();
-                        xp[j] += 1e-6;
-                        p.residuals(&xp, &mut rp);
-                        xp[j] -= 2e-6;
-                        p.residuals(&xp, &mut rm);
-                        for k in 0..m {
-                            let fd = (rp[k] - rm[k]) / 2e-6;
-                            let an = jac[k * d + j];
-                            assert!(
-                                (fd - an).abs() < 1e-6 * (1.0 + fd.abs()),
-                                "{f} {start_cont:?} {end_cont:?} var {j} row {k}: fd {fd} an {an}"
-                            );
-                        }
-                    }
+                    assert_jacobian(&p, &format!("{f} {start_cont:?} {end_cont:?}"));
                 }
             }
         }
