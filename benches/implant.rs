@@ -9,7 +9,7 @@ use std::path::Path;
 use std::time::Duration;
 
 use criterion::Criterion;
-use metabezier::ct::{stl_bytes, CT0051_FIRST_Z, CT0051_PATH};
+use metabezier::ct::{stl_bytes, CT0051_FIRST_Z, CT0051_MEASURED_ENDS, CT0051_PATH};
 use metabezier::error::write_atomic;
 use metabezier::implant::{
     load_volume, reconstruct_defect, solver_for, DefectConfig, Ends, MidlineSpec, SliceSpec,
@@ -19,20 +19,18 @@ use metabezier::optim::Algorithm;
 use metabezier::reconstruction::Method;
 
 fn config() -> DefectConfig {
-    let measured = [
-        (64, (196.0, 111.0), (188.0, 86.0)),
-        (72, (194.0, 107.0), (184.0, 86.0)),
-        (80, (185.0, 104.0), (179.0, 93.0)),
-    ];
     DefectConfig {
         first_z: CT0051_FIRST_Z,
         slices: (56..=84)
             .map(|z| SliceSpec {
                 z,
-                ends: measured
-                    .iter()
-                    .find(|m| m.0 == z)
-                    .map_or(Ends::Auto, |m| Ends::Pixels { a: m.1, b: m.2 }),
+                ends: CT0051_MEASURED_ENDS.iter().find(|m| m.0 == z).map_or(
+                    Ends::Auto,
+                    |&(_, a, b)| Ends::Pixels {
+                        a: (a.0 as f64, a.1 as f64),
+                        b: (b.0 as f64, b.1 as f64),
+                    },
+                ),
             })
             .collect(),
         midline: MidlineSpec::Auto((86..=92).collect()),

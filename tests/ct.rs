@@ -242,14 +242,6 @@ fn dicom_errors_name_the_file() {
 
 // ---------------------------------------------------------------- bone, defect
 
-/// Measured bone-gap end points (row, col) in the full volume's slice index.
-type Px = (usize, usize);
-const MEASURED_ENDS: [(usize, Px, Px); 3] = [
-    (64, (196, 111), (188, 86)),
-    (72, (194, 107), (184, 86)),
-    (80, (185, 104), (179, 93)),
-];
-
 /// Tolerance of the automatic end points: 3 pixels (Chebyshev).
 const END_TOL_PX: usize = 3;
 
@@ -304,7 +296,7 @@ fn bone_mask_drops_the_head_holder() {
 #[test]
 fn defect_ends_match_the_measured_points() {
     let v = ct0051();
-    for (z, p, q) in MEASURED_ENDS {
+    for (z, p, q) in CT0051_MEASURED_ENDS {
         let s = v.slice(vz(z));
         let m = bone_mask_slice(&s, BONE_THRESHOLD_HU).unwrap();
         let d = detect_defect(&m, s.sx, s.sy, &DefectParams::default())

@@ -113,10 +113,9 @@ fn a_metaheuristic_fit_of_the_horse_keeps_every_joint() {
     }
 }
 
-#[test]
-fn fit_writes_its_files() {
-    let tmp = tempfile::tempdir().unwrap();
-    let out = metabezier()
+/// `metabezier fit` of the coin with PSO, 6 segments, seed 3, into `out`.
+fn fit_coin(out: &Path) -> std::process::Output {
+    metabezier()
         .args([
             "fit",
             data().join("coin.png").to_str().unwrap(),
@@ -130,9 +129,15 @@ fn fit_writes_its_files() {
             "3",
             "--out",
         ])
-        .arg(tmp.path())
+        .arg(out)
         .output()
-        .unwrap();
+        .unwrap()
+}
+
+#[test]
+fn fit_writes_its_files() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = fit_coin(tmp.path());
     assert!(
         out.status.success(),
         "{}",
@@ -166,23 +171,7 @@ fn fit_writes_its_files() {
 
     // The same seed gives the same fit.csv.
     let again = tmp.path().join("again");
-    let out = metabezier()
-        .args([
-            "fit",
-            data().join("coin.png").to_str().unwrap(),
-            "--algorithm",
-            "pso",
-            "--segments",
-            "6",
-            "--budget",
-            "2000",
-            "--seed",
-            "3",
-            "--out",
-        ])
-        .arg(&again)
-        .output()
-        .unwrap();
+    let out = fit_coin(&again);
     assert!(out.status.success());
     assert_eq!(
         std::fs::read(again.join("fit.csv")).unwrap(),

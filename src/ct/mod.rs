@@ -56,5 +56,18 @@ pub use voxelise::voxelise;
 /// vendored extract `data/ct0051/ct0051_z040-100.inv3` (see its PROVENANCE.md).
 pub const CT0051_FIRST_Z: usize = 40;
 
+/// A pixel position `(row, col)` in a slice.
+pub type Pixel = (usize, usize);
+
+/// The bone-gap end points A and B of the real defect of ProMED CT 0051,
+/// measured by hand on three slices: `(z, (row, col) of A, (row, col) of B)`
+/// with `z` in the full volume's slice index. The reference for
+/// [`detect_defect`] and the ends given to the chapter-6 pipeline.
+pub const CT0051_MEASURED_ENDS: [(usize, Pixel, Pixel); 3] = [
+    (64, (196, 111), (188, 86)),
+    (72, (194, 107), (184, 86)),
+    (80, (185, 104), (179, 93)),
+];
+
 /// Path of the vendored ProMED CT 0051 extract, relative to the crate root.
 pub const CT0051_PATH: &str = "data/ct0051/ct0051_z040-100.inv3";
