@@ -10,10 +10,9 @@ use std::time::Duration;
 
 use criterion::Criterion;
 use metabezier::ct::{stl_bytes, CT0051_FIRST_Z, CT0051_MEASURED_ENDS, CT0051_PATH};
-use metabezier::error::write_atomic;
+use metabezier::files::write_atomic;
 use metabezier::implant::{
-    load_volume, reconstruct_defect, solver_for, DefectConfig, Ends, MidlineSpec, SliceSpec,
-    WallOptions,
+    load_volume, reconstruct_defect, DefectConfig, Ends, MidlineSpec, SliceSpec, WallOptions,
 };
 use metabezier::optim::Algorithm;
 use metabezier::reconstruction::Method;
@@ -53,7 +52,7 @@ fn main() {
     c.bench_function("implant/ct0051_load_to_stl_mhs", |b| {
         b.iter(|| {
             let volume = load_volume(Path::new(CT0051_PATH)).expect("volume");
-            let mut solver = solver_for(&method, 2026);
+            let mut solver = method.solver(2026);
             let implant = reconstruct_defect(&volume, &cfg, &mut *solver).expect("implant");
             assert!(implant.mesh.is_watertight());
             write_atomic(&stl, &stl_bytes(&implant.mesh, "bench")).expect("stl");

@@ -7,16 +7,18 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use crate::error::Error;
+use crate::error::{Error, UsageError};
+use crate::experiment::fit_files::write_fit_records;
+use crate::experiment::runner::{self, RunOptions, Shard};
+use crate::experiment::Spec;
+use crate::files::read_text;
 use crate::fit::{FitOptions, FunctionType, SearchSpace};
 use crate::functions::Function;
 use crate::geometry::{Continuity, Parameterisation};
 use crate::optim::Algorithm;
 use crate::outline::{CornerOptions, ImageOptions, Sampling};
-use crate::reconstruction::{files, Method, Reconstruction, Segmentation, Source};
-use crate::report::{self, ReportOptions};
-use crate::runner::{self, RunOptions, Shard};
-use crate::spec::Spec;
+use crate::reconstruction::{Method, OverlayFigure, Reconstruction, Segmentation, Source};
+use crate::report::{self, save_overlay, ReportOptions};
 
 /// Appends one line of output to the buffer printed when the command ends.
 macro_rules! say {
@@ -241,7 +243,7 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
         }
         Command::Merge { dirs, out } => {
             let copy = dirs[0].join("spec.toml");
-            let text = std::fs::read_to_string(&copy).map_err(|e| Error::io("read", &copy, e))?;
+            let text = read_text(&copy)?;
             let spec = Spec::parse(&copy, &text)?;
             let s = runner::merge(&spec, &dirs, out)?;
             say!(
@@ -333,7 +335,7 @@ fn implant(spec: &std::path::Path, out: Option<PathBuf>, w: &mut String) -> Resu
             .map_or("implant".into(), |n| n.to_string_lossy().into_owned());
         PathBuf::from("results").join(stem)
     });
-    let r = crate::implant::run_implant(&s, &out).map_err(|e| Error::Campaign(e.to_string()))?;
+    let r = crate::implant::run_implant(&s, &out)?;
     if let Some(t) = r.pipeline_seconds {
         say!(w, "real defect: load to STL in {t:.2} s");
     }
@@ -345,51 +347,30 @@ fn implant(spec: &std::path::Path, out: Option<PathBuf>, w: &mut String) -> Resu
 }
 
 fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
-    let fail = |m: String| Error::Campaign(m);
     let function = FunctionType::from_name(&a.function).expect("clap checked the name");
     let continuity = Continuity::from_name(&a.continuity).expect("clap checked the name");
-    let (base, polish) = Method::parse_name(&a.algorithm).ok_or_else(|| {
-        fail(format!(
-            "--algorithm: unknown algorithm \"{}\"; valid choices: {}",
-            a.algorithm,
-            Method::names().join(", ")
-        ))
+    let method = Method::from_name(&a.algorithm).ok_or_else(|| UsageError::UnknownAlgorithm {
+        name: a.algorithm.clone(),
+        choices: Method::names(),
     })?;
-    let method = match base {
-        None => Method::Exact,
-        Some(b) => {
-            let alg = Algorithm::default_for(b).expect("a known algorithm");
-            if polish {
-                Method::Hybrid(alg)
-            } else {
-                Method::Metaheuristic(alg)
-            }
-        }
-    };
     let source = Source::load(
         &a.input,
         std::path::Path::new(""),
         a.contour,
         &ImageOptions::default(),
         Sampling::default(),
-    )
-    .map_err(|e| fail(e.to_string()))?;
+    )?;
     let segmentation = match (a.segments, a.tolerance, a.true_breaks) {
         (Some(n), _, _) => Segmentation::Count(n),
         (_, Some(t), _) => {
             if !(t.is_finite() && t > 0.0) {
-                return Err(fail(format!(
-                    "--tolerance: expected a distance > 0 (data units), found {t}"
-                )));
+                return Err(UsageError::Tolerance(t).into());
             }
             Segmentation::Tolerance(t)
         }
-        (_, _, true) => source.true_segmentation().ok_or_else(|| {
-            fail(format!(
-                "--true-breaks: {} is not a glyph, so it has no true break points; use --segments or --tolerance",
-                a.input
-            ))
-        })?,
+        (_, _, true) => source
+            .true_segmentation()
+            .ok_or_else(|| UsageError::NotAGlyph(a.input.clone()))?,
         (None, None, false) => Segmentation::Count(8),
     };
     let mut options = FitOptions::new(function, continuity);
@@ -408,9 +389,10 @@ fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
         options,
     };
     let start = std::time::Instant::now();
-    let fit = r
-        .fit(&method, a.seed)
-        .map_err(|e| fail(format!("{}: {e}", a.input)))?;
+    let fit = r.fit(&method, a.seed).map_err(|source| Error::Fit {
+        input: a.input.clone(),
+        source,
+    })?;
     let wall = start.elapsed().as_secs_f64();
     let case = [
         ("input", a.input.clone()),
@@ -434,7 +416,9 @@ fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
         continuity.name().to_uppercase(),
         method.name()
     );
-    let paths = files::write_fit(&a.out, &title, &source.outline.points, &fit, &case, wall)?;
+    let mut paths = write_fit_records(&a.out, &fit, &case, wall)?;
+    let figure = OverlayFigure::of_fit(&title, &source.outline.points, &fit);
+    paths.extend(save_overlay(&figure, &a.out, "fit")?);
     let m = &fit.metrics;
     say!(
         w,

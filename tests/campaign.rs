@@ -3,8 +3,8 @@
 
 use std::path::{Path, PathBuf};
 
-use metabezier::runner::{merge, run_campaign, RunOptions, Shard};
-use metabezier::spec::Spec;
+use metabezier::experiment::Spec;
+use metabezier::experiment::{merge, run_campaign, RunOptions, Shard};
 
 const SPEC: &str = r#"
 [experiment]
@@ -78,7 +78,7 @@ fn one_and_two_threads_give_identical_files() {
         "the journal is removed once complete"
     );
     // Seeds differ between runs, and every run spent exactly its budget.
-    let recs = metabezier::records::read_runs(&a.join("runs.csv")).unwrap();
+    let recs = metabezier::experiment::records::read_runs(&a.join("runs.csv")).unwrap();
     let mut seeds: Vec<u64> = recs.iter().map(|r| r.seed).collect();
     seeds.sort_unstable();
     seeds.dedup();
@@ -209,7 +209,7 @@ fn shard_syntax_is_checked() {
     for bad in ["0/3", "4/3", "3", "a/b", "1/0"] {
         let e = Shard::parse(bad).unwrap_err();
         assert_eq!(
-            e,
+            e.to_string(),
             format!("expected a shard as K/N with 1 ≤ K ≤ N, such as 2/8, found \"{bad}\"")
         );
     }

@@ -15,7 +15,7 @@ use metabezier::geometry::{
     check_join, Continuity, CubicBez, Curve, Parameterisation, Point, RationalCubicBez,
     RationalQuadBez,
 };
-use metabezier::optim::params::Raw;
+use metabezier::optim::Raw;
 use metabezier::optim::{Algorithm, ParamSet};
 use metabezier::problem::Problem;
 use metabezier::rng::run_rng;

@@ -44,7 +44,7 @@ impl<P: Problem> Problem for Guarded<P> {
 }
 
 /// An algorithm with some parameters changed from their defaults.
-fn configured(name: &str, changes: &[(&str, metabezier::optim::params::Raw)]) -> Algorithm {
+fn configured(name: &str, changes: &[(&str, metabezier::optim::Raw)]) -> Algorithm {
     let mut p = ParamSet::defaults(Algorithm::params(name).unwrap());
     for (k, v) in changes {
         p.set(k, v).unwrap();
@@ -52,7 +52,7 @@ fn configured(name: &str, changes: &[(&str, metabezier::optim::params::Raw)]) ->
     Algorithm::from_params(name, &p).unwrap()
 }
 
-use metabezier::optim::params::Raw;
+use metabezier::optim::Raw;
 
 /// The settings, budgets and targets under which each optimiser must solve
 /// Sphere-10 (stated here, and in the README). GHS only ever samples values

@@ -4,13 +4,13 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use metabezier::experiment::Spec;
+use metabezier::experiment::{merge, run_campaign, RunOptions, Shard};
 use metabezier::fit::{FitOptions, FunctionType};
 use metabezier::geometry::{Continuity, Parameterisation};
 use metabezier::optim::Algorithm;
 use metabezier::outline::{CornerOptions, ImageOptions, Sampling};
 use metabezier::reconstruction::{Method, Reconstruction, Segmentation, Source};
-use metabezier::runner::{merge, run_campaign, RunOptions, Shard};
-use metabezier::spec::Spec;
 
 fn data() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("data/outlines")
@@ -302,7 +302,7 @@ fn a_fitting_campaign_is_reproducible_and_mergeable() {
     // LM is the exact reference: no metaheuristic run has a lower E on the
     // same case; the hybrid never does worse than LM on this small budget
     // of evaluations.
-    let records = metabezier::records::read_results(&one).unwrap();
+    let records = metabezier::experiment::records::read_results(&one).unwrap();
     for p in &spec.problems {
         let e = |label: &str| -> f64 {
             records
@@ -330,7 +330,7 @@ fn a_fitting_campaign_is_reproducible_and_mergeable() {
         .unwrap()
         .segments
         .iter()
-        .map(|row| metabezier::reconstruction::files::segment_from_row(row).unwrap())
+        .map(|row| metabezier::experiment::segments::segment_from_row(row).unwrap())
         .collect();
     use metabezier::geometry::Curve;
     for w in segs.windows(2) {

@@ -7,9 +7,9 @@
 
 use std::path::{Path, PathBuf};
 
+use metabezier::experiment::Spec;
+use metabezier::experiment::{run_campaign, RunOptions};
 use metabezier::report::{write_report, ReportOptions};
-use metabezier::runner::{run_campaign, RunOptions};
-use metabezier::spec::Spec;
 
 /// 2 functions (at two dimensions, for the scalability plot) × 3 algorithms
 /// × 5 runs, with an MHS grid over hmcr × bw in a second spec.

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use metabezier::spec::Spec;
+use metabezier::experiment::Spec;
 
 const BASE: &str = r#"[experiment]
 name = "t"

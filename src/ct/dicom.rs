@@ -19,7 +19,7 @@ use dicom_object::{FileMetaTableBuilder, InMemDicomObject};
 
 use super::error::CtError;
 use super::volume::{Spacing, Volume};
-use crate::error::write_atomic;
+use crate::files::write_atomic;
 
 /// One decoded DICOM image: HU samples and its geometry.
 #[derive(Clone, Debug, PartialEq)]

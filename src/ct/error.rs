@@ -5,6 +5,8 @@ use std::fmt;
 use std::io;
 use std::path::{Path, PathBuf};
 
+use crate::files::IoError;
+
 /// An error while reading, checking or processing CT data.
 #[derive(Debug)]
 pub enum CtError {
@@ -15,8 +17,8 @@ pub enum CtError {
         /// The operating system's error.
         source: io::Error,
     },
-    /// An output file could not be written (see [`crate::error::write_atomic`]).
-    Write(Box<crate::error::Error>),
+    /// An output file could not be written (see [`crate::files::write_atomic`]).
+    Write(IoError),
     /// An `.inv3` project is truncated or corrupt (bad gzip or tar stream,
     /// missing member, malformed `main.plist`).
     Inv3 {
@@ -190,14 +192,14 @@ impl std::error::Error for CtError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
             CtError::Io { source, .. } => Some(source),
-            CtError::Write(e) => Some(e.as_ref()),
+            CtError::Write(e) => Some(e),
             _ => None,
         }
     }
 }
 
-impl From<crate::error::Error> for CtError {
-    fn from(e: crate::error::Error) -> Self {
-        CtError::Write(Box::new(e))
+impl From<IoError> for CtError {
+    fn from(e: IoError) -> Self {
+        CtError::Write(e)
     }
 }

@@ -15,7 +15,7 @@ use flate2::read::GzDecoder;
 use super::error::CtError;
 use super::plist::{parse_plist, PlistValue};
 use super::volume::{Spacing, Volume};
-use crate::error::write_atomic;
+use crate::files::write_atomic;
 
 /// Reads the CT volume of an `.inv3` project. Masks and surfaces in the
 /// project are ignored. Errors name the file: a corrupt or truncated gzip/tar

@@ -15,15 +15,9 @@ use super::error::CtError;
 use super::mesh::Mesh;
 use super::polyline::Polyline;
 use super::volume::Slice;
-use crate::error::write_atomic;
+use crate::files::write_atomic;
+use crate::font::{ensure_font, FAMILY};
 use crate::geometry::Point;
-
-use crate::report::render::FAMILY;
-
-/// The report's embedded DejaVu Sans, registered once.
-fn ensure_font() -> bool {
-    crate::report::render::ensure_font().is_ok()
-}
 
 /// A CT display window: grey = clamp((HU − (level − width/2)) / width).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -96,7 +90,7 @@ pub fn slice_overlay_png(
             ((p.y / slice.sy + 0.5) * s) as i32,
         )
     };
-    let font_ok = ensure_font();
+    let font_ok = ensure_font().is_ok();
     {
         let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
         let fail = |e: String| CtError::Invalid(format!("drawing the overlay: {e}"));

@@ -8,7 +8,7 @@ use std::path::Path;
 
 use super::error::CtError;
 use super::mesh::Mesh;
-use crate::error::write_atomic;
+use crate::files::write_atomic;
 
 /// The binary STL bytes of `mesh`; `header` (at most 80 bytes used) is
 /// padded with spaces and must not start with "solid" (ASCII STL's magic).

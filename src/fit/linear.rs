@@ -11,7 +11,7 @@
 //! system for the tangent lengths is the same construction).
 
 use super::SegmentProblem;
-use crate::optim::lm::cholesky_solve;
+use crate::linalg::cholesky_solve;
 use crate::problem::Problem;
 
 /// The least-squares decision vector of `problem` with every weight fixed at

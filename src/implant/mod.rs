@@ -32,7 +32,7 @@ pub mod run;
 pub mod spec;
 pub mod validation;
 
-pub use run::{load_volume, run_implant, solver_for, RunSummary};
+pub use run::{load_volume, run_implant, RunSummary};
 pub use spec::{ImplantSpec, ValidationSpec};
 pub use validation::{
     case_metrics, evaluate, prepare_case, reconstruct_case, Case, CaseMetrics, PreparedCase,

@@ -2,15 +2,15 @@
 //! mid-sagittal line, one [`Wall`] per slice, the lofted mesh and its
 //! voxelisation (thesis chapter 6).
 
-use std::fmt;
-
 use super::wall::{reconstruct_wall, Wall, WallInput, WallKind, WallOptions};
 use crate::ct::{
     bone_loops, bone_mask_slice, detect_defect, estimate_midline, loft, table_contours, voxelise,
     CtError, DefectParams, Mask2, Mask3, Mesh, Polyline, Volume,
 };
+use crate::files::IoError;
 use crate::fit::SegmentSolver;
 use crate::geometry::Point;
+use crate::stats::StatsError;
 
 /// How a slice's defect ends are found.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -64,50 +64,64 @@ pub struct DefectConfig {
 }
 
 /// An error of the implant pipeline, naming the slice it concerns.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum ImplantError {
     /// A CT-layer error not tied to one slice (reading the volume, writing).
-    Ct(CtError),
+    #[error(transparent)]
+    Ct(#[from] CtError),
+    /// An output file or directory could not be written.
+    #[error(transparent)]
+    Io(#[from] IoError),
     /// An error on one slice (original numbering).
+    #[error("{}", slice_message(*z, source))]
     Slice {
         /// The slice.
         z: usize,
         /// What went wrong there.
+        #[source]
         source: CtError,
     },
-    /// Anything else (configuration, statistics), with its message.
-    Other(String),
+    /// A slice lies outside the volume.
+    #[error(
+        "{what} z = {z} is outside the volume (it holds z = {}..={})",
+        first,
+        last
+    )]
+    SliceOutside {
+        /// Which slice: "slice" or "validation slice".
+        what: &'static str,
+        /// The slice asked for (original numbering).
+        z: usize,
+        /// The volume's first slice.
+        first: usize,
+        /// The volume's last slice.
+        last: usize,
+    },
+    /// None of the slices of the midline estimate holds bone.
+    #[error("cannot estimate the midline: no bone in its slices")]
+    NoMidline,
+    /// Fewer than two defect slices.
+    #[error("an implant needs at least two defect slices")]
+    TooFewSlices,
+    /// The defect slices do not increase strictly.
+    #[error("the defect slices must increase strictly in z")]
+    SlicesNotIncreasing,
+    /// The lofted mesh failed its checks, so no STL is written.
+    #[error("the lofted implant mesh is not watertight and consistently oriented; no STL written")]
+    BadMesh,
+    /// A statistic of the validation could not be computed.
+    #[error("statistics: {0}")]
+    Stats(#[from] StatsError),
 }
 
-impl fmt::Display for ImplantError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            ImplantError::Ct(e) => e.fmt(f),
-            ImplantError::Slice { z, source } => match source {
-                // NoBone already names its slice (volume index): say both.
-                CtError::NoBone { threshold, .. } => write!(
-                    f,
-                    "slice z = {z}: no bone: no voxel at or above {threshold} HU (lower `threshold` or check the slice range)"
-                ),
-                e => write!(f, "slice z = {z}: {e}"),
-            },
-            ImplantError::Other(m) => f.write_str(m),
-        }
-    }
-}
-
-impl std::error::Error for ImplantError {
-    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        match self {
-            ImplantError::Ct(e) | ImplantError::Slice { source: e, .. } => Some(e),
-            ImplantError::Other(_) => None,
-        }
-    }
-}
-
-impl From<CtError> for ImplantError {
-    fn from(e: CtError) -> Self {
-        ImplantError::Ct(e)
+/// The message of an error on slice `z`.
+fn slice_message(z: usize, source: &CtError) -> String {
+    match source {
+        // NoBone already names its slice (volume index): say both.
+        CtError::NoBone { threshold, .. } => format!(
+            "slice z = {z}: no bone: no voxel at or above {threshold} HU (lower `threshold` or check the slice range)"
+        ),
+        e => format!("slice z = {z}: {e}"),
     }
 }
 
@@ -147,12 +161,11 @@ pub struct Implant {
 fn index_of(cfg: &DefectConfig, volume: &Volume, z: usize) -> Result<usize, ImplantError> {
     z.checked_sub(cfg.first_z)
         .filter(|&k| k < volume.nz)
-        .ok_or_else(|| {
-            ImplantError::Other(format!(
-                "slice z = {z} is outside the volume (it holds z = {}..={})",
-                cfg.first_z,
-                cfg.first_z + volume.nz - 1
-            ))
+        .ok_or_else(|| ImplantError::SliceOutside {
+            what: "slice",
+            z,
+            first: cfg.first_z,
+            last: cfg.first_z + volume.nz - 1,
         })
 }
 
@@ -181,9 +194,7 @@ pub fn resolve_midline(
                 .iter()
                 .map(|&z| slice_mask(volume, cfg, z))
                 .collect::<Result<Vec<_>, _>>()?;
-            let m = estimate_midline(&masks, volume.spacing.x).ok_or_else(|| {
-                ImplantError::Other("cannot estimate the midline: no bone in its slices".into())
-            })?;
+            let m = estimate_midline(&masks, volume.spacing.x).ok_or(ImplantError::NoMidline)?;
             Ok((m.x, Some(m.dice)))
         }
     }
@@ -275,14 +286,10 @@ pub fn reconstruct_defect<S: SegmentSolver + ?Sized>(
     solver: &mut S,
 ) -> Result<Implant, ImplantError> {
     if cfg.slices.len() < 2 {
-        return Err(ImplantError::Other(
-            "an implant needs at least two defect slices".into(),
-        ));
+        return Err(ImplantError::TooFewSlices);
     }
     if cfg.slices.windows(2).any(|w| w[1].z <= w[0].z) {
-        return Err(ImplantError::Other(
-            "the defect slices must increase strictly in z".into(),
-        ));
+        return Err(ImplantError::SlicesNotIncreasing);
     }
     let (midline_x, midline_dice) = resolve_midline(volume, cfg)?;
     let slices = cfg

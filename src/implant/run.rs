@@ -3,7 +3,7 @@
 //! with its statistics against the baselines (`metabezier implant`).
 //!
 //! Every output is built in memory and written atomically
-//! ([`crate::error::write_atomic`]); the STL is written only once the mesh
+//! ([`crate::files::write_atomic`]); the STL is written only once the mesh
 //! is checked watertight and consistently oriented. CSV files hold no wall
 //! times (they go to `timing.txt`), so they are byte-identical for the same
 //! spec and seed.
@@ -20,25 +20,11 @@ use crate::ct::{
     bone_loops, bone_mask_slice, encode_png, loft, mesh_view_rgb, read_dicom_dir, read_inv3,
     slice_overlay_png, stl_bytes, Mesh, Overlay, Polyline, View, Volume, Window,
 };
-use crate::error::write_atomic;
-use crate::fit::{HybridSolver, LmSolver, OptimiserSolver, SegmentSolver};
+use crate::files::{csv_bytes, fmt_real, write_atomic, IoError};
+use crate::fit::LmSolver;
 use crate::geometry::Point;
-use crate::reconstruction::Method;
-use crate::records::{csv_bytes, fmt_real};
-use crate::rng::run_rng;
-use crate::stats::{holm_bonferroni, wilcoxon, Alternative};
-
-/// The segment solver of `method`, seeded with `seed` ([`run_rng`]) when
-/// stochastic, as [`crate::reconstruction::Reconstruction::fit`] builds it.
-pub fn solver_for(method: &Method, seed: u64) -> Box<dyn SegmentSolver> {
-    match method {
-        Method::Exact => Box::new(LmSolver::default()),
-        Method::Metaheuristic(a) => {
-            Box::new(OptimiserSolver::new(a.clone(), run_rng(seed)).with_label(a.name()))
-        }
-        Method::Hybrid(a) => Box::new(HybridSolver::new(a.clone(), run_rng(seed))),
-    }
-}
+use crate::markdown::{self, Alignment};
+use crate::stats::{holm_bonferroni, median, wilcoxon, Alternative};
 
 /// Reads a volume: a directory is a DICOM series, anything else an `.inv3`
 /// project. Reader errors (truncated or corrupt files, mismatched slice
@@ -70,7 +56,7 @@ fn write(
     summary: &mut RunSummary,
 ) -> Result<(), ImplantError> {
     let p = out.join(name);
-    write_atomic(&p, bytes).map_err(|e| ImplantError::Ct(e.into()))?;
+    write_atomic(&p, bytes)?;
     summary.files.push(p);
     Ok(())
 }
@@ -81,12 +67,8 @@ fn r(x: f64) -> String {
 
 /// Runs the whole experiment of `spec` into `out` (created if needed).
 pub fn run_implant(spec: &ImplantSpec, out: &Path) -> Result<RunSummary, ImplantError> {
-    std::fs::create_dir_all(out).map_err(|e| {
-        ImplantError::Other(format!(
-            "{}: cannot create the output directory: {e}",
-            out.display()
-        ))
-    })?;
+    std::fs::create_dir_all(out)
+        .map_err(|e| IoError::new("create the output directory", out, e))?;
     let mut summary = RunSummary::default();
     let mut timing = String::new();
     let t0 = Instant::now();
@@ -109,13 +91,10 @@ pub fn run_implant(spec: &ImplantSpec, out: &Path) -> Result<RunSummary, Implant
     );
     let cfg = &spec.defect_config;
     if spec.run_defect {
-        let mut solver = solver_for(&spec.method, spec.seed);
+        let mut solver = spec.method.solver(spec.seed);
         let implant = reconstruct_defect(&volume, cfg, &mut *solver)?;
         if !(implant.mesh.is_watertight() && implant.mesh.is_consistently_oriented()) {
-            return Err(ImplantError::Other(
-                "the lofted implant mesh is not watertight and consistently oriented; no STL written"
-                    .into(),
-            ));
+            return Err(ImplantError::BadMesh);
         }
         let stl = stl_bytes(&implant.mesh, "metabezier chapter-6 implant, mm");
         write(out, "implant.stl", &stl, &mut summary)?;
@@ -141,8 +120,11 @@ pub fn run_implant(spec: &ImplantSpec, out: &Path) -> Result<RunSummary, Implant
             let index = z
                 .checked_sub(cfg.first_z)
                 .filter(|&k| k < volume.nz)
-                .ok_or_else(|| {
-                    ImplantError::Other(format!("validation slice z = {z} is outside the volume"))
+                .ok_or(ImplantError::SliceOutside {
+                    what: "validation slice",
+                    z,
+                    first: cfg.first_z,
+                    last: cfg.first_z + volume.nz - 1,
                 })?;
             for &pos in &val.positions {
                 for &w in &val.widths {
@@ -187,7 +169,7 @@ pub fn run_implant(spec: &ImplantSpec, out: &Path) -> Result<RunSummary, Implant
                             } else {
                                 0
                             };
-                            let mut solver = solver_for(m, seed);
+                            let mut solver = m.solver(seed);
                             let res = evaluate(
                                 &prepared,
                                 WallKind::CurveFit,
@@ -470,27 +452,35 @@ fn defect_report(report: &mut String, spec: &ImplantSpec, implant: &Implant) {
         implant.mesh.signed_volume(),
         implant.mask.count()
     );
-    let _ = writeln!(
-        report,
-        "| z | width mm | t_A mm | t_B mm | fit RMS mm | join A ° | join B ° |"
-    );
-    let _ = writeln!(report, "|---|---|---|---|---|---|---|");
-    for s in &implant.slices {
-        let w = &s.wall;
-        let (ja, jb) = w.join_angles_deg();
-        let rms = (w.fit_error / w.template.points.len() as f64).sqrt();
-        let _ = writeln!(
-            report,
-            "| {} | {:.1} | {:.1} | {:.1} | {:.2} | {:.1e} | {:.1e} |",
-            s.z,
-            w.a.distance(w.b),
-            w.thickness.0,
-            w.thickness.1,
-            rms,
-            ja,
-            jb
-        );
-    }
+    let header = [
+        "z",
+        "width mm",
+        "t_A mm",
+        "t_B mm",
+        "fit RMS mm",
+        "join A °",
+        "join B °",
+    ]
+    .map(String::from);
+    let rows: Vec<Vec<String>> = implant
+        .slices
+        .iter()
+        .map(|s| {
+            let w = &s.wall;
+            let (ja, jb) = w.join_angles_deg();
+            let rms = (w.fit_error / w.template.points.len() as f64).sqrt();
+            vec![
+                s.z.to_string(),
+                format!("{:.1}", w.a.distance(w.b)),
+                format!("{:.1}", w.thickness.0),
+                format!("{:.1}", w.thickness.1),
+                format!("{rms:.2}"),
+                format!("{ja:.1e}"),
+                format!("{jb:.1e}"),
+            ]
+        })
+        .collect();
+    report.push_str(&markdown::table(&header, &rows, Alignment::Unmarked));
     let _ = writeln!(report);
 }
 
@@ -555,18 +545,6 @@ const METRICS: [(&str, MetricFn, bool); 5] = [
     ("max deviation mm", |m| m.dev_max, false),
 ];
 
-fn median(v: &mut [f64]) -> f64 {
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n == 0 {
-        f64::NAN
-    } else if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
-}
-
 fn validation_report(
     report: &mut String,
     val: &super::spec::ValidationSpec,
@@ -587,25 +565,24 @@ fn validation_report(
     // Median of each metric by method × width.
     for (name, f, _) in METRICS {
         let _ = writeln!(report, "### {name} (median over cases and runs)\n");
-        let mut head = "| method |".to_string();
-        let mut rule = "|---|".to_string();
-        for w in &val.widths {
-            let _ = write!(head, " {w} mm |");
-            rule.push_str("---|");
-        }
-        let _ = writeln!(report, "{head}\n{rule}");
-        for m in &methods {
-            let mut line = format!("| {m} |");
-            for &w in &val.widths {
-                let mut v: Vec<f64> = rows
-                    .iter()
-                    .filter(|r| &r.method == m && r.case.width_mm == w)
-                    .filter_map(|r| r.metrics.as_ref().ok().map(f))
-                    .collect();
-                let _ = write!(line, " {:.3} |", median(&mut v));
-            }
-            let _ = writeln!(report, "{line}");
-        }
+        let mut header = vec!["method".to_string()];
+        header.extend(val.widths.iter().map(|w| format!("{w} mm")));
+        let table: Vec<Vec<String>> = methods
+            .iter()
+            .map(|m| {
+                let mut line = vec![m.clone()];
+                for &w in &val.widths {
+                    let v: Vec<f64> = rows
+                        .iter()
+                        .filter(|r| &r.method == m && r.case.width_mm == w)
+                        .filter_map(|r| r.metrics.as_ref().ok().map(f))
+                        .collect();
+                    line.push(format!("{:.3}", median(&v)));
+                }
+                line
+            })
+            .collect();
+        report.push_str(&markdown::table(&header, &table, Alignment::Unmarked));
         let _ = writeln!(report);
     }
     // Paired tests: per case, the curve method's median over runs against
@@ -618,8 +595,6 @@ fn validation_report(
         report,
         "Per case the curve fit's median over its runs is paired with the baseline; two-sided Wilcoxon signed-rank test (src/stats), Holm-corrected over all rows of this table. `better` counts cases where the curve fit is strictly better.\n"
     );
-    let _ = writeln!(report, "| curve method | baseline | metric | cases | median curve | median baseline | median difference | better | p | p (Holm) |");
-    let _ = writeln!(report, "|---|---|---|---|---|---|---|---|---|---|");
     let mut keys: Vec<(usize, u64, u64)> = rows
         .iter()
         .map(|r| {
@@ -651,10 +626,10 @@ fn validation_report(
                             .filter(|v| v.is_finite())
                             .collect()
                     };
-                    let (mut c, mut b) = (of(&cm), of(base));
+                    let (c, b) = (of(&cm), of(base));
                     if !c.is_empty() && !b.is_empty() {
-                        xs.push(median(&mut c));
-                        ys.push(median(&mut b));
+                        xs.push(median(&c));
+                        ys.push(median(&b));
                     }
                 }
                 let better = xs
@@ -672,9 +647,9 @@ fn validation_report(
                     base,
                     name,
                     xs.len(),
-                    median(&mut xs.clone()),
-                    median(&mut ys.clone()),
-                    median(&mut diffs.clone()),
+                    median(&xs),
+                    median(&ys),
+                    median(&diffs),
                     better,
                     p,
                 ));
@@ -685,18 +660,42 @@ fn validation_report(
         .iter()
         .map(|p| if p.is_finite() { *p } else { 1.0 })
         .collect();
-    let holm =
-        holm_bonferroni(&finite).map_err(|e| ImplantError::Other(format!("statistics: {e}")))?;
-    for (l, ph) in lines.iter().zip(holm) {
-        let _ = writeln!(
-            report,
-            "| {} | {} | {} | {} | {:.3} | {:.3} | {:+.3} | {}/{} | {:.2e} | {:.2e} |",
-            l.0, l.1, l.2, l.3, l.4, l.5, l.6, l.7, l.3, l.8, ph
-        );
-    }
+    let holm = holm_bonferroni(&finite)?;
+    let header = [
+        "curve method",
+        "baseline",
+        "metric",
+        "cases",
+        "median curve",
+        "median baseline",
+        "median difference",
+        "better",
+        "p",
+        "p (Holm)",
+    ]
+    .map(String::from);
+    let table: Vec<Vec<String>> = lines
+        .iter()
+        .zip(holm)
+        .map(|(l, ph)| {
+            vec![
+                l.0.clone(),
+                l.1.to_string(),
+                l.2.to_string(),
+                l.3.to_string(),
+                format!("{:.3}", l.4),
+                format!("{:.3}", l.5),
+                format!("{:+.3}", l.6),
+                format!("{}/{}", l.7, l.3),
+                format!("{:.2e}", l.8),
+                format!("{ph:.2e}"),
+            ]
+        })
+        .collect();
+    report.push_str(&markdown::table(&header, &table, Alignment::Unmarked));
     let _ = writeln!(report);
     // The join quality of the fitted curves.
-    let mut joins: Vec<f64> = rows
+    let joins: Vec<f64> = rows
         .iter()
         .filter(|r| r.method.starts_with("curve:") && r.metrics.is_ok())
         .flat_map(|r| [r.join_deg.0, r.join_deg.1])
@@ -706,7 +705,7 @@ fn validation_report(
         let _ = writeln!(
             report,
             "Fitted walls: join angle with the intact contour median {:.1e}°, max {:.1e}° (G¹ is built into the decision variables).\n",
-            median(&mut joins),
+            median(&joins),
             max
         );
     }

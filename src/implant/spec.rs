@@ -34,7 +34,7 @@
 //! ```
 //!
 //! Errors name the file, line, column and field, say what was expected and
-//! list the valid choices ([`crate::spec::SpecError`]).
+//! list the valid choices ([`crate::experiment::SpecError`]).
 
 use std::path::{Path, PathBuf};
 
@@ -42,11 +42,10 @@ use toml::de::{DeTable, DeValue};
 
 use super::pipeline::{DefectConfig, Ends, MidlineSpec, SliceSpec};
 use super::wall::WallOptions;
+use crate::experiment::spec::{type_name, Parser, SpecError, Value};
 use crate::fit::FunctionType;
 use crate::geometry::Continuity;
-use crate::optim::Algorithm;
 use crate::reconstruction::Method;
-use crate::spec::{type_name, Parser, SpecError, Value};
 
 /// The artificial-defect validation part.
 #[derive(Clone, Debug)]
@@ -212,18 +211,7 @@ impl Parser<'_> {
                 ),
             )
         };
-        match Method::parse_name(&name) {
-            None => Err(bad()),
-            Some((None, _)) => Ok(Method::Exact),
-            Some((Some(b), polish)) => {
-                let a = Algorithm::default_for(b).ok_or_else(bad)?;
-                Ok(if polish {
-                    Method::Hybrid(a)
-                } else {
-                    Method::Metaheuristic(a)
-                })
-            }
-        }
+        Method::from_name(&name).ok_or_else(bad)
     }
 
     fn range(&self, v: &Value<'_>, field: &str) -> Result<(usize, usize), SpecError> {
@@ -312,7 +300,7 @@ impl Parser<'_> {
         }
         let method = match self.get(imp, "method") {
             Some(v) => self.method(v, "implant.method")?,
-            None => Method::Metaheuristic(Algorithm::default_for("mhs").expect("mhs exists")),
+            None => Method::from_name("mhs").expect("mhs exists"),
         };
         let midline_slices = match self.get(imp, "midline_slices") {
             Some(v) => {

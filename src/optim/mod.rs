@@ -33,11 +33,10 @@ pub use ghs::GlobalBestHarmonySearch;
 pub use hs::HarmonySearch;
 pub use lm::{LeastSquares, LevenbergMarquardt};
 pub use mhs::ModifiedHarmonySearch;
-pub use params::{ParamDef, ParamSet};
+pub use params::{quoted_list, Kind, ParamDef, ParamSet, Raw, Setting, SettingError};
 pub use pso::ParticleSwarm;
 
 use crate::problem::{BoundPolicy, Problem};
-use params::{Kind, Setting};
 
 /// A minimiser of box-bounded problems under an evaluation budget.
 pub trait Optimiser {

@@ -121,8 +121,11 @@ impl ParamDef {
     }
 
     /// Checks a raw spec value against this declaration.
-    pub fn check(&self, raw: &Raw) -> Result<Setting, String> {
-        let bad = || format!("expected {}, found {raw}", self.expected());
+    pub fn check(&self, raw: &Raw) -> Result<Setting, SettingError> {
+        let bad = || SettingError::Inadmissible {
+            expected: self.expected(),
+            found: raw.to_string(),
+        };
         match (self.kind, raw) {
             (Kind::Count { min, max }, Raw::Int(n)) => {
                 let n = u64::try_from(*n).map_err(|_| bad())?;
@@ -164,6 +167,22 @@ impl ParamDef {
     }
 }
 
+/// A raw value that a parameter does not admit, or an unknown parameter.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SettingError {
+    /// The value is not admissible for the parameter.
+    #[error("expected {expected}, found {found}")]
+    Inadmissible {
+        /// What the parameter admits ([`ParamDef::expected`]).
+        expected: String,
+        /// The value found, as written in the spec.
+        found: String,
+    },
+    /// The algorithm has no parameter of this name.
+    #[error("unknown parameter \"{0}\"")]
+    Unknown(String),
+}
+
 /// `"a", "b" or "c"`.
 pub fn quoted_list(names: &[&str]) -> String {
     let quoted: Vec<String> = names.iter().map(|n| format!("\"{n}\"")).collect();
@@ -196,12 +215,12 @@ impl ParamSet {
     }
 
     /// Sets one parameter from a raw value; the error names what was expected.
-    pub fn set(&mut self, name: &str, raw: &Raw) -> Result<(), String> {
+    pub fn set(&mut self, name: &str, raw: &Raw) -> Result<(), SettingError> {
         let i = self
             .defs
             .iter()
             .position(|d| d.name == name)
-            .ok_or_else(|| format!("unknown parameter \"{name}\""))?;
+            .ok_or_else(|| SettingError::Unknown(name.to_owned()))?;
         self.values[i] = self.defs[i].check(raw)?;
         Ok(())
     }
@@ -314,27 +333,29 @@ mod tests {
     fn checks_ranges_and_types_with_clear_messages() {
         let mut p = ParamSet::defaults(&DEFS);
         assert_eq!(
-            p.set("hmcr", &Raw::Float(1.5)).unwrap_err(),
+            p.set("hmcr", &Raw::Float(1.5)).unwrap_err().to_string(),
             "expected a real number in [0, 1], found 1.5"
         );
         assert_eq!(
-            p.set("hms", &Raw::Int(0)).unwrap_err(),
+            p.set("hms", &Raw::Int(0)).unwrap_err().to_string(),
             "expected an integer ≥ 1, found 0"
         );
         assert_eq!(
-            p.set("hms", &Raw::Float(2.5)).unwrap_err(),
+            p.set("hms", &Raw::Float(2.5)).unwrap_err().to_string(),
             "expected an integer ≥ 1, found 2.5"
         );
         assert_eq!(
-            p.set("bounds", &Raw::Text("wrap".into())).unwrap_err(),
+            p.set("bounds", &Raw::Text("wrap".into()))
+                .unwrap_err()
+                .to_string(),
             "expected one of \"clip\" or \"reflect\", found \"wrap\""
         );
         assert_eq!(
-            p.set("operators", &Raw::Text("hs+de".into())).unwrap_err(),
+            p.set("operators", &Raw::Text("hs+de".into())).unwrap_err().to_string(),
             "expected a \"+\"-separated list of \"hs\", \"ga\" or \"pso\", such as \"hs+ga+pso\", found \"hs+de\""
         );
         assert_eq!(
-            p.set("hmc", &Raw::Int(1)).unwrap_err(),
+            p.set("hmc", &Raw::Int(1)).unwrap_err().to_string(),
             "unknown parameter \"hmc\""
         );
         p.set("hmcr", &Raw::Int(1)).unwrap();

@@ -132,16 +132,6 @@ mod tests {
         Outline::new(pts, true)
     }
 
-    fn circle(n: usize) -> Outline {
-        let pts = (0..n)
-            .map(|i| {
-                let a = 2.0 * PI * i as f64 / n as f64;
-                Point::new(10.0 * a.cos(), 10.0 * a.sin())
-            })
-            .collect();
-        Outline::new(pts, true)
-    }
-
     #[test]
     fn a_square_has_four_corners() {
         let s = square(25);
@@ -165,50 +155,5 @@ mod tests {
             split_at(&s, &[50, 0, 400, 25, 75, 25]),
             split_at(&s, &[0, 25, 50, 75])
         );
-    }
-
-    #[test]
-    fn a_circle_has_none_and_is_split_by_arc_length() {
-        let c = circle(100);
-        assert!(find_corners(&c, &CornerOptions::default()).is_empty());
-        // Without corners, the fit splits at equal arc length from index 0.
-        let (b, _) = crate::fit::equal_arc_breaks(&c.points, true, &[], 4).unwrap();
-        assert_eq!(b, vec![0, 25, 50, 75]);
-    }
-
-    #[test]
-    fn open_outlines_keep_their_ends_and_split_long_pieces() {
-        // An L: 10 points along x, then 10 up.
-        let mut pts: Vec<Point> = (0..10).map(|i| Point::new(i as f64, 0.0)).collect();
-        pts.extend((1..=10).map(|j| Point::new(9.0, j as f64)));
-        let l = Outline::new(pts, false);
-        let opts = CornerOptions {
-            k: 3,
-            angle_deg: 60.0,
-        };
-        assert_eq!(find_corners(&l, &opts), vec![9]);
-        let (b, corner) = crate::fit::equal_arc_breaks(&l.points, false, &[9], 3).unwrap();
-        assert_eq!(b.len(), 3);
-        assert!(b.contains(&9));
-        assert!(corner[b.iter().position(|&i| i == 9).unwrap()]);
-        let mut b = b;
-        b.push(19);
-        let pieces = split_at(&l, &b);
-        assert_eq!(pieces.len(), 3);
-        assert_eq!(pieces[0].points[0], Point::ZERO);
-        assert_eq!(pieces[2].points.last(), Some(&Point::new(9.0, 10.0)));
-    }
-
-    #[test]
-    fn one_corner_on_a_closed_outline_gets_more_pieces() {
-        // A teardrop: a circle with one sharp point.
-        let mut c = circle(60);
-        c.points[0] = Point::new(25.0, 0.0);
-        let corners = find_corners(&c, &CornerOptions::default());
-        assert_eq!(corners, vec![0]);
-        let (b, _) = crate::fit::equal_arc_breaks(&c.points, true, &corners, 3).unwrap();
-        assert_eq!(b.len(), 3);
-        assert_eq!(b[0], 0);
-        assert_eq!(split_at(&c, &b).len(), 3);
     }
 }

@@ -8,7 +8,7 @@
 //! campaign run and a single command-line fit of the same case with the
 //! same seed give the same curve.
 
-pub mod files;
+mod overlay;
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -23,6 +23,8 @@ use crate::outline::{
     OutlineError, Sampling,
 };
 use crate::rng::run_rng;
+
+pub use overlay::{OverlayCurve, OverlayFigure, OverlayPanel};
 
 /// How a segment problem is solved.
 #[derive(Clone, Debug)]
@@ -69,6 +71,41 @@ impl Method {
         Algorithm::NAMES
             .contains(&base)
             .then_some((Some(base), polish))
+    }
+
+    /// The method named `name` (see [`Method::names`]) with its
+    /// metaheuristic's default parameters; `None` if the name is unknown.
+    pub fn from_name(name: &str) -> Option<Method> {
+        let (base, polish) = Self::parse_name(name)?;
+        let algorithm = match base {
+            Some(b) => Some(Algorithm::default_for(b)?),
+            None => None,
+        };
+        Some(Self::build(algorithm, polish))
+    }
+
+    /// The method of a parsed name ([`Method::parse_name`]) with its
+    /// metaheuristic configured: `lm` without one, else the metaheuristic,
+    /// polished by LM if `polish`.
+    pub fn build(algorithm: Option<Algorithm>, polish: bool) -> Method {
+        match (algorithm, polish) {
+            (None, _) => Method::Exact,
+            (Some(a), true) => Method::Hybrid(a),
+            (Some(a), false) => Method::Metaheuristic(a),
+        }
+    }
+
+    /// The segment solver of this method; a stochastic one draws from
+    /// Xoshiro256++ seeded with `seed` ([`run_rng`]), one stream for all
+    /// the segments it solves, in order.
+    pub fn solver(&self, seed: u64) -> Box<dyn SegmentSolver> {
+        match self {
+            Method::Exact => Box::new(LmSolver::default()),
+            Method::Metaheuristic(a) => {
+                Box::new(OptimiserSolver::new(a.clone(), run_rng(seed)).with_label(a.name()))
+            }
+            Method::Hybrid(a) => Box::new(HybridSolver::new(a.clone(), run_rng(seed))),
+        }
     }
 
     /// The method's name: `hs`, `lm`, `mhs+lm`, ….
@@ -259,16 +296,10 @@ impl Reconstruction<'_> {
         }
     }
 
-    /// Fits the outline with `method`; a stochastic method draws from
-    /// Xoshiro256++ seeded with `seed` ([`run_rng`]), one stream for all
-    /// segments in order.
+    /// Fits the outline with `method`'s solver ([`Method::solver`]) seeded
+    /// with `seed`.
     pub fn fit(&self, method: &Method, seed: u64) -> Result<PiecewiseFit, FitError> {
-        match method {
-            Method::Exact => self.fit_with(&mut LmSolver::default()),
-            Method::Metaheuristic(a) => self
-                .fit_with(&mut OptimiserSolver::new(a.clone(), run_rng(seed)).with_label(a.name())),
-            Method::Hybrid(a) => self.fit_with(&mut HybridSolver::new(a.clone(), run_rng(seed))),
-        }
+        self.fit_with(method.solver(seed).as_mut())
     }
 
     /// Fits the outline with any segment solver.
@@ -311,16 +342,11 @@ mod tests {
     #[test]
     fn method_names_round_trip() {
         for name in Method::names() {
-            let (base, polish) = Method::parse_name(&name).unwrap();
-            let m = match (base, polish) {
-                (None, _) => Method::Exact,
-                (Some(b), false) => Method::Metaheuristic(Algorithm::default_for(b).unwrap()),
-                (Some(b), true) => Method::Hybrid(Algorithm::default_for(b).unwrap()),
-            };
-            assert_eq!(m.name(), name);
+            assert_eq!(Method::from_name(&name).unwrap().name(), name);
         }
         assert!(Method::parse_name("hz").is_none());
         assert!(Method::parse_name("lm+lm").is_none());
+        assert!(Method::from_name("hz").is_none());
     }
 
     fn square(n: usize) -> Outline {
@@ -367,7 +393,7 @@ mod tests {
             corners: Some(CornerOptions::default()),
             options,
         };
-        let m = Method::Metaheuristic(Algorithm::default_for("mhs").unwrap());
+        let m = Method::from_name("mhs").unwrap();
         let a = r.fit(&m, 7).unwrap();
         let b = r.fit(&m, 7).unwrap();
         let c = r.fit(&m, 8).unwrap();

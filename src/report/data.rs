@@ -5,8 +5,8 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use crate::error::Error;
-use crate::records::{read_results, read_runs, RunRecord};
+use crate::experiment::records::{read_results, read_runs, RunRecord};
+use crate::experiment::{DataError, DataProblem, ReadError};
 
 /// One run, reduced to what the report uses.
 #[derive(Clone, Debug, PartialEq)]
@@ -293,7 +293,7 @@ fn name_cells(cells: &mut [Cell]) {
 
 /// Reads the runs of a results directory and of an optional external
 /// `runs.csv`.
-pub(crate) fn load(dir: &Path, external: Option<&Path>) -> Result<Dataset, Error> {
+pub(crate) fn load(dir: &Path, external: Option<&Path>) -> Result<Dataset, ReadError> {
     let runs_path = dir.join("runs.csv");
     let conv = dir.join("convergence.csv").is_file();
     let timing = dir.join("timing.csv").is_file();
@@ -314,7 +314,7 @@ pub(crate) fn load(dir: &Path, external: Option<&Path>) -> Result<Dataset, Error
         read_runs(&runs_path)?
     };
     if records.is_empty() {
-        return Err(Error::data(&runs_path, 0, "no runs to report"));
+        return Err(DataError::new(&runs_path, 0, DataProblem::NoRuns).into());
     }
     let internal_labels: std::collections::BTreeSet<String> =
         records.iter().map(|r| r.algorithm.clone()).collect();

@@ -185,7 +185,7 @@ pub(crate) fn mean_error(stats: &[Vec<Option<CellStats>>], p: usize, c: usize) -
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::records::RunRecord;
+    use crate::experiment::RunRecord;
 
     fn rec(run: u32, error: f64, evals_to_target: Option<u64>) -> (RunRecord, bool) {
         (

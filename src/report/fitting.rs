@@ -11,13 +11,15 @@ use std::path::Path;
 
 use super::data::Dataset;
 use super::format::{sci, Table};
-use super::overlay::{OverlayFigure, OverlayPanel};
 use super::plots::{Figure, Plot};
-use crate::error::Error;
+use crate::experiment::records::{read_results, FitDetail, RunRecord};
+use crate::experiment::segments::segment_from_row;
+use crate::experiment::{DataError, DataProblem, ReadError};
+use crate::files::fmt_real;
+use crate::fit::Segment;
 use crate::geometry::Point;
-use crate::reconstruction::files::overlay_from_rows;
-use crate::records::{fmt_real, read_results, RunRecord};
-use crate::stats::{holm_bonferroni, mann_whitney_u, Alternative, Mark};
+use crate::reconstruction::{OverlayCurve, OverlayFigure, OverlayPanel};
+use crate::stats::{holm_bonferroni, mann_whitney_u, median, Alternative, Mark};
 
 /// What the fitting section adds to a report.
 pub(crate) struct FittingSection {
@@ -52,34 +54,33 @@ fn mean(v: &[f64]) -> f64 {
     v.iter().sum::<f64>() / v.len() as f64
 }
 
-fn median(v: &[f64]) -> f64 {
-    let mut s = v.to_vec();
-    s.sort_by(f64::total_cmp);
-    let n = s.len();
-    if n % 2 == 1 {
-        s[n / 2]
-    } else {
-        (s[n / 2 - 1] + s[n / 2]) / 2.0
-    }
+/// A fitted outline read back from its segment rows, for an overlay;
+/// `None` if a row does not describe a segment.
+fn overlay_from_rows(label: String, rows: &[Vec<String>]) -> Option<OverlayCurve> {
+    let segments: Vec<Segment> = rows
+        .iter()
+        .map(|r| segment_from_row(r))
+        .collect::<Option<_>>()?;
+    Some(OverlayCurve::of_segments(label, &segments))
 }
 
 /// Reads `outlines.csv` (source, x, y): the data points of every source.
-fn read_outlines(dir: &Path) -> Result<BTreeMap<String, Vec<Point>>, Error> {
+fn read_outlines(dir: &Path) -> Result<BTreeMap<String, Vec<Point>>, ReadError> {
     let path = dir.join("outlines.csv");
     let mut out: BTreeMap<String, Vec<Point>> = BTreeMap::new();
     if !path.exists() {
         return Ok(out);
     }
     let mut reader =
-        csv::Reader::from_path(&path).map_err(|e| Error::data(&path, 0, e.to_string()))?;
+        csv::Reader::from_path(&path).map_err(|e| DataError::new(&path, 0, DataProblem::Csv(e)))?;
     for (i, row) in reader.records().enumerate() {
         let line = i as u64 + 2;
-        let row = row.map_err(|e| Error::data(&path, line, e.to_string()))?;
-        let num = |k: usize| -> Result<f64, Error> {
+        let row = row.map_err(|e| DataError::new(&path, line, DataProblem::Csv(e)))?;
+        let num = |k: usize| -> Result<f64, DataError> {
             row.get(k)
                 .unwrap_or("")
                 .parse()
-                .map_err(|_| Error::data(&path, line, format!("column {}: not a number", k + 1)))
+                .map_err(|_| DataError::new(&path, line, DataProblem::NotANumber(k + 1)))
         };
         out.entry(row.get(0).unwrap_or("").to_owned())
             .or_default()
@@ -94,7 +95,7 @@ pub(crate) fn section(
     dir: &Path,
     ds: &Dataset,
     alpha: f64,
-) -> Result<Option<FittingSection>, Error> {
+) -> Result<Option<FittingSection>, ReadError> {
     if !dir.join("fits.csv").exists() {
         return Ok(None);
     }
@@ -198,7 +199,7 @@ pub(crate) fn section(
                 continue;
             };
             let e: Vec<f64> = rs.iter().map(|r| r.best).collect();
-            let fit = |f: fn(&crate::records::FitDetail) -> Option<f64>| -> Vec<f64> {
+            let fit = |f: fn(&FitDetail) -> Option<f64>| -> Vec<f64> {
                 rs.iter()
                     .filter_map(|r| r.fit.as_ref().and_then(f))
                     .collect()

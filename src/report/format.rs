@@ -2,8 +2,8 @@
 //! table (rounded, the way papers print numbers) and as a CSV file (full
 //! precision, for further processing).
 
-use crate::error::Error;
-use crate::records::fmt_real;
+use crate::files::{csv_bytes, fmt_real};
+use crate::markdown::{self, Alignment};
 
 /// A table of the report: Markdown and CSV renderings of the same rows.
 #[derive(Clone, Debug, Default)]
@@ -26,94 +26,14 @@ pub(crate) struct Table {
 
 impl Table {
     /// The CSV bytes of the table.
-    pub fn csv_bytes(&self) -> Result<Vec<u8>, Error> {
-        let mut w = csv::WriterBuilder::new()
-            .flexible(true)
-            .from_writer(Vec::new());
-        let fail = |e: csv::Error| Error::Campaign(format!("cannot format a report table: {e}"));
-        w.write_record(&self.csv_header).map_err(fail)?;
-        for row in &self.csv_rows {
-            w.write_record(row).map_err(fail)?;
-        }
-        w.into_inner()
-            .map_err(|e| Error::Campaign(format!("cannot format a report table: {e}")))
+    pub fn csv_bytes(&self) -> Vec<u8> {
+        csv_bytes(&self.csv_header, &self.csv_rows)
     }
 
     /// The Markdown table (header, alignment row and rows), ending in a newline.
     pub fn markdown(&self) -> String {
-        markdown_table(&self.md_header, &self.md_rows)
+        markdown::table(&self.md_header, &self.md_rows, Alignment::ByContent)
     }
-}
-
-/// A GitHub-flavoured Markdown table; the first column is left-aligned, the
-/// others right-aligned.
-pub(crate) fn markdown_table(header: &[String], rows: &[Vec<String>]) -> String {
-    let mut s = String::new();
-    let line = |cells: &[String]| -> String {
-        let mut l = String::from("|");
-        for c in cells {
-            l.push(' ');
-            l.push_str(&md_escape(c));
-            l.push_str(" |");
-        }
-        l.push('\n');
-        l
-    };
-    s.push_str(&line(header));
-    s.push('|');
-    for i in 0..header.len() {
-        s.push_str(if i == 0 || is_text_column(rows, i) {
-            " :-- |"
-        } else {
-            " --: |"
-        });
-    }
-    s.push('\n');
-    for row in rows {
-        let mut cells = row.clone();
-        cells.resize(header.len(), String::new());
-        s.push_str(&line(&cells));
-    }
-    s
-}
-
-/// Whether column `i` holds text (left-aligned) rather than numbers: most
-/// of its non-empty cells start with a letter and are not `inf`, `NaN` or
-/// `n/a`.
-fn is_text_column(rows: &[Vec<String>], i: usize) -> bool {
-    let (mut text, mut filled) = (0usize, 0usize);
-    for cell in rows.iter().filter_map(|r| r.get(i)) {
-        let c = cell.trim();
-        if c.is_empty() {
-            continue;
-        }
-        filled += 1;
-        let letter = c
-            .chars()
-            .next()
-            .is_some_and(|ch| ch.is_alphabetic() || ch == '`');
-        if letter && !matches!(c, "inf" | "NaN" | "n/a") && !c.starts_with("n/a ") {
-            text += 1;
-        }
-    }
-    filled > 0 && 2 * text >= filled
-}
-
-/// Escapes text for a Markdown table cell: pipes, backslashes, line breaks.
-pub(crate) fn md_escape(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for ch in text.chars() {
-        match ch {
-            '|' => out.push_str("\\|"),
-            '\\' => out.push_str("\\\\"),
-            '\n' | '\r' | '\t' => out.push(' '),
-            '*' => out.push_str("\\*"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            c => out.push(c),
-        }
-    }
-    out
 }
 
 /// Scientific notation with `digits` significant digits and a signed
@@ -281,30 +201,13 @@ mod tests {
     }
 
     #[test]
-    fn markdown_escapes_and_pads() {
-        let t = markdown_table(
-            &["a".into(), "b".into()],
-            &[vec!["x|y".into()], vec!["1".into(), "2".into()]],
-        );
-        assert_eq!(t, "| a | b |\n| :-- | --: |\n| x\\|y |  |\n| 1 | 2 |\n");
-        let t = markdown_table(
-            &["n".into(), "name".into(), "value".into()],
-            &[
-                vec!["1".into(), "HS".into(), "inf".into()],
-                vec!["2".into(), "PSO".into(), "1.0e-03".into()],
-            ],
-        );
-        assert!(t.contains("| :-- | :-- | --: |"), "{t}");
-    }
-
-    #[test]
     fn csv_quotes_fields() {
         let t = Table {
             csv_header: vec!["algorithm".into(), "params".into()],
             csv_rows: vec![vec!["HS, tuned".into(), "a=1;b=2".into()]],
             ..Table::default()
         };
-        let bytes = t.csv_bytes().unwrap();
+        let bytes = t.csv_bytes();
         assert_eq!(
             String::from_utf8(bytes).unwrap(),
             "algorithm,params\n\"HS, tuned\",a=1;b=2\n"

@@ -3,8 +3,9 @@
 //! on hash-map order, so the same input gives the same bytes.
 
 use super::data::{Dataset, Provenance};
-use super::format::{md_escape, sci_digits, Table};
+use super::format::{sci_digits, Table};
 use super::plots::Plot;
+use crate::markdown::escape as md_escape;
 
 /// What the report says at the top.
 pub(crate) struct Header<'a> {

@@ -27,10 +27,54 @@ mod tuning;
 
 use std::path::{Path, PathBuf};
 
-use crate::error::{write_atomic, Error};
+use crate::experiment::ReadError;
+use crate::files::{create_dir, write_atomic, IoError};
+use crate::font::FontError;
 
 use self::format::Table;
-pub use self::overlay::{OverlayCurve, OverlayFigure, OverlayPanel};
+pub use self::overlay::save_overlay;
+
+/// Why a report could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum ReportError {
+    /// A results file could not be read or is malformed.
+    #[error(transparent)]
+    Read(#[from] ReadError),
+    /// A report file could not be written.
+    #[error(transparent)]
+    Io(#[from] IoError),
+    /// The significance level is not in (0, 1).
+    #[error("the significance level must lie strictly between 0 and 1, not {0}")]
+    Alpha(f64),
+    /// The requested reference algorithm is not in the results.
+    #[error(
+        "the reference algorithm \"{requested}\" is not in the results; the algorithms are: {}",
+        names.join(", ")
+    )]
+    UnknownReference {
+        /// The name asked for.
+        requested: String,
+        /// The configurations in the results.
+        names: Vec<String>,
+    },
+    /// The embedded font could not be registered.
+    #[error(transparent)]
+    Font(#[from] FontError),
+    /// A plot could not be drawn.
+    #[error("cannot draw {file}: {message}")]
+    Draw {
+        /// The file being drawn, such as `convergence.svg`.
+        file: String,
+        /// The plotting library's message.
+        message: String,
+    },
+}
+
+impl From<crate::experiment::DataError> for ReportError {
+    fn from(e: crate::experiment::DataError) -> Self {
+        ReportError::Read(ReadError::Data(e))
+    }
+}
 
 /// How to build a report.
 #[derive(Clone, Debug, PartialEq)]
@@ -85,7 +129,7 @@ pub struct ReportSummary {
 fn resolve_reference(
     ds: &data::Dataset,
     requested: Option<&str>,
-) -> Result<(usize, Option<String>), Error> {
+) -> Result<(usize, Option<String>), ReportError> {
     let by_label = |label: &str| ds.cells.iter().position(|c| c.label == label);
     let found = match requested {
         Some(r) => ds
@@ -93,12 +137,9 @@ fn resolve_reference(
             .iter()
             .position(|c| c.name == r)
             .or_else(|| by_label(r))
-            .ok_or_else(|| {
-                let names: Vec<&str> = ds.cells.iter().map(|c| c.name.as_str()).collect();
-                Error::Campaign(format!(
-                    "the reference algorithm \"{r}\" is not in the results; the algorithms are: {}",
-                    names.join(", ")
-                ))
+            .ok_or_else(|| ReportError::UnknownReference {
+                requested: r.to_owned(),
+                names: ds.cells.iter().map(|c| c.name.clone()).collect(),
             })?,
         None => by_label("MHS").unwrap_or(0),
     };
@@ -112,10 +153,6 @@ fn resolve_reference(
         )
     });
     Ok((found, note))
-}
-
-fn create_dir(path: &Path) -> Result<(), Error> {
-    std::fs::create_dir_all(path).map_err(|e| Error::io("create the directory", path, e))
 }
 
 /// The table of the compared algorithm configurations.
@@ -219,12 +256,9 @@ fn problems_table(ds: &data::Dataset) -> Table {
 /// convergence or timing data, a single algorithm, a single run or no
 /// successful run are not errors: the parts that need them are skipped and
 /// the report says so.
-pub fn write_report(dir: &Path, options: &ReportOptions) -> Result<ReportSummary, Error> {
+pub fn write_report(dir: &Path, options: &ReportOptions) -> Result<ReportSummary, ReportError> {
     if !(options.alpha > 0.0 && options.alpha < 1.0) {
-        return Err(Error::Campaign(format!(
-            "the significance level must lie strictly between 0 and 1, not {}",
-            options.alpha
-        )));
+        return Err(ReportError::Alpha(options.alpha));
     }
     let alpha = options.alpha;
     let ds = data::load(dir, options.external.as_deref())?;
@@ -308,7 +342,7 @@ pub fn write_report(dir: &Path, options: &ReportOptions) -> Result<ReportSummary
     let mut table_paths = Vec::new();
     for t in tables.iter().chain(&tuning_tables).chain(&fitting_tables) {
         let path = tables_dir.join(format!("{}.csv", t.stem));
-        write_atomic(&path, &t.csv_bytes()?)?;
+        write_atomic(&path, &t.csv_bytes())?;
         table_paths.push(path);
     }
     let mut plot_paths = Vec::new();

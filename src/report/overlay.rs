@@ -1,7 +1,8 @@
-//! Overlay figures of fitted outlines: the data points, each fitted curve
-//! and, optionally, its control polygons, drawn at equal scale in x and y.
+//! Drawing overlay figures of fitted outlines: the data points, each fitted
+//! curve and, optionally, its control polygons, at equal scale in x and y.
 //!
-//! The figure knows nothing of how the curves were fitted: it takes
+//! The figure's data ([`OverlayFigure`]) comes from the reconstruction
+//! room; it knows nothing of how the curves were fitted: it takes
 //! polylines. It is used by `metabezier fit` (`fit.svg`, `fit.png`) and by
 //! the chapter-5 report (one panel per fitting function).
 
@@ -11,49 +12,24 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::render::{colour, draw_legend, draw_title, font, legend_height, save, Draw, DrawResult};
-use crate::error::Error;
+use super::ReportError;
 use crate::geometry::Point;
-
-/// One fitted outline drawn over the data.
-#[derive(Clone, Debug, PartialEq)]
-pub struct OverlayCurve {
-    /// Legend text, e.g. `rational-cubic, G1 (E = 12.3)`.
-    pub label: String,
-    /// Each segment sampled densely, in order.
-    pub segments: Vec<Vec<Point>>,
-    /// The control polygon of each segment (drawn thin and dashed-looking);
-    /// empty to omit.
-    pub control_polygons: Vec<Vec<Point>>,
-}
-
-/// One panel: the data points and the curves fitted to them.
-#[derive(Clone, Debug, PartialEq)]
-pub struct OverlayPanel {
-    /// Panel title.
-    pub title: String,
-    /// The data points `R_i`.
-    pub data: Vec<Point>,
-    /// The fitted curves, each in its own colour.
-    pub curves: Vec<OverlayCurve>,
-    /// Whether y grows downwards in the source (image rows): the panel is
-    /// then drawn with y flipped so the shape looks as in the image.
-    pub y_down: bool,
-}
-
-/// A figure of one or more overlay panels with a shared title.
-#[derive(Clone, Debug, PartialEq)]
-pub struct OverlayFigure {
-    /// Figure title.
-    pub title: String,
-    /// The panels, laid out in a grid of at most `columns` columns.
-    pub panels: Vec<OverlayPanel>,
-    /// Maximum panels per row.
-    pub columns: usize,
-}
+use crate::reconstruction::{OverlayFigure, OverlayPanel};
 
 const PANEL: u32 = 760;
 const TITLE_H: u32 = 40;
 
+/// Writes `figure` as `<dir>/<stem>.svg` and `<dir>/<stem>.png`; returns
+/// the two paths.
+pub fn save_overlay(
+    figure: &OverlayFigure,
+    dir: &Path,
+    stem: &str,
+) -> Result<Vec<PathBuf>, ReportError> {
+    save(figure, dir, stem)
+}
+
+// The drawing's layout of the reconstruction room's figure data.
 impl OverlayFigure {
     fn legend(&self) -> Vec<(String, RGBColor)> {
         let mut out: Vec<(String, RGBColor)> = vec![("data".into(), RGBColor(120, 120, 120))];
@@ -79,11 +55,6 @@ impl OverlayFigure {
         let cols = self.columns.max(1).min(self.panels.len().max(1));
         let rows = self.panels.len().div_ceil(cols).max(1);
         (rows, cols)
-    }
-
-    /// Writes the figure as `<dir>/<stem>.svg` and `<dir>/<stem>.png`.
-    pub fn save(&self, dir: &Path, stem: &str) -> Result<Vec<PathBuf>, Error> {
-        save(self, dir, stem)
     }
 }
 
@@ -198,6 +169,7 @@ impl Draw for OverlayFigure {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::reconstruction::OverlayCurve;
 
     fn circle(n: usize, r: f64) -> Vec<Point> {
         (0..n)
@@ -226,7 +198,7 @@ mod tests {
             }],
             columns: 2,
         };
-        let files = fig.save(dir.path(), "fit").unwrap();
+        let files = save_overlay(&fig, dir.path(), "fit").unwrap();
         assert_eq!(files.len(), 2);
         let svg = std::fs::read_to_string(&files[0]).unwrap();
         assert!(

@@ -53,7 +53,7 @@ pub(crate) enum Figure {
     /// Mean error over a two-parameter grid.
     Heat(Heat),
     /// Fitted outlines over their data.
-    Overlay(super::overlay::OverlayFigure),
+    Overlay(crate::reconstruction::OverlayFigure),
 }
 
 impl Draw for Figure {

@@ -1,44 +1,20 @@
-//! Rendering plumbing for the plots: the vendored font, the colour palette,
-//! text measurement, shared legends, and writing a figure as SVG and PNG
-//! (both through [`write_atomic`]).
+//! Rendering plumbing for the plots: the colour palette, text measurement,
+//! shared legends, and writing a figure as SVG and PNG (both through
+//! [`write_atomic`]).
 //!
-//! Text is drawn with plotters' `ab_glyph` renderer and DejaVu Sans, embedded
-//! with `include_bytes!` (see `assets/fonts/PROVENANCE`), so no system font
-//! library is needed. SVG files name the family `sans-serif`.
+//! Text is drawn with plotters' `ab_glyph` renderer and the crate's one
+//! embedded font ([`crate::font`]), so no system font library is needed.
 
 use std::path::{Path, PathBuf};
-use std::sync::OnceLock;
 
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
-use plotters::style::FontStyle;
 
-use crate::error::{write_atomic, Error};
-
-/// DejaVu Sans 2.37 from Debian's fonts-dejavu-core 2.37-6 (Bitstream Vera
-/// licence; see `assets/fonts/LICENSE`).
-static DEJAVU_SANS: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
-
-/// The font family every text of the plots uses.
-pub(crate) const FAMILY: &str = "sans-serif";
-
-/// Registers the embedded font with plotters once per process (also used
-/// by the CT previews of [`crate::ct`]).
-pub(crate) fn ensure_font() -> Result<(), Error> {
-    static REGISTERED: OnceLock<bool> = OnceLock::new();
-    let ok = *REGISTERED.get_or_init(|| {
-        plotters::style::register_font(FAMILY, FontStyle::Normal, DEJAVU_SANS).is_ok()
-    });
-    if ok {
-        Ok(())
-    } else {
-        Err(Error::Campaign(
-            "the embedded DejaVu Sans font could not be loaded".into(),
-        ))
-    }
-}
+use super::ReportError;
+use crate::files::{write_atomic, IoError};
+use crate::font::{ensure_font, FAMILY};
 
 /// A drawing failure, as text.
 #[derive(Debug)]
@@ -63,11 +39,17 @@ pub(crate) trait Draw {
 
 /// Writes `figure` as `<dir>/<stem>.svg` and `<dir>/<stem>.png`; returns the
 /// two paths.
-pub(crate) fn save<F: Draw>(figure: &F, dir: &Path, stem: &str) -> Result<Vec<PathBuf>, Error> {
+pub(crate) fn save<F: Draw>(
+    figure: &F,
+    dir: &Path,
+    stem: &str,
+) -> Result<Vec<PathBuf>, ReportError> {
     ensure_font()?;
     let (w, h) = figure.size();
-    let fail =
-        |kind: &str, e: PlotError| Error::Campaign(format!("cannot draw {stem}.{kind}: {}", e.0));
+    let fail = |kind: &str, e: PlotError| ReportError::Draw {
+        file: format!("{stem}.{kind}"),
+        message: e.0,
+    };
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
@@ -90,9 +72,9 @@ pub(crate) fn save<F: Draw>(figure: &F, dir: &Path, stem: &str) -> Result<Vec<Pa
         root.present()?;
         Ok(())
     })();
-    let bytes = drawn
-        .map_err(|e| fail("png", e))
-        .and_then(|()| std::fs::read(&scratch).map_err(|e| Error::io("read", &scratch, e)));
+    let bytes = drawn.map_err(|e| fail("png", e)).and_then(|()| {
+        std::fs::read(&scratch).map_err(|e| IoError::new("read", &scratch, e).into())
+    });
     let _ = std::fs::remove_file(&scratch);
     write_atomic(&png_path, &bytes?)?;
     Ok(vec![svg_path, png_path])

@@ -765,7 +765,7 @@ pub(crate) fn friedman_table(ds: &Dataset, f: &FriedmanReport, alpha: f64) -> Ta
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::records::RunRecord;
+    use crate::experiment::RunRecord;
     use crate::report::descriptive::compute;
 
     fn rec(alg: &str, problem: &str, run: u32, error: f64) -> (RunRecord, bool) {

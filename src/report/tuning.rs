@@ -431,7 +431,7 @@ pub(crate) fn cell_label(v: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::records::RunRecord;
+    use crate::experiment::RunRecord;
     use crate::report::descriptive::compute;
 
     fn rec(alg: &str, params: &str, problem: &str, run: u32, error: f64) -> (RunRecord, bool) {

@@ -56,6 +56,21 @@ pub fn summarize(sample: &[f64]) -> Result<Summary, StatsError> {
     })
 }
 
+/// The median as NumPy's `np.median` computes it: the middle order
+/// statistic, or for an even size the mean `(x₍ₙ/₂₎ + x₍ₙ/₂₊₁₎)/2` of the two
+/// middle ones (which may differ in the last bit from the type-7
+/// [`quantile`] at p = 0.5). NaN for an empty sample; NaNs sort last.
+pub fn median(sample: &[f64]) -> f64 {
+    let mut sorted = sample.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let n = sorted.len();
+    match n {
+        0 => f64::NAN,
+        _ if n % 2 == 1 => sorted[n / 2],
+        _ => (sorted[n / 2 - 1] + sorted[n / 2]) / 2.0,
+    }
+}
+
 /// Type-7 sample quantile Q(p) = x₍ⱼ₎ + g·(x₍ⱼ₊₁₎ − x₍ⱼ₎) with h = (n − 1)p,
 /// j = ⌊h⌋, g = h − j on the order statistics (Hyndman & Fan 1996, The American
 /// Statistician 50(4):361–365; NumPy's and R's default). Sorts a copy of `sample`.
@@ -112,6 +127,13 @@ fn type7(sorted: &[f64], p: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn median_of_odd_even_and_empty_samples() {
+        assert_eq!(median(&[3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&[4.0, 1.0, 3.0, 2.0]), 2.5);
+        assert!(median(&[]).is_nan());
+    }
 
     fn close(a: f64, b: f64, tol: f64) -> bool {
         (a - b).abs() <= tol

@@ -23,7 +23,7 @@ mod wilcoxon;
 #[cfg(test)]
 mod reference_tests;
 
-pub use descriptive::{quantile, quantile_sorted, summarize, Summary};
+pub use descriptive::{median, quantile, quantile_sorted, summarize, Summary};
 pub use error::StatsError;
 pub use friedman::{friedman, FriedmanResult};
 pub use holm::holm_bonferroni;

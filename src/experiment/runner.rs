@@ -16,14 +16,16 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use crate::error::{write_atomic, Error};
+use super::journal;
+use super::records::{self, FitDetail, RunKey, RunRecord};
+use super::spec::{ProblemKind, RunId, Spec};
+use super::{CampaignAction, CampaignError, ExperimentError};
+use crate::files::{create_dir, csv_bytes, fmt_real, read_text, write_atomic, IoError};
 use crate::functions::TestProblem;
 use crate::optim::evaluator::log_checkpoints;
 use crate::optim::{Evaluator, Optimiser, Outcome};
 use crate::reconstruction::Method;
-use crate::records::{self, FitDetail, RunKey, RunRecord};
 use crate::rng::{derive_seed, fnv1a64, run_rng, RNG_NAME};
-use crate::spec::{ProblemKind, RunId, Spec};
 
 /// One slice `K/N` of a campaign: the runs whose index `i` has `i mod N = K − 1`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -36,9 +38,8 @@ pub struct Shard {
 
 impl Shard {
     /// Parses `K/N` with `1 ≤ K ≤ N`.
-    pub fn parse(text: &str) -> Result<Shard, String> {
-        let bad =
-            || format!("expected a shard as K/N with 1 ≤ K ≤ N, such as 2/8, found \"{text}\"");
+    pub fn parse(text: &str) -> Result<Shard, ShardError> {
+        let bad = || ShardError(text.to_owned());
         let (k, n) = text.split_once('/').ok_or_else(bad)?;
         let k: usize = k.trim().parse().map_err(|_| bad())?;
         let n: usize = n.trim().parse().map_err(|_| bad())?;
@@ -59,6 +60,11 @@ impl std::fmt::Display for Shard {
         write!(f, "{}/{}", self.k, self.n)
     }
 }
+
+/// A shard that is not `K/N` with `1 ≤ K ≤ N`; holds the text given.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("expected a shard as K/N with 1 ≤ K ≤ N, such as 2/8, found \"{0}\"")]
+pub struct ShardError(pub String);
 
 /// How to run a campaign.
 #[derive(Clone, Debug, Default)]
@@ -203,7 +209,7 @@ fn key_index(spec: &Spec) -> HashMap<RunKey, usize> {
 }
 
 /// Writes the three result files of `records` (already in final order).
-fn write_results(spec: &Spec, out: &Path, records: &[RunRecord]) -> Result<(), Error> {
+fn write_results(spec: &Spec, out: &Path, records: &[RunRecord]) -> Result<(), IoError> {
     let optimum: HashMap<String, f64> = spec
         .problems
         .iter()
@@ -235,20 +241,18 @@ fn outlines_csv(spec: &Spec) -> Vec<u8> {
             _ => None,
         })
         .flat_map(|c| {
-            c.source.outline.points.iter().map(move |q| {
-                vec![
-                    c.source_name.clone(),
-                    records::fmt_real(q.x),
-                    records::fmt_real(q.y),
-                ]
-            })
+            c.source
+                .outline
+                .points
+                .iter()
+                .map(move |q| vec![c.source_name.clone(), fmt_real(q.x), fmt_real(q.y)])
         });
-    records::csv_bytes(&["source", "x", "y"], rows)
+    csv_bytes(&["source", "x", "y"], rows)
 }
 
 /// Runs (or resumes) a campaign and writes `runs.csv`, `convergence.csv`,
 /// `timing.csv`, a copy of the spec and `meta.toml` into the output directory.
-pub fn run_campaign(spec: &Spec, opts: &RunOptions) -> Result<Summary, Error> {
+pub fn run_campaign(spec: &Spec, opts: &RunOptions) -> Result<Summary, ExperimentError> {
     let out = opts
         .out
         .clone()
@@ -258,23 +262,20 @@ pub fn run_campaign(spec: &Spec, opts: &RunOptions) -> Result<Summary, Error> {
     let spec_copy = out.join("spec.toml");
     let has_state = journal_path.exists() || runs_path.exists();
     if has_state && !opts.resume {
-        return Err(Error::Campaign(format!(
-            "{} already holds runs of a campaign; pass --resume to continue it (finished runs are kept), or choose another --out",
-            out.display()
-        )));
+        return Err(CampaignError::AlreadyHoldsRuns { out }.into());
     }
-    std::fs::create_dir_all(&out).map_err(|e| Error::io("create the directory", &out, e))?;
+    create_dir(&out)?;
 
     let index = key_index(spec);
     let mut done: HashMap<usize, RunRecord> = HashMap::new();
     if has_state {
         if let Ok(old) = std::fs::read_to_string(&spec_copy) {
             if old != spec.text {
-                return Err(Error::Campaign(format!(
-                    "cannot resume: {} differs from {}, the copy made when the campaign started, so finished runs would not match; restore the spec or choose another --out",
-                    spec.path.display(),
-                    spec_copy.display()
-                )));
+                return Err(CampaignError::SpecChanged {
+                    spec: spec.path.clone(),
+                    copy: spec_copy,
+                }
+                .into());
             }
         }
         let meta_path = out.join("meta.toml");
@@ -285,12 +286,12 @@ pub fn run_campaign(spec: &Spec, opts: &RunOptions) -> Result<Summary, Error> {
                 .map(|s| s.trim_end_matches('"').to_owned());
             let new_shard = opts.shard.map(|s| s.to_string());
             if old_shard != new_shard {
-                return Err(Error::Campaign(format!(
-                    "cannot resume: {} was started as shard {}, not {}",
-                    out.display(),
-                    old_shard.as_deref().unwrap_or("(none)"),
-                    new_shard.as_deref().unwrap_or("(none)")
-                )));
+                return Err(CampaignError::ShardChanged {
+                    out,
+                    started: old_shard,
+                    asked: new_shard,
+                }
+                .into());
             }
         }
         let mut found = Vec::new();
@@ -298,18 +299,12 @@ pub fn run_campaign(spec: &Spec, opts: &RunOptions) -> Result<Summary, Error> {
             found.extend(records::read_results(&out)?);
         }
         if journal_path.exists() {
-            found.extend(records::read_journal(&journal_path)?);
+            found.extend(journal::read_journal(&journal_path)?);
         }
         for r in found {
-            let i = *index.get(&r.key()).ok_or_else(|| {
-                Error::Campaign(format!(
-                    "cannot resume: {} holds run {} of {} on {}, which the spec does not define",
-                    out.display(),
-                    r.run,
-                    r.cell_key(),
-                    r.problem_key()
-                ))
-            })?;
+            let i = *index
+                .get(&r.key())
+                .ok_or_else(|| foreign_run(CampaignAction::Resume, &out, &r))?;
             done.insert(i, r);
         }
     }
@@ -331,7 +326,7 @@ pub fn run_campaign(spec: &Spec, opts: &RunOptions) -> Result<Summary, Error> {
     let mut reused: Vec<&RunRecord> = done.values().collect();
     reused.sort_by_key(|r| index[&r.key()]);
     for r in &reused {
-        journal_bytes.extend(records::journal_line(r));
+        journal_bytes.extend(journal::journal_line(r));
     }
     write_atomic(&journal_path, &journal_bytes)?;
     let reused = done.len();
@@ -347,7 +342,7 @@ pub fn run_campaign(spec: &Spec, opts: &RunOptions) -> Result<Summary, Error> {
     let journal = std::fs::OpenOptions::new()
         .append(true)
         .open(&journal_path)
-        .map_err(|e| Error::io("open", &journal_path, e))?;
+        .map_err(|e| IoError::new("open", &journal_path, e))?;
     let journal = Mutex::new(journal);
     let bar = if opts.progress && std::io::stderr().is_terminal() {
         let bar = indicatif::ProgressBar::new(todo.len() as u64);
@@ -365,16 +360,16 @@ pub fn run_campaign(spec: &Spec, opts: &RunOptions) -> Result<Summary, Error> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.threads.unwrap_or(0))
         .build()
-        .map_err(|e| Error::Campaign(format!("cannot start worker threads: {e}")))?;
-    let new: Vec<Result<RunRecord, Error>> = pool.install(|| {
+        .map_err(CampaignError::Threads)?;
+    let new: Vec<Result<RunRecord, IoError>> = pool.install(|| {
         todo.par_iter()
             .map(|id| {
                 let rec = execute(spec, *id);
-                let line = records::journal_line(&rec);
+                let line = journal::journal_line(&rec);
                 let mut j = journal.lock().unwrap_or_else(|p| p.into_inner());
                 j.write_all(&line)
                     .and_then(|_| j.flush())
-                    .map_err(|e| Error::io("append to", &journal_path, e))?;
+                    .map_err(|e| IoError::new("append to", &journal_path, e))?;
                 drop(j);
                 bar.inc(1);
                 Ok(rec)
@@ -394,7 +389,8 @@ pub fn run_campaign(spec: &Spec, opts: &RunOptions) -> Result<Summary, Error> {
             .map(|id| done.remove(&id.index).expect("complete"))
             .collect();
         write_results(spec, &out, &ordered)?;
-        std::fs::remove_file(&journal_path).map_err(|e| Error::io("remove", &journal_path, e))?;
+        std::fs::remove_file(&journal_path)
+            .map_err(|e| IoError::new("remove", &journal_path, e))?;
     }
     Ok(Summary {
         out,
@@ -405,50 +401,56 @@ pub fn run_campaign(spec: &Spec, opts: &RunOptions) -> Result<Summary, Error> {
     })
 }
 
+/// The error for run `r` of `dir`, which the spec does not define.
+fn foreign_run(action: CampaignAction, dir: &Path, r: &RunRecord) -> CampaignError {
+    CampaignError::ForeignRun {
+        action,
+        dir: dir.to_owned(),
+        run: r.run,
+        cell: r.cell_key(),
+        problem: r.problem_key(),
+    }
+}
+
 /// Joins the result directories of shards of one campaign into one
 /// directory whose files equal those of an unsharded run.
-pub fn merge(spec: &Spec, dirs: &[PathBuf], out: Option<PathBuf>) -> Result<Summary, Error> {
+pub fn merge(
+    spec: &Spec,
+    dirs: &[PathBuf],
+    out: Option<PathBuf>,
+) -> Result<Summary, ExperimentError> {
     let out = out.unwrap_or_else(|| default_out(spec, None));
     let index = key_index(spec);
     let mut done: HashMap<usize, RunRecord> = HashMap::new();
     for dir in dirs {
         let copy = dir.join("spec.toml");
-        let text = std::fs::read_to_string(&copy).map_err(|e| Error::io("read", &copy, e))?;
+        let text = read_text(&copy)?;
         if text != spec.text {
-            return Err(Error::Campaign(format!(
-                "cannot merge: {} was made from a different spec than {}",
-                copy.display(),
-                spec.path.display()
-            )));
+            return Err(CampaignError::DifferentSpec {
+                copy,
+                spec: spec.path.clone(),
+            }
+            .into());
         }
         if !dir.join("runs.csv").exists() {
-            return Err(Error::Campaign(format!(
-                "cannot merge: {} has no runs.csv; finish that shard first (run it again with --resume)",
-                dir.display()
-            )));
+            return Err(CampaignError::UnfinishedShard { dir: dir.clone() }.into());
         }
         for r in records::read_results(dir)? {
-            let i = *index.get(&r.key()).ok_or_else(|| {
-                Error::Campaign(format!(
-                    "cannot merge: {} holds run {} of {} on {}, which the spec does not define",
-                    dir.display(),
-                    r.run,
-                    r.cell_key(),
-                    r.problem_key()
-                ))
-            })?;
+            let i = *index
+                .get(&r.key())
+                .ok_or_else(|| foreign_run(CampaignAction::Merge, dir, &r))?;
             if let Some(prev) = done.get(&i) {
                 let same = RunRecord {
                     wall_seconds: prev.wall_seconds,
                     ..r.clone()
                 };
                 if &same != prev {
-                    return Err(Error::Campaign(format!(
-                        "cannot merge: run {} of {} on {} differs between shards",
-                        r.run,
-                        r.cell_key(),
-                        r.problem_key()
-                    )));
+                    return Err(CampaignError::ShardsDisagree {
+                        run: r.run,
+                        cell: r.cell_key(),
+                        problem: r.problem_key(),
+                    }
+                    .into());
                 }
             }
             done.insert(i, r);
@@ -461,14 +463,14 @@ pub fn merge(spec: &Spec, dirs: &[PathBuf], out: Option<PathBuf>) -> Result<Summ
         .map(|id| id.index)
         .collect();
     if !missing.is_empty() {
-        return Err(Error::Campaign(format!(
-            "cannot merge: {} of {} runs are missing (the first is run #{}); merge all shards of the campaign",
-            missing.len(),
-            ids.len(),
-            missing[0]
-        )));
+        return Err(CampaignError::MissingRuns {
+            missing: missing.len(),
+            total: ids.len(),
+            first: missing[0],
+        }
+        .into());
     }
-    std::fs::create_dir_all(&out).map_err(|e| Error::io("create the directory", &out, e))?;
+    create_dir(&out)?;
     let ordered: Vec<RunRecord> = ids
         .iter()
         .map(|id| done.remove(&id.index).expect("complete"))

@@ -33,8 +33,7 @@ use toml::de::{DeTable, DeValue};
 use toml::Spanned;
 
 use crate::functions::{Function, TestProblem};
-use crate::optim::params::{quoted_list, Raw, Setting};
-use crate::optim::{Algorithm, ParamDef, ParamSet};
+use crate::optim::{quoted_list, Algorithm, ParamDef, ParamSet, Raw, Setting};
 use crate::reconstruction::Method;
 
 mod fit;
@@ -807,7 +806,7 @@ impl<'a> Parser<'a> {
                 for item in self.one_or_many(v, &field)? {
                     let setting = def
                         .check(&raw(item.get_ref()))
-                        .map_err(|m| self.error(item.span(), &field, m))?;
+                        .map_err(|e| self.error(item.span(), &field, e.to_string()))?;
                     values.push((setting, item.span()));
                 }
                 axes.push(values);
@@ -836,23 +835,17 @@ impl<'a> Parser<'a> {
                         spans.push((def.name, sp.clone()));
                     }
                 }
-                let method = match base_name {
-                    None => Method::Exact,
-                    Some(b) => {
-                        let algorithm = Algorithm::from_params(b, &params).map_err(|e| {
-                            let sp = spans
-                                .iter()
-                                .find(|(n, _)| *n == e.param)
-                                .map_or(entry.span(), |(_, s)| s.clone());
-                            self.error(sp, &format!("{section}.{}", e.param), e.message.clone())
-                        })?;
-                        if polish {
-                            Method::Hybrid(algorithm)
-                        } else {
-                            Method::Metaheuristic(algorithm)
-                        }
-                    }
+                let algorithm = match base_name {
+                    None => None,
+                    Some(b) => Some(Algorithm::from_params(b, &params).map_err(|e| {
+                        let sp = spans
+                            .iter()
+                            .find(|(n, _)| *n == e.param)
+                            .map_or(entry.span(), |(_, s)| s.clone());
+                        self.error(sp, &format!("{section}.{}", e.param), e.message.clone())
+                    })?),
                 };
+                let method = Method::build(algorithm, polish);
                 let cell = Cell {
                     label: label.clone(),
                     method,

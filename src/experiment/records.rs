@@ -15,10 +15,110 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use crate::error::Error;
+use super::segments::{segment_rows, SEGMENT_HEADER};
+use crate::files::{csv_bytes, fmt_real, IoError};
 use crate::fit::PiecewiseFit;
 use crate::optim::TracePoint;
-use crate::reconstruction::files::{segment_rows, SEGMENT_HEADER};
+
+/// What is wrong with a results file at one line.
+#[derive(Debug, thiserror::Error)]
+pub enum DataProblem {
+    /// A cell cannot be read as its column's type.
+    #[error("column {column}: cannot read \"{text}\"")]
+    Cell {
+        /// The column.
+        column: String,
+        /// The text found.
+        text: String,
+    },
+    /// The `success` column holds neither `true` nor `false`.
+    #[error("column success: expected true or false, found \"{0}\"")]
+    Success(String),
+    /// A row has too few columns.
+    #[error("expected {expected} columns, found {found}")]
+    TooFewColumns {
+        /// Columns needed.
+        expected: usize,
+        /// Columns found.
+        found: usize,
+    },
+    /// A row's column count differs from the header's.
+    #[error("wrong number of columns")]
+    WrongColumnCount,
+    /// The header is not the file's schema.
+    #[error("expected the columns {}, found {}", expected.join(","), found.join(","))]
+    Header {
+        /// The schema's columns.
+        expected: Vec<String>,
+        /// The columns found.
+        found: Vec<String>,
+    },
+    /// The CSV syntax is broken.
+    #[error("{0}")]
+    Csv(#[source] csv::Error),
+    /// A journal line, trace or fit detail is malformed.
+    #[error("malformed {0}")]
+    Malformed(&'static str),
+    /// A keyed row names a run that `runs.csv` does not hold.
+    #[error("this run is not in runs.csv")]
+    UnknownRun,
+    /// A `segments.csv` row names a run that `fits.csv` does not hold.
+    #[error("this run has no row in fits.csv")]
+    NoFitRow,
+    /// A cell of a numeric column (numbered from 1) is not a number.
+    #[error("column {0}: not a number")]
+    NotANumber(usize),
+    /// The file holds no run.
+    #[error("no runs to report")]
+    NoRuns,
+}
+
+/// A results file is malformed: the file, the line and what is wrong.
+#[derive(Debug, thiserror::Error)]
+pub struct DataError {
+    /// The file.
+    pub path: std::path::PathBuf,
+    /// 1-based line, or 0 if the problem concerns the whole file.
+    pub line: u64,
+    /// What is wrong.
+    #[source]
+    pub problem: DataProblem,
+}
+
+impl DataError {
+    /// A problem in `path` at `line`.
+    pub fn new(path: &Path, line: u64, problem: DataProblem) -> Self {
+        DataError {
+            path: path.to_owned(),
+            line,
+            problem,
+        }
+    }
+}
+
+impl std::fmt::Display for DataError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.line {
+            0 => write!(f, "{}: {}", self.path.display(), self.problem),
+            n => write!(f, "{}:{n}: {}", self.path.display(), self.problem),
+        }
+    }
+}
+
+/// A results file could not be read, or is malformed.
+#[derive(Debug, thiserror::Error)]
+pub enum ReadError {
+    /// The file could not be read.
+    #[error(transparent)]
+    Io(#[from] IoError),
+    /// The file is malformed.
+    #[error(transparent)]
+    Data(#[from] DataError),
+}
+
+pub(super) fn data(path: &Path, line: u64, problem: DataProblem) -> ReadError {
+    ReadError::Data(DataError::new(path, line, problem))
+}
 
 /// The result of one run.
 #[derive(Clone, Debug, PartialEq)]
@@ -87,7 +187,7 @@ impl FitDetail {
     }
 
     /// The run-level columns of `fits.csv` after the run key.
-    fn fields(&self) -> Vec<String> {
+    pub(super) fn fields(&self) -> Vec<String> {
         let opt = |x: Option<f64>| x.map_or(String::new(), fmt_real);
         vec![
             fmt_real(self.rms),
@@ -98,8 +198,8 @@ impl FitDetail {
     }
 
     /// Reads [`FitDetail::fields`] back (segments empty).
-    fn from_fields(path: &Path, line: u64, f: &[&str]) -> Result<FitDetail, Error> {
-        let opt = |name: &str, t: &str| -> Result<Option<f64>, Error> {
+    pub(super) fn from_fields(path: &Path, line: u64, f: &[&str]) -> Result<FitDetail, ReadError> {
+        let opt = |name: &str, t: &str| -> Result<Option<f64>, ReadError> {
             if t.is_empty() {
                 Ok(None)
             } else {
@@ -114,41 +214,10 @@ impl FitDetail {
             segments: Vec::new(),
         })
     }
-
-    /// One journal field: the run-level fields joined by `;`, then each
-    /// segment row joined by `;`, all separated by `|`.
-    fn journal_field(&self) -> String {
-        std::iter::once(self.fields().join(";"))
-            .chain(self.segments.iter().map(|r| r.join(";")))
-            .collect::<Vec<_>>()
-            .join("|")
-    }
-
-    /// Reads [`FitDetail::journal_field`] back.
-    fn from_journal_field(path: &Path, line: u64, text: &str) -> Result<FitDetail, Error> {
-        let mut parts = text.split('|');
-        let head: Vec<&str> = parts.next().unwrap_or("").split(';').collect();
-        if head.len() != FIT_FIELDS.len() {
-            return Err(Error::data(path, line, "malformed fit detail"));
-        }
-        let mut detail = FitDetail::from_fields(path, line, &head)?;
-        for part in parts {
-            let row: Vec<String> = part.split(';').map(str::to_owned).collect();
-            if row.len() != SEGMENT_HEADER.len() {
-                return Err(Error::data(
-                    path,
-                    line,
-                    "malformed segment in the fit detail",
-                ));
-            }
-            detail.segments.push(row);
-        }
-        Ok(detail)
-    }
 }
 
 /// The run-level columns of `fits.csv` after the run key.
-const FIT_FIELDS: [&str; 4] = [
+pub(super) const FIT_FIELDS: [&str; 4] = [
     "rms",
     "max_distance",
     "closing_angle_degrees",
@@ -210,7 +279,7 @@ pub fn segments_csv(records: &[RunRecord]) -> Vec<u8> {
 pub type RunKey = (String, String, u32);
 
 impl RunRecord {
-    /// The cell key `label:kind[params]`, as [`crate::spec::Cell::key`].
+    /// The cell key `label:kind[params]`, as [`crate::experiment::spec::Cell::key`].
     pub fn cell_key(&self) -> String {
         format!("{}:{}[{}]", self.algorithm, self.kind, self.params)
     }
@@ -267,18 +336,7 @@ pub const TIMING_HEADER: [&str; 7] = [
     "wall_seconds",
 ];
 
-/// A real in shortest round-trip form: plain notation for magnitudes in
-/// `[1e-4, 1e16)` and zero, scientific notation otherwise.
-pub fn fmt_real(x: f64) -> String {
-    let a = x.abs();
-    if x == 0.0 || !x.is_finite() || (1e-4..1e16).contains(&a) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
-}
-
-fn run_fields(r: &RunRecord) -> Vec<String> {
+pub(super) fn run_fields(r: &RunRecord) -> Vec<String> {
     vec![
         r.algorithm.clone(),
         r.kind.clone(),
@@ -295,16 +353,6 @@ fn run_fields(r: &RunRecord) -> Vec<String> {
             .map_or(String::new(), |e| e.to_string()),
         r.success.to_string(),
     ]
-}
-
-/// CSV bytes of a header and rows.
-pub fn csv_bytes<I: IntoIterator<Item = Vec<String>>>(header: &[&str], rows: I) -> Vec<u8> {
-    let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record(header).expect("writing to memory");
-    for row in rows {
-        w.write_record(&row).expect("writing to memory");
-    }
-    w.into_inner().expect("writing to memory")
 }
 
 /// The bytes of `runs.csv` for records in their final order.
@@ -341,65 +389,44 @@ pub fn timing_csv(records: &[RunRecord]) -> Vec<u8> {
     csv_bytes(&TIMING_HEADER, rows)
 }
 
-/// One journal line (no header): the `runs.csv` fields, the trace as
-/// `evaluations:best|...`, the wall time, and the sentinel `ok` that marks
-/// the line as complete.
-pub fn journal_line(r: &RunRecord) -> Vec<u8> {
-    let mut fields = run_fields(r);
-    let trace: Vec<String> = r
-        .trace
-        .iter()
-        .map(|p| format!("{}:{}", p.evaluations, fmt_real(p.best)))
-        .collect();
-    fields.push(trace.join("|"));
-    fields.push(
-        r.fit
-            .as_ref()
-            .map_or(String::new(), FitDetail::journal_field),
-    );
-    fields.push(fmt_real(r.wall_seconds));
-    fields.push("ok".into());
-    let mut w = csv::WriterBuilder::new()
-        .has_headers(false)
-        .from_writer(Vec::new());
-    w.write_record(&fields).expect("writing to memory");
-    w.into_inner().expect("writing to memory")
-}
-
-fn parse<T: std::str::FromStr>(
+pub(super) fn parse<T: std::str::FromStr>(
     path: &Path,
     line: u64,
     column: &str,
     text: &str,
-) -> Result<T, Error> {
+) -> Result<T, ReadError> {
     text.parse().map_err(|_| {
-        Error::data(
+        data(
             path,
             line,
-            format!("column {column}: cannot read \"{text}\""),
+            DataProblem::Cell {
+                column: column.to_owned(),
+                text: text.to_owned(),
+            },
         )
     })
 }
 
-fn record_from_fields(path: &Path, line: u64, f: &csv::StringRecord) -> Result<RunRecord, Error> {
+pub(super) fn record_from_fields(
+    path: &Path,
+    line: u64,
+    f: &csv::StringRecord,
+) -> Result<RunRecord, ReadError> {
     if f.len() < RUNS_HEADER.len() {
-        return Err(Error::data(
+        return Err(data(
             path,
             line,
-            format!("expected {} columns, found {}", RUNS_HEADER.len(), f.len()),
+            DataProblem::TooFewColumns {
+                expected: RUNS_HEADER.len(),
+                found: f.len(),
+            },
         ));
     }
     let get = |i: usize| f.get(i).unwrap_or("");
     let success = match get(12) {
         "true" => true,
         "false" => false,
-        other => {
-            return Err(Error::data(
-                path,
-                line,
-                format!("column success: expected true or false, found \"{other}\""),
-            ))
-        }
+        other => return Err(data(path, line, DataProblem::Success(other.to_owned()))),
     };
     Ok(RunRecord {
         algorithm: get(0).to_owned(),
@@ -424,8 +451,8 @@ fn record_from_fields(path: &Path, line: u64, f: &csv::StringRecord) -> Result<R
     })
 }
 
-fn open_csv(path: &Path, headers: bool) -> Result<csv::Reader<std::fs::File>, Error> {
-    let file = std::fs::File::open(path).map_err(|e| Error::io("read", path, e))?;
+fn open_csv(path: &Path, headers: bool) -> Result<csv::Reader<std::fs::File>, ReadError> {
+    let file = std::fs::File::open(path).map_err(|e| IoError::new("read", path, e))?;
     Ok(csv::ReaderBuilder::new()
         .has_headers(headers)
         .flexible(true)
@@ -436,87 +463,33 @@ fn check_header(
     path: &Path,
     reader: &mut csv::Reader<std::fs::File>,
     expected: &[&str],
-) -> Result<(), Error> {
+) -> Result<(), ReadError> {
     let header = reader
         .headers()
-        .map_err(|e| Error::data(path, 1, e.to_string()))?;
+        .map_err(|e| data(path, 1, DataProblem::Csv(e)))?;
     let found: Vec<&str> = header.iter().collect();
     if found != expected {
-        return Err(Error::data(
+        return Err(data(
             path,
             1,
-            format!(
-                "expected the columns {}, found {}",
-                expected.join(","),
-                found.join(",")
-            ),
+            DataProblem::Header {
+                expected: expected.iter().map(|c| c.to_string()).collect(),
+                found: found.iter().map(|c| c.to_string()).collect(),
+            },
         ));
     }
     Ok(())
 }
 
-/// Reads the records of a journal, ignoring an incomplete last line (the
-/// trace of an interruption); a malformed line elsewhere is an error.
-pub fn read_journal(path: &Path) -> Result<Vec<RunRecord>, Error> {
-    let text = std::fs::read(path).map_err(|e| Error::io("read", path, e))?;
-    let mut reader = csv::ReaderBuilder::new()
-        .has_headers(false)
-        .flexible(true)
-        .from_reader(&text[..]);
-    let rows: Vec<_> = reader.records().collect();
-    let mut out = Vec::new();
-    let n = rows.len();
-    for (i, row) in rows.into_iter().enumerate() {
-        let line = i as u64 + 1;
-        let last = i + 1 == n;
-        let complete = match &row {
-            Ok(r) => r.len() == RUNS_HEADER.len() + 4 && r.get(RUNS_HEADER.len() + 3) == Some("ok"),
-            Err(_) => false,
-        };
-        if !complete {
-            if last {
-                break;
-            }
-            return Err(Error::data(path, line, "malformed journal line"));
-        }
-        let r = row.expect("checked above");
-        let mut rec = record_from_fields(path, line, &r)?;
-        let trace_text = r.get(RUNS_HEADER.len()).unwrap_or("");
-        if !trace_text.is_empty() {
-            for part in trace_text.split('|') {
-                let (e, b) = part
-                    .split_once(':')
-                    .ok_or_else(|| Error::data(path, line, "malformed trace"))?;
-                rec.trace.push(TracePoint {
-                    evaluations: parse(path, line, "trace", e)?,
-                    best: parse(path, line, "trace", b)?,
-                });
-            }
-        }
-        let fit_text = r.get(RUNS_HEADER.len() + 1).unwrap_or("");
-        if !fit_text.is_empty() {
-            rec.fit = Some(FitDetail::from_journal_field(path, line, fit_text)?);
-        }
-        rec.wall_seconds = parse(
-            path,
-            line,
-            "wall_seconds",
-            r.get(RUNS_HEADER.len() + 2).unwrap_or(""),
-        )?;
-        out.push(rec);
-    }
-    Ok(out)
-}
-
 /// Reads `runs.csv` alone (traces empty, wall time 0): the input of reports,
 /// which may also come from outside this tool.
-pub fn read_runs(path: &Path) -> Result<Vec<RunRecord>, Error> {
+pub fn read_runs(path: &Path) -> Result<Vec<RunRecord>, ReadError> {
     let mut reader = open_csv(path, true)?;
     check_header(path, &mut reader, &RUNS_HEADER)?;
     let mut out = Vec::new();
     for (i, row) in reader.records().enumerate() {
         let line = i as u64 + 2;
-        let row = row.map_err(|e| Error::data(path, line, e.to_string()))?;
+        let row = row.map_err(|e| data(path, line, DataProblem::Csv(e)))?;
         out.push(record_from_fields(path, line, &row)?);
     }
     Ok(out)
@@ -527,15 +500,15 @@ pub fn read_runs(path: &Path) -> Result<Vec<RunRecord>, Error> {
 fn read_keyed(
     path: &Path,
     header: &[&str],
-    mut row: impl FnMut(&Path, u64, &csv::StringRecord) -> Result<(), Error>,
-) -> Result<(), Error> {
+    mut row: impl FnMut(&Path, u64, &csv::StringRecord) -> Result<(), ReadError>,
+) -> Result<(), ReadError> {
     let mut reader = open_csv(path, true)?;
     check_header(path, &mut reader, header)?;
     for (i, r) in reader.records().enumerate() {
         let line = i as u64 + 2;
-        let r = r.map_err(|e| Error::data(path, line, e.to_string()))?;
+        let r = r.map_err(|e| data(path, line, DataProblem::Csv(e)))?;
         if r.len() != header.len() {
-            return Err(Error::data(path, line, "wrong number of columns"));
+            return Err(data(path, line, DataProblem::WrongColumnCount));
         }
         row(path, line, &r)?;
     }
@@ -544,7 +517,7 @@ fn read_keyed(
 
 /// Reads a finished campaign directory's `runs.csv`, `convergence.csv` and
 /// `timing.csv` back into complete records.
-pub fn read_results(dir: &Path) -> Result<Vec<RunRecord>, Error> {
+pub fn read_results(dir: &Path) -> Result<Vec<RunRecord>, ReadError> {
     let runs_path = dir.join("runs.csv");
     let mut records = read_runs(&runs_path)?;
     let index: HashMap<RunKey, usize> = records
@@ -552,7 +525,7 @@ pub fn read_results(dir: &Path) -> Result<Vec<RunRecord>, Error> {
         .enumerate()
         .map(|(i, r)| (r.key(), i))
         .collect();
-    let lookup = |path: &Path, line: u64, row: &csv::StringRecord| -> Result<usize, Error> {
+    let lookup = |path: &Path, line: u64, row: &csv::StringRecord| -> Result<usize, ReadError> {
         let run: u32 = parse(path, line, "run", row.get(5).unwrap_or(""))?;
         let key = (
             format!("{}:{}[{}]", &row[0], &row[1], &row[2]),
@@ -562,7 +535,7 @@ pub fn read_results(dir: &Path) -> Result<Vec<RunRecord>, Error> {
         index
             .get(&key)
             .copied()
-            .ok_or_else(|| Error::data(path, line, "this run is not in runs.csv"))
+            .ok_or_else(|| data(path, line, DataProblem::UnknownRun))
     };
     read_keyed(
         &dir.join("convergence.csv"),
@@ -604,7 +577,7 @@ pub fn read_results(dir: &Path) -> Result<Vec<RunRecord>, Error> {
                 let fit = records[k]
                     .fit
                     .as_mut()
-                    .ok_or_else(|| Error::data(path, line, "this run has no row in fits.csv"))?;
+                    .ok_or_else(|| data(path, line, DataProblem::NoFitRow))?;
                 fit.segments.push(
                     row.iter()
                         .skip(RUN_KEY_HEADER.len())
@@ -618,90 +591,47 @@ pub fn read_results(dir: &Path) -> Result<Vec<RunRecord>, Error> {
     Ok(records)
 }
 
+/// A run record with awkward values (quotes, extreme reals, an infinite
+/// trace point) for round-trip tests.
+#[cfg(test)]
+pub(crate) fn sample_record(run: u32) -> RunRecord {
+    RunRecord {
+        algorithm: "HS, tuned".into(),
+        kind: "hs".into(),
+        params: "hms=5;hmcr=0.9".into(),
+        problem: "sphere".into(),
+        dim: 10,
+        budget: 1000,
+        run,
+        seed: u64::MAX - 3,
+        best: 1.234_567_890_123_456_7e-13,
+        error: 1.234_567_890_123_456_7e-13,
+        evaluations: 1000,
+        evaluations_to_target: if run == 0 { None } else { Some(17) },
+        success: run != 0,
+        trace: vec![
+            TracePoint {
+                evaluations: 1,
+                best: f64::INFINITY,
+            },
+            TracePoint {
+                evaluations: 10,
+                best: 0.1 + 0.2,
+            },
+        ],
+        fit: None,
+        wall_seconds: 0.0125,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn record(run: u32) -> RunRecord {
-        RunRecord {
-            algorithm: "HS, tuned".into(),
-            kind: "hs".into(),
-            params: "hms=5;hmcr=0.9".into(),
-            problem: "sphere".into(),
-            dim: 10,
-            budget: 1000,
-            run,
-            seed: u64::MAX - 3,
-            best: 1.234_567_890_123_456_7e-13,
-            error: 1.234_567_890_123_456_7e-13,
-            evaluations: 1000,
-            evaluations_to_target: if run == 0 { None } else { Some(17) },
-            success: run != 0,
-            trace: vec![
-                TracePoint {
-                    evaluations: 1,
-                    best: f64::INFINITY,
-                },
-                TracePoint {
-                    evaluations: 10,
-                    best: 0.1 + 0.2,
-                },
-            ],
-            fit: None,
-            wall_seconds: 0.0125,
-        }
-    }
-
-    #[test]
-    fn reals_round_trip_exactly() {
-        for x in [
-            0.0,
-            -0.0,
-            0.1 + 0.2,
-            1e-300,
-            5e-324,
-            1.7976931348623157e308,
-            123456.789,
-            f64::INFINITY,
-        ] {
-            let back: f64 = fmt_real(x).parse().unwrap();
-            assert_eq!(back.to_bits(), x.to_bits(), "{x}");
-        }
-        assert_eq!(fmt_real(0.5), "0.5");
-        assert_eq!(fmt_real(2.5e-7), "2.5e-7");
-    }
-
-    #[test]
-    fn journal_round_trips_and_drops_a_torn_last_line() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("journal.csv");
-        let mut bytes = journal_line(&record(0));
-        bytes.extend(journal_line(&record(1)));
-        let torn = journal_line(&record(2));
-        bytes.extend(&torn[..torn.len() - 5]);
-        std::fs::write(&path, &bytes).unwrap();
-        let back = read_journal(&path).unwrap();
-        assert_eq!(back, vec![record(0), record(1)]);
-    }
-
-    #[test]
-    fn a_malformed_line_in_the_middle_is_an_error() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("journal.csv");
-        let mut bytes = b"garbage,line\n".to_vec();
-        bytes.extend(journal_line(&record(1)));
-        std::fs::write(&path, &bytes).unwrap();
-        let err = read_journal(&path).unwrap_err().to_string();
-        assert!(
-            err.ends_with("journal.csv:1: malformed journal line"),
-            "{err}"
-        );
-    }
-
     #[test]
     fn result_files_round_trip() {
         let dir = tempfile::tempdir().unwrap();
-        let recs = vec![record(0), record(1)];
+        let recs = vec![sample_record(0), sample_record(1)];
         std::fs::write(dir.path().join("runs.csv"), runs_csv(&recs)).unwrap();
         std::fs::write(
             dir.path().join("convergence.csv"),

@@ -1,0 +1,156 @@
+//! The journal of a running campaign: each finished run is appended to
+//! `journal.csv` as one self-checking line, so that an interrupted campaign
+//! resumes without losing finished runs.
+//!
+//! A line holds the `runs.csv` fields, the convergence trace as
+//! `evaluations:best|...`, the fit detail of a fitting run, the wall time,
+//! and the sentinel `ok`; a line without its sentinel is the trace of an
+//! interruption and is dropped when it is the last one.
+
+use std::path::Path;
+
+use super::records::{
+    data, parse, record_from_fields, run_fields, DataProblem, FitDetail, ReadError, RunRecord,
+    FIT_FIELDS, RUNS_HEADER,
+};
+use super::segments::SEGMENT_HEADER;
+use crate::files::{fmt_real, IoError};
+use crate::optim::TracePoint;
+
+/// One journal line (no header): the `runs.csv` fields, the trace as
+/// `evaluations:best|...`, the wall time, and the sentinel `ok` that marks
+/// the line as complete.
+pub fn journal_line(r: &RunRecord) -> Vec<u8> {
+    let mut fields = run_fields(r);
+    let trace: Vec<String> = r
+        .trace
+        .iter()
+        .map(|p| format!("{}:{}", p.evaluations, fmt_real(p.best)))
+        .collect();
+    fields.push(trace.join("|"));
+    fields.push(r.fit.as_ref().map_or(String::new(), fit_field));
+    fields.push(fmt_real(r.wall_seconds));
+    fields.push("ok".into());
+    let mut w = csv::WriterBuilder::new()
+        .has_headers(false)
+        .from_writer(Vec::new());
+    w.write_record(&fields).expect("writing to memory");
+    w.into_inner().expect("writing to memory")
+}
+
+/// Reads the records of a journal, ignoring an incomplete last line (the
+/// trace of an interruption); a malformed line elsewhere is an error.
+pub fn read_journal(path: &Path) -> Result<Vec<RunRecord>, ReadError> {
+    let text = std::fs::read(path).map_err(|e| IoError::new("read", path, e))?;
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .from_reader(&text[..]);
+    let rows: Vec<_> = reader.records().collect();
+    let mut out = Vec::new();
+    let n = rows.len();
+    for (i, row) in rows.into_iter().enumerate() {
+        let line = i as u64 + 1;
+        let last = i + 1 == n;
+        let complete = match &row {
+            Ok(r) => r.len() == RUNS_HEADER.len() + 4 && r.get(RUNS_HEADER.len() + 3) == Some("ok"),
+            Err(_) => false,
+        };
+        if !complete {
+            if last {
+                break;
+            }
+            return Err(data(path, line, DataProblem::Malformed("journal line")));
+        }
+        let r = row.expect("checked above");
+        let mut rec = record_from_fields(path, line, &r)?;
+        let trace_text = r.get(RUNS_HEADER.len()).unwrap_or("");
+        if !trace_text.is_empty() {
+            for part in trace_text.split('|') {
+                let (e, b) = part
+                    .split_once(':')
+                    .ok_or_else(|| data(path, line, DataProblem::Malformed("trace")))?;
+                rec.trace.push(TracePoint {
+                    evaluations: parse(path, line, "trace", e)?,
+                    best: parse(path, line, "trace", b)?,
+                });
+            }
+        }
+        let fit_text = r.get(RUNS_HEADER.len() + 1).unwrap_or("");
+        if !fit_text.is_empty() {
+            rec.fit = Some(fit_from_field(path, line, fit_text)?);
+        }
+        rec.wall_seconds = parse(
+            path,
+            line,
+            "wall_seconds",
+            r.get(RUNS_HEADER.len() + 2).unwrap_or(""),
+        )?;
+        out.push(rec);
+    }
+    Ok(out)
+}
+
+/// One journal field: the run-level fields joined by `;`, then each
+/// segment row joined by `;`, all separated by `|`.
+fn fit_field(detail: &FitDetail) -> String {
+    std::iter::once(detail.fields().join(";"))
+        .chain(detail.segments.iter().map(|r| r.join(";")))
+        .collect::<Vec<_>>()
+        .join("|")
+}
+
+/// Reads [`fit_field`] back.
+fn fit_from_field(path: &Path, line: u64, text: &str) -> Result<FitDetail, ReadError> {
+    let mut parts = text.split('|');
+    let head: Vec<&str> = parts.next().unwrap_or("").split(';').collect();
+    if head.len() != FIT_FIELDS.len() {
+        return Err(data(path, line, DataProblem::Malformed("fit detail")));
+    }
+    let mut detail = FitDetail::from_fields(path, line, &head)?;
+    for part in parts {
+        let row: Vec<String> = part.split(';').map(str::to_owned).collect();
+        if row.len() != SEGMENT_HEADER.len() {
+            return Err(data(
+                path,
+                line,
+                DataProblem::Malformed("segment in the fit detail"),
+            ));
+        }
+        detail.segments.push(row);
+    }
+    Ok(detail)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::experiment::records::sample_record;
+
+    #[test]
+    fn journal_round_trips_and_drops_a_torn_last_line() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("journal.csv");
+        let mut bytes = journal_line(&sample_record(0));
+        bytes.extend(journal_line(&sample_record(1)));
+        let torn = journal_line(&sample_record(2));
+        bytes.extend(&torn[..torn.len() - 5]);
+        std::fs::write(&path, &bytes).unwrap();
+        let back = read_journal(&path).unwrap();
+        assert_eq!(back, vec![sample_record(0), sample_record(1)]);
+    }
+
+    #[test]
+    fn a_malformed_line_in_the_middle_is_an_error() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("journal.csv");
+        let mut bytes = b"garbage,line\n".to_vec();
+        bytes.extend(journal_line(&sample_record(1)));
+        std::fs::write(&path, &bytes).unwrap();
+        let err = read_journal(&path).unwrap_err().to_string();
+        assert!(
+            err.ends_with("journal.csv:1: malformed journal line"),
+            "{err}"
+        );
+    }
+}

@@ -1,0 +1,176 @@
+//! The campaign machinery, in the order data flows through it:
+//! a TOML [`spec`] is checked completely, the [`runner`] executes its seeded
+//! runs in parallel and appends each finished run to the [`journal`], and
+//! [`records`] writes the tidy CSV result files (with the per-segment
+//! columns of fitting runs in [`segments`]). [`fit_files`] writes the same
+//! records for a single `metabezier fit`.
+//!
+//! This room sits above the optimisers, the fitting pipeline and the CT
+//! layer, and below the implant, the report and the command line; the
+//! report reads what [`records`] writes and nothing else of this room.
+
+pub mod fit_files;
+pub mod journal;
+pub mod records;
+pub mod runner;
+pub mod segments;
+pub mod spec;
+
+use std::fmt;
+use std::path::PathBuf;
+
+use crate::files::IoError;
+
+pub use records::{DataError, DataProblem, ReadError, RunRecord};
+pub use runner::{merge, run_campaign, RunOptions, Shard, ShardError, Summary};
+pub use spec::{Spec, SpecError};
+
+/// Why a campaign cannot proceed as asked: a resume or a merge that would
+/// mix runs of different campaigns, or a machine that cannot start it.
+#[derive(Debug, thiserror::Error)]
+pub enum CampaignError {
+    /// The output directory holds runs and `--resume` was not given.
+    #[error(
+        "{} already holds runs of a campaign; pass --resume to continue it (finished runs are kept), or choose another --out",
+        out.display()
+    )]
+    AlreadyHoldsRuns {
+        /// The output directory.
+        out: PathBuf,
+    },
+    /// The spec differs from the copy made when the campaign started.
+    #[error(
+        "cannot resume: {} differs from {}, the copy made when the campaign started, so finished runs would not match; restore the spec or choose another --out",
+        spec.display(),
+        copy.display()
+    )]
+    SpecChanged {
+        /// The spec given now.
+        spec: PathBuf,
+        /// The copy in the output directory.
+        copy: PathBuf,
+    },
+    /// The output directory was started as another shard (or unsharded).
+    #[error(
+        "cannot resume: {} was started as shard {}, not {}",
+        out.display(),
+        started.as_deref().unwrap_or("(none)"),
+        asked.as_deref().unwrap_or("(none)")
+    )]
+    ShardChanged {
+        /// The output directory.
+        out: PathBuf,
+        /// The shard it was started as (`K/N`), if any.
+        started: Option<String>,
+        /// The shard asked for now, if any.
+        asked: Option<String>,
+    },
+    /// A results directory holds a run the spec does not define.
+    #[error(
+        "cannot {action}: {} holds run {run} of {cell} on {problem}, which the spec does not define",
+        dir.display()
+    )]
+    ForeignRun {
+        /// What was being done.
+        action: CampaignAction,
+        /// The directory holding the run.
+        dir: PathBuf,
+        /// The run number.
+        run: u32,
+        /// The run's cell key.
+        cell: String,
+        /// The run's problem key.
+        problem: String,
+    },
+    /// A shard directory was made from a different spec.
+    #[error(
+        "cannot merge: {} was made from a different spec than {}",
+        copy.display(),
+        spec.display()
+    )]
+    DifferentSpec {
+        /// The shard's copy of its spec.
+        copy: PathBuf,
+        /// The spec of the merge.
+        spec: PathBuf,
+    },
+    /// A shard directory has no `runs.csv` yet.
+    #[error(
+        "cannot merge: {} has no runs.csv; finish that shard first (run it again with --resume)",
+        dir.display()
+    )]
+    UnfinishedShard {
+        /// The shard directory.
+        dir: PathBuf,
+    },
+    /// Two shards hold different results for the same run.
+    #[error("cannot merge: run {run} of {cell} on {problem} differs between shards")]
+    ShardsDisagree {
+        /// The run number.
+        run: u32,
+        /// The run's cell key.
+        cell: String,
+        /// The run's problem key.
+        problem: String,
+    },
+    /// The merged shards do not hold every run of the campaign.
+    #[error(
+        "cannot merge: {missing} of {total} runs are missing (the first is run #{first}); merge all shards of the campaign"
+    )]
+    MissingRuns {
+        /// Runs missing.
+        missing: usize,
+        /// Runs in the campaign.
+        total: usize,
+        /// Index of the first missing run.
+        first: usize,
+    },
+    /// The worker thread pool could not be started.
+    #[error("cannot start worker threads: {0}")]
+    Threads(#[source] rayon::ThreadPoolBuildError),
+}
+
+/// What a campaign was doing when it met a foreign run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CampaignAction {
+    /// `metabezier run --resume`.
+    Resume,
+    /// `metabezier merge`.
+    Merge,
+}
+
+impl fmt::Display for CampaignAction {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            CampaignAction::Resume => "resume",
+            CampaignAction::Merge => "merge",
+        })
+    }
+}
+
+/// Every failure of this room: a spec, a file, a results file, or a
+/// campaign that cannot proceed.
+#[derive(Debug, thiserror::Error)]
+pub enum ExperimentError {
+    /// The spec is invalid.
+    #[error(transparent)]
+    Spec(#[from] SpecError),
+    /// A file could not be read or written.
+    #[error(transparent)]
+    Io(#[from] IoError),
+    /// A results file is malformed.
+    #[error(transparent)]
+    Data(#[from] DataError),
+    /// The campaign cannot proceed as asked.
+    #[error(transparent)]
+    Campaign(#[from] CampaignError),
+}
+
+impl From<ReadError> for ExperimentError {
+    fn from(e: ReadError) -> Self {
+        match e {
+            ReadError::Io(e) => ExperimentError::Io(e),
+            ReadError::Data(e) => ExperimentError::Data(e),
+        }
+    }
+}

@@ -1,0 +1,146 @@
+//! Writing result files: atomically (temporary file, sync, rename), as CSV
+//! bytes, with reals in shortest round-trip form; and the I/O error that
+//! names the file it concerns.
+//!
+//! A leaf of the crate: it imports nothing of it, so every room may use it.
+
+use std::io;
+use std::path::{Path, PathBuf};
+
+/// A file or directory could not be read, written, created or renamed.
+#[derive(Debug, thiserror::Error)]
+#[error("{}: cannot {action}: {source}", path.display())]
+pub struct IoError {
+    /// What was being done, such as "write" or "create the directory".
+    pub action: &'static str,
+    /// The file or directory.
+    pub path: PathBuf,
+    /// The operating system's error.
+    #[source]
+    pub source: io::Error,
+}
+
+impl IoError {
+    /// The failure of `action` on `path`.
+    pub fn new(action: &'static str, path: &Path, source: io::Error) -> Self {
+        IoError {
+            action,
+            path: path.to_owned(),
+            source,
+        }
+    }
+}
+
+/// Creates `dir` and its parents if they are missing.
+pub fn create_dir(dir: &Path) -> Result<(), IoError> {
+    std::fs::create_dir_all(dir).map_err(|e| IoError::new("create the directory", dir, e))
+}
+
+/// Reads the whole of `path` as UTF-8 text.
+pub fn read_text(path: &Path) -> Result<String, IoError> {
+    std::fs::read_to_string(path).map_err(|e| IoError::new("read", path, e))
+}
+
+/// Writes `bytes` to `path` atomically: to a temporary file in the same
+/// directory, synced, then renamed over `path`, so that no reader ever sees a
+/// half-written file.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
+    use std::io::Write;
+    let dir = path.parent().filter(|p| !p.as_os_str().is_empty());
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tmp = match dir {
+        Some(d) => d.join(format!(".{name}.{}.tmp", std::process::id())),
+        None => PathBuf::from(format!(".{name}.{}.tmp", std::process::id())),
+    };
+    let result = (|| {
+        let mut file = std::fs::File::create(&tmp)?;
+        file.write_all(bytes)?;
+        file.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    if let Err(e) = result {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(IoError::new("write", path, e));
+    }
+    Ok(())
+}
+
+/// A real in shortest round-trip form: plain notation for magnitudes in
+/// `[1e-4, 1e16)` and zero, scientific notation otherwise, so that reading
+/// it back gives the same bits.
+pub fn fmt_real(x: f64) -> String {
+    let a = x.abs();
+    if x == 0.0 || !x.is_finite() || (1e-4..1e16).contains(&a) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// CSV bytes (RFC 4180 quoting) of a header and rows; rows may differ in
+/// length from the header.
+pub fn csv_bytes<H, R, I>(header: &[H], rows: I) -> Vec<u8>
+where
+    H: AsRef<[u8]>,
+    R: IntoIterator,
+    R::Item: AsRef<[u8]>,
+    I: IntoIterator<Item = R>,
+{
+    let mut w = csv::WriterBuilder::new()
+        .flexible(true)
+        .from_writer(Vec::new());
+    // Writing to memory cannot fail, and a flexible writer accepts any row.
+    w.write_record(header).expect("writing to memory");
+    for row in rows {
+        w.write_record(row).expect("writing to memory");
+    }
+    w.into_inner().expect("writing to memory")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reals_round_trip() {
+        for x in [
+            0.0,
+            -0.0,
+            0.1 + 0.2,
+            1e-5,
+            1e-300,
+            5e-324,
+            f64::MAX,
+            123456.789,
+            f64::INFINITY,
+        ] {
+            assert_eq!(fmt_real(x).parse::<f64>().unwrap().to_bits(), x.to_bits());
+        }
+        assert_eq!(fmt_real(1e-5), "1e-5");
+        assert_eq!(fmt_real(0.25), "0.25");
+        assert_eq!(fmt_real(2.5e-7), "2.5e-7");
+    }
+
+    #[test]
+    fn csv_quotes_and_allows_ragged_rows() {
+        let bytes = csv_bytes(&["a", "b"], [vec!["1,5", "x"], vec!["2"]]);
+        assert_eq!(String::from_utf8(bytes).unwrap(), "a,b\n\"1,5\",x\n2\n");
+    }
+
+    #[test]
+    fn an_atomic_write_leaves_no_temporary_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("out.csv");
+        write_atomic(&path, b"x\n").unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), b"x\n");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+        let e = write_atomic(&dir.path().join("missing/out.csv"), b"x").unwrap_err();
+        assert!(
+            e.to_string().contains("missing/out.csv: cannot write"),
+            "{e}"
+        );
+    }
+}
