@@ -61,7 +61,7 @@ fn horse_is_one_counter_clockwise_loop() {
     assert_eq!(centres[0].len(), 2054);
     let lost = pixels - centres[0].area();
     assert!(
-        (lost - 0.5 * horse.perimeter()).abs() < 0.1 * horse.perimeter(),
+        (lost - 0.5 * horse.length()).abs() < 0.1 * horse.length(),
         "{lost}"
     );
 }
@@ -90,7 +90,7 @@ fn coin_is_one_round_loop() {
     assert_eq!(coin.orientation(), Orientation::CounterClockwise);
     // Isoperimetric ratio 4πA/P² is 1 for a circle; the digitised, thresholded
     // coin edge is a little rough.
-    let ratio = 4.0 * PI * coin.area() / coin.perimeter().powi(2);
+    let ratio = 4.0 * PI * coin.area() / coin.length().powi(2);
     assert!((ratio - 1.0).abs() < 0.15, "4πA/P² = {ratio}");
     // About 43 px across.
     let (lo, hi) = coin.bbox().unwrap();
@@ -374,7 +374,7 @@ fn input_strings_load_all_three_kinds() {
     let o = load(&c, &options).unwrap();
     assert_eq!(o.len(), 1);
     assert!(!o[0].closed);
-    assert_eq!(o[0].perimeter(), 8.0);
+    assert_eq!(o[0].length(), 8.0);
 }
 
 // ------------------------------------------------- corners and arc splits

@@ -15,9 +15,9 @@
 
 use super::error::CtError;
 use super::mask::Mask2;
-use super::polyline::Polyline;
 use super::volume::Slice;
 use crate::geometry::Point;
+use crate::geometry::Polyline;
 
 /// Closed iso-contours `f = level` of a row-major field of `ny × nx` samples
 /// at pixel centres, in mm (`x = col·sx`, `y = row·sy`), inside (`f ≥ level`)

@@ -4,9 +4,9 @@
 use std::collections::HashMap;
 
 use super::error::CtError;
-use super::polyline::Polyline;
 use super::triangulate::ear_clip;
 use crate::geometry::Point;
+use crate::geometry::Polyline;
 
 /// An indexed triangle mesh in mm.
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -8,7 +8,7 @@
 use super::edt::edt_squared;
 use super::error::CtError;
 use super::mask::Mask3;
-use super::polyline::Polyline;
+use crate::geometry::Polyline;
 
 fn check(a: &Mask3, b: &Mask3) -> Result<(), CtError> {
     if a.same_grid(b) {

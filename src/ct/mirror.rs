@@ -12,8 +12,8 @@
 
 use super::error::CtError;
 use super::mask::Mask2;
-use super::polyline::Polyline;
 use crate::geometry::Point;
+use crate::geometry::Polyline;
 
 /// The reflection of `p` across the vertical line `x = midline_x`:
 /// `(2·M_x − x, y)`.

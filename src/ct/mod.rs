@@ -19,13 +19,13 @@ pub mod mesh;
 pub mod metrics;
 pub mod mirror;
 pub mod plist;
-pub mod polyline;
 pub mod render;
 pub mod stl;
 pub mod triangulate;
 pub mod volume;
 pub mod voxelise;
 
+pub use crate::geometry::{Nearest, Polyline};
 pub use bone::{
     bone_mask_slice, bone_mask_volume, largest_component_2d, largest_component_3d, threshold_slice,
     BONE_THRESHOLD_HU,
@@ -45,7 +45,6 @@ pub use metrics::{
     ContourDeviation,
 };
 pub use mirror::{estimate_midline, mirror_template, reflect, Midline, MirrorTemplate};
-pub use polyline::{Nearest, Polyline};
 pub use render::{encode_png, mesh_view_rgb, slice_overlay_png, write_png, Overlay, View, Window};
 pub use stl::{parse_stl, stl_bytes, write_stl};
 pub use triangulate::ear_clip;

@@ -13,11 +13,11 @@ use plotters::prelude::*;
 
 use super::error::CtError;
 use super::mesh::Mesh;
-use super::polyline::Polyline;
 use super::volume::Slice;
 use crate::files::write_atomic;
 use crate::font::{ensure_font, FAMILY};
 use crate::geometry::Point;
+use crate::geometry::Polyline;
 
 /// A CT display window: grey = clamp((HU − (level − width/2)) / width).
 #[derive(Clone, Copy, Debug, PartialEq)]

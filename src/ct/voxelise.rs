@@ -4,8 +4,8 @@
 //! (equivalent to the crossing-number point-in-polygon test per voxel).
 
 use super::mask::Mask3;
-use super::polyline::Polyline;
 use super::volume::Spacing;
+use crate::geometry::Polyline;
 
 /// A mask on the `nx × ny × nz` grid with `spacing`, true inside
 /// `sections[k].1` on slice `sections[k].0` (several polygons on one slice

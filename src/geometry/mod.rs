@@ -1,6 +1,6 @@
-//! Bézier geometry: points, the Bernstein basis, polynomial and rational Bézier
-//! segments, joins between segments, closest points, parameterisations and
-//! offset curves.
+//! Bézier geometry: points, polylines, the Bernstein basis, polynomial and
+//! rational Bézier segments, joins between segments, closest points,
+//! parameterisations and offset curves.
 //!
 //! One concept per module, in the style of the `kurbo` crate; everything is
 //! re-exported here. Curves run on `t ∈ [0, 1]`; the formulas follow Farin,
@@ -35,6 +35,7 @@ mod nearest;
 mod offset;
 mod param;
 mod point;
+mod polyline;
 mod quadbez;
 mod rational;
 mod rcubicbez;
@@ -52,6 +53,7 @@ pub use nearest::{nearest, nearest_with, DEFAULT_SAMPLES};
 pub use offset::{offset_into, offset_linear, offset_point, offset_points, LinearDistance};
 pub use param::{reparameterise, reparameterise_into, Parameterisation};
 pub use point::Point;
+pub use polyline::{Nearest, Orientation, Polyline};
 pub use quadbez::QuadBez;
 pub use rational::RationalBezier;
 pub use rcubicbez::RationalCubicBez;

@@ -30,12 +30,12 @@ mod glyph;
 mod image;
 mod input;
 mod otsu;
-mod polygon;
 
 pub use self::image::{
     binarize, boundaries, grey_outlines, load_grey, load_image, luminance, select_outlines,
     Boundary, BoundaryPoints, Foreground, GreyImage, ImageOptions, Threshold,
 };
+pub use crate::geometry::Orientation;
 pub use border::{find_borders, BinaryImage, Border, BorderKind, Side};
 pub use corners::{find_corners, split_at, turning_angles, CornerOptions};
 pub use csv_points::{csv_from_bytes, load_csv, CsvOptions};
@@ -45,4 +45,8 @@ pub use glyph::{
 };
 pub use input::{load, parse_glyph, parse_input, Input, Options};
 pub use otsu::{histogram, otsu_threshold};
-pub use polygon::{Orientation, Outline};
+
+/// An outline: the ordered boundary points of a shape in an image or a
+/// glyph, a [`Polyline`](crate::geometry::Polyline) (outer boundaries run
+/// counter-clockwise, holes clockwise, so the shape is on the left).
+pub type Outline = crate::geometry::Polyline;

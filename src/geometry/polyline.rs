@@ -1,15 +1,31 @@
-//! Polylines in a slice's millimetre frame: closed loops (contours,
-//! cross-sections) or open arcs (table contours split at a defect).
+//! The [`Polyline`]: an ordered list of points, open or closed, as the
+//! outline of an image or a glyph, a bone contour, or a cross-section of the
+//! implant. When closed, the last point joins back to the first, and the
+//! first point is not repeated at the end.
 
-use crate::geometry::Point;
+use super::Point;
 
-/// A polyline; when `closed`, the last point joins back to the first (the
-/// first point is not repeated at the end).
-#[derive(Clone, Debug, PartialEq)]
+/// The turning sense of a closed outline in a y-up frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Orientation {
+    /// Positive signed area: the interior is on the left of the direction of
+    /// travel (outer boundaries, by this module's convention).
+    CounterClockwise,
+    /// Negative signed area: the interior is on the right (holes).
+    Clockwise,
+    /// Zero signed area (fewer than three points, or all collinear).
+    Degenerate,
+}
+
+/// An ordered list of points along a curve, open or closed, in a y-up frame.
+///
+/// For a closed polyline the last point connects back to the first, and the
+/// first point is *not* repeated at the end.
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Polyline {
-    /// The vertices in mm.
+    /// The points in order.
     pub points: Vec<Point>,
-    /// Whether the last vertex connects to the first.
+    /// Whether the last point connects back to the first.
     pub closed: bool,
 }
 
@@ -23,7 +39,7 @@ pub struct Nearest {
     pub t: f64,
     /// The nearest point.
     pub point: Point,
-    /// Its distance to the query, in mm.
+    /// Its distance to the query.
     pub distance: f64,
 }
 
@@ -40,6 +56,105 @@ fn segment_foot(p: Point, a: Point, b: Point) -> (f64, Point) {
 }
 
 impl Polyline {
+    /// An polyline through `points`, closed or open.
+    pub fn new(points: Vec<Point>, closed: bool) -> Polyline {
+        Polyline { points, closed }
+    }
+
+    /// The number of points.
+    pub fn len(&self) -> usize {
+        self.points.len()
+    }
+
+    /// Whether the polyline has no points.
+    pub fn is_empty(&self) -> bool {
+        self.points.is_empty()
+    }
+
+    /// The enclosed area `|A|` (see [`signed_area`](Polyline::signed_area)).
+    pub fn area(&self) -> f64 {
+        self.signed_area().abs()
+    }
+
+    /// The orientation from the sign of the shoelace area.
+    pub fn orientation(&self) -> Orientation {
+        let a = self.signed_area();
+        if a > 0.0 {
+            Orientation::CounterClockwise
+        } else if a < 0.0 {
+            Orientation::Clockwise
+        } else {
+            Orientation::Degenerate
+        }
+    }
+
+    /// Reverses the direction of travel in place; a closed polyline keeps its
+    /// first point (so that indices of break points stay meaningful as
+    /// `n − i`), an open one swaps its ends.
+    pub fn reverse_keeping_start(&mut self) {
+        if self.closed && self.points.len() > 1 {
+            self.points[1..].reverse();
+        } else {
+            self.points.reverse();
+        }
+    }
+
+    /// Reverses the polyline if needed so that it has `orientation`; a
+    /// degenerate polyline is left as is. Returns whether it was reversed.
+    pub fn orient(&mut self, orientation: Orientation) -> bool {
+        let current = self.orientation();
+        if current != Orientation::Degenerate
+            && orientation != Orientation::Degenerate
+            && current != orientation
+        {
+            self.reverse_keeping_start();
+            true
+        } else {
+            false
+        }
+    }
+
+    /// Cumulative chord lengths `L₀ = 0, Lᵢ = Σ_{j<i} |pⱼ₊₁ − pⱼ|`, one per
+    /// point; for a closed polyline a last entry with the full perimeter is
+    /// appended (the return to the first point).
+    pub fn cumulative_lengths(&self) -> Vec<f64> {
+        let mut out = Vec::with_capacity(self.points.len() + 1);
+        let mut s = 0.0;
+        if let Some(&first) = self.points.first() {
+            out.push(0.0);
+            let mut prev = first;
+            for &p in &self.points[1..] {
+                s += prev.distance(p);
+                out.push(s);
+                prev = p;
+            }
+            if self.closed {
+                out.push(s + prev.distance(first));
+            }
+        }
+        out
+    }
+
+    /// The axis-aligned bounding box `(min, max)`, or `None` when empty.
+    pub fn bbox(&self) -> Option<(Point, Point)> {
+        let first = *self.points.first()?;
+        Some(self.points.iter().fold((first, first), |(lo, hi), p| {
+            (
+                Point::new(lo.x.min(p.x), lo.y.min(p.y)),
+                Point::new(hi.x.max(p.x), hi.y.max(p.y)),
+            )
+        }))
+    }
+
+    /// Removes consecutive duplicate points (and, when closed, a last point
+    /// equal to the first).
+    pub fn dedup(&mut self) {
+        self.points.dedup();
+        if self.closed && self.points.len() > 1 && self.points.first() == self.points.last() {
+            self.points.pop();
+        }
+    }
+
     /// A closed polyline.
     pub fn closed(points: Vec<Point>) -> Polyline {
         Polyline {
@@ -74,10 +189,11 @@ impl Polyline {
         (self.points[i], self.points[(i + 1) % n])
     }
 
-    /// Signed area by the shoelace formula `½ Σ (x_i y_{i+1} − x_{i+1} y_i)`
-    /// over the closed loop (an open polyline is closed by its chord).
-    /// Contours of this module have the bone on their left, so outer
-    /// boundaries are positive and holes negative.
+    /// Signed area by the shoelace formula `½ Σ (x_i y_{i+1} − x_{i+1} y_i)`,
+    /// indices modulo n, over the closed loop (an open polyline is closed by
+    /// its chord); positive for counter-clockwise order in a y-up frame.
+    /// Outer boundaries (of images, glyphs and bone contours) are positive,
+    /// holes negative, so the enclosed shape is always on the left.
     pub fn signed_area(&self) -> f64 {
         let n = self.points.len();
         if n < 3 {
@@ -91,7 +207,7 @@ impl Polyline {
         s / 2.0
     }
 
-    /// Total length in mm.
+    /// The length `Σ |pᵢ₊₁ − pᵢ|`, with the closing edge when closed.
     pub fn length(&self) -> f64 {
         (0..self.segment_count())
             .map(|i| {
@@ -101,7 +217,9 @@ impl Polyline {
             .sum()
     }
 
-    /// The same curve traversed the other way.
+    /// The same curve traversed the other way: the points in reverse order
+    /// (the first becomes the last; compare
+    /// [`reverse_keeping_start`](Polyline::reverse_keeping_start)).
     pub fn reversed(&self) -> Polyline {
         let mut points = self.points.clone();
         points.reverse();
@@ -269,5 +387,61 @@ impl Polyline {
             pts.push(to.point);
         }
         Polyline::open(pts)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square() -> Polyline {
+        let p = [(0.0, 0.0), (2.0, 0.0), (2.0, 2.0), (0.0, 2.0)];
+        Polyline::new(p.iter().map(|&q| q.into()).collect(), true)
+    }
+
+    #[test]
+    fn shoelace_area_and_orientation() {
+        let s = square();
+        assert_eq!(s.signed_area(), 4.0);
+        assert_eq!(s.orientation(), Orientation::CounterClockwise);
+        let mut r = s.clone();
+        r.reverse_keeping_start();
+        assert_eq!(r.signed_area(), -4.0);
+        assert_eq!(r.orientation(), Orientation::Clockwise);
+        assert_eq!(r.points[0], s.points[0]);
+        assert_eq!(r.points[1], Point::new(0.0, 2.0));
+        let full = s.reversed();
+        assert_eq!(full.points[0], Point::new(0.0, 2.0));
+        assert_eq!(full.points[3], s.points[0]);
+        assert_eq!(full.signed_area(), -4.0);
+        let mut t = r.clone();
+        assert!(t.orient(Orientation::CounterClockwise));
+        assert_eq!(t, s);
+        assert!(!t.orient(Orientation::CounterClockwise));
+        let line = Polyline::new(vec![Point::ZERO, Point::new(1.0, 1.0)], false);
+        assert_eq!(line.orientation(), Orientation::Degenerate);
+    }
+
+    #[test]
+    fn perimeter_and_lengths() {
+        let s = square();
+        assert_eq!(s.length(), 8.0);
+        assert_eq!(s.cumulative_lengths(), vec![0.0, 2.0, 4.0, 6.0, 8.0]);
+        let open = Polyline::new(s.points.clone(), false);
+        assert_eq!(open.length(), 6.0);
+        assert_eq!(open.cumulative_lengths(), vec![0.0, 2.0, 4.0, 6.0]);
+        assert_eq!(s.bbox(), Some((Point::ZERO, Point::new(2.0, 2.0))));
+        assert_eq!(Polyline::default().bbox(), None);
+    }
+
+    #[test]
+    fn dedup_removes_repeats_and_closing_duplicate() {
+        let p = Point::new(1.0, 1.0);
+        let mut o = Polyline::new(vec![Point::ZERO, Point::ZERO, p, p, Point::ZERO], true);
+        o.dedup();
+        assert_eq!(o.points, vec![Point::ZERO, p]);
+        let mut open = Polyline::new(vec![Point::ZERO, p, Point::ZERO], false);
+        open.dedup();
+        assert_eq!(open.len(), 3);
     }
 }
