@@ -1,6 +1,6 @@
 //! One evaluation of the segment objective `E = Σ|Rᵢ − P(sᵢ)|²` on a
 //! 500-point segment, for each function type, against evaluating the bare
-//! curve (the geometry type's own `eval_many`) at the same 500 parameters.
+//! curve (`Curve::eval_many` on the geometry type) at the same 500 parameters.
 //!
 //! The goal is `E ≈ bare`: the objective builds the control points from the
 //! decision vector on the stack and evaluates the fixed-degree Bernstein
@@ -21,7 +21,7 @@ use std::time::Duration;
 
 use criterion::{Criterion, Throughput};
 use metabezier::fit::{FunctionType, SearchSpaceOptions, Segment, SegmentProblem, Start};
-use metabezier::geometry::{Parameterisation, Point};
+use metabezier::geometry::{Curve, Parameterisation, Point};
 use metabezier::problem::Problem;
 
 const POINTS: usize = 500;
@@ -41,7 +41,7 @@ fn data() -> Vec<Point> {
         .collect()
 }
 
-/// The bare curve: the geometry type's own `eval_many` at the parameters,
+/// The bare curve: `Curve::eval_many` on the geometry type at the parameters,
 /// into a buffer (monomorphised per type, no reduction).
 fn bare_eval(segment: &Segment, params: &[f64], out: &mut [Point]) {
     match segment {

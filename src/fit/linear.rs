@@ -83,7 +83,7 @@ pub fn linear_fit(problem: &SegmentProblem) -> Vec<f64> {
 mod tests {
     use super::*;
     use crate::fit::{FunctionType, SearchSpaceOptions, Start};
-    use crate::geometry::{CubicBez, Point, QuadBez};
+    use crate::geometry::{CubicBez, Curve, Point, QuadBez};
 
     #[test]
     fn recovers_polynomials_exactly() {

@@ -29,7 +29,7 @@
 //! ```
 //! use std::f64::consts::FRAC_PI_2;
 //! use metabezier::fit::{fit_piecewise, FitOptions, FunctionType, LmSolver};
-//! use metabezier::geometry::{Continuity, Parameterisation, Point, RationalQuadBez};
+//! use metabezier::geometry::{Continuity, Curve, Parameterisation, Point, RationalQuadBez};
 //!
 //! // A unit circle: four quarter arcs, each sampled at 50 uniform parameters.
 //! let mut pts = Vec::new();

@@ -260,7 +260,7 @@ pub fn point_box(centre: Point, points: &[Point], options: &SearchSpaceOptions) 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{CubicBez, QuadBez};
+    use crate::geometry::{CubicBez, Curve, QuadBez};
 
     #[test]
     fn quarter_indices_are_exact_for_multiples_of_four() {

@@ -38,26 +38,6 @@ impl Bezier {
         self.pts.len() - 1
     }
 
-    /// `P(t)` by the de Casteljau algorithm `C_i^r = (1−t)C_i^{r−1} + t C_{i+1}^{r−1}`
-    /// (de Casteljau 1959; Farin 2002, §4.2).
-    #[inline]
-    pub fn eval(&self, t: f64) -> Point {
-        self.jet(t)[0]
-    }
-
-    /// `P'(t) = n Σᵢ (C_{i+1} − Cᵢ) B_i^{n−1}(t)` (Farin 2002, eq. 5.18),
-    /// read off the last de Casteljau level as `n(b₁ − b₀)`.
-    #[inline]
-    pub fn deriv(&self, t: f64) -> Point {
-        self.jet(t)[1]
-    }
-
-    /// `P''(t) = n(n−1) Σᵢ Δ²Cᵢ B_i^{n−2}(t)` (Farin 2002, eq. 5.22).
-    #[inline]
-    pub fn deriv2(&self, t: f64) -> Point {
-        self.jet(t)[2]
-    }
-
     /// `[P(t), P'(t), P''(t)]` in one de Casteljau pass.
     #[inline]
     pub fn jet(&self, t: f64) -> [Point; 3] {
@@ -120,37 +100,37 @@ impl Bezier {
         pts.push(last);
         Bezier { pts }
     }
-
-    /// Writes `P(tᵢ)` into `out[i]` for the pairs of `ts` and `out`.
-    #[inline]
-    pub fn eval_many(&self, ts: &[f64], out: &mut [Point]) {
-        Curve::eval_many(self, ts, out)
-    }
-
-    /// `E = Σᵢ |Rᵢ − P(sᵢ)|²` over the pairs of `points` and `params`.
-    #[inline]
-    pub fn sse(&self, points: &[Point], params: &[f64]) -> f64 {
-        Curve::sse(self, points, params)
-    }
 }
 
 impl Curve for Bezier {
+    /// `P(t)` by the de Casteljau algorithm `C_i^r = (1−t)C_i^{r−1} + t C_{i+1}^{r−1}`
+    /// (de Casteljau 1959; Farin 2002, §4.2), from [`Bezier::jet`].
     #[inline]
     fn eval(&self, t: f64) -> Point {
-        Bezier::eval(self, t)
+        self.jet(t)[0]
     }
+
+    /// `P'(t) = n Σᵢ (C_{i+1} − Cᵢ) B_i^{n−1}(t)` (Farin 2002, eq. 5.18),
+    /// read off the last de Casteljau level as `n(b₁ − b₀)`.
     #[inline]
     fn deriv(&self, t: f64) -> Point {
-        Bezier::deriv(self, t)
+        self.jet(t)[1]
     }
+
+    /// `P''(t) = n(n−1) Σᵢ Δ²Cᵢ B_i^{n−2}(t)` (Farin 2002, eq. 5.22), read off
+    /// de Casteljau level `n−2` as `n(n−1)(c₂ − 2c₁ + c₀)`.
     #[inline]
     fn deriv2(&self, t: f64) -> Point {
-        Bezier::deriv2(self, t)
+        self.jet(t)[2]
     }
+
+    /// `P(0) = C₀`.
     #[inline]
     fn start(&self) -> Point {
         self.pts[0]
     }
+
+    /// `P(1) = Cₙ`.
     #[inline]
     fn end(&self) -> Point {
         self.pts[self.pts.len() - 1]

@@ -29,10 +29,24 @@ impl CubicBez {
         [self.p0, self.p1, self.p2, self.p3]
     }
 
-    /// `P(t) = (1−t)³C₀ + 3(1−t)²t C₁ + 3(1−t)t² C₂ + t³C₃` with the explicit
-    /// Bernstein basis.
+    /// `P'(0) = 3(C₁ − C₀)`.
     #[inline]
-    pub fn eval(&self, t: f64) -> Point {
+    pub fn start_deriv(&self) -> Point {
+        (self.p1 - self.p0) * 3.0
+    }
+
+    /// `P'(1) = 3(C₃ − C₂)`.
+    #[inline]
+    pub fn end_deriv(&self) -> Point {
+        (self.p3 - self.p2) * 3.0
+    }
+}
+
+impl Curve for CubicBez {
+    /// `P(t) = (1−t)³C₀ + 3(1−t)²t C₁ + 3(1−t)t² C₂ + t³C₃` with the explicit
+    /// Bernstein basis (Farin 2002, §4.1).
+    #[inline]
+    fn eval(&self, t: f64) -> Point {
         let mt = 1.0 - t;
         let mt2 = mt * mt;
         let t2 = t * t;
@@ -45,7 +59,7 @@ impl CubicBez {
     /// `P'(t) = 3[(1−t)²(C₁−C₀) + 2(1−t)t(C₂−C₁) + t²(C₃−C₂)]` (Farin 2002,
     /// eq. 5.18 with n = 3).
     #[inline]
-    pub fn deriv(&self, t: f64) -> Point {
+    fn deriv(&self, t: f64) -> Point {
         let mt = 1.0 - t;
         ((self.p1 - self.p0) * (mt * mt)
             + (self.p2 - self.p1) * (2.0 * mt * t)
@@ -53,76 +67,25 @@ impl CubicBez {
             * 3.0
     }
 
-    /// `P''(t) = 6[(1−t)(C₂ − 2C₁ + C₀) + t(C₃ − 2C₂ + C₁)]`.
+    /// `P''(t) = 6[(1−t)(C₂ − 2C₁ + C₀) + t(C₃ − 2C₂ + C₁)]` (Farin 2002,
+    /// eq. 5.22 with n = 3).
     #[inline]
-    pub fn deriv2(&self, t: f64) -> Point {
+    fn deriv2(&self, t: f64) -> Point {
         let a = self.p2 - self.p1 * 2.0 + self.p0;
         let b = self.p3 - self.p2 * 2.0 + self.p1;
         (a * (1.0 - t) + b * t) * 6.0
     }
 
-    /// `P'(0) = 3(C₁ − C₀)`.
-    #[inline]
-    pub fn start_deriv(&self) -> Point {
-        (self.p1 - self.p0) * 3.0
-    }
-
-    /// `P'(1) = 3(C₃ − C₂)`.
-    #[inline]
-    pub fn end_deriv(&self) -> Point {
-        (self.p3 - self.p2) * 3.0
-    }
-
-    /// Writes `P(tᵢ)` into `out[i]` for the pairs of `ts` and `out` (the shorter
-    /// slice decides how many), without allocation.
-    #[inline]
-    pub fn eval_many(&self, ts: &[f64], out: &mut [Point]) {
-        for (o, &t) in out.iter_mut().zip(ts) {
-            *o = self.eval(t);
-        }
-    }
-
-    /// `E = Σᵢ |Rᵢ − P(sᵢ)|²` over the pairs of `points` and `params` (the
-    /// shorter slice decides how many), without allocation.
-    #[inline]
-    pub fn sse(&self, points: &[Point], params: &[f64]) -> f64 {
-        debug_assert_eq!(points.len(), params.len());
-        let mut e = 0.0;
-        for (&r, &s) in points.iter().zip(params) {
-            e += (r - self.eval(s)).hypot2();
-        }
-        e
-    }
-}
-
-impl Curve for CubicBez {
-    #[inline]
-    fn eval(&self, t: f64) -> Point {
-        CubicBez::eval(self, t)
-    }
-    #[inline]
-    fn deriv(&self, t: f64) -> Point {
-        CubicBez::deriv(self, t)
-    }
-    #[inline]
-    fn deriv2(&self, t: f64) -> Point {
-        CubicBez::deriv2(self, t)
-    }
+    /// `P(0) = C₀`.
     #[inline]
     fn start(&self) -> Point {
         self.p0
     }
+
+    /// `P(1) = C₃`.
     #[inline]
     fn end(&self) -> Point {
         self.p3
-    }
-    #[inline]
-    fn eval_many(&self, ts: &[f64], out: &mut [Point]) {
-        CubicBez::eval_many(self, ts, out)
-    }
-    #[inline]
-    fn sse(&self, points: &[Point], params: &[f64]) -> f64 {
-        CubicBez::sse(self, points, params)
     }
 }
 

@@ -6,8 +6,11 @@ use super::Point;
 
 /// A parametric plane curve `P(t)`, `t ∈ [0, 1]`, with derivatives.
 ///
-/// Implemented by every curve type of this module so that nearest-point,
-/// offset and join code is written once.
+/// The one home of evaluation, in the manner of kurbo's `ParamCurve` and
+/// `ParamCurveDeriv`: each curve type of this module puts its formulas for
+/// `eval`, `deriv` and `deriv2` in its `impl Curve`, and nearest-point,
+/// offset, join and fitting code is written once against the trait. Bring
+/// the trait into scope (`use metabezier::geometry::Curve`) to call them.
 pub trait Curve {
     /// The point `P(t)`.
     fn eval(&self, t: f64) -> Point;
@@ -73,13 +76,13 @@ pub trait Curve {
     }
 
     /// The reconstruction error `E = Σᵢ |Rᵢ − P(sᵢ)|²` over the pairs of
-    /// `points` and `params` (the shorter slice decides how many), without allocation.
+    /// `points` and `params` (the shorter slice decides how many), without
+    /// allocation; summed left to right from `+0`, so `E = 0` for no pairs.
     fn sse(&self, points: &[Point], params: &[f64]) -> f64 {
         points
             .iter()
             .zip(params)
-            .map(|(&r, &s)| (r - self.eval(s)).hypot2())
-            .sum()
+            .fold(0.0, |e, (&r, &s)| e + (r - self.eval(s)).hypot2())
     }
 }
 
@@ -168,5 +171,7 @@ mod tests {
         assert!((out[1] - Point::new(0.0, 1.0)).hypot() < 1e-15);
         let pts = [Point::new(2.0, 0.0), Point::new(0.0, 1.0)];
         assert!((c.sse(&pts, &ts) - 1.0).abs() < 1e-15);
+        // The empty sum is +0, as the fitting types always returned.
+        assert!(c.sse(&[], &[]).is_sign_positive());
     }
 }

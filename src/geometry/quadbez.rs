@@ -27,25 +27,6 @@ impl QuadBez {
         [self.p0, self.p1, self.p2]
     }
 
-    /// `P(t) = (1−t)²C₀ + 2(1−t)t C₁ + t²C₂` with the explicit Bernstein basis.
-    #[inline]
-    pub fn eval(&self, t: f64) -> Point {
-        let mt = 1.0 - t;
-        self.p0 * (mt * mt) + self.p1 * (2.0 * mt * t) + self.p2 * (t * t)
-    }
-
-    /// `P'(t) = 2[(1−t)(C₁ − C₀) + t(C₂ − C₁)]` (Farin 2002, eq. 5.18 with n = 2).
-    #[inline]
-    pub fn deriv(&self, t: f64) -> Point {
-        ((self.p1 - self.p0) * (1.0 - t) + (self.p2 - self.p1) * t) * 2.0
-    }
-
-    /// `P''(t) = 2(C₂ − 2C₁ + C₀)`, constant.
-    #[inline]
-    pub fn deriv2(&self, _t: f64) -> Point {
-        (self.p2 - self.p1 * 2.0 + self.p0) * 2.0
-    }
-
     /// `P'(0) = 2(C₁ − C₀)`.
     #[inline]
     pub fn start_deriv(&self) -> Point {
@@ -56,27 +37,6 @@ impl QuadBez {
     #[inline]
     pub fn end_deriv(&self) -> Point {
         (self.p2 - self.p1) * 2.0
-    }
-
-    /// Writes `P(tᵢ)` into `out[i]` for the pairs of `ts` and `out` (the shorter
-    /// slice decides how many), without allocation.
-    #[inline]
-    pub fn eval_many(&self, ts: &[f64], out: &mut [Point]) {
-        for (o, &t) in out.iter_mut().zip(ts) {
-            *o = self.eval(t);
-        }
-    }
-
-    /// `E = Σᵢ |Rᵢ − P(sᵢ)|²` over the pairs of `points` and `params` (the
-    /// shorter slice decides how many), without allocation.
-    #[inline]
-    pub fn sse(&self, points: &[Point], params: &[f64]) -> f64 {
-        debug_assert_eq!(points.len(), params.len());
-        let mut e = 0.0;
-        for (&r, &s) in points.iter().zip(params) {
-            e += (r - self.eval(s)).hypot2();
-        }
-        e
     }
 
     /// The same curve as a cubic by degree elevation:
@@ -93,33 +53,36 @@ impl QuadBez {
 }
 
 impl Curve for QuadBez {
+    /// `P(t) = (1−t)²C₀ + 2(1−t)t C₁ + t²C₂` with the explicit Bernstein basis
+    /// (Farin 2002, §4.1).
     #[inline]
     fn eval(&self, t: f64) -> Point {
-        QuadBez::eval(self, t)
+        let mt = 1.0 - t;
+        self.p0 * (mt * mt) + self.p1 * (2.0 * mt * t) + self.p2 * (t * t)
     }
+
+    /// `P'(t) = 2[(1−t)(C₁ − C₀) + t(C₂ − C₁)]` (Farin 2002, eq. 5.18 with n = 2).
     #[inline]
     fn deriv(&self, t: f64) -> Point {
-        QuadBez::deriv(self, t)
+        ((self.p1 - self.p0) * (1.0 - t) + (self.p2 - self.p1) * t) * 2.0
     }
+
+    /// `P''(t) = 2(C₂ − 2C₁ + C₀)`, constant (Farin 2002, eq. 5.22 with n = 2).
     #[inline]
-    fn deriv2(&self, t: f64) -> Point {
-        QuadBez::deriv2(self, t)
+    fn deriv2(&self, _t: f64) -> Point {
+        (self.p2 - self.p1 * 2.0 + self.p0) * 2.0
     }
+
+    /// `P(0) = C₀`.
     #[inline]
     fn start(&self) -> Point {
         self.p0
     }
+
+    /// `P(1) = C₂`.
     #[inline]
     fn end(&self) -> Point {
         self.p2
-    }
-    #[inline]
-    fn eval_many(&self, ts: &[f64], out: &mut [Point]) {
-        QuadBez::eval_many(self, ts, out)
-    }
-    #[inline]
-    fn sse(&self, points: &[Point], params: &[f64]) -> f64 {
-        QuadBez::sse(self, points, params)
     }
 }
 
@@ -170,7 +133,6 @@ mod tests {
             Point::new(2.0, -2.0),
         ];
         assert_eq!(q.sse(&r, &ts), 1.0 + 0.0 + 4.0);
-        assert_eq!(Curve::sse(&q, &r, &ts), 5.0);
         // Arc length of the straight segment (0,0)-(1,0)-(2,0) is 2.
         let line = QuadBez::new(Point::ZERO, Point::new(1.0, 0.0), Point::new(2.0, 0.0));
         assert!((line.arclen() - 2.0).abs() < 1e-13);

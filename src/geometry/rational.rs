@@ -78,24 +78,6 @@ impl RationalBezier {
         ))
     }
 
-    /// `Q(t)` by the rational de Casteljau algorithm (Farin 2002, §13.2).
-    #[inline]
-    pub fn eval(&self, t: f64) -> Point {
-        self.jet(t)[0]
-    }
-
-    /// `Q'(t) = (A'(t) − W'(t) Q(t)) / W(t)` with `A = Σ wᵢCᵢBᵢ`, `W = Σ wᵢBᵢ`.
-    #[inline]
-    pub fn deriv(&self, t: f64) -> Point {
-        self.jet(t)[1]
-    }
-
-    /// `Q''(t) = (A'' − 2W'Q' − W''Q) / W`.
-    #[inline]
-    pub fn deriv2(&self, t: f64) -> Point {
-        self.jet(t)[2]
-    }
-
     /// `Q(t)` by the explicit sums `Σ wᵢCᵢB_i^m(t) / Σ wᵢB_i^m(t)`; a slower
     /// reference for [`RationalBezier::eval`].
     pub fn eval_bernstein(&self, t: f64) -> Point {
@@ -155,37 +137,38 @@ impl RationalBezier {
             weights,
         }
     }
-
-    /// Writes `Q(tᵢ)` into `out[i]` for the pairs of `ts` and `out`.
-    #[inline]
-    pub fn eval_many(&self, ts: &[f64], out: &mut [Point]) {
-        Curve::eval_many(self, ts, out)
-    }
-
-    /// `E = Σᵢ |Rᵢ − Q(sᵢ)|²` over the pairs of `points` and `params`.
-    #[inline]
-    pub fn sse(&self, points: &[Point], params: &[f64]) -> f64 {
-        Curve::sse(self, points, params)
-    }
 }
 
 impl Curve for RationalBezier {
+    /// `Q(t) = A(t)/W(t)` by the rational de Casteljau algorithm on the
+    /// homogeneous points `(wᵢCᵢ, wᵢ)` (Farin 2002, §13.2), from
+    /// [`RationalBezier::jet`].
     #[inline]
     fn eval(&self, t: f64) -> Point {
-        RationalBezier::eval(self, t)
+        self.jet(t)[0]
     }
+
+    /// `Q'(t) = (A'(t) − W'(t) Q(t)) / W(t)` with `A = Σ wᵢCᵢBᵢ`, `W = Σ wᵢBᵢ`
+    /// (quotient rule; Farin 2002, §13.4), from [`RationalBezier::jet`].
     #[inline]
     fn deriv(&self, t: f64) -> Point {
-        RationalBezier::deriv(self, t)
+        self.jet(t)[1]
     }
+
+    /// `Q''(t) = (A'' − 2W'Q' − W''Q) / W` (Farin 2002, §13.4), from
+    /// [`RationalBezier::jet`].
     #[inline]
     fn deriv2(&self, t: f64) -> Point {
-        RationalBezier::deriv2(self, t)
+        self.jet(t)[2]
     }
+
+    /// `Q(0) = C₀`.
     #[inline]
     fn start(&self) -> Point {
         self.pts[0]
     }
+
+    /// `Q(1) = C_m`.
     #[inline]
     fn end(&self) -> Point {
         self.pts[self.pts.len() - 1]

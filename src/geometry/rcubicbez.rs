@@ -81,20 +81,6 @@ impl RationalCubicBez {
         [1.0, self.w1, self.w2, 1.0]
     }
 
-    /// `Q(t) = A(t)/W(t)` with the explicit cubic Bernstein basis
-    /// `A = Σ wᵢ Cᵢ B_i^3(t)`, `W = Σ wᵢ B_i^3(t)`.
-    #[inline]
-    pub fn eval(&self, t: f64) -> Point {
-        let mt = 1.0 - t;
-        let mt2 = mt * mt;
-        let t2 = t * t;
-        let b0 = mt2 * mt;
-        let b1 = 3.0 * self.w1 * mt2 * t;
-        let b2 = 3.0 * self.w2 * mt * t2;
-        let b3 = t2 * t;
-        (self.p0 * b0 + self.p1 * b1 + self.p2 * b2 + self.p3 * b3) / (b0 + b1 + b2 + b3)
-    }
-
     /// `[Q, Q', Q'']` from the homogeneous cubic `H = (A, W)` with points
     /// `(wᵢCᵢ, wᵢ)` and the quotient rule `Q' = (A' − W'Q)/W`,
     /// `Q'' = (A'' − 2W'Q' − W''Q)/W` (Farin 2002, §13.4).
@@ -115,20 +101,6 @@ impl RationalCubicBez {
         project_jet([h, dh, ddh])
     }
 
-    /// `Q'(t) = (A' − W'Q)/W` with
-    /// `A' = 3[(1−t)²(w₁C₁ − C₀) + 2(1−t)t(w₂C₂ − w₁C₁) + t²(C₃ − w₂C₂)]`
-    /// and `W'` the same with the weights (quotient rule).
-    #[inline]
-    pub fn deriv(&self, t: f64) -> Point {
-        self.jet(t)[1]
-    }
-
-    /// `Q''(t) = (A'' − 2W'Q' − W''Q)/W`.
-    #[inline]
-    pub fn deriv2(&self, t: f64) -> Point {
-        self.jet(t)[2]
-    }
-
     /// `Q'(0) = 3(w₁/w₀)(C₁ − C₀) = 3w₁(C₁ − C₀)` (Farin 2002, eq. 13.10).
     #[inline]
     pub fn start_deriv(&self) -> Point {
@@ -140,57 +112,50 @@ impl RationalCubicBez {
     pub fn end_deriv(&self) -> Point {
         (self.p3 - self.p2) * (3.0 * self.w2)
     }
-
-    /// Writes `Q(tᵢ)` into `out[i]` for the pairs of `ts` and `out` (the shorter
-    /// slice decides how many), without allocation.
-    #[inline]
-    pub fn eval_many(&self, ts: &[f64], out: &mut [Point]) {
-        for (o, &t) in out.iter_mut().zip(ts) {
-            *o = self.eval(t);
-        }
-    }
-
-    /// `E = Σᵢ |Rᵢ − Q(sᵢ)|²` over the pairs of `points` and `params` (the
-    /// shorter slice decides how many), without allocation.
-    #[inline]
-    pub fn sse(&self, points: &[Point], params: &[f64]) -> f64 {
-        debug_assert_eq!(points.len(), params.len());
-        let mut e = 0.0;
-        for (&r, &s) in points.iter().zip(params) {
-            e += (r - self.eval(s)).hypot2();
-        }
-        e
-    }
 }
 
 impl Curve for RationalCubicBez {
+    /// `Q(t) = A(t)/W(t)` with the explicit cubic Bernstein basis
+    /// `A = Σ wᵢ Cᵢ B_i^3(t)`, `W = Σ wᵢ B_i^3(t)` (Farin 2002, eq. 13.2).
     #[inline]
     fn eval(&self, t: f64) -> Point {
-        RationalCubicBez::eval(self, t)
+        let mt = 1.0 - t;
+        let mt2 = mt * mt;
+        let t2 = t * t;
+        let b0 = mt2 * mt;
+        let b1 = 3.0 * self.w1 * mt2 * t;
+        let b2 = 3.0 * self.w2 * mt * t2;
+        let b3 = t2 * t;
+        (self.p0 * b0 + self.p1 * b1 + self.p2 * b2 + self.p3 * b3) / (b0 + b1 + b2 + b3)
     }
+
+    /// `Q'(t) = (A' − W'Q)/W` with
+    /// `A' = 3[(1−t)²(w₁C₁ − C₀) + 2(1−t)t(w₂C₂ − w₁C₁) + t²(C₃ − w₂C₂)]`
+    /// and `W'` the same with the weights (quotient rule; Farin 2002, §13.4),
+    /// from [`RationalCubicBez::jet`].
     #[inline]
     fn deriv(&self, t: f64) -> Point {
-        RationalCubicBez::deriv(self, t)
+        self.jet(t)[1]
     }
+
+    /// `Q''(t) = (A'' − 2W'Q' − W''Q)/W` with
+    /// `A'' = 6[(1−t)(w₂C₂ − 2w₁C₁ + C₀) + t(C₃ − 2w₂C₂ + w₁C₁)]` and `W''` the
+    /// same with the weights (Farin 2002, §13.4), from [`RationalCubicBez::jet`].
     #[inline]
     fn deriv2(&self, t: f64) -> Point {
-        RationalCubicBez::deriv2(self, t)
+        self.jet(t)[2]
     }
+
+    /// `Q(0) = C₀`.
     #[inline]
     fn start(&self) -> Point {
         self.p0
     }
+
+    /// `Q(1) = C₃`.
     #[inline]
     fn end(&self) -> Point {
         self.p3
-    }
-    #[inline]
-    fn eval_many(&self, ts: &[f64], out: &mut [Point]) {
-        RationalCubicBez::eval_many(self, ts, out)
-    }
-    #[inline]
-    fn sse(&self, points: &[Point], params: &[f64]) -> f64 {
-        RationalCubicBez::sse(self, points, params)
     }
 }
 

@@ -98,17 +98,6 @@ impl RationalQuadBez {
         [1.0, self.h1, 1.0]
     }
 
-    /// `Q(t) = A(t)/W(t)` with the explicit basis
-    /// `A = (1−t)²C₀ + 2h₁(1−t)t C₁ + t²C₂`, `W = (1−t)² + 2h₁(1−t)t + t²`.
-    #[inline]
-    pub fn eval(&self, t: f64) -> Point {
-        let mt = 1.0 - t;
-        let b0 = mt * mt;
-        let b1 = 2.0 * self.h1 * mt * t;
-        let b2 = t * t;
-        (self.p0 * b0 + self.p1 * b1 + self.p2 * b2) / (b0 + b1 + b2)
-    }
-
     /// `[Q, Q', Q'']` from the homogeneous polynomial `H = (A, W)` and the
     /// quotient rule `Q' = (A' − W'Q)/W`, `Q'' = (A'' − 2W'Q' − W''Q)/W`.
     #[inline]
@@ -125,19 +114,6 @@ impl RationalQuadBez {
         project_jet([h, dh, ddh])
     }
 
-    /// `Q'(t) = (A' − W'Q)/W` with `A' = 2[(1−t)(h₁C₁ − C₀) + t(C₂ − h₁C₁)]` and
-    /// `W' = 2(h₁ − 1)(1 − 2t)` (quotient rule; Farin 2002, §13.4).
-    #[inline]
-    pub fn deriv(&self, t: f64) -> Point {
-        self.jet(t)[1]
-    }
-
-    /// `Q''(t) = (A'' − 2W'Q' − W''Q)/W`.
-    #[inline]
-    pub fn deriv2(&self, t: f64) -> Point {
-        self.jet(t)[2]
-    }
-
     /// `Q'(0) = 2(w₁/w₀)(C₁ − C₀) = 2h₁(C₁ − C₀)` (Farin 2002, eq. 13.10).
     #[inline]
     pub fn start_deriv(&self) -> Point {
@@ -149,57 +125,46 @@ impl RationalQuadBez {
     pub fn end_deriv(&self) -> Point {
         (self.p2 - self.p1) * (2.0 * self.h1)
     }
-
-    /// Writes `Q(tᵢ)` into `out[i]` for the pairs of `ts` and `out` (the shorter
-    /// slice decides how many), without allocation.
-    #[inline]
-    pub fn eval_many(&self, ts: &[f64], out: &mut [Point]) {
-        for (o, &t) in out.iter_mut().zip(ts) {
-            *o = self.eval(t);
-        }
-    }
-
-    /// `E = Σᵢ |Rᵢ − Q(sᵢ)|²` over the pairs of `points` and `params` (the
-    /// shorter slice decides how many), without allocation.
-    #[inline]
-    pub fn sse(&self, points: &[Point], params: &[f64]) -> f64 {
-        debug_assert_eq!(points.len(), params.len());
-        let mut e = 0.0;
-        for (&r, &s) in points.iter().zip(params) {
-            e += (r - self.eval(s)).hypot2();
-        }
-        e
-    }
 }
 
 impl Curve for RationalQuadBez {
+    /// `Q(t) = A(t)/W(t)` with the explicit basis
+    /// `A = (1−t)²C₀ + 2h₁(1−t)t C₁ + t²C₂`, `W = (1−t)² + 2h₁(1−t)t + t²`
+    /// (Farin 2002, eq. 12.2).
     #[inline]
     fn eval(&self, t: f64) -> Point {
-        RationalQuadBez::eval(self, t)
+        let mt = 1.0 - t;
+        let b0 = mt * mt;
+        let b1 = 2.0 * self.h1 * mt * t;
+        let b2 = t * t;
+        (self.p0 * b0 + self.p1 * b1 + self.p2 * b2) / (b0 + b1 + b2)
     }
+
+    /// `Q'(t) = (A' − W'Q)/W` with `A' = 2[(1−t)(h₁C₁ − C₀) + t(C₂ − h₁C₁)]` and
+    /// `W' = 2(h₁ − 1)(1 − 2t)` (quotient rule; Farin 2002, §13.4), from
+    /// [`RationalQuadBez::jet`].
     #[inline]
     fn deriv(&self, t: f64) -> Point {
-        RationalQuadBez::deriv(self, t)
+        self.jet(t)[1]
     }
+
+    /// `Q''(t) = (A'' − 2W'Q' − W''Q)/W` with `A'' = 2(C₂ − 2h₁C₁ + C₀)` and
+    /// `W'' = 4(1 − h₁)` (Farin 2002, §13.4), from [`RationalQuadBez::jet`].
     #[inline]
     fn deriv2(&self, t: f64) -> Point {
-        RationalQuadBez::deriv2(self, t)
+        self.jet(t)[2]
     }
+
+    /// `Q(0) = C₀`.
     #[inline]
     fn start(&self) -> Point {
         self.p0
     }
+
+    /// `Q(1) = C₂`.
     #[inline]
     fn end(&self) -> Point {
         self.p2
-    }
-    #[inline]
-    fn eval_many(&self, ts: &[f64], out: &mut [Point]) {
-        RationalQuadBez::eval_many(self, ts, out)
-    }
-    #[inline]
-    fn sse(&self, points: &[Point], params: &[f64]) -> f64 {
-        RationalQuadBez::sse(self, points, params)
     }
 }
 
