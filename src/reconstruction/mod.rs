@@ -394,4 +394,19 @@ mod tests {
         assert_ne!(a.metrics.sse.to_bits(), c.metrics.sse.to_bits());
         assert_eq!(a.metrics.evaluations, 4 * 2000);
     }
+
+    #[test]
+    fn a_source_error_shows_and_chains_its_outline_error() {
+        let e = Source::load(
+            "a.csv",
+            Path::new("/nonexistent-dir"),
+            0,
+            &ImageOptions::default(),
+            Sampling::default(),
+        )
+        .unwrap_err();
+        let cause = std::error::Error::source(&e).expect("the outline error");
+        assert_eq!(e.to_string(), cause.to_string());
+        assert_eq!(e.to_string(), e.0.to_string());
+    }
 }

@@ -700,7 +700,7 @@ impl<'a> Parser<'a> {
         table: &Table<'_>,
         section: &str,
         entry: &Value<'_>,
-    ) -> Result<Vec<(Function, Range<usize>)>, SpecError> {
+    ) -> Result<Vec<WithSpan<Function>>, SpecError> {
         let fv = self.required(table, section, "function", entry.span())?;
         let field = format!("{section}.function");
         let mut functions = Vec::new();
@@ -729,7 +729,7 @@ impl<'a> Parser<'a> {
         table: &Table<'_>,
         section: &str,
         entry: &Value<'_>,
-    ) -> Result<Vec<(Option<usize>, Range<usize>)>, SpecError> {
+    ) -> Result<Vec<WithSpan<Option<usize>>>, SpecError> {
         let Some(dv) = self.get(table, "dim") else {
             return Ok(vec![(None, entry.span())]);
         };
@@ -1018,7 +1018,7 @@ struct AlgorithmEntry {
 
 /// The values listed for one parameter, each with its span; empty when the
 /// parameter keeps its default.
-type Axis = Vec<(Setting, Range<usize>)>;
+type Axis = Vec<WithSpan<Setting>>;
 
 /// The cartesian product of the axes as index vectors, first axis slowest;
 /// an empty axis counts as one value (the default).
@@ -1039,6 +1039,9 @@ fn grid(axes: &[Axis]) -> Vec<Vec<usize>> {
     }
     combos
 }
+
+/// A value with the span of the text it was read from.
+type WithSpan<T> = (T, Range<usize>);
 
 /// The `[experiment]` section of a spec.
 struct Header {
