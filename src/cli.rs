@@ -2,7 +2,7 @@
 
 use std::fmt::Write as _;
 use std::io::Write as _;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
@@ -12,7 +12,7 @@ use crate::experiment::fit_files::write_fit_records;
 use crate::experiment::runner::{self, RunOptions, Shard};
 use crate::experiment::Spec;
 use crate::files::read_text;
-use crate::fit::{FitOptions, FunctionType, SearchSpace};
+use crate::fit::{FitOptions, FunctionType, PiecewiseFit, SearchSpace};
 use crate::functions::Function;
 use crate::geometry::{Continuity, Parameterisation};
 use crate::optim::Algorithm;
@@ -180,6 +180,7 @@ pub fn main() -> ExitCode {
     }
 }
 
+/// Runs one subcommand, appending its output to `w`.
 fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
     match cli.command {
         Command::Run {
@@ -191,7 +192,6 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
             max_runs,
             quiet,
         } => {
-            let spec = Spec::load(&spec)?;
             let opts = RunOptions {
                 out,
                 threads: threads.map(usize::from),
@@ -200,62 +200,10 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
                 max_runs,
                 progress: !quiet,
             };
-            let s = runner::run_campaign(&spec, &opts)?;
-            let state = if s.complete {
-                format!("complete; results in {}", s.out.join("runs.csv").display())
-            } else {
-                format!(
-                    "{} of {} runs finished; continue with --resume",
-                    s.reused + s.executed,
-                    s.total
-                )
-            };
-            say!(
-                w,
-                "{}: {} runs ({} reused, {} executed), {state}",
-                spec.name,
-                s.total,
-                s.reused,
-                s.executed
-            );
-            Ok(())
+            run(&spec, &opts, w)
         }
-        Command::Check { spec } => {
-            let spec = Spec::load(&spec)?;
-            say!(w, "{}: valid", spec.path.display());
-            say!(w,
-                "experiment {} (seed {}): {} problems × {} algorithm cells × {} runs = {} runs, {} evaluations",
-                spec.name,
-                spec.seed,
-                spec.problems.len(),
-                spec.cells.len(),
-                spec.runs,
-                spec.run_ids().len(),
-                spec.total_evaluations()
-            );
-            for p in &spec.problems {
-                say!(w, "  problem {} (budget {})", p.key(), p.budget);
-            }
-            for c in &spec.cells {
-                say!(w, "  cell    {} [{}]", c.label, c.params.canonical());
-            }
-            Ok(())
-        }
-        Command::Merge { dirs, out } => {
-            let copy = dirs[0].join("spec.toml");
-            let text = read_text(&copy)?;
-            let spec = Spec::parse(&copy, &text)?;
-            let s = runner::merge(&spec, &dirs, out)?;
-            say!(
-                w,
-                "{}: merged {} shard directories, {} runs, into {}",
-                spec.name,
-                dirs.len(),
-                s.total,
-                s.out.display()
-            );
-            Ok(())
-        }
+        Command::Check { spec } => check(&spec, w),
+        Command::Merge { dirs, out } => merge(&dirs, out, w),
         Command::Report {
             dir,
             reference,
@@ -267,67 +215,144 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
                 alpha,
                 external,
             };
-            let s = report::write_report(&dir, &opts)?;
-            say!(
-                w,
-                "{}: {} algorithm configurations × {} problems, {} runs; {} tables, {} plots",
-                s.report.display(),
-                s.algorithms,
-                s.problems,
-                s.runs,
-                s.tables.len(),
-                s.plots.len()
-            );
-            for note in &s.notes {
-                say!(w, "  note: {note}");
-            }
-            Ok(())
+            write_report(&dir, &opts, w)
         }
         Command::Fit(args) => fit(args, w),
         Command::Implant { spec, out } => implant(&spec, out, w),
         Command::List => {
-            say!(
-                w,
-                "Algorithms (parameters with defaults and admissible values):"
-            );
-            for name in Algorithm::NAMES {
-                say!(w, "\n  {name}");
-                for d in Algorithm::params(name).unwrap_or(&[]) {
-                    say!(
-                        w,
-                        "    {:<10} = {:<12} {} ({})",
-                        d.name,
-                        d.default.to_string(),
-                        d.doc,
-                        d.expected()
-                    );
-                }
-            }
-            say!(w, "\nBenchmark functions (name, domain, optimum):");
-            for f in Function::ALL {
-                let b = f.domain();
-                let dim = match f.fixed_dim() {
-                    Some(d) => format!(", dimension {d} only"),
-                    None => String::new(),
-                };
-                say!(
-                    w,
-                    "  {:<16} [{}, {}]^D, f* = {}{dim}",
-                    f.name(),
-                    b.lower,
-                    b.upper,
-                    f.optimum_value()
-                );
-            }
+            list(w);
             Ok(())
         }
     }
 }
 
-/// `metabezier fit`: load, segment, fit, write the files.
+/// `metabezier run`: load the spec, run (or resume) the campaign, and say
+/// how far it got.
+fn run(spec: &Path, opts: &RunOptions, w: &mut String) -> Result<(), Error> {
+    let spec = Spec::load(spec)?;
+    let s = runner::run_campaign(&spec, opts)?;
+    let state = if s.complete {
+        format!("complete; results in {}", s.out.join("runs.csv").display())
+    } else {
+        format!(
+            "{} of {} runs finished; continue with --resume",
+            s.reused + s.executed,
+            s.total
+        )
+    };
+    say!(
+        w,
+        "{}: {} runs ({} reused, {} executed), {state}",
+        spec.name,
+        s.total,
+        s.reused,
+        s.executed
+    );
+    Ok(())
+}
+
+/// `metabezier check`: load the spec and list its problems and cells.
+fn check(spec: &Path, w: &mut String) -> Result<(), Error> {
+    let spec = Spec::load(spec)?;
+    say!(w, "{}: valid", spec.path.display());
+    say!(w,
+        "experiment {} (seed {}): {} problems × {} algorithm cells × {} runs = {} runs, {} evaluations",
+        spec.name,
+        spec.seed,
+        spec.problems.len(),
+        spec.cells.len(),
+        spec.runs,
+        spec.run_ids().len(),
+        spec.total_evaluations()
+    );
+    for p in &spec.problems {
+        say!(w, "  problem {} (budget {})", p.key(), p.budget);
+    }
+    for c in &spec.cells {
+        say!(w, "  cell    {} [{}]", c.label, c.params.canonical());
+    }
+    Ok(())
+}
+
+/// `metabezier merge`: join the shard directories, with the spec copied
+/// into the first.
+fn merge(dirs: &[PathBuf], out: Option<PathBuf>, w: &mut String) -> Result<(), Error> {
+    let copy = dirs[0].join("spec.toml");
+    let text = read_text(&copy)?;
+    let spec = Spec::parse(&copy, &text)?;
+    let s = runner::merge(&spec, dirs, out)?;
+    say!(
+        w,
+        "{}: merged {} shard directories, {} runs, into {}",
+        spec.name,
+        dirs.len(),
+        s.total,
+        s.out.display()
+    );
+    Ok(())
+}
+
+/// `metabezier report`: write the report of a results directory and list
+/// its notes.
+fn write_report(dir: &Path, opts: &ReportOptions, w: &mut String) -> Result<(), Error> {
+    let s = report::write_report(dir, opts)?;
+    say!(
+        w,
+        "{}: {} algorithm configurations × {} problems, {} runs; {} tables, {} plots",
+        s.report.display(),
+        s.algorithms,
+        s.problems,
+        s.runs,
+        s.tables.len(),
+        s.plots.len()
+    );
+    for note in &s.notes {
+        say!(w, "  note: {note}");
+    }
+    Ok(())
+}
+
+/// `metabezier list`: the algorithms with their parameters, and the
+/// benchmark functions.
+fn list(w: &mut String) {
+    say!(
+        w,
+        "Algorithms (parameters with defaults and admissible values):"
+    );
+    for name in Algorithm::NAMES {
+        say!(w, "\n  {name}");
+        for d in Algorithm::params(name).unwrap_or(&[]) {
+            say!(
+                w,
+                "    {:<10} = {:<12} {} ({})",
+                d.name,
+                d.default.to_string(),
+                d.doc,
+                d.expected()
+            );
+        }
+    }
+    say!(w, "\nBenchmark functions (name, domain, optimum):");
+    for f in Function::ALL {
+        let b = f.domain();
+        let dim = match f.fixed_dim() {
+            Some(d) => format!(", dimension {d} only"),
+            None => String::new(),
+        };
+        say!(
+            w,
+            "  {:<16} [{}, {}]^D, f* = {}{dim}",
+            f.name(),
+            b.lower,
+            b.upper,
+            f.optimum_value()
+        );
+    }
+}
+
 /// `metabezier implant`: load and check the spec, then run it; nothing is
 /// written when the spec is invalid, and the STL only for a checked mesh.
-fn implant(spec: &std::path::Path, out: Option<PathBuf>, w: &mut String) -> Result<(), Error> {
+fn implant(spec: &Path, out: Option<PathBuf>, w: &mut String) -> Result<(), Error> {
     let s = crate::implant::ImplantSpec::load(spec)?;
     let out = out.unwrap_or_else(|| {
         let stem = spec
@@ -346,47 +371,24 @@ fn implant(spec: &std::path::Path, out: Option<PathBuf>, w: &mut String) -> Resu
     Ok(())
 }
 
+/// `metabezier fit`: load, segment, fit, write the files.
 fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
-    let function = FunctionType::from_name(&a.function).expect("clap checked the name");
-    let continuity = Continuity::from_name(&a.continuity).expect("clap checked the name");
     let method = Method::from_name(&a.algorithm).ok_or_else(|| UsageError::UnknownAlgorithm {
         name: a.algorithm.clone(),
         choices: Method::names(),
     })?;
     let source = Source::load(
         &a.input,
-        std::path::Path::new(""),
+        Path::new(""),
         a.contour,
         &ImageOptions::default(),
         Sampling::default(),
     )?;
-    let segmentation = match (a.segments, a.tolerance, a.true_breaks) {
-        (Some(n), _, _) => Segmentation::Count(n),
-        (_, Some(t), _) => {
-            if !(t.is_finite() && t > 0.0) {
-                return Err(UsageError::Tolerance(t).into());
-            }
-            Segmentation::Tolerance(t)
-        }
-        (_, _, true) => source
-            .true_segmentation()
-            .ok_or_else(|| UsageError::NotAGlyph(a.input.clone()))?,
-        (None, None, false) => Segmentation::Count(8),
-    };
-    let mut options = FitOptions::new(function, continuity);
-    options.budget_per_segment = a.budget;
-    options.parameterisation =
-        Parameterisation::from_name(&a.parameterisation).expect("clap checked the name");
-    options.reparameterise = a.reparameterise;
-    options.search.kind = SearchSpace::from_name(&a.search_space).expect("clap checked the name");
     let r = Reconstruction {
         outline: &source.outline,
-        segmentation,
-        corners: (a.corner_angle > 0.0).then_some(CornerOptions {
-            k: a.corner_k.max(1),
-            angle_deg: a.corner_angle,
-        }),
-        options,
+        segmentation: a.segmentation(&source)?,
+        corners: a.corners(),
+        options: a.options(),
     };
     let start = std::time::Instant::now();
     let fit = r.fit(&method, a.seed).map_err(|source| Error::Fit {
@@ -394,36 +396,88 @@ fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
         source,
     })?;
     let wall = start.elapsed().as_secs_f64();
-    let case = [
-        ("input", a.input.clone()),
-        ("contour", a.contour.to_string()),
-        ("function", function.name().to_owned()),
-        ("continuity", continuity.name().to_owned()),
-        ("algorithm", method.name()),
-        ("seed", a.seed.to_string()),
-        ("budget_per_segment", a.budget.to_string()),
-        ("search_space", r.options.search.kind.name().to_owned()),
-        (
-            "parameterisation",
-            r.options.parameterisation.name().to_owned(),
-        ),
-        ("reparameterise", a.reparameterise.to_string()),
-    ];
     let title = format!(
         "{}: {} {}, {}",
         source.label(),
-        function.name(),
-        continuity.name().to_uppercase(),
+        r.options.function.name(),
+        r.options.continuity.name().to_uppercase(),
         method.name()
     );
-    let mut paths = write_fit_records(&a.out, &fit, &case, wall)?;
+    let mut paths = write_fit_records(&a.out, &fit, &a.case(&r.options, &method), wall)?;
     let figure = OverlayFigure::of_fit(&title, &source.outline.points, &fit);
     paths.extend(save_overlay(&figure, &a.out, "fit")?);
+    say_fit(w, &source.label(), &fit, wall, &paths);
+    Ok(())
+}
+
+impl FitArgs {
+    /// The segmentation asked for: a count, a tolerance, a glyph's true
+    /// breaks, or 8 segments.
+    fn segmentation(&self, source: &Source) -> Result<Segmentation, UsageError> {
+        Ok(match (self.segments, self.tolerance, self.true_breaks) {
+            (Some(n), _, _) => Segmentation::Count(n),
+            (_, Some(t), _) => {
+                if !(t.is_finite() && t > 0.0) {
+                    return Err(UsageError::Tolerance(t));
+                }
+                Segmentation::Tolerance(t)
+            }
+            (_, _, true) => source
+                .true_segmentation()
+                .ok_or_else(|| UsageError::NotAGlyph(self.input.clone()))?,
+            (None, None, false) => Segmentation::Count(8),
+        })
+    }
+
+    /// The corner detector (none for an angle of 0).
+    fn corners(&self) -> Option<CornerOptions> {
+        (self.corner_angle > 0.0).then_some(CornerOptions {
+            k: self.corner_k.max(1),
+            angle_deg: self.corner_angle,
+        })
+    }
+
+    /// Function, continuity, parameterisation, search space and budget.
+    fn options(&self) -> FitOptions {
+        let function = FunctionType::from_name(&self.function).expect("clap checked the name");
+        let continuity = Continuity::from_name(&self.continuity).expect("clap checked the name");
+        let mut options = FitOptions::new(function, continuity);
+        options.budget_per_segment = self.budget;
+        options.parameterisation =
+            Parameterisation::from_name(&self.parameterisation).expect("clap checked the name");
+        options.reparameterise = self.reparameterise;
+        options.search.kind =
+            SearchSpace::from_name(&self.search_space).expect("clap checked the name");
+        options
+    }
+
+    /// The case columns of the fit's record files.
+    fn case(&self, options: &FitOptions, method: &Method) -> [(&'static str, String); 10] {
+        [
+            ("input", self.input.clone()),
+            ("contour", self.contour.to_string()),
+            ("function", options.function.name().to_owned()),
+            ("continuity", options.continuity.name().to_owned()),
+            ("algorithm", method.name()),
+            ("seed", self.seed.to_string()),
+            ("budget_per_segment", self.budget.to_string()),
+            ("search_space", options.search.kind.name().to_owned()),
+            (
+                "parameterisation",
+                options.parameterisation.name().to_owned(),
+            ),
+            ("reparameterise", self.reparameterise.to_string()),
+        ]
+    }
+}
+
+/// The summary of a fit of `label`: its metrics, its closing joint, and the
+/// files written.
+fn say_fit(w: &mut String, label: &str, fit: &PiecewiseFit, wall: f64, paths: &[PathBuf]) {
     let m = &fit.metrics;
     say!(
         w,
-        "{}: {} points, {} segments, E = {:.6e}, RMS = {:.4e}, max distance = {:.4e}, {} evaluations, {:.3} s",
-        source.label(),
+        "{label}: {} points, {} segments, E = {:.6e}, RMS = {:.4e}, max distance = {:.4e}, {} evaluations, {:.3} s",
         m.points,
         m.segments,
         m.sse,
@@ -443,5 +497,4 @@ fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
     for p in paths {
         say!(w, "  wrote {}", p.display());
     }
-    Ok(())
 }

@@ -258,77 +258,30 @@ pub fn run_campaign(spec: &Spec, opts: &RunOptions) -> Result<Summary, Experimen
         .clone()
         .unwrap_or_else(|| default_out(spec, opts.shard));
     let journal_path = out.join("journal.csv");
-    let runs_path = out.join("runs.csv");
-    let spec_copy = out.join("spec.toml");
-    let has_state = journal_path.exists() || runs_path.exists();
+    let has_state = journal_path.exists() || out.join("runs.csv").exists();
     if has_state && !opts.resume {
         return Err(CampaignError::AlreadyHoldsRuns { out }.into());
     }
     create_dir(&out)?;
 
     let index = key_index(spec);
-    let mut done: HashMap<usize, RunRecord> = HashMap::new();
-    if has_state {
-        if let Ok(old) = std::fs::read_to_string(&spec_copy) {
-            if old != spec.text {
-                return Err(CampaignError::SpecChanged {
-                    spec: spec.path.clone(),
-                    copy: spec_copy,
-                }
-                .into());
-            }
-        }
-        let meta_path = out.join("meta.toml");
-        if let Ok(meta) = std::fs::read_to_string(&meta_path) {
-            let old_shard = meta
-                .lines()
-                .find_map(|l| l.strip_prefix("shard = \""))
-                .map(|s| s.trim_end_matches('"').to_owned());
-            let new_shard = opts.shard.map(|s| s.to_string());
-            if old_shard != new_shard {
-                return Err(CampaignError::ShardChanged {
-                    out,
-                    started: old_shard,
-                    asked: new_shard,
-                }
-                .into());
-            }
-        }
-        let mut found = Vec::new();
-        if runs_path.exists() {
-            found.extend(records::read_results(&out)?);
-        }
-        if journal_path.exists() {
-            found.extend(journal::read_journal(&journal_path)?);
-        }
-        for r in found {
-            let i = *index
-                .get(&r.key())
-                .ok_or_else(|| foreign_run(CampaignAction::Resume, &out, &r))?;
-            done.insert(i, r);
-        }
-    }
-
+    let mut done = if has_state {
+        recover(spec, opts.shard, &out, &index)?
+    } else {
+        HashMap::new()
+    };
     let ids: Vec<RunId> = spec
         .run_ids()
         .into_iter()
         .filter(|id| opts.shard.is_none_or(|s| s.contains(id.index)))
         .collect();
     let total = ids.len();
-    write_atomic(&spec_copy, spec.text.as_bytes())?;
+    write_atomic(&out.join("spec.toml"), spec.text.as_bytes())?;
     write_atomic(
         &out.join("meta.toml"),
         meta_toml(spec, opts.shard, total).as_bytes(),
     )?;
-
-    // Rewrite the journal with what is known (drops a torn last line), then append.
-    let mut journal_bytes = Vec::new();
-    let mut reused: Vec<&RunRecord> = done.values().collect();
-    reused.sort_by_key(|r| index[&r.key()]);
-    for r in &reused {
-        journal_bytes.extend(journal::journal_line(r));
-    }
-    write_atomic(&journal_path, &journal_bytes)?;
+    rewrite_journal(&journal_path, &done, &index)?;
     let reused = done.len();
 
     let mut todo: Vec<RunId> = ids
@@ -339,44 +292,7 @@ pub fn run_campaign(spec: &Spec, opts: &RunOptions) -> Result<Summary, Experimen
     if let Some(m) = opts.max_runs {
         todo.truncate(m);
     }
-    let journal = std::fs::OpenOptions::new()
-        .append(true)
-        .open(&journal_path)
-        .map_err(|e| IoError::new("open", &journal_path, e))?;
-    let journal = Mutex::new(journal);
-    let bar = if opts.progress && std::io::stderr().is_terminal() {
-        let bar = indicatif::ProgressBar::new(todo.len() as u64);
-        bar.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{prefix} [{elapsed_precise}] {wide_bar} {pos}/{len} runs (eta {eta})",
-            )
-            .expect("valid template"),
-        );
-        bar.set_prefix(spec.name.clone());
-        bar
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(opts.threads.unwrap_or(0))
-        .build()
-        .map_err(CampaignError::Threads)?;
-    let new: Vec<Result<RunRecord, IoError>> = pool.install(|| {
-        todo.par_iter()
-            .map(|id| {
-                let rec = execute(spec, *id);
-                let line = journal::journal_line(&rec);
-                let mut j = journal.lock().unwrap_or_else(|p| p.into_inner());
-                j.write_all(&line)
-                    .and_then(|_| j.flush())
-                    .map_err(|e| IoError::new("append to", &journal_path, e))?;
-                drop(j);
-                bar.inc(1);
-                Ok(rec)
-            })
-            .collect()
-    });
-    bar.finish_and_clear();
+    let new = execute_journalled(spec, &todo, &journal_path, opts)?;
     let executed = new.len();
     for (id, rec) in todo.iter().zip(new) {
         done.insert(id.index, rec?);
@@ -399,6 +315,129 @@ pub fn run_campaign(spec: &Spec, opts: &RunOptions) -> Result<Summary, Experimen
         executed,
         complete,
     })
+}
+
+/// The finished runs of an interrupted campaign in `out`, by position in
+/// the fixed order, after checking that it was started from the same spec
+/// and as the same `shard`.
+fn recover(
+    spec: &Spec,
+    shard: Option<Shard>,
+    out: &Path,
+    index: &HashMap<RunKey, usize>,
+) -> Result<HashMap<usize, RunRecord>, ExperimentError> {
+    let spec_copy = out.join("spec.toml");
+    if let Ok(old) = std::fs::read_to_string(&spec_copy) {
+        if old != spec.text {
+            return Err(CampaignError::SpecChanged {
+                spec: spec.path.clone(),
+                copy: spec_copy,
+            }
+            .into());
+        }
+    }
+    if let Ok(meta) = std::fs::read_to_string(out.join("meta.toml")) {
+        let old_shard = meta
+            .lines()
+            .find_map(|l| l.strip_prefix("shard = \""))
+            .map(|s| s.trim_end_matches('"').to_owned());
+        let new_shard = shard.map(|s| s.to_string());
+        if old_shard != new_shard {
+            return Err(CampaignError::ShardChanged {
+                out: out.to_owned(),
+                started: old_shard,
+                asked: new_shard,
+            }
+            .into());
+        }
+    }
+    let mut found = Vec::new();
+    if out.join("runs.csv").exists() {
+        found.extend(records::read_results(out)?);
+    }
+    let journal_path = out.join("journal.csv");
+    if journal_path.exists() {
+        found.extend(journal::read_journal(&journal_path)?);
+    }
+    let mut done = HashMap::new();
+    for r in found {
+        let i = *index
+            .get(&r.key())
+            .ok_or_else(|| foreign_run(CampaignAction::Resume, out, &r))?;
+        done.insert(i, r);
+    }
+    Ok(done)
+}
+
+/// Rewrites the journal with the runs already finished, in the fixed order
+/// (which drops a torn last line), for new runs to be appended to.
+fn rewrite_journal(
+    path: &Path,
+    done: &HashMap<usize, RunRecord>,
+    index: &HashMap<RunKey, usize>,
+) -> Result<(), IoError> {
+    let mut bytes = Vec::new();
+    let mut reused: Vec<&RunRecord> = done.values().collect();
+    reused.sort_by_key(|r| index[&r.key()]);
+    for r in &reused {
+        bytes.extend(journal::journal_line(r));
+    }
+    write_atomic(path, &bytes)
+}
+
+/// Executes `todo` in parallel, appending each finished run to the journal
+/// at `journal_path`; the records come back in `todo` order, each an error
+/// if its journal line could not be written.
+fn execute_journalled(
+    spec: &Spec,
+    todo: &[RunId],
+    journal_path: &Path,
+    opts: &RunOptions,
+) -> Result<Vec<Result<RunRecord, IoError>>, ExperimentError> {
+    let journal = std::fs::OpenOptions::new()
+        .append(true)
+        .open(journal_path)
+        .map_err(|e| IoError::new("open", journal_path, e))?;
+    let journal = Mutex::new(journal);
+    let bar = progress_bar(spec, todo.len(), opts.progress);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(opts.threads.unwrap_or(0))
+        .build()
+        .map_err(CampaignError::Threads)?;
+    let new = pool.install(|| {
+        todo.par_iter()
+            .map(|id| {
+                let rec = execute(spec, *id);
+                let line = journal::journal_line(&rec);
+                let mut j = journal.lock().unwrap_or_else(|p| p.into_inner());
+                j.write_all(&line)
+                    .and_then(|_| j.flush())
+                    .map_err(|e| IoError::new("append to", journal_path, e))?;
+                drop(j);
+                bar.inc(1);
+                Ok(rec)
+            })
+            .collect()
+    });
+    bar.finish_and_clear();
+    Ok(new)
+}
+
+/// A progress bar over `runs` runs, drawn only if asked and stderr is a
+/// terminal.
+fn progress_bar(spec: &Spec, runs: usize, progress: bool) -> indicatif::ProgressBar {
+    if !(progress && std::io::stderr().is_terminal()) {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new(runs as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{prefix} [{elapsed_precise}] {wide_bar} {pos}/{len} runs (eta {eta})",
+        )
+        .expect("valid template"),
+    );
+    bar.set_prefix(spec.name.clone());
+    bar
 }
 
 /// The error for run `r` of `dir`, which the spec does not define.

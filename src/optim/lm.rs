@@ -129,37 +129,12 @@ impl LevenbergMarquardt {
         budget: u64,
     ) -> LmOutcome {
         let n = problem.dim();
-        let m = problem.residual_count();
         let bounds = problem.bounds();
         let mut x: Vec<f64> = x0.iter().zip(bounds).map(|(&v, b)| b.clip(v)).collect();
         x.resize(n, 0.0);
         if n == 0 {
-            let mut r = vec![0.0; m];
-            let (value, evaluations) = if budget > 0 {
-                problem.residuals(&x, &mut r);
-                (sum_sq(&r), 1)
-            } else {
-                (f64::INFINITY, 0)
-            };
-            return LmOutcome {
-                x,
-                value,
-                evaluations,
-                iterations: 0,
-                termination: Termination::NoVariables,
-            };
+            return without_variables(problem, x, budget);
         }
-        let dim = n as u64;
-        let mut used = 0u64;
-        let mut r = vec![0.0; m];
-        let mut r_new = vec![0.0; m];
-        let mut r_fd = vec![0.0; m];
-        let mut jac = vec![0.0; m * n];
-        let mut a = vec![0.0; n * n];
-        let mut chol = vec![0.0; n * n];
-        let mut g = vec![0.0; n];
-        let mut h = vec![0.0; n];
-        let mut x_new = vec![0.0; n];
         if budget == 0 {
             return LmOutcome {
                 x,
@@ -169,118 +144,262 @@ impl LevenbergMarquardt {
                 termination: Termination::Budget,
             };
         }
-        problem.residuals(&x, &mut r);
-        used += 1;
-        let mut e = sanitise(sum_sq(&r));
-        let mut mu = self.tau;
-        let mut nu = 2.0;
-        let mut iterations = 0u64;
+        let mut state = State::start(problem, x, budget, self.tau);
+        let termination = self.iterate(&mut state);
+        LmOutcome {
+            x: state.x,
+            value: state.e,
+            evaluations: state.used,
+            iterations: state.iterations,
+            termination,
+        }
+    }
+
+    /// The iterations from the evaluated starting point until a stopping
+    /// rule holds: linearise, solve the damped step, try it, and update the
+    /// damping from the gain ratio.
+    fn iterate<P: LeastSquares + ?Sized>(&self, s: &mut State<'_, P>) -> Termination {
         let mut need_jacobian = true;
-        let termination = loop {
-            if e <= self.value_tol {
-                break Termination::Value;
+        loop {
+            if s.e <= self.value_tol {
+                return Termination::Value;
             }
-            if iterations >= self.max_iterations {
-                break Termination::Iterations;
+            if s.iterations >= self.max_iterations {
+                return Termination::Iterations;
             }
             if need_jacobian {
                 // A Jacobian plus at least one trial must fit in the budget.
-                if used + dim + 1 > budget {
-                    break Termination::Budget;
+                if s.used + s.n as u64 + 1 > s.budget {
+                    return Termination::Budget;
                 }
-                if !problem.jacobian(&x, &mut jac) {
-                    forward_differences(problem, bounds, &x, &r, &mut r_fd, &mut jac);
-                }
-                used += dim;
-                iterations += 1;
-                normal_equations(&jac, &r, m, n, &mut a, &mut g);
+                s.linearise();
                 need_jacobian = false;
-                if projected_gradient_norm(&g, &x, bounds) <= self.gradient_tol {
-                    break Termination::Gradient;
+                if projected_gradient_norm(&s.g, &s.x, s.bounds) <= self.gradient_tol {
+                    return Termination::Gradient;
                 }
             }
-            if used >= budget {
-                break Termination::Budget;
+            if s.used >= s.budget {
+                return Termination::Budget;
             }
-            let max_diag = (0..n).map(|j| a[j * n + j]).fold(0.0, f64::max);
-            let floor = (max_diag * 1e-12).max(f64::MIN_POSITIVE);
-            chol.copy_from_slice(&a);
-            for j in 0..n {
-                chol[j * n + j] += mu * a[j * n + j].max(floor);
-            }
-            for (hj, gj) in h.iter_mut().zip(&g) {
-                *hj = -gj;
-            }
-            // Variables held at a bound by the gradient are fixed for this
-            // step (the active set of projected Newton methods, Bertsekas
-            // 1982): their rows and columns become the identity, their step 0.
-            for j in 0..n {
-                if is_held(g[j], x[j], bounds[j]) {
-                    for k in 0..n {
-                        chol[j * n + k] = 0.0;
-                        chol[k * n + j] = 0.0;
-                    }
-                    chol[j * n + j] = 1.0;
-                    h[j] = 0.0;
-                }
-            }
-            if !cholesky_solve(&mut chol, &mut h, n) || !h.iter().all(|v| v.is_finite()) {
-                mu *= nu;
-                nu *= 2.0;
-                if !mu.is_finite() {
-                    break Termination::Step;
+            if !s.solve_step() {
+                s.increase_damping();
+                if !s.mu.is_finite() {
+                    return Termination::Step;
                 }
                 continue;
             }
-            for j in 0..n {
-                x_new[j] = bounds[j].clip(x[j] + h[j]);
-                h[j] = x_new[j] - x[j];
+            s.project_step();
+            if s.step_is_negligible(self.step_tol) {
+                return Termination::Step;
             }
-            let h_norm = h.iter().map(|v| v * v).sum::<f64>().sqrt();
-            let x_norm = x.iter().map(|v| v * v).sum::<f64>().sqrt();
-            if h_norm <= self.step_tol * (x_norm + self.step_tol) {
-                break Termination::Step;
-            }
-            problem.residuals(&x_new, &mut r_new);
-            used += 1;
-            let e_new = sanitise(sum_sq(&r_new));
-            // Predicted decrease of F = ½E by the linear model:
-            // L(0) − L(h) = −gᵀh − ½ hᵀ(JᵀJ)h.
-            let gh: f64 = g.iter().zip(&h).map(|(a, b)| a * b).sum();
-            let mut hah = 0.0;
-            for i in 0..n {
-                let row: f64 = (0..n).map(|j| a[i * n + j] * h[j]).sum();
-                hah += h[i] * row;
-            }
-            let predicted = -gh - 0.5 * hah;
-            let actual = 0.5 * (e - e_new);
-            let rho = if predicted > 0.0 {
-                actual / predicted
-            } else {
-                -1.0
-            };
-            if rho > 0.0 && e_new < e {
-                x.copy_from_slice(&x_new);
-                std::mem::swap(&mut r, &mut r_new);
-                e = e_new;
-                mu *= f64::max(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0).powi(3));
-                nu = 2.0;
+            let e_new = s.try_step();
+            let rho = s.gain_ratio(e_new);
+            if rho > 0.0 && e_new < s.e {
+                s.accept(e_new, rho);
                 need_jacobian = true;
             } else {
-                mu *= nu;
-                nu *= 2.0;
-                if !mu.is_finite() || mu > 1e300 {
-                    break Termination::Step;
+                s.increase_damping();
+                if !s.mu.is_finite() || s.mu > 1e300 {
+                    return Termination::Step;
                 }
             }
-        };
-        LmOutcome {
-            x,
-            value: e,
-            evaluations: used,
-            iterations,
-            termination,
         }
+    }
+}
+
+/// The outcome for a problem without variables: the residuals at the empty
+/// point, if the budget allows one evaluation.
+fn without_variables<P: LeastSquares + ?Sized>(problem: &P, x: Vec<f64>, budget: u64) -> LmOutcome {
+    let mut r = vec![0.0; problem.residual_count()];
+    let (value, evaluations) = if budget > 0 {
+        problem.residuals(&x, &mut r);
+        (sum_sq(&r), 1)
+    } else {
+        (f64::INFINITY, 0)
+    };
+    LmOutcome {
+        x,
+        value,
+        evaluations,
+        iterations: 0,
+        termination: Termination::NoVariables,
+    }
+}
+
+/// The state of one run: the current point with its residuals and value,
+/// the damping `μ, ν`, the evaluation count, and the buffers reused by
+/// every iteration.
+struct State<'p, P: LeastSquares + ?Sized> {
+    problem: &'p P,
+    bounds: &'p [Bounds],
+    /// Variables.
+    n: usize,
+    /// Residuals.
+    m: usize,
+    budget: u64,
+    used: u64,
+    iterations: u64,
+    /// The current point, its residuals and `E`.
+    x: Vec<f64>,
+    r: Vec<f64>,
+    e: f64,
+    mu: f64,
+    nu: f64,
+    /// The Jacobian, `JᵀJ` and `g = Jᵀr` at `x`.
+    jac: Vec<f64>,
+    a: Vec<f64>,
+    g: Vec<f64>,
+    /// The damped system's factor and the step `h`.
+    chol: Vec<f64>,
+    h: Vec<f64>,
+    /// The trial point and its residuals.
+    x_new: Vec<f64>,
+    r_new: Vec<f64>,
+    /// Residuals of forward differences.
+    r_fd: Vec<f64>,
+}
+
+impl<'p, P: LeastSquares + ?Sized> State<'p, P> {
+    /// Evaluates the residuals at `x` (one evaluation) with damping `μ = tau`.
+    fn start(problem: &'p P, x: Vec<f64>, budget: u64, tau: f64) -> Self {
+        let n = problem.dim();
+        let m = problem.residual_count();
+        let mut r = vec![0.0; m];
+        problem.residuals(&x, &mut r);
+        let e = sanitise(sum_sq(&r));
+        State {
+            problem,
+            bounds: problem.bounds(),
+            n,
+            m,
+            budget,
+            used: 1,
+            iterations: 0,
+            x,
+            r,
+            e,
+            mu: tau,
+            nu: 2.0,
+            jac: vec![0.0; m * n],
+            a: vec![0.0; n * n],
+            g: vec![0.0; n],
+            chol: vec![0.0; n * n],
+            h: vec![0.0; n],
+            x_new: vec![0.0; n],
+            r_new: vec![0.0; m],
+            r_fd: vec![0.0; m],
+        }
+    }
+
+    /// A new iteration: the Jacobian at `x` (analytic, else forward
+    /// differences; `dim` evaluations either way) and the normal equations.
+    fn linearise(&mut self) {
+        if !self.problem.jacobian(&self.x, &mut self.jac) {
+            forward_differences(
+                self.problem,
+                self.bounds,
+                &self.x,
+                &self.r,
+                &mut self.r_fd,
+                &mut self.jac,
+            );
+        }
+        self.used += self.n as u64;
+        self.iterations += 1;
+        normal_equations(&self.jac, &self.r, self.m, self.n, &mut self.a, &mut self.g);
+    }
+
+    /// Solves `(JᵀJ + μ D) h = −g` for the free variables; `false` if the
+    /// system is not positive definite or the step is not finite.
+    fn solve_step(&mut self) -> bool {
+        let n = self.n;
+        let a = &self.a;
+        let chol = &mut self.chol;
+        let h = &mut self.h;
+        let max_diag = (0..n).map(|j| a[j * n + j]).fold(0.0, f64::max);
+        let floor = (max_diag * 1e-12).max(f64::MIN_POSITIVE);
+        chol.copy_from_slice(a);
+        for j in 0..n {
+            chol[j * n + j] += self.mu * a[j * n + j].max(floor);
+        }
+        for (hj, gj) in h.iter_mut().zip(&self.g) {
+            *hj = -gj;
+        }
+        // Variables held at a bound by the gradient are fixed for this
+        // step (the active set of projected Newton methods, Bertsekas
+        // 1982): their rows and columns become the identity, their step 0.
+        for j in 0..n {
+            if is_held(self.g[j], self.x[j], self.bounds[j]) {
+                for k in 0..n {
+                    chol[j * n + k] = 0.0;
+                    chol[k * n + j] = 0.0;
+                }
+                chol[j * n + j] = 1.0;
+                h[j] = 0.0;
+            }
+        }
+        cholesky_solve(chol, h, n) && h.iter().all(|v| v.is_finite())
+    }
+
+    /// Projects `x + h` onto the box as the trial point, and `h` to the
+    /// step actually taken.
+    fn project_step(&mut self) {
+        for j in 0..self.n {
+            self.x_new[j] = self.bounds[j].clip(self.x[j] + self.h[j]);
+            self.h[j] = self.x_new[j] - self.x[j];
+        }
+    }
+
+    /// Whether the projected step is at most `step_tol·(‖x‖ + step_tol)`.
+    fn step_is_negligible(&self, step_tol: f64) -> bool {
+        let h_norm = self.h.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let x_norm = self.x.iter().map(|v| v * v).sum::<f64>().sqrt();
+        h_norm <= step_tol * (x_norm + step_tol)
+    }
+
+    /// Evaluates the trial point (one evaluation) and returns its `E`.
+    fn try_step(&mut self) -> f64 {
+        self.problem.residuals(&self.x_new, &mut self.r_new);
+        self.used += 1;
+        sanitise(sum_sq(&self.r_new))
+    }
+
+    /// The gain ratio `ϱ` of the projected step to a trial value `e_new`:
+    /// the actual decrease of `F = ½E` over the decrease the linear model
+    /// predicts, or −1 when the model predicts none.
+    fn gain_ratio(&self, e_new: f64) -> f64 {
+        let (n, a, g, h) = (self.n, &self.a, &self.g, &self.h);
+        // Predicted decrease of F = ½E by the linear model:
+        // L(0) − L(h) = −gᵀh − ½ hᵀ(JᵀJ)h.
+        let gh: f64 = g.iter().zip(h).map(|(a, b)| a * b).sum();
+        let mut hah = 0.0;
+        for i in 0..n {
+            let row: f64 = (0..n).map(|j| a[i * n + j] * h[j]).sum();
+            hah += h[i] * row;
+        }
+        let predicted = -gh - 0.5 * hah;
+        let actual = 0.5 * (self.e - e_new);
+        if predicted > 0.0 {
+            actual / predicted
+        } else {
+            -1.0
+        }
+    }
+
+    /// Moves to the trial point and relaxes the damping by the gain ratio
+    /// `rho`: `μ ← μ·max(⅓, 1 − (2ϱ − 1)³)`, `ν ← 2`.
+    fn accept(&mut self, e_new: f64, rho: f64) {
+        self.x.copy_from_slice(&self.x_new);
+        std::mem::swap(&mut self.r, &mut self.r_new);
+        self.e = e_new;
+        self.mu *= f64::max(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0).powi(3));
+        self.nu = 2.0;
+    }
+
+    /// After a failed solve or a rejected step: `μ ← μν`, `ν ← 2ν`.
+    fn increase_damping(&mut self) {
+        self.mu *= self.nu;
+        self.nu *= 2.0;
     }
 }
 

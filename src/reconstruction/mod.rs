@@ -10,7 +10,6 @@
 
 mod overlay;
 
-use std::fmt;
 use std::path::{Path, PathBuf};
 
 use crate::fit::{
@@ -159,17 +158,11 @@ pub struct Source {
     pub glyph_height: Option<f64>,
 }
 
-/// A source could not be read.
-#[derive(Debug)]
-pub struct SourceError(pub OutlineError);
-
-impl fmt::Display for SourceError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        self.0.fmt(f)
-    }
-}
-
-impl std::error::Error for SourceError {}
+/// A source could not be read; the outline error says why (and is its
+/// [`std::error::Error::source`]).
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct SourceError(#[from] pub OutlineError);
 
 impl Source {
     /// The glyph's own segmentation: its true break points, C⁰ at its
@@ -192,7 +185,7 @@ impl Source {
         image: &ImageOptions,
         sampling: Sampling,
     ) -> Result<Source, SourceError> {
-        let parsed = match parse_input(input).map_err(SourceError)? {
+        let parsed = match parse_input(input)? {
             Input::Image(p) => Input::Image(resolve(base, &p)),
             Input::Csv(p) => Input::Csv(resolve(base, &p)),
             Input::Glyph { font, glyph } => Input::Glyph {
@@ -214,17 +207,17 @@ impl Source {
         };
         let (outline, true_breaks, true_corners, glyph_height) = match &parsed {
             Input::Image(path) => {
-                let mut shapes = load_image(path, image).map_err(SourceError)?;
+                let mut shapes = load_image(path, image)?;
                 let k = pick(shapes.len())?;
                 (shapes.swap_remove(k), None, None, None)
             }
             Input::Csv(path) => {
-                let o = crate::outline::load_csv(path, &Default::default()).map_err(SourceError)?;
+                let o = crate::outline::load_csv(path, &Default::default())?;
                 pick(1)?;
                 (o, None, None, None)
             }
             Input::Glyph { font, glyph } => {
-                let g = load_glyph(font, *glyph).map_err(SourceError)?;
+                let g = load_glyph(font, *glyph)?;
                 let mut contours = g.sample(sampling);
                 contours.sort_by(|a, b| b.outline.area().total_cmp(&a.outline.area()));
                 let k = pick(contours.len())?;
@@ -400,5 +393,20 @@ mod tests {
         assert_eq!(a.metrics.sse.to_bits(), b.metrics.sse.to_bits());
         assert_ne!(a.metrics.sse.to_bits(), c.metrics.sse.to_bits());
         assert_eq!(a.metrics.evaluations, 4 * 2000);
+    }
+
+    #[test]
+    fn a_source_error_shows_and_chains_its_outline_error() {
+        let e = Source::load(
+            "a.csv",
+            Path::new("/nonexistent-dir"),
+            0,
+            &ImageOptions::default(),
+            Sampling::default(),
+        )
+        .unwrap_err();
+        let cause = std::error::Error::source(&e).expect("the outline error");
+        assert_eq!(e.to_string(), cause.to_string());
+        assert_eq!(e.to_string(), e.0.to_string());
     }
 }

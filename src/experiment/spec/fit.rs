@@ -19,6 +19,7 @@
 //! reported before anything runs.
 
 use std::ops::Range;
+use std::path::Path;
 use std::sync::Arc;
 
 use super::{choices_hint, Budget, Parser, ProblemEntry, ProblemKind, SpecError, Table, Value};
@@ -224,7 +225,7 @@ impl Parser<'_> {
         let base = self
             .path
             .parent()
-            .map(std::path::Path::to_path_buf)
+            .map(Path::to_path_buf)
             .unwrap_or_default();
         let mut out: Vec<ProblemEntry> = Vec::new();
         for (i, entry) in self
@@ -233,195 +234,393 @@ impl Parser<'_> {
             .enumerate()
         {
             let section = format!("fit[{}]", i + 1);
-            let table = self.table(entry, &section)?;
-            self.check_keys(table, &section, &FIT_KEYS)?;
-            let budget = match self.get(table, "budget") {
-                Some(v) => self.integer(v, &format!("{section}.budget"), 1, u64::MAX)?,
-                None => match default_budget {
-                    Some(Budget::Fixed(b)) => b,
-                    Some(Budget::PerDim(_)) | None => {
-                        return Err(self.error(
-                            entry.span(),
-                            &format!("{section}.budget"),
-                            "no budget: give \"budget\" (evaluations per segment) in [experiment] or in this [[fit]]; \"budget_per_dim\" does not apply to fitting".into(),
-                        ))
-                    }
-                },
-            };
-            let contour = match self.get(table, "contour") {
-                Some(v) => self.integer(v, &format!("{section}.contour"), 0, 1_000_000)? as usize,
-                None => 0,
-            };
-            let functions = self.names(
-                table,
-                "function",
-                &section,
-                FunctionType::RationalCubic,
-                &FunctionType::NAMES,
-                FunctionType::from_name,
-            )?;
-            let continuities = self.names(
-                table,
-                "continuity",
-                &section,
-                Continuity::G1,
-                &Continuity::NAMES,
-                Continuity::from_name,
-            )?;
-            let spaces = self.names(
-                table,
-                "search_space",
-                &section,
-                SearchSpace::Technique,
-                &SearchSpace::NAMES,
-                SearchSpace::from_name,
-            )?;
-            let parameterisation = self.names(
-                table,
-                "parameterisation",
-                &section,
-                Parameterisation::ChordLength,
-                &Parameterisation::NAMES,
-                Parameterisation::from_name,
-            )?;
-            if parameterisation.len() != 1 {
-                return Err(self.error(
-                    entry.span(),
-                    &format!("{section}.parameterisation"),
-                    "expected one parameterisation, not a list".into(),
-                ));
-            }
-            let corner_angle = self
-                .real_in(table, "corner_angle", &section, (0.0, 180.0), false)?
-                .unwrap_or(60.0);
-            let corner_k = match self.get(table, "corner_k") {
-                Some(v) => self.integer(v, &format!("{section}.corner_k"), 1, 10_000)? as usize,
-                None => 5,
-            };
-            let alpha_size = self.real_in(table, "alpha_size", &section, (0.0, 1e6), true)?;
-            let pt = self.real_in(table, "pt", &section, (0.0, 1.0), false)?;
-            let weight_range =
-                self.positive_range(table, "weight_range", &section, "the rational weights")?;
-            let t_range = self.positive_range(table, "t_range", &section, "the G1 ratio T")?;
-
-            let sv = self.required(table, &section, "segments", entry.span())?;
-            let seg_field = format!("{section}.segments");
-            enum Segs {
-                Count(usize),
-                TrueBreaks,
-            }
-            let segs = match raw_string(sv) {
-                Some(s) if s == "true-breaks" => Segs::TrueBreaks,
-                Some(s) => {
-                    return Err(self.error(
-                        sv.span(),
-                        &seg_field,
-                        format!(
-                            "expected a number of segments ≥ 1 or \"true-breaks\", found \"{s}\""
-                        ),
-                    ))
-                }
-                None => Segs::Count(self.integer(sv, &seg_field, 1, 100_000)? as usize),
-            };
-
-            let iv = self.required(table, &section, "input", entry.span())?;
-            let input_field = format!("{section}.input");
-            let inputs = self.one_or_many(iv, &input_field)?;
-            let label = match self.get(table, "label") {
-                Some(v) if inputs.len() == 1 => Some(self.string(v, &format!("{section}.label"))?),
-                Some(v) => {
-                    return Err(self.error(
-                        v.span(),
-                        &format!("{section}.label"),
-                        "a label names one input; with several inputs, leave it out (each is named after its file)".into(),
-                    ))
-                }
-                None => None,
-            };
-            for item in inputs {
-                let text = self.string(item, &input_field)?;
-                let source = Source::load(
-                    &text,
-                    &base,
-                    contour,
-                    &ImageOptions::default(),
-                    Sampling::default(),
-                )
-                .map_err(|e| self.error(item.span(), &input_field, e.to_string()))?;
-                let segmentation = match segs {
-                    Segs::Count(n) => Segmentation::Count(n),
-                    Segs::TrueBreaks => match source.true_segmentation() {
-                        Some(s) => s,
-                        None => {
-                            return Err(self.error(
-                                sv.span(),
-                                &seg_field,
-                                format!("\"true-breaks\" needs a glyph input (font:PATH:GLYPH), but \"{text}\" is not one"),
-                            ))
-                        }
-                    },
-                };
-                let source_name = label.clone().unwrap_or_else(|| source.label());
-                let source = Arc::new(source);
-                for &function in &functions {
-                    for &continuity in &continuities {
-                        for &space in &spaces {
-                            let mut options = FitOptions::new(function, continuity);
-                            options.parameterisation = parameterisation[0];
-                            options.budget_per_segment = budget;
-                            options.search.kind = space;
-                            if let Some(a) = alpha_size {
-                                options.search.alpha_size = a;
-                            }
-                            if let Some(p) = pt {
-                                options.search.pt = p;
-                            }
-                            if let Some(w) = weight_range {
-                                options.search.weight_range = w;
-                            }
-                            if let Some(t) = t_range {
-                                options.search.t_range = t;
-                            }
-                            let mut name =
-                                format!("{source_name}/{}/{}", function.name(), continuity.name());
-                            if space != SearchSpace::Technique {
-                                name = format!("{name}/{}", space.name());
-                            }
-                            let case = FitCase {
-                                name,
-                                source_name: source_name.clone(),
-                                source: Arc::clone(&source),
-                                segmentation: segmentation.clone(),
-                                corners: (corner_angle > 0.0).then_some(CornerOptions {
-                                    k: corner_k,
-                                    angle_deg: corner_angle,
-                                }),
-                                options,
-                            };
-                            let dry = dry_run(&case).map_err(|e| {
-                                self.error(sv.span(), &seg_field, format!("{}: {e}", case.name))
-                            })?;
-                            let segments = dry.segments.len();
-                            let p = ProblemEntry {
-                                kind: ProblemKind::Fit(Box::new(case)),
-                                dim: segments,
-                                budget: budget.saturating_mul(segments as u64),
-                            };
-                            if out.iter().any(|q| q.key() == p.key()) {
-                                return Err(self.error(
-                                    item.span(),
-                                    &section,
-                                    format!("problem {} is listed twice", p.key()),
-                                ));
-                            }
-                            out.push(p);
-                        }
-                    }
-                }
-            }
+            self.fit_section(entry, &section, default_budget, &base, &mut out)?;
         }
         Ok(out)
     }
+
+    /// Appends the problems of one `[[fit]]` section to `out`: every input
+    /// × function × continuity × search space, each dry-run.
+    fn fit_section(
+        &self,
+        entry: &Value<'_>,
+        section: &str,
+        default_budget: Option<Budget>,
+        base: &Path,
+        out: &mut Vec<ProblemEntry>,
+    ) -> Result<(), SpecError> {
+        let table = self.table(entry, section)?;
+        self.check_keys(table, section, &FIT_KEYS)?;
+        let settings = self.fit_settings(table, section, entry, default_budget)?;
+        let segments = self.fit_segments(table, section, entry)?;
+        let iv = self.required(table, section, "input", entry.span())?;
+        let input_field = format!("{section}.input");
+        let inputs = self.one_or_many(iv, &input_field)?;
+        let label = self.fit_label(table, section, inputs.len())?;
+        for item in inputs {
+            let text = self.string(item, &input_field)?;
+            let source = Source::load(
+                &text,
+                base,
+                settings.contour,
+                &ImageOptions::default(),
+                Sampling::default(),
+            )
+            .map_err(|e| self.error(item.span(), &input_field, e.to_string()))?;
+            let segmentation = self.fit_segmentation(&segments, &source, &text)?;
+            let source_name = label.clone().unwrap_or_else(|| source.label());
+            let source = Arc::new(source);
+            for options in settings.options() {
+                let case = FitCase {
+                    name: case_name(&source_name, &options),
+                    source_name: source_name.clone(),
+                    source: Arc::clone(&source),
+                    segmentation: segmentation.clone(),
+                    corners: settings.corners,
+                    options,
+                };
+                let p = self.fit_problem(case, &segments)?;
+                if out.iter().any(|q| q.key() == p.key()) {
+                    return Err(self.error(
+                        item.span(),
+                        section,
+                        format!("problem {} is listed twice", p.key()),
+                    ));
+                }
+                out.push(p);
+            }
+        }
+        Ok(())
+    }
+
+    /// The keys of a `[[fit]]` section shared by all its problems, read
+    /// in order: budget, contour, the choices, corners, search space.
+    fn fit_settings(
+        &self,
+        table: &Table<'_>,
+        section: &str,
+        entry: &Value<'_>,
+        default_budget: Option<Budget>,
+    ) -> Result<FitSettings, SpecError> {
+        let budget = self.fit_budget(table, section, entry, default_budget)?;
+        let contour = match self.get(table, "contour") {
+            Some(v) => self.integer(v, &format!("{section}.contour"), 0, 1_000_000)? as usize,
+            None => 0,
+        };
+        let choices = self.fit_choices(table, section, entry)?;
+        let corners = self.fit_corners(table, section)?;
+        let search = self.search_overrides(table, section)?;
+        Ok(FitSettings {
+            budget,
+            contour,
+            choices,
+            corners,
+            search,
+        })
+    }
+
+    /// Evaluations per segment: the section's `budget`, else the
+    /// experiment's fixed one (a per-dimension budget does not apply).
+    fn fit_budget(
+        &self,
+        table: &Table<'_>,
+        section: &str,
+        entry: &Value<'_>,
+        default_budget: Option<Budget>,
+    ) -> Result<u64, SpecError> {
+        match self.get(table, "budget") {
+            Some(v) => self.integer(v, &format!("{section}.budget"), 1, u64::MAX),
+            None => match default_budget {
+                Some(Budget::Fixed(b)) => Ok(b),
+                Some(Budget::PerDim(_)) | None => Err(self.error(
+                    entry.span(),
+                    &format!("{section}.budget"),
+                    "no budget: give \"budget\" (evaluations per segment) in [experiment] or in this [[fit]]; \"budget_per_dim\" does not apply to fitting".into(),
+                )),
+            },
+        }
+    }
+
+    /// The functions, continuities and search spaces to combine, and the
+    /// one parameterisation.
+    fn fit_choices(
+        &self,
+        table: &Table<'_>,
+        section: &str,
+        entry: &Value<'_>,
+    ) -> Result<FitChoices, SpecError> {
+        let functions = self.names(
+            table,
+            "function",
+            section,
+            FunctionType::RationalCubic,
+            &FunctionType::NAMES,
+            FunctionType::from_name,
+        )?;
+        let continuities = self.names(
+            table,
+            "continuity",
+            section,
+            Continuity::G1,
+            &Continuity::NAMES,
+            Continuity::from_name,
+        )?;
+        let spaces = self.names(
+            table,
+            "search_space",
+            section,
+            SearchSpace::Technique,
+            &SearchSpace::NAMES,
+            SearchSpace::from_name,
+        )?;
+        let parameterisation = self.names(
+            table,
+            "parameterisation",
+            section,
+            Parameterisation::ChordLength,
+            &Parameterisation::NAMES,
+            Parameterisation::from_name,
+        )?;
+        let [parameterisation] = parameterisation[..] else {
+            return Err(self.error(
+                entry.span(),
+                &format!("{section}.parameterisation"),
+                "expected one parameterisation, not a list".into(),
+            ));
+        };
+        Ok(FitChoices {
+            functions,
+            continuities,
+            spaces,
+            parameterisation,
+        })
+    }
+
+    /// The corner detector of `corner_angle` and `corner_k` (none for an
+    /// angle of 0).
+    fn fit_corners(
+        &self,
+        table: &Table<'_>,
+        section: &str,
+    ) -> Result<Option<CornerOptions>, SpecError> {
+        let corner_angle = self
+            .real_in(table, "corner_angle", section, (0.0, 180.0), false)?
+            .unwrap_or(60.0);
+        let corner_k = match self.get(table, "corner_k") {
+            Some(v) => self.integer(v, &format!("{section}.corner_k"), 1, 10_000)? as usize,
+            None => 5,
+        };
+        Ok((corner_angle > 0.0).then_some(CornerOptions {
+            k: corner_k,
+            angle_deg: corner_angle,
+        }))
+    }
+
+    /// The search-space settings a section overrides.
+    fn search_overrides(
+        &self,
+        table: &Table<'_>,
+        section: &str,
+    ) -> Result<SearchOverrides, SpecError> {
+        Ok(SearchOverrides {
+            alpha_size: self.real_in(table, "alpha_size", section, (0.0, 1e6), true)?,
+            pt: self.real_in(table, "pt", section, (0.0, 1.0), false)?,
+            weight_range: self.positive_range(
+                table,
+                "weight_range",
+                section,
+                "the rational weights",
+            )?,
+            t_range: self.positive_range(table, "t_range", section, "the G1 ratio T")?,
+        })
+    }
+
+    /// The required `segments`: a count or `"true-breaks"`.
+    fn fit_segments<'t, 'i>(
+        &self,
+        table: &'t Table<'i>,
+        section: &str,
+        entry: &Value<'_>,
+    ) -> Result<FitSegments<'t, 'i>, SpecError> {
+        let value = self.required(table, section, "segments", entry.span())?;
+        let field = format!("{section}.segments");
+        let kind = match raw_string(value) {
+            Some(s) if s == "true-breaks" => Segs::TrueBreaks,
+            Some(s) => {
+                return Err(self.error(
+                    value.span(),
+                    &field,
+                    format!("expected a number of segments ≥ 1 or \"true-breaks\", found \"{s}\""),
+                ))
+            }
+            None => Segs::Count(self.integer(value, &field, 1, 100_000)? as usize),
+        };
+        Ok(FitSegments { kind, value, field })
+    }
+
+    /// The optional `label`, which names a single input only.
+    fn fit_label(
+        &self,
+        table: &Table<'_>,
+        section: &str,
+        inputs: usize,
+    ) -> Result<Option<String>, SpecError> {
+        match self.get(table, "label") {
+            Some(v) if inputs == 1 => Ok(Some(self.string(v, &format!("{section}.label"))?)),
+            Some(v) => Err(self.error(
+                v.span(),
+                &format!("{section}.label"),
+                "a label names one input; with several inputs, leave it out (each is named after its file)".into(),
+            )),
+            None => Ok(None),
+        }
+    }
+
+    /// The segmentation of `source` (the input `text`): the count, or a
+    /// glyph's true breaks.
+    fn fit_segmentation(
+        &self,
+        segments: &FitSegments<'_, '_>,
+        source: &Source,
+        text: &str,
+    ) -> Result<Segmentation, SpecError> {
+        match segments.kind {
+            Segs::Count(n) => Ok(Segmentation::Count(n)),
+            Segs::TrueBreaks => source.true_segmentation().ok_or_else(|| {
+                self.error(
+                    segments.value.span(),
+                    &segments.field,
+                    format!("\"true-breaks\" needs a glyph input (font:PATH:GLYPH), but \"{text}\" is not one"),
+                )
+            }),
+        }
+    }
+
+    /// The problem of a case, checked by a dry run: its dimension is its
+    /// number of segments, its budget that of every segment.
+    fn fit_problem(
+        &self,
+        case: FitCase,
+        segments: &FitSegments<'_, '_>,
+    ) -> Result<ProblemEntry, SpecError> {
+        let dry = dry_run(&case).map_err(|e| {
+            self.error(
+                segments.value.span(),
+                &segments.field,
+                format!("{}: {e}", case.name),
+            )
+        })?;
+        let segments = dry.segments.len();
+        Ok(ProblemEntry {
+            budget: case
+                .options
+                .budget_per_segment
+                .saturating_mul(segments as u64),
+            kind: ProblemKind::Fit(Box::new(case)),
+            dim: segments,
+        })
+    }
+}
+
+/// The keys of a `[[fit]]` section shared by all its problems.
+struct FitSettings {
+    /// Evaluations per segment.
+    budget: u64,
+    /// Which outline of each input.
+    contour: usize,
+    /// What to combine.
+    choices: FitChoices,
+    /// The corner detector.
+    corners: Option<CornerOptions>,
+    /// Search-space settings given in the section.
+    search: SearchOverrides,
+}
+
+impl FitSettings {
+    /// The fit options of every function × continuity × search space,
+    /// first function slowest.
+    fn options(&self) -> Vec<FitOptions> {
+        let c = &self.choices;
+        let mut out = Vec::new();
+        for &function in &c.functions {
+            for &continuity in &c.continuities {
+                for &space in &c.spaces {
+                    let mut options = FitOptions::new(function, continuity);
+                    options.parameterisation = c.parameterisation;
+                    options.budget_per_segment = self.budget;
+                    options.search.kind = space;
+                    self.search.apply(&mut options);
+                    out.push(options);
+                }
+            }
+        }
+        out
+    }
+}
+
+/// The lists a `[[fit]]` section combines, and its parameterisation.
+struct FitChoices {
+    functions: Vec<FunctionType>,
+    continuities: Vec<Continuity>,
+    spaces: Vec<SearchSpace>,
+    parameterisation: Parameterisation,
+}
+
+/// Search-space settings of a `[[fit]]` section; `None` keeps the default.
+struct SearchOverrides {
+    alpha_size: Option<f64>,
+    pt: Option<f64>,
+    weight_range: Option<(f64, f64)>,
+    t_range: Option<(f64, f64)>,
+}
+
+impl SearchOverrides {
+    /// Sets the given settings in `options`.
+    fn apply(&self, options: &mut FitOptions) {
+        if let Some(a) = self.alpha_size {
+            options.search.alpha_size = a;
+        }
+        if let Some(p) = self.pt {
+            options.search.pt = p;
+        }
+        if let Some(w) = self.weight_range {
+            options.search.weight_range = w;
+        }
+        if let Some(t) = self.t_range {
+            options.search.t_range = t;
+        }
+    }
+}
+
+/// How a section's outlines are cut into segments.
+#[derive(Clone, Copy)]
+enum Segs {
+    /// This many segments.
+    Count(usize),
+    /// A glyph's own break points.
+    TrueBreaks,
+}
+
+/// The `segments` key of a section, with its value and field for errors
+/// found later (a non-glyph input, a segment that cannot be fitted).
+struct FitSegments<'t, 'i> {
+    kind: Segs,
+    value: &'t Value<'i>,
+    field: String,
+}
+
+/// A case's problem name: `source/function/continuity`, and the search
+/// space unless it is the technique's.
+fn case_name(source_name: &str, options: &FitOptions) -> String {
+    let mut name = format!(
+        "{source_name}/{}/{}",
+        options.function.name(),
+        options.continuity.name()
+    );
+    if options.search.kind != SearchSpace::Technique {
+        name = format!("{name}/{}", options.search.kind.name());
+    }
+    name
 }
 
 fn raw_string(v: &Value<'_>) -> Option<String> {

@@ -351,7 +351,28 @@ impl<'a> Parser<'a> {
             self.error(span, "", format!("invalid TOML: {msg}"))
         })?;
         let root = doc.get_ref();
-        let whole = 0..0;
+        self.check_sections(root)?;
+        let header = self.experiment(root, doc.span())?;
+        let problems = self.all_problems(root, header.budget, doc.span())?;
+        let benchmarks = problems
+            .iter()
+            .any(|p| matches!(p.kind, ProblemKind::Benchmark(_)));
+        let cells = self.cells(root, doc.span(), benchmarks)?;
+        Ok(Spec {
+            path: self.path.to_owned(),
+            text: self.text.to_owned(),
+            name: header.name,
+            seed: header.seed,
+            runs: header.runs,
+            threshold: header.threshold,
+            checkpoints_per_decade: header.checkpoints_per_decade,
+            problems,
+            cells,
+        })
+    }
+
+    /// Checks that every top-level key is a known section.
+    fn check_sections(&self, root: &Table<'_>) -> Result<(), SpecError> {
         for (k, _) in root.iter() {
             let key: &str = k.get_ref();
             if !SECTIONS.contains(&key) {
@@ -362,33 +383,20 @@ impl<'a> Parser<'a> {
                 ));
             }
         }
-        let experiment = self.get(root, "experiment").ok_or_else(|| {
-            self.error(
-                whole.clone(),
-                "experiment",
-                "missing [experiment] section".into(),
-            )
-        })?;
+        Ok(())
+    }
+
+    /// The required `[experiment]` section; `span` is the document's.
+    fn experiment(&self, root: &Table<'_>, span: Range<usize>) -> Result<Header, SpecError> {
+        let experiment = self
+            .get(root, "experiment")
+            .ok_or_else(|| self.error(0..0, "experiment", "missing [experiment] section".into()))?;
         let experiment = self.table(experiment, "experiment")?;
         self.check_keys(experiment, "experiment", &EXPERIMENT_KEYS)?;
-
-        let name_v = self.required(experiment, "experiment", "name", doc.span())?;
-        let name = self.string(name_v, "experiment.name")?;
-        if name.is_empty()
-            || !name
-                .chars()
-                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.')
-            || name.starts_with('.')
-        {
-            return Err(self.error(
-                name_v.span(),
-                "experiment.name",
-                format!("expected a name of letters, digits, '-', '_' or '.' (it names the results directory), found \"{name}\""),
-            ));
-        }
-        let seed_v = self.required(experiment, "experiment", "seed", doc.span())?;
+        let name = self.experiment_name(experiment, span.clone())?;
+        let seed_v = self.required(experiment, "experiment", "seed", span.clone())?;
         let seed = self.integer(seed_v, "experiment.seed", 0, i64::MAX as u64)?;
-        let runs_v = self.required(experiment, "experiment", "runs", doc.span())?;
+        let runs_v = self.required(experiment, "experiment", "runs", span)?;
         let runs = self.integer(runs_v, "experiment.runs", 1, u64::from(u32::MAX))? as u32;
         let budget = self.budget(experiment, "experiment")?;
         let threshold = match self.get(experiment, "threshold") {
@@ -412,16 +420,56 @@ impl<'a> Parser<'a> {
         if let Some(v) = self.get(experiment, "description") {
             self.string(v, "experiment.description")?;
         }
+        Ok(Header {
+            name,
+            seed,
+            runs,
+            budget,
+            threshold,
+            checkpoints_per_decade,
+        })
+    }
 
+    /// The required `experiment.name`, which names the results directory.
+    fn experiment_name(
+        &self,
+        experiment: &Table<'_>,
+        span: Range<usize>,
+    ) -> Result<String, SpecError> {
+        let name_v = self.required(experiment, "experiment", "name", span)?;
+        let name = self.string(name_v, "experiment.name")?;
+        if name.is_empty()
+            || !name
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.')
+            || name.starts_with('.')
+        {
+            return Err(self.error(
+                name_v.span(),
+                "experiment.name",
+                format!("expected a name of letters, digits, '-', '_' or '.' (it names the results directory), found \"{name}\""),
+            ));
+        }
+        Ok(name)
+    }
+
+    /// The `[[problem]]` problems (required without `[[fit]]`), then the
+    /// `[[fit]]` ones; no problem twice.
+    fn all_problems(
+        &self,
+        root: &Table<'_>,
+        budget: Option<Budget>,
+        span: Range<usize>,
+    ) -> Result<Vec<ProblemEntry>, SpecError> {
         let mut problems = Vec::new();
         if self.get(root, "problem").is_some() || self.get(root, "fit").is_none() {
-            problems = self.problems(root, budget, doc.span())?;
+            problems = self.problems(root, budget, span.clone())?;
         }
         if self.get(root, "fit").is_some() {
-            for p in self.fits(root, budget, doc.span())? {
+            for p in self.fits(root, budget, span.clone())? {
                 if problems.iter().any(|q: &ProblemEntry| q.key() == p.key()) {
                     return Err(self.error(
-                        doc.span(),
+                        span,
                         "fit",
                         format!("problem {} is listed twice", p.key()),
                     ));
@@ -429,21 +477,7 @@ impl<'a> Parser<'a> {
                 problems.push(p);
             }
         }
-        let benchmarks = problems
-            .iter()
-            .any(|p| matches!(p.kind, ProblemKind::Benchmark(_)));
-        let cells = self.cells(root, doc.span(), benchmarks)?;
-        Ok(Spec {
-            path: self.path.to_owned(),
-            text: self.text.to_owned(),
-            name,
-            seed,
-            runs,
-            threshold,
-            checkpoints_per_decade,
-            problems,
-            cells,
-        })
+        Ok(problems)
     }
 
     pub(crate) fn get<'t, 'i>(&self, table: &'t Table<'i>, key: &str) -> Option<&'t Value<'i>> {
@@ -611,6 +645,8 @@ impl<'a> Parser<'a> {
         }
     }
 
+    /// The `[[problem]]` problems of the spec: every function × dimension
+    /// of each section.
     fn problems(
         &self,
         root: &Table<'_>,
@@ -633,62 +669,11 @@ impl<'a> Parser<'a> {
                     "no budget: give \"budget\" or \"budget_per_dim\" in [experiment] or in this [[problem]]".into(),
                 )
             })?;
-            let fv = self.required(table, &section, "function", entry.span())?;
-            let field = format!("{section}.function");
-            let mut functions = Vec::new();
-            for v in self.one_or_many(fv, &field)? {
-                let name = self.string(v, &field)?;
-                let f = Function::from_name(&name).ok_or_else(|| {
-                    let names: Vec<&str> = Function::ALL.iter().map(|f| f.name()).collect();
-                    self.error(
-                        v.span(),
-                        &field,
-                        format!(
-                            "unknown function \"{name}\"; {}",
-                            choices_hint(&name, &names)
-                        ),
-                    )
-                })?;
-                functions.push((f, v.span()));
-            }
-            let dims: Vec<(Option<usize>, Range<usize>)> = match self.get(table, "dim") {
-                Some(dv) => {
-                    let field = format!("{section}.dim");
-                    self.one_or_many(dv, &field)?
-                        .into_iter()
-                        .map(|v| {
-                            Ok((
-                                Some(self.integer(v, &field, 1, 1_000_000)? as usize),
-                                v.span(),
-                            ))
-                        })
-                        .collect::<Result<_, SpecError>>()?
-                }
-                None => vec![(None, entry.span())],
-            };
+            let functions = self.problem_functions(table, &section, entry)?;
+            let dims = self.problem_dims(table, &section, entry)?;
             for (f, fspan) in &functions {
                 for (dim, dspan) in &dims {
-                    let dim = match (dim, f.fixed_dim()) {
-                        (Some(d), _) => *d,
-                        (None, Some(d)) => d,
-                        (None, None) => {
-                            return Err(self.error(
-                                fspan.clone(),
-                                &format!("{section}.dim"),
-                                format!(
-                                    "missing \"dim\": {} is scalable and needs a dimension",
-                                    f.name()
-                                ),
-                            ))
-                        }
-                    };
-                    if let Err(e) = TestProblem::new(*f, dim) {
-                        return Err(self.error(
-                            dspan.clone(),
-                            &format!("{section}.dim"),
-                            e.to_string(),
-                        ));
-                    }
+                    let dim = self.problem_dim(*f, *dim, fspan, dspan, &section)?;
                     let p = ProblemEntry {
                         kind: ProblemKind::Benchmark(*f),
                         dim,
@@ -708,6 +693,91 @@ impl<'a> Parser<'a> {
         Ok(out)
     }
 
+    /// The required `function` of a `[[problem]]`: the benchmark functions
+    /// with their spans.
+    fn problem_functions(
+        &self,
+        table: &Table<'_>,
+        section: &str,
+        entry: &Value<'_>,
+    ) -> Result<Vec<WithSpan<Function>>, SpecError> {
+        let fv = self.required(table, section, "function", entry.span())?;
+        let field = format!("{section}.function");
+        let mut functions = Vec::new();
+        for v in self.one_or_many(fv, &field)? {
+            let name = self.string(v, &field)?;
+            let f = Function::from_name(&name).ok_or_else(|| {
+                let names: Vec<&str> = Function::ALL.iter().map(|f| f.name()).collect();
+                self.error(
+                    v.span(),
+                    &field,
+                    format!(
+                        "unknown function \"{name}\"; {}",
+                        choices_hint(&name, &names)
+                    ),
+                )
+            })?;
+            functions.push((f, v.span()));
+        }
+        Ok(functions)
+    }
+
+    /// The optional `dim` of a `[[problem]]`: the dimensions with their
+    /// spans, or one unset dimension (each function's fixed one).
+    fn problem_dims(
+        &self,
+        table: &Table<'_>,
+        section: &str,
+        entry: &Value<'_>,
+    ) -> Result<Vec<WithSpan<Option<usize>>>, SpecError> {
+        let Some(dv) = self.get(table, "dim") else {
+            return Ok(vec![(None, entry.span())]);
+        };
+        let field = format!("{section}.dim");
+        self.one_or_many(dv, &field)?
+            .into_iter()
+            .map(|v| {
+                Ok((
+                    Some(self.integer(v, &field, 1, 1_000_000)? as usize),
+                    v.span(),
+                ))
+            })
+            .collect()
+    }
+
+    /// The dimension of function `f` (the one given, else its fixed one),
+    /// checked against the function.
+    fn problem_dim(
+        &self,
+        f: Function,
+        dim: Option<usize>,
+        fspan: &Range<usize>,
+        dspan: &Range<usize>,
+        section: &str,
+    ) -> Result<usize, SpecError> {
+        let dim = match (dim, f.fixed_dim()) {
+            (Some(d), _) => d,
+            (None, Some(d)) => d,
+            (None, None) => {
+                return Err(self.error(
+                    fspan.clone(),
+                    &format!("{section}.dim"),
+                    format!(
+                        "missing \"dim\": {} is scalable and needs a dimension",
+                        f.name()
+                    ),
+                ))
+            }
+        };
+        if let Err(e) = TestProblem::new(f, dim) {
+            return Err(self.error(dspan.clone(), &format!("{section}.dim"), e.to_string()));
+        }
+        Ok(dim)
+    }
+
+    /// The algorithm cells of the spec: each `[[algorithm]]` expanded into
+    /// the grid of its listed parameter values. With `benchmarks`, only
+    /// metaheuristics are allowed.
     fn cells(
         &self,
         root: &Table<'_>,
@@ -722,139 +792,13 @@ impl<'a> Parser<'a> {
         {
             let section = format!("algorithm[{}]", i + 1);
             let table = self.table(entry, &section)?;
-            let nv = self.required(table, &section, "name", entry.span())?;
-            let name = self.string(nv, &format!("{section}.name"))?;
-            let (base_name, polish) = Method::parse_name(&name).ok_or_else(|| {
-                // Only the methods that can solve this spec's problems.
-                let names = if benchmarks {
-                    Algorithm::NAMES.iter().map(|s| s.to_string()).collect()
-                } else {
-                    Method::names()
-                };
-                let names: Vec<&str> = names.iter().map(String::as_str).collect();
-                self.error(
-                    nv.span(),
-                    &format!("{section}.name"),
-                    format!(
-                        "unknown algorithm \"{name}\"; {}",
-                        choices_hint(&name, &names)
-                    ),
-                )
-            })?;
-            if benchmarks && (base_name.is_none() || polish) {
-                return Err(self.error(
-                    nv.span(),
-                    &format!("{section}.name"),
-                    format!(
-                        "\"{name}\" uses Levenberg–Marquardt, which solves least-squares fitting problems only, but this spec has [[problem]] benchmark functions; use it with [[fit]] problems, or choose one of {}",
-                        quoted_list(&Algorithm::NAMES)
-                    ),
-                ));
-            }
-            let defs: &'static [ParamDef] = match base_name {
-                Some(b) => Algorithm::params(b).expect("a known algorithm"),
-                None => &[],
-            };
-            let label = match self.get(table, "label") {
-                Some(v) => {
-                    let l = self.string(v, &format!("{section}.label"))?;
-                    if l.is_empty() || l.contains(['\n', '\r', '"']) {
-                        return Err(self.error(
-                            v.span(),
-                            &format!("{section}.label"),
-                            "expected a non-empty label without quotes or line breaks".into(),
-                        ));
-                    }
-                    l
-                }
-                None => name.clone(),
-            };
-            // Each parameter's admissible values, in declaration order.
-            let mut axes: Vec<Vec<(Setting, Range<usize>)>> = Vec::new();
-            let base = ParamSet::defaults(defs);
-            let param_names: Vec<&str> = defs.iter().map(|d| d.name).collect();
-            for (k, _) in table.iter() {
-                let key: &str = k.get_ref();
-                if key == "name" || key == "label" {
-                    continue;
-                }
-                if !param_names.contains(&key) {
-                    let mut valid = vec!["name", "label"];
-                    valid.extend(&param_names);
-                    return Err(self.error(
-                        k.span(),
-                        &format!("{section}.{key}"),
-                        format!(
-                            "unknown parameter for {name}{}; {}",
-                            if defs.is_empty() {
-                                " (it has none)"
-                            } else {
-                                ""
-                            },
-                            choices_hint(key, &valid)
-                        ),
-                    ));
-                }
-            }
-            for def in defs {
-                let Some(v) = self.get(table, def.name) else {
-                    axes.push(Vec::new());
-                    continue;
-                };
-                let field = format!("{section}.{}", def.name);
-                let mut values = Vec::new();
-                for item in self.one_or_many(v, &field)? {
-                    let setting = def
-                        .check(&raw(item.get_ref()))
-                        .map_err(|e| self.error(item.span(), &field, e.to_string()))?;
-                    values.push((setting, item.span()));
-                }
-                axes.push(values);
-            }
-            // The cartesian product, first parameter slowest.
-            let mut combos: Vec<Vec<usize>> = vec![Vec::new()];
-            for axis in &axes {
-                let n = axis.len().max(1);
-                combos = combos
-                    .into_iter()
-                    .flat_map(|c| {
-                        (0..n).map(move |k| {
-                            let mut c = c.clone();
-                            c.push(k);
-                            c
-                        })
-                    })
-                    .collect();
-            }
-            for combo in combos {
-                let mut params = base.clone();
-                let mut spans = Vec::new();
-                for ((def, axis), k) in defs.iter().zip(&axes).zip(&combo) {
-                    if let Some((setting, sp)) = axis.get(*k) {
-                        params.put(def.name, setting.clone());
-                        spans.push((def.name, sp.clone()));
-                    }
-                }
-                let algorithm = match base_name {
-                    None => None,
-                    Some(b) => Some(Algorithm::from_params(b, &params).map_err(|e| {
-                        let sp = spans
-                            .iter()
-                            .find(|(n, _)| *n == e.param)
-                            .map_or(entry.span(), |(_, s)| s.clone());
-                        self.error(sp, &format!("{section}.{}", e.param), e.message.clone())
-                    })?),
-                };
-                let method = Method::build(algorithm, polish);
-                let cell = Cell {
-                    label: label.clone(),
-                    method,
-                    params,
-                };
+            let algorithm = self.algorithm_entry(table, section, entry.span(), benchmarks)?;
+            for combo in grid(&algorithm.axes) {
+                let cell = self.grid_cell(&algorithm, &combo)?;
                 if out.iter().any(|c| c.key() == cell.key()) {
                     return Err(self.error(
-                        entry.span(),
-                        &section,
+                        algorithm.span.clone(),
+                        &algorithm.section,
                         format!(
                             "algorithm cell {} [{}] appears twice; give the entries different labels or parameters",
                             cell.label,
@@ -867,6 +811,247 @@ impl<'a> Parser<'a> {
         }
         Ok(out)
     }
+
+    /// Reads one `[[algorithm]]` table: its method, label and parameter
+    /// axes, in that order.
+    fn algorithm_entry(
+        &self,
+        table: &Table<'_>,
+        section: String,
+        span: Range<usize>,
+        benchmarks: bool,
+    ) -> Result<AlgorithmEntry, SpecError> {
+        let (name, base, polish) = self.method_name(table, &section, span.clone(), benchmarks)?;
+        let defs: &'static [ParamDef] = match &base {
+            Some(b) => Algorithm::params(b).expect("a known algorithm"),
+            None => &[],
+        };
+        let label = self.cell_label(table, &section, &name)?;
+        self.check_params(table, &section, &name, defs)?;
+        let axes = self.param_axes(table, &section, defs)?;
+        Ok(AlgorithmEntry {
+            section,
+            span,
+            base,
+            polish,
+            label,
+            defs,
+            axes,
+        })
+    }
+
+    /// The required `name` of an `[[algorithm]]`, resolved to a method;
+    /// Levenberg–Marquardt is refused when the spec has `benchmarks`.
+    fn method_name(
+        &self,
+        table: &Table<'_>,
+        section: &str,
+        span: Range<usize>,
+        benchmarks: bool,
+    ) -> Result<(String, Option<String>, bool), SpecError> {
+        let nv = self.required(table, section, "name", span)?;
+        let field = format!("{section}.name");
+        let name = self.string(nv, &field)?;
+        let (base, polish) = Method::parse_name(&name).ok_or_else(|| {
+            // Only the methods that can solve this spec's problems.
+            let names = if benchmarks {
+                Algorithm::NAMES.iter().map(|s| s.to_string()).collect()
+            } else {
+                Method::names()
+            };
+            let names: Vec<&str> = names.iter().map(String::as_str).collect();
+            self.error(
+                nv.span(),
+                &field,
+                format!(
+                    "unknown algorithm \"{name}\"; {}",
+                    choices_hint(&name, &names)
+                ),
+            )
+        })?;
+        if benchmarks && (base.is_none() || polish) {
+            return Err(self.error(
+                nv.span(),
+                &field,
+                format!(
+                    "\"{name}\" uses Levenberg–Marquardt, which solves least-squares fitting problems only, but this spec has [[problem]] benchmark functions; use it with [[fit]] problems, or choose one of {}",
+                    quoted_list(&Algorithm::NAMES)
+                ),
+            ));
+        }
+        let base = base.map(str::to_owned);
+        Ok((name, base, polish))
+    }
+
+    /// The cell label: `label` if given, else the method name.
+    fn cell_label(
+        &self,
+        table: &Table<'_>,
+        section: &str,
+        name: &str,
+    ) -> Result<String, SpecError> {
+        let Some(v) = self.get(table, "label") else {
+            return Ok(name.to_owned());
+        };
+        let l = self.string(v, &format!("{section}.label"))?;
+        if l.is_empty() || l.contains(['\n', '\r', '"']) {
+            return Err(self.error(
+                v.span(),
+                &format!("{section}.label"),
+                "expected a non-empty label without quotes or line breaks".into(),
+            ));
+        }
+        Ok(l)
+    }
+
+    /// Checks that every key of an `[[algorithm]]` besides `name` and
+    /// `label` is a parameter of method `name` (whose parameters are `defs`).
+    fn check_params(
+        &self,
+        table: &Table<'_>,
+        section: &str,
+        name: &str,
+        defs: &[ParamDef],
+    ) -> Result<(), SpecError> {
+        let param_names: Vec<&str> = defs.iter().map(|d| d.name).collect();
+        for (k, _) in table.iter() {
+            let key: &str = k.get_ref();
+            if key == "name" || key == "label" || param_names.contains(&key) {
+                continue;
+            }
+            let mut valid = vec!["name", "label"];
+            valid.extend(&param_names);
+            return Err(self.error(
+                k.span(),
+                &format!("{section}.{key}"),
+                format!(
+                    "unknown parameter for {name}{}; {}",
+                    if defs.is_empty() {
+                        " (it has none)"
+                    } else {
+                        ""
+                    },
+                    choices_hint(key, &valid)
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Each parameter's listed values with their spans, in declaration
+    /// order; empty for a parameter left at its default.
+    fn param_axes(
+        &self,
+        table: &Table<'_>,
+        section: &str,
+        defs: &[ParamDef],
+    ) -> Result<Vec<Axis>, SpecError> {
+        let mut axes: Vec<Axis> = Vec::new();
+        for def in defs {
+            let Some(v) = self.get(table, def.name) else {
+                axes.push(Vec::new());
+                continue;
+            };
+            let field = format!("{section}.{}", def.name);
+            let mut values = Vec::new();
+            for item in self.one_or_many(v, &field)? {
+                let setting = def
+                    .check(&raw(item.get_ref()))
+                    .map_err(|e| self.error(item.span(), &field, e.to_string()))?;
+                values.push((setting, item.span()));
+            }
+            axes.push(values);
+        }
+        Ok(axes)
+    }
+
+    /// The cell of one grid point `combo` (an index into each axis): the
+    /// defaults with the chosen values, and the method configured with them.
+    fn grid_cell(&self, entry: &AlgorithmEntry, combo: &[usize]) -> Result<Cell, SpecError> {
+        let mut params = ParamSet::defaults(entry.defs);
+        let mut spans = Vec::new();
+        for ((def, axis), k) in entry.defs.iter().zip(&entry.axes).zip(combo) {
+            if let Some((setting, sp)) = axis.get(*k) {
+                params.put(def.name, setting.clone());
+                spans.push((def.name, sp.clone()));
+            }
+        }
+        let algorithm = match &entry.base {
+            None => None,
+            Some(b) => Some(Algorithm::from_params(b, &params).map_err(|e| {
+                let sp = spans
+                    .iter()
+                    .find(|(n, _)| *n == e.param)
+                    .map_or(entry.span.clone(), |(_, s)| s.clone());
+                self.error(
+                    sp,
+                    &format!("{}.{}", entry.section, e.param),
+                    e.message.clone(),
+                )
+            })?),
+        };
+        Ok(Cell {
+            label: entry.label.clone(),
+            method: Method::build(algorithm, entry.polish),
+            params,
+        })
+    }
+}
+
+/// One `[[algorithm]]` entry, read: its method, label and parameter axes.
+struct AlgorithmEntry {
+    /// `algorithm[i]`, for errors.
+    section: String,
+    /// The entry's span, for errors about the whole entry.
+    span: Range<usize>,
+    /// The metaheuristic whose parameters it takes (`None` for `lm`).
+    base: Option<String>,
+    /// Whether the metaheuristic is polished by LM.
+    polish: bool,
+    /// The label of its cells.
+    label: String,
+    /// The parameters of the metaheuristic.
+    defs: &'static [ParamDef],
+    /// The listed values of each parameter, in `defs` order.
+    axes: Vec<Axis>,
+}
+
+/// The values listed for one parameter, each with its span; empty when the
+/// parameter keeps its default.
+type Axis = Vec<WithSpan<Setting>>;
+
+/// The cartesian product of the axes as index vectors, first axis slowest;
+/// an empty axis counts as one value (the default).
+fn grid(axes: &[Axis]) -> Vec<Vec<usize>> {
+    let mut combos: Vec<Vec<usize>> = vec![Vec::new()];
+    for axis in axes {
+        let n = axis.len().max(1);
+        combos = combos
+            .into_iter()
+            .flat_map(|c| {
+                (0..n).map(move |k| {
+                    let mut c = c.clone();
+                    c.push(k);
+                    c
+                })
+            })
+            .collect();
+    }
+    combos
+}
+
+/// A value with the span of the text it was read from.
+type WithSpan<T> = (T, Range<usize>);
+
+/// The `[experiment]` section of a spec.
+struct Header {
+    name: String,
+    seed: u64,
+    runs: u32,
+    /// The default budget of the problems.
+    budget: Option<Budget>,
+    threshold: f64,
+    checkpoints_per_decade: u32,
 }
 
 /// A budget as written in a spec.
