@@ -88,7 +88,79 @@ fn sphere_settings() -> Vec<(Algorithm, u64, f64)> {
             200_000,
             1e-6,
         ),
+        (
+            configured(
+                "mhs",
+                &[
+                    ("bw_decay", Raw::Text("exponential".into())),
+                    ("bw_min", Raw::Float(1e-7)),
+                    ("update", Raw::Text("each".into())),
+                ],
+            ),
+            200_000,
+            1e-6,
+        ),
+        (
+            configured(
+                "mhs",
+                &[
+                    ("bw_decay", Raw::Text("exponential".into())),
+                    ("bw_min", Raw::Float(1e-7)),
+                    ("scheme", Raw::Text("per-variable".into())),
+                ],
+            ),
+            200_000,
+            1e-6,
+        ),
     ]
+}
+
+#[test]
+fn mhs_readings_stay_out_of_the_canonical_text_at_their_defaults() {
+    let defaults = ParamSet::defaults(Algorithm::params("mhs").unwrap());
+    // The text of every campaign recorded before the readings existed.
+    assert_eq!(
+        defaults.canonical(),
+        "hms=10;hmcr=0.9;par=0.3;bw=0.01;bw_decay=none;bw_min=0.000001;l=3;operators=hs+ga+pso;pm=0.05;mutation=uniform;sigma=0.1;c=2;bounds=clip"
+    );
+    let mut p = defaults.clone();
+    p.set("scheme", &Raw::Text("per-variable".into())).unwrap();
+    p.set("p_ga", &Raw::Float(0.2)).unwrap();
+    assert!(
+        p.canonical().ends_with(";bounds=clip;scheme=per-variable"),
+        "{}",
+        p.canonical()
+    );
+    p.set("p_ga", &Raw::Float(0.6)).unwrap();
+    p.set("p_pso", &Raw::Float(0.3)).unwrap();
+    let e = Algorithm::from_params("mhs", &p).unwrap_err();
+    assert_eq!(e.param, "p_pso");
+    assert!(
+        e.message.contains("par + p_ga + p_pso ≤ 1"),
+        "{}",
+        e.message
+    );
+}
+
+#[test]
+fn the_mhs_readings_differ() {
+    let problem = TestProblem::new(Function::Rastrigin, 5).unwrap();
+    let runs: Vec<f64> = [
+        vec![],
+        vec![("update", Raw::Text("each".into()))],
+        vec![("scheme", Raw::Text("per-variable".into()))],
+    ]
+    .iter()
+    .map(|changes| {
+        configured("mhs", changes)
+            .run(&problem, 3000, &mut run_rng(5))
+            .best_value
+    })
+    .collect();
+    assert!(
+        runs[0] != runs[1] && runs[1] != runs[2] && runs[0] != runs[2],
+        "{runs:?}"
+    );
 }
 
 #[test]

@@ -138,6 +138,7 @@ pub static PARAMS: [ParamDef; 11] = [
             max: 100_000,
         },
         default: Setting::Count(50),
+        omit_at_default: false,
     },
     ParamDef {
         name: "tournament",
@@ -147,6 +148,7 @@ pub static PARAMS: [ParamDef; 11] = [
             max: 100_000,
         },
         default: Setting::Count(2),
+        omit_at_default: false,
     },
     ParamDef {
         name: "pc",
@@ -157,12 +159,14 @@ pub static PARAMS: [ParamDef; 11] = [
             open_min: false,
         },
         default: Setting::Real(0.9),
+        omit_at_default: false,
     },
     ParamDef {
         name: "crossover",
         doc: "\"arithmetic\" (one γ ~ U(0,1) per pair) or \"blend\" (BLX-α, γ_j ~ U(−α, 1+α) per gene)",
         kind: Kind::Choice(&Crossover::NAMES),
         default: Setting::Choice("blend"),
+        omit_at_default: false,
     },
     ParamDef {
         name: "blend_alpha",
@@ -173,6 +177,7 @@ pub static PARAMS: [ParamDef; 11] = [
             open_min: false,
         },
         default: Setting::Real(0.5),
+        omit_at_default: false,
     },
     ParamDef {
         name: "pm",
@@ -183,12 +188,14 @@ pub static PARAMS: [ParamDef; 11] = [
             open_min: false,
         },
         default: Setting::Real(0.01),
+        omit_at_default: false,
     },
     ParamDef {
         name: "mutation",
         doc: "\"gaussian\" (σ·range·N(0,1) step) or \"uniform\" (redraw in the bounds)",
         kind: Kind::Choice(&Mutation::NAMES),
         default: Setting::Choice("gaussian"),
+        omit_at_default: false,
     },
     ParamDef {
         name: "sigma",
@@ -199,12 +206,14 @@ pub static PARAMS: [ParamDef; 11] = [
             open_min: true,
         },
         default: Setting::Real(0.1),
+        omit_at_default: false,
     },
     ParamDef {
         name: "sigma_decay",
         doc: "\"none\" or \"linear\": σ(t) = σ·max(1 − t/NI, 0.001)",
         kind: Kind::Choice(&["none", "linear"]),
         default: Setting::Choice("linear"),
+        omit_at_default: false,
     },
     ParamDef {
         name: "elite",
@@ -214,6 +223,7 @@ pub static PARAMS: [ParamDef; 11] = [
             max: 100_000,
         },
         default: Setting::Count(1),
+        omit_at_default: false,
     },
     BOUNDS_PARAM,
 ];

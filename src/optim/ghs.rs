@@ -44,6 +44,7 @@ pub static PARAMS: [ParamDef; 4] = [
             max: 100_000,
         },
         default: Setting::Count(5),
+        omit_at_default: false,
     },
     ParamDef {
         name: "hmcr",
@@ -54,6 +55,7 @@ pub static PARAMS: [ParamDef; 4] = [
             open_min: false,
         },
         default: Setting::Real(0.9),
+        omit_at_default: false,
     },
     ParamDef {
         name: "par_min",
@@ -64,6 +66,7 @@ pub static PARAMS: [ParamDef; 4] = [
             open_min: false,
         },
         default: Setting::Real(0.01),
+        omit_at_default: false,
     },
     ParamDef {
         name: "par_max",
@@ -74,6 +77,7 @@ pub static PARAMS: [ParamDef; 4] = [
             open_min: false,
         },
         default: Setting::Real(0.99),
+        omit_at_default: false,
     },
 ];
 

@@ -270,6 +270,7 @@ pub const BW_PARAM: ParamDef = ParamDef {
         open_min: false,
     },
     default: Setting::Real(0.01),
+    omit_at_default: false,
 };
 
 /// The `bw_decay` parameter: `"none"` or `"exponential"` (IHS).
@@ -278,6 +279,7 @@ pub const BW_DECAY_PARAM: ParamDef = ParamDef {
     doc: "\"none\" (classical HS) or \"exponential\" decay of bw to bw_min (IHS)",
     kind: Kind::Choice(&["none", "exponential"]),
     default: Setting::Choice("none"),
+    omit_at_default: false,
 };
 
 /// The `bw_min` parameter: the final fraction of an exponential decay.
@@ -290,6 +292,7 @@ pub const BW_MIN_PARAM: ParamDef = ParamDef {
         open_min: true,
     },
     default: Setting::Real(1e-6),
+    omit_at_default: false,
 };
 
 impl Bandwidth {

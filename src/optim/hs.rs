@@ -42,6 +42,7 @@ pub static PARAMS: [ParamDef; 7] = [
             max: 100_000,
         },
         default: Setting::Count(5),
+        omit_at_default: false,
     },
     ParamDef {
         name: "hmcr",
@@ -52,6 +53,7 @@ pub static PARAMS: [ParamDef; 7] = [
             open_min: false,
         },
         default: Setting::Real(0.9),
+        omit_at_default: false,
     },
     ParamDef {
         name: "par",
@@ -62,6 +64,7 @@ pub static PARAMS: [ParamDef; 7] = [
             open_min: false,
         },
         default: Setting::Real(0.3),
+        omit_at_default: false,
     },
     BW_PARAM,
     BW_DECAY_PARAM,

@@ -6,6 +6,26 @@
 //! its list of symbols keeps "D_l: temporary harmony vectors in MHS" and
 //! "α: random number in \[0,1\]". What follows is this project's documented,
 //! configurable reading of that description, not the thesis's own text.
+//!
+//! Three readings are available, all parameters of one optimiser:
+//! * `scheme = "candidates"`, `update = "best-of-l"` (the default): each
+//!   improvisation builds `L` whole candidate vectors `D_l` (HS, GA, PSO
+//!   operators in turn), evaluates each, and only the best may replace the
+//!   worst harmony;
+//! * `scheme = "candidates"`, `update = "each"`: the same candidates, each
+//!   offered to the memory in turn as soon as it is evaluated;
+//! * `scheme = "per-variable"`: one candidate per improvisation (one
+//!   evaluation); per variable, after memory consideration, the value is
+//!   pitch-adjusted (probability PAR), crossed with the same variable of
+//!   another harmony (GA, probability `p_ga`), pulled toward the best
+//!   harmony (PSO, probability `p_pso`) or kept. This follows the published
+//!   hybrids that act inside one improvisation: the particle-swarm harmony
+//!   search of Geem (2009, "Particle-swarm harmony search for water network
+//!   design", Engineering Optimization 41(4):297–311) and the global-best
+//!   HS of Omran & Mahdavi (2008) for the pull to the best, and the
+//!   crossover-in-HS hybrids such as Abu Doush et al. (2013, "Hybridizing
+//!   harmony search algorithm with multi-parent crossover", IJAMC 4(3):1–14)
+//!   for the GA step, applied here per variable (our adaptation).
 
 use rand::RngCore;
 
@@ -15,8 +35,8 @@ use super::harmony::{
 use super::params::{Kind, ParamDef, ParamSet, Setting};
 use super::{policy_param, Optimiser, ParamError, BOUNDS_PARAM};
 use crate::optim::evaluator::Evaluator;
-use crate::problem::{BoundPolicy, Problem};
-use crate::rng::Draw;
+use crate::problem::{BoundPolicy, Bounds, Problem};
+use crate::rng::{Draw, Field21};
 
 /// One way of building a temporary harmony `D_l`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -45,6 +65,24 @@ impl Operator {
             _ => Self::Pso,
         }
     }
+}
+
+/// How the temporary harmonies enter the memory (`update`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Update {
+    /// Only the best `D_l` of an improvisation is offered to the memory.
+    BestOfL,
+    /// Every `D_l` is offered to the memory as soon as it is evaluated.
+    Each,
+}
+
+/// Where the GA and PSO mechanisms act (`scheme`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Scheme {
+    /// On whole candidate vectors `D_1..D_L`, one evaluation each.
+    Candidates,
+    /// Per variable inside one improvisation, one evaluation.
+    PerVariable,
 }
 
 /// Modified Harmony Search (reconstruction; see the module docs).
@@ -78,11 +116,21 @@ pub struct ModifiedHarmonySearch {
     pub c: f64,
     /// Bound handling.
     pub policy: BoundPolicy,
+    /// How the candidates enter the memory.
+    pub update: Update,
+    /// Whole candidates or per-variable mechanisms.
+    pub scheme: Scheme,
+    /// Per-variable probability of the GA crossover (per-variable scheme).
+    pub p_ga: f64,
+    /// Per-variable probability of the PSO pull (per-variable scheme).
+    pub p_pso: f64,
 }
 
 /// The parameters of [`ModifiedHarmonySearch`]; all defaults are this
-/// project's choices (the thesis's values are lost).
-pub static PARAMS: [ParamDef; 13] = [
+/// project's choices (the thesis's values are lost). The last four were
+/// added with the alternative readings and are left out of the canonical
+/// text at their defaults, so earlier results keep their keys and seeds.
+pub static PARAMS: [ParamDef; 17] = [
     ParamDef {
         name: "hms",
         doc: "harmony memory size HMS",
@@ -91,6 +139,7 @@ pub static PARAMS: [ParamDef; 13] = [
             max: 100_000,
         },
         default: Setting::Count(10),
+        omit_at_default: false,
     },
     ParamDef {
         name: "hmcr",
@@ -101,6 +150,7 @@ pub static PARAMS: [ParamDef; 13] = [
             open_min: false,
         },
         default: Setting::Real(0.9),
+        omit_at_default: false,
     },
     ParamDef {
         name: "par",
@@ -111,6 +161,7 @@ pub static PARAMS: [ParamDef; 13] = [
             open_min: false,
         },
         default: Setting::Real(0.3),
+        omit_at_default: false,
     },
     BW_PARAM,
     BW_DECAY_PARAM,
@@ -120,12 +171,14 @@ pub static PARAMS: [ParamDef; 13] = [
         doc: "number L of temporary harmony vectors D_l per improvisation",
         kind: Kind::Count { min: 1, max: 1000 },
         default: Setting::Count(3),
+        omit_at_default: false,
     },
     ParamDef {
         name: "operators",
         doc: "operators cycled over D_1..D_L",
         kind: Kind::Sequence(&Operator::NAMES),
         default: Setting::Sequence(std::borrow::Cow::Borrowed(&["hs", "ga", "pso"])),
+        omit_at_default: false,
     },
     ParamDef {
         name: "pm",
@@ -136,12 +189,14 @@ pub static PARAMS: [ParamDef; 13] = [
             open_min: false,
         },
         default: Setting::Real(0.05),
+        omit_at_default: false,
     },
     ParamDef {
         name: "mutation",
         doc: "\"uniform\" (reset in the bounds) or \"gaussian\" mutation",
         kind: Kind::Choice(&["uniform", "gaussian"]),
         default: Setting::Choice("uniform"),
+        omit_at_default: false,
     },
     ParamDef {
         name: "sigma",
@@ -152,6 +207,7 @@ pub static PARAMS: [ParamDef; 13] = [
             open_min: true,
         },
         default: Setting::Real(0.1),
+        omit_at_default: false,
     },
     ParamDef {
         name: "c",
@@ -162,8 +218,45 @@ pub static PARAMS: [ParamDef; 13] = [
             open_min: true,
         },
         default: Setting::Real(2.0),
+        omit_at_default: false,
     },
     BOUNDS_PARAM,
+    ParamDef {
+        name: "update",
+        doc: "\"best-of-l\" (only the best D_l is offered to the memory) or \"each\" (every D_l in turn)",
+        kind: Kind::Choice(&["best-of-l", "each"]),
+        default: Setting::Choice("best-of-l"),
+        omit_at_default: true,
+    },
+    ParamDef {
+        name: "scheme",
+        doc: "\"candidates\" (L whole vectors D_l) or \"per-variable\" (PA, GA or PSO per variable, one evaluation)",
+        kind: Kind::Choice(&["candidates", "per-variable"]),
+        default: Setting::Choice("candidates"),
+        omit_at_default: true,
+    },
+    ParamDef {
+        name: "p_ga",
+        doc: "per-variable scheme: probability of the GA crossover α·x_j + (1 − α)·x^b_j",
+        kind: Kind::Real {
+            min: 0.0,
+            max: 1.0,
+            open_min: false,
+        },
+        default: Setting::Real(0.2),
+        omit_at_default: true,
+    },
+    ParamDef {
+        name: "p_pso",
+        doc: "per-variable scheme: probability of the PSO pull x_j + c·φ·(best_j − x_j)",
+        kind: Kind::Real {
+            min: 0.0,
+            max: 1.0,
+            open_min: false,
+        },
+        default: Setting::Real(0.2),
+        omit_at_default: true,
+    },
 ];
 
 impl Default for ModifiedHarmonySearch {
@@ -175,6 +268,19 @@ impl Default for ModifiedHarmonySearch {
 impl ModifiedHarmonySearch {
     /// Builds MHS from validated parameters.
     pub fn from_params(p: &ParamSet) -> Result<Self, ParamError> {
+        let scheme = match p.choice("scheme") {
+            "per-variable" => Scheme::PerVariable,
+            _ => Scheme::Candidates,
+        };
+        let (par, p_ga, p_pso) = (p.real("par"), p.real("p_ga"), p.real("p_pso"));
+        if scheme == Scheme::PerVariable && par + p_ga + p_pso > 1.0 {
+            return Err(ParamError::new(
+                "p_pso",
+                format!(
+                    "the per-variable scheme needs par + p_ga + p_pso ≤ 1, found {par} + {p_ga} + {p_pso}"
+                ),
+            ));
+        }
         Ok(Self {
             hms: p.count("hms") as usize,
             hmcr: p.real("hmcr"),
@@ -191,6 +297,13 @@ impl ModifiedHarmonySearch {
             sigma: p.real("sigma"),
             c: p.real("c"),
             policy: policy_param(p),
+            update: match p.choice("update") {
+                "each" => Update::Each,
+                _ => Update::BestOfL,
+            },
+            scheme,
+            p_ga,
+            p_pso,
         })
     }
 }
@@ -205,12 +318,28 @@ impl Optimiser for ModifiedHarmonySearch {
         if hm.is_empty() {
             return;
         }
+        let widths: Vec<f64> = eval.bounds().iter().map(|b| b.width()).collect();
+        let mut bw = vec![0.0; widths.len()];
+        self.bandwidth.scale(0.0, &widths, &mut bw);
+        match self.scheme {
+            Scheme::Candidates => self.candidates(&mut hm, eval, rng, &widths, &mut bw),
+            Scheme::PerVariable => self.per_variable(&mut hm, eval, rng, &widths, &mut bw),
+        }
+    }
+}
+
+impl ModifiedHarmonySearch {
+    /// The candidate scheme: `L` whole vectors `D_l` per improvisation.
+    fn candidates<P: Problem + ?Sized, R: RngCore + ?Sized>(
+        &self,
+        hm: &mut HarmonyMemory,
+        eval: &mut Evaluator<'_, P>,
+        rng: &mut R,
+        widths: &[f64],
+        bw: &mut [f64],
+    ) {
         let bounds = eval.bounds();
         let dim = bounds.len();
-        let hms = hm.len();
-        let widths: Vec<f64> = bounds.iter().map(|b| b.width()).collect();
-        let mut bw = vec![0.0; dim];
-        self.bandwidth.scale(0.0, &widths, &mut bw);
         let imp = Improvisation {
             hmcr: self.hmcr,
             par: self.par,
@@ -225,7 +354,7 @@ impl Optimiser for ModifiedHarmonySearch {
         };
         while eval.remaining() > 0 {
             if self.bandwidth.decay {
-                self.bandwidth.scale(eval.progress(), &widths, &mut bw);
+                self.bandwidth.scale(eval.progress(), widths, bw);
             }
             let mut best_value = f64::INFINITY;
             let mut have = false;
@@ -234,51 +363,130 @@ impl Optimiser for ModifiedHarmonySearch {
                     break;
                 }
                 match ops[l % ops.len()] {
-                    Operator::Hs => imp.improvise(&hm, bounds, &bw, rng, &mut candidate),
-                    Operator::Ga => {
-                        let a = rng.index(hms);
-                        let b = if hms > 1 {
-                            (a + 1 + rng.index(hms - 1)) % hms
-                        } else {
-                            a
-                        };
-                        let alpha = rng.unit();
-                        let (xa, xb) = (hm.harmony(a), hm.harmony(b));
-                        for j in 0..dim {
-                            let bj = bounds[j];
-                            let mut v = alpha * xa[j] + (1.0 - alpha) * xb[j];
-                            if rng.unit() < self.pm {
-                                v = if self.gaussian_mutation {
-                                    bj.repair(
-                                        v + self.sigma * widths[j] * rng.gaussian(),
-                                        self.policy,
-                                    )
-                                } else {
-                                    bj.lerp(rng.unit())
-                                };
-                            }
-                            candidate[j] = bj.clip(v);
-                        }
-                    }
-                    Operator::Pso => {
-                        let x = hm.harmony(rng.index(hms));
-                        let best = hm.harmony(hm.best());
-                        for j in 0..dim {
-                            let v = x[j] + self.c * rng.unit() * (best[j] - x[j]);
-                            candidate[j] = bounds[j].repair(v, self.policy);
-                        }
-                    }
+                    Operator::Hs => imp.improvise(hm, bounds, bw, rng, &mut candidate),
+                    Operator::Ga => self.crossover(hm, bounds, widths, rng, &mut candidate),
+                    Operator::Pso => self.pull_to_best(hm, bounds, rng, &mut candidate),
                 }
                 let v = eval.evaluate(&candidate);
-                if !have || v < best_value {
-                    best_value = v;
-                    best_candidate.copy_from_slice(&candidate);
-                    have = true;
+                match self.update {
+                    Update::Each => {
+                        hm.consider(&candidate, v);
+                    }
+                    Update::BestOfL => {
+                        if !have || v < best_value {
+                            best_value = v;
+                            best_candidate.copy_from_slice(&candidate);
+                            have = true;
+                        }
+                    }
                 }
             }
             if have {
                 hm.consider(&best_candidate, best_value);
             }
+        }
+    }
+
+    /// The GA operator: arithmetic crossover `α·x^a + (1 − α)·x^b` of two
+    /// distinct random harmonies, then per-variable mutation with rate `pm`.
+    fn crossover<R: RngCore + ?Sized>(
+        &self,
+        hm: &HarmonyMemory,
+        bounds: &[Bounds],
+        widths: &[f64],
+        rng: &mut R,
+        candidate: &mut [f64],
+    ) {
+        let hms = hm.len();
+        let a = rng.index(hms);
+        let b = if hms > 1 {
+            (a + 1 + rng.index(hms - 1)) % hms
+        } else {
+            a
+        };
+        let alpha = rng.unit();
+        let (xa, xb) = (hm.harmony(a), hm.harmony(b));
+        for j in 0..bounds.len() {
+            let bj = bounds[j];
+            let mut v = alpha * xa[j] + (1.0 - alpha) * xb[j];
+            if rng.unit() < self.pm {
+                v = if self.gaussian_mutation {
+                    bj.repair(v + self.sigma * widths[j] * rng.gaussian(), self.policy)
+                } else {
+                    bj.lerp(rng.unit())
+                };
+            }
+            candidate[j] = bj.clip(v);
+        }
+    }
+
+    /// The PSO operator: a random harmony moved toward the best,
+    /// `x + c·φ∘(x^best − x)`.
+    fn pull_to_best<R: RngCore + ?Sized>(
+        &self,
+        hm: &HarmonyMemory,
+        bounds: &[Bounds],
+        rng: &mut R,
+        candidate: &mut [f64],
+    ) {
+        let x = hm.harmony(rng.index(hm.len()));
+        let best = hm.harmony(hm.best());
+        for j in 0..bounds.len() {
+            let v = x[j] + self.c * rng.unit() * (best[j] - x[j]);
+            candidate[j] = bounds[j].repair(v, self.policy);
+        }
+    }
+
+    /// The per-variable scheme: one candidate, one evaluation, per
+    /// improvisation. Per variable, with probability HMCR the value of a
+    /// random harmony `a` is taken and then one mechanism is chosen by one
+    /// uniform field `u`: pitch adjustment `± u·bw_j` if `u < PAR`, the GA
+    /// crossover `α·x^a_j + (1 − α)·x^b_j` with another random harmony `b`
+    /// if `u < PAR + p_ga`, the PSO pull `x^a_j + c·φ·(best_j − x^a_j)` if
+    /// `u < PAR + p_ga + p_pso`, else the value is kept; otherwise the
+    /// variable is uniform in its bounds. The candidate replaces the worst
+    /// harmony if it is better.
+    fn per_variable<P: Problem + ?Sized, R: RngCore + ?Sized>(
+        &self,
+        hm: &mut HarmonyMemory,
+        eval: &mut Evaluator<'_, P>,
+        rng: &mut R,
+        widths: &[f64],
+        bw: &mut [f64],
+    ) {
+        let bounds = eval.bounds();
+        let mut candidate = vec![0.0; bounds.len()];
+        let hmcr = Field21::threshold(self.hmcr);
+        let t_pa = Field21::threshold(self.par);
+        let t_ga = Field21::threshold(self.par + self.p_ga);
+        let t_pso = Field21::threshold(self.par + self.p_ga + self.p_pso);
+        while eval.remaining() > 0 {
+            if self.bandwidth.decay {
+                self.bandwidth.scale(eval.progress(), widths, bw);
+            }
+            let hms = hm.len();
+            let best = hm.best();
+            for (j, b) in bounds.iter().enumerate() {
+                let [consider, pick, choose] = rng.fields21();
+                if consider >= hmcr {
+                    candidate[j] = b.lerp(rng.unit());
+                    continue;
+                }
+                let v = hm.get(Field21::index(pick, hms), j);
+                candidate[j] = if choose < t_pa {
+                    b.repair(v + bw[j] * (2.0 * rng.unit() - 1.0), self.policy)
+                } else if choose < t_ga {
+                    let other = hm.get(rng.index(hms), j);
+                    let alpha = rng.unit();
+                    b.clip(alpha * v + (1.0 - alpha) * other)
+                } else if choose < t_pso {
+                    b.repair(v + self.c * rng.unit() * (hm.get(best, j) - v), self.policy)
+                } else {
+                    v
+                };
+            }
+            let v = eval.evaluate(&candidate);
+            hm.consider(&candidate, v);
         }
     }
 }

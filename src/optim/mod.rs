@@ -92,6 +92,7 @@ pub const BOUNDS_PARAM: ParamDef = ParamDef {
     doc: "bound handling: \"clip\" or \"reflect\"",
     kind: Kind::Choice(&BoundPolicy::NAMES),
     default: Setting::Choice("clip"),
+    omit_at_default: false,
 };
 
 /// Reads the [`BOUNDS_PARAM`] of a parameter set.

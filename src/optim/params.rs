@@ -92,6 +92,11 @@ pub struct ParamDef {
     pub kind: Kind,
     /// The value used when a spec does not give one.
     pub default: Setting,
+    /// Whether the canonical text leaves this parameter out while it has
+    /// its default value: set for parameters added after results were
+    /// recorded, so that the keys, seeds and `params` columns of existing
+    /// campaigns do not change.
+    pub omit_at_default: bool,
 }
 
 impl ParamDef {
@@ -280,11 +285,14 @@ impl ParamSet {
 
     /// `name=value;name=value;...` in declaration order: the stable text that
     /// identifies a parameter cell in `runs.csv` and in seed derivation.
+    /// Parameters marked [`ParamDef::omit_at_default`] appear only when they
+    /// differ from their default.
     pub fn canonical(&self) -> String {
         let parts: Vec<String> = self
             .defs
             .iter()
             .zip(&self.values)
+            .filter(|(d, v)| !(d.omit_at_default && **v == d.default))
             .map(|(d, v)| format!("{}={v}", d.name))
             .collect();
         parts.join(";")
@@ -304,6 +312,7 @@ mod tests {
                 max: u64::MAX,
             },
             default: Setting::Count(5),
+            omit_at_default: false,
         },
         ParamDef {
             name: "hmcr",
@@ -314,18 +323,21 @@ mod tests {
                 open_min: false,
             },
             default: Setting::Real(0.9),
+            omit_at_default: false,
         },
         ParamDef {
             name: "bounds",
             doc: "policy",
             kind: Kind::Choice(&["clip", "reflect"]),
             default: Setting::Choice("clip"),
+            omit_at_default: false,
         },
         ParamDef {
             name: "operators",
             doc: "ops",
             kind: Kind::Sequence(&["hs", "ga", "pso"]),
             default: Setting::Sequence(Cow::Borrowed(&["hs"])),
+            omit_at_default: false,
         },
     ];
 

@@ -96,12 +96,14 @@ pub static PARAMS: [ParamDef; 9] = [
             max: 100_000,
         },
         default: Setting::Count(30),
+        omit_at_default: false,
     },
     ParamDef {
         name: "inertia",
         doc: "\"constant\" ω = w, or \"linear\" ω(t) = w_max − (w_max − w_min)·t/NI",
         kind: Kind::Choice(&Inertia::NAMES),
         default: Setting::Choice("linear"),
+        omit_at_default: false,
     },
     ParamDef {
         name: "w",
@@ -112,6 +114,7 @@ pub static PARAMS: [ParamDef; 9] = [
             open_min: false,
         },
         default: Setting::Real(0.7298),
+        omit_at_default: false,
     },
     ParamDef {
         name: "w_max",
@@ -122,6 +125,7 @@ pub static PARAMS: [ParamDef; 9] = [
             open_min: false,
         },
         default: Setting::Real(0.9),
+        omit_at_default: false,
     },
     ParamDef {
         name: "w_min",
@@ -132,6 +136,7 @@ pub static PARAMS: [ParamDef; 9] = [
             open_min: false,
         },
         default: Setting::Real(0.4),
+        omit_at_default: false,
     },
     ParamDef {
         name: "c1",
@@ -142,6 +147,7 @@ pub static PARAMS: [ParamDef; 9] = [
             open_min: false,
         },
         default: Setting::Real(2.0),
+        omit_at_default: false,
     },
     ParamDef {
         name: "c2",
@@ -152,6 +158,7 @@ pub static PARAMS: [ParamDef; 9] = [
             open_min: false,
         },
         default: Setting::Real(2.0),
+        omit_at_default: false,
     },
     ParamDef {
         name: "vmax",
@@ -162,6 +169,7 @@ pub static PARAMS: [ParamDef; 9] = [
             open_min: true,
         },
         default: Setting::Real(0.2),
+        omit_at_default: false,
     },
     BOUNDS_PARAM,
 ];

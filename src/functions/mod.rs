@@ -21,10 +21,15 @@
 //! * [`Function::eval`] expects a non-empty slice (`x.len() == 2` for the
 //!   camel-back, which panics otherwise); [`TestProblem`] guarantees both.
 
+mod instance;
+
 use std::f64::consts::{E, TAU};
 use std::fmt;
+use std::sync::Arc;
 
 use crate::problem::{Bounds, Problem};
+
+pub use instance::{instance_seed, Instance, Transform, MAX_ROTATION_DIM};
 
 /// The minimiser of Schwefel 2.26 in each coordinate, `x* = u²` with
 /// `tan u = −u/2`, i.e. 420.968746359982027311844… rounded to the nearest f64.
@@ -194,6 +199,17 @@ impl Function {
         }
     }
 
+    /// Whether shifted and rotated instances ([`Transform`]) are defined: for
+    /// the eight functions with one minimiser whose value does not depend on
+    /// the box. Schwefel 2.26 is excluded because its minimiser sits near
+    /// the corner of the box and a deceptive second-best lies at the far
+    /// corner: shifting it moves the global minimum out of the box or turns
+    /// it into a different function; the six-hump camel-back has two
+    /// global minimisers and a fixed dimension.
+    pub fn is_transformable(self) -> bool {
+        !matches!(self, Function::Schwefel226 | Function::SixHumpCamel)
+    }
+
     /// Evaluates the function at `x` (non-empty; exactly 2 variables for the
     /// camel-back, which panics otherwise), with the formulas of Yao et al. (1999).
     #[inline]
@@ -342,6 +358,19 @@ pub enum FunctionError {
         /// The dimension that was asked for.
         requested: usize,
     },
+    /// A transform was asked for a function that does not admit one
+    /// ([`Function::is_transformable`]).
+    NotTransformable {
+        /// The function requested.
+        function: Function,
+        /// The transform requested.
+        transform: Transform,
+    },
+    /// A rotation was asked above [`MAX_ROTATION_DIM`].
+    RotationTooLarge {
+        /// The dimension that was asked for.
+        requested: usize,
+    },
 }
 
 impl fmt::Display for FunctionError {
@@ -360,6 +389,21 @@ impl fmt::Display for FunctionError {
                 f,
                 "{function} is defined only for dimension {required}, not {requested}"
             ),
+            FunctionError::NotTransformable {
+                function,
+                transform,
+            } => write!(
+                f,
+                "{function} has no \"{transform}\" instances: only sphere, schwefel_2_22, rosenbrock, step, schwefel_1_2, rastrigin, ackley and griewank are shifted or rotated ({})",
+                match function {
+                    Function::SixHumpCamel => "the camel-back has two global minimisers and a fixed dimension",
+                    _ => "Schwefel 2.26's minimiser lies near a corner of the box, so a shift would move it out",
+                }
+            ),
+            FunctionError::RotationTooLarge { requested } => write!(
+                f,
+                "a rotation needs D ≤ {MAX_ROTATION_DIM} (it has D² entries and costs O(D³) to draw), not {requested}; use \"shift\""
+            ),
         }
     }
 }
@@ -373,7 +417,11 @@ pub struct TestProblem {
     function: Function,
     dim: usize,
     bounds: Vec<Bounds>,
+    instance: Option<Arc<Instance>>,
 }
+
+/// Dimensions up to this evaluate a transformed instance without allocating.
+const STACK_DIM: usize = 128;
 
 impl TestProblem {
     /// The function at dimension `dim`; fails if `dim == 0`, or if the
@@ -395,7 +443,57 @@ impl TestProblem {
             function,
             dim,
             bounds: vec![function.domain(); dim],
+            instance: None,
         })
+    }
+
+    /// Instance `k` of the function at `dim` under `transform` (see
+    /// [`Instance`]); `Transform::None` is the plain function. Fails as
+    /// [`TestProblem::new`] does, for a function that admits no transform,
+    /// and for a rotation above [`MAX_ROTATION_DIM`].
+    pub fn instance(
+        function: Function,
+        dim: usize,
+        transform: Transform,
+        k: u32,
+    ) -> Result<TestProblem, FunctionError> {
+        Self::check_instance(function, dim, transform)?;
+        let plain = Self::new(function, dim)?;
+        Ok(match transform {
+            Transform::None => plain,
+            _ => plain.with_instance(Arc::new(Instance::new(function, dim, transform, k))),
+        })
+    }
+
+    /// Whether `transform` can be applied to `function` at `dim`.
+    pub fn check_instance(
+        function: Function,
+        dim: usize,
+        transform: Transform,
+    ) -> Result<(), FunctionError> {
+        if transform != Transform::None && !function.is_transformable() {
+            return Err(FunctionError::NotTransformable {
+                function,
+                transform,
+            });
+        }
+        if transform == Transform::ShiftRotate && dim > MAX_ROTATION_DIM {
+            return Err(FunctionError::RotationTooLarge { requested: dim });
+        }
+        Ok(())
+    }
+
+    /// This problem on an already drawn instance of its function and
+    /// dimension (instances are shared between runs).
+    pub fn with_instance(mut self, instance: Arc<Instance>) -> TestProblem {
+        debug_assert_eq!(instance.shift().len(), self.dim);
+        self.instance = Some(instance);
+        self
+    }
+
+    /// The instance, if the function is transformed.
+    pub fn transformed(&self) -> Option<&Instance> {
+        self.instance.as_deref()
     }
 
     /// The benchmark function.
@@ -428,7 +526,19 @@ impl Problem for TestProblem {
             "{}: wrong number of variables",
             self.key()
         );
-        self.function.eval(x)
+        match &self.instance {
+            None => self.function.eval(x),
+            Some(inst) if self.dim <= STACK_DIM => {
+                let mut y = [0.0; STACK_DIM];
+                inst.map_into(x, &mut y[..self.dim]);
+                self.function.eval(&y[..self.dim])
+            }
+            Some(inst) => {
+                let mut y = vec![0.0; self.dim];
+                inst.map_into(x, &mut y);
+                self.function.eval(&y)
+            }
+        }
     }
 }
 
@@ -454,6 +564,47 @@ mod tests {
             Function::SixHumpCamel => 2e-15,
             _ => 0.0,
         }
+    }
+
+    #[test]
+    fn every_instance_keeps_f_star_at_its_shift() {
+        for f in Function::ALL.into_iter().filter(|f| f.is_transformable()) {
+            for d in [2, 10, 30] {
+                for t in [Transform::Shift, Transform::ShiftRotate] {
+                    for k in 1..=5 {
+                        let p = TestProblem::instance(f, d, t, k).unwrap();
+                        let o = p.transformed().unwrap().shift().to_vec();
+                        assert!(o.iter().zip(p.bounds()).all(|(x, b)| b.contains(*x)));
+                        let v = p.objective(&o);
+                        let tol = optimum_tolerance(f, d);
+                        assert!(
+                            (v - f.optimum_value()).abs() <= tol,
+                            "{f}-{d} {t} #{k}: F(o) = {v:e}"
+                        );
+                        // Away from o_k the value is worse.
+                        let mut x = o.clone();
+                        x[0] = p.bounds()[0].clip(x[0] + 0.3 * p.bounds()[0].width());
+                        assert!(p.objective(&x) > f.optimum_value() + tol, "{f}-{d} {t}");
+                    }
+                }
+            }
+        }
+        let big = TestProblem::instance(Function::Sphere, 200, Transform::ShiftRotate, 1).unwrap();
+        let o = big.transformed().unwrap().shift().to_vec();
+        assert_eq!(big.objective(&o), 0.0);
+    }
+
+    #[test]
+    fn untransformable_functions_and_huge_rotations_are_refused() {
+        for f in [Function::Schwefel226, Function::SixHumpCamel] {
+            let e = TestProblem::instance(f, 2, Transform::Shift, 1).unwrap_err();
+            assert!(e.to_string().contains("has no \"shift\" instances"), "{e}");
+            assert!(TestProblem::instance(f, 2, Transform::None, 1).is_ok());
+        }
+        let e = TestProblem::instance(Function::Sphere, 1001, Transform::ShiftRotate, 1);
+        assert_eq!(e, Err(FunctionError::RotationTooLarge { requested: 1001 }));
+        let plain = TestProblem::instance(Function::Sphere, 3, Transform::None, 7).unwrap();
+        assert_eq!(plain, TestProblem::new(Function::Sphere, 3).unwrap());
     }
 
     #[test]
