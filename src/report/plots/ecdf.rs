@@ -79,10 +79,19 @@ fn steps(times: &[u64], total: usize) -> Vec<(f64, f64)> {
     pts
 }
 
-/// The ECDF steps of every cell that ran, as (cell, steps, pairs), the
-/// largest evaluation count or budget (at least 1), and whether any run
-/// succeeded.
-fn cell_steps(ds: &Dataset) -> (Vec<(usize, Vec<(f64, f64)>, usize)>, f64, bool) {
+/// One cell's ECDF before it is extended to the largest budget.
+struct CellSteps {
+    /// The cell.
+    cell: usize,
+    /// The steps, from (1, 0).
+    steps: Vec<(f64, f64)>,
+    /// Its number of (run, problem) pairs.
+    pairs: usize,
+}
+
+/// The ECDF steps of every cell that ran, the largest evaluation count or
+/// budget (at least 1), and whether any run succeeded.
+fn cell_steps(ds: &Dataset) -> (Vec<CellSteps>, f64, bool) {
     let mut series = Vec::new();
     let mut xmax = 1.0f64;
     let mut any_success = false;
@@ -103,7 +112,11 @@ fn cell_steps(ds: &Dataset) -> (Vec<(usize, Vec<(f64, f64)>, usize)>, f64, bool)
         }
         any_success |= !times.is_empty();
         times.sort_unstable();
-        series.push((c, steps(&times, total), total));
+        series.push(CellSteps {
+            cell: c,
+            steps: steps(&times, total),
+            pairs: total,
+        });
     }
     (series, xmax, any_success)
 }
@@ -152,14 +165,17 @@ pub(super) fn ecdf(ds: &Dataset, threshold: Option<f64>) -> Result<Plot, NoPlot>
     if !any_success {
         return Err(NoPlot::NoSuccess);
     }
-    let pair_counts: BTreeSet<usize> = series.iter().map(|s| s.2).collect();
+    let pair_counts: BTreeSet<usize> = series.iter().map(|s| s.pairs).collect();
     let xmax = xmax.max(2.0);
     let series: Vec<Line> = series
         .into_iter()
-        .map(|(c, mut pts, _)| {
-            let last = pts.last().map_or(0.0, |p| p.1);
-            pts.push((xmax, last));
-            (c, pts.into_iter().map(|(x, y)| (lg(x), y)).collect())
+        .map(|mut s| {
+            let last = s.steps.last().map_or(0.0, |p| p.1);
+            s.steps.push((xmax, last));
+            (
+                s.cell,
+                s.steps.into_iter().map(|(x, y)| (lg(x), y)).collect(),
+            )
         })
         .collect();
     let legend = series

@@ -199,6 +199,9 @@ fn problems_by_function(ds: &Dataset) -> Vec<(&str, Vec<usize>)> {
         .collect()
 }
 
+/// Points (log10 D, value) of one cell.
+type Points = Vec<(f64, f64)>;
+
 /// A cell's points against log10 D over `probs`: (mean error, mean wall
 /// time), each where defined and finite.
 fn cell_points(
@@ -206,7 +209,7 @@ fn cell_points(
     stats: &[Vec<Option<CellStats>>],
     c: usize,
     probs: &[usize],
-) -> (Vec<(f64, f64)>, Vec<(f64, f64)>) {
+) -> (Points, Points) {
     let mut pe = Vec::new();
     let mut pt = Vec::new();
     for &p in probs {
