@@ -50,9 +50,9 @@ pub(crate) fn compute(ds: &Dataset) -> Vec<Vec<Option<CellStats>>> {
         .collect()
 }
 
-/// The descriptive table: one row per (problem, cell).
-pub(crate) fn table(ds: &Dataset, stats: &[Vec<Option<CellStats>>]) -> Table {
-    let mut t = Table {
+/// The empty descriptive table, with its headers and first paragraph.
+fn frame() -> Table {
+    Table {
         stem: "descriptive".into(),
         title: "Final error and success per algorithm and problem".into(),
         intro: vec![
@@ -103,7 +103,12 @@ pub(crate) fn table(ds: &Dataset, stats: &[Vec<Option<CellStats>>]) -> Table {
         .map(String::from)
         .to_vec(),
         ..Table::default()
-    };
+    }
+}
+
+/// The descriptive table: one row per (problem, cell).
+pub(crate) fn table(ds: &Dataset, stats: &[Vec<Option<CellStats>>]) -> Table {
+    let mut t = frame();
     let mut nan = false;
     for (p, problem) in ds.problems.iter().enumerate() {
         for (c, cell) in ds.cells.iter().enumerate() {

@@ -19,7 +19,7 @@ use crate::files::fmt_real;
 use crate::fit::Segment;
 use crate::geometry::Point;
 use crate::reconstruction::{OverlayCurve, OverlayFigure, OverlayPanel};
-use crate::stats::{holm_bonferroni, mann_whitney_u, median, Alternative, Mark};
+use crate::stats::{holm_bonferroni, mann_whitney_u, median, Alternative, MannWhitneyResult, Mark};
 
 /// What the fitting section adds to a report.
 pub(crate) struct FittingSection {
@@ -89,70 +89,104 @@ fn read_outlines(dir: &Path) -> Result<BTreeMap<String, Vec<Point>>, ReadError> 
     Ok(out)
 }
 
-/// The fitting section of the report in `dir`, or `None` if the campaign
-/// has no fitting runs.
-pub(crate) fn section(
-    dir: &Path,
-    ds: &Dataset,
-    alpha: f64,
-) -> Result<Option<FittingSection>, ReadError> {
-    if !dir.join("fits.csv").exists() {
-        return Ok(None);
+/// The display name of a run's method: the name of its cell in the report,
+/// or its algorithm label when no cell matches.
+fn cell_name(ds: &Dataset, r: &RunRecord) -> String {
+    ds.cells
+        .iter()
+        .find(|c| !c.external && c.label == r.algorithm && c.kind == r.kind && c.params == r.params)
+        .map_or_else(|| r.algorithm.clone(), |c| c.name.clone())
+}
+
+/// The fitting runs grouped by problem and method, both in the order of
+/// their first appearance.
+struct FitRuns<'r> {
+    /// Problem names (`source/function/continuity[/space]`).
+    problems: Vec<String>,
+    /// Method (cell) names.
+    cells: Vec<String>,
+    /// (problem, cell) → its runs.
+    runs: BTreeMap<(usize, usize), Vec<&'r RunRecord>>,
+}
+
+impl<'r> FitRuns<'r> {
+    /// Groups the records that have fit details.
+    fn group(ds: &Dataset, records: &'r [RunRecord]) -> Self {
+        let mut problems: Vec<String> = Vec::new();
+        let mut cells: Vec<String> = Vec::new();
+        let mut runs: BTreeMap<(usize, usize), Vec<&RunRecord>> = BTreeMap::new();
+        for r in records.iter().filter(|r| r.fit.is_some()) {
+            let p = match problems.iter().position(|q| *q == r.problem) {
+                Some(p) => p,
+                None => {
+                    problems.push(r.problem.clone());
+                    problems.len() - 1
+                }
+            };
+            let name = cell_name(ds, r);
+            let c = match cells.iter().position(|q| *q == name) {
+                Some(c) => c,
+                None => {
+                    cells.push(name);
+                    cells.len() - 1
+                }
+            };
+            runs.entry((p, c)).or_default().push(r);
+        }
+        FitRuns {
+            problems,
+            cells,
+            runs,
+        }
     }
-    let records = read_results(dir)?;
-    let cell_name = |r: &RunRecord| -> String {
-        ds.cells
-            .iter()
-            .find(|c| {
-                !c.external && c.label == r.algorithm && c.kind == r.kind && c.params == r.params
+
+    /// The final E of every run of cell `c` on problem `p`, if it ran.
+    fn errors(&self, p: usize, c: usize) -> Option<Vec<f64>> {
+        self.runs
+            .get(&(p, c))
+            .map(|rs| rs.iter().map(|r| r.best).collect())
+    }
+
+    /// The best E per problem over every method and run, and the method
+    /// that found it.
+    fn best(&self) -> Vec<(f64, String)> {
+        (0..self.problems.len())
+            .map(|p| {
+                (0..self.cells.len())
+                    .flat_map(|c| {
+                        self.runs
+                            .get(&(p, c))
+                            .into_iter()
+                            .flatten()
+                            .map(move |r| (r.best, c))
+                    })
+                    .fold((f64::INFINITY, String::new()), |acc, (e, c)| {
+                        if e < acc.0 {
+                            (e, self.cells[c].clone())
+                        } else {
+                            acc
+                        }
+                    })
             })
-            .map_or_else(|| r.algorithm.clone(), |c| c.name.clone())
-    };
-    // (problem, cell name) → runs, in the order of first appearance.
-    let mut problems: Vec<String> = Vec::new();
-    let mut cells: Vec<String> = Vec::new();
-    let mut runs: BTreeMap<(usize, usize), Vec<&RunRecord>> = BTreeMap::new();
-    for r in records.iter().filter(|r| r.fit.is_some()) {
-        let p = match problems.iter().position(|q| *q == r.problem) {
-            Some(p) => p,
-            None => {
-                problems.push(r.problem.clone());
-                problems.len() - 1
-            }
-        };
-        let name = cell_name(r);
-        let c = match cells.iter().position(|q| *q == name) {
-            Some(c) => c,
-            None => {
-                cells.push(name);
-                cells.len() - 1
-            }
-        };
-        runs.entry((p, c)).or_default().push(r);
+            .collect()
     }
-    let mut notes = Vec::new();
 
-    // The best E per problem over every method and run.
-    let best: Vec<(f64, String)> = (0..problems.len())
-        .map(|p| {
-            (0..cells.len())
-                .flat_map(|c| {
-                    runs.get(&(p, c))
-                        .into_iter()
-                        .flatten()
-                        .map(move |r| (r.best, c))
-                })
-                .fold((f64::INFINITY, String::new()), |acc, (e, c)| {
-                    if e < acc.0 {
-                        (e, cells[c].clone())
-                    } else {
-                        acc
-                    }
-                })
-        })
-        .collect();
+    /// The optimiser kind of every cell (from its first run).
+    fn kinds(&self) -> Vec<Option<String>> {
+        (0..self.cells.len())
+            .map(|c| {
+                self.runs
+                    .iter()
+                    .find(|((_, cc), _)| *cc == c)
+                    .map(|(_, rs)| rs[0].kind.clone())
+            })
+            .collect()
+    }
+}
 
-    let mut quality = Table {
+/// The empty fit-quality table, with its headers.
+fn quality_frame() -> Table {
+    Table {
         stem: "fit_quality".into(),
         title: "Fit quality and the gap to the best E found".into(),
         intro: vec![
@@ -192,10 +226,16 @@ pub(crate) fn section(
         .map(String::from)
         .to_vec(),
         ..Table::default()
-    };
-    for (p, problem) in problems.iter().enumerate() {
-        for (c, cell) in cells.iter().enumerate() {
-            let Some(rs) = runs.get(&(p, c)) else {
+    }
+}
+
+/// The fit quality of every method on every problem, with the gap of its
+/// mean E to the best E found (`known`).
+fn quality_table(fr: &FitRuns<'_>, best: &[(f64, String)]) -> Table {
+    let mut quality = quality_frame();
+    for (p, problem) in fr.problems.iter().enumerate() {
+        for (c, cell) in fr.cells.iter().enumerate() {
+            let Some(rs) = fr.runs.get(&(p, c)) else {
                 continue;
             };
             let e: Vec<f64> = rs.iter().map(|r| r.best).collect();
@@ -251,8 +291,12 @@ pub(crate) fn section(
             ]);
         }
     }
+    quality
+}
 
-    // Which function fits each source best, per continuity (and space).
+/// Which function fits each source best, per continuity (and space): the
+/// best E per problem, grouped by source.
+fn functions_table(fr: &FitRuns<'_>, best: &[(f64, String)]) -> Table {
     let mut functions = Table {
         stem: "fit_functions".into(),
         title: "Best E per fitting function".into(),
@@ -277,6 +321,7 @@ pub(crate) fn section(
         .to_vec(),
         ..Table::default()
     };
+    let problems = &fr.problems;
     let mut order: Vec<usize> = (0..problems.len()).collect();
     order.sort_by_key(|&p| split(&problems[p]).map(|c| (c.source, c.space, c.continuity, p)));
     for p in order {
@@ -303,9 +348,12 @@ pub(crate) fn section(
             best[p].1.clone(),
         ]);
     }
+    functions
+}
 
-    // Hybrids against their two parts.
-    let mut hybrid = Table {
+/// The empty hybrid table, with its headers.
+fn hybrid_frame() -> Table {
+    Table {
         stem: "fit_hybrid".into(),
         title: "Hybrid against its parts".into(),
         intro: vec![
@@ -335,20 +383,19 @@ pub(crate) fn section(
         .map(String::from)
         .to_vec(),
         ..Table::default()
+    }
+}
+
+/// Hybrids against their two parts: for every X+LM whose X and LM also
+/// ran, whether its median E is below both of theirs.
+fn hybrid_table(fr: &FitRuns<'_>) -> Table {
+    let mut hybrid = hybrid_frame();
+    let kinds = fr.kinds();
+    let Some(lm) = kinds.iter().position(|k| k.as_deref() == Some("lm")) else {
+        return hybrid;
     };
-    let kind_of = |c: usize| -> Option<String> {
-        runs.iter()
-            .find(|((_, cc), _)| *cc == c)
-            .map(|(_, rs)| rs[0].kind.clone())
-    };
-    let kinds: Vec<Option<String>> = (0..cells.len()).map(kind_of).collect();
-    let lm = kinds.iter().position(|k| k.as_deref() == Some("lm"));
-    for (p, problem) in problems.iter().enumerate() {
-        let Some(lm) = lm else { break };
-        let med = |c: usize| -> Option<f64> {
-            runs.get(&(p, c))
-                .map(|rs| median(&rs.iter().map(|r| r.best).collect::<Vec<_>>()))
-        };
+    for (p, problem) in fr.problems.iter().enumerate() {
+        let med = |c: usize| fr.errors(p, c).map(|e| median(&e));
         for (h, kind) in kinds.iter().enumerate() {
             let Some(base) = kind.as_deref().and_then(|k| k.strip_suffix("+lm")) else {
                 continue;
@@ -362,7 +409,7 @@ pub(crate) fn section(
             let beats = mh < mx.min(ml) * (1.0 - 1e-9);
             hybrid.md_rows.push(vec![
                 problem.clone(),
-                cells[x].clone(),
+                fr.cells[x].clone(),
                 sci(mx),
                 sci(ml),
                 sci(mh),
@@ -370,7 +417,7 @@ pub(crate) fn section(
             ]);
             hybrid.csv_rows.push(vec![
                 problem.clone(),
-                cells[x].clone(),
+                fr.cells[x].clone(),
                 fmt_real(mx),
                 fmt_real(ml),
                 fmt_real(mh),
@@ -378,9 +425,12 @@ pub(crate) fn section(
             ]);
         }
     }
+    hybrid
+}
 
-    // The search-space technique against the naive bounding box.
-    let mut space = Table {
+/// The empty search-space table, with its headers.
+fn search_space_frame(alpha: f64) -> Table {
+    Table {
         stem: "fit_search_space".into(),
         title: "Search-space technique against the bounding box".into(),
         intro: vec![format!(
@@ -416,60 +466,205 @@ pub(crate) fn section(
         .map(String::from)
         .to_vec(),
         ..Table::default()
-    };
+    }
+}
+
+/// A method's runs on a problem in both search spaces: (problem of the
+/// technique, method, median E with the technique, median E in the
+/// bounding box, the test of the two samples).
+type SpacePair = (String, String, f64, f64, MannWhitneyResult);
+
+/// Every method run on a problem in both search spaces, with the
+/// Mann–Whitney U test of its two samples.
+fn space_pairs(fr: &FitRuns<'_>) -> Vec<SpacePair> {
     let mut pairs = Vec::new();
-    for (pb, name) in problems.iter().enumerate() {
+    for (pb, name) in fr.problems.iter().enumerate() {
         let Some(c) = split(name) else { continue };
         if c.space != Some("bounding-box") {
             continue;
         }
         let twin = format!("{}/{}/{}", c.source, c.function, c.continuity);
-        let Some(pt) = problems.iter().position(|q| *q == twin) else {
+        let Some(pt) = fr.problems.iter().position(|q| *q == twin) else {
             continue;
         };
-        for (cell, cell_name) in cells.iter().enumerate() {
-            let (Some(a), Some(b)) = (runs.get(&(pt, cell)), runs.get(&(pb, cell))) else {
+        for (cell, cell_name) in fr.cells.iter().enumerate() {
+            let (Some(ea), Some(eb)) = (fr.errors(pt, cell), fr.errors(pb, cell)) else {
                 continue;
             };
-            let ea: Vec<f64> = a.iter().map(|r| r.best).collect();
-            let eb: Vec<f64> = b.iter().map(|r| r.best).collect();
             if let Ok(t) = mann_whitney_u(&ea, &eb, Alternative::TwoSided) {
                 pairs.push((twin.clone(), cell_name.clone(), median(&ea), median(&eb), t));
             }
         }
     }
-    if !pairs.is_empty() {
-        let p: Vec<f64> = pairs.iter().map(|x| x.4.p_value).collect();
-        let adjusted = holm_bonferroni(&p).unwrap_or(p);
-        for ((problem, method, ma, mb, t), ph) in pairs.into_iter().zip(adjusted) {
-            let half = (t.n1 * t.n2) as f64 / 2.0;
-            let mark = Mark::from_p_value(ph, alpha, t.statistic - half);
-            space.md_rows.push(vec![
-                problem.clone(),
-                method.clone(),
-                sci(ma),
-                sci(mb),
-                sci(t.p_value),
-                sci(ph),
-                mark.symbol().into(),
-            ]);
-            space.csv_rows.push(vec![
-                problem,
-                method,
-                fmt_real(ma),
-                fmt_real(mb),
-                fmt_real(t.statistic),
-                fmt_real(t.p_value),
-                fmt_real(ph),
-                mark.symbol().into(),
-            ]);
+    pairs
+}
+
+/// The search-space technique against the naive bounding box, with Holm's
+/// correction over all rows.
+fn search_space_table(fr: &FitRuns<'_>, alpha: f64) -> Table {
+    let mut space = search_space_frame(alpha);
+    let pairs = space_pairs(fr);
+    if pairs.is_empty() {
+        return space;
+    }
+    let p: Vec<f64> = pairs.iter().map(|x| x.4.p_value).collect();
+    let adjusted = holm_bonferroni(&p).unwrap_or(p);
+    for ((problem, method, ma, mb, t), ph) in pairs.into_iter().zip(adjusted) {
+        let half = (t.n1 * t.n2) as f64 / 2.0;
+        let mark = Mark::from_p_value(ph, alpha, t.statistic - half);
+        space.md_rows.push(vec![
+            problem.clone(),
+            method.clone(),
+            sci(ma),
+            sci(mb),
+            sci(t.p_value),
+            sci(ph),
+            mark.symbol().into(),
+        ]);
+        space.csv_rows.push(vec![
+            problem,
+            method,
+            fmt_real(ma),
+            fmt_real(mb),
+            fmt_real(t.statistic),
+            fmt_real(t.p_value),
+            fmt_real(ph),
+            mark.symbol().into(),
+        ]);
+    }
+    space
+}
+
+/// The overlay panel of one function on one source: the best fit of each
+/// continuity (technique search space), titled with their E and method.
+fn overlay_panel(
+    ds: &Dataset,
+    fr: &FitRuns<'_>,
+    source: &str,
+    function: &str,
+    data: &[Point],
+) -> OverlayPanel {
+    let mut curves = Vec::new();
+    let mut bests = Vec::new();
+    for (p, name) in fr.problems.iter().enumerate() {
+        let Some(c) = split(name) else { continue };
+        if c.source != source || c.function != function || c.space.is_some() {
+            continue;
+        }
+        let best_run = fr
+            .runs
+            .iter()
+            .filter(|((pp, _), _)| *pp == p)
+            .flat_map(|(_, rs)| rs.iter())
+            .min_by(|a, b| a.best.total_cmp(&b.best));
+        let Some(r) = best_run else { continue };
+        let cont = c.continuity.to_uppercase();
+        if let Some(curve) = r
+            .fit
+            .as_ref()
+            .and_then(|f| overlay_from_rows(cont.clone(), &f.segments))
+        {
+            bests.push(format!("{cont} E = {} ({})", sci(r.best), cell_name(ds, r)));
+            curves.push(curve);
         }
     }
+    OverlayPanel {
+        title: format!("{function}: {}", bests.join(", ")),
+        data: data.to_vec(),
+        curves,
+        y_down: false,
+    }
+}
 
-    let mut tables = vec![quality, functions];
+/// The overlay plot of one source: a panel per fitting function, or
+/// `None` when it has none.
+fn overlay_plot(ds: &Dataset, fr: &FitRuns<'_>, source: &str, data: &[Point]) -> Option<Plot> {
+    let mut function_names: Vec<&str> = Vec::new();
+    for p in &fr.problems {
+        if let Some(c) = split(p) {
+            if c.source == source && c.space.is_none() && !function_names.contains(&c.function) {
+                function_names.push(c.function);
+            }
+        }
+    }
+    let panels: Vec<OverlayPanel> = function_names
+        .into_iter()
+        .map(|function| overlay_panel(ds, fr, source, function, data))
+        .collect();
+    if panels.is_empty() {
+        return None;
+    }
+    let slug: String = source
+        .chars()
+        .map(|ch| if ch.is_ascii_alphanumeric() { ch } else { '_' })
+        .collect();
+    Some(Plot {
+        stem: format!("overlay_{slug}"),
+        title: format!("Best fits of {source}"),
+        caption: format!(
+            "The data points of {source} (grey) and, for each fitting function, the fit \
+             with the lowest E over all methods and runs for each continuity (circles mark \
+             the segments' start points; the legend gives E and the method). Equal scale \
+             in x and y."
+        ),
+        figure: Figure::Overlay(OverlayFigure {
+            title: format!("{source}: best fit of each function"),
+            panels,
+            columns: 2,
+        }),
+    })
+}
+
+/// Overlays: per source, a panel per function with the best fit of each
+/// continuity (technique search space). A source whose points are not in
+/// `outlines` gets a note instead.
+fn overlays(
+    ds: &Dataset,
+    fr: &FitRuns<'_>,
+    outlines: &BTreeMap<String, Vec<Point>>,
+    notes: &mut Vec<String>,
+) -> Vec<Plot> {
+    let mut sources: Vec<&str> = fr
+        .problems
+        .iter()
+        .filter_map(|p| split(p).map(|c| c.source))
+        .collect();
+    sources.dedup();
+    let mut seen = std::collections::BTreeSet::new();
+    sources.retain(|s| seen.insert(*s));
+    let mut figures = Vec::new();
+    for source in sources {
+        let Some(data) = outlines.get(source) else {
+            notes.push(format!(
+                "no overlay for {source}: outlines.csv does not hold its points"
+            ));
+            continue;
+        };
+        figures.extend(overlay_plot(ds, fr, source, data));
+    }
+    figures
+}
+
+/// The fitting section of the report in `dir`, or `None` if the campaign
+/// has no fitting runs.
+pub(crate) fn section(
+    dir: &Path,
+    ds: &Dataset,
+    alpha: f64,
+) -> Result<Option<FittingSection>, ReadError> {
+    if !dir.join("fits.csv").exists() {
+        return Ok(None);
+    }
+    let records = read_results(dir)?;
+    let fr = FitRuns::group(ds, &records);
+    let best = fr.best();
+    let mut notes = Vec::new();
+    let mut tables = vec![quality_table(&fr, &best), functions_table(&fr, &best)];
+    let space = search_space_table(&fr, alpha);
     if !space.md_rows.is_empty() {
         tables.push(space);
     }
+    let hybrid = hybrid_table(&fr);
     if hybrid.md_rows.is_empty() {
         notes.push(
             "no hybrid table: the campaign does not run a metaheuristic X, LM and X+lm together"
@@ -478,89 +673,8 @@ pub(crate) fn section(
     } else {
         tables.push(hybrid);
     }
-
-    // Overlays: per source, a panel per function with the best fit of each
-    // continuity (technique search space).
     let outlines = read_outlines(dir)?;
-    let mut figures = Vec::new();
-    let mut sources: Vec<&str> = problems
-        .iter()
-        .filter_map(|p| split(p).map(|c| c.source))
-        .collect();
-    sources.dedup();
-    let mut seen = std::collections::BTreeSet::new();
-    sources.retain(|s| seen.insert(*s));
-    for source in sources {
-        let Some(data) = outlines.get(source) else {
-            notes.push(format!(
-                "no overlay for {source}: outlines.csv does not hold its points"
-            ));
-            continue;
-        };
-        let mut panels: Vec<OverlayPanel> = Vec::new();
-        let mut function_names: Vec<&str> = Vec::new();
-        for p in &problems {
-            if let Some(c) = split(p) {
-                if c.source == source && c.space.is_none() && !function_names.contains(&c.function)
-                {
-                    function_names.push(c.function);
-                }
-            }
-        }
-        for function in function_names {
-            let mut curves = Vec::new();
-            let mut bests = Vec::new();
-            for (p, name) in problems.iter().enumerate() {
-                let Some(c) = split(name) else { continue };
-                if c.source != source || c.function != function || c.space.is_some() {
-                    continue;
-                }
-                let best_run = runs
-                    .iter()
-                    .filter(|((pp, _), _)| *pp == p)
-                    .flat_map(|(_, rs)| rs.iter())
-                    .min_by(|a, b| a.best.total_cmp(&b.best));
-                let Some(r) = best_run else { continue };
-                let cont = c.continuity.to_uppercase();
-                if let Some(curve) = r
-                    .fit
-                    .as_ref()
-                    .and_then(|f| overlay_from_rows(cont.clone(), &f.segments))
-                {
-                    bests.push(format!("{cont} E = {} ({})", sci(r.best), cell_name(r)));
-                    curves.push(curve);
-                }
-            }
-            panels.push(OverlayPanel {
-                title: format!("{function}: {}", bests.join(", ")),
-                data: data.clone(),
-                curves,
-                y_down: false,
-            });
-        }
-        if panels.is_empty() {
-            continue;
-        }
-        let slug: String = source
-            .chars()
-            .map(|ch| if ch.is_ascii_alphanumeric() { ch } else { '_' })
-            .collect();
-        figures.push(Plot {
-            stem: format!("overlay_{slug}"),
-            title: format!("Best fits of {source}"),
-            caption: format!(
-                "The data points of {source} (grey) and, for each fitting function, the fit \
-                 with the lowest E over all methods and runs for each continuity (circles mark \
-                 the segments' start points; the legend gives E and the method). Equal scale \
-                 in x and y."
-            ),
-            figure: Figure::Overlay(OverlayFigure {
-                title: format!("{source}: best fit of each function"),
-                panels,
-                columns: 2,
-            }),
-        });
-    }
+    let figures = overlays(ds, &fr, &outlines, &mut notes);
     Ok(Some(FittingSection {
         tables,
         figures,

@@ -16,6 +16,7 @@
 
 mod data;
 mod descriptive;
+mod error;
 mod fitting;
 mod format;
 mod markdown;
@@ -27,54 +28,12 @@ mod tuning;
 
 use std::path::{Path, PathBuf};
 
-use crate::experiment::ReadError;
-use crate::files::{create_dir, write_atomic, IoError};
-use crate::font::FontError;
+use crate::files::{create_dir, write_atomic};
 
+pub use self::error::ReportError;
 use self::format::Table;
 pub use self::overlay::save_overlay;
-
-/// Why a report could not be written.
-#[derive(Debug, thiserror::Error)]
-pub enum ReportError {
-    /// A results file could not be read or is malformed.
-    #[error(transparent)]
-    Read(#[from] ReadError),
-    /// A report file could not be written.
-    #[error(transparent)]
-    Io(#[from] IoError),
-    /// The significance level is not in (0, 1).
-    #[error("the significance level must lie strictly between 0 and 1, not {0}")]
-    Alpha(f64),
-    /// The requested reference algorithm is not in the results.
-    #[error(
-        "the reference algorithm \"{requested}\" is not in the results; the algorithms are: {}",
-        names.join(", ")
-    )]
-    UnknownReference {
-        /// The name asked for.
-        requested: String,
-        /// The configurations in the results.
-        names: Vec<String>,
-    },
-    /// The embedded font could not be registered.
-    #[error(transparent)]
-    Font(#[from] FontError),
-    /// A plot could not be drawn.
-    #[error("cannot draw {file}: {message}")]
-    Draw {
-        /// The file being drawn, such as `convergence.svg`.
-        file: String,
-        /// The plotting library's message.
-        message: String,
-    },
-}
-
-impl From<crate::experiment::DataError> for ReportError {
-    fn from(e: crate::experiment::DataError) -> Self {
-        ReportError::Read(ReadError::Data(e))
-    }
-}
+use self::plots::Plot;
 
 /// How to build a report.
 #[derive(Clone, Debug, PartialEq)]
@@ -247,72 +206,85 @@ fn problems_table(ds: &data::Dataset) -> Table {
     t
 }
 
-/// Writes the report of the results directory `dir`: `report.md`, the
-/// tables as CSV under `dir/tables/` and the plots as SVG and PNG under
-/// `dir/plots/`.
-///
-/// Errors when `runs.csv` (or the external file) is missing or malformed,
-/// when `options` are invalid, or when a file cannot be written. Missing
-/// convergence or timing data, a single algorithm, a single run or no
-/// successful run are not errors: the parts that need them are skipped and
-/// the report says so.
-pub fn write_report(dir: &Path, options: &ReportOptions) -> Result<ReportSummary, ReportError> {
-    if !(options.alpha > 0.0 && options.alpha < 1.0) {
-        return Err(ReportError::Alpha(options.alpha));
-    }
+/// The statistical tests of a report, or why there are none.
+struct Tests {
+    /// The reference algorithm's name, when there are tests.
+    reference: Option<String>,
+    /// Why the reference was chosen, when a label was ambiguous.
+    reference_note: Option<String>,
+    /// The test tables (empty without tests).
+    tables: Vec<Table>,
+    /// The paragraph shown instead of the tables when there are none.
+    text: Option<String>,
+}
+
+/// The significance tests against the reference and the Friedman ranking,
+/// or, with a single algorithm, the reason there are none (also added to
+/// `notes`).
+fn tests(
+    ds: &data::Dataset,
+    stats: &[Vec<Option<descriptive::CellStats>>],
+    options: &ReportOptions,
+    notes: &mut Vec<String>,
+) -> Result<Tests, ReportError> {
     let alpha = options.alpha;
-    let ds = data::load(dir, options.external.as_deref())?;
-    let provenance = data::provenance(dir);
-    let stats = descriptive::compute(&ds);
-    let mut notes: Vec<String> = Vec::new();
-
-    let mut tables: Vec<Table> = vec![algorithms_table(&ds), problems_table(&ds)];
-    tables.push(descriptive::table(&ds, &stats));
-
-    let mut reference_name = None;
-    let mut reference_note = None;
-    let mut tests_text = None;
-    if ds.cells.len() >= 2 {
-        let (reference, note) = resolve_reference(&ds, options.reference.as_deref())?;
-        reference_name = Some(ds.cells[reference].name.clone());
-        reference_note = note;
-        let s = significance::significance(&ds, reference, alpha);
-        if !s.skipped_problems.is_empty() {
-            let names: Vec<String> = s
-                .skipped_problems
-                .iter()
-                .map(|&p| ds.problems[p].title())
-                .collect();
-            notes.push(format!(
-                "The reference {} did not run {}: no tests there.",
-                ds.cells[reference].name,
-                names.join("; ")
-            ));
-        }
-        tables.push(significance::comparison_table(&ds, &stats, &s, alpha));
-        tables.push(significance::wilcoxon_table(&ds, &s, alpha));
-        tables.push(significance::mann_whitney_table(&ds, &s, alpha));
-        tables.push(significance::marks_summary_table(&ds, &s));
-        let f = significance::friedman_report(&ds, &stats, alpha);
-        tables.push(significance::friedman_table(&ds, &f, alpha));
-    } else {
+    if ds.cells.len() < 2 {
         if let Some(r) = &options.reference {
             // Still check the name, so that a typo is not silently ignored.
-            resolve_reference(&ds, Some(r))?;
+            resolve_reference(ds, Some(r))?;
         }
         let text = "There is a single algorithm configuration: no significance test, \
                     Friedman ranking or Nemenyi critical difference can be computed."
             .to_owned();
         notes.push(text.clone());
-        tests_text = Some(text);
+        return Ok(Tests {
+            reference: None,
+            reference_note: None,
+            tables: Vec::new(),
+            text: Some(text),
+        });
     }
+    let (reference, reference_note) = resolve_reference(ds, options.reference.as_deref())?;
+    let s = significance::significance(ds, reference, alpha);
+    if !s.skipped_problems.is_empty() {
+        let names: Vec<String> = s
+            .skipped_problems
+            .iter()
+            .map(|&p| ds.problems[p].title())
+            .collect();
+        notes.push(format!(
+            "The reference {} did not run {}: no tests there.",
+            ds.cells[reference].name,
+            names.join("; ")
+        ));
+    }
+    let f = significance::friedman_report(ds, stats, alpha);
+    Ok(Tests {
+        reference: Some(ds.cells[reference].name.clone()),
+        reference_note,
+        tables: vec![
+            significance::comparison_table(ds, stats, &s, alpha),
+            significance::wilcoxon_table(ds, &s, alpha),
+            significance::mann_whitney_table(ds, &s, alpha),
+            significance::marks_summary_table(ds, &s),
+            significance::friedman_table(ds, &f, alpha),
+        ],
+        text: None,
+    })
+}
 
-    let grids = tuning::grids(&ds);
+/// The tuning tables and heat maps of every parameter grid; a grid of two
+/// or more parameters without a heat map gets a note.
+fn tuning(
+    ds: &data::Dataset,
+    stats: &[Vec<Option<descriptive::CellStats>>],
+    notes: &mut Vec<String>,
+) -> (Vec<Table>, Vec<tuning::HeatMap>) {
     let mut heat_maps = Vec::new();
-    let mut tuning_tables = Vec::new();
-    for g in &grids {
-        tuning_tables.extend(tuning::tables(&ds, g, &stats));
-        match tuning::heat_map(&ds, g, &stats) {
+    let mut tables = Vec::new();
+    for g in &tuning::grids(ds) {
+        tables.extend(tuning::tables(ds, g, stats));
+        match tuning::heat_map(ds, g, stats) {
             Some(h) => heat_maps.push(h),
             None if g.varying.len() < 2 => {}
             None => notes.push(format!(
@@ -321,35 +293,12 @@ pub fn write_report(dir: &Path, options: &ReportOptions) -> Result<ReportSummary
             )),
         }
     }
+    (tables, heat_maps)
+}
 
-    let (mut figures, plot_notes) = plots::figures(&ds, &stats, heat_maps, provenance.threshold);
-    notes.extend(plot_notes);
-    let fitting = fitting::section(dir, &ds, alpha)?;
-    let fitting_tables = match fitting {
-        Some(f) => {
-            figures.extend(f.figures);
-            notes.extend(f.notes);
-            f.tables
-        }
-        None => Vec::new(),
-    };
-
-    // Write the files: tables, plots, then the report itself.
-    let tables_dir = dir.join("tables");
-    let plots_dir = dir.join("plots");
-    create_dir(&tables_dir)?;
-    create_dir(&plots_dir)?;
-    let mut table_paths = Vec::new();
-    for t in tables.iter().chain(&tuning_tables).chain(&fitting_tables) {
-        let path = tables_dir.join(format!("{}.csv", t.stem));
-        write_atomic(&path, &t.csv_bytes())?;
-        table_paths.push(path);
-    }
-    let mut plot_paths = Vec::new();
-    for p in &figures {
-        plot_paths.extend(render::save(&p.figure, &plots_dir, &p.stem)?);
-    }
-
+/// The distinct budgets and the distinct numbers of runs per (problem,
+/// cell) in the results, both sorted.
+fn budgets_and_run_counts(ds: &data::Dataset) -> (Vec<u64>, Vec<usize>) {
     let mut budgets: Vec<u64> = Vec::new();
     let mut run_counts: Vec<usize> = Vec::new();
     for p in 0..ds.problems.len() {
@@ -365,55 +314,169 @@ pub fn write_report(dir: &Path, options: &ReportOptions) -> Result<ReportSummary
     run_counts.dedup();
     budgets.sort_unstable();
     budgets.dedup();
+    (budgets, run_counts)
+}
 
+/// Everything a report shows, in the order of its sections.
+struct Sections {
+    /// The algorithms and problems tables.
+    setup: [Table; 2],
+    /// The descriptive table.
+    results: Table,
+    /// The statistical tests.
+    tests: Tests,
+    /// The parameter-tuning tables.
+    tuning: Vec<Table>,
+    /// The curve-fitting tables.
+    fitting: Vec<Table>,
+    /// The figures.
+    figures: Vec<Plot>,
+    /// Parts that were skipped or limited, and why.
+    notes: Vec<String>,
+}
+
+impl Sections {
+    /// Every table, in the order of the report.
+    fn tables(&self) -> impl Iterator<Item = &Table> {
+        self.setup
+            .iter()
+            .chain(std::iter::once(&self.results))
+            .chain(&self.tests.tables)
+            .chain(&self.tuning)
+            .chain(&self.fitting)
+    }
+
+    /// The body of `report.md` after its header.
+    fn markdown(&self) -> String {
+        let mut md = String::from("## Setup\n\n");
+        for t in &self.setup {
+            md.push_str(&markdown::table_section(t, 3));
+        }
+        md.push_str("## Results\n\n");
+        md.push_str(&markdown::table_section(&self.results, 3));
+        md.push_str("## Statistical tests\n\n");
+        match &self.tests.text {
+            Some(text) => md.push_str(&markdown::paragraph(text)),
+            None => {
+                for t in &self.tests.tables {
+                    md.push_str(&markdown::table_section(t, 3));
+                }
+            }
+        }
+        for (title, tables) in [
+            ("Parameter tuning", &self.tuning),
+            ("Curve fitting", &self.fitting),
+        ] {
+            if !tables.is_empty() {
+                md.push_str(&format!("## {title}\n\n"));
+                for t in tables {
+                    md.push_str(&markdown::table_section(t, 3));
+                }
+            }
+        }
+        md.push_str("## Plots\n\n");
+        if self.figures.is_empty() {
+            md.push_str(&markdown::paragraph(
+                "No plot could be drawn from these results.",
+            ));
+        }
+        for p in &self.figures {
+            md.push_str(&markdown::plot_section(p));
+        }
+        md.push_str(&markdown::notes_section(
+            "Skipped or limited parts",
+            &self.notes,
+        ));
+        md
+    }
+}
+
+/// Computes every section of the report of `dir` from its dataset.
+fn sections(
+    dir: &Path,
+    ds: &data::Dataset,
+    provenance: &data::Provenance,
+    options: &ReportOptions,
+) -> Result<Sections, ReportError> {
+    let stats = descriptive::compute(ds);
+    let mut notes: Vec<String> = Vec::new();
+    let setup = [algorithms_table(ds), problems_table(ds)];
+    let results = descriptive::table(ds, &stats);
+    let tests = tests(ds, &stats, options, &mut notes)?;
+    let (tuning, heat_maps) = tuning(ds, &stats, &mut notes);
+    let (mut figures, plot_notes) = plots::figures(ds, &stats, heat_maps, provenance.threshold);
+    notes.extend(plot_notes);
+    let mut fitting = Vec::new();
+    if let Some(f) = fitting::section(dir, ds, options.alpha)? {
+        figures.extend(f.figures);
+        notes.extend(f.notes);
+        fitting = f.tables;
+    }
+    Ok(Sections {
+        setup,
+        results,
+        tests,
+        tuning,
+        fitting,
+        figures,
+        notes,
+    })
+}
+
+/// Writes the tables as CSV under `dir/tables/` and the figures as SVG and
+/// PNG under `dir/plots/`; returns the paths of both.
+fn write_tables_and_plots(
+    dir: &Path,
+    s: &Sections,
+) -> Result<(Vec<PathBuf>, Vec<PathBuf>), ReportError> {
+    let tables_dir = dir.join("tables");
+    let plots_dir = dir.join("plots");
+    create_dir(&tables_dir)?;
+    create_dir(&plots_dir)?;
+    let mut table_paths = Vec::new();
+    for t in s.tables() {
+        let path = tables_dir.join(format!("{}.csv", t.stem));
+        write_atomic(&path, &t.csv_bytes())?;
+        table_paths.push(path);
+    }
+    let mut plot_paths = Vec::new();
+    for p in &s.figures {
+        plot_paths.extend(render::save(&p.figure, &plots_dir, &p.stem)?);
+    }
+    Ok((table_paths, plot_paths))
+}
+
+/// Writes the report of the results directory `dir`: `report.md`, the
+/// tables as CSV under `dir/tables/` and the plots as SVG and PNG under
+/// `dir/plots/`.
+///
+/// Errors when `runs.csv` (or the external file) is missing or malformed,
+/// when `options` are invalid, or when a file cannot be written. Missing
+/// convergence or timing data, a single algorithm, a single run or no
+/// successful run are not errors: the parts that need them are skipped and
+/// the report says so.
+pub fn write_report(dir: &Path, options: &ReportOptions) -> Result<ReportSummary, ReportError> {
+    if !(options.alpha > 0.0 && options.alpha < 1.0) {
+        return Err(ReportError::Alpha(options.alpha));
+    }
+    let ds = data::load(dir, options.external.as_deref())?;
+    let provenance = data::provenance(dir);
+    let s = sections(dir, &ds, &provenance, options)?;
+    let (table_paths, plot_paths) = write_tables_and_plots(dir, &s)?;
+
+    let (budgets, run_counts) = budgets_and_run_counts(&ds);
     let mut md = markdown::header(&markdown::Header {
         provenance: &provenance,
         ds: &ds,
-        reference: reference_name.clone(),
-        reference_note,
-        alpha,
+        reference: s.tests.reference.clone(),
+        reference_note: s.tests.reference_note.clone(),
+        alpha: options.alpha,
         external: options.external.as_ref().map(|p| p.display().to_string()),
         budgets,
         run_counts,
         dir_name: dir.file_name().map(|n| n.to_string_lossy().into_owned()),
     });
-    md.push_str("## Setup\n\n");
-    for t in &tables[..2] {
-        md.push_str(&markdown::table_section(t, 3));
-    }
-    md.push_str("## Results\n\n");
-    md.push_str(&markdown::table_section(&tables[2], 3));
-    md.push_str("## Statistical tests\n\n");
-    match &tests_text {
-        Some(text) => md.push_str(&markdown::paragraph(text)),
-        None => {
-            for t in &tables[3..] {
-                md.push_str(&markdown::table_section(t, 3));
-            }
-        }
-    }
-    if !tuning_tables.is_empty() {
-        md.push_str("## Parameter tuning\n\n");
-        for t in &tuning_tables {
-            md.push_str(&markdown::table_section(t, 3));
-        }
-    }
-    if !fitting_tables.is_empty() {
-        md.push_str("## Curve fitting\n\n");
-        for t in &fitting_tables {
-            md.push_str(&markdown::table_section(t, 3));
-        }
-    }
-    md.push_str("## Plots\n\n");
-    if figures.is_empty() {
-        md.push_str(&markdown::paragraph(
-            "No plot could be drawn from these results.",
-        ));
-    }
-    for p in &figures {
-        md.push_str(&markdown::plot_section(p));
-    }
-    md.push_str(&markdown::notes_section("Skipped or limited parts", &notes));
+    md.push_str(&s.markdown());
     let report = dir.join("report.md");
     let mut bytes = md.trim_end().as_bytes().to_vec();
     bytes.push(b'\n');
@@ -426,7 +489,7 @@ pub fn write_report(dir: &Path, options: &ReportOptions) -> Result<ReportSummary
         algorithms: ds.cells.len(),
         problems: ds.problems.len(),
         runs: ds.total_runs,
-        reference: reference_name,
-        notes,
+        reference: s.tests.reference,
+        notes: s.notes,
     })
 }

@@ -7,12 +7,27 @@ use std::collections::BTreeMap;
 
 use crate::stats::{
     friedman, holm_bonferroni, mann_whitney_u, nemenyi_critical_difference, wilcoxon, Alternative,
-    FriedmanResult, MannWhitneyResult, Mark, MarkTally, WilcoxonResult,
+    FriedmanResult, MannWhitneyResult, Mark, MarkTally, StatsError, WilcoxonResult,
 };
 
 use super::data::Dataset;
 use super::descriptive::{mean_error, mean_sd, CellStats};
 use super::format::{csv_opt, csv_real, fixed2, p_value, Table};
+
+/// Why a test of a cell against the reference has no result; the text is
+/// shown in the test tables.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub(crate) enum NoTest {
+    /// The paired test found no run number that both cells ran.
+    #[error("no run number in common with the reference")]
+    NoCommonRun,
+    /// The test rejected its samples.
+    #[error(transparent)]
+    Test(#[from] StatsError),
+    /// Holm's correction of the problem's family failed.
+    #[error("Holm correction failed: {0}")]
+    Holm(#[source] StatsError),
+}
 
 /// One test of a cell against the reference on a problem.
 #[derive(Clone, Debug, PartialEq)]
@@ -22,7 +37,7 @@ pub(crate) struct Comparison<R> {
     /// Compared cell index.
     pub cell: usize,
     /// The test result, or why it could not be computed.
-    pub result: Result<R, String>,
+    pub result: Result<R, NoTest>,
     /// Holm-adjusted p-value within the problem's family.
     pub p_holm: Option<f64>,
     /// The mark from the compared cell's point of view at the adjusted p.
@@ -49,7 +64,7 @@ fn compare<R>(
     ds: &Dataset,
     reference: usize,
     alpha: f64,
-    test: impl Fn(usize, usize) -> Result<R, String>,
+    test: impl Fn(usize, usize) -> Result<R, NoTest>,
     p_and_direction: impl Fn(&R) -> (f64, f64),
 ) -> (Vec<Comparison<R>>, Vec<usize>) {
     let mut out = Vec::new();
@@ -92,7 +107,7 @@ fn compare<R>(
             }
             Err(e) => {
                 for &i in &family {
-                    out[i].result = Err(format!("Holm correction failed: {e}"));
+                    out[i].result = Err(NoTest::Holm(e.clone()));
                 }
             }
         }
@@ -118,9 +133,9 @@ pub(crate) fn significance(ds: &Dataset, reference: usize, alpha: f64) -> Signif
                 .filter_map(|x| by_run.get(&x.run).map(|&y| (x.error, y)))
                 .unzip();
             if a.is_empty() {
-                return Err("no run number in common with the reference".into());
+                return Err(NoTest::NoCommonRun);
             }
-            wilcoxon(&a, &r, Alternative::TwoSided).map_err(|e| e.to_string())
+            Ok(wilcoxon(&a, &r, Alternative::TwoSided)?)
         },
         |w| (w.p_value, w.r_plus - w.r_minus),
     );
@@ -129,12 +144,11 @@ pub(crate) fn significance(ds: &Dataset, reference: usize, alpha: f64) -> Signif
         reference,
         alpha,
         |p, c| {
-            mann_whitney_u(
+            Ok(mann_whitney_u(
                 &ds.errors(p, c),
                 &ds.errors(p, reference),
                 Alternative::TwoSided,
-            )
-            .map_err(|e| e.to_string())
+            )?)
         },
         |m| (m.p_value, m.statistic - (m.n1 * m.n2) as f64 / 2.0),
     );
@@ -209,14 +223,8 @@ fn small_sample_note(s: &Significance, alpha: f64) -> Option<String> {
     ))
 }
 
-/// The paper-style table: mean (sd) of each algorithm per problem, with the
-/// Wilcoxon mark against the reference and a +/≈/− row.
-pub(crate) fn comparison_table(
-    ds: &Dataset,
-    stats: &[Vec<Option<CellStats>>],
-    s: &Significance,
-    alpha: f64,
-) -> Table {
+/// The empty paper-style table, with its headers and paragraphs.
+fn comparison_frame(ds: &Dataset, s: &Significance, alpha: f64) -> Table {
     let reference = s.reference;
     let mut md_header = vec!["Problem".to_owned(), "D".to_owned()];
     for (c, cell) in ds.cells.iter().enumerate() {
@@ -255,6 +263,19 @@ pub(crate) fn comparison_table(
         ..Table::default()
     };
     t.intro.extend(small_sample_note(s, alpha));
+    t
+}
+
+/// The paper-style table: mean (sd) of each algorithm per problem, with the
+/// Wilcoxon mark against the reference and a +/≈/− row.
+pub(crate) fn comparison_table(
+    ds: &Dataset,
+    stats: &[Vec<Option<CellStats>>],
+    s: &Significance,
+    alpha: f64,
+) -> Table {
+    let reference = s.reference;
+    let mut t = comparison_frame(ds, s, alpha);
     let mut marks: BTreeMap<(usize, usize), Option<Mark>> = BTreeMap::new();
     for row in &s.wilcoxon {
         marks.insert((row.problem, row.cell), row.mark);
@@ -303,8 +324,8 @@ pub(crate) fn comparison_table(
     t
 }
 
-/// The Wilcoxon signed-rank table, one row per comparison.
-pub(crate) fn wilcoxon_table(ds: &Dataset, s: &Significance, alpha: f64) -> Table {
+/// The empty Wilcoxon table, with its headers and paragraphs.
+fn wilcoxon_frame(ds: &Dataset, s: &Significance, alpha: f64) -> Table {
     let mut t = Table {
         stem: "wilcoxon".into(),
         title: format!(
@@ -359,67 +380,39 @@ pub(crate) fn wilcoxon_table(ds: &Dataset, s: &Significance, alpha: f64) -> Tabl
         ..Table::default()
     };
     t.intro.extend(small_sample_note(s, alpha));
-    let reference = &ds.cells[s.reference];
-    for row in &s.wilcoxon {
-        let problem = &ds.problems[row.problem];
-        let cell = &ds.cells[row.cell];
-        match &row.result {
-            Ok(w) => {
-                t.md_rows.push(vec![
-                    problem.function.clone(),
-                    problem.dim.to_string(),
-                    cell.name.clone(),
-                    w.n.to_string(),
-                    format!("{}", w.r_plus),
-                    format!("{}", w.r_minus),
-                    format!("{}", w.statistic),
-                    p_value(w.p_value),
-                    row.p_holm.map_or_else(|| "n/a".into(), p_value),
-                    mark_text(row.mark),
-                ]);
-                t.csv_rows.push(vec![
-                    problem.function.clone(),
-                    problem.dim.to_string(),
-                    cell.label.clone(),
-                    cell.kind.clone(),
-                    cell.params.clone(),
-                    reference.label.clone(),
-                    w.n.to_string(),
-                    w.n_zero.to_string(),
-                    csv_real(w.r_plus),
-                    csv_real(w.r_minus),
-                    csv_real(w.statistic),
-                    csv_opt(w.z),
-                    w.method.to_string(),
-                    csv_real(w.p_value),
-                    csv_opt(row.p_holm),
-                    mark_csv(row.mark),
-                    String::new(),
-                ]);
-            }
-            Err(e) => {
-                let mut md = vec![
-                    problem.function.clone(),
-                    problem.dim.to_string(),
-                    cell.name.clone(),
-                ];
-                md.extend(std::iter::repeat_n("\u{2014}".to_owned(), 6));
-                md.push(format!("n/a ({e})"));
-                t.md_rows.push(md);
-                let mut csv = vec![
-                    problem.function.clone(),
-                    problem.dim.to_string(),
-                    cell.label.clone(),
-                    cell.kind.clone(),
-                    cell.params.clone(),
-                    reference.label.clone(),
-                ];
-                csv.extend(std::iter::repeat_n(String::new(), 10));
-                csv.push(e.clone());
-                t.csv_rows.push(csv);
-            }
-        }
-    }
+    t
+}
+
+/// The Wilcoxon signed-rank table, one row per comparison.
+pub(crate) fn wilcoxon_table(ds: &Dataset, s: &Significance, alpha: f64) -> Table {
+    let mut t = wilcoxon_frame(ds, s, alpha);
+    comparison_rows(
+        ds,
+        s,
+        &s.wilcoxon,
+        &mut t,
+        |w| {
+            vec![
+                w.n.to_string(),
+                format!("{}", w.r_plus),
+                format!("{}", w.r_minus),
+                format!("{}", w.statistic),
+                p_value(w.p_value),
+            ]
+        },
+        |w| {
+            vec![
+                w.n.to_string(),
+                w.n_zero.to_string(),
+                csv_real(w.r_plus),
+                csv_real(w.r_minus),
+                csv_real(w.statistic),
+                csv_opt(w.z),
+                w.method.to_string(),
+                csv_real(w.p_value),
+            ]
+        },
+    );
     t
 }
 
@@ -472,65 +465,84 @@ pub(crate) fn mann_whitney_table(ds: &Dataset, s: &Significance, alpha: f64) -> 
         .to_vec(),
         ..Table::default()
     };
+    comparison_rows(
+        ds,
+        s,
+        &s.mann_whitney,
+        &mut t,
+        |m| {
+            vec![
+                m.n1.to_string(),
+                m.n2.to_string(),
+                format!("{}", m.statistic),
+                p_value(m.p_value),
+            ]
+        },
+        |m| {
+            vec![
+                m.n1.to_string(),
+                m.n2.to_string(),
+                csv_real(m.statistic),
+                csv_opt(m.z),
+                m.method.to_string(),
+                csv_real(m.p_value),
+            ]
+        },
+    );
+    t
+}
+
+/// The rows of a test table, one per comparison: the problem and the
+/// algorithm, the test's own columns (`md`, `csv`), the Holm-adjusted
+/// p-value and the mark. A comparison without a result has dashes in the
+/// test's columns and says why in the last one.
+fn comparison_rows<R>(
+    ds: &Dataset,
+    s: &Significance,
+    rows: &[Comparison<R>],
+    t: &mut Table,
+    md: impl Fn(&R) -> Vec<String>,
+    csv: impl Fn(&R) -> Vec<String>,
+) {
     let reference = &ds.cells[s.reference];
-    for row in &s.mann_whitney {
+    // Columns besides problem, D, algorithm and the last (mark or note).
+    let md_blanks = t.md_header.len() - 4;
+    // Columns besides the six leading ones and the note.
+    let csv_blanks = t.csv_header.len() - 7;
+    for row in rows {
         let problem = &ds.problems[row.problem];
         let cell = &ds.cells[row.cell];
+        let mut md_row = vec![
+            problem.function.clone(),
+            problem.dim.to_string(),
+            cell.name.clone(),
+        ];
+        let mut csv_row = vec![
+            problem.function.clone(),
+            problem.dim.to_string(),
+            cell.label.clone(),
+            cell.kind.clone(),
+            cell.params.clone(),
+            reference.label.clone(),
+        ];
         match &row.result {
-            Ok(m) => {
-                t.md_rows.push(vec![
-                    problem.function.clone(),
-                    problem.dim.to_string(),
-                    cell.name.clone(),
-                    m.n1.to_string(),
-                    m.n2.to_string(),
-                    format!("{}", m.statistic),
-                    p_value(m.p_value),
-                    row.p_holm.map_or_else(|| "n/a".into(), p_value),
-                    mark_text(row.mark),
-                ]);
-                t.csv_rows.push(vec![
-                    problem.function.clone(),
-                    problem.dim.to_string(),
-                    cell.label.clone(),
-                    cell.kind.clone(),
-                    cell.params.clone(),
-                    reference.label.clone(),
-                    m.n1.to_string(),
-                    m.n2.to_string(),
-                    csv_real(m.statistic),
-                    csv_opt(m.z),
-                    m.method.to_string(),
-                    csv_real(m.p_value),
-                    csv_opt(row.p_holm),
-                    mark_csv(row.mark),
-                    String::new(),
-                ]);
+            Ok(r) => {
+                md_row.extend(md(r));
+                md_row.push(row.p_holm.map_or_else(|| "n/a".into(), p_value));
+                md_row.push(mark_text(row.mark));
+                csv_row.extend(csv(r));
+                csv_row.extend([csv_opt(row.p_holm), mark_csv(row.mark), String::new()]);
             }
             Err(e) => {
-                let mut md = vec![
-                    problem.function.clone(),
-                    problem.dim.to_string(),
-                    cell.name.clone(),
-                ];
-                md.extend(std::iter::repeat_n("\u{2014}".to_owned(), 5));
-                md.push(format!("n/a ({e})"));
-                t.md_rows.push(md);
-                let mut csv = vec![
-                    problem.function.clone(),
-                    problem.dim.to_string(),
-                    cell.label.clone(),
-                    cell.kind.clone(),
-                    cell.params.clone(),
-                    reference.label.clone(),
-                ];
-                csv.extend(std::iter::repeat_n(String::new(), 8));
-                csv.push(e.clone());
-                t.csv_rows.push(csv);
+                md_row.extend(std::iter::repeat_n("\u{2014}".to_owned(), md_blanks));
+                md_row.push(format!("n/a ({e})"));
+                csv_row.extend(std::iter::repeat_n(String::new(), csv_blanks));
+                csv_row.push(e.to_string());
             }
         }
+        t.md_rows.push(md_row);
+        t.csv_rows.push(csv_row);
     }
-    t
 }
 
 /// Win/tie/loss counts of both tests per algorithm.
@@ -589,15 +601,36 @@ pub(crate) fn marks_summary_table(ds: &Dataset, s: &Significance) -> Table {
     t
 }
 
+/// Why there is no Friedman ranking; the text is shown in the report.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub(crate) enum NoRanking {
+    /// There is one algorithm only.
+    #[error("a single algorithm: there is nothing to rank")]
+    SingleAlgorithm,
+    /// No problem has a defined mean final error for every algorithm.
+    #[error("no problem was run by every algorithm")]
+    NoCommonProblem,
+    /// The test rejected the blocks.
+    #[error(transparent)]
+    Test(#[from] StatsError),
+}
+
+/// The Friedman test and the Nemenyi critical difference that goes with it.
+#[derive(Clone, Debug)]
+pub(crate) struct Ranking {
+    /// The Friedman test.
+    pub test: FriedmanResult,
+    /// The critical difference at α, or why it is not available.
+    pub cd: Result<f64, StatsError>,
+}
+
 /// The Friedman test over problems and the Nemenyi critical difference.
 #[derive(Clone, Debug)]
 pub(crate) struct FriedmanReport {
     /// The problems used as blocks.
     pub blocks: Vec<usize>,
-    /// The test, or why it was not computed.
-    pub result: Result<FriedmanResult, String>,
-    /// The critical difference at α, or why it is not available.
-    pub cd: Result<f64, String>,
+    /// The test and critical difference, or why there are none.
+    pub ranking: Result<Ranking, NoRanking>,
 }
 
 /// Friedman test with blocks = problems on which every algorithm has a
@@ -619,28 +652,24 @@ pub(crate) fn friedman_report(
             rows.push(row);
         }
     }
-    if k < 2 {
-        return FriedmanReport {
-            blocks,
-            result: Err("a single algorithm: there is nothing to rank".into()),
-            cd: Err("a single algorithm".into()),
-        };
-    }
-    if rows.is_empty() {
-        return FriedmanReport {
-            blocks,
-            result: Err("no problem was run by every algorithm".into()),
-            cd: Err("no blocks".into()),
-        };
-    }
-    let result = friedman(&rows).map_err(|e| e.to_string());
-    let cd = nemenyi_critical_difference(k, rows.len(), alpha).map_err(|e| e.to_string());
-    FriedmanReport { blocks, result, cd }
+    let ranking = if k < 2 {
+        Err(NoRanking::SingleAlgorithm)
+    } else if rows.is_empty() {
+        Err(NoRanking::NoCommonProblem)
+    } else {
+        friedman(&rows)
+            .map_err(NoRanking::from)
+            .map(|test| Ranking {
+                test,
+                cd: nemenyi_critical_difference(k, rows.len(), alpha),
+            })
+    };
+    FriedmanReport { blocks, ranking }
 }
 
-/// The average-rank table of the Friedman test.
-pub(crate) fn friedman_table(ds: &Dataset, f: &FriedmanReport, alpha: f64) -> Table {
-    let mut t = Table {
+/// The empty average-rank table, with its headers.
+fn friedman_table_frame() -> Table {
+    Table {
         stem: "friedman".into(),
         title: "Friedman test and average ranks over problems".into(),
         md_header: [
@@ -664,9 +693,14 @@ pub(crate) fn friedman_table(ds: &Dataset, f: &FriedmanReport, alpha: f64) -> Ta
         .map(String::from)
         .to_vec(),
         ..Table::default()
-    };
+    }
+}
+
+/// The paragraphs on the blocks: which problems they are, and how many
+/// problems are left out.
+fn blocks_intro(ds: &Dataset, f: &FriedmanReport) -> Vec<String> {
     let names: Vec<String> = f.blocks.iter().map(|&p| ds.problems[p].title()).collect();
-    t.intro.push(format!(
+    let mut intro = vec![format!(
         "Blocks are the {} problem(s) on which every algorithm has a defined mean final \
          error ({}); the value of an algorithm on a block is its mean final error over \
          the runs, ranked within the block (rank 1 = lowest error, ties share the \
@@ -677,23 +711,22 @@ pub(crate) fn friedman_table(ds: &Dataset, f: &FriedmanReport, alpha: f64) -> Ta
         } else {
             names.join("; ")
         }
-    ));
+    )];
     let omitted = ds.problems.len() - f.blocks.len();
     if omitted > 0 && ds.cells.len() >= 2 {
-        t.intro.push(format!(
+        intro.push(format!(
             "{omitted} problem(s) are left out because some algorithm did not run them or \
              has an undefined mean."
         ));
     }
-    let fr = match &f.result {
-        Ok(fr) => fr,
-        Err(e) => {
-            t.intro
-                .push(format!("The Friedman test is not available: {e}."));
-            return t;
-        }
-    };
-    t.intro.push(format!(
+    intro
+}
+
+/// The paragraphs on the test: its statistic, the critical difference and
+/// a warning when there is a single block.
+fn ranking_intro(r: &Ranking, alpha: f64) -> Vec<String> {
+    let fr = &r.test;
+    let mut intro = vec![format!(
         "Friedman χ²_F = {:.4} with {} degree(s) of freedom, p = {} (k = {} algorithms, N \
          = {} blocks).",
         fr.statistic,
@@ -701,46 +734,46 @@ pub(crate) fn friedman_table(ds: &Dataset, f: &FriedmanReport, alpha: f64) -> Ta
         p_value(fr.p_value),
         fr.n_treatments,
         fr.n_blocks
-    ));
-    match &f.cd {
-        Ok(cd) => t.intro.push(format!(
+    )];
+    intro.push(match &r.cd {
+        Ok(cd) => format!(
             "Nemenyi critical difference at α = {alpha}: CD = {cd:.3}; two algorithms \
              whose average ranks differ by at least CD differ significantly (Demšar \
              2006)."
-        )),
-        Err(e) => t.intro.push(format!(
-            "The Nemenyi critical difference is not available: {e}."
-        )),
-    }
+        ),
+        Err(e) => format!("The Nemenyi critical difference is not available: {e}."),
+    });
     if fr.n_blocks < 2 {
-        t.intro.push(
+        intro.push(
             "With a single block the Friedman test has no power; the ranks only order \
              the algorithms on that problem."
                 .into(),
         );
     }
-    let mut order: Vec<usize> = (0..fr.average_ranks.len()).collect();
-    order.sort_by(|&a, &b| {
-        fr.average_ranks[a]
-            .total_cmp(&fr.average_ranks[b])
-            .then(a.cmp(&b))
-    });
-    let best = order.first().map_or(f64::NAN, |&i| fr.average_ranks[i]);
+    intro
+}
+
+/// The rows of the algorithms by average rank, each compared with the best
+/// by the critical difference.
+fn ranking_rows(ds: &Dataset, r: &Ranking, t: &mut Table) {
+    let ranks = &r.test.average_ranks;
+    let mut order: Vec<usize> = (0..ranks.len()).collect();
+    order.sort_by(|&a, &b| ranks[a].total_cmp(&ranks[b]).then(a.cmp(&b)));
+    let best = order.first().map_or(f64::NAN, |&i| ranks[i]);
     for (pos, &c) in order.iter().enumerate() {
         let Some(cell) = ds.cells.get(c) else {
             continue;
         };
-        let r = fr.average_ranks[c];
-        let diff = r - best;
-        let differs = match &f.cd {
+        let rank = ranks[c];
+        let diff = rank - best;
+        let differs = match &r.cd {
             Ok(cd) if pos > 0 => Some(diff >= *cd),
-            Ok(_) => None,
-            Err(_) => None,
+            Ok(_) | Err(_) => None,
         };
         t.md_rows.push(vec![
             (pos + 1).to_string(),
             cell.name.clone(),
-            fixed2(r),
+            fixed2(rank),
             fixed2(diff),
             match (pos, differs) {
                 (0, _) => "best".into(),
@@ -754,10 +787,25 @@ pub(crate) fn friedman_table(ds: &Dataset, f: &FriedmanReport, alpha: f64) -> Ta
             cell.label.clone(),
             cell.kind.clone(),
             cell.params.clone(),
-            csv_real(r),
+            csv_real(rank),
             csv_real(diff),
             differs.map_or_else(String::new, |d| d.to_string()),
         ]);
+    }
+}
+
+/// The average-rank table of the Friedman test.
+pub(crate) fn friedman_table(ds: &Dataset, f: &FriedmanReport, alpha: f64) -> Table {
+    let mut t = friedman_table_frame();
+    t.intro = blocks_intro(ds, f);
+    match &f.ranking {
+        Ok(r) => {
+            t.intro.extend(ranking_intro(r, alpha));
+            ranking_rows(ds, r, &mut t);
+        }
+        Err(e) => t
+            .intro
+            .push(format!("The Friedman test is not available: {e}.")),
     }
     t
 }
@@ -888,10 +936,10 @@ mod tests {
         let ds = dataset();
         let stats = compute(&ds);
         let f = friedman_report(&ds, &stats, 0.05);
-        let fr = f.result.as_ref().unwrap();
-        assert_eq!(fr.n_blocks, 2);
-        assert_eq!(fr.n_treatments, 4);
-        assert!(f.cd.is_ok());
+        let r = f.ranking.as_ref().unwrap();
+        assert_eq!(r.test.n_blocks, 2);
+        assert_eq!(r.test.n_treatments, 4);
+        assert!(r.cd.is_ok());
         let t = friedman_table(&ds, &f, 0.05);
         assert_eq!(t.md_rows.len(), 4);
         assert_eq!(t.md_rows[0][4], "best");
@@ -899,7 +947,7 @@ mod tests {
         let one = Dataset::from_records(vec![rec("R", "a", 0, 1.0)]);
         let stats = compute(&one);
         let f = friedman_report(&one, &stats, 0.05);
-        assert!(f.result.is_err());
+        assert_eq!(f.ranking.as_ref().unwrap_err(), &NoRanking::SingleAlgorithm);
         let t = friedman_table(&one, &f, 0.05);
         assert!(t.md_rows.is_empty());
         let s = significance(&one, 0, 0.05);
@@ -915,8 +963,10 @@ mod tests {
         let ds = Dataset::from_records(v);
         let stats = compute(&ds);
         let f = friedman_report(&ds, &stats, 0.05);
-        assert!(f.result.is_ok());
-        assert!(f.cd.is_err());
+        assert!(matches!(
+            f.ranking.as_ref().unwrap().cd,
+            Err(StatsError::OutOfTable { k: 11, .. })
+        ));
         let t = friedman_table(&ds, &f, 0.05);
         assert!(t.intro.iter().any(|s| s.contains("not available")));
         assert_eq!(t.md_rows[1][4], "n/a");

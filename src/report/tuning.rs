@@ -147,9 +147,8 @@ pub(crate) fn mean_ranks(
     Some((blocks, f.average_ranks))
 }
 
-/// The tables of a grid: the best setting per problem and overall, and the
-/// mean rank of every setting.
-pub(crate) fn tables(ds: &Dataset, grid: &Grid, stats: &[Vec<Option<CellStats>>]) -> Vec<Table> {
+/// The best setting of a grid per problem, without the overall row.
+fn best_table(ds: &Dataset, grid: &Grid, stats: &[Vec<Option<CellStats>>]) -> Table {
     let params = grid.varying.join(" × ");
     let mut best = Table {
         stem: format!("tuning_best_{}", grid.slug),
@@ -206,7 +205,12 @@ pub(crate) fn tables(ds: &Dataset, grid: &Grid, stats: &[Vec<Option<CellStats>>]
             String::new(),
         ]);
     }
-    let mut ranks = Table {
+    best
+}
+
+/// The empty table of the mean ranks of a grid's settings.
+fn ranks_frame(grid: &Grid) -> Table {
+    Table {
         stem: format!("tuning_ranks_{}", grid.slug),
         title: format!(
             "Parameter tuning of {}: mean rank of every setting",
@@ -219,62 +223,74 @@ pub(crate) fn tables(ds: &Dataset, grid: &Grid, stats: &[Vec<Option<CellStats>>]
             .map(String::from)
             .to_vec(),
         ..Table::default()
-    };
-    match mean_ranks(ds, grid, stats) {
-        Some((blocks, r)) => {
-            ranks.intro.push(format!(
-                "Mean rank of the mean final error over the {} problem(s) run by every \
-                 setting (rank 1 = lowest error, ties share the average rank).",
-                blocks.len()
-            ));
-            let mut order: Vec<usize> = (0..r.len()).collect();
-            order.sort_by(|&a, &b| r[a].total_cmp(&r[b]).then(a.cmp(&b)));
-            for (pos, &i) in order.iter().enumerate() {
-                let c = grid.cells[i];
-                ranks.md_rows.push(vec![
-                    (pos + 1).to_string(),
-                    grid.setting(ds, c),
-                    fixed2(r[i]),
-                ]);
-                ranks.csv_rows.push(vec![
-                    (pos + 1).to_string(),
-                    grid.label.clone(),
-                    ds.cells[c].params.clone(),
-                    grid.setting(ds, c),
-                    csv_real(r[i]),
-                ]);
-            }
-            if let Some(&i) = order.first() {
-                let c = grid.cells[i];
-                let tied = r.iter().filter(|&&x| x == r[i]).count() - 1;
-                let mut setting = grid.setting(ds, c);
-                if tied > 0 {
-                    setting.push_str(&format!(
-                        " (tied with {tied} other setting(s); the first in spec order is shown)"
-                    ));
-                }
-                best.md_rows.push(vec![
-                    "overall (mean rank)".into(),
-                    String::new(),
-                    setting,
-                    format!("rank {}", fixed2(r[i])),
-                    String::new(),
-                ]);
-                best.csv_rows.push(vec![
-                    "overall".into(),
-                    String::new(),
-                    grid.label.clone(),
-                    ds.cells[c].params.clone(),
-                    grid.setting(ds, c),
-                    String::new(),
-                    String::new(),
-                    csv_real(r[i]),
-                ]);
-            }
-        }
-        None => ranks.intro.push(
+    }
+}
+
+/// Adds the overall row to the best-setting table: the setting of grid
+/// index `i`, which has the lowest mean rank of `r`.
+fn overall_row(ds: &Dataset, grid: &Grid, r: &[f64], i: usize, best: &mut Table) {
+    let c = grid.cells[i];
+    let tied = r.iter().filter(|&&x| x == r[i]).count() - 1;
+    let mut setting = grid.setting(ds, c);
+    if tied > 0 {
+        setting.push_str(&format!(
+            " (tied with {tied} other setting(s); the first in spec order is shown)"
+        ));
+    }
+    best.md_rows.push(vec![
+        "overall (mean rank)".into(),
+        String::new(),
+        setting,
+        format!("rank {}", fixed2(r[i])),
+        String::new(),
+    ]);
+    best.csv_rows.push(vec![
+        "overall".into(),
+        String::new(),
+        grid.label.clone(),
+        ds.cells[c].params.clone(),
+        grid.setting(ds, c),
+        String::new(),
+        String::new(),
+        csv_real(r[i]),
+    ]);
+}
+
+/// The tables of a grid: the best setting per problem and overall, and the
+/// mean rank of every setting.
+pub(crate) fn tables(ds: &Dataset, grid: &Grid, stats: &[Vec<Option<CellStats>>]) -> Vec<Table> {
+    let mut best = best_table(ds, grid, stats);
+    let mut ranks = ranks_frame(grid);
+    let Some((blocks, r)) = mean_ranks(ds, grid, stats) else {
+        ranks.intro.push(
             "No problem was run by every setting with a defined mean error: no ranks.".into(),
-        ),
+        );
+        return vec![best, ranks];
+    };
+    ranks.intro.push(format!(
+        "Mean rank of the mean final error over the {} problem(s) run by every \
+         setting (rank 1 = lowest error, ties share the average rank).",
+        blocks.len()
+    ));
+    let mut order: Vec<usize> = (0..r.len()).collect();
+    order.sort_by(|&a, &b| r[a].total_cmp(&r[b]).then(a.cmp(&b)));
+    for (pos, &i) in order.iter().enumerate() {
+        let c = grid.cells[i];
+        ranks.md_rows.push(vec![
+            (pos + 1).to_string(),
+            grid.setting(ds, c),
+            fixed2(r[i]),
+        ]);
+        ranks.csv_rows.push(vec![
+            (pos + 1).to_string(),
+            grid.label.clone(),
+            ds.cells[c].params.clone(),
+            grid.setting(ds, c),
+            csv_real(r[i]),
+        ]);
+    }
+    if let Some(&i) = order.first() {
+        overall_row(ds, grid, &r, i, &mut best);
     }
     vec![best, ranks]
 }

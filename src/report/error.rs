@@ -1,0 +1,47 @@
+//! The report's error type.
+
+use crate::experiment::{DataError, ReadError};
+use crate::files::IoError;
+use crate::font::FontError;
+
+/// Why a report could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum ReportError {
+    /// A results file could not be read or is malformed.
+    #[error(transparent)]
+    Read(#[from] ReadError),
+    /// A report file could not be written.
+    #[error(transparent)]
+    Io(#[from] IoError),
+    /// The significance level is not in (0, 1).
+    #[error("the significance level must lie strictly between 0 and 1, not {0}")]
+    Alpha(f64),
+    /// The requested reference algorithm is not in the results.
+    #[error(
+        "the reference algorithm \"{requested}\" is not in the results; the algorithms are: {}",
+        names.join(", ")
+    )]
+    UnknownReference {
+        /// The name asked for.
+        requested: String,
+        /// The configurations in the results.
+        names: Vec<String>,
+    },
+    /// The embedded font could not be registered.
+    #[error(transparent)]
+    Font(#[from] FontError),
+    /// A plot could not be drawn.
+    #[error("cannot draw {file}: {message}")]
+    Draw {
+        /// The file being drawn, such as `convergence.svg`.
+        file: String,
+        /// The plotting library's message.
+        message: String,
+    },
+}
+
+impl From<DataError> for ReportError {
+    fn from(e: DataError) -> Self {
+        ReportError::Read(ReadError::Data(e))
+    }
+}

@@ -1,0 +1,196 @@
+//! The runtime ECDF (the COCO view): for every algorithm, the fraction of
+//! its (run, problem) pairs that reached the target within a number of
+//! objective evaluations, over all problems.
+
+use std::collections::BTreeSet;
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::super::data::Dataset;
+use super::super::format::{pow_tick, sci_digits};
+use super::super::render::{colour, draw_minor_decades, font, lg, Draw, DrawResult};
+use super::layout::{decade_labels, decade_tick, frame, frame_height, Line, AXIS_FONT, TICK_FONT};
+use super::{Figure, NoPlot, Plot};
+
+/// The runtime ECDF figure.
+pub(crate) struct Ecdf {
+    title: String,
+    legend: Vec<(String, RGBColor)>,
+    series: Vec<Line>,
+    x: (f64, f64),
+}
+
+impl Draw for Ecdf {
+    fn size(&self) -> (u32, u32) {
+        let w = 900;
+        (w, frame_height(w, &self.legend) + 540)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult {
+        let area = frame(root, &self.title, &self.legend)?;
+        let mut chart = ChartBuilder::on(&area)
+            .margin(12)
+            .margin_right(30)
+            .x_label_area_size(56)
+            .y_label_area_size(80)
+            .build_cartesian_2d(self.x.0..self.x.1, -0.02f64..1.02)?;
+        chart
+            .configure_mesh()
+            .x_desc("objective evaluations (log scale)")
+            .y_desc("fraction of (run, problem) pairs solved")
+            .x_label_formatter(&|v| decade_tick(*v, self.x))
+            .y_label_formatter(&|v| format!("{v:.1}"))
+            .x_labels(decade_labels(self.x))
+            .y_labels(11)
+            .label_style(font(TICK_FONT))
+            .axis_desc_style(font(AXIS_FONT))
+            .light_line_style(TRANSPARENT)
+            .bold_line_style(RGBColor(215, 215, 215))
+            .draw()?;
+        draw_minor_decades(&mut chart, self.x, (-0.02, 1.02), true, false)?;
+        for (c, pts) in &self.series {
+            chart.draw_series(LineSeries::new(
+                pts.iter().copied(),
+                colour(*c).stroke_width(2),
+            ))?;
+        }
+        Ok(())
+    }
+}
+
+/// The steps of an ECDF over `total` pairs, from the sorted runtimes of
+/// the solved ones, starting at (1, 0).
+fn steps(times: &[u64], total: usize) -> Vec<(f64, f64)> {
+    let mut pts = vec![(1.0, 0.0)];
+    let mut solved = 0usize;
+    let mut i = 0;
+    while i < times.len() {
+        let t = times[i];
+        while i < times.len() && times[i] == t {
+            i += 1;
+            solved += 1;
+        }
+        let prev = pts.last().map_or(0.0, |p| p.1);
+        let x = t as f64;
+        pts.push((x, prev));
+        pts.push((x, solved as f64 / total as f64));
+    }
+    pts
+}
+
+/// One cell's ECDF before it is extended to the largest budget.
+struct CellSteps {
+    /// The cell.
+    cell: usize,
+    /// The steps, from (1, 0).
+    steps: Vec<(f64, f64)>,
+    /// Its number of (run, problem) pairs.
+    pairs: usize,
+}
+
+/// The ECDF steps of every cell that ran, the largest evaluation count or
+/// budget (at least 1), and whether any run succeeded.
+fn cell_steps(ds: &Dataset) -> (Vec<CellSteps>, f64, bool) {
+    let mut series = Vec::new();
+    let mut xmax = 1.0f64;
+    let mut any_success = false;
+    for c in 0..ds.cells.len() {
+        let mut total = 0usize;
+        let mut times: Vec<u64> = Vec::new();
+        for p in 0..ds.problems.len() {
+            for r in ds.runs(p, c) {
+                total += 1;
+                xmax = xmax.max(r.evaluations as f64).max(r.budget as f64);
+                if r.success {
+                    times.push(r.evaluations_to_target.unwrap_or(r.evaluations).max(1));
+                }
+            }
+        }
+        if total == 0 {
+            continue;
+        }
+        any_success |= !times.is_empty();
+        times.sort_unstable();
+        series.push(CellSteps {
+            cell: c,
+            steps: steps(&times, total),
+            pairs: total,
+        });
+    }
+    (series, xmax, any_success)
+}
+
+/// The caption: what the target is and how the curves are normalised.
+fn caption(threshold: Option<f64>, unequal_counts: bool) -> String {
+    let target = threshold.map_or_else(
+        || "the success threshold of the campaign (the success column of runs.csv)".to_owned(),
+        |t| format!("the target f − f* ≤ {}", sci_digits(t, 2)),
+    );
+    let mut caption = format!(
+        "Empirical cumulative distribution of the runtime to {target} (the \
+         COCO view): for each algorithm, the fraction of all its (run, problem) pairs \
+         whose error reached the target within the given number of objective \
+         evaluations (log scale), aggregated over all problems; the curve ends at the \
+         largest budget and stays below 1 when some runs never reached the target. \
+         Evaluations are not divided by the dimension."
+    );
+    if unequal_counts {
+        caption.push_str(
+            " The algorithms do not have the same number of (run, problem) pairs; each \
+             curve is normalised by its own count.",
+        );
+    }
+    caption
+}
+
+/// The figure's title, naming the target.
+fn title(threshold: Option<f64>) -> String {
+    format!(
+        "Runtime to the target {}, all problems",
+        threshold.map_or_else(
+            || "success threshold".to_owned(),
+            |t| if t > 0.0 {
+                format!("f − f* ≤ {}", pow_tick(lg(t)))
+            } else {
+                format!("f − f* ≤ {t}")
+            }
+        )
+    )
+}
+
+/// The runtime ECDF, or why there is none.
+pub(super) fn ecdf(ds: &Dataset, threshold: Option<f64>) -> Result<Plot, NoPlot> {
+    let (series, xmax, any_success) = cell_steps(ds);
+    if !any_success {
+        return Err(NoPlot::NoSuccess);
+    }
+    let pair_counts: BTreeSet<usize> = series.iter().map(|s| s.pairs).collect();
+    let xmax = xmax.max(2.0);
+    let series: Vec<Line> = series
+        .into_iter()
+        .map(|mut s| {
+            let last = s.steps.last().map_or(0.0, |p| p.1);
+            s.steps.push((xmax, last));
+            (
+                s.cell,
+                s.steps.into_iter().map(|(x, y)| (lg(x), y)).collect(),
+            )
+        })
+        .collect();
+    let legend = series
+        .iter()
+        .map(|(c, _)| (ds.cells[*c].name.clone(), colour(*c)))
+        .collect();
+    Ok(Plot {
+        stem: "ecdf".into(),
+        title: "Runtime ECDF".into(),
+        caption: caption(threshold, pair_counts.len() > 1),
+        figure: Figure::Ecdf(Ecdf {
+            title: title(threshold),
+            legend,
+            series,
+            x: (0.0, lg(xmax)),
+        }),
+    })
+}
