@@ -96,8 +96,8 @@ fn unknown_names_list_the_valid_choices() {
     assert_eq!(
         error_of(&BASE.replace("budget = 100", "budjet = 100")),
         "spec.toml:5:1: experiment.budjet: unknown field; did you mean \"budget\"? Valid choices: \
-         \"name\", \"description\", \"seed\", \"runs\", \"budget\", \"budget_per_dim\", \"threshold\" \
-         or \"checkpoints_per_decade\""
+         \"name\", \"description\", \"seed\", \"runs\", \"budget\", \"budget_per_dim\", \"threshold\", \
+         \"checkpoints_per_decade\" or \"paired\""
     );
     assert_eq!(
         error_of(&with_line("bounds = \"wrap\"")),
@@ -188,4 +188,78 @@ fn a_missing_file_is_named() {
         e.starts_with("no/such/spec.toml: cannot read the spec: "),
         "{e}"
     );
+}
+
+#[test]
+fn instances_budgets_and_pairing_are_checked_before_anything_runs() {
+    let problem = |extra: &str| BASE.replace("dim = 2\n", &format!("dim = 2\n{extra}\n"));
+    assert_eq!(
+        error_of(&problem("transform = \"rotate\"")),
+        "spec.toml:10:13: problem[1].transform: unknown transform \"rotate\"; valid choices: \"none\", \"shift\" or \"shift-rotate\""
+    );
+    assert_eq!(
+        error_of(&problem("transform = \"shift\"\ninstances = 0")),
+        "spec.toml:11:13: problem[1].instances: expected an integer in 1..=10000, found 0"
+    );
+    let e = error_of(&BASE.replace(
+        "function = \"sphere\"",
+        "function = \"schwefel_2_26\"\ntransform = [\"none\", \"shift\"]",
+    ));
+    assert!(
+        e.starts_with("spec.toml:9:22: problem[1].transform: schwefel_2_26 has no \"shift\" instances: only sphere,"),
+        "{e}"
+    );
+    let e = error_of(&BASE.replace(
+        "function = \"sphere\"\ndim = 2",
+        "function = \"six_hump_camel\"\ntransform = \"shift-rotate\"",
+    ));
+    assert!(e.contains("two global minimisers"), "{e}");
+    assert_eq!(
+        error_of(&BASE.replace("runs = 2", "runs = 2\npaired = [\"budjet\"]")),
+        "spec.toml:5:11: experiment.paired: unknown factor \"budjet\"; did you mean \"budget\"? Valid choices: \"budget\", \"transform\", \"instance\" or \"search_space\""
+    );
+    assert_eq!(
+        error_of(&BASE.replace("runs = 2", "runs = 2\npaired = \"budget\"")),
+        "spec.toml:5:10: experiment.paired: \"budget\" does not vary among this spec's problems, so there is nothing to pair; no factor varies here"
+    );
+    let e = error_of(
+        &BASE
+            .replace("runs = 2", "runs = 2\npaired = [\"instance\"]")
+            .replace("budget = 100", "budget = [100, 1000]"),
+    );
+    assert!(
+        e.ends_with("\"instance\" does not vary among this spec's problems, so there is nothing to pair; the varying factors are \"budget\""),
+        "{e}"
+    );
+    assert_eq!(
+        error_of(&BASE.replace("budget = 100", "budget = [100, 0]")),
+        "spec.toml:5:16: experiment.budget: expected an integer ≥ 1, found 0"
+    );
+}
+
+#[test]
+fn grids_of_transforms_instances_and_budgets_expand_with_keys() {
+    let spec = Spec::parse(
+        Path::new("spec.toml"),
+        &BASE.replace("budget = 100", "budget = [100, 1000]").replace(
+            "dim = 2\n",
+            "dim = 2\ntransform = [\"none\", \"shift-rotate\"]\ninstances = 2\n",
+        ),
+    )
+    .unwrap();
+    let keys: Vec<String> = spec.problems.iter().map(|p| p.key()).collect();
+    assert_eq!(
+        keys,
+        [
+            "sphere-2|budget=100",
+            "sphere-2|budget=1000",
+            "sphere-2|budget=100|transform=shift-rotate",
+            "sphere-2|budget=1000|transform=shift-rotate",
+            "sphere-2|budget=100|transform=shift-rotate|instance=2",
+            "sphere-2|budget=1000|transform=shift-rotate|instance=2",
+        ]
+    );
+    // The base spec keeps the key it had before factors existed.
+    let base = Spec::parse(Path::new("spec.toml"), BASE).unwrap();
+    assert_eq!(base.problems[0].key(), "sphere-2");
 }

@@ -2,24 +2,34 @@
 //! `journal.csv` as one self-checking line, so that an interrupted campaign
 //! resumes without losing finished runs.
 //!
-//! A line holds the `runs.csv` fields, the convergence trace as
-//! `evaluations:best|...`, the fit detail of a fitting run, the wall time,
-//! and the sentinel `ok`; a line without its sentinel is the trace of an
-//! interruption and is dropped when it is the last one.
+//! A line holds the `runs.csv` fields (in the layout without instances),
+//! the convergence trace as `evaluations:best|...`, the fit detail of a
+//! fitting run, the wall time, the transform, the instance, the target hits
+//! as `precision:evaluations|...`, and the sentinel `ok`; a line without its
+//! sentinel is the trace of an interruption and is dropped when it is the
+//! last one. Lines written before the transform, instance and hits existed
+//! (the sentinel right after the wall time) are read as untransformed runs
+//! without hits, so older campaigns still resume.
 
 use std::path::Path;
 
 use super::records::{
-    data, parse, record_from_fields, run_fields, DataProblem, FitDetail, ReadError, RunRecord,
-    FIT_FIELDS, RUNS_HEADER,
+    data, parse, parse_transform, record_from_fields, run_fields, DataProblem, FitDetail,
+    ReadError, RunRecord, FIT_FIELDS, RUNS_HEADER,
 };
 use super::segments::SEGMENT_HEADER;
 use crate::files::{fmt_real, IoError};
-use crate::optim::TracePoint;
+use crate::optim::{TargetHit, TracePoint};
+
+/// Fields of a line before its sentinel, after the `runs.csv` ones: the
+/// current layout and the one before transforms and hits.
+const EXTRA: usize = 6;
+const EXTRA_BEFORE_INSTANCES: usize = 3;
 
 /// One journal line (no header): the `runs.csv` fields, the trace as
-/// `evaluations:best|...`, the wall time, and the sentinel `ok` that marks
-/// the line as complete.
+/// `evaluations:best|...`, the fit detail, the wall time, the transform,
+/// the instance, the hits, and the sentinel `ok` that marks the line as
+/// complete.
 pub fn journal_line(r: &RunRecord) -> Vec<u8> {
     let mut fields = run_fields(r);
     let trace: Vec<String> = r
@@ -30,6 +40,14 @@ pub fn journal_line(r: &RunRecord) -> Vec<u8> {
     fields.push(trace.join("|"));
     fields.push(r.fit.as_ref().map_or(String::new(), fit_field));
     fields.push(fmt_real(r.wall_seconds));
+    fields.push(r.transform.name().to_owned());
+    fields.push(r.instance.to_string());
+    let hits: Vec<String> = r
+        .hits
+        .iter()
+        .map(|h| format!("{}:{}", fmt_real(h.precision), h.evaluations))
+        .collect();
+    fields.push(hits.join("|"));
     fields.push("ok".into());
     let mut w = csv::WriterBuilder::new()
         .has_headers(false)
@@ -53,7 +71,10 @@ pub fn read_journal(path: &Path) -> Result<Vec<RunRecord>, ReadError> {
         let line = i as u64 + 1;
         let last = i + 1 == n;
         let complete = match &row {
-            Ok(r) => r.len() == RUNS_HEADER.len() + 4 && r.get(RUNS_HEADER.len() + 3) == Some("ok"),
+            Ok(r) => [EXTRA, EXTRA_BEFORE_INSTANCES].iter().any(|extra| {
+                r.len() == RUNS_HEADER.len() + extra + 1
+                    && r.get(RUNS_HEADER.len() + extra) == Some("ok")
+            }),
             Err(_) => false,
         };
         if !complete {
@@ -86,9 +107,33 @@ pub fn read_journal(path: &Path) -> Result<Vec<RunRecord>, ReadError> {
             "wall_seconds",
             r.get(RUNS_HEADER.len() + 2).unwrap_or(""),
         )?;
+        if r.len() == RUNS_HEADER.len() + EXTRA + 1 {
+            let at = |k: usize| r.get(RUNS_HEADER.len() + k).unwrap_or("");
+            rec.transform = parse_transform(path, line, at(3))?;
+            rec.instance = parse(path, line, "instance", at(4))?;
+            rec.hits = hits_from_field(path, line, at(5))?;
+        }
         out.push(rec);
     }
     Ok(out)
+}
+
+/// Reads the hits field `precision:evaluations|...` back.
+fn hits_from_field(path: &Path, line: u64, text: &str) -> Result<Vec<TargetHit>, ReadError> {
+    if text.is_empty() {
+        return Ok(Vec::new());
+    }
+    text.split('|')
+        .map(|part| {
+            let (p, e) = part
+                .split_once(':')
+                .ok_or_else(|| data(path, line, DataProblem::Malformed("hits")))?;
+            Ok(TargetHit {
+                precision: parse(path, line, "hits", p)?,
+                evaluations: parse(path, line, "hits", e)?,
+            })
+        })
+        .collect()
 }
 
 /// One journal field: the run-level fields joined by `;`, then each

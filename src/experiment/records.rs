@@ -1,10 +1,14 @@
 //! Run records and the tidy CSV files they are written to.
 //!
-//! * `runs.csv`: one row per run (the columns of [`RUNS_HEADER`]);
+//! * `runs.csv`: one row per run (the columns of [`RUNS_HEADER`], with
+//!   `transform` and `instance` when the campaign has benchmark instances,
+//!   see [`Schema`]);
 //! * `convergence.csv`: long format, the best-so-far of each run at
 //!   log-spaced evaluation counts;
 //! * `timing.csv`: wall time per run, kept apart so that `runs.csv` and
 //!   `convergence.csv` are byte-identical whatever the thread count;
+//! * `hits.csv`: long format, the first evaluation at which each run
+//!   reached each target precision ([`default_targets`]);
 //! * `journal.csv`: while a campaign runs, each finished run is appended
 //!   here as one self-checking line, so an interrupted campaign resumes
 //!   without losing finished runs.
@@ -16,9 +20,11 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use super::segments::{segment_rows, SEGMENT_HEADER};
+use super::spec::factor_suffix;
 use crate::files::{csv_bytes, fmt_real, IoError};
+use crate::functions::Transform;
 use crate::fit::PiecewiseFit;
-use crate::optim::TracePoint;
+use crate::optim::{TargetHit, TracePoint};
 
 /// What is wrong with a results file at one line.
 #[derive(Debug, thiserror::Error)]
@@ -135,6 +141,10 @@ pub struct RunRecord {
     pub dim: usize,
     /// The run's evaluation budget.
     pub budget: u64,
+    /// The benchmark transform (`none` for untransformed and fitting runs).
+    pub transform: Transform,
+    /// The benchmark instance (1 unless transformed).
+    pub instance: u32,
     /// The run number, from 0.
     pub run: u32,
     /// The run's derived seed.
@@ -151,6 +161,9 @@ pub struct RunRecord {
     pub success: bool,
     /// The best-so-far at the convergence checkpoints.
     pub trace: Vec<TracePoint>,
+    /// The first evaluation at which each target precision was reached
+    /// (`hits.csv`; unreached targets are absent).
+    pub hits: Vec<TargetHit>,
     /// For a fitting problem, the fitted outline (`fits.csv`, `segments.csv`).
     pub fit: Option<FitDetail>,
     /// Wall time of the run in seconds (not part of the reproducible output).
@@ -224,45 +237,154 @@ pub(super) const FIT_FIELDS: [&str; 4] = [
     "closing_relative_derivative_gap",
 ];
 
-/// The columns that identify a run in `convergence.csv`, `timing.csv`,
-/// `fits.csv` and `segments.csv`.
-const RUN_KEY_HEADER: [&str; 6] = ["algorithm", "kind", "params", "problem", "dim", "run"];
-
-fn run_key_fields(r: &RunRecord) -> Vec<String> {
-    vec![
-        r.algorithm.clone(),
-        r.kind.clone(),
-        r.params.clone(),
-        r.problem.clone(),
-        r.dim.to_string(),
-        r.run.to_string(),
-    ]
+/// Which design-factor columns the result files of a campaign carry, beyond
+/// the columns every campaign has. Files of campaigns without transformed
+/// instances or budget grids keep exactly the columns they had before these
+/// factors existed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Schema {
+    /// `transform` and `instance` columns: some run is on a transformed
+    /// benchmark instance.
+    pub instances: bool,
+    /// A `budget` column in the files keyed by run (convergence, timing,
+    /// fits, segments, hits): runs of one problem differ in budget.
+    pub keyed_budget: bool,
 }
 
-/// The run key columns followed by `rest`.
-fn keyed_header(rest: &[&'static str]) -> Vec<&'static str> {
-    RUN_KEY_HEADER.iter().chain(rest).copied().collect()
+impl Schema {
+    /// The schema the records need.
+    pub fn of(records: &[RunRecord]) -> Schema {
+        let instances = records.iter().any(|r| r.transform != Transform::None);
+        let mut budgets: HashMap<(String, String, u32), u64> = HashMap::new();
+        let mut keyed_budget = false;
+        for r in records {
+            let b = budgets
+                .entry((r.cell_key(), r.match_key(), r.run))
+                .or_insert(r.budget);
+            keyed_budget |= *b != r.budget;
+        }
+        Schema {
+            instances,
+            keyed_budget,
+        }
+    }
+
+    /// The columns of `runs.csv`: [`RUNS_HEADER`], with `transform` and
+    /// `instance` after `budget` when the campaign has instances.
+    pub fn runs_header(self) -> Vec<&'static str> {
+        let mut h: Vec<&'static str> = RUNS_HEADER.to_vec();
+        if self.instances {
+            h.splice(6..6, ["transform", "instance"]);
+        }
+        h
+    }
+
+    /// The columns identifying a run in the keyed files, followed by `rest`.
+    pub fn keyed_header(self, rest: &[&'static str]) -> Vec<&'static str> {
+        let mut h = vec!["algorithm", "kind", "params", "problem", "dim"];
+        if self.keyed_budget {
+            h.push("budget");
+        }
+        if self.instances {
+            h.extend(["transform", "instance"]);
+        }
+        h.push("run");
+        h.extend_from_slice(rest);
+        h
+    }
+
+    /// The number of key columns of a keyed file.
+    fn key_len(self) -> usize {
+        6 + usize::from(self.keyed_budget) + 2 * usize::from(self.instances)
+    }
+
+    /// The schema whose [`Schema::runs_header`] is `found`.
+    fn from_runs_header(found: &[&str]) -> Option<Schema> {
+        [false, true]
+            .into_iter()
+            .map(|instances| Schema {
+                instances,
+                keyed_budget: false,
+            })
+            .find(|s| s.runs_header() == found)
+    }
+
+    /// The schema whose [`Schema::keyed_header`] with `rest` is `found`.
+    fn from_keyed_header(found: &[&str], rest: &[&'static str]) -> Option<Schema> {
+        [(false, false), (false, true), (true, false), (true, true)]
+            .into_iter()
+            .map(|(instances, keyed_budget)| Schema {
+                instances,
+                keyed_budget,
+            })
+            .find(|s| s.keyed_header(rest) == found)
+    }
+
+    /// The key fields of `r` in a keyed file.
+    fn key_fields(self, r: &RunRecord) -> Vec<String> {
+        let mut row = vec![
+            r.algorithm.clone(),
+            r.kind.clone(),
+            r.params.clone(),
+            r.problem.clone(),
+            r.dim.to_string(),
+        ];
+        if self.keyed_budget {
+            row.push(r.budget.to_string());
+        }
+        if self.instances {
+            row.extend([r.transform.name().to_owned(), r.instance.to_string()]);
+        }
+        row.push(r.run.to_string());
+        row
+    }
 }
+
+/// The default target precisions `Δf = 10^(k/5)` for `k = 10, 9, …, −40`:
+/// 10² down to 10⁻⁸, five per decade (51 targets), as COCO's runtime ECDFs.
+pub fn default_targets() -> Vec<f64> {
+    (-40..=10).rev().map(|k| 10f64.powf(f64::from(k) / 5.0)).collect()
+}
+
+/// The bytes of `hits.csv`: one row per run and target reached, with the
+/// first evaluation at which it was reached.
+pub fn hits_csv(records: &[RunRecord]) -> Vec<u8> {
+    let schema = Schema::of(records);
+    let rows = records.iter().flat_map(|r| {
+        let key = schema.key_fields(r);
+        r.hits.iter().map(move |h| {
+            let mut row = key.clone();
+            row.extend([fmt_real(h.precision), h.evaluations.to_string()]);
+            row
+        })
+    });
+    csv_bytes(&schema.keyed_header(&HITS_FIELDS), rows)
+}
+
+/// The columns of `hits.csv` after the run key.
+const HITS_FIELDS: [&str; 2] = ["target", "evaluations"];
 
 /// The bytes of `fits.csv`: one row per fitting run with its RMS, maximum
 /// orthogonal distance and closing-joint mismatch (`E` and evaluations are
 /// in `runs.csv`).
 pub fn fits_csv(records: &[RunRecord]) -> Vec<u8> {
+    let schema = Schema::of(records);
     let rows = records.iter().filter_map(|r| {
         r.fit.as_ref().map(|f| {
-            let mut row = run_key_fields(r);
+            let mut row = schema.key_fields(r);
             row.extend(f.fields());
             row
         })
     });
-    csv_bytes(&keyed_header(&FIT_FIELDS), rows)
+    csv_bytes(&schema.keyed_header(&FIT_FIELDS), rows)
 }
 
 /// The bytes of `segments.csv`: one row per segment of every fitting run,
 /// with its control points, weights and metrics.
 pub fn segments_csv(records: &[RunRecord]) -> Vec<u8> {
+    let schema = Schema::of(records);
     let rows = records.iter().flat_map(|r| {
-        let key = run_key_fields(r);
+        let key = schema.key_fields(r);
         r.fit.iter().flat_map(move |f| {
             let key = key.clone();
             f.segments.iter().map(move |seg| {
@@ -272,11 +394,12 @@ pub fn segments_csv(records: &[RunRecord]) -> Vec<u8> {
             })
         })
     });
-    csv_bytes(&keyed_header(&SEGMENT_HEADER), rows)
+    csv_bytes(&schema.keyed_header(&SEGMENT_HEADER), rows)
 }
 
-/// Identifies a run within a campaign: (cell key, problem key, run).
-pub type RunKey = (String, String, u32);
+/// Identifies a run within a campaign: (cell key, problem match key,
+/// budget, run); see [`crate::experiment::spec::ProblemEntry::match_key`].
+pub type RunKey = (String, String, u64, u32);
 
 impl RunRecord {
     /// The cell key `label:kind[params]`, as [`crate::experiment::spec::Cell::key`].
@@ -284,18 +407,26 @@ impl RunRecord {
         format!("{}:{}[{}]", self.algorithm, self.kind, self.params)
     }
 
-    /// The problem key `problem-dim`.
-    pub fn problem_key(&self) -> String {
-        format!("{}-{}", self.problem, self.dim)
+    /// The problem key without the budget: `problem-dim` and the transform
+    /// and instance of a transformed benchmark, as
+    /// [`crate::experiment::spec::ProblemEntry::match_key`].
+    pub fn match_key(&self) -> String {
+        format!(
+            "{}-{}{}",
+            self.problem,
+            self.dim,
+            factor_suffix(self.transform, self.instance, true, true)
+        )
     }
 
     /// The run's key.
     pub fn key(&self) -> RunKey {
-        (self.cell_key(), self.problem_key(), self.run)
+        (self.cell_key(), self.match_key(), self.budget, self.run)
     }
 }
 
-/// The columns of `runs.csv`.
+/// The columns of `runs.csv` of a campaign without instances (see
+/// [`Schema::runs_header`]).
 pub const RUNS_HEADER: [&str; 13] = [
     "algorithm",
     "kind",
@@ -312,30 +443,14 @@ pub const RUNS_HEADER: [&str; 13] = [
     "success",
 ];
 
-/// The columns of `convergence.csv`.
-pub const CONVERGENCE_HEADER: [&str; 9] = [
-    "algorithm",
-    "kind",
-    "params",
-    "problem",
-    "dim",
-    "run",
-    "evaluations",
-    "best",
-    "error",
-];
+/// The columns of `convergence.csv` after the run key.
+const CONVERGENCE_FIELDS: [&str; 3] = ["evaluations", "best", "error"];
 
-/// The columns of `timing.csv`.
-pub const TIMING_HEADER: [&str; 7] = [
-    "algorithm",
-    "kind",
-    "params",
-    "problem",
-    "dim",
-    "run",
-    "wall_seconds",
-];
+/// The columns of `timing.csv` after the run key.
+const TIMING_FIELDS: [&str; 1] = ["wall_seconds"];
 
+/// The fields of `runs.csv` of a campaign without instances: the layout the
+/// journal keeps for every run.
 pub(super) fn run_fields(r: &RunRecord) -> Vec<String> {
     vec![
         r.algorithm.clone(),
@@ -355,17 +470,31 @@ pub(super) fn run_fields(r: &RunRecord) -> Vec<String> {
     ]
 }
 
+/// The fields of `r` in `runs.csv` under `schema`.
+fn runs_row(schema: Schema, r: &RunRecord) -> Vec<String> {
+    let mut row = run_fields(r);
+    if schema.instances {
+        row.splice(6..6, [r.transform.name().to_owned(), r.instance.to_string()]);
+    }
+    row
+}
+
 /// The bytes of `runs.csv` for records in their final order.
 pub fn runs_csv(records: &[RunRecord]) -> Vec<u8> {
-    csv_bytes(&RUNS_HEADER, records.iter().map(run_fields))
+    let schema = Schema::of(records);
+    csv_bytes(
+        &schema.runs_header(),
+        records.iter().map(|r| runs_row(schema, r)),
+    )
 }
 
 /// The bytes of `convergence.csv` for records in their final order;
 /// `optimum` gives `f*` of a record so the error column can be filled.
 pub fn convergence_csv(records: &[RunRecord], optimum: impl Fn(&RunRecord) -> f64) -> Vec<u8> {
+    let schema = Schema::of(records);
     let rows = records.iter().flat_map(|r| {
         let f_star = optimum(r);
-        let key = run_key_fields(r);
+        let key = schema.key_fields(r);
         r.trace.iter().map(move |p| {
             let mut row = key.clone();
             row.extend([
@@ -376,17 +505,18 @@ pub fn convergence_csv(records: &[RunRecord], optimum: impl Fn(&RunRecord) -> f6
             row
         })
     });
-    csv_bytes(&CONVERGENCE_HEADER, rows)
+    csv_bytes(&schema.keyed_header(&CONVERGENCE_FIELDS), rows)
 }
 
 /// The bytes of `timing.csv`.
 pub fn timing_csv(records: &[RunRecord]) -> Vec<u8> {
+    let schema = Schema::of(records);
     let rows = records.iter().map(|r| {
-        let mut row = run_key_fields(r);
+        let mut row = schema.key_fields(r);
         row.push(fmt_real(r.wall_seconds));
         row
     });
-    csv_bytes(&TIMING_HEADER, rows)
+    csv_bytes(&schema.keyed_header(&TIMING_FIELDS), rows)
 }
 
 pub(super) fn parse<T: std::str::FromStr>(
@@ -407,11 +537,32 @@ pub(super) fn parse<T: std::str::FromStr>(
     })
 }
 
+/// Parses a transform name.
+pub(super) fn parse_transform(path: &Path, line: u64, text: &str) -> Result<Transform, ReadError> {
+    Transform::from_name(text).ok_or_else(|| {
+        data(
+            path,
+            line,
+            DataProblem::Cell {
+                column: "transform".to_owned(),
+                text: text.to_owned(),
+            },
+        )
+    })
+}
+
+/// A record from the fields of a `runs.csv` row in the layout of
+/// [`run_fields`] (no transform and instance columns).
 pub(super) fn record_from_fields(
     path: &Path,
     line: u64,
     f: &csv::StringRecord,
 ) -> Result<RunRecord, ReadError> {
+    let fields: Vec<&str> = f.iter().collect();
+    record_from(path, line, &fields)
+}
+
+fn record_from(path: &Path, line: u64, f: &[&str]) -> Result<RunRecord, ReadError> {
     if f.len() < RUNS_HEADER.len() {
         return Err(data(
             path,
@@ -422,7 +573,7 @@ pub(super) fn record_from_fields(
             },
         ));
     }
-    let get = |i: usize| f.get(i).unwrap_or("");
+    let get = |i: usize| f.get(i).copied().unwrap_or("");
     let success = match get(12) {
         "true" => true,
         "false" => false,
@@ -435,6 +586,8 @@ pub(super) fn record_from_fields(
         problem: get(3).to_owned(),
         dim: parse(path, line, "dim", get(4))?,
         budget: parse(path, line, "budget", get(5))?,
+        transform: Transform::None,
+        instance: 1,
         run: parse(path, line, "run", get(6))?,
         seed: parse(path, line, "seed", get(7))?,
         best: parse(path, line, "best", get(8))?,
@@ -446,147 +599,213 @@ pub(super) fn record_from_fields(
         },
         success,
         trace: Vec::new(),
+        hits: Vec::new(),
         fit: None,
         wall_seconds: 0.0,
     })
 }
 
-fn open_csv(path: &Path, headers: bool) -> Result<csv::Reader<std::fs::File>, ReadError> {
+fn open_csv(path: &Path) -> Result<csv::Reader<std::fs::File>, ReadError> {
     let file = std::fs::File::open(path).map_err(|e| IoError::new("read", path, e))?;
     Ok(csv::ReaderBuilder::new()
-        .has_headers(headers)
+        .has_headers(true)
         .flexible(true)
         .from_reader(file))
 }
 
-fn check_header(
+/// The header of `reader`, checked by `schema_of` (which gives the schema
+/// the header belongs to); `expected` names the legacy layout in the error.
+fn read_header(
     path: &Path,
     reader: &mut csv::Reader<std::fs::File>,
     expected: &[&str],
-) -> Result<(), ReadError> {
+    schema_of: impl Fn(&[&str]) -> Option<Schema>,
+) -> Result<Schema, ReadError> {
     let header = reader
         .headers()
         .map_err(|e| data(path, 1, DataProblem::Csv(e)))?;
     let found: Vec<&str> = header.iter().collect();
-    if found != expected {
-        return Err(data(
+    schema_of(&found).ok_or_else(|| {
+        data(
             path,
             1,
             DataProblem::Header {
                 expected: expected.iter().map(|c| c.to_string()).collect(),
                 found: found.iter().map(|c| c.to_string()).collect(),
             },
-        ));
-    }
-    Ok(())
+        )
+    })
 }
 
 /// Reads `runs.csv` alone (traces empty, wall time 0): the input of reports,
 /// which may also come from outside this tool.
 pub fn read_runs(path: &Path) -> Result<Vec<RunRecord>, ReadError> {
-    let mut reader = open_csv(path, true)?;
-    check_header(path, &mut reader, &RUNS_HEADER)?;
+    let mut reader = open_csv(path)?;
+    let schema = read_header(path, &mut reader, &RUNS_HEADER, Schema::from_runs_header)?;
     let mut out = Vec::new();
     for (i, row) in reader.records().enumerate() {
         let line = i as u64 + 2;
         let row = row.map_err(|e| data(path, line, DataProblem::Csv(e)))?;
-        out.push(record_from_fields(path, line, &row)?);
+        let mut fields: Vec<&str> = row.iter().collect();
+        let factors = if schema.instances && fields.len() >= RUNS_HEADER.len() + 2 {
+            let f: Vec<&str> = fields.drain(6..8).collect();
+            Some((f[0], f[1]))
+        } else {
+            None
+        };
+        let mut rec = record_from(path, line, &fields)?;
+        if let Some((t, k)) = factors {
+            rec.transform = parse_transform(path, line, t)?;
+            rec.instance = parse(path, line, "instance", k)?;
+        }
+        out.push(rec);
     }
     Ok(out)
 }
 
-/// Reads the rows of a CSV file with `header`, checking the header and
-/// every row's column count, and hands each to `row` with its line number.
+/// The run keys of a keyed file under `schema`, mapped to their records.
+struct KeyIndex {
+    schema: Schema,
+    index: HashMap<(String, String, Option<u64>, u32), usize>,
+}
+
+impl KeyIndex {
+    fn new(schema: Schema, records: &[RunRecord]) -> KeyIndex {
+        let index = records
+            .iter()
+            .enumerate()
+            .map(|(i, r)| {
+                let budget = schema.keyed_budget.then_some(r.budget);
+                ((r.cell_key(), r.match_key(), budget, r.run), i)
+            })
+            .collect();
+        KeyIndex { schema, index }
+    }
+
+    /// The record a keyed row belongs to.
+    fn lookup(&self, path: &Path, line: u64, row: &csv::StringRecord) -> Result<usize, ReadError> {
+        let mut col = 5;
+        let budget = if self.schema.keyed_budget {
+            col += 1;
+            Some(parse(path, line, "budget", &row[5])?)
+        } else {
+            None
+        };
+        let (transform, instance) = if self.schema.instances {
+            col += 2;
+            (
+                parse_transform(path, line, &row[col - 2])?,
+                parse(path, line, "instance", &row[col - 1])?,
+            )
+        } else {
+            (Transform::None, 1)
+        };
+        let run: u32 = parse(path, line, "run", &row[col])?;
+        let key = (
+            format!("{}:{}[{}]", &row[0], &row[1], &row[2]),
+            format!(
+                "{}-{}{}",
+                &row[3],
+                &row[4],
+                factor_suffix(transform, instance, true, true)
+            ),
+            budget,
+            run,
+        );
+        self.index
+            .get(&key)
+            .copied()
+            .ok_or_else(|| data(path, line, DataProblem::UnknownRun))
+    }
+}
+
+/// Reads the rows of a keyed CSV file whose columns after the run key are
+/// `rest`, checking the header and every row's column count, and hands each
+/// record index, its fields after the key and its line number to `row`.
 fn read_keyed(
     path: &Path,
-    header: &[&str],
-    mut row: impl FnMut(&Path, u64, &csv::StringRecord) -> Result<(), ReadError>,
+    rest: &[&'static str],
+    records: &[RunRecord],
+    mut row: impl FnMut(usize, &[&str], u64) -> Result<(), ReadError>,
 ) -> Result<(), ReadError> {
-    let mut reader = open_csv(path, true)?;
-    check_header(path, &mut reader, header)?;
+    let mut reader = open_csv(path)?;
+    let legacy = Schema::default().keyed_header(rest);
+    let schema = read_header(path, &mut reader, &legacy, |h| {
+        Schema::from_keyed_header(h, rest)
+    })?;
+    let index = KeyIndex::new(schema, records);
+    let width = schema.key_len() + rest.len();
     for (i, r) in reader.records().enumerate() {
         let line = i as u64 + 2;
         let r = r.map_err(|e| data(path, line, DataProblem::Csv(e)))?;
-        if r.len() != header.len() {
+        if r.len() != width {
             return Err(data(path, line, DataProblem::WrongColumnCount));
         }
-        row(path, line, &r)?;
+        let k = index.lookup(path, line, &r)?;
+        let fields: Vec<&str> = r.iter().skip(schema.key_len()).collect();
+        row(k, &fields, line)?;
     }
     Ok(())
 }
 
-/// Reads a finished campaign directory's `runs.csv`, `convergence.csv` and
-/// `timing.csv` back into complete records.
+/// Reads a finished campaign directory's `runs.csv`, `convergence.csv`,
+/// `timing.csv` and, when present, `hits.csv`, `fits.csv` and
+/// `segments.csv` back into complete records.
 pub fn read_results(dir: &Path) -> Result<Vec<RunRecord>, ReadError> {
-    let runs_path = dir.join("runs.csv");
-    let mut records = read_runs(&runs_path)?;
-    let index: HashMap<RunKey, usize> = records
-        .iter()
-        .enumerate()
-        .map(|(i, r)| (r.key(), i))
-        .collect();
-    let lookup = |path: &Path, line: u64, row: &csv::StringRecord| -> Result<usize, ReadError> {
-        let run: u32 = parse(path, line, "run", row.get(5).unwrap_or(""))?;
-        let key = (
-            format!("{}:{}[{}]", &row[0], &row[1], &row[2]),
-            format!("{}-{}", &row[3], &row[4]),
-            run,
-        );
-        index
-            .get(&key)
-            .copied()
-            .ok_or_else(|| data(path, line, DataProblem::UnknownRun))
-    };
-    read_keyed(
-        &dir.join("convergence.csv"),
-        &CONVERGENCE_HEADER,
-        |path, line, row| {
-            let k = lookup(path, line, row)?;
-            records[k].trace.push(TracePoint {
-                evaluations: parse(path, line, "evaluations", &row[6])?,
-                best: parse(path, line, "best", &row[7])?,
+    let mut records = read_runs(&dir.join("runs.csv"))?;
+    let mut traces: Vec<Vec<TracePoint>> = vec![Vec::new(); records.len()];
+    let path = dir.join("convergence.csv");
+    read_keyed(&path, &CONVERGENCE_FIELDS, &records, |k, f, line| {
+        traces[k].push(TracePoint {
+            evaluations: parse(&path, line, "evaluations", f[0])?,
+            best: parse(&path, line, "best", f[1])?,
+        });
+        Ok(())
+    })?;
+    let mut walls = vec![0.0; records.len()];
+    let path = dir.join("timing.csv");
+    read_keyed(&path, &TIMING_FIELDS, &records, |k, f, line| {
+        walls[k] = parse(&path, line, "wall_seconds", f[0])?;
+        Ok(())
+    })?;
+    let mut hits: Vec<Vec<TargetHit>> = vec![Vec::new(); records.len()];
+    let path = dir.join("hits.csv");
+    if path.exists() {
+        read_keyed(&path, &HITS_FIELDS, &records, |k, f, line| {
+            hits[k].push(TargetHit {
+                precision: parse(&path, line, "target", f[0])?,
+                evaluations: parse(&path, line, "evaluations", f[1])?,
             });
             Ok(())
-        },
-    )?;
-    read_keyed(
-        &dir.join("timing.csv"),
-        &TIMING_HEADER,
-        |path, line, row| {
-            let k = lookup(path, line, row)?;
-            records[k].wall_seconds = parse(path, line, "wall_seconds", &row[6])?;
-            Ok(())
-        },
-    )?;
+        })?;
+    }
+    let mut fits: Vec<Option<FitDetail>> = vec![None; records.len()];
     if dir.join("fits.csv").exists() {
-        read_keyed(
-            &dir.join("fits.csv"),
-            &keyed_header(&FIT_FIELDS),
-            |path, line, row| {
-                let k = lookup(path, line, row)?;
-                let fields: Vec<&str> = row.iter().skip(RUN_KEY_HEADER.len()).collect();
-                records[k].fit = Some(FitDetail::from_fields(path, line, &fields)?);
-                Ok(())
-            },
-        )?;
-        read_keyed(
-            &dir.join("segments.csv"),
-            &keyed_header(&SEGMENT_HEADER),
-            |path, line, row| {
-                let k = lookup(path, line, row)?;
-                let fit = records[k]
-                    .fit
-                    .as_mut()
-                    .ok_or_else(|| data(path, line, DataProblem::NoFitRow))?;
-                fit.segments.push(
-                    row.iter()
-                        .skip(RUN_KEY_HEADER.len())
-                        .map(str::to_owned)
-                        .collect(),
-                );
-                Ok(())
-            },
-        )?;
+        let path = dir.join("fits.csv");
+        read_keyed(&path, &FIT_FIELDS, &records, |k, f, line| {
+            fits[k] = Some(FitDetail::from_fields(&path, line, f)?);
+            Ok(())
+        })?;
+        let path = dir.join("segments.csv");
+        read_keyed(&path, &SEGMENT_HEADER, &records, |k, f, line| {
+            let fit = fits[k]
+                .as_mut()
+                .ok_or_else(|| data(&path, line, DataProblem::NoFitRow))?;
+            fit.segments.push(f.iter().map(|c| c.to_string()).collect());
+            Ok(())
+        })?;
+    }
+    for ((((r, t), w), h), f) in records
+        .iter_mut()
+        .zip(traces)
+        .zip(walls)
+        .zip(hits)
+        .zip(fits)
+    {
+        r.trace = t;
+        r.wall_seconds = w;
+        r.hits = h;
+        r.fit = f;
     }
     Ok(records)
 }
@@ -602,6 +821,8 @@ pub(crate) fn sample_record(run: u32) -> RunRecord {
         problem: "sphere".into(),
         dim: 10,
         budget: 1000,
+        transform: Transform::ShiftRotate,
+        instance: 3,
         run,
         seed: u64::MAX - 3,
         best: 1.234_567_890_123_456_7e-13,
@@ -617,6 +838,15 @@ pub(crate) fn sample_record(run: u32) -> RunRecord {
             TracePoint {
                 evaluations: 10,
                 best: 0.1 + 0.2,
+            },
+        ],        hits: vec![
+            TargetHit {
+                precision: 100.0,
+                evaluations: 1,
+            },
+            TargetHit {
+                precision: 1e-8,
+                evaluations: 10,
             },
         ],
         fit: None,
@@ -639,6 +869,26 @@ mod tests {
         )
         .unwrap();
         std::fs::write(dir.path().join("timing.csv"), timing_csv(&recs)).unwrap();
+        std::fs::write(dir.path().join("hits.csv"), hits_csv(&recs)).unwrap();
         assert_eq!(read_results(dir.path()).unwrap(), recs);
+        let runs = std::fs::read_to_string(dir.path().join("runs.csv")).unwrap();
+        assert!(runs.starts_with("algorithm,kind,params,problem,dim,budget,transform,instance,run,"));
+        // A budget grid adds the budget to the keyed files.
+        let mut grid = recs.clone();
+        grid.extend(recs.iter().cloned().map(|mut r| {
+            r.budget *= 10;
+            r
+        }));
+        std::fs::write(dir.path().join("runs.csv"), runs_csv(&grid)).unwrap();
+        std::fs::write(
+            dir.path().join("convergence.csv"),
+            convergence_csv(&grid, |_| 0.0),
+        )
+        .unwrap();
+        std::fs::write(dir.path().join("timing.csv"), timing_csv(&grid)).unwrap();
+        std::fs::write(dir.path().join("hits.csv"), hits_csv(&grid)).unwrap();
+        let timing = std::fs::read_to_string(dir.path().join("timing.csv")).unwrap();
+        assert!(timing.starts_with("algorithm,kind,params,problem,dim,budget,transform,instance,run,wall_seconds"));
+        assert_eq!(read_results(dir.path()).unwrap(), grid);
     }
 }

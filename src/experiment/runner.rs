@@ -21,6 +21,7 @@ use super::records::{self, FitDetail, RunKey, RunRecord};
 use super::spec::{ProblemKind, RunId, Spec};
 use super::{CampaignAction, CampaignError, ExperimentError};
 use crate::files::{create_dir, csv_bytes, fmt_real, read_text, write_atomic, IoError};
+use super::records::default_targets;
 use crate::functions::TestProblem;
 use crate::optim::evaluator::log_checkpoints;
 use crate::optim::{Evaluator, Optimiser, Outcome};
@@ -99,18 +100,62 @@ pub struct Summary {
     pub complete: bool,
 }
 
-/// Executes one run: derives its seed, minimises, and records the outcome.
-pub fn execute(spec: &Spec, id: RunId) -> RunRecord {
+/// The seed of run `id`: derived from the master seed, the cell key, the
+/// problem's seed key (its key without the spec's `paired` factors) and the
+/// run number.
+pub fn run_seed(spec: &Spec, id: RunId) -> u64 {
     let entry = &spec.problems[id.problem];
     let cell = &spec.cells[id.cell];
-    let seed = derive_seed(spec.seed, &cell.key(), &entry.key(), id.run);
+    derive_seed(
+        spec.seed,
+        &cell.key(),
+        &entry.seed_key(&spec.paired),
+        id.run,
+    )
+}
+
+/// The benchmark problems of a campaign, each drawn once (a rotation costs
+/// `O(D³)`) and shared by all its runs; `None` for fitting problems.
+pub struct Instances(Vec<Option<TestProblem>>);
+
+impl Instances {
+    /// The problems of `spec`.
+    pub fn of(spec: &Spec) -> Instances {
+        Instances(
+            spec.problems
+                .iter()
+                .map(|entry| match &entry.kind {
+                    ProblemKind::Benchmark(f) => Some(
+                        TestProblem::instance(*f, entry.dim, entry.transform, entry.instance)
+                            .expect("instance checked when the spec loaded"),
+                    ),
+                    ProblemKind::Fit(_) => None,
+                })
+                .collect(),
+        )
+    }
+}
+
+/// Executes one run: derives its seed, minimises, and records the outcome.
+pub fn execute(spec: &Spec, id: RunId) -> RunRecord {
+    let instances = Instances::of(spec);
+    execute_on(spec, &instances, id)
+}
+
+/// Executes one run on the campaign's drawn problems.
+pub fn execute_on(spec: &Spec, instances: &Instances, id: RunId) -> RunRecord {
+    let entry = &spec.problems[id.problem];
+    let cell = &spec.cells[id.cell];
+    let seed = run_seed(spec, id);
     let start = Instant::now();
     let (outcome, fit) = match (&entry.kind, &cell.method) {
         (ProblemKind::Benchmark(f), Method::Metaheuristic(algorithm)) => {
-            let problem =
-                TestProblem::new(*f, entry.dim).expect("dimension checked when the spec loaded");
-            let mut eval = Evaluator::new(&problem, entry.budget)
+            let problem = instances.0[id.problem]
+                .as_ref()
+                .expect("a benchmark problem has an instance");
+            let mut eval = Evaluator::new(problem, entry.budget)
                 .with_target(f.optimum_value() + spec.threshold)
+                .with_targets(f.optimum_value(), default_targets())
                 .with_checkpoints(log_checkpoints(entry.budget, spec.checkpoints_per_decade));
             algorithm.minimise(&mut eval, &mut run_rng(seed));
             (eval.finish(), None)
@@ -131,6 +176,7 @@ pub fn execute(spec: &Spec, id: RunId) -> RunRecord {
                 evaluations: m.evaluations,
                 evaluations_to_target: success.then_some(m.evaluations),
                 trace: Vec::new(),
+                hits: Vec::new(),
             };
             (outcome, Some(FitDetail::of(&fit)))
         }
@@ -143,6 +189,8 @@ pub fn execute(spec: &Spec, id: RunId) -> RunRecord {
         problem: entry.name(),
         dim: entry.dim,
         budget: entry.budget,
+        transform: entry.transform,
+        instance: entry.instance,
         run: id.run,
         seed,
         best: outcome.best_value,
@@ -151,6 +199,7 @@ pub fn execute(spec: &Spec, id: RunId) -> RunRecord {
         evaluations_to_target: outcome.evaluations_to_target,
         success: outcome.evaluations_to_target.is_some(),
         trace: outcome.trace,
+        hits: outcome.hits,
         fit,
         wall_seconds,
     }
@@ -168,8 +217,16 @@ fn meta_toml(spec: &Spec, shard: Option<Shard>, runs: usize) -> String {
     s.push_str(&format!("master_seed = {}\n", spec.seed));
     s.push_str(&format!("rng = \"{RNG_NAME}\"\n"));
     s.push_str(
-        "seed_derivation = \"seed = splitmix64 folded over (master_seed, fnv1a64(cell key), fnv1a64(problem key), run); cell key = label:kind[params], problem key = problem-dim\"\n",
+        "seed_derivation = \"seed = splitmix64 folded over (master_seed, fnv1a64(cell key), fnv1a64(problem key), run); cell key = label:kind[params], problem key = problem-dim and |factor=value for each non-default factor not in paired\"\n",
     );
+    if !spec.paired.is_empty() {
+        let names: Vec<String> = spec
+            .paired
+            .iter()
+            .map(|f| format!("\"{}\"", f.name()))
+            .collect();
+        s.push_str(&format!("paired = [{}]\n", names.join(", ")));
+    }
     s.push_str(&format!(
         "spec_fnv1a64 = \"{:016x}\"\n",
         fnv1a64(&spec.text)
@@ -192,7 +249,7 @@ fn default_out(spec: &Spec, shard: Option<Shard>) -> PathBuf {
 /// Maps every run key of the spec to its position in the fixed order.
 fn key_index(spec: &Spec) -> HashMap<RunKey, usize> {
     let cell_keys: Vec<String> = spec.cells.iter().map(|c| c.key()).collect();
-    let problem_keys: Vec<String> = spec.problems.iter().map(|p| p.key()).collect();
+    let problem_keys: Vec<String> = spec.problems.iter().map(|p| p.match_key()).collect();
     spec.run_ids()
         .into_iter()
         .map(|id| {
@@ -200,6 +257,7 @@ fn key_index(spec: &Spec) -> HashMap<RunKey, usize> {
                 (
                     cell_keys[id.cell].clone(),
                     problem_keys[id.problem].clone(),
+                    spec.problems[id.problem].budget,
                     id.run,
                 ),
                 id.index,
@@ -221,6 +279,13 @@ fn write_results(spec: &Spec, out: &Path, records: &[RunRecord]) -> Result<(), I
         &records::convergence_csv(records, |r| optimum.get(&r.problem).copied().unwrap_or(0.0)),
     )?;
     write_atomic(&out.join("timing.csv"), &records::timing_csv(records))?;
+    if spec
+        .problems
+        .iter()
+        .any(|p| matches!(p.kind, ProblemKind::Benchmark(_)))
+    {
+        write_atomic(&out.join("hits.csv"), &records::hits_csv(records))?;
+    }
     if records.iter().any(|r| r.fit.is_some()) {
         write_atomic(&out.join("fits.csv"), &records::fits_csv(records))?;
         write_atomic(&out.join("segments.csv"), &records::segments_csv(records))?;
@@ -400,6 +465,7 @@ fn execute_journalled(
         .map_err(|e| IoError::new("open", journal_path, e))?;
     let journal = Mutex::new(journal);
     let bar = progress_bar(spec, todo.len(), opts.progress);
+    let instances = Instances::of(spec);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.threads.unwrap_or(0))
         .build()
@@ -407,7 +473,7 @@ fn execute_journalled(
     let new = pool.install(|| {
         todo.par_iter()
             .map(|id| {
-                let rec = execute(spec, *id);
+                let rec = execute_on(spec, &instances, *id);
                 let line = journal::journal_line(&rec);
                 let mut j = journal.lock().unwrap_or_else(|p| p.into_inner());
                 j.write_all(&line)
@@ -447,7 +513,7 @@ fn foreign_run(action: CampaignAction, dir: &Path, r: &RunRecord) -> CampaignErr
         dir: dir.to_owned(),
         run: r.run,
         cell: r.cell_key(),
-        problem: r.problem_key(),
+        problem: r.match_key(),
     }
 }
 
@@ -487,7 +553,7 @@ pub fn merge(
                     return Err(CampaignError::ShardsDisagree {
                         run: r.run,
                         cell: r.cell_key(),
-                        problem: r.problem_key(),
+                        problem: r.match_key(),
                     }
                     .into());
                 }

@@ -17,6 +17,18 @@ pub struct TracePoint {
     pub best: f64,
 }
 
+/// The first evaluation at which a run's best value came within a target
+/// precision of `f*` (`f ≤ f* + Δf`), as COCO records runtimes
+/// (Hansen et al. 2021, "COCO: a platform for comparing continuous
+/// optimizers in a black-box setting", Optim. Methods Softw. 36(1)).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TargetHit {
+    /// The target precision `Δf`.
+    pub precision: f64,
+    /// The first evaluation count with `f − f* ≤ Δf`.
+    pub evaluations: u64,
+}
+
 /// What an optimiser run produced.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Outcome {
@@ -32,6 +44,9 @@ pub struct Outcome {
     /// Best-so-far at the checkpoints (log-spaced by default), ending at the
     /// last evaluation.
     pub trace: Vec<TracePoint>,
+    /// The first evaluation at which each target precision was reached, in
+    /// the order of the targets (see [`Evaluator::with_targets`]).
+    pub hits: Vec<TargetHit>,
 }
 
 /// Log-spaced evaluation counts `round(10^(k/per_decade))`, deduplicated, up
@@ -81,6 +96,10 @@ pub struct Evaluator<'p, P: Problem + ?Sized> {
     checkpoints: Vec<u64>,
     next_checkpoint: usize,
     trace: Vec<TracePoint>,
+    f_star: f64,
+    precisions: Vec<f64>,
+    next_precision: usize,
+    hits: Vec<TargetHit>,
 }
 
 impl<'p, P: Problem + ?Sized> Evaluator<'p, P> {
@@ -99,7 +118,21 @@ impl<'p, P: Problem + ?Sized> Evaluator<'p, P> {
             checkpoints: log_checkpoints(budget, 10),
             next_checkpoint: 0,
             trace: Vec::new(),
+            f_star: 0.0,
+            precisions: Vec::new(),
+            next_precision: 0,
+            hits: Vec::new(),
         }
+    }
+
+    /// Records the first evaluation at which the best value is within each
+    /// of `precisions` (descending `Δf`) of `f_star`: the runtimes of
+    /// COCO's anytime view, exact to the evaluation.
+    pub fn with_targets(mut self, f_star: f64, precisions: Vec<f64>) -> Self {
+        debug_assert!(precisions.windows(2).all(|w| w[0] >= w[1]));
+        self.f_star = f_star;
+        self.precisions = precisions;
+        self
     }
 
     /// Records the first evaluation count at which the best value is `≤ target`
@@ -186,6 +219,16 @@ impl<'p, P: Problem + ?Sized> Evaluator<'p, P> {
             if self.hit.is_none() && value <= self.target {
                 self.hit = Some(self.used);
             }
+            while let Some(&p) = self.precisions.get(self.next_precision) {
+                if value - self.f_star > p {
+                    break;
+                }
+                self.hits.push(TargetHit {
+                    precision: p,
+                    evaluations: self.used,
+                });
+                self.next_precision += 1;
+            }
         }
         if self.checkpoints.get(self.next_checkpoint) == Some(&self.used) {
             self.trace.push(TracePoint {
@@ -211,6 +254,7 @@ impl<'p, P: Problem + ?Sized> Evaluator<'p, P> {
             evaluations: self.used,
             evaluations_to_target: self.hit,
             trace: self.trace,
+            hits: self.hits,
         }
     }
 }

@@ -27,7 +27,7 @@ use std::fmt;
 
 use rand::RngCore;
 
-pub use evaluator::{Evaluator, Outcome, TracePoint};
+pub use evaluator::{Evaluator, Outcome, TargetHit, TracePoint};
 pub use ga::GeneticAlgorithm;
 pub use ghs::GlobalBestHarmonySearch;
 pub use hs::HarmonySearch;

@@ -26,6 +26,7 @@ use super::{choices_hint, Budget, Parser, ProblemEntry, ProblemKind, SpecError, 
 use crate::fit::{
     FitOptions, FunctionType, PiecewiseFit, SearchSpace, SegmentProblem, SegmentSolver, Solution,
 };
+use crate::functions::Transform;
 use crate::geometry::{Continuity, Parameterisation};
 use crate::outline::{CornerOptions, ImageOptions, Sampling};
 use crate::problem::Problem;
@@ -73,6 +74,9 @@ pub struct FitCase {
     /// The problem name in results, `source/function/continuity` (and
     /// `/bounding-box` for the naive search space).
     pub name: String,
+    /// `source/function/continuity`: the name without the search space
+    /// (the seed key when `search_space` is paired).
+    pub base_name: String,
     /// The source's name, the first part of `name`.
     pub source_name: String,
     /// The loaded outline, shared by the cases of one input.
@@ -219,7 +223,7 @@ impl Parser<'_> {
     pub(super) fn fits(
         &self,
         root: &Table<'_>,
-        default_budget: Option<Budget>,
+        default_budget: Option<&Budget>,
         span: Range<usize>,
     ) -> Result<Vec<ProblemEntry>, SpecError> {
         let base = self
@@ -245,7 +249,7 @@ impl Parser<'_> {
         &self,
         entry: &Value<'_>,
         section: &str,
-        default_budget: Option<Budget>,
+        default_budget: Option<&Budget>,
         base: &Path,
         out: &mut Vec<ProblemEntry>,
     ) -> Result<(), SpecError> {
@@ -273,13 +277,15 @@ impl Parser<'_> {
             for options in settings.options() {
                 let case = FitCase {
                     name: case_name(&source_name, &options),
+                    base_name: base_name(&source_name, &options),
                     source_name: source_name.clone(),
                     source: Arc::clone(&source),
                     segmentation: segmentation.clone(),
                     corners: settings.corners,
                     options,
                 };
-                let p = self.fit_problem(case, &segments)?;
+                let mut p = self.fit_problem(case, &segments)?;
+                p.budget_factor = settings.budget_grid;
                 if out.iter().any(|q| q.key() == p.key()) {
                     return Err(self.error(
                         item.span(),
@@ -300,9 +306,9 @@ impl Parser<'_> {
         table: &Table<'_>,
         section: &str,
         entry: &Value<'_>,
-        default_budget: Option<Budget>,
+        default_budget: Option<&Budget>,
     ) -> Result<FitSettings, SpecError> {
-        let budget = self.fit_budget(table, section, entry, default_budget)?;
+        let (budgets, budget_grid) = self.fit_budget(table, section, entry, default_budget)?;
         let contour = match self.get(table, "contour") {
             Some(v) => self.integer(v, &format!("{section}.contour"), 0, 1_000_000)? as usize,
             None => 0,
@@ -311,7 +317,8 @@ impl Parser<'_> {
         let corners = self.fit_corners(table, section)?;
         let search = self.search_overrides(table, section)?;
         Ok(FitSettings {
-            budget,
+            budgets,
+            budget_grid,
             contour,
             choices,
             corners,
@@ -319,19 +326,29 @@ impl Parser<'_> {
         })
     }
 
-    /// Evaluations per segment: the section's `budget`, else the
-    /// experiment's fixed one (a per-dimension budget does not apply).
+    /// Evaluations per segment: the section's `budget` (a value or a list),
+    /// else the experiment's fixed one (a per-dimension budget does not
+    /// apply). Returns the budgets and whether they form a grid.
     fn fit_budget(
         &self,
         table: &Table<'_>,
         section: &str,
         entry: &Value<'_>,
-        default_budget: Option<Budget>,
-    ) -> Result<u64, SpecError> {
+        default_budget: Option<&Budget>,
+    ) -> Result<(Vec<u64>, bool), SpecError> {
         match self.get(table, "budget") {
-            Some(v) => self.integer(v, &format!("{section}.budget"), 1, u64::MAX),
+            Some(v) => {
+                let field = format!("{section}.budget");
+                let values = self
+                    .one_or_many(v, &field)?
+                    .into_iter()
+                    .map(|item| self.integer(item, &field, 1, u64::MAX))
+                    .collect::<Result<Vec<u64>, SpecError>>()?;
+                let grid = values.len() > 1;
+                Ok((values, grid))
+            }
             None => match default_budget {
-                Some(Budget::Fixed(b)) => Ok(b),
+                Some(b @ Budget::Fixed(values)) => Ok((values.clone(), b.is_grid())),
                 Some(Budget::PerDim(_)) | None => Err(self.error(
                     entry.span(),
                     &format!("{section}.budget"),
@@ -518,14 +535,19 @@ impl Parser<'_> {
                 .saturating_mul(segments as u64),
             kind: ProblemKind::Fit(Box::new(case)),
             dim: segments,
+            budget_factor: false,
+            transform: Transform::None,
+            instance: 1,
         })
     }
 }
 
 /// The keys of a `[[fit]]` section shared by all its problems.
 struct FitSettings {
-    /// Evaluations per segment.
-    budget: u64,
+    /// Evaluations per segment, one problem each.
+    budgets: Vec<u64>,
+    /// Whether the budgets were listed (a budget grid).
+    budget_grid: bool,
     /// Which outline of each input.
     contour: usize,
     /// What to combine.
@@ -537,20 +559,22 @@ struct FitSettings {
 }
 
 impl FitSettings {
-    /// The fit options of every function × continuity × search space,
-    /// first function slowest.
+    /// The fit options of every function × continuity × search space ×
+    /// budget, first function slowest.
     fn options(&self) -> Vec<FitOptions> {
         let c = &self.choices;
         let mut out = Vec::new();
         for &function in &c.functions {
             for &continuity in &c.continuities {
                 for &space in &c.spaces {
-                    let mut options = FitOptions::new(function, continuity);
-                    options.parameterisation = c.parameterisation;
-                    options.budget_per_segment = self.budget;
-                    options.search.kind = space;
-                    self.search.apply(&mut options);
-                    out.push(options);
+                    for &budget in &self.budgets {
+                        let mut options = FitOptions::new(function, continuity);
+                        options.parameterisation = c.parameterisation;
+                        options.budget_per_segment = budget;
+                        options.search.kind = space;
+                        self.search.apply(&mut options);
+                        out.push(options);
+                    }
                 }
             }
         }
@@ -609,14 +633,19 @@ struct FitSegments<'t, 'i> {
     field: String,
 }
 
-/// A case's problem name: `source/function/continuity`, and the search
-/// space unless it is the technique's.
-fn case_name(source_name: &str, options: &FitOptions) -> String {
-    let mut name = format!(
+/// A case's name without its search space: `source/function/continuity`.
+fn base_name(source_name: &str, options: &FitOptions) -> String {
+    format!(
         "{source_name}/{}/{}",
         options.function.name(),
         options.continuity.name()
-    );
+    )
+}
+
+/// A case's problem name: `source/function/continuity`, and the search
+/// space unless it is the technique's.
+fn case_name(source_name: &str, options: &FitOptions) -> String {
+    let mut name = base_name(source_name, options);
     if options.search.kind != SearchSpace::Technique {
         name = format!("{name}/{}", options.search.kind.name());
     }

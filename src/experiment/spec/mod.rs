@@ -32,7 +32,7 @@ use std::path::{Path, PathBuf};
 use toml::de::{DeTable, DeValue};
 use toml::Spanned;
 
-use crate::functions::{Function, TestProblem};
+use crate::functions::{Function, TestProblem, Transform};
 use crate::optim::{quoted_list, Algorithm, ParamDef, ParamSet, Raw, Setting};
 use crate::reconstruction::Method;
 
@@ -98,7 +98,8 @@ impl SpecError {
 }
 
 /// One problem of a spec, with its budget: a benchmark function at a
-/// dimension, or an outline-fitting case.
+/// dimension (possibly a shifted or rotated instance), or an
+/// outline-fitting case.
 #[derive(Clone, Debug)]
 pub struct ProblemEntry {
     /// What is solved.
@@ -109,6 +110,45 @@ pub struct ProblemEntry {
     /// Objective evaluations per run (for a fitting case, over all its
     /// segments).
     pub budget: u64,
+    /// Whether the budget was one value of a list in the spec (a budget
+    /// grid): then it is part of the problem's key.
+    pub budget_factor: bool,
+    /// How a benchmark function is transformed (`none` for fitting).
+    pub transform: Transform,
+    /// The instance number `k ≥ 1` of a transformed function (1 otherwise).
+    pub instance: u32,
+}
+
+/// A design factor of the problems, beside the function (or fitting case)
+/// and the dimension: what `[experiment] paired` may name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Factor {
+    /// The evaluation budget, when given as a list.
+    Budget,
+    /// The benchmark transform.
+    Transform,
+    /// The benchmark instance.
+    Instance,
+    /// The search space of a fitting case.
+    SearchSpace,
+}
+
+impl Factor {
+    /// The names accepted in `paired`.
+    pub const NAMES: [&'static str; 4] = ["budget", "transform", "instance", "search_space"];
+
+    /// Parses a factor name.
+    pub fn from_name(name: &str) -> Option<Factor> {
+        Self::NAMES
+            .iter()
+            .position(|n| *n == name)
+            .map(|i| [Factor::Budget, Factor::Transform, Factor::Instance, Factor::SearchSpace][i])
+    }
+
+    /// The factor's name.
+    pub fn name(self) -> &'static str {
+        Self::NAMES[self as usize]
+    }
 }
 
 /// What a [`ProblemEntry`] solves.
@@ -130,9 +170,58 @@ impl ProblemEntry {
         }
     }
 
-    /// The stable key `name-dim`, used in seeds and for resuming.
+    /// The stable key of the problem, used in seeds and for resuming:
+    /// `name-dim`, followed by `|factor=value` for each design factor that
+    /// is not at its default (a listed budget, a transform, an instance
+    /// other than 1). A spec that uses none of them keeps the keys, and so
+    /// the seeds, of campaigns recorded before the factors existed.
     pub fn key(&self) -> String {
-        format!("{}-{}", self.name(), self.dim)
+        self.key_with(&[], true)
+    }
+
+    /// The key the run seeds derive from: [`ProblemEntry::key`] without the
+    /// `paired` factors, so that problems differing only in them share
+    /// their seeds (common random numbers).
+    pub fn seed_key(&self, paired: &[Factor]) -> String {
+        self.key_with(paired, true)
+    }
+
+    /// The key without the budget, which runs are matched by together with
+    /// their budget column (see [`crate::experiment::records::RunKey`]).
+    pub fn match_key(&self) -> String {
+        self.key_with(&[], false)
+    }
+
+    fn key_with(&self, paired: &[Factor], with_budget: bool) -> String {
+        let name = match &self.kind {
+            ProblemKind::Fit(c) if paired.contains(&Factor::SearchSpace) => c.base_name.clone(),
+            _ => self.name(),
+        };
+        let mut key = format!("{name}-{}", self.dim);
+        if with_budget && self.budget_factor && !paired.contains(&Factor::Budget) {
+            key.push_str(&format!("|budget={}", self.budget));
+        }
+        key.push_str(&factor_suffix(
+            self.transform,
+            self.instance,
+            !paired.contains(&Factor::Transform),
+            !paired.contains(&Factor::Instance),
+        ));
+        key
+    }
+
+    /// The value of `factor` for this problem, as text (`None` when the
+    /// factor does not apply, such as a search space of a benchmark).
+    pub fn factor_value(&self, factor: Factor) -> Option<String> {
+        match factor {
+            Factor::Budget => Some(self.budget.to_string()),
+            Factor::Transform => Some(self.transform.name().to_owned()),
+            Factor::Instance => Some(self.instance.to_string()),
+            Factor::SearchSpace => match &self.kind {
+                ProblemKind::Fit(c) => Some(c.options.search.kind.name().to_owned()),
+                ProblemKind::Benchmark(_) => None,
+            },
+        }
     }
 
     /// The optimum value `f*` errors are measured from (0 for fitting:
@@ -143,6 +232,28 @@ impl ProblemEntry {
             ProblemKind::Fit(_) => 0.0,
         }
     }
+}
+
+/// The key suffix of a transformed benchmark: `|transform=<t>` and
+/// `|instance=<k>` (the instance only when not 1), each only when asked for
+/// and when the transform is not `none`. Shared by specs and records so that
+/// both build the same keys.
+pub fn factor_suffix(
+    transform: Transform,
+    instance: u32,
+    with_transform: bool,
+    with_instance: bool,
+) -> String {
+    let mut out = String::new();
+    if transform != Transform::None {
+        if with_transform {
+            out.push_str(&format!("|transform={}", transform.name()));
+        }
+        if with_instance && instance != 1 {
+            out.push_str(&format!("|instance={instance}"));
+        }
+    }
+    out
 }
 
 /// One algorithm cell: a configured method with its label.
@@ -191,6 +302,9 @@ pub struct Spec {
     pub problems: Vec<ProblemEntry>,
     /// The algorithm cells, in spec order (grids expanded).
     pub cells: Vec<Cell>,
+    /// The problem factors left out of the seed derivation (`paired`), so
+    /// that runs differing only in them share their random numbers.
+    pub paired: Vec<Factor>,
 }
 
 /// One run of a campaign: indices into the spec and the run number.
@@ -255,7 +369,7 @@ pub(crate) struct Parser<'a> {
 pub(crate) type Table<'i> = DeTable<'i>;
 pub(crate) type Value<'i> = Spanned<DeValue<'i>>;
 
-const EXPERIMENT_KEYS: [&str; 8] = [
+const EXPERIMENT_KEYS: [&str; 9] = [
     "name",
     "description",
     "seed",
@@ -264,9 +378,17 @@ const EXPERIMENT_KEYS: [&str; 8] = [
     "budget_per_dim",
     "threshold",
     "checkpoints_per_decade",
+    "paired",
 ];
 const SECTIONS: [&str; 4] = ["experiment", "problem", "fit", "algorithm"];
-const PROBLEM_KEYS: [&str; 4] = ["function", "dim", "budget", "budget_per_dim"];
+const PROBLEM_KEYS: [&str; 6] = [
+    "function",
+    "dim",
+    "budget",
+    "budget_per_dim",
+    "transform",
+    "instances",
+];
 
 pub(crate) fn type_name(v: &DeValue<'_>) -> &'static str {
     match v {
@@ -353,11 +475,12 @@ impl<'a> Parser<'a> {
         let root = doc.get_ref();
         self.check_sections(root)?;
         let header = self.experiment(root, doc.span())?;
-        let problems = self.all_problems(root, header.budget, doc.span())?;
+        let problems = self.all_problems(root, header.budget.as_ref(), doc.span())?;
         let benchmarks = problems
             .iter()
             .any(|p| matches!(p.kind, ProblemKind::Benchmark(_)));
         let cells = self.cells(root, doc.span(), benchmarks)?;
+        let paired = self.paired(root, &problems)?;
         Ok(Spec {
             path: self.path.to_owned(),
             text: self.text.to_owned(),
@@ -368,7 +491,72 @@ impl<'a> Parser<'a> {
             checkpoints_per_decade: header.checkpoints_per_decade,
             problems,
             cells,
+            paired,
         })
+    }
+
+    /// The optional `experiment.paired`: factors that vary among the
+    /// problems and are left out of the seeds.
+    fn paired(
+        &self,
+        root: &Table<'_>,
+        problems: &[ProblemEntry],
+    ) -> Result<Vec<Factor>, SpecError> {
+        let Some(experiment) = self.get(root, "experiment").and_then(|e| match e.get_ref() {
+            DeValue::Table(t) => Some(t),
+            _ => None,
+        }) else {
+            return Ok(Vec::new());
+        };
+        let Some(v) = self.get(experiment, "paired") else {
+            return Ok(Vec::new());
+        };
+        let field = "experiment.paired";
+        let mut out = Vec::new();
+        for item in self.one_or_many(v, field)? {
+            let name = self.string(item, field)?;
+            let factor = Factor::from_name(&name).ok_or_else(|| {
+                self.error(
+                    item.span(),
+                    field,
+                    format!("unknown factor \"{name}\"; {}", choices_hint(&name, &Factor::NAMES)),
+                )
+            })?;
+            let values: std::collections::BTreeSet<String> =
+                problems.iter().filter_map(|p| p.factor_value(factor)).collect();
+            if values.len() < 2 {
+                let varying: Vec<&str> = Factor::NAMES
+                    .iter()
+                    .copied()
+                    .filter(|n| {
+                        let f = Factor::from_name(n).expect("a factor name");
+                        problems
+                            .iter()
+                            .filter_map(|p| p.factor_value(f))
+                            .collect::<std::collections::BTreeSet<_>>()
+                            .len()
+                            > 1
+                    })
+                    .collect();
+                return Err(self.error(
+                    item.span(),
+                    field,
+                    format!(
+                        "\"{name}\" does not vary among this spec's problems, so there is nothing to pair; {}",
+                        if varying.is_empty() {
+                            "no factor varies here".to_owned()
+                        } else {
+                            format!("the varying factors are {}", quoted_list(&varying))
+                        }
+                    ),
+                ));
+            }
+            if !out.contains(&factor) {
+                out.push(factor);
+            }
+        }
+        out.sort();
+        Ok(out)
     }
 
     /// Checks that every top-level key is a known section.
@@ -458,7 +646,7 @@ impl<'a> Parser<'a> {
     fn all_problems(
         &self,
         root: &Table<'_>,
-        budget: Option<Budget>,
+        budget: Option<&Budget>,
         span: Range<usize>,
     ) -> Result<Vec<ProblemEntry>, SpecError> {
         let mut problems = Vec::new();
@@ -593,28 +781,26 @@ impl<'a> Parser<'a> {
         }
     }
 
-    /// `budget` or `budget_per_dim` of a table, if present (not both).
+    /// `budget` or `budget_per_dim` of a table, if present (not both): a
+    /// value or a list of values (a budget grid).
     fn budget(&self, table: &Table<'_>, section: &str) -> Result<Option<Budget>, SpecError> {
         let fixed = self.get(table, "budget");
         let per_dim = self.get(table, "budget_per_dim");
+        let values = |v: &Value<'_>, key: &str| -> Result<Vec<u64>, SpecError> {
+            let field = format!("{section}.{key}");
+            self.one_or_many(v, &field)?
+                .into_iter()
+                .map(|item| self.integer(item, &field, 1, u64::MAX))
+                .collect()
+        };
         match (fixed, per_dim) {
             (Some(_), Some(p)) => Err(self.error(
                 p.span(),
                 &format!("{section}.budget_per_dim"),
                 "give either \"budget\" or \"budget_per_dim\", not both".into(),
             )),
-            (Some(b), None) => Ok(Some(Budget::Fixed(self.integer(
-                b,
-                &format!("{section}.budget"),
-                1,
-                u64::MAX,
-            )?))),
-            (None, Some(p)) => Ok(Some(Budget::PerDim(self.integer(
-                p,
-                &format!("{section}.budget_per_dim"),
-                1,
-                u64::MAX,
-            )?))),
+            (Some(b), None) => Ok(Some(Budget::Fixed(values(b, "budget")?))),
+            (None, Some(p)) => Ok(Some(Budget::PerDim(values(p, "budget_per_dim")?))),
             (None, None) => Ok(None),
         }
     }
@@ -646,14 +832,15 @@ impl<'a> Parser<'a> {
     }
 
     /// The `[[problem]]` problems of the spec: every function × dimension
-    /// of each section.
+    /// × transform × instance × budget of each section.
     fn problems(
         &self,
         root: &Table<'_>,
-        default_budget: Option<Budget>,
+        default_budget: Option<&Budget>,
         span: Range<usize>,
     ) -> Result<Vec<ProblemEntry>, SpecError> {
         let mut out: Vec<ProblemEntry> = Vec::new();
+        let mut seen = std::collections::HashSet::new();
         for (i, entry) in self
             .array_of_tables(root, "problem", span)?
             .into_iter()
@@ -662,7 +849,8 @@ impl<'a> Parser<'a> {
             let section = format!("problem[{}]", i + 1);
             let table = self.table(entry, &section)?;
             self.check_keys(table, &section, &PROBLEM_KEYS)?;
-            let budget = self.budget(table, &section)?.or(default_budget).ok_or_else(|| {
+            let own = self.budget(table, &section)?;
+            let budget = own.as_ref().or(default_budget).ok_or_else(|| {
                 self.error(
                     entry.span(),
                     &format!("{section}.budget"),
@@ -671,26 +859,74 @@ impl<'a> Parser<'a> {
             })?;
             let functions = self.problem_functions(table, &section, entry)?;
             let dims = self.problem_dims(table, &section, entry)?;
+            let transforms = self.problem_transforms(table, &section, entry)?;
+            let instances = match self.get(table, "instances") {
+                Some(v) => self.integer(v, &format!("{section}.instances"), 1, 10_000)? as u32,
+                None => 1,
+            };
             for (f, fspan) in &functions {
                 for (dim, dspan) in &dims {
                     let dim = self.problem_dim(*f, *dim, fspan, dspan, &section)?;
-                    let p = ProblemEntry {
-                        kind: ProblemKind::Benchmark(*f),
-                        dim,
-                        budget: budget.for_dim(dim),
-                    };
-                    if out.iter().any(|q| q.key() == p.key()) {
-                        return Err(self.error(
-                            fspan.clone(),
-                            &section,
-                            format!("problem {} is listed twice", p.key()),
-                        ));
+                    for (t, tspan) in &transforms {
+                        TestProblem::check_instance(*f, dim, *t).map_err(|e| {
+                            self.error(tspan.clone(), &format!("{section}.transform"), e.to_string())
+                        })?;
+                        let count = if *t == Transform::None { 1 } else { instances };
+                        for instance in 1..=count {
+                            for b in budget.for_dim(dim) {
+                                let p = ProblemEntry {
+                                    kind: ProblemKind::Benchmark(*f),
+                                    dim,
+                                    budget: b,
+                                    budget_factor: budget.is_grid(),
+                                    transform: *t,
+                                    instance,
+                                };
+                                if !seen.insert(p.key()) {
+                                    return Err(self.error(
+                                        fspan.clone(),
+                                        &section,
+                                        format!("problem {} is listed twice", p.key()),
+                                    ));
+                                }
+                                out.push(p);
+                            }
+                        }
                     }
-                    out.push(p);
                 }
             }
         }
         Ok(out)
+    }
+
+    /// The optional `transform` of a `[[problem]]`: a name or a list.
+    fn problem_transforms(
+        &self,
+        table: &Table<'_>,
+        section: &str,
+        entry: &Value<'_>,
+    ) -> Result<Vec<WithSpan<Transform>>, SpecError> {
+        let Some(tv) = self.get(table, "transform") else {
+            return Ok(vec![(Transform::None, entry.span())]);
+        };
+        let field = format!("{section}.transform");
+        self.one_or_many(tv, &field)?
+            .into_iter()
+            .map(|v| {
+                let name = self.string(v, &field)?;
+                let t = Transform::from_name(&name).ok_or_else(|| {
+                    self.error(
+                        v.span(),
+                        &field,
+                        format!(
+                            "unknown transform \"{name}\"; {}",
+                            choices_hint(&name, &Transform::NAMES)
+                        ),
+                    )
+                })?;
+                Ok((t, v.span()))
+            })
+            .collect()
     }
 
     /// The required `function` of a `[[problem]]`: the benchmark functions
@@ -1054,18 +1290,28 @@ struct Header {
     checkpoints_per_decade: u32,
 }
 
-/// A budget as written in a spec.
-#[derive(Clone, Copy, Debug)]
-enum Budget {
-    Fixed(u64),
-    PerDim(u64),
+/// A budget as written in a spec: one value or a grid of values.
+#[derive(Clone, Debug)]
+pub(crate) enum Budget {
+    /// Evaluations per run.
+    Fixed(Vec<u64>),
+    /// Evaluations per run and dimension.
+    PerDim(Vec<u64>),
 }
 
 impl Budget {
-    fn for_dim(self, dim: usize) -> u64 {
+    /// The budgets of a problem of dimension `dim`.
+    fn for_dim(&self, dim: usize) -> Vec<u64> {
         match self {
-            Budget::Fixed(b) => b,
-            Budget::PerDim(b) => b.saturating_mul(dim as u64),
+            Budget::Fixed(b) => b.clone(),
+            Budget::PerDim(b) => b.iter().map(|b| b.saturating_mul(dim as u64)).collect(),
+        }
+    }
+
+    /// Whether several budgets were listed, making the budget a factor.
+    pub(crate) fn is_grid(&self) -> bool {
+        match self {
+            Budget::Fixed(b) | Budget::PerDim(b) => b.len() > 1,
         }
     }
 }
