@@ -185,7 +185,7 @@ pub fn table_contours(
         .iter()
         .filter(|l| l.signed_area() > 0.0)
         .max_by(|a, b| a.signed_area().total_cmp(&b.signed_area()))
-        .ok_or_else(|| CtError::Invalid("no closed bone contour in the slice".into()))?;
+        .ok_or(CtError::NoClosedContour)?;
     match ends {
         None => {
             let centre = outer.vertex_mean();
@@ -195,12 +195,7 @@ pub fn table_contours(
                     l.signed_area() < 0.0 && l.contains(centre) && outer.contains(l.points[0])
                 })
                 .min_by(|a, b| a.signed_area().total_cmp(&b.signed_area()))
-                .ok_or_else(|| {
-                    CtError::Invalid(
-                        "the bone ring is open (no inner cavity): give the defect ends A and B"
-                            .into(),
-                    )
-                })?;
+                .ok_or(CtError::OpenRing)?;
             Ok(TableContours {
                 outer: outer.clone(),
                 inner: inner.clone(),

@@ -213,7 +213,7 @@ fn same(a: f64, b: f64) -> bool {
 /// SliceThickness (or 1 mm) as z spacing.
 pub fn read_dicom_series(paths: &[PathBuf]) -> Result<Volume, CtError> {
     if paths.is_empty() {
-        return Err(CtError::Invalid("empty DICOM series: no files".into()));
+        return Err(CtError::EmptySeries);
     }
     let mut slices = paths
         .iter()
@@ -328,11 +328,7 @@ pub fn dicom_slice_bytes(volume: &Volume, z: usize, series: &str) -> Result<Vec<
     let mut words = Vec::with_capacity(sl.data.len());
     for &hu in sl.data {
         let raw = hu as i32 + 1024;
-        let raw = i16::try_from(raw).map_err(|_| {
-            CtError::Invalid(format!(
-                "HU {hu} in slice {z} does not fit the DICOM encoding"
-            ))
-        })?;
+        let raw = i16::try_from(raw).map_err(|_| CtError::HuOutOfRange { hu, slice: z })?;
         words.push(raw as u16);
     }
     let sp = volume.spacing;
@@ -407,14 +403,21 @@ pub fn dicom_slice_bytes(volume: &Volume, z: usize, series: &str) -> Result<Vec<
         PrimitiveValue::U16(words.into()),
     ));
     if sl.nx > u16::MAX as usize || sl.ny > u16::MAX as usize {
-        return Err(CtError::Invalid("slice too large for DICOM".into()));
+        return Err(CtError::SliceTooLarge {
+            nx: sl.nx,
+            ny: sl.ny,
+        });
     }
     let file = obj
         .with_meta(FileMetaTableBuilder::new().transfer_syntax(uids::EXPLICIT_VR_LITTLE_ENDIAN))
-        .map_err(|e| CtError::Invalid(format!("DICOM meta: {e}")))?;
+        .map_err(|e| CtError::DicomMeta {
+            source: Box::new(e),
+        })?;
     let mut bytes = Vec::new();
     file.write_all(&mut bytes)
-        .map_err(|e| CtError::Invalid(format!("DICOM encoding: {e}")))?;
+        .map_err(|e| CtError::DicomEncode {
+            source: Box::new(e),
+        })?;
     Ok(bytes)
 }
 

@@ -1,16 +1,19 @@
 //! Errors of the CT layer: every failure names the file or the slice it
 //! concerns, so that a user with their own scan can act on it.
 
-use std::fmt;
 use std::io;
 use std::path::{Path, PathBuf};
 
+use super::plist::PlistError;
 use crate::files::IoError;
+use crate::fit::FitError;
 
 /// An error while reading, checking or processing CT data.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum CtError {
+    // Reading and writing files.
     /// A file could not be opened, read or listed.
+    #[error("{}: cannot read: {source}", path.display())]
     Io {
         /// The file or directory.
         path: PathBuf,
@@ -18,16 +21,31 @@ pub enum CtError {
         source: io::Error,
     },
     /// An output file could not be written (see [`crate::files::write_atomic`]).
-    Write(IoError),
+    #[error("{0}")]
+    Write(#[from] IoError),
     /// An `.inv3` project is truncated or corrupt (bad gzip or tar stream,
-    /// missing member, malformed `main.plist`).
+    /// missing member, missing or bad `main.plist` entry).
+    #[error("{}: truncated or corrupt .inv3: {message}", path.display())]
     Inv3 {
         /// The `.inv3` file.
         path: PathBuf,
         /// What is wrong.
         message: String,
     },
+    /// The `main.plist` of an `.inv3` project is not a well-formed property
+    /// list.
+    #[error("{}: truncated or corrupt .inv3: main.plist: {source}", path.display())]
+    Plist {
+        /// The `.inv3` file.
+        path: PathBuf,
+        /// What is malformed and where.
+        source: PlistError,
+    },
     /// A raw voxel array does not hold `nx·ny·nz` samples of the declared type.
+    #[error(
+        "{}: wrong byte count: the shape needs {expected} bytes, found {found}",
+        path.display()
+    )]
     ByteCount {
         /// The file holding the array.
         path: PathBuf,
@@ -37,13 +55,25 @@ pub enum CtError {
         found: u64,
     },
     /// A DICOM file is corrupt or of an unsupported kind.
+    #[error("{}: corrupt or unsupported DICOM: {message}", path.display())]
     Dicom {
         /// The DICOM file.
         path: PathBuf,
         /// What is wrong.
         message: String,
     },
+    /// A DICOM series was given no files.
+    #[error("empty DICOM series: no files")]
+    EmptySeries,
     /// A DICOM series has slices of different sizes.
+    #[error(
+        "{}: slice size {}x{} (rows x columns) differs from the series' {}x{}",
+        path.display(),
+        found.0,
+        found.1,
+        expected.0,
+        expected.1
+    )]
     SizeMismatch {
         /// The first file that disagrees with the first slice.
         path: PathBuf,
@@ -53,6 +83,10 @@ pub enum CtError {
         found: (usize, usize),
     },
     /// A DICOM series has inconsistent pixel spacing or uneven slice gaps.
+    #[error(
+        "{}: mismatched slice spacing: {axis} spacing {found} mm differs from the series' {expected} mm",
+        path.display()
+    )]
     SpacingMismatch {
         /// The first file that disagrees.
         path: PathBuf,
@@ -63,15 +97,125 @@ pub enum CtError {
         /// The value of this file, in mm.
         found: f64,
     },
+    /// A HU value does not fit the DICOM writer's encoding
+    /// (`raw = HU + 1024` as a signed 16-bit sample).
+    #[error("HU {hu} in slice {slice} does not fit the DICOM encoding")]
+    HuOutOfRange {
+        /// The value.
+        hu: i16,
+        /// The slice (volume index).
+        slice: usize,
+    },
+    /// A slice has more rows or columns than DICOM can describe (65535).
+    #[error("slice too large for DICOM")]
+    SliceTooLarge {
+        /// Columns.
+        nx: usize,
+        /// Rows.
+        ny: usize,
+    },
+    /// The DICOM file meta information could not be built.
+    #[error("DICOM meta: {source}")]
+    DicomMeta {
+        /// The DICOM library's error.
+        source: Box<dicom_object::WithMetaError>,
+    },
+    /// A DICOM object could not be encoded.
+    #[error("DICOM encoding: {source}")]
+    DicomEncode {
+        /// The DICOM library's error.
+        source: Box<dicom_object::WriteError>,
+    },
+
+    // Volumes, masks and contours.
+    /// A volume with a zero dimension.
+    #[error("volume size {nx}x{ny}x{nz} has a zero dimension")]
+    ZeroDimension {
+        /// Columns.
+        nx: usize,
+        /// Rows.
+        ny: usize,
+        /// Slices.
+        nz: usize,
+    },
+    /// A volume whose voxel count does not fit in `usize`.
+    #[error("volume size overflows")]
+    VolumeOverflow {
+        /// Columns.
+        nx: usize,
+        /// Rows.
+        ny: usize,
+        /// Slices.
+        nz: usize,
+    },
+    /// The samples given for a volume do not match its shape.
+    #[error("volume {nx}x{ny}x{nz} needs {expected} voxels, got {found}")]
+    VoxelCount {
+        /// Columns.
+        nx: usize,
+        /// Rows.
+        ny: usize,
+        /// Slices.
+        nz: usize,
+        /// `nx·ny·nz`.
+        expected: usize,
+        /// Samples given.
+        found: usize,
+    },
+    /// A voxel spacing that is not a positive finite number.
+    #[error("voxel spacing must be positive and finite, got {value}")]
+    BadSpacing {
+        /// The spacing given, in mm.
+        value: f64,
+    },
     /// A slice has no voxel at or above the bone threshold.
+    #[error("slice {slice}: no bone: no voxel at or above {threshold} HU")]
     NoBone {
         /// The slice index (z) in its volume.
         slice: usize,
         /// The threshold in HU.
         threshold: i16,
     },
+    /// Two masks compared by a metric lie on different grids.
+    #[error(
+        "masks on different grids: {}x{}x{} vs {}x{}x{}",
+        a[0], a[1], a[2], b[0], b[1], b[2]
+    )]
+    GridMismatch {
+        /// `[nx, ny, nz]` of the first mask.
+        a: [usize; 3],
+        /// `[nx, ny, nz]` of the second mask.
+        b: [usize; 3],
+    },
+    /// HD95 asked of an empty mask.
+    #[error("HD95 of an empty mask is undefined")]
+    EmptyMask,
+    /// A contour deviation asked of an empty polyline or with a step that
+    /// is not positive.
+    #[error("contour deviation needs two non-empty polylines and a positive step")]
+    BadDeviationInput,
+    /// No bone loop of the slice encloses a positive area.
+    #[error("no closed bone contour in the slice")]
+    NoClosedContour,
+    /// The slice's bone ring has no inner cavity and no defect ends were
+    /// given to cut it.
+    #[error("the bone ring is open (no inner cavity): give the defect ends A and B")]
+    OpenRing,
+    /// Defect detection found no gap in the bone ring.
+    #[error("no defect found (the bone ring is closed): give A and B for this slice")]
+    NoDefectFound,
+    /// The mirror technique was given an empty outer contour.
+    #[error("the outer contour is empty")]
+    EmptyContour,
+
+    // The mirror technique and the implant wall.
     /// The defect crosses the mid-sagittal line, so mirroring cannot supply
     /// its template.
+    #[error(
+        "the defect crosses the mid-sagittal line (A at x = {a_x:.2} mm, B at x = {b_x:.2} mm, \
+         M_x at x = {midline_x:.2} mm): the mirror technique cannot supply a template; \
+         give an explicit template contour instead"
+    )]
     DefectCrossesMidline {
         /// x of A in mm.
         a_x: f64,
@@ -82,6 +226,9 @@ pub enum CtError {
     },
     /// A point that must lie on a contour (A, B, or a mirrored end) is too far
     /// from it.
+    #[error(
+        "{what} is not on the bone contour: {distance_mm:.2} mm away (tolerance {tolerance_mm:.2} mm)"
+    )]
     NotOnContour {
         /// Which point.
         what: &'static str,
@@ -90,8 +237,120 @@ pub enum CtError {
         /// The largest distance accepted, in mm.
         tolerance_mm: f64,
     },
-    /// An argument is invalid (empty input, mismatched lengths, ...).
-    Invalid(String),
+    /// Too few rays across the defect meet the mirrored contour to make a
+    /// template.
+    #[error("the mirrored contour does not cover the defect")]
+    TemplateNotCovered {
+        /// Template points found.
+        points: usize,
+        /// Points the wall's function needs.
+        needed: usize,
+    },
+    /// Too few rays next to a defect end meet the intact contour to fit its
+    /// tangent.
+    #[error("too little intact outer contour next to the defect ends")]
+    TooLittleIntactContour {
+        /// Envelope points found before A.
+        before: usize,
+        /// Envelope points found after B.
+        after: usize,
+    },
+    /// No bone along the inward ray next to a defect end, so the wall has
+    /// no thickness.
+    #[error("no bone next to the defect ends: cannot measure the bone thickness")]
+    NoBoneAtEnds {
+        /// Thickness measured next to A, in mm.
+        thickness_a: f64,
+        /// Thickness measured next to B, in mm.
+        thickness_b: f64,
+    },
+    /// The curve fit of the outer wall (or of a neighbouring tangent) was
+    /// refused.
+    #[error("the outer-wall fit failed: {source}")]
+    OuterWallFit {
+        /// The fitting error.
+        source: FitError,
+    },
+
+    // Artificial defects of the validation.
+    /// The outer envelope has no point at the defect's centre angle.
+    #[error("no outer contour at {position_deg}° from the centre")]
+    NoContourAt {
+        /// The defect's centre angle in degrees.
+        position_deg: f64,
+    },
+    /// A ray of the artificial defect misses the outer contour.
+    #[error("the defect leaves the outer contour")]
+    DefectLeavesContour,
+    /// The artificial defect's wedge holds no bone pixel.
+    #[error("the cut removed no bone")]
+    CutRemovedNoBone,
+
+    // Meshes and pictures.
+    /// Lofting was given fewer than two sections or a height count that
+    /// differs from the section count.
+    #[error(
+        "lofting needs at least two sections with one height each (got {sections} sections, {heights} heights)"
+    )]
+    LoftSections {
+        /// Sections given.
+        sections: usize,
+        /// Heights given.
+        heights: usize,
+    },
+    /// Lofting was asked for rings of fewer than three points.
+    #[error("lofting needs n ≥ 3 points per ring")]
+    LoftRingPoints {
+        /// Points per ring asked for.
+        n: usize,
+    },
+    /// The section heights of a loft do not increase strictly.
+    #[error("section heights must increase strictly")]
+    LoftHeights,
+    /// A loft section is not a polygon with positive area.
+    #[error("section {index} is not a polygon with positive area")]
+    DegenerateSection {
+        /// The section's index.
+        index: usize,
+    },
+    /// A binary STL file is shorter than its 84-byte header.
+    #[error(
+        "{}: bad binary STL: {len} bytes, shorter than the 84-byte header",
+        path.display()
+    )]
+    StlTooShort {
+        /// The file (only used in messages).
+        path: PathBuf,
+        /// Its length in bytes.
+        len: usize,
+    },
+    /// A binary STL file's length disagrees with its triangle count.
+    #[error(
+        "{}: bad binary STL: {triangles} triangles need {expected} bytes, found {found}",
+        path.display()
+    )]
+    StlLength {
+        /// The file (only used in messages).
+        path: PathBuf,
+        /// The triangle count of the header.
+        triangles: usize,
+        /// Bytes those triangles need.
+        expected: usize,
+        /// Bytes found.
+        found: usize,
+    },
+    /// An RGB buffer could not be PNG-encoded.
+    #[error("PNG encoding: {source}")]
+    PngEncode {
+        /// The image library's error.
+        source: Box<image::ImageError>,
+    },
+    /// The plotting library failed to draw a slice overlay.
+    #[error("drawing the overlay: {message}")]
+    Draw {
+        /// The plotting library's error text.
+        message: String,
+    },
 }
 
 impl CtError {
@@ -120,86 +379,48 @@ impl CtError {
     }
 }
 
-impl fmt::Display for CtError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            CtError::Io { path, source } => {
-                write!(f, "{}: cannot read: {source}", path.display())
-            }
-            CtError::Write(e) => e.fmt(f),
-            CtError::Inv3 { path, message } => {
-                write!(f, "{}: truncated or corrupt .inv3: {message}", path.display())
-            }
-            CtError::ByteCount {
-                path,
-                expected,
-                found,
-            } => write!(
-                f,
-                "{}: wrong byte count: the shape needs {expected} bytes, found {found}",
-                path.display()
-            ),
-            CtError::Dicom { path, message } => {
-                write!(f, "{}: corrupt or unsupported DICOM: {message}", path.display())
-            }
-            CtError::SizeMismatch {
-                path,
-                expected,
-                found,
-            } => write!(
-                f,
-                "{}: slice size {}x{} (rows x columns) differs from the series' {}x{}",
-                path.display(),
-                found.0,
-                found.1,
-                expected.0,
-                expected.1
-            ),
-            CtError::SpacingMismatch {
-                path,
-                axis,
-                expected,
-                found,
-            } => write!(
-                f,
-                "{}: mismatched slice spacing: {axis} spacing {found} mm differs from the series' {expected} mm",
-                path.display()
-            ),
-            CtError::NoBone { slice, threshold } => write!(
-                f,
-                "slice {slice}: no bone: no voxel at or above {threshold} HU"
-            ),
-            CtError::DefectCrossesMidline { a_x, b_x, midline_x } => write!(
-                f,
-                "the defect crosses the mid-sagittal line (A at x = {a_x:.2} mm, B at x = {b_x:.2} mm, \
-                 M_x at x = {midline_x:.2} mm): the mirror technique cannot supply a template; \
-                 give an explicit template contour instead"
-            ),
-            CtError::NotOnContour {
-                what,
-                distance_mm,
-                tolerance_mm,
-            } => write!(
-                f,
-                "{what} is not on the bone contour: {distance_mm:.2} mm away (tolerance {tolerance_mm:.2} mm)"
-            ),
-            CtError::Invalid(m) => f.write_str(m),
-        }
-    }
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
 
-impl std::error::Error for CtError {
-    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        match self {
-            CtError::Io { source, .. } => Some(source),
-            CtError::Write(e) => Some(e),
-            _ => None,
-        }
+    #[test]
+    fn messages_name_the_numbers() {
+        let e = CtError::GridMismatch {
+            a: [1, 2, 3],
+            b: [4, 5, 6],
+        };
+        assert_eq!(e.to_string(), "masks on different grids: 1x2x3 vs 4x5x6");
+        let e = CtError::StlLength {
+            path: PathBuf::from("m.stl"),
+            triangles: 2,
+            expected: 184,
+            found: 90,
+        };
+        assert_eq!(
+            e.to_string(),
+            "m.stl: bad binary STL: 2 triangles need 184 bytes, found 90"
+        );
+        let e = CtError::VoxelCount {
+            nx: 2,
+            ny: 3,
+            nz: 4,
+            expected: 24,
+            found: 23,
+        };
+        assert_eq!(e.to_string(), "volume 2x3x4 needs 24 voxels, got 23");
     }
-}
 
-impl From<IoError> for CtError {
-    fn from(e: IoError) -> Self {
-        CtError::Write(e)
+    #[test]
+    fn the_fit_error_is_the_source() {
+        use std::error::Error as _;
+        let fit = FitError::TooFewOutlinePoints {
+            found: 2,
+            needed: 4,
+        };
+        let e = CtError::OuterWallFit {
+            source: fit.clone(),
+        };
+        assert_eq!(e.to_string(), format!("the outer-wall fit failed: {fit}"));
+        assert!(e.source().is_some());
     }
 }

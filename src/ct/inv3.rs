@@ -51,7 +51,10 @@ pub fn read_inv3(path: &Path) -> Result<Volume, CtError> {
         .ok_or_else(|| CtError::inv3(path, "no main.plist member"))?;
     let text = std::str::from_utf8(plist_bytes)
         .map_err(|_| CtError::inv3(path, "main.plist is not UTF-8"))?;
-    let plist = parse_plist(text).map_err(|m| CtError::inv3(path, format!("main.plist: {m}")))?;
+    let plist = parse_plist(text).map_err(|source| CtError::Plist {
+        path: path.to_owned(),
+        source,
+    })?;
     let matrix = plist
         .get("matrix")
         .ok_or_else(|| CtError::inv3(path, "main.plist has no `matrix` entry"))?;

@@ -35,6 +35,6 @@ pub mod validation;
 pub use run::{load_volume, run_implant, RunSummary};
 pub use spec::{ImplantSpec, ValidationSpec};
 pub use validation::{
-    case_metrics, evaluate, prepare_case, reconstruct_case, Case, CaseMetrics, PreparedCase,
-    ValidationRow,
+    case_metrics, evaluate, prepare_case, reconstruct_case, Case, CaseError, CaseMetrics,
+    PreparedCase, ValidationRow,
 };

@@ -221,11 +221,8 @@ pub fn reconstruct_slice<S: SegmentSolver + ?Sized>(
             Point::new(b.1 * sx, b.0 * sy),
         ),
         Ends::Auto => {
-            let d = detect_defect(&mask, sx, sy, &DefectParams::default()).ok_or_else(|| {
-                at(CtError::Invalid(
-                    "no defect found (the bone ring is closed): give A and B for this slice".into(),
-                ))
-            })?;
+            let d = detect_defect(&mask, sx, sy, &DefectParams::default())
+                .ok_or_else(|| at(CtError::NoDefectFound))?;
             (d.a_mm, d.b_mm)
         }
     };

@@ -527,7 +527,7 @@ pub fn validation_csv(rows: &[ValidationRow]) -> Vec<u8> {
             Err(e) => {
                 v.push("error".into());
                 v.extend(std::iter::repeat_n(String::new(), 8));
-                v.push(e.clone());
+                v.push(e.to_string());
             }
         }
         v

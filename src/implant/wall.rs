@@ -304,8 +304,10 @@ fn wrap(d: f64) -> f64 {
 ///    polyline normals and `u` the arc-length fraction.
 ///
 /// Errors: [`CtError::DefectCrossesMidline`], [`CtError::NotOnContour`]
-/// (A, B, C or D not on the outer contour), [`CtError::Invalid`] for a
-/// failing fit.
+/// (A, B, C or D not on the outer contour), [`CtError::TemplateNotCovered`],
+/// [`CtError::TooLittleIntactContour`] and [`CtError::NoBoneAtEnds`] when
+/// the contour around the defect is too short or holds no bone,
+/// [`CtError::OuterWallFit`] for a failing fit.
 pub fn reconstruct_wall<S: SegmentSolver + ?Sized>(
     input: &WallInput<'_>,
     kind: WallKind,
@@ -380,9 +382,10 @@ pub fn reconstruct_wall<S: SegmentSolver + ?Sized>(
         }
     }
     if data.len() < options.function.min_points() {
-        return Err(CtError::Invalid(
-            "the mirrored contour does not cover the defect".into(),
-        ));
+        return Err(CtError::TemplateNotCovered {
+            points: data.len(),
+            needed: options.function.min_points(),
+        });
     }
     let last = data.len() - 1;
     data[0] = a;
@@ -401,9 +404,10 @@ pub fn reconstruct_wall<S: SegmentSolver + ?Sized>(
     before.reverse(); // ends at A′
     let after = side(th_a + span, 1.0); // starts at B′
     if before.len() < 6 || after.len() < 6 {
-        return Err(CtError::Invalid(
-            "too little intact outer contour next to the defect ends".into(),
-        ));
+        return Err(CtError::TooLittleIntactContour {
+            before: before.len(),
+            after: after.len(),
+        });
     }
     let d_a = neighbour_derivative(before, true).map_err(fit_err)?;
     let d_b = neighbour_derivative(after, false).map_err(fit_err)?;
@@ -454,9 +458,10 @@ pub fn reconstruct_wall<S: SegmentSolver + ?Sized>(
     let t_a = thickness_at(pa, o, input.is_bone);
     let t_b = thickness_at(pb, o, input.is_bone);
     if t_a <= 0.0 || t_b <= 0.0 {
-        return Err(CtError::Invalid(
-            "no bone next to the defect ends: cannot measure the bone thickness".into(),
-        ));
+        return Err(CtError::NoBoneAtEnds {
+            thickness_a: t_a,
+            thickness_b: t_b,
+        });
     }
     let inner_pts: Vec<Point> = match &segment {
         Some(seg) => {
@@ -513,6 +518,6 @@ pub fn reconstruct_wall<S: SegmentSolver + ?Sized>(
     })
 }
 
-fn fit_err(e: FitError) -> CtError {
-    CtError::Invalid(format!("the outer-wall fit failed: {e}"))
+fn fit_err(source: FitError) -> CtError {
+    CtError::OuterWallFit { source }
 }
