@@ -98,8 +98,16 @@ pub fn marching_squares(
             }
         }
     }
+    link_loops(&mut next, &starts)
+}
+
+/// Links the cell segments into closed loops: `next[k]` is the (end edge,
+/// start point) of the segment starting at edge `k`, `starts` the edges
+/// that start one. Repeated points are dropped, and loops shorter than 3
+/// vertices.
+fn link_loops(next: &mut [Option<(usize, Point)>], starts: &[usize]) -> Vec<Polyline> {
     let mut loops = Vec::new();
-    for s in starts {
+    for &s in starts {
         if next[s].is_none() {
             continue;
         }

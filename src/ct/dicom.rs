@@ -376,29 +376,24 @@ fn uid(key: &str) -> String {
     format!("2.25.{}", (hi << 64 | lo) >> 1)
 }
 
-/// The bytes of slice `z` of `volume` as a single-frame CT Image Storage
-/// DICOM file (explicit VR little endian; signed 16-bit samples
-/// `raw = HU + 1024`, RescaleSlope 1, RescaleIntercept −1024; axial
-/// orientation 1\0\0\0\1\0; ImagePositionPatient = origin + (0, 0, z·sz)).
-/// `series` keys the deterministic study/series/instance UIDs.
-pub fn dicom_slice_bytes(volume: &Volume, z: usize, series: &str) -> Result<Vec<u8>, CtError> {
-    let sl = volume.slice(z);
-    let mut words = Vec::with_capacity(sl.data.len());
-    for &hu in sl.data {
+/// The HU samples of slice `z` as the writer's stored words
+/// `raw = HU + 1024` (signed 16-bit).
+fn stored_words(hu: &[i16], z: usize) -> Result<Vec<u16>, CtError> {
+    let mut words = Vec::with_capacity(hu.len());
+    for &hu in hu {
         let raw = hu as i32 + 1024;
         let raw = i16::try_from(raw).map_err(|_| CtError::HuOutOfRange { hu, slice: z })?;
         words.push(raw as u16);
     }
-    let sp = volume.spacing;
-    let pos = [
-        volume.origin[0],
-        volume.origin[1],
-        volume.origin[2] + z as f64 * sp.z,
-    ];
-    let sop = uid(&format!("{series}/{z}"));
+    Ok(words)
+}
+
+/// The identifying attributes of slice `z` of `series`: SOP class and
+/// instance, modality, an anonymous patient, the deterministic study, series
+/// and frame-of-reference UIDs, and InstanceNumber `z + 1`.
+fn put_identity(obj: &mut InMemDicomObject, series: &str, z: usize) {
     let s = |t: Tag, vr: VR, v: String| DataElement::new(t, vr, PrimitiveValue::from(v));
-    let u16e = |t: Tag, v: u16| DataElement::new(t, VR::US, PrimitiveValue::from(v));
-    let mut obj = InMemDicomObject::new_empty();
+    let sop = uid(&format!("{series}/{z}"));
     obj.put(s(
         tags::SOP_CLASS_UID,
         VR::UI,
@@ -423,6 +418,26 @@ pub fn dicom_slice_bytes(volume: &Volume, z: usize, series: &str) -> Result<Vec<
         uid(&format!("{series}/frame")),
     ));
     obj.put(s(tags::INSTANCE_NUMBER, VR::IS, format!("{}", z + 1)));
+}
+
+/// The bytes of slice `z` of `volume` as a single-frame CT Image Storage
+/// DICOM file (explicit VR little endian; signed 16-bit samples
+/// `raw = HU + 1024`, RescaleSlope 1, RescaleIntercept −1024; axial
+/// orientation 1\0\0\0\1\0; ImagePositionPatient = origin + (0, 0, z·sz)).
+/// `series` keys the deterministic study/series/instance UIDs.
+pub fn dicom_slice_bytes(volume: &Volume, z: usize, series: &str) -> Result<Vec<u8>, CtError> {
+    let sl = volume.slice(z);
+    let words = stored_words(sl.data, z)?;
+    let sp = volume.spacing;
+    let pos = [
+        volume.origin[0],
+        volume.origin[1],
+        volume.origin[2] + z as f64 * sp.z,
+    ];
+    let s = |t: Tag, vr: VR, v: String| DataElement::new(t, vr, PrimitiveValue::from(v));
+    let u16e = |t: Tag, v: u16| DataElement::new(t, VR::US, PrimitiveValue::from(v));
+    let mut obj = InMemDicomObject::new_empty();
+    put_identity(&mut obj, series, z);
     obj.put(s(tags::SLICE_THICKNESS, VR::DS, ds(sp.z)));
     obj.put(s(
         tags::IMAGE_POSITION_PATIENT,

@@ -17,11 +17,9 @@ use super::plist::{parse_plist, PlistValue};
 use super::volume::{Spacing, Volume};
 use crate::files::write_atomic;
 
-/// Reads the CT volume of an `.inv3` project. Masks and surfaces in the
-/// project are ignored. Errors name the file: a corrupt or truncated gzip/tar
-/// stream, a missing `main.plist` or matrix, a malformed plist, a dtype other
-/// than int16, or a matrix whose byte count is not `2·nx·ny·nz`.
-pub fn read_inv3(path: &Path) -> Result<Volume, CtError> {
+/// The members of the project's gzip-compressed tar by file name, except
+/// masks and surface meshes (which can be large and are not needed).
+fn read_members(path: &Path) -> Result<HashMap<String, Vec<u8>>, CtError> {
     let file = std::fs::File::open(path).map_err(|e| CtError::io(path, e))?;
     let mut archive = tar::Archive::new(GzDecoder::new(std::io::BufReader::new(file)));
     let mut members: HashMap<String, Vec<u8>> = HashMap::new();
@@ -36,7 +34,6 @@ pub fn read_inv3(path: &Path) -> Result<Volume, CtError> {
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default();
-        // Masks and surface meshes can be large and are not needed.
         if name.starts_with("mask_") || name.ends_with(".vtp") {
             continue;
         }
@@ -46,18 +43,25 @@ pub fn read_inv3(path: &Path) -> Result<Volume, CtError> {
             .map_err(|e| CtError::inv3(path, format!("member {name}: {e}")))?;
         members.insert(name, bytes);
     }
+    Ok(members)
+}
+
+/// The parsed `main.plist` member of the project at `path`.
+fn main_plist(members: &HashMap<String, Vec<u8>>, path: &Path) -> Result<PlistValue, CtError> {
     let plist_bytes = members
         .get("main.plist")
         .ok_or_else(|| CtError::inv3(path, "no main.plist member"))?;
     let text = std::str::from_utf8(plist_bytes)
         .map_err(|_| CtError::inv3(path, "main.plist is not UTF-8"))?;
-    let plist = parse_plist(text).map_err(|source| CtError::Plist {
+    parse_plist(text).map_err(|source| CtError::Plist {
         path: path.to_owned(),
         source,
-    })?;
-    let matrix = plist
-        .get("matrix")
-        .ok_or_else(|| CtError::inv3(path, "main.plist has no `matrix` entry"))?;
+    })
+}
+
+/// The `(nx, ny, nz)` of `matrix.shape = [nz, ny, nx]`, checked to be an
+/// int16 matrix of positive size.
+fn matrix_shape(matrix: &PlistValue, path: &Path) -> Result<(usize, usize, usize), CtError> {
     let dtype = matrix
         .get("dtype")
         .and_then(PlistValue::as_str)
@@ -79,7 +83,20 @@ pub fn read_inv3(path: &Path) -> Result<Volume, CtError> {
             format!("matrix shape {shape:?} is not three positive integers"),
         ));
     }
-    let (nz, ny, nx) = (shape[0] as usize, shape[1] as usize, shape[2] as usize);
+    Ok((shape[2] as usize, shape[1] as usize, shape[0] as usize))
+}
+
+/// Reads the CT volume of an `.inv3` project. Masks and surfaces in the
+/// project are ignored. Errors name the file: a corrupt or truncated gzip/tar
+/// stream, a missing `main.plist` or matrix, a malformed plist, a dtype other
+/// than int16, or a matrix whose byte count is not `2·nx·ny·nz`.
+pub fn read_inv3(path: &Path) -> Result<Volume, CtError> {
+    let members = read_members(path)?;
+    let plist = main_plist(&members, path)?;
+    let matrix = plist
+        .get("matrix")
+        .ok_or_else(|| CtError::inv3(path, "main.plist has no `matrix` entry"))?;
+    let (nx, ny, nz) = matrix_shape(matrix, path)?;
     let spacing: Vec<f64> = plist
         .get("spacing")
         .and_then(PlistValue::as_array)
