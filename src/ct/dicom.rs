@@ -17,7 +17,7 @@ use dicom_core::{DataElement, Tag, VR};
 use dicom_dictionary_std::{tags, uids};
 use dicom_object::{FileMetaTableBuilder, InMemDicomObject};
 
-use super::error::CtError;
+use super::error::{CtError, DicomProblem};
 use super::volume::{Spacing, Volume};
 use crate::files::write_atomic;
 
@@ -75,35 +75,29 @@ impl PixelFormat {
     /// Reads and checks Rows, Columns, BitsAllocated, BitsStored,
     /// PixelRepresentation, SamplesPerPixel and NumberOfFrames.
     fn read(obj: &InMemDicomObject, path: &Path) -> Result<PixelFormat, CtError> {
-        let bad = |m: String| CtError::dicom(path, m);
-        let need = |tag: Tag, name: &str| {
-            get_int(obj, tag).ok_or_else(|| CtError::dicom(path, format!("missing or bad {name}")))
+        let bad = |problem: DicomProblem| CtError::dicom(path, problem);
+        let need = |tag: Tag, name: &'static str| {
+            get_int(obj, tag).ok_or_else(|| bad(DicomProblem::Missing(name)))
         };
         let rows = need(tags::ROWS, "Rows")?;
         let cols = need(tags::COLUMNS, "Columns")?;
         if rows <= 0 || cols <= 0 {
-            return Err(bad(format!("image size {rows}x{cols} is empty")));
+            return Err(bad(DicomProblem::EmptyImage { rows, cols }));
         }
         let bits = need(tags::BITS_ALLOCATED, "BitsAllocated")?;
         if bits != 8 && bits != 16 {
-            return Err(bad(format!(
-                "BitsAllocated {bits} is not supported (8 or 16)"
-            )));
+            return Err(bad(DicomProblem::BitsAllocated(bits)));
         }
         let stored = get_int(obj, tags::BITS_STORED).unwrap_or(bits);
         if !(1..=bits).contains(&stored) {
-            return Err(bad(format!(
-                "BitsStored {stored} exceeds BitsAllocated {bits}"
-            )));
+            return Err(bad(DicomProblem::BitsStored { stored, bits }));
         }
         let signed = get_int(obj, tags::PIXEL_REPRESENTATION).unwrap_or(0) == 1;
         if get_int(obj, tags::SAMPLES_PER_PIXEL).unwrap_or(1) != 1 {
-            return Err(bad(
-                "only one sample per pixel (grey scale) is supported".into()
-            ));
+            return Err(bad(DicomProblem::SamplesPerPixel));
         }
         if get_int(obj, tags::NUMBER_OF_FRAMES).unwrap_or(1) != 1 {
-            return Err(bad("multi-frame images are not supported".into()));
+            return Err(bad(DicomProblem::MultiFrame));
         }
         Ok(PixelFormat {
             rows: rows as usize,
@@ -117,7 +111,7 @@ impl PixelFormat {
     /// The raw stored words of `pixel` (PixelData), independent of the
     /// host's byte order; at least `rows·cols` of them.
     fn words(&self, pixel: &Value<InMemDicomObject>, path: &Path) -> Result<Vec<u16>, CtError> {
-        let bad = |m: String| CtError::dicom(path, m);
+        let bad = |problem: DicomProblem| CtError::dicom(path, problem);
         let words: Vec<u16> = match pixel {
             Value::Primitive(PrimitiveValue::U16(v)) if self.bits == 16 => v.to_vec(),
             Value::Primitive(PrimitiveValue::I16(v)) if self.bits == 16 => {
@@ -133,20 +127,16 @@ impl PixelFormat {
                 .flat_map(|w| w.to_le_bytes())
                 .map(|b| b as u16)
                 .collect(),
-            _ => {
-                return Err(bad(
-                    "PixelData is encapsulated or of an unexpected type".into()
-                ))
-            }
+            _ => return Err(bad(DicomProblem::PixelDataType)),
         };
         let n = self.rows * self.cols;
         if words.len() < n {
-            return Err(bad(format!(
-                "PixelData holds {} samples, {}x{} needs {n}",
-                words.len(),
-                self.rows,
-                self.cols
-            )));
+            return Err(bad(DicomProblem::PixelDataLength {
+                found: words.len(),
+                rows: self.rows,
+                cols: self.cols,
+                needed: n,
+            }));
         }
         Ok(words)
     }
@@ -180,19 +170,15 @@ impl PixelFormat {
 /// Opens a DICOM file and checks that its transfer syntax is uncompressed
 /// little endian.
 fn open_uncompressed(path: &Path) -> Result<dicom_object::DefaultDicomObject, CtError> {
-    let bad = |m: String| CtError::dicom(path, m);
-    let file = dicom_object::open_file(path).map_err(|e| bad(e.to_string()))?;
+    let bad = |problem: DicomProblem| CtError::dicom(path, problem);
+    let file = dicom_object::open_file(path).map_err(|e| bad(DicomProblem::Open(Box::new(e))))?;
     let ts = file
         .meta()
         .transfer_syntax()
         .trim_end_matches('\0')
         .to_string();
     if ts != uids::IMPLICIT_VR_LITTLE_ENDIAN && ts != uids::EXPLICIT_VR_LITTLE_ENDIAN {
-        return Err(bad(format!(
-            "transfer syntax {ts} is not supported (only uncompressed little endian: {} or {})",
-            uids::IMPLICIT_VR_LITTLE_ENDIAN,
-            uids::EXPLICIT_VR_LITTLE_ENDIAN
-        )));
+        return Err(bad(DicomProblem::TransferSyntax { syntax: ts }));
     }
     Ok(file)
 }
@@ -228,13 +214,13 @@ fn slice_location(obj: &InMemDicomObject, position: Option<[f64; 3]>) -> f64 {
 /// sample per pixel, bits allocated other than 8/16, missing Rows, Columns,
 /// PixelSpacing or PixelData, or pixel data of the wrong length.
 pub fn read_dicom_file(path: &Path) -> Result<DicomSlice, CtError> {
-    let bad = |m: String| CtError::dicom(path, m);
+    let bad = |problem: DicomProblem| CtError::dicom(path, problem);
     let file = open_uncompressed(path)?;
     let obj: &InMemDicomObject = &file;
     let format = PixelFormat::read(obj, path)?;
     let spacing = get_f64s(obj, tags::PIXEL_SPACING)
         .filter(|v| v.len() == 2 && v.iter().all(|s| s.is_finite() && *s > 0.0))
-        .ok_or_else(|| bad("missing or bad PixelSpacing".into()))?;
+        .ok_or_else(|| bad(DicomProblem::Missing("PixelSpacing")))?;
     let slope = first_f64(obj, tags::RESCALE_SLOPE).unwrap_or(1.0);
     let intercept = first_f64(obj, tags::RESCALE_INTERCEPT).unwrap_or(0.0);
     let position = get_f64s(obj, tags::IMAGE_POSITION_PATIENT)
@@ -244,8 +230,8 @@ pub fn read_dicom_file(path: &Path) -> Result<DicomSlice, CtError> {
     let thickness = first_f64(obj, tags::SLICE_THICKNESS);
     let pixel = obj
         .element_opt(tags::PIXEL_DATA)
-        .map_err(|e| bad(e.to_string()))?
-        .ok_or_else(|| bad("no PixelData".into()))?;
+        .map_err(|e| bad(DicomProblem::PixelDataAccess(Box::new(e))))?
+        .ok_or_else(|| bad(DicomProblem::NoPixelData))?;
     let words = format.words(pixel.value(), path)?;
     Ok(DicomSlice {
         path: path.to_owned(),

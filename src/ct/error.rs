@@ -24,22 +24,14 @@ pub enum CtError {
     #[error("{0}")]
     Write(#[from] IoError),
     /// An `.inv3` project is truncated or corrupt (bad gzip or tar stream,
-    /// missing member, missing or bad `main.plist` entry).
-    #[error("{}: truncated or corrupt .inv3: {message}", path.display())]
+    /// missing member, malformed `main.plist`).
+    #[error("{}: truncated or corrupt .inv3: {problem}", path.display())]
     Inv3 {
         /// The `.inv3` file.
         path: PathBuf,
         /// What is wrong.
-        message: String,
-    },
-    /// The `main.plist` of an `.inv3` project is not a well-formed property
-    /// list.
-    #[error("{}: truncated or corrupt .inv3: main.plist: {source}", path.display())]
-    Plist {
-        /// The `.inv3` file.
-        path: PathBuf,
-        /// What is malformed and where.
-        source: PlistError,
+        #[source]
+        problem: Inv3Problem,
     },
     /// A raw voxel array does not hold `nx·ny·nz` samples of the declared type.
     #[error(
@@ -55,12 +47,13 @@ pub enum CtError {
         found: u64,
     },
     /// A DICOM file is corrupt or of an unsupported kind.
-    #[error("{}: corrupt or unsupported DICOM: {message}", path.display())]
+    #[error("{}: corrupt or unsupported DICOM: {problem}", path.display())]
     Dicom {
         /// The DICOM file.
         path: PathBuf,
         /// What is wrong.
-        message: String,
+        #[source]
+        problem: DicomProblem,
     },
     /// A DICOM series was given no files.
     #[error("empty DICOM series: no files")]
@@ -363,20 +356,130 @@ impl CtError {
     }
 
     /// A corrupt-`.inv3` error on `path`.
-    pub fn inv3(path: &Path, message: impl Into<String>) -> Self {
+    pub fn inv3(path: &Path, problem: Inv3Problem) -> Self {
         CtError::Inv3 {
             path: path.to_owned(),
-            message: message.into(),
+            problem,
         }
     }
 
     /// A corrupt-DICOM error on `path`.
-    pub fn dicom(path: &Path, message: impl Into<String>) -> Self {
+    pub fn dicom(path: &Path, problem: DicomProblem) -> Self {
         CtError::Dicom {
             path: path.to_owned(),
-            message: message.into(),
+            problem,
         }
     }
+}
+
+/// What is wrong with an `.inv3` project ([`CtError::Inv3`]).
+#[derive(Debug, thiserror::Error)]
+pub enum Inv3Problem {
+    /// The gzip or tar stream cannot be read.
+    #[error("bad tar stream: {0}")]
+    TarStream(#[source] io::Error),
+    /// A tar entry cannot be read.
+    #[error("bad tar entry: {0}")]
+    TarEntry(#[source] io::Error),
+    /// A tar entry's name cannot be read.
+    #[error("bad member name: {0}")]
+    MemberName(#[source] io::Error),
+    /// A member's bytes cannot be read.
+    #[error("member {name}: {source}")]
+    Member {
+        /// The member's file name.
+        name: String,
+        /// The read error.
+        source: io::Error,
+    },
+    /// A member the project needs is missing.
+    #[error("no {0} member")]
+    MissingMember(String),
+    /// `main.plist` is not UTF-8 text.
+    #[error("main.plist is not UTF-8")]
+    PlistNotUtf8,
+    /// `main.plist` is not a well-formed property list.
+    #[error("main.plist: {0}")]
+    Plist(#[source] PlistError),
+    /// `main.plist` has no `matrix` entry.
+    #[error("main.plist has no `matrix` entry")]
+    NoMatrix,
+    /// The matrix's sample type is not int16.
+    #[error("matrix dtype {0:?} is not supported (only int16)")]
+    Dtype(String),
+    /// The matrix's shape is not three positive integers.
+    #[error("matrix shape {0:?} is not three positive integers")]
+    Shape(Vec<i64>),
+    /// The voxel spacing is not three positive numbers.
+    #[error("spacing {0:?} is not three positive numbers")]
+    Spacing(Vec<f64>),
+}
+
+/// What is wrong with a DICOM file ([`CtError::Dicom`]).
+#[derive(Debug, thiserror::Error)]
+pub enum DicomProblem {
+    /// The file cannot be opened or parsed as DICOM.
+    #[error("{0}")]
+    Open(#[source] Box<dicom_object::ReadError>),
+    /// The transfer syntax is compressed or big endian.
+    #[error(
+        "transfer syntax {syntax} is not supported (only uncompressed little endian: {} or {})",
+        dicom_dictionary_std::uids::IMPLICIT_VR_LITTLE_ENDIAN,
+        dicom_dictionary_std::uids::EXPLICIT_VR_LITTLE_ENDIAN
+    )]
+    TransferSyntax {
+        /// The file's transfer syntax UID.
+        syntax: String,
+    },
+    /// A required attribute is missing or unreadable.
+    #[error("missing or bad {0}")]
+    Missing(&'static str),
+    /// Rows or Columns is not positive.
+    #[error("image size {rows}x{cols} is empty")]
+    EmptyImage {
+        /// Rows.
+        rows: i64,
+        /// Columns.
+        cols: i64,
+    },
+    /// BitsAllocated is not 8 or 16.
+    #[error("BitsAllocated {0} is not supported (8 or 16)")]
+    BitsAllocated(i64),
+    /// BitsStored is not in `1..=BitsAllocated`.
+    #[error("BitsStored {stored} exceeds BitsAllocated {bits}")]
+    BitsStored {
+        /// BitsStored.
+        stored: i64,
+        /// BitsAllocated.
+        bits: i64,
+    },
+    /// More than one sample per pixel (colour).
+    #[error("only one sample per pixel (grey scale) is supported")]
+    SamplesPerPixel,
+    /// More than one frame.
+    #[error("multi-frame images are not supported")]
+    MultiFrame,
+    /// PixelData cannot be accessed.
+    #[error("{0}")]
+    PixelDataAccess(#[source] Box<dicom_object::AccessError>),
+    /// No PixelData element.
+    #[error("no PixelData")]
+    NoPixelData,
+    /// PixelData is compressed (encapsulated) or of an unexpected value type.
+    #[error("PixelData is encapsulated or of an unexpected type")]
+    PixelDataType,
+    /// PixelData holds fewer samples than the image needs.
+    #[error("PixelData holds {found} samples, {rows}x{cols} needs {needed}")]
+    PixelDataLength {
+        /// Samples found.
+        found: usize,
+        /// Rows.
+        rows: usize,
+        /// Columns.
+        cols: usize,
+        /// `rows·cols`.
+        needed: usize,
+    },
 }
 
 #[cfg(test)]
@@ -408,6 +511,39 @@ mod tests {
             found: 23,
         };
         assert_eq!(e.to_string(), "volume 2x3x4 needs 24 voxels, got 23");
+    }
+
+    #[test]
+    fn file_problems_keep_their_text() {
+        let e = CtError::inv3(Path::new("x.inv3"), Inv3Problem::Shape(vec![1, 2]));
+        assert_eq!(
+            e.to_string(),
+            "x.inv3: truncated or corrupt .inv3: matrix shape [1, 2] is not three positive integers"
+        );
+        let e = CtError::inv3(
+            Path::new("x.inv3"),
+            Inv3Problem::MissingMember("main.plist".into()),
+        );
+        assert_eq!(
+            e.to_string(),
+            "x.inv3: truncated or corrupt .inv3: no main.plist member"
+        );
+        let e = CtError::dicom(Path::new("a.dcm"), DicomProblem::Missing("PixelSpacing"));
+        assert_eq!(
+            e.to_string(),
+            "a.dcm: corrupt or unsupported DICOM: missing or bad PixelSpacing"
+        );
+        let e = CtError::dicom(
+            Path::new("a.dcm"),
+            DicomProblem::TransferSyntax {
+                syntax: "1.2.840.10008.1.2.2".into(),
+            },
+        );
+        assert_eq!(
+            e.to_string(),
+            "a.dcm: corrupt or unsupported DICOM: transfer syntax 1.2.840.10008.1.2.2 is not supported \
+             (only uncompressed little endian: 1.2.840.10008.1.2 or 1.2.840.10008.1.2.1)"
+        );
     }
 
     #[test]

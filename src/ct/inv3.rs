@@ -12,7 +12,7 @@ use std::path::Path;
 
 use flate2::read::GzDecoder;
 
-use super::error::CtError;
+use super::error::{CtError, Inv3Problem};
 use super::plist::{parse_plist, PlistValue};
 use super::volume::{Spacing, Volume};
 use crate::files::write_atomic;
@@ -25,12 +25,12 @@ fn read_members(path: &Path) -> Result<HashMap<String, Vec<u8>>, CtError> {
     let mut members: HashMap<String, Vec<u8>> = HashMap::new();
     let entries = archive
         .entries()
-        .map_err(|e| CtError::inv3(path, format!("bad tar stream: {e}")))?;
+        .map_err(|e| CtError::inv3(path, Inv3Problem::TarStream(e)))?;
     for entry in entries {
-        let mut entry = entry.map_err(|e| CtError::inv3(path, format!("bad tar entry: {e}")))?;
+        let mut entry = entry.map_err(|e| CtError::inv3(path, Inv3Problem::TarEntry(e)))?;
         let name = entry
             .path()
-            .map_err(|e| CtError::inv3(path, format!("bad member name: {e}")))?
+            .map_err(|e| CtError::inv3(path, Inv3Problem::MemberName(e)))?
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default();
@@ -38,9 +38,15 @@ fn read_members(path: &Path) -> Result<HashMap<String, Vec<u8>>, CtError> {
             continue;
         }
         let mut bytes = Vec::with_capacity(entry.size() as usize);
-        entry
-            .read_to_end(&mut bytes)
-            .map_err(|e| CtError::inv3(path, format!("member {name}: {e}")))?;
+        entry.read_to_end(&mut bytes).map_err(|source| {
+            CtError::inv3(
+                path,
+                Inv3Problem::Member {
+                    name: name.clone(),
+                    source,
+                },
+            )
+        })?;
         members.insert(name, bytes);
     }
     Ok(members)
@@ -50,13 +56,10 @@ fn read_members(path: &Path) -> Result<HashMap<String, Vec<u8>>, CtError> {
 fn main_plist(members: &HashMap<String, Vec<u8>>, path: &Path) -> Result<PlistValue, CtError> {
     let plist_bytes = members
         .get("main.plist")
-        .ok_or_else(|| CtError::inv3(path, "no main.plist member"))?;
+        .ok_or_else(|| CtError::inv3(path, Inv3Problem::MissingMember("main.plist".into())))?;
     let text = std::str::from_utf8(plist_bytes)
-        .map_err(|_| CtError::inv3(path, "main.plist is not UTF-8"))?;
-    parse_plist(text).map_err(|source| CtError::Plist {
-        path: path.to_owned(),
-        source,
-    })
+        .map_err(|_| CtError::inv3(path, Inv3Problem::PlistNotUtf8))?;
+    parse_plist(text).map_err(|e| CtError::inv3(path, Inv3Problem::Plist(e)))
 }
 
 /// The `(nx, ny, nz)` of `matrix.shape = [nz, ny, nx]`, checked to be an
@@ -67,10 +70,7 @@ fn matrix_shape(matrix: &PlistValue, path: &Path) -> Result<(usize, usize, usize
         .and_then(PlistValue::as_str)
         .unwrap_or("");
     if dtype != "int16" {
-        return Err(CtError::inv3(
-            path,
-            format!("matrix dtype {dtype:?} is not supported (only int16)"),
-        ));
+        return Err(CtError::inv3(path, Inv3Problem::Dtype(dtype.into())));
     }
     let shape: Vec<i64> = matrix
         .get("shape")
@@ -78,10 +78,7 @@ fn matrix_shape(matrix: &PlistValue, path: &Path) -> Result<(usize, usize, usize
         .map(|a| a.iter().filter_map(PlistValue::as_i64).collect())
         .unwrap_or_default();
     if shape.len() != 3 || shape.iter().any(|&s| s <= 0) {
-        return Err(CtError::inv3(
-            path,
-            format!("matrix shape {shape:?} is not three positive integers"),
-        ));
+        return Err(CtError::inv3(path, Inv3Problem::Shape(shape)));
     }
     Ok((shape[2] as usize, shape[1] as usize, shape[0] as usize))
 }
@@ -95,7 +92,7 @@ pub fn read_inv3(path: &Path) -> Result<Volume, CtError> {
     let plist = main_plist(&members, path)?;
     let matrix = plist
         .get("matrix")
-        .ok_or_else(|| CtError::inv3(path, "main.plist has no `matrix` entry"))?;
+        .ok_or_else(|| CtError::inv3(path, Inv3Problem::NoMatrix))?;
     let (nx, ny, nz) = matrix_shape(matrix, path)?;
     let spacing: Vec<f64> = plist
         .get("spacing")
@@ -103,10 +100,7 @@ pub fn read_inv3(path: &Path) -> Result<Volume, CtError> {
         .map(|a| a.iter().filter_map(PlistValue::as_f64).collect())
         .unwrap_or_default();
     if spacing.len() != 3 || spacing.iter().any(|&s| !(s.is_finite() && s > 0.0)) {
-        return Err(CtError::inv3(
-            path,
-            format!("spacing {spacing:?} is not three positive numbers"),
-        ));
+        return Err(CtError::inv3(path, Inv3Problem::Spacing(spacing)));
     }
     let filename = matrix
         .get("filename")
@@ -114,7 +108,7 @@ pub fn read_inv3(path: &Path) -> Result<Volume, CtError> {
         .unwrap_or("matrix.dat");
     let raw = members
         .get(filename)
-        .ok_or_else(|| CtError::inv3(path, format!("no {filename} member")))?;
+        .ok_or_else(|| CtError::inv3(path, Inv3Problem::MissingMember(filename.into())))?;
     let expected = 2 * (nx as u64) * (ny as u64) * (nz as u64);
     if raw.len() as u64 != expected {
         return Err(CtError::ByteCount {

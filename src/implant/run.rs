@@ -105,8 +105,17 @@ fn run_defect(
     let cfg = &spec.defect_config;
     let mut solver = spec.method.solver(spec.seed);
     let implant = reconstruct_defect(volume, cfg, &mut *solver)?;
-    if !(implant.mesh.is_watertight() && implant.mesh.is_consistently_oriented()) {
-        return Err(ImplantError::BadMesh);
+    let (watertight, oriented) = (
+        implant.mesh.is_watertight(),
+        implant.mesh.is_consistently_oriented(),
+    );
+    if !(watertight && oriented) {
+        return Err(ImplantError::BadMesh {
+            vertices: implant.mesh.vertices.len(),
+            triangles: implant.mesh.triangles.len(),
+            watertight,
+            oriented,
+        });
     }
     let stl = stl_bytes(&implant.mesh, "metabezier chapter-6 implant, mm");
     outputs.write("implant.stl", &stl)?;
