@@ -98,8 +98,16 @@ pub fn marching_squares(
             }
         }
     }
+    link_loops(&mut next, &starts)
+}
+
+/// Links the cell segments into closed loops: `next[k]` is the (end edge,
+/// start point) of the segment starting at edge `k`, `starts` the edges
+/// that start one. Repeated points are dropped, and loops shorter than 3
+/// vertices.
+fn link_loops(next: &mut [Option<(usize, Point)>], starts: &[usize]) -> Vec<Polyline> {
     let mut loops = Vec::new();
-    for s in starts {
+    for &s in starts {
         if next[s].is_none() {
             continue;
         }
@@ -185,7 +193,7 @@ pub fn table_contours(
         .iter()
         .filter(|l| l.signed_area() > 0.0)
         .max_by(|a, b| a.signed_area().total_cmp(&b.signed_area()))
-        .ok_or_else(|| CtError::Invalid("no closed bone contour in the slice".into()))?;
+        .ok_or(CtError::NoClosedContour)?;
     match ends {
         None => {
             let centre = outer.vertex_mean();
@@ -195,12 +203,7 @@ pub fn table_contours(
                     l.signed_area() < 0.0 && l.contains(centre) && outer.contains(l.points[0])
                 })
                 .min_by(|a, b| a.signed_area().total_cmp(&b.signed_area()))
-                .ok_or_else(|| {
-                    CtError::Invalid(
-                        "the bone ring is open (no inner cavity): give the defect ends A and B"
-                            .into(),
-                    )
-                })?;
+                .ok_or(CtError::OpenRing)?;
             Ok(TableContours {
                 outer: outer.clone(),
                 inner: inner.clone(),

@@ -73,23 +73,17 @@ fn angle01(p: Point, o: Point) -> f64 {
     }
 }
 
-/// Finds the gap in the bone ring of `mask` (one slice, typically the
-/// largest component), with pixel spacing `sx`, `sy` in mm; `None` when the
-/// ring covers every direction from its centre or the widest gap is below
-/// `min_gap_deg`.
-pub fn detect_defect(mask: &Mask2, sx: f64, sy: f64, params: &DefectParams) -> Option<Defect> {
-    let pixels = mask.pixels();
-    if pixels.is_empty() {
-        return None;
-    }
-    let mm = |r: f64, c: f64| Point::new(c * sx, r * sy);
-    let centre = pixels
-        .iter()
-        .fold(Point::ZERO, |s, &(r, c)| s + mm(r as f64, c as f64))
-        / pixels.len() as f64;
-    let nb = params.bins.max(8);
+/// Which of `nb` equal angular bins about `centre` (turns from +x) the
+/// pixels cover; a pixel covers every bin its square overlaps, and one
+/// holding the centre covers them all. `mm` maps (row, col) to mm.
+fn angular_coverage(
+    pixels: &[(usize, usize)],
+    mm: impl Fn(f64, f64) -> Point,
+    centre: Point,
+    nb: usize,
+) -> Vec<bool> {
     let mut covered = vec![false; nb];
-    for &(r, c) in &pixels {
+    for &(r, c) in pixels {
         let (r, c) = (r as f64, c as f64);
         let corners = [
             mm(r - 0.5, c - 0.5),
@@ -125,7 +119,13 @@ pub fn detect_defect(mask: &Mask2, sx: f64, sy: f64, params: &DefectParams) -> O
             covered[b.rem_euclid(nb as i64) as usize] = true;
         }
     }
-    // Longest circular run of uncovered bins.
+    covered
+}
+
+/// The longest circular run of uncovered bins as (start bin, length);
+/// `None` when no bin is covered, length 0 when every bin is.
+fn longest_gap(covered: &[bool]) -> Option<(usize, usize)> {
+    let nb = covered.len();
     let first_covered = covered.iter().position(|&b| b)?;
     let mut best = (0usize, 0usize); // (start bin, length)
     let mut run_start = None;
@@ -142,6 +142,44 @@ pub fn detect_defect(mask: &Mask2, sx: f64, sy: f64, params: &DefectParams) -> O
             }
         }
     }
+    Some(best)
+}
+
+/// A bone pixel (row, col) and its centre in mm.
+type Px = (usize, usize, Point);
+
+/// The closest pair of a pixel of `side_a` and one of `side_b` (the first
+/// found among equals).
+fn closest_pair(side_a: &[Px], side_b: &[Px]) -> Option<(Px, Px)> {
+    let mut best_pair: Option<(f64, Px, Px)> = None;
+    for &pa in side_a {
+        for &pb in side_b {
+            let d = pa.2.distance_squared(pb.2);
+            if best_pair.is_none_or(|(bd, _, _)| d < bd) {
+                best_pair = Some((d, pa, pb));
+            }
+        }
+    }
+    best_pair.map(|(_, pa, pb)| (pa, pb))
+}
+
+/// Finds the gap in the bone ring of `mask` (one slice, typically the
+/// largest component), with pixel spacing `sx`, `sy` in mm; `None` when the
+/// ring covers every direction from its centre or the widest gap is below
+/// `min_gap_deg`.
+pub fn detect_defect(mask: &Mask2, sx: f64, sy: f64, params: &DefectParams) -> Option<Defect> {
+    let pixels = mask.pixels();
+    if pixels.is_empty() {
+        return None;
+    }
+    let mm = |r: f64, c: f64| Point::new(c * sx, r * sy);
+    let centre = pixels
+        .iter()
+        .fold(Point::ZERO, |s, &(r, c)| s + mm(r as f64, c as f64))
+        / pixels.len() as f64;
+    let nb = params.bins.max(8);
+    let covered = angular_coverage(&pixels, mm, centre, nb);
+    let best = longest_gap(&covered)?;
     let width_deg = best.1 as f64 * 360.0 / nb as f64;
     if best.1 == 0 || width_deg < params.min_gap_deg {
         return None;
@@ -164,17 +202,7 @@ pub fn detect_defect(mask: &Mask2, sx: f64, sy: f64, params: &DefectParams) -> O
             side_b.push((r, c, p));
         }
     }
-    type Px = (usize, usize, Point);
-    let mut best_pair: Option<(f64, Px, Px)> = None;
-    for &pa in &side_a {
-        for &pb in &side_b {
-            let d = pa.2.distance_squared(pb.2);
-            if best_pair.is_none_or(|(bd, _, _)| d < bd) {
-                best_pair = Some((d, pa, pb));
-            }
-        }
-    }
-    let (_, pa, pb) = best_pair?;
+    let (pa, pb) = closest_pair(&side_a, &side_b)?;
     Some(Defect {
         a: (pa.0, pa.1),
         b: (pb.0, pb.1),

@@ -17,7 +17,7 @@ use dicom_core::{DataElement, Tag, VR};
 use dicom_dictionary_std::{tags, uids};
 use dicom_object::{FileMetaTableBuilder, InMemDicomObject};
 
-use super::error::CtError;
+use super::error::{CtError, DicomProblem};
 use super::volume::{Spacing, Volume};
 use crate::files::write_atomic;
 
@@ -58,70 +58,142 @@ fn get_int(obj: &InMemDicomObject, tag: Tag) -> Option<i64> {
         .and_then(|e| e.to_int::<i64>().ok())
 }
 
-/// Reads one DICOM file into HU. Errors (naming the file): unreadable or not
-/// DICOM, compressed or big-endian transfer syntax, more than one frame or
-/// sample per pixel, bits allocated other than 8/16, missing Rows, Columns,
-/// PixelSpacing or PixelData, or pixel data of the wrong length.
-pub fn read_dicom_file(path: &Path) -> Result<DicomSlice, CtError> {
-    let bad = |m: String| CtError::dicom(path, m);
-    let file = dicom_object::open_file(path).map_err(|e| bad(e.to_string()))?;
+/// The pixel format of a grey-scale image (Image Pixel module).
+#[derive(Clone, Copy, Debug)]
+struct PixelFormat {
+    rows: usize,
+    cols: usize,
+    /// BitsAllocated: 8 or 16.
+    bits: i64,
+    /// BitsStored, `1..=bits`.
+    stored: i64,
+    /// PixelRepresentation 1: two's complement samples.
+    signed: bool,
+}
+
+impl PixelFormat {
+    /// Reads and checks Rows, Columns, BitsAllocated, BitsStored,
+    /// PixelRepresentation, SamplesPerPixel and NumberOfFrames.
+    fn read(obj: &InMemDicomObject, path: &Path) -> Result<PixelFormat, CtError> {
+        let bad = |problem: DicomProblem| CtError::dicom(path, problem);
+        let need = |tag: Tag, name: &'static str| {
+            get_int(obj, tag).ok_or_else(|| bad(DicomProblem::Missing(name)))
+        };
+        let rows = need(tags::ROWS, "Rows")?;
+        let cols = need(tags::COLUMNS, "Columns")?;
+        if rows <= 0 || cols <= 0 {
+            return Err(bad(DicomProblem::EmptyImage { rows, cols }));
+        }
+        let bits = need(tags::BITS_ALLOCATED, "BitsAllocated")?;
+        if bits != 8 && bits != 16 {
+            return Err(bad(DicomProblem::BitsAllocated(bits)));
+        }
+        let stored = get_int(obj, tags::BITS_STORED).unwrap_or(bits);
+        if !(1..=bits).contains(&stored) {
+            return Err(bad(DicomProblem::BitsStored { stored, bits }));
+        }
+        let signed = get_int(obj, tags::PIXEL_REPRESENTATION).unwrap_or(0) == 1;
+        if get_int(obj, tags::SAMPLES_PER_PIXEL).unwrap_or(1) != 1 {
+            return Err(bad(DicomProblem::SamplesPerPixel));
+        }
+        if get_int(obj, tags::NUMBER_OF_FRAMES).unwrap_or(1) != 1 {
+            return Err(bad(DicomProblem::MultiFrame));
+        }
+        Ok(PixelFormat {
+            rows: rows as usize,
+            cols: cols as usize,
+            bits,
+            stored,
+            signed,
+        })
+    }
+
+    /// The raw stored words of `pixel` (PixelData), independent of the
+    /// host's byte order; at least `rows·cols` of them.
+    fn words(&self, pixel: &Value<InMemDicomObject>, path: &Path) -> Result<Vec<u16>, CtError> {
+        let bad = |problem: DicomProblem| CtError::dicom(path, problem);
+        let words: Vec<u16> = match pixel {
+            Value::Primitive(PrimitiveValue::U16(v)) if self.bits == 16 => v.to_vec(),
+            Value::Primitive(PrimitiveValue::I16(v)) if self.bits == 16 => {
+                v.iter().map(|&x| x as u16).collect()
+            }
+            Value::Primitive(PrimitiveValue::U8(v)) if self.bits == 16 => v
+                .chunks_exact(2)
+                .map(|c| u16::from_le_bytes([c[0], c[1]]))
+                .collect(),
+            Value::Primitive(PrimitiveValue::U8(v)) => v.iter().map(|&b| b as u16).collect(),
+            Value::Primitive(PrimitiveValue::U16(v)) => v
+                .iter()
+                .flat_map(|w| w.to_le_bytes())
+                .map(|b| b as u16)
+                .collect(),
+            _ => return Err(bad(DicomProblem::PixelDataType)),
+        };
+        let n = self.rows * self.cols;
+        if words.len() < n {
+            return Err(bad(DicomProblem::PixelDataLength {
+                found: words.len(),
+                rows: self.rows,
+                cols: self.cols,
+                needed: n,
+            }));
+        }
+        Ok(words)
+    }
+
+    /// The first `rows·cols` stored words as HU: masked to BitsStored,
+    /// sign-extended when signed, `raw·slope + intercept`, rounded and
+    /// clamped to i16.
+    fn hu(&self, words: &[u16], slope: f64, intercept: f64) -> Vec<i16> {
+        let stored = self.stored;
+        let mask: u32 = if stored >= 32 {
+            u32::MAX
+        } else {
+            (1u32 << stored) - 1
+        };
+        words[..self.rows * self.cols]
+            .iter()
+            .map(|&w| {
+                let u = (w as u32) & mask;
+                let raw = if self.signed && stored > 0 && (u >> (stored - 1)) & 1 == 1 {
+                    u as i64 - (1i64 << stored)
+                } else {
+                    u as i64
+                };
+                let v = (raw as f64 * slope + intercept).round();
+                v.clamp(i16::MIN as f64, i16::MAX as f64) as i16
+            })
+            .collect()
+    }
+}
+
+/// Opens a DICOM file and checks that its transfer syntax is uncompressed
+/// little endian.
+fn open_uncompressed(path: &Path) -> Result<dicom_object::DefaultDicomObject, CtError> {
+    let bad = |problem: DicomProblem| CtError::dicom(path, problem);
+    let file = dicom_object::open_file(path).map_err(|e| bad(DicomProblem::Open(Box::new(e))))?;
     let ts = file
         .meta()
         .transfer_syntax()
         .trim_end_matches('\0')
         .to_string();
     if ts != uids::IMPLICIT_VR_LITTLE_ENDIAN && ts != uids::EXPLICIT_VR_LITTLE_ENDIAN {
-        return Err(bad(format!(
-            "transfer syntax {ts} is not supported (only uncompressed little endian: {} or {})",
-            uids::IMPLICIT_VR_LITTLE_ENDIAN,
-            uids::EXPLICIT_VR_LITTLE_ENDIAN
-        )));
+        return Err(bad(DicomProblem::TransferSyntax { syntax: ts }));
     }
-    let obj: &InMemDicomObject = &file;
-    let need = |tag: Tag, name: &str| {
-        get_int(obj, tag).ok_or_else(|| CtError::dicom(path, format!("missing or bad {name}")))
-    };
-    let rows = need(tags::ROWS, "Rows")?;
-    let cols = need(tags::COLUMNS, "Columns")?;
-    if rows <= 0 || cols <= 0 {
-        return Err(bad(format!("image size {rows}x{cols} is empty")));
-    }
-    let (rows, cols) = (rows as usize, cols as usize);
-    let bits = need(tags::BITS_ALLOCATED, "BitsAllocated")?;
-    if bits != 8 && bits != 16 {
-        return Err(bad(format!(
-            "BitsAllocated {bits} is not supported (8 or 16)"
-        )));
-    }
-    let stored = get_int(obj, tags::BITS_STORED).unwrap_or(bits);
-    if !(1..=bits).contains(&stored) {
-        return Err(bad(format!(
-            "BitsStored {stored} exceeds BitsAllocated {bits}"
-        )));
-    }
-    let signed = get_int(obj, tags::PIXEL_REPRESENTATION).unwrap_or(0) == 1;
-    if get_int(obj, tags::SAMPLES_PER_PIXEL).unwrap_or(1) != 1 {
-        return Err(bad(
-            "only one sample per pixel (grey scale) is supported".into()
-        ));
-    }
-    if get_int(obj, tags::NUMBER_OF_FRAMES).unwrap_or(1) != 1 {
-        return Err(bad("multi-frame images are not supported".into()));
-    }
-    let spacing = get_f64s(obj, tags::PIXEL_SPACING)
-        .filter(|v| v.len() == 2 && v.iter().all(|s| s.is_finite() && *s > 0.0))
-        .ok_or_else(|| bad("missing or bad PixelSpacing".into()))?;
-    let slope = get_f64s(obj, tags::RESCALE_SLOPE)
-        .and_then(|v| v.first().copied())
-        .unwrap_or(1.0);
-    let intercept = get_f64s(obj, tags::RESCALE_INTERCEPT)
-        .and_then(|v| v.first().copied())
-        .unwrap_or(0.0);
-    let position = get_f64s(obj, tags::IMAGE_POSITION_PATIENT)
-        .filter(|v| v.len() == 3)
-        .map(|v| [v[0], v[1], v[2]]);
+    Ok(file)
+}
+
+/// The first value of a numeric attribute.
+fn first_f64(obj: &InMemDicomObject, tag: Tag) -> Option<f64> {
+    get_f64s(obj, tag).and_then(|v| v.first().copied())
+}
+
+/// The slice's position along its normal `n = r × c` (from
+/// ImagePositionPatient and ImageOrientationPatient), else the position's z,
+/// else SliceLocation, else InstanceNumber, else 0.
+fn slice_location(obj: &InMemDicomObject, position: Option<[f64; 3]>) -> f64 {
     let orientation = get_f64s(obj, tags::IMAGE_ORIENTATION_PATIENT).filter(|v| v.len() == 6);
-    let location = match (position, orientation) {
+    match (position, orientation) {
         (Some(p), Some(o)) => {
             let n = [
                 o[1] * o[5] - o[2] * o[4],
@@ -131,74 +203,46 @@ pub fn read_dicom_file(path: &Path) -> Result<DicomSlice, CtError> {
             p[0] * n[0] + p[1] * n[1] + p[2] * n[2]
         }
         (Some(p), None) => p[2],
-        _ => get_f64s(obj, tags::SLICE_LOCATION)
-            .and_then(|v| v.first().copied())
+        _ => first_f64(obj, tags::SLICE_LOCATION)
             .or_else(|| get_int(obj, tags::INSTANCE_NUMBER).map(|i| i as f64))
             .unwrap_or(0.0),
-    };
-    let thickness = get_f64s(obj, tags::SLICE_THICKNESS).and_then(|v| v.first().copied());
+    }
+}
 
+/// Reads one DICOM file into HU. Errors (naming the file): unreadable or not
+/// DICOM, compressed or big-endian transfer syntax, more than one frame or
+/// sample per pixel, bits allocated other than 8/16, missing Rows, Columns,
+/// PixelSpacing or PixelData, or pixel data of the wrong length.
+pub fn read_dicom_file(path: &Path) -> Result<DicomSlice, CtError> {
+    let bad = |problem: DicomProblem| CtError::dicom(path, problem);
+    let file = open_uncompressed(path)?;
+    let obj: &InMemDicomObject = &file;
+    let format = PixelFormat::read(obj, path)?;
+    let spacing = get_f64s(obj, tags::PIXEL_SPACING)
+        .filter(|v| v.len() == 2 && v.iter().all(|s| s.is_finite() && *s > 0.0))
+        .ok_or_else(|| bad(DicomProblem::Missing("PixelSpacing")))?;
+    let slope = first_f64(obj, tags::RESCALE_SLOPE).unwrap_or(1.0);
+    let intercept = first_f64(obj, tags::RESCALE_INTERCEPT).unwrap_or(0.0);
+    let position = get_f64s(obj, tags::IMAGE_POSITION_PATIENT)
+        .filter(|v| v.len() == 3)
+        .map(|v| [v[0], v[1], v[2]]);
+    let location = slice_location(obj, position);
+    let thickness = first_f64(obj, tags::SLICE_THICKNESS);
     let pixel = obj
         .element_opt(tags::PIXEL_DATA)
-        .map_err(|e| bad(e.to_string()))?
-        .ok_or_else(|| bad("no PixelData".into()))?;
-    let n = rows * cols;
-    // Raw stored words, independent of the host's byte order.
-    let words: Vec<u16> = match pixel.value() {
-        Value::Primitive(PrimitiveValue::U16(v)) if bits == 16 => v.to_vec(),
-        Value::Primitive(PrimitiveValue::I16(v)) if bits == 16 => {
-            v.iter().map(|&x| x as u16).collect()
-        }
-        Value::Primitive(PrimitiveValue::U8(v)) if bits == 16 => v
-            .chunks_exact(2)
-            .map(|c| u16::from_le_bytes([c[0], c[1]]))
-            .collect(),
-        Value::Primitive(PrimitiveValue::U8(v)) => v.iter().map(|&b| b as u16).collect(),
-        Value::Primitive(PrimitiveValue::U16(v)) => v
-            .iter()
-            .flat_map(|w| w.to_le_bytes())
-            .map(|b| b as u16)
-            .collect(),
-        _ => {
-            return Err(bad(
-                "PixelData is encapsulated or of an unexpected type".into()
-            ))
-        }
-    };
-    if words.len() < n {
-        return Err(bad(format!(
-            "PixelData holds {} samples, {rows}x{cols} needs {n}",
-            words.len()
-        )));
-    }
-    let mask: u32 = if stored >= 32 {
-        u32::MAX
-    } else {
-        (1u32 << stored) - 1
-    };
-    let hu = words[..n]
-        .iter()
-        .map(|&w| {
-            let u = (w as u32) & mask;
-            let raw = if signed && stored > 0 && (u >> (stored - 1)) & 1 == 1 {
-                u as i64 - (1i64 << stored)
-            } else {
-                u as i64
-            };
-            let v = (raw as f64 * slope + intercept).round();
-            v.clamp(i16::MIN as f64, i16::MAX as f64) as i16
-        })
-        .collect();
+        .map_err(|e| bad(DicomProblem::PixelDataAccess(Box::new(e))))?
+        .ok_or_else(|| bad(DicomProblem::NoPixelData))?;
+    let words = format.words(pixel.value(), path)?;
     Ok(DicomSlice {
         path: path.to_owned(),
-        rows,
-        cols,
+        rows: format.rows,
+        cols: format.cols,
         row_spacing: spacing[0],
         col_spacing: spacing[1],
         position,
         location,
         thickness,
-        hu,
+        hu: format.hu(&words, slope, intercept),
     })
 }
 
@@ -213,7 +257,7 @@ fn same(a: f64, b: f64) -> bool {
 /// SliceThickness (or 1 mm) as z spacing.
 pub fn read_dicom_series(paths: &[PathBuf]) -> Result<Volume, CtError> {
     if paths.is_empty() {
-        return Err(CtError::Invalid("empty DICOM series: no files".into()));
+        return Err(CtError::EmptySeries);
     }
     let mut slices = paths
         .iter()
@@ -318,33 +362,24 @@ fn uid(key: &str) -> String {
     format!("2.25.{}", (hi << 64 | lo) >> 1)
 }
 
-/// The bytes of slice `z` of `volume` as a single-frame CT Image Storage
-/// DICOM file (explicit VR little endian; signed 16-bit samples
-/// `raw = HU + 1024`, RescaleSlope 1, RescaleIntercept −1024; axial
-/// orientation 1\0\0\0\1\0; ImagePositionPatient = origin + (0, 0, z·sz)).
-/// `series` keys the deterministic study/series/instance UIDs.
-pub fn dicom_slice_bytes(volume: &Volume, z: usize, series: &str) -> Result<Vec<u8>, CtError> {
-    let sl = volume.slice(z);
-    let mut words = Vec::with_capacity(sl.data.len());
-    for &hu in sl.data {
+/// The HU samples of slice `z` as the writer's stored words
+/// `raw = HU + 1024` (signed 16-bit).
+fn stored_words(hu: &[i16], z: usize) -> Result<Vec<u16>, CtError> {
+    let mut words = Vec::with_capacity(hu.len());
+    for &hu in hu {
         let raw = hu as i32 + 1024;
-        let raw = i16::try_from(raw).map_err(|_| {
-            CtError::Invalid(format!(
-                "HU {hu} in slice {z} does not fit the DICOM encoding"
-            ))
-        })?;
+        let raw = i16::try_from(raw).map_err(|_| CtError::HuOutOfRange { hu, slice: z })?;
         words.push(raw as u16);
     }
-    let sp = volume.spacing;
-    let pos = [
-        volume.origin[0],
-        volume.origin[1],
-        volume.origin[2] + z as f64 * sp.z,
-    ];
-    let sop = uid(&format!("{series}/{z}"));
+    Ok(words)
+}
+
+/// The identifying attributes of slice `z` of `series`: SOP class and
+/// instance, modality, an anonymous patient, the deterministic study, series
+/// and frame-of-reference UIDs, and InstanceNumber `z + 1`.
+fn put_identity(obj: &mut InMemDicomObject, series: &str, z: usize) {
     let s = |t: Tag, vr: VR, v: String| DataElement::new(t, vr, PrimitiveValue::from(v));
-    let u16e = |t: Tag, v: u16| DataElement::new(t, VR::US, PrimitiveValue::from(v));
-    let mut obj = InMemDicomObject::new_empty();
+    let sop = uid(&format!("{series}/{z}"));
     obj.put(s(
         tags::SOP_CLASS_UID,
         VR::UI,
@@ -369,6 +404,26 @@ pub fn dicom_slice_bytes(volume: &Volume, z: usize, series: &str) -> Result<Vec<
         uid(&format!("{series}/frame")),
     ));
     obj.put(s(tags::INSTANCE_NUMBER, VR::IS, format!("{}", z + 1)));
+}
+
+/// The bytes of slice `z` of `volume` as a single-frame CT Image Storage
+/// DICOM file (explicit VR little endian; signed 16-bit samples
+/// `raw = HU + 1024`, RescaleSlope 1, RescaleIntercept −1024; axial
+/// orientation 1\0\0\0\1\0; ImagePositionPatient = origin + (0, 0, z·sz)).
+/// `series` keys the deterministic study/series/instance UIDs.
+pub fn dicom_slice_bytes(volume: &Volume, z: usize, series: &str) -> Result<Vec<u8>, CtError> {
+    let sl = volume.slice(z);
+    let words = stored_words(sl.data, z)?;
+    let sp = volume.spacing;
+    let pos = [
+        volume.origin[0],
+        volume.origin[1],
+        volume.origin[2] + z as f64 * sp.z,
+    ];
+    let s = |t: Tag, vr: VR, v: String| DataElement::new(t, vr, PrimitiveValue::from(v));
+    let u16e = |t: Tag, v: u16| DataElement::new(t, VR::US, PrimitiveValue::from(v));
+    let mut obj = InMemDicomObject::new_empty();
+    put_identity(&mut obj, series, z);
     obj.put(s(tags::SLICE_THICKNESS, VR::DS, ds(sp.z)));
     obj.put(s(
         tags::IMAGE_POSITION_PATIENT,
@@ -407,14 +462,21 @@ pub fn dicom_slice_bytes(volume: &Volume, z: usize, series: &str) -> Result<Vec<
         PrimitiveValue::U16(words.into()),
     ));
     if sl.nx > u16::MAX as usize || sl.ny > u16::MAX as usize {
-        return Err(CtError::Invalid("slice too large for DICOM".into()));
+        return Err(CtError::SliceTooLarge {
+            nx: sl.nx,
+            ny: sl.ny,
+        });
     }
     let file = obj
         .with_meta(FileMetaTableBuilder::new().transfer_syntax(uids::EXPLICIT_VR_LITTLE_ENDIAN))
-        .map_err(|e| CtError::Invalid(format!("DICOM meta: {e}")))?;
+        .map_err(|e| CtError::DicomMeta {
+            source: Box::new(e),
+        })?;
     let mut bytes = Vec::new();
     file.write_all(&mut bytes)
-        .map_err(|e| CtError::Invalid(format!("DICOM encoding: {e}")))?;
+        .map_err(|e| CtError::DicomEncode {
+            source: Box::new(e),
+        })?;
     Ok(bytes)
 }
 

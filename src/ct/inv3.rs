@@ -12,58 +12,65 @@ use std::path::Path;
 
 use flate2::read::GzDecoder;
 
-use super::error::CtError;
+use super::error::{CtError, Inv3Problem};
 use super::plist::{parse_plist, PlistValue};
 use super::volume::{Spacing, Volume};
 use crate::files::write_atomic;
 
-/// Reads the CT volume of an `.inv3` project. Masks and surfaces in the
-/// project are ignored. Errors name the file: a corrupt or truncated gzip/tar
-/// stream, a missing `main.plist` or matrix, a malformed plist, a dtype other
-/// than int16, or a matrix whose byte count is not `2·nx·ny·nz`.
-pub fn read_inv3(path: &Path) -> Result<Volume, CtError> {
+/// The members of the project's gzip-compressed tar by file name, except
+/// masks and surface meshes (which can be large and are not needed).
+fn read_members(path: &Path) -> Result<HashMap<String, Vec<u8>>, CtError> {
     let file = std::fs::File::open(path).map_err(|e| CtError::io(path, e))?;
     let mut archive = tar::Archive::new(GzDecoder::new(std::io::BufReader::new(file)));
     let mut members: HashMap<String, Vec<u8>> = HashMap::new();
     let entries = archive
         .entries()
-        .map_err(|e| CtError::inv3(path, format!("bad tar stream: {e}")))?;
+        .map_err(|e| CtError::inv3(path, Inv3Problem::TarStream(e)))?;
     for entry in entries {
-        let mut entry = entry.map_err(|e| CtError::inv3(path, format!("bad tar entry: {e}")))?;
+        let mut entry = entry.map_err(|e| CtError::inv3(path, Inv3Problem::TarEntry(e)))?;
         let name = entry
             .path()
-            .map_err(|e| CtError::inv3(path, format!("bad member name: {e}")))?
+            .map_err(|e| CtError::inv3(path, Inv3Problem::MemberName(e)))?
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default();
-        // Masks and surface meshes can be large and are not needed.
         if name.starts_with("mask_") || name.ends_with(".vtp") {
             continue;
         }
         let mut bytes = Vec::with_capacity(entry.size() as usize);
-        entry
-            .read_to_end(&mut bytes)
-            .map_err(|e| CtError::inv3(path, format!("member {name}: {e}")))?;
+        entry.read_to_end(&mut bytes).map_err(|source| {
+            CtError::inv3(
+                path,
+                Inv3Problem::Member {
+                    name: name.clone(),
+                    source,
+                },
+            )
+        })?;
         members.insert(name, bytes);
     }
+    Ok(members)
+}
+
+/// The parsed `main.plist` member of the project at `path`.
+fn main_plist(members: &HashMap<String, Vec<u8>>, path: &Path) -> Result<PlistValue, CtError> {
     let plist_bytes = members
         .get("main.plist")
-        .ok_or_else(|| CtError::inv3(path, "no main.plist member"))?;
+        .ok_or_else(|| CtError::inv3(path, Inv3Problem::MissingMember("main.plist".into())))?;
     let text = std::str::from_utf8(plist_bytes)
-        .map_err(|_| CtError::inv3(path, "main.plist is not UTF-8"))?;
-    let plist = parse_plist(text).map_err(|m| CtError::inv3(path, format!("main.plist: {m}")))?;
-    let matrix = plist
-        .get("matrix")
-        .ok_or_else(|| CtError::inv3(path, "main.plist has no `matrix` entry"))?;
+        .map_err(|_| CtError::inv3(path, Inv3Problem::PlistNotUtf8))?;
+    parse_plist(text).map_err(|e| CtError::inv3(path, Inv3Problem::Plist(e)))
+}
+
+/// The `(nx, ny, nz)` of `matrix.shape = [nz, ny, nx]`, checked to be an
+/// int16 matrix of positive size.
+fn matrix_shape(matrix: &PlistValue, path: &Path) -> Result<(usize, usize, usize), CtError> {
     let dtype = matrix
         .get("dtype")
         .and_then(PlistValue::as_str)
         .unwrap_or("");
     if dtype != "int16" {
-        return Err(CtError::inv3(
-            path,
-            format!("matrix dtype {dtype:?} is not supported (only int16)"),
-        ));
+        return Err(CtError::inv3(path, Inv3Problem::Dtype(dtype.into())));
     }
     let shape: Vec<i64> = matrix
         .get("shape")
@@ -71,22 +78,29 @@ pub fn read_inv3(path: &Path) -> Result<Volume, CtError> {
         .map(|a| a.iter().filter_map(PlistValue::as_i64).collect())
         .unwrap_or_default();
     if shape.len() != 3 || shape.iter().any(|&s| s <= 0) {
-        return Err(CtError::inv3(
-            path,
-            format!("matrix shape {shape:?} is not three positive integers"),
-        ));
+        return Err(CtError::inv3(path, Inv3Problem::Shape(shape)));
     }
-    let (nz, ny, nx) = (shape[0] as usize, shape[1] as usize, shape[2] as usize);
+    Ok((shape[2] as usize, shape[1] as usize, shape[0] as usize))
+}
+
+/// Reads the CT volume of an `.inv3` project. Masks and surfaces in the
+/// project are ignored. Errors name the file: a corrupt or truncated gzip/tar
+/// stream, a missing `main.plist` or matrix, a malformed plist, a dtype other
+/// than int16, or a matrix whose byte count is not `2·nx·ny·nz`.
+pub fn read_inv3(path: &Path) -> Result<Volume, CtError> {
+    let members = read_members(path)?;
+    let plist = main_plist(&members, path)?;
+    let matrix = plist
+        .get("matrix")
+        .ok_or_else(|| CtError::inv3(path, Inv3Problem::NoMatrix))?;
+    let (nx, ny, nz) = matrix_shape(matrix, path)?;
     let spacing: Vec<f64> = plist
         .get("spacing")
         .and_then(PlistValue::as_array)
         .map(|a| a.iter().filter_map(PlistValue::as_f64).collect())
         .unwrap_or_default();
     if spacing.len() != 3 || spacing.iter().any(|&s| !(s.is_finite() && s > 0.0)) {
-        return Err(CtError::inv3(
-            path,
-            format!("spacing {spacing:?} is not three positive numbers"),
-        ));
+        return Err(CtError::inv3(path, Inv3Problem::Spacing(spacing)));
     }
     let filename = matrix
         .get("filename")
@@ -94,7 +108,7 @@ pub fn read_inv3(path: &Path) -> Result<Volume, CtError> {
         .unwrap_or("matrix.dat");
     let raw = members
         .get(filename)
-        .ok_or_else(|| CtError::inv3(path, format!("no {filename} member")))?;
+        .ok_or_else(|| CtError::inv3(path, Inv3Problem::MissingMember(filename.into())))?;
     let expected = 2 * (nx as u64) * (ny as u64) * (nz as u64);
     if raw.len() as u64 != expected {
         return Err(CtError::ByteCount {

@@ -114,31 +114,24 @@ fn positive(p: &Polyline) -> Polyline {
 /// result is watertight and outward oriented.
 pub fn loft(sections: &[Polyline], zs: &[f64], n: usize) -> Result<Mesh, CtError> {
     if sections.len() < 2 || sections.len() != zs.len() {
-        return Err(CtError::Invalid(format!(
-            "lofting needs at least two sections with one height each (got {} sections, {} heights)",
-            sections.len(),
-            zs.len()
-        )));
+        return Err(CtError::LoftSections {
+            sections: sections.len(),
+            heights: zs.len(),
+        });
     }
     if n < 3 {
-        return Err(CtError::Invalid(
-            "lofting needs n ≥ 3 points per ring".into(),
-        ));
+        return Err(CtError::LoftRingPoints { n });
     }
     if zs
         .windows(2)
         .any(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater))
     {
-        return Err(CtError::Invalid(
-            "section heights must increase strictly".into(),
-        ));
+        return Err(CtError::LoftHeights);
     }
     let mut rings: Vec<Vec<Point>> = Vec::with_capacity(sections.len());
     for (k, s) in sections.iter().enumerate() {
         if s.points.len() < 3 || s.signed_area().abs() <= 0.0 {
-            return Err(CtError::Invalid(format!(
-                "section {k} is not a polygon with positive area"
-            )));
+            return Err(CtError::DegenerateSection { index: k });
         }
         let mut closed = positive(s);
         closed.closed = true;

@@ -14,10 +14,10 @@ fn check(a: &Mask3, b: &Mask3) -> Result<(), CtError> {
     if a.same_grid(b) {
         Ok(())
     } else {
-        Err(CtError::Invalid(format!(
-            "masks on different grids: {}x{}x{} vs {}x{}x{}",
-            a.nx, a.ny, a.nz, b.nx, b.ny, b.nz
-        )))
+        Err(CtError::GridMismatch {
+            a: [a.nx, a.ny, a.nz],
+            b: [b.nx, b.ny, b.nz],
+        })
     }
 }
 
@@ -135,9 +135,7 @@ pub fn percentile(values: &[f64], p: f64) -> Option<f64> {
 /// mask is empty.
 pub fn hd95(a: &Mask3, b: &Mask3) -> Result<f64, CtError> {
     if a.count() == 0 || b.count() == 0 {
-        return Err(CtError::Invalid(
-            "HD95 of an empty mask is undefined".into(),
-        ));
+        return Err(CtError::EmptyMask);
     }
     let mut d = surface_distances(a, b)?;
     d.extend(surface_distances(b, a)?);
@@ -165,9 +163,7 @@ pub fn contour_deviation(
     step_mm: f64,
 ) -> Result<ContourDeviation, CtError> {
     if a.points.is_empty() || b.points.is_empty() || step_mm.is_nan() || step_mm <= 0.0 {
-        return Err(CtError::Invalid(
-            "contour deviation needs two non-empty polylines and a positive step".into(),
-        ));
+        return Err(CtError::BadDeviationInput);
     }
     let mut d = Vec::new();
     for (p, q) in [(a, b), (b, a)] {

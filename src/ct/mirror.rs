@@ -143,7 +143,7 @@ pub fn mirror_template(
         });
     }
     if outer.points.len() < 2 {
-        return Err(CtError::Invalid("the outer contour is empty".into()));
+        return Err(CtError::EmptyContour);
     }
     let c = reflect(a, midline_x);
     let d = reflect(b, midline_x);

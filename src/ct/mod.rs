@@ -36,7 +36,7 @@ pub use dicom::{
     read_dicom_dir, read_dicom_file, read_dicom_series, write_dicom_series, DicomSlice,
 };
 pub use edt::edt_squared;
-pub use error::CtError;
+pub use error::{CtError, DicomProblem, Inv3Problem};
 pub use inv3::{read_inv3, write_inv3};
 pub use mask::{Mask2, Mask3};
 pub use mesh::{loft, Mesh};

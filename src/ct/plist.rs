@@ -64,14 +64,79 @@ impl PlistValue {
     }
 }
 
+/// What is malformed in a property list.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum PlistErrorKind {
+    /// The document's root element is not `<plist>`.
+    #[error("expected <plist>")]
+    ExpectedPlist,
+    /// A comment, declaration or DOCTYPE is not closed.
+    #[error("unterminated markup")]
+    UnterminatedMarkup,
+    /// An opening tag was expected.
+    #[error("expected an opening tag")]
+    ExpectedOpeningTag,
+    /// A tag is not closed by `>`.
+    #[error("unterminated tag")]
+    UnterminatedTag,
+    /// The closing tag of an element was expected.
+    #[error("expected </{name}>")]
+    ExpectedClosingTag {
+        /// The element's name.
+        name: String,
+    },
+    /// Text runs to the end of the document.
+    #[error("unterminated text")]
+    UnterminatedText,
+    /// An empty element (`<name/>`) that cannot be empty.
+    #[error("unexpected <{name}/>")]
+    UnexpectedEmpty {
+        /// The element's name.
+        name: String,
+    },
+    /// A `<dict>` entry does not start with `<key>`.
+    #[error("expected <key> in <dict>")]
+    ExpectedKey,
+    /// The text of an `<integer>` or `<real>` is not a number.
+    #[error("bad <{element}> {text:?}")]
+    BadNumber {
+        /// `integer` or `real`.
+        element: &'static str,
+        /// The text found.
+        text: String,
+    },
+    /// An element the format does not have.
+    #[error("unknown element <{name}>")]
+    UnknownElement {
+        /// The element's name.
+        name: String,
+    },
+}
+
+/// A malformed property list: what is wrong and where.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{kind} at byte {position}")]
+pub struct PlistError {
+    /// The byte offset in the text.
+    pub position: usize,
+    /// What is wrong there.
+    pub kind: PlistErrorKind,
+}
+
+impl PlistError {
+    fn new(position: usize, kind: PlistErrorKind) -> Self {
+        PlistError { position, kind }
+    }
+}
+
 /// Parses an XML property list; the error says what is malformed and where
 /// (byte offset).
-pub fn parse_plist(text: &str) -> Result<PlistValue, String> {
+pub fn parse_plist(text: &str) -> Result<PlistValue, PlistError> {
     let mut p = Parser { s: text, pos: 0 };
     p.skip_misc()?;
     let (name, empty) = p.open_tag()?;
     if name != "plist" || empty {
-        return Err(format!("expected <plist> at byte {}", p.pos));
+        return Err(p.error(PlistErrorKind::ExpectedPlist));
     }
     p.skip_misc()?;
     let v = p.value()?;
@@ -90,8 +155,13 @@ impl<'a> Parser<'a> {
         &self.s[self.pos..]
     }
 
+    /// An error at the current position.
+    fn error(&self, kind: PlistErrorKind) -> PlistError {
+        PlistError::new(self.pos, kind)
+    }
+
     /// Skips whitespace, comments, `<?...?>` and `<!DOCTYPE ...>`.
-    fn skip_misc(&mut self) -> Result<(), String> {
+    fn skip_misc(&mut self) -> Result<(), PlistError> {
         loop {
             let trimmed = self.rest().trim_start();
             self.pos = self.s.len() - trimmed.len();
@@ -107,20 +177,20 @@ impl<'a> Parser<'a> {
             };
             match end {
                 Some(e) => self.pos += e,
-                None => return Err(format!("unterminated markup at byte {}", self.pos)),
+                None => return Err(self.error(PlistErrorKind::UnterminatedMarkup)),
             }
         }
     }
 
     /// Reads `<name>` or `<name/>`; returns the name and whether it is empty.
-    fn open_tag(&mut self) -> Result<(String, bool), String> {
+    fn open_tag(&mut self) -> Result<(String, bool), PlistError> {
         let r = self.rest();
         if !r.starts_with('<') || r.starts_with("</") {
-            return Err(format!("expected an opening tag at byte {}", self.pos));
+            return Err(self.error(PlistErrorKind::ExpectedOpeningTag));
         }
         let end = r
             .find('>')
-            .ok_or_else(|| format!("unterminated tag at byte {}", self.pos))?;
+            .ok_or_else(|| self.error(PlistErrorKind::UnterminatedTag))?;
         let inner = &r[1..end];
         let empty = inner.ends_with('/');
         let inner = inner.trim_end_matches('/');
@@ -129,22 +199,24 @@ impl<'a> Parser<'a> {
         Ok((name, empty))
     }
 
-    fn close_tag(&mut self, name: &str) -> Result<(), String> {
+    fn close_tag(&mut self, name: &str) -> Result<(), PlistError> {
         let want = format!("</{name}>");
         if self.rest().starts_with(&want) {
             self.pos += want.len();
             Ok(())
         } else {
-            Err(format!("expected {want} at byte {}", self.pos))
+            Err(self.error(PlistErrorKind::ExpectedClosingTag {
+                name: name.to_string(),
+            }))
         }
     }
 
     /// Text up to the next `<`, entity-decoded.
-    fn text(&mut self) -> Result<String, String> {
+    fn text(&mut self) -> Result<String, PlistError> {
         let r = self.rest();
         let end = r
             .find('<')
-            .ok_or_else(|| format!("unterminated text at byte {}", self.pos))?;
+            .ok_or_else(|| self.error(PlistErrorKind::UnterminatedText))?;
         let raw = r[..end].to_string();
         self.pos += end;
         Ok(raw
@@ -155,7 +227,7 @@ impl<'a> Parser<'a> {
             .replace("&amp;", "&"))
     }
 
-    fn value(&mut self) -> Result<PlistValue, String> {
+    fn value(&mut self) -> Result<PlistValue, PlistError> {
         let at = self.pos;
         let (name, empty) = self.open_tag()?;
         if empty {
@@ -165,61 +237,66 @@ impl<'a> Parser<'a> {
                 "string" | "date" | "data" => Ok(PlistValue::String(String::new())),
                 "dict" => Ok(PlistValue::Dict(Vec::new())),
                 "array" => Ok(PlistValue::Array(Vec::new())),
-                _ => Err(format!("unexpected <{name}/> at byte {at}")),
+                _ => Err(PlistError::new(
+                    at,
+                    PlistErrorKind::UnexpectedEmpty { name },
+                )),
             };
         }
         let v = match name.as_str() {
-            "dict" => {
-                let mut entries = Vec::new();
-                loop {
-                    self.skip_misc()?;
-                    if self.rest().starts_with("</") {
-                        break;
-                    }
-                    let (k, kempty) = self.open_tag()?;
-                    if k != "key" || kempty {
-                        return Err(format!("expected <key> in <dict> at byte {}", self.pos));
-                    }
-                    let key = self.text()?;
-                    self.close_tag("key")?;
-                    self.skip_misc()?;
-                    let v = self.value()?;
-                    entries.push((key, v));
-                }
-                PlistValue::Dict(entries)
-            }
-            "array" => {
-                let mut items = Vec::new();
-                loop {
-                    self.skip_misc()?;
-                    if self.rest().starts_with("</") {
-                        break;
-                    }
-                    items.push(self.value()?);
-                }
-                PlistValue::Array(items)
-            }
+            "dict" => PlistValue::Dict(self.dict_entries()?),
+            "array" => PlistValue::Array(self.array_items()?),
             "string" | "date" | "data" => PlistValue::String(self.text()?),
-            "integer" => {
-                let t = self.text()?;
-                PlistValue::Integer(
-                    t.trim()
-                        .parse()
-                        .map_err(|_| format!("bad <integer> {t:?} at byte {at}"))?,
-                )
-            }
-            "real" => {
-                let t = self.text()?;
-                PlistValue::Real(
-                    t.trim()
-                        .parse()
-                        .map_err(|_| format!("bad <real> {t:?} at byte {at}"))?,
-                )
-            }
-            _ => return Err(format!("unknown element <{name}> at byte {at}")),
+            "integer" => PlistValue::Integer(self.number(at, "integer")?),
+            "real" => PlistValue::Real(self.number(at, "real")?),
+            _ => return Err(PlistError::new(at, PlistErrorKind::UnknownElement { name })),
         };
         self.close_tag(&name)?;
         Ok(v)
+    }
+
+    /// The `<key>`/value pairs of a `<dict>` up to its closing tag.
+    fn dict_entries(&mut self) -> Result<Vec<(String, PlistValue)>, PlistError> {
+        let mut entries = Vec::new();
+        loop {
+            self.skip_misc()?;
+            if self.rest().starts_with("</") {
+                return Ok(entries);
+            }
+            let (k, kempty) = self.open_tag()?;
+            if k != "key" || kempty {
+                return Err(self.error(PlistErrorKind::ExpectedKey));
+            }
+            let key = self.text()?;
+            self.close_tag("key")?;
+            self.skip_misc()?;
+            let v = self.value()?;
+            entries.push((key, v));
+        }
+    }
+
+    /// The values of an `<array>` up to its closing tag.
+    fn array_items(&mut self) -> Result<Vec<PlistValue>, PlistError> {
+        let mut items = Vec::new();
+        loop {
+            self.skip_misc()?;
+            if self.rest().starts_with("</") {
+                return Ok(items);
+            }
+            items.push(self.value()?);
+        }
+    }
+
+    /// The text of the `<element>` opened at byte `at`, parsed as a number.
+    fn number<T: std::str::FromStr>(
+        &mut self,
+        at: usize,
+        element: &'static str,
+    ) -> Result<T, PlistError> {
+        let t = self.text()?;
+        t.trim()
+            .parse()
+            .map_err(|_| PlistError::new(at, PlistErrorKind::BadNumber { element, text: t }))
     }
 }
 
@@ -252,5 +329,24 @@ mod tests {
         );
         assert!(parse_plist("<plist><dict><key>a</key>").is_err());
         assert!(parse_plist("<dict></dict>").is_err());
+    }
+
+    #[test]
+    fn errors_say_what_and_where() {
+        let e = parse_plist("<plist><dict><key>a</key><integer>x</integer></dict></plist>")
+            .unwrap_err();
+        assert_eq!(e.position, 25);
+        assert_eq!(
+            e.kind,
+            PlistErrorKind::BadNumber {
+                element: "integer",
+                text: "x".into()
+            }
+        );
+        assert_eq!(e.to_string(), "bad <integer> \"x\" at byte 25");
+        let e = parse_plist("<plist><dict><key>a</key>").unwrap_err();
+        assert_eq!(e.to_string(), "expected an opening tag at byte 25");
+        let e = parse_plist("<plist><array></dict></plist>").unwrap_err();
+        assert_eq!(e.to_string(), "expected </array> at byte 14");
     }
 }

@@ -59,7 +59,9 @@ pub fn encode_png(rgb: &[u8], w: u32, h: u32) -> Result<Vec<u8>, CtError> {
     let mut out = Vec::new();
     image::codecs::png::PngEncoder::new(&mut out)
         .write_image(rgb, w, h, image::ColorType::Rgb8)
-        .map_err(|e| CtError::Invalid(format!("PNG encoding: {e}")))?;
+        .map_err(|e| CtError::PngEncode {
+            source: Box::new(e),
+        })?;
     Ok(out)
 }
 
@@ -93,7 +95,7 @@ pub fn slice_overlay_png(
     let font_ok = ensure_font().is_ok();
     {
         let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-        let fail = |e: String| CtError::Invalid(format!("drawing the overlay: {e}"));
+        let fail = |message: String| CtError::Draw { message };
         for &(x, c) in &overlay.vertical_lines {
             let px = ((x / slice.sx + 0.5) * s) as i32;
             root.draw(&PathElement::new(

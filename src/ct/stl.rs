@@ -44,20 +44,20 @@ pub fn write_stl(path: &Path, mesh: &Mesh, header: &str) -> Result<(), CtError> 
 /// merged, so a watertight mesh stays watertight. Errors on a short or
 /// inconsistent file (`path` is only used in messages).
 pub fn parse_stl(bytes: &[u8], path: &Path) -> Result<Mesh, CtError> {
-    let bad = |m: String| CtError::Invalid(format!("{}: bad binary STL: {m}", path.display()));
     if bytes.len() < 84 {
-        return Err(bad(format!(
-            "{} bytes, shorter than the 84-byte header",
-            bytes.len()
-        )));
+        return Err(CtError::StlTooShort {
+            path: path.to_owned(),
+            len: bytes.len(),
+        });
     }
     let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
     if bytes.len() != 84 + 50 * n {
-        return Err(bad(format!(
-            "{n} triangles need {} bytes, found {}",
-            84 + 50 * n,
-            bytes.len()
-        )));
+        return Err(CtError::StlLength {
+            path: path.to_owned(),
+            triangles: n,
+            expected: 84 + 50 * n,
+            found: bytes.len(),
+        });
     }
     let f = |o: usize| f32::from_le_bytes([bytes[o], bytes[o + 1], bytes[o + 2], bytes[o + 3]]);
     let mut mesh = Mesh::default();

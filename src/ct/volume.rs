@@ -51,25 +51,24 @@ impl Volume {
         data: Vec<i16>,
     ) -> Result<Volume, CtError> {
         if nx == 0 || ny == 0 || nz == 0 {
-            return Err(CtError::Invalid(format!(
-                "volume size {nx}x{ny}x{nz} has a zero dimension"
-            )));
+            return Err(CtError::ZeroDimension { nx, ny, nz });
         }
         let n = nx
             .checked_mul(ny)
             .and_then(|v| v.checked_mul(nz))
-            .ok_or_else(|| CtError::Invalid("volume size overflows".into()))?;
+            .ok_or(CtError::VolumeOverflow { nx, ny, nz })?;
         if data.len() != n {
-            return Err(CtError::Invalid(format!(
-                "volume {nx}x{ny}x{nz} needs {n} voxels, got {}",
-                data.len()
-            )));
+            return Err(CtError::VoxelCount {
+                nx,
+                ny,
+                nz,
+                expected: n,
+                found: data.len(),
+            });
         }
         for s in [spacing.x, spacing.y, spacing.z] {
             if !(s.is_finite() && s > 0.0) {
-                return Err(CtError::Invalid(format!(
-                    "voxel spacing must be positive and finite, got {s}"
-                )));
+                return Err(CtError::BadSpacing { value: s });
             }
         }
         Ok(Volume {

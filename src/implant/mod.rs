@@ -18,7 +18,8 @@
 //! | [`wall`] | one slice's outer and inner wall ([`reconstruct_wall`]) |
 //! | [`pipeline`] | the real defect: slices → mesh → voxels ([`reconstruct_defect`]) |
 //! | [`validation`] | artificial defects on intact bone, AutoImplant metrics |
-//! | [`spec`], [`run`] | the TOML experiment and its outputs (`metabezier implant`) |
+//! | [`spec`], [`run`] | the TOML experiment and its driver (`metabezier implant`) |
+//! | [`render`] | its outputs: report sections, CSV tables, overlay and preview PNGs |
 
 pub mod pipeline;
 pub mod wall;
@@ -28,6 +29,7 @@ pub use pipeline::{
     Ends, Implant, ImplantError, MidlineSpec, SliceResult, SliceSpec,
 };
 pub use wall::{envelope_radius, reconstruct_wall, Wall, WallInput, WallKind, WallOptions};
+pub mod render;
 pub mod run;
 pub mod spec;
 pub mod validation;
@@ -35,6 +37,6 @@ pub mod validation;
 pub use run::{load_volume, run_implant, RunSummary};
 pub use spec::{ImplantSpec, ValidationSpec};
 pub use validation::{
-    case_metrics, evaluate, prepare_case, reconstruct_case, Case, CaseMetrics, PreparedCase,
-    ValidationRow,
+    case_metrics, evaluate, prepare_case, reconstruct_case, Case, CaseError, CaseMetrics,
+    PreparedCase, ValidationRow,
 };

@@ -108,7 +108,16 @@ pub enum ImplantError {
     SlicesNotIncreasing,
     /// The lofted mesh failed its checks, so no STL is written.
     #[error("the lofted implant mesh is not watertight and consistently oriented; no STL written")]
-    BadMesh,
+    BadMesh {
+        /// Vertices of the mesh.
+        vertices: usize,
+        /// Triangles of the mesh.
+        triangles: usize,
+        /// Whether every edge is shared by exactly two triangles.
+        watertight: bool,
+        /// Whether every directed edge appears once and the volume is positive.
+        oriented: bool,
+    },
     /// A statistic of the validation could not be computed.
     #[error("statistics: {0}")]
     Stats(#[from] StatsError),
@@ -221,11 +230,8 @@ pub fn reconstruct_slice<S: SegmentSolver + ?Sized>(
             Point::new(b.1 * sx, b.0 * sy),
         ),
         Ends::Auto => {
-            let d = detect_defect(&mask, sx, sy, &DefectParams::default()).ok_or_else(|| {
-                at(CtError::Invalid(
-                    "no defect found (the bone ring is closed): give A and B for this slice".into(),
-                ))
-            })?;
+            let d = detect_defect(&mask, sx, sy, &DefectParams::default())
+                .ok_or_else(|| at(CtError::NoDefectFound))?;
             (d.a_mm, d.b_mm)
         }
     };

@@ -42,7 +42,7 @@ use toml::de::{DeTable, DeValue};
 
 use super::pipeline::{DefectConfig, Ends, MidlineSpec, SliceSpec};
 use super::wall::WallOptions;
-use crate::experiment::spec::{type_name, Parser, SpecError, Value};
+use crate::experiment::spec::{type_name, Parser, SpecError, Table, Value};
 use crate::fit::FunctionType;
 use crate::geometry::Continuity;
 use crate::reconstruction::Method;
@@ -247,7 +247,38 @@ impl Parser<'_> {
         let imp = self
             .get(root, "implant")
             .ok_or_else(|| self.error(0..0, "implant", "missing section [implant]".into()))?;
-        let imp = self.table(imp, "implant")?;
+        let mut implant = self.implant_section(self.table(imp, "implant")?)?;
+        let defect = match self.get(root, "defect") {
+            Some(d) => Some(self.defect_section(d, &mut implant.config)?),
+            None => None,
+        };
+        let validation = match self.get(root, "validation") {
+            Some(v) => Some(self.validation_section(v, &implant.method)?),
+            None => None,
+        };
+        if defect.is_none() && validation.is_none() {
+            return Err(self.error(
+                0..0,
+                "",
+                "nothing to run: add a [defect] or a [validation] section".into(),
+            ));
+        }
+        Ok(ImplantSpec {
+            path: self.path.to_owned(),
+            volume: implant.volume,
+            volume_label: implant.volume_label,
+            method: implant.method,
+            seed: implant.seed,
+            run_defect: defect.is_some(),
+            overlays: defect.unwrap_or_default(),
+            defect_config: implant.config,
+            validation,
+        })
+    }
+
+    /// The `[implant]` section: the volume, the method and seed, and the
+    /// pipeline configuration without slices.
+    fn implant_section(&self, imp: &Table<'_>) -> Result<ImplantSection, SpecError> {
         self.check_keys(imp, "implant", &IMPLANT_KEYS)?;
         let vol = self.get(imp, "volume").ok_or_else(|| {
             self.error(
@@ -267,6 +298,31 @@ impl Parser<'_> {
         let threshold = int_or("threshold", 300, i16::MIN as i64, i16::MAX as i64)? as i16;
         let budget = int_or("budget", 10_000, 1, i64::MAX)? as u64;
         let seed = int_or("seed", 0, 0, i64::MAX)? as u64;
+        let wall = self.wall_options(imp, budget)?;
+        let method = match self.get(imp, "method") {
+            Some(v) => self.method(v, "implant.method")?,
+            None => Method::from_name("mhs").expect("mhs exists"),
+        };
+        let midline = self.midline(imp)?;
+        Ok(ImplantSection {
+            volume,
+            volume_label,
+            method,
+            seed,
+            config: DefectConfig {
+                first_z,
+                slices: Vec::new(),
+                midline,
+                threshold,
+                wall,
+                ring_points: 160,
+            },
+        })
+    }
+
+    /// `implant.function` and `implant.continuity` on the default wall
+    /// options with `budget`.
+    fn wall_options(&self, imp: &Table<'_>, budget: u64) -> Result<WallOptions, SpecError> {
         let mut wall = WallOptions {
             budget,
             ..WallOptions::default()
@@ -298,10 +354,11 @@ impl Parser<'_> {
                 )
             })?;
         }
-        let method = match self.get(imp, "method") {
-            Some(v) => self.method(v, "implant.method")?,
-            None => Method::from_name("mhs").expect("mhs exists"),
-        };
+        Ok(wall)
+    }
+
+    /// `implant.midline` (`"auto"` or M_x in mm) and `implant.midline_slices`.
+    fn midline(&self, imp: &Table<'_>) -> Result<MidlineSpec, SpecError> {
         let midline_slices = match self.get(imp, "midline_slices") {
             Some(v) => {
                 let (a, b) = self.range(v, "implant.midline_slices")?;
@@ -309,7 +366,7 @@ impl Parser<'_> {
             }
             None => Vec::new(),
         };
-        let midline = match self.get(imp, "midline") {
+        Ok(match self.get(imp, "midline") {
             None => MidlineSpec::Auto(midline_slices),
             Some(v) => match v.get_ref() {
                 DeValue::String(s) if s.as_ref() == "auto" => MidlineSpec::Auto(midline_slices),
@@ -324,174 +381,179 @@ impl Parser<'_> {
                     ))
                 }
             },
-        };
-        let mut cfg = DefectConfig {
-            first_z,
-            slices: Vec::new(),
-            midline,
-            threshold,
-            wall,
-            ring_points: 160,
-        };
-        let mut overlays = Vec::new();
-        let run_defect = if let Some(d) = self.get(root, "defect") {
-            let d = self.table(d, "defect")?;
-            self.check_keys(d, "defect", &DEFECT_KEYS)?;
-            let sv = self.get(d, "slices").ok_or_else(|| {
-                self.error(
-                    0..0,
-                    "defect.slices",
-                    "missing field: [first, last] slice of the defect".into(),
-                )
-            })?;
-            let (z0, z1) = self.range(sv, "defect.slices")?;
-            if let Some(v) = self.get(d, "ends") {
-                let s = self.string(v, "defect.ends")?;
-                if s != "auto" {
-                    return Err(self.error(v.span(), "defect.ends", format!("unknown value \"{s}\"; valid choices: \"auto\" (give per-slice ends in [[defect.end]])")));
-                }
-            }
-            if let Some(v) = self.get(d, "ring_points") {
-                cfg.ring_points = self.int(v, "defect.ring_points", 8, 100_000)? as usize;
-            }
-            if let Some(v) = self.get(d, "overlays") {
-                for (i, x) in self.array(v, "defect.overlays")?.iter().enumerate() {
-                    overlays.push(self.int(
-                        x,
-                        &format!("defect.overlays[{i}]"),
-                        z0 as i64,
-                        z1 as i64,
-                    )? as usize);
-                }
-            }
-            cfg.slices = (z0..=z1)
-                .map(|z| SliceSpec {
-                    z,
-                    ends: Ends::Auto,
-                })
-                .collect();
-            if let Some(v) = self.get(d, "end") {
-                let items = match v.get_ref() {
-                    DeValue::Array(a) => a.iter().collect::<Vec<_>>(),
-                    o => {
-                        return Err(self.error(
-                            v.span(),
-                            "defect.end",
-                            format!("expected [[defect.end]] tables, found a {}", type_name(o)),
-                        ))
-                    }
-                };
-                for (i, e) in items.iter().enumerate() {
-                    let f = format!("defect.end[{i}]");
-                    let t = self.table(e, &f)?;
-                    self.check_keys(t, &f, &END_KEYS)?;
-                    let need = |k: &str| {
-                        self.get(t, k).ok_or_else(|| {
-                            self.error(
-                                e.span(),
-                                &format!("{f}.{k}"),
-                                format!("missing field `{k}`"),
-                            )
-                        })
-                    };
-                    let zv = need("z")?;
-                    let z = self.int(zv, &format!("{f}.z"), z0 as i64, z1 as i64)? as usize;
-                    let a = self.pixel(need("a")?, &format!("{f}.a"))?;
-                    let b = self.pixel(need("b")?, &format!("{f}.b"))?;
-                    cfg.slices[z - z0].ends = Ends::Pixels { a, b };
-                }
-            }
-            true
-        } else {
-            false
-        };
-        let validation = match self.get(root, "validation") {
-            None => None,
-            Some(v) => {
-                let t = self.table(v, "validation")?;
-                self.check_keys(t, "validation", &VALIDATION_KEYS)?;
-                let need = |k: &str| {
-                    self.get(t, k).ok_or_else(|| {
-                        self.error(
-                            v.span(),
-                            &format!("validation.{k}"),
-                            format!("missing field `{k}`"),
-                        )
-                    })
-                };
-                let list_real = |k: &str| -> Result<Vec<f64>, SpecError> {
-                    let a = need(k)?;
-                    self.array(a, &format!("validation.{k}"))?
-                        .iter()
-                        .enumerate()
-                        .map(|(i, x)| self.finite_real(x, &format!("validation.{k}[{i}]")))
-                        .collect()
-                };
-                let slices = self
-                    .array(need("slices")?, "validation.slices")?
-                    .iter()
-                    .enumerate()
-                    .map(|(i, x)| {
-                        self.int(x, &format!("validation.slices[{i}]"), 0, 1 << 20)
-                            .map(|n| n as usize)
-                    })
-                    .collect::<Result<Vec<_>, _>>()?;
-                let positions = list_real("positions")?;
-                let widths = list_real("widths")?;
-                if let Some((i, _)) = widths.iter().enumerate().find(|(_, w)| **w <= 0.0) {
-                    let a = self.array(need("widths")?, "validation.widths")?;
-                    return Err(self.error(
-                        a[i].span(),
-                        &format!("validation.widths[{i}]"),
-                        "expected a width > 0 mm".into(),
-                    ));
-                }
-                let methods = match self.get(t, "methods") {
-                    None => vec![method.clone()],
-                    Some(m) => self
-                        .array(m, "validation.methods")?
-                        .iter()
-                        .enumerate()
-                        .map(|(i, x)| self.method(x, &format!("validation.methods[{i}]")))
-                        .collect::<Result<Vec<_>, _>>()?,
-                };
-                let runs = match self.get(t, "runs") {
-                    None => 30,
-                    Some(x) => self.int(x, "validation.runs", 1, 100_000)? as usize,
-                };
-                let margin_mm = match self.get(t, "margin_mm") {
-                    None => 10.0,
-                    Some(x) => self.finite_real(x, "validation.margin_mm")?,
-                };
-                Some(ValidationSpec {
-                    slices,
-                    positions,
-                    widths,
-                    methods,
-                    runs,
-                    margin_mm,
-                })
-            }
-        };
-        if !run_defect && validation.is_none() {
-            return Err(self.error(
-                0..0,
-                "",
-                "nothing to run: add a [defect] or a [validation] section".into(),
-            ));
-        }
-        Ok(ImplantSpec {
-            path: self.path.to_owned(),
-            volume,
-            volume_label,
-            method,
-            seed,
-            run_defect,
-            overlays,
-            defect_config: cfg,
-            validation,
         })
     }
+
+    /// The `[defect]` section: fills `cfg`'s slices (and ring points) and
+    /// returns the overlay slices.
+    fn defect_section(
+        &self,
+        d: &Value<'_>,
+        cfg: &mut DefectConfig,
+    ) -> Result<Vec<usize>, SpecError> {
+        let d = self.table(d, "defect")?;
+        self.check_keys(d, "defect", &DEFECT_KEYS)?;
+        let sv = self.get(d, "slices").ok_or_else(|| {
+            self.error(
+                0..0,
+                "defect.slices",
+                "missing field: [first, last] slice of the defect".into(),
+            )
+        })?;
+        let (z0, z1) = self.range(sv, "defect.slices")?;
+        if let Some(v) = self.get(d, "ends") {
+            let s = self.string(v, "defect.ends")?;
+            if s != "auto" {
+                return Err(self.error(v.span(), "defect.ends", format!("unknown value \"{s}\"; valid choices: \"auto\" (give per-slice ends in [[defect.end]])")));
+            }
+        }
+        if let Some(v) = self.get(d, "ring_points") {
+            cfg.ring_points = self.int(v, "defect.ring_points", 8, 100_000)? as usize;
+        }
+        let mut overlays = Vec::new();
+        if let Some(v) = self.get(d, "overlays") {
+            for (i, x) in self.array(v, "defect.overlays")?.iter().enumerate() {
+                overlays.push(
+                    self.int(x, &format!("defect.overlays[{i}]"), z0 as i64, z1 as i64)? as usize,
+                );
+            }
+        }
+        cfg.slices = (z0..=z1)
+            .map(|z| SliceSpec {
+                z,
+                ends: Ends::Auto,
+            })
+            .collect();
+        if let Some(v) = self.get(d, "end") {
+            self.defect_ends(v, (z0, z1), &mut cfg.slices)?;
+        }
+        Ok(overlays)
+    }
+
+    /// The `[[defect.end]]` tables: A and B as pixels on the slices they
+    /// name (`slices` holds `z0..=z1`).
+    fn defect_ends(
+        &self,
+        v: &Value<'_>,
+        (z0, z1): (usize, usize),
+        slices: &mut [SliceSpec],
+    ) -> Result<(), SpecError> {
+        let items = match v.get_ref() {
+            DeValue::Array(a) => a.iter().collect::<Vec<_>>(),
+            o => {
+                return Err(self.error(
+                    v.span(),
+                    "defect.end",
+                    format!("expected [[defect.end]] tables, found a {}", type_name(o)),
+                ))
+            }
+        };
+        for (i, e) in items.iter().enumerate() {
+            let f = format!("defect.end[{i}]");
+            let t = self.table(e, &f)?;
+            self.check_keys(t, &f, &END_KEYS)?;
+            let need = |k: &str| {
+                self.get(t, k).ok_or_else(|| {
+                    self.error(
+                        e.span(),
+                        &format!("{f}.{k}"),
+                        format!("missing field `{k}`"),
+                    )
+                })
+            };
+            let zv = need("z")?;
+            let z = self.int(zv, &format!("{f}.z"), z0 as i64, z1 as i64)? as usize;
+            let a = self.pixel(need("a")?, &format!("{f}.a"))?;
+            let b = self.pixel(need("b")?, &format!("{f}.b"))?;
+            slices[z - z0].ends = Ends::Pixels { a, b };
+        }
+        Ok(())
+    }
+
+    /// The `[validation]` section; its methods default to `[method]`.
+    fn validation_section(
+        &self,
+        v: &Value<'_>,
+        method: &Method,
+    ) -> Result<ValidationSpec, SpecError> {
+        let t = self.table(v, "validation")?;
+        self.check_keys(t, "validation", &VALIDATION_KEYS)?;
+        let need = |k: &str| {
+            self.get(t, k).ok_or_else(|| {
+                self.error(
+                    v.span(),
+                    &format!("validation.{k}"),
+                    format!("missing field `{k}`"),
+                )
+            })
+        };
+        let list_real = |k: &str| -> Result<Vec<f64>, SpecError> {
+            let a = need(k)?;
+            self.array(a, &format!("validation.{k}"))?
+                .iter()
+                .enumerate()
+                .map(|(i, x)| self.finite_real(x, &format!("validation.{k}[{i}]")))
+                .collect()
+        };
+        let slices = self
+            .array(need("slices")?, "validation.slices")?
+            .iter()
+            .enumerate()
+            .map(|(i, x)| {
+                self.int(x, &format!("validation.slices[{i}]"), 0, 1 << 20)
+                    .map(|n| n as usize)
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let positions = list_real("positions")?;
+        let widths = list_real("widths")?;
+        if let Some((i, _)) = widths.iter().enumerate().find(|(_, w)| **w <= 0.0) {
+            let a = self.array(need("widths")?, "validation.widths")?;
+            return Err(self.error(
+                a[i].span(),
+                &format!("validation.widths[{i}]"),
+                "expected a width > 0 mm".into(),
+            ));
+        }
+        let methods = match self.get(t, "methods") {
+            None => vec![method.clone()],
+            Some(m) => self
+                .array(m, "validation.methods")?
+                .iter()
+                .enumerate()
+                .map(|(i, x)| self.method(x, &format!("validation.methods[{i}]")))
+                .collect::<Result<Vec<_>, _>>()?,
+        };
+        let runs = match self.get(t, "runs") {
+            None => 30,
+            Some(x) => self.int(x, "validation.runs", 1, 100_000)? as usize,
+        };
+        let margin_mm = match self.get(t, "margin_mm") {
+            None => 10.0,
+            Some(x) => self.finite_real(x, "validation.margin_mm")?,
+        };
+        Ok(ValidationSpec {
+            slices,
+            positions,
+            widths,
+            methods,
+            runs,
+            margin_mm,
+        })
+    }
+}
+
+/// What the `[implant]` section gives.
+struct ImplantSection {
+    /// The volume, resolved against the spec's directory.
+    volume: PathBuf,
+    /// The volume path as written.
+    volume_label: String,
+    /// The method of the real defect (and the validation's default).
+    method: Method,
+    /// The master seed.
+    seed: u64,
+    /// The pipeline configuration, without slices.
+    config: DefectConfig,
 }
 
 impl ImplantSpec {

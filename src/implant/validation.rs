@@ -95,22 +95,19 @@ pub fn prepare_case(
         .filter(|l| l.signed_area() > 0.0)
         .max_by(|a, b| a.signed_area().total_cmp(&b.signed_area()))
         .cloned()
-        .ok_or_else(|| CtError::Invalid("no closed bone contour in the slice".into()))?;
+        .ok_or(CtError::NoClosedContour)?;
     let centre = Point::new(midline_x, outer.vertex_mean().y);
     let polys = [&outer];
     let tc = case.position_deg.to_radians();
-    let rc = envelope_radius(&polys, centre, tc).ok_or_else(|| {
-        CtError::Invalid(format!(
-            "no outer contour at {}° from the centre",
-            case.position_deg
-        ))
+    let rc = envelope_radius(&polys, centre, tc).ok_or(CtError::NoContourAt {
+        position_deg: case.position_deg,
     })?;
     let half = 0.5 * case.width_mm / rc;
     let (t1, t2) = (tc - half, tc + half);
     let pt = |t: f64| -> Result<Point, CtError> {
         envelope_radius(&polys, centre, t)
             .map(|r| centre + Point::new(t.cos(), t.sin()) * r)
-            .ok_or_else(|| CtError::Invalid("the defect leaves the outer contour".into()))
+            .ok_or(CtError::DefectLeavesContour)
     };
     let (a, b) = (pt(t1)?, pt(t2)?);
     let true_outer = Polyline::open(
@@ -129,7 +126,7 @@ pub fn prepare_case(
         }
     }
     if truth.count() == 0 {
-        return Err(CtError::Invalid("the cut removed no bone".into()));
+        return Err(CtError::CutRemovedNoBone);
     }
     Ok(PreparedCase {
         case,
@@ -196,8 +193,21 @@ pub fn case_metrics(p: &PreparedCase, wall: &Wall, margin_mm: f64) -> Result<Cas
     })
 }
 
+/// Why one reconstruction of a validation case has no metrics (the text
+/// of `validation.csv`'s `error` column).
+#[derive(Debug, thiserror::Error)]
+pub enum CaseError {
+    /// The wall could not be reconstructed (see [`reconstruct_case`]).
+    #[error(transparent)]
+    Reconstruct(CtError),
+    /// The wall was reconstructed but could not be measured (see
+    /// [`case_metrics`]).
+    #[error(transparent)]
+    Measure(CtError),
+}
+
 /// Validation result row: one case × method × run.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Debug)]
 pub struct ValidationRow {
     /// The case.
     pub case: Case,
@@ -210,7 +220,7 @@ pub struct ValidationRow {
     /// The seed of the run (0 for deterministic methods).
     pub seed: u64,
     /// The metrics, or why the case failed.
-    pub metrics: Result<CaseMetrics, String>,
+    pub metrics: Result<CaseMetrics, CaseError>,
     /// The fit's E (mm²; 0 for baselines).
     pub fit_error: f64,
     /// Join angles at A and B (degrees).
@@ -225,13 +235,17 @@ pub fn evaluate<S: SegmentSolver + ?Sized>(
     options: &WallOptions,
     margin_mm: f64,
     solver: &mut S,
-) -> (Result<CaseMetrics, String>, f64, (f64, f64)) {
+) -> (Result<CaseMetrics, CaseError>, f64, (f64, f64)) {
     match reconstruct_case(p, kind, options, solver) {
         Ok(w) => (
-            case_metrics(p, &w, margin_mm).map_err(|e| e.to_string()),
+            case_metrics(p, &w, margin_mm).map_err(CaseError::Measure),
             w.fit_error,
             w.join_angles_deg(),
         ),
-        Err(e) => (Err(e.to_string()), f64::NAN, (f64::NAN, f64::NAN)),
+        Err(e) => (
+            Err(CaseError::Reconstruct(e)),
+            f64::NAN,
+            (f64::NAN, f64::NAN),
+        ),
     }
 }

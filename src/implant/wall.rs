@@ -278,6 +278,285 @@ fn wrap(d: f64) -> f64 {
     }
 }
 
+/// The defect in polar form about `input.centre`: the outer envelope
+/// `E(θ)` and the gap's rays from A′ at `th_a` over the signed angular width
+/// `span`, each end moved 0.5 mm (arc) into the intact bone so that the ray
+/// meets the contour that the cut at A (B) ends.
+struct Gap<'a> {
+    input: WallInput<'a>,
+    /// The polar angle of A′ (radians).
+    th_a: f64,
+    /// The signed angular width from A′ to B′ (radians).
+    span: f64,
+}
+
+/// The wall's ends on the envelope and their reflections across `M_x`.
+#[derive(Clone, Copy, Debug)]
+struct WallEnds {
+    /// A′ = E(θ_A).
+    a: Point,
+    /// B′ = E(θ_B).
+    b: Point,
+    /// C = A′ reflected.
+    c: Point,
+    /// D = B′ reflected.
+    d: Point,
+}
+
+impl<'a> Gap<'a> {
+    fn new(input: WallInput<'a>) -> Self {
+        let o = input.centre;
+        let th_a0 = angle(input.a, o);
+        let span0 = wrap(angle(input.b, o) - th_a0);
+        let nudge = |p: Point| 0.5 / p.distance(o).max(1e-9) * span0.signum();
+        let th_a = th_a0 - nudge(input.a);
+        let span = span0 + nudge(input.a) + nudge(input.b);
+        Gap { input, th_a, span }
+    }
+
+    /// The envelope point `E(θ)`, or `None` where the ray misses.
+    fn env(&self, theta: f64) -> Option<Point> {
+        let o = self.input.centre;
+        envelope_radius(self.input.outer, o, theta)
+            .map(|r| o + Point::new(theta.cos(), theta.sin()) * r)
+    }
+
+    /// The mirrored envelope `R(θ) = reflect(E(π − θ))`.
+    fn mirrored(&self, theta: f64) -> Option<Point> {
+        self.env(std::f64::consts::PI - theta)
+            .map(|p| reflect(p, self.input.midline_x))
+    }
+
+    /// A′, B′ on the envelope (A and B themselves may be the tips of the
+    /// inner table; the caller checks that they lie on the bone contour),
+    /// and C, D, each within `tol` of the envelope.
+    fn ends(&self, tol: f64) -> Result<WallEnds, CtError> {
+        let on = |what: &'static str, p: Option<Point>, target: Point| -> Result<Point, CtError> {
+            match p {
+                Some(q) if q.distance(target) <= tol => Ok(q),
+                Some(q) => Err(CtError::NotOnContour {
+                    what,
+                    distance_mm: q.distance(target),
+                    tolerance_mm: tol,
+                }),
+                None => Err(CtError::NotOnContour {
+                    what,
+                    distance_mm: f64::INFINITY,
+                    tolerance_mm: tol,
+                }),
+            }
+        };
+        let (th_a, th_b) = (self.th_a, self.th_a + self.span);
+        let a = on("A", self.env(th_a), self.env(th_a).unwrap_or(self.input.a))?;
+        let b = on("B", self.env(th_b), self.env(th_b).unwrap_or(self.input.b))?;
+        let mx = self.input.midline_x;
+        let (c, d) = (reflect(a, mx), reflect(b, mx));
+        on(
+            "C (A mirrored)",
+            self.mirrored(th_a).map(|p| reflect(p, mx)),
+            c,
+        )?;
+        on(
+            "D (B mirrored)",
+            self.mirrored(th_b).map(|p| reflect(p, mx)),
+            d,
+        )?;
+        Ok(WallEnds { a, b, c, d })
+    }
+
+    /// The template `R(θ)` on `template_points` rays from θ_A to θ_B, its
+    /// ends replaced by A′ and B′.
+    fn template(&self, ends: &WallEnds, options: &WallOptions) -> Result<Vec<Point>, CtError> {
+        let n_t = options
+            .template_points
+            .max(options.function.min_points() + 2);
+        let mut data = Vec::with_capacity(n_t);
+        for k in 0..n_t {
+            let theta = self.th_a + self.span * k as f64 / (n_t - 1) as f64;
+            if let Some(p) = self.mirrored(theta) {
+                data.push(p);
+            }
+        }
+        if data.len() < options.function.min_points() {
+            return Err(CtError::TemplateNotCovered {
+                points: data.len(),
+                needed: options.function.min_points(),
+            });
+        }
+        let last = data.len() - 1;
+        data[0] = ends.a;
+        data[last] = ends.b;
+        Ok(data)
+    }
+
+    /// The derivatives of the intact envelope at A′ and B′ (direction of
+    /// travel), from neighbouring cubics over the same angular width
+    /// (≤ 30°).
+    fn neighbour_derivatives(&self) -> Result<(Point, Point), CtError> {
+        let span = self.span;
+        let w = span.abs().min(30f64.to_radians()) * span.signum();
+        let side = |from: f64, dir: f64| -> Vec<Point> {
+            (0..=24)
+                .filter_map(|k| self.env(from + dir * w * k as f64 / 24.0))
+                .collect()
+        };
+        let mut before = side(self.th_a, -1.0);
+        before.reverse(); // ends at A′
+        let after = side(self.th_a + span, 1.0); // starts at B′
+        if before.len() < 6 || after.len() < 6 {
+            return Err(CtError::TooLittleIntactContour {
+                before: before.len(),
+                after: after.len(),
+            });
+        }
+        let d_a = neighbour_derivative(before, true).map_err(fit_err)?;
+        let d_b = neighbour_derivative(after, false).map_err(fit_err)?;
+        Ok((d_a, d_b))
+    }
+
+    /// The bone thickness next to A′ and B′, measured `setback_mm` (arc
+    /// length) back into intact bone.
+    fn thickness(&self, ends: &WallEnds, setback_mm: f64) -> Result<(f64, f64), CtError> {
+        let (o, span) = (self.input.centre, self.span);
+        let (a, b) = (ends.a, ends.b);
+        let set = |p: Point| setback_mm / p.distance(o).max(1e-9);
+        let pa = self.env(self.th_a - span.signum() * set(a)).unwrap_or(a);
+        let pb = self
+            .env(self.th_a + span + span.signum() * set(b))
+            .unwrap_or(b);
+        let t_a = thickness_at(pa, o, self.input.is_bone);
+        let t_b = thickness_at(pb, o, self.input.is_bone);
+        if t_a <= 0.0 || t_b <= 0.0 {
+            return Err(CtError::NoBoneAtEnds {
+                thickness_a: t_a,
+                thickness_b: t_b,
+            });
+        }
+        Ok((t_a, t_b))
+    }
+}
+
+/// The outer wall from A′ to B′.
+struct OuterWall {
+    /// The fitted segment ([`WallKind::CurveFit`] only).
+    segment: Option<Segment>,
+    /// The fit's E (0 for the baselines).
+    fit_error: f64,
+    /// Objective evaluations of the fit.
+    evaluations: u64,
+    /// The wall's points.
+    points: Vec<Point>,
+}
+
+impl OuterWall {
+    /// A baseline wall: the points themselves, no fit.
+    fn polyline(points: Vec<Point>) -> Self {
+        OuterWall {
+            segment: None,
+            fit_error: 0.0,
+            evaluations: 0,
+            points,
+        }
+    }
+}
+
+/// The joins with the intact contour at A′ and B′.
+#[derive(Clone, Copy, Debug)]
+struct Joins {
+    /// The envelope's derivatives (C¹ joins).
+    derivatives: (Point, Point),
+    /// The unit tangents (G¹ joins).
+    tangents: (Point, Point),
+}
+
+/// The curve fit of the outer wall: one [`SegmentProblem`] on the template
+/// `data` (chord-length parameters) with the ends fixed and the joins of
+/// `options.continuity`, evaluated at `us`.
+fn fit_outer_wall<S: SegmentSolver + ?Sized>(
+    options: &WallOptions,
+    data: &[Point],
+    joins: &Joins,
+    us: &[f64],
+    solver: &mut S,
+) -> Result<OuterWall, CtError> {
+    let (d_a, d_b) = joins.derivatives;
+    let (start, end) = match options.continuity {
+        Continuity::C0 => (Start::Free, End::Free),
+        Continuity::C1 => (Start::C1 { derivative: d_a }, End::C1 { derivative: d_b }),
+        Continuity::G1 => (
+            Start::G1 {
+                leg: joins.tangents.0,
+            },
+            End::G1 {
+                dir: joins.tangents.1,
+            },
+        ),
+    };
+    let start = if options.function.degree() == 2 {
+        Start::Free
+    } else {
+        start
+    };
+    let problem = SegmentProblem::with_parameterisation(
+        options.function,
+        data.to_vec(),
+        Parameterisation::ChordLength,
+        start,
+        &options.search,
+    )
+    .and_then(|p| p.with_end(end))
+    .map_err(fit_err)?;
+    let sol = solver.solve(&problem, options.budget);
+    let seg = problem.segment(&sol.x);
+    let e = problem.objective(&sol.x);
+    let points: Vec<Point> = us.iter().map(|&u| seg.eval(u)).collect();
+    Ok(OuterWall {
+        segment: Some(seg),
+        fit_error: e,
+        evaluations: sol.evaluations,
+        points,
+    })
+}
+
+/// The inner wall of a fitted segment: `PO(u) = C(u) + Dis(u)·N(u)` at
+/// `us`, `Dis` linear from `t_A` to `t_B` with the sign that points
+/// towards `o`.
+fn offset_segment(seg: &Segment, us: &[f64], o: Point, (t_a, t_b): (f64, f64)) -> Vec<Point> {
+    let mid = seg.eval(0.5);
+    let n_mid = crate::geometry::offset_point(seg, 0.5, 1.0) - mid;
+    let sign = if n_mid.dot(o - mid) >= 0.0 { 1.0 } else { -1.0 };
+    offset_linear(
+        seg,
+        us,
+        LinearDistance {
+            d0: sign * t_a,
+            d1: sign * t_b,
+        },
+    )
+}
+
+/// The inner wall of a baseline polyline `p` (of length `length`): the same
+/// offset with polyline normals and `u` the arc-length fraction.
+fn offset_polyline(p: &[Point], length: f64, o: Point, (t_a, t_b): (f64, f64)) -> Vec<Point> {
+    let mid = p.len() / 2;
+    let sign = if polyline_normal(p, mid).dot(o - p[mid]) >= 0.0 {
+        1.0
+    } else {
+        -1.0
+    };
+    let total = length.max(f64::MIN_POSITIVE);
+    let mut s = 0.0;
+    (0..p.len())
+        .map(|i| {
+            if i > 0 {
+                s += p[i].distance(p[i - 1]);
+            }
+            let u = s / total;
+            p[i] + polyline_normal(p, i) * (sign * ((1.0 - u) * t_a + u * t_b))
+        })
+        .collect()
+}
+
 /// Reconstructs the implant cross-section across one defect with `kind`,
 /// solving the curve fit with `solver`.
 ///
@@ -304,8 +583,10 @@ fn wrap(d: f64) -> f64 {
 ///    polyline normals and `u` the arc-length fraction.
 ///
 /// Errors: [`CtError::DefectCrossesMidline`], [`CtError::NotOnContour`]
-/// (A, B, C or D not on the outer contour), [`CtError::Invalid`] for a
-/// failing fit.
+/// (A, B, C or D not on the outer contour), [`CtError::TemplateNotCovered`],
+/// [`CtError::TooLittleIntactContour`] and [`CtError::NoBoneAtEnds`] when
+/// the contour around the defect is too short or holds no bone,
+/// [`CtError::OuterWallFit`] for a failing fit.
 pub fn reconstruct_wall<S: SegmentSolver + ?Sized>(
     input: &WallInput<'_>,
     kind: WallKind,
@@ -320,199 +601,58 @@ pub fn reconstruct_wall<S: SegmentSolver + ?Sized>(
             midline_x: mx,
         });
     }
-    let env = |theta: f64| -> Option<Point> {
-        envelope_radius(input.outer, o, theta).map(|r| o + Point::new(theta.cos(), theta.sin()) * r)
-    };
-    let tol = options.mirror_tolerance_mm;
-    // The gap's rays, each end moved 0.5 mm (arc) into the intact bone so
-    // the ray meets the contour that the cut at A (B) ends.
-    let th_a0 = angle(input.a, o);
-    let span0 = wrap(angle(input.b, o) - th_a0);
-    let nudge = |p: Point| 0.5 / p.distance(o).max(1e-9) * span0.signum();
-    let th_a = th_a0 - nudge(input.a);
-    let span = span0 + nudge(input.a) + nudge(input.b); // signed angular width A→B
-    let on = |what: &'static str, p: Option<Point>, target: Point| -> Result<Point, CtError> {
-        match p {
-            Some(q) if q.distance(target) <= tol => Ok(q),
-            Some(q) => Err(CtError::NotOnContour {
-                what,
-                distance_mm: q.distance(target),
-                tolerance_mm: tol,
-            }),
-            None => Err(CtError::NotOnContour {
-                what,
-                distance_mm: f64::INFINITY,
-                tolerance_mm: tol,
-            }),
-        }
-    };
-    // A′, B′ on the envelope (A and B themselves may be the tips of the
-    // inner table; the caller checks that they lie on the bone contour).
-    let far = |p: Option<Point>, target: Point| p.map(|q| (q, q.distance(target)));
-    let a = on(
-        "A",
-        far(env(th_a), input.a).map(|(q, _)| q),
-        env(th_a).unwrap_or(input.a),
-    )?;
-    let b = on(
-        "B",
-        far(env(th_a + span), input.b).map(|(q, _)| q),
-        env(th_a + span).unwrap_or(input.b),
-    )?;
-    let (c, d) = (reflect(a, mx), reflect(b, mx));
-    let mirrored = |theta: f64| env(std::f64::consts::PI - theta).map(|p| reflect(p, mx));
-    on("C (A mirrored)", mirrored(th_a).map(|p| reflect(p, mx)), c)?;
-    on(
-        "D (B mirrored)",
-        mirrored(th_a + span).map(|p| reflect(p, mx)),
-        d,
-    )?;
+    let gap = Gap::new(*input);
+    let ends = gap.ends(options.mirror_tolerance_mm)?;
+    let (a, b) = (ends.a, ends.b);
 
-    // 1. The template R(θ).
-    let n_t = options
-        .template_points
-        .max(options.function.min_points() + 2);
-    let mut data = Vec::with_capacity(n_t);
-    for k in 0..n_t {
-        let theta = th_a + span * k as f64 / (n_t - 1) as f64;
-        if let Some(p) = mirrored(theta) {
-            data.push(p);
-        }
-    }
-    if data.len() < options.function.min_points() {
-        return Err(CtError::Invalid(
-            "the mirrored contour does not cover the defect".into(),
-        ));
-    }
-    let last = data.len() - 1;
-    data[0] = a;
-    data[last] = b;
+    // 1. The template R(θ), and the joins with the intact envelope.
+    let data = gap.template(&ends, options)?;
     let template = Polyline::open(data.clone());
-
-    // Tangents of the intact envelope at A′ and B′ (direction of travel),
-    // from neighbouring cubics over the same angular width (≤ 30°).
-    let w = span.abs().min(30f64.to_radians()) * span.signum();
-    let side = |from: f64, dir: f64| -> Vec<Point> {
-        (0..=24)
-            .filter_map(|k| env(from + dir * w * k as f64 / 24.0))
-            .collect()
+    let derivatives = gap.neighbour_derivatives()?;
+    let joins = Joins {
+        derivatives,
+        tangents: (
+            derivatives.0.normalize().unwrap_or(b - a),
+            derivatives.1.normalize().unwrap_or(b - a),
+        ),
     };
-    let mut before = side(th_a, -1.0);
-    before.reverse(); // ends at A′
-    let after = side(th_a + span, 1.0); // starts at B′
-    if before.len() < 6 || after.len() < 6 {
-        return Err(CtError::Invalid(
-            "too little intact outer contour next to the defect ends".into(),
-        ));
-    }
-    let d_a = neighbour_derivative(before, true).map_err(fit_err)?;
-    let d_b = neighbour_derivative(after, false).map_err(fit_err)?;
-    let tangents = (
-        d_a.normalize().unwrap_or(b - a),
-        d_b.normalize().unwrap_or(b - a),
-    );
 
     // 2. The outer wall.
     let m = options.wall_points.max(4);
     let us: Vec<f64> = (0..m).map(|k| k as f64 / (m - 1) as f64).collect();
-    let (segment, fit_error, evaluations, outer_pts) = match kind {
-        WallKind::CurveFit => {
-            let (start, end) = match options.continuity {
-                Continuity::C0 => (Start::Free, End::Free),
-                Continuity::C1 => (Start::C1 { derivative: d_a }, End::C1 { derivative: d_b }),
-                Continuity::G1 => (Start::G1 { leg: tangents.0 }, End::G1 { dir: tangents.1 }),
-            };
-            let start = if options.function.degree() == 2 {
-                Start::Free
-            } else {
-                start
-            };
-            let problem = SegmentProblem::with_parameterisation(
-                options.function,
-                data.clone(),
-                Parameterisation::ChordLength,
-                start,
-                &options.search,
-            )
-            .and_then(|p| p.with_end(end))
-            .map_err(fit_err)?;
-            let sol = solver.solve(&problem, options.budget);
-            let seg = problem.segment(&sol.x);
-            let e = problem.objective(&sol.x);
-            let pts: Vec<Point> = us.iter().map(|&u| seg.eval(u)).collect();
-            (Some(seg), e, sol.evaluations, pts)
-        }
-        WallKind::Template => (None, 0.0, 0, data.clone()),
-        WallKind::Straight => (None, 0.0, 0, us.iter().map(|&u| a.lerp(b, u)).collect()),
+    let outer = match kind {
+        WallKind::CurveFit => fit_outer_wall(options, &data, &joins, &us, solver)?,
+        WallKind::Template => OuterWall::polyline(data),
+        WallKind::Straight => OuterWall::polyline(us.iter().map(|&u| a.lerp(b, u)).collect()),
     };
-    let outer_poly = Polyline::open(outer_pts.clone());
+    let outer_poly = Polyline::open(outer.points.clone());
 
     // 3. The inner wall.
-    let set = |p: Point| options.thickness_setback_mm / p.distance(o).max(1e-9);
-    let pa = env(th_a - span.signum() * set(a)).unwrap_or(a);
-    let pb = env(th_a + span + span.signum() * set(b)).unwrap_or(b);
-    let t_a = thickness_at(pa, o, input.is_bone);
-    let t_b = thickness_at(pb, o, input.is_bone);
-    if t_a <= 0.0 || t_b <= 0.0 {
-        return Err(CtError::Invalid(
-            "no bone next to the defect ends: cannot measure the bone thickness".into(),
-        ));
-    }
-    let inner_pts: Vec<Point> = match &segment {
-        Some(seg) => {
-            let mid = seg.eval(0.5);
-            let n_mid = crate::geometry::offset_point(seg, 0.5, 1.0) - mid;
-            let sign = if n_mid.dot(o - mid) >= 0.0 { 1.0 } else { -1.0 };
-            offset_linear(
-                seg,
-                &us,
-                LinearDistance {
-                    d0: sign * t_a,
-                    d1: sign * t_b,
-                },
-            )
-        }
-        None => {
-            let p = &outer_pts;
-            let mid = p.len() / 2;
-            let sign = if polyline_normal(p, mid).dot(o - p[mid]) >= 0.0 {
-                1.0
-            } else {
-                -1.0
-            };
-            let total = outer_poly.length().max(f64::MIN_POSITIVE);
-            let mut s = 0.0;
-            (0..p.len())
-                .map(|i| {
-                    if i > 0 {
-                        s += p[i].distance(p[i - 1]);
-                    }
-                    let u = s / total;
-                    p[i] + polyline_normal(p, i) * (sign * ((1.0 - u) * t_a + u * t_b))
-                })
-                .collect()
-        }
+    let thickness = gap.thickness(&ends, options.thickness_setback_mm)?;
+    let inner_pts = match &outer.segment {
+        Some(seg) => offset_segment(seg, &us, o, thickness),
+        None => offset_polyline(&outer.points, outer_poly.length(), o, thickness),
     };
     let inner_rev: Vec<Point> = inner_pts.iter().rev().copied().collect();
-    let mut section = outer_pts.clone();
+    let mut section = outer.points;
     section.extend(inner_rev.iter().copied());
     Ok(Wall {
         a,
         b,
-        c,
-        d,
+        c: ends.c,
+        d: ends.d,
         template,
-        segment,
-        fit_error,
-        evaluations,
+        segment: outer.segment,
+        fit_error: outer.fit_error,
+        evaluations: outer.evaluations,
         outer: outer_poly,
         inner: Polyline::open(inner_rev),
         section: Polyline::closed(section),
-        thickness: (t_a, t_b),
-        tangents,
+        thickness,
+        tangents: joins.tangents,
     })
 }
 
-fn fit_err(e: FitError) -> CtError {
-    CtError::Invalid(format!("the outer-wall fit failed: {e}"))
+fn fit_err(source: FitError) -> CtError {
+    CtError::OuterWallFit { source }
 }
