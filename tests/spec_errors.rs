@@ -241,10 +241,12 @@ fn instances_budgets_and_pairing_are_checked_before_anything_runs() {
 fn grids_of_transforms_instances_and_budgets_expand_with_keys() {
     let spec = Spec::parse(
         Path::new("spec.toml"),
-        &BASE.replace("budget = 100", "budget = [100, 1000]").replace(
-            "dim = 2\n",
-            "dim = 2\ntransform = [\"none\", \"shift-rotate\"]\ninstances = 2\n",
-        ),
+        &BASE
+            .replace("budget = 100", "budget = [100, 1000]")
+            .replace(
+                "dim = 2\n",
+                "dim = 2\ntransform = [\"none\", \"shift-rotate\"]\ninstances = 2\n",
+            ),
     )
     .unwrap();
     let keys: Vec<String> = spec.problems.iter().map(|p| p.key()).collect();

@@ -173,6 +173,27 @@ mod tests {
     use crate::experiment::records::sample_record;
 
     #[test]
+    fn lines_written_before_instances_and_hits_still_resume() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("journal.csv");
+        let mut legacy = sample_record(4);
+        legacy.transform = crate::functions::Transform::None;
+        legacy.instance = 1;
+        legacy.hits.clear();
+        legacy.algorithm = "HS".into();
+        // The layout before: runs fields, trace, fit, wall time, ok.
+        let line = String::from_utf8(journal_line(&legacy)).unwrap();
+        let fields: Vec<&str> = line.trim_end().rsplitn(5, ',').collect();
+        let old = format!("{},ok\n", fields[4]);
+        assert_eq!(
+            old.matches(',').count(),
+            RUNS_HEADER.len() + EXTRA_BEFORE_INSTANCES
+        );
+        std::fs::write(&path, old).unwrap();
+        assert_eq!(read_journal(&path).unwrap(), vec![legacy]);
+    }
+
+    #[test]
     fn journal_round_trips_and_drops_a_torn_last_line() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("journal.csv");

@@ -22,8 +22,8 @@ use std::path::Path;
 use super::segments::{segment_rows, SEGMENT_HEADER};
 use super::spec::factor_suffix;
 use crate::files::{csv_bytes, fmt_real, IoError};
-use crate::functions::Transform;
 use crate::fit::PiecewiseFit;
+use crate::functions::Transform;
 use crate::optim::{TargetHit, TracePoint};
 
 /// What is wrong with a results file at one line.
@@ -343,7 +343,10 @@ impl Schema {
 /// The default target precisions `Δf = 10^(k/5)` for `k = 10, 9, …, −40`:
 /// 10² down to 10⁻⁸, five per decade (51 targets), as COCO's runtime ECDFs.
 pub fn default_targets() -> Vec<f64> {
-    (-40..=10).rev().map(|k| 10f64.powf(f64::from(k) / 5.0)).collect()
+    (-40..=10)
+        .rev()
+        .map(|k| 10f64.powf(f64::from(k) / 5.0))
+        .collect()
 }
 
 /// The bytes of `hits.csv`: one row per run and target reached, with the
@@ -474,7 +477,10 @@ pub(super) fn run_fields(r: &RunRecord) -> Vec<String> {
 fn runs_row(schema: Schema, r: &RunRecord) -> Vec<String> {
     let mut row = run_fields(r);
     if schema.instances {
-        row.splice(6..6, [r.transform.name().to_owned(), r.instance.to_string()]);
+        row.splice(
+            6..6,
+            [r.transform.name().to_owned(), r.instance.to_string()],
+        );
     }
     row
 }
@@ -839,7 +845,8 @@ pub(crate) fn sample_record(run: u32) -> RunRecord {
                 evaluations: 10,
                 best: 0.1 + 0.2,
             },
-        ],        hits: vec![
+        ],
+        hits: vec![
             TargetHit {
                 precision: 100.0,
                 evaluations: 1,
@@ -872,7 +879,9 @@ mod tests {
         std::fs::write(dir.path().join("hits.csv"), hits_csv(&recs)).unwrap();
         assert_eq!(read_results(dir.path()).unwrap(), recs);
         let runs = std::fs::read_to_string(dir.path().join("runs.csv")).unwrap();
-        assert!(runs.starts_with("algorithm,kind,params,problem,dim,budget,transform,instance,run,"));
+        assert!(
+            runs.starts_with("algorithm,kind,params,problem,dim,budget,transform,instance,run,")
+        );
         // A budget grid adds the budget to the keyed files.
         let mut grid = recs.clone();
         grid.extend(recs.iter().cloned().map(|mut r| {
@@ -888,7 +897,9 @@ mod tests {
         std::fs::write(dir.path().join("timing.csv"), timing_csv(&grid)).unwrap();
         std::fs::write(dir.path().join("hits.csv"), hits_csv(&grid)).unwrap();
         let timing = std::fs::read_to_string(dir.path().join("timing.csv")).unwrap();
-        assert!(timing.starts_with("algorithm,kind,params,problem,dim,budget,transform,instance,run,wall_seconds"));
+        assert!(timing.starts_with(
+            "algorithm,kind,params,problem,dim,budget,transform,instance,run,wall_seconds"
+        ));
         assert_eq!(read_results(dir.path()).unwrap(), grid);
     }
 }

@@ -17,11 +17,11 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use super::journal;
+use super::records::default_targets;
 use super::records::{self, FitDetail, RunKey, RunRecord};
 use super::spec::{ProblemKind, RunId, Spec};
 use super::{CampaignAction, CampaignError, ExperimentError};
 use crate::files::{create_dir, csv_bytes, fmt_real, read_text, write_atomic, IoError};
-use super::records::default_targets;
 use crate::functions::TestProblem;
 use crate::optim::evaluator::log_checkpoints;
 use crate::optim::{Evaluator, Optimiser, Outcome};
@@ -217,7 +217,11 @@ fn meta_toml(spec: &Spec, shard: Option<Shard>, runs: usize) -> String {
     s.push_str(&format!("master_seed = {}\n", spec.seed));
     s.push_str(&format!("rng = \"{RNG_NAME}\"\n"));
     s.push_str(
-        "seed_derivation = \"seed = splitmix64 folded over (master_seed, fnv1a64(cell key), fnv1a64(problem key), run); cell key = label:kind[params], problem key = problem-dim and |factor=value for each non-default factor not in paired\"\n",
+        if spec.problems.iter().all(|p| p.key() == format!("{}-{}", p.name(), p.dim)) {
+            "seed_derivation = \"seed = splitmix64 folded over (master_seed, fnv1a64(cell key), fnv1a64(problem key), run); cell key = label:kind[params], problem key = problem-dim\"\n"
+        } else {
+            "seed_derivation = \"seed = splitmix64 folded over (master_seed, fnv1a64(cell key), fnv1a64(problem key), run); cell key = label:kind[params], problem key = problem-dim and |factor=value for each non-default factor not in paired\"\n"
+        },
     );
     if !spec.paired.is_empty() {
         let names: Vec<String> = spec

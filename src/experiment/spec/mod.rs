@@ -139,10 +139,14 @@ impl Factor {
 
     /// Parses a factor name.
     pub fn from_name(name: &str) -> Option<Factor> {
-        Self::NAMES
-            .iter()
-            .position(|n| *n == name)
-            .map(|i| [Factor::Budget, Factor::Transform, Factor::Instance, Factor::SearchSpace][i])
+        Self::NAMES.iter().position(|n| *n == name).map(|i| {
+            [
+                Factor::Budget,
+                Factor::Transform,
+                Factor::Instance,
+                Factor::SearchSpace,
+            ][i]
+        })
     }
 
     /// The factor's name.
@@ -502,10 +506,13 @@ impl<'a> Parser<'a> {
         root: &Table<'_>,
         problems: &[ProblemEntry],
     ) -> Result<Vec<Factor>, SpecError> {
-        let Some(experiment) = self.get(root, "experiment").and_then(|e| match e.get_ref() {
-            DeValue::Table(t) => Some(t),
-            _ => None,
-        }) else {
+        let Some(experiment) = self
+            .get(root, "experiment")
+            .and_then(|e| match e.get_ref() {
+                DeValue::Table(t) => Some(t),
+                _ => None,
+            })
+        else {
             return Ok(Vec::new());
         };
         let Some(v) = self.get(experiment, "paired") else {
@@ -519,11 +526,16 @@ impl<'a> Parser<'a> {
                 self.error(
                     item.span(),
                     field,
-                    format!("unknown factor \"{name}\"; {}", choices_hint(&name, &Factor::NAMES)),
+                    format!(
+                        "unknown factor \"{name}\"; {}",
+                        choices_hint(&name, &Factor::NAMES)
+                    ),
                 )
             })?;
-            let values: std::collections::BTreeSet<String> =
-                problems.iter().filter_map(|p| p.factor_value(factor)).collect();
+            let values: std::collections::BTreeSet<String> = problems
+                .iter()
+                .filter_map(|p| p.factor_value(factor))
+                .collect();
             if values.len() < 2 {
                 let varying: Vec<&str> = Factor::NAMES
                     .iter()
@@ -869,7 +881,11 @@ impl<'a> Parser<'a> {
                     let dim = self.problem_dim(*f, *dim, fspan, dspan, &section)?;
                     for (t, tspan) in &transforms {
                         TestProblem::check_instance(*f, dim, *t).map_err(|e| {
-                            self.error(tspan.clone(), &format!("{section}.transform"), e.to_string())
+                            self.error(
+                                tspan.clone(),
+                                &format!("{section}.transform"),
+                                e.to_string(),
+                            )
                         })?;
                         let count = if *t == Transform::None { 1 } else { instances };
                         for instance in 1..=count {
