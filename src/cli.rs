@@ -13,7 +13,7 @@ use crate::experiment::runner::{self, RunOptions, Shard};
 use crate::experiment::Spec;
 use crate::files::read_text;
 use crate::fit::{FitOptions, FunctionType, PiecewiseFit, SearchSpace};
-use crate::functions::Function;
+use crate::functions::{Function, Transform};
 use crate::geometry::{Continuity, Parameterisation};
 use crate::optim::Algorithm;
 use crate::outline::{CornerOptions, ImageOptions, Sampling};
@@ -339,14 +339,26 @@ fn list(w: &mut String) {
             Some(d) => format!(", dimension {d} only"),
             None => String::new(),
         };
+        let transforms = if f.is_transformable() {
+            ""
+        } else {
+            " (no transforms)"
+        };
         say!(
             w,
-            "  {:<16} [{}, {}]^D, f* = {}{dim}",
+            "  {:<16} [{}, {}]^D, f* = {}{dim}{transforms}",
             f.name(),
             b.lower,
             b.upper,
             f.optimum_value()
         );
+    }
+    say!(
+        w,
+        "\nBenchmark transforms ([[problem]] transform = ..., instances = N):"
+    );
+    for t in [Transform::None, Transform::Shift, Transform::ShiftRotate] {
+        say!(w, "  {:<16} {}", t.name(), t.doc());
     }
 }
 

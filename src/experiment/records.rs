@@ -253,11 +253,12 @@ pub struct Schema {
 
 impl Schema {
     /// The schema the records need.
-    pub fn of(records: &[RunRecord]) -> Schema {
-        let instances = records.iter().any(|r| r.transform != Transform::None);
+    pub fn of<'a>(records: impl IntoIterator<Item = &'a RunRecord>) -> Schema {
+        let mut instances = false;
         let mut budgets: HashMap<(String, String, u32), u64> = HashMap::new();
         let mut keyed_budget = false;
         for r in records {
+            instances |= r.transform != Transform::None;
             let b = budgets
                 .entry((r.cell_key(), r.match_key(), r.run))
                 .or_insert(r.budget);

@@ -5,8 +5,9 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use crate::experiment::records::{read_results, read_runs, RunRecord};
+use crate::experiment::records::{read_results, read_runs, RunRecord, Schema};
 use crate::experiment::{DataError, DataProblem, ReadError};
+use crate::functions::Transform;
 
 /// One run, reduced to what the report uses.
 #[derive(Clone, Debug, PartialEq)]
@@ -25,6 +26,9 @@ pub(crate) struct Run {
     pub success: bool,
     /// Best-so-far error `f − f*` at the convergence checkpoints.
     pub trace: Vec<(u64, f64)>,
+    /// (target precision Δf, first evaluation with `f − f* ≤ Δf`) of every
+    /// target reached (`hits.csv`).
+    pub hits: Vec<(f64, u64)>,
     /// Wall time of the run, when `timing.csv` was read.
     pub wall_seconds: Option<f64>,
 }
@@ -45,24 +49,46 @@ pub(crate) struct Cell {
     pub external: bool,
 }
 
-/// A problem: a benchmark function at a dimension.
+/// A problem: a benchmark function at a dimension (with its transform and
+/// instance, and its budget when the results hold several budgets of one
+/// problem), or a fitting case.
 #[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub(crate) struct Problem {
-    /// The function's name.
+    /// The function's name (for a fitting case `source/function/continuity`,
+    /// with `/bounding-box` for the naive search space).
     pub function: String,
-    /// The dimension D.
+    /// The dimension D (for a fitting case its number of segments).
     pub dim: usize,
+    /// The budget, when it is a design factor of the results.
+    pub budget: Option<u64>,
+    /// The benchmark transform (`none` when untransformed).
+    pub transform: Transform,
+    /// The benchmark instance (1 when untransformed).
+    pub instance: u32,
 }
 
 impl Problem {
     /// `sphere, D = 10`; for a fitting problem (`source/function/continuity`)
-    /// `horse/cubic/g1, 30 segments`.
+    /// `horse/cubic/g1, 30 segments`; a transformed instance adds
+    /// `, shift-rotate #2` and a budget grid `, budget 1000`.
     pub fn title(&self) -> String {
-        if self.function.contains('/') {
+        let mut t = if self.is_fit() {
             format!("{}, {} segments", self.function, self.dim)
         } else {
             format!("{}, D = {}", self.function, self.dim)
+        };
+        if self.transform != Transform::None {
+            t.push_str(&format!(", {} #{}", self.transform, self.instance));
         }
+        if let Some(b) = self.budget {
+            t.push_str(&format!(", budget {b}"));
+        }
+        t
+    }
+
+    /// Whether this is a fitting case (its name has `/` parts).
+    pub fn is_fit(&self) -> bool {
+        self.function.contains('/')
     }
 }
 
@@ -111,6 +137,7 @@ impl Dataset {
         let mut duplicates = 0usize;
         let mut has_convergence = false;
         let total_runs = records.len();
+        let budget_factor = Schema::of(records.iter().map(|(r, _)| r)).keyed_budget;
         for (r, external) in records {
             let key = (r.algorithm.clone(), r.kind.clone(), r.params.clone());
             let c = *cell_index.entry(key).or_insert_with(|| {
@@ -126,6 +153,9 @@ impl Dataset {
             let problem = Problem {
                 function: r.problem.clone(),
                 dim: r.dim,
+                budget: budget_factor.then_some(r.budget),
+                transform: r.transform,
+                instance: r.instance,
             };
             let p = *problem_index.entry(problem.clone()).or_insert_with(|| {
                 problems.push(problem);
@@ -146,6 +176,11 @@ impl Dataset {
                 evaluations_to_target: r.evaluations_to_target,
                 success: r.success,
                 trace,
+                hits: r
+                    .hits
+                    .iter()
+                    .map(|h| (h.precision, h.evaluations))
+                    .collect(),
                 wall_seconds: Some(r.wall_seconds),
             };
             match grouped.entry((p, c)).or_default().entry(r.run) {

@@ -14,6 +14,7 @@
 //! share a label are shown with their distinguishing parameters, e.g.
 //! `MHS (hmcr=0.9, bw=0.01)`. A "problem" is a function at a dimension.
 
+mod anytime;
 mod data;
 mod descriptive;
 mod error;
@@ -23,11 +24,13 @@ mod markdown;
 mod overlay;
 mod plots;
 pub(crate) mod render;
+mod robustness;
 mod significance;
 mod tuning;
 
 use std::path::{Path, PathBuf};
 
+use crate::experiment::records::default_targets;
 use crate::files::{create_dir, write_atomic};
 
 pub use self::error::ReportError;
@@ -216,6 +219,8 @@ struct Tests {
     tables: Vec<Table>,
     /// The paragraph shown instead of the tables when there are none.
     text: Option<String>,
+    /// Where the comparisons with the reference hold and where they flip.
+    robustness: Vec<Table>,
 }
 
 /// The significance tests against the reference and the Friedman ranking,
@@ -242,6 +247,7 @@ fn tests(
             reference_note: None,
             tables: Vec::new(),
             text: Some(text),
+            robustness: Vec::new(),
         });
     }
     let (reference, reference_note) = resolve_reference(ds, options.reference.as_deref())?;
@@ -270,6 +276,7 @@ fn tests(
             significance::friedman_table(ds, &f, alpha),
         ],
         text: None,
+        robustness: robustness::tables(ds, &s),
     })
 }
 
@@ -325,6 +332,8 @@ struct Sections {
     results: Table,
     /// The statistical tests.
     tests: Tests,
+    /// The average runtime to each target.
+    anytime: Vec<Table>,
     /// The parameter-tuning tables.
     tuning: Vec<Table>,
     /// The curve-fitting tables.
@@ -342,6 +351,8 @@ impl Sections {
             .iter()
             .chain(std::iter::once(&self.results))
             .chain(&self.tests.tables)
+            .chain(&self.tests.robustness)
+            .chain(&self.anytime)
             .chain(&self.tuning)
             .chain(&self.fitting)
     }
@@ -363,7 +374,17 @@ impl Sections {
                 }
             }
         }
+        md.push_str("## Robustness\n\n");
+        if self.tests.robustness.is_empty() {
+            md.push_str(&markdown::paragraph(
+                "There is a single algorithm configuration: there is no comparison whose range could be shown.",
+            ));
+        }
+        for t in &self.tests.robustness {
+            md.push_str(&markdown::table_section(t, 3));
+        }
         for (title, tables) in [
+            ("Anytime performance", &self.anytime),
             ("Parameter tuning", &self.tuning),
             ("Curve fitting", &self.fitting),
         ] {
@@ -412,10 +433,14 @@ fn sections(
         notes.extend(f.notes);
         fitting = f.tables;
     }
+    let anytime = anytime::art_table(ds, &default_targets())
+        .into_iter()
+        .collect();
     Ok(Sections {
         setup,
         results,
         tests,
+        anytime,
         tuning,
         fitting,
         figures,

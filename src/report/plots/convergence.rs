@@ -277,6 +277,7 @@ mod tests {
             evaluations_to_target: None,
             success: false,
             trace: vec![(1, 5.0), (10, 1.0), (100, 0.1)],
+            hits: Vec::new(),
             wall_seconds: None,
         };
         assert_eq!(value_at(&r, 0), None);

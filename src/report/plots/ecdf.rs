@@ -19,6 +19,8 @@ pub(crate) struct Ecdf {
     legend: Vec<(String, RGBColor)>,
     series: Vec<Line>,
     x: (f64, f64),
+    x_desc: &'static str,
+    y_desc: &'static str,
 }
 
 impl Draw for Ecdf {
@@ -37,8 +39,8 @@ impl Draw for Ecdf {
             .build_cartesian_2d(self.x.0..self.x.1, -0.02f64..1.02)?;
         chart
             .configure_mesh()
-            .x_desc("objective evaluations (log scale)")
-            .y_desc("fraction of (run, problem) pairs solved")
+            .x_desc(self.x_desc)
+            .y_desc(self.y_desc)
             .x_label_formatter(&|v| decade_tick(*v, self.x))
             .y_label_formatter(&|v| format!("{v:.1}"))
             .x_labels(decade_labels(self.x))
@@ -191,6 +193,110 @@ pub(super) fn ecdf(ds: &Dataset, threshold: Option<f64>) -> Result<Plot, NoPlot>
             legend,
             series,
             x: (0.0, lg(xmax)),
+            x_desc: "objective evaluations (log scale)",
+            y_desc: "fraction of (run, problem) pairs solved",
         }),
     })
+}
+
+/// The steps of an ECDF over `total` pairs from the sorted runtimes of the
+/// solved ones (any positive reals), starting at the smallest runtime.
+fn real_steps(times: &[f64], total: usize, start: f64) -> Vec<(f64, f64)> {
+    let mut pts = vec![(start, 0.0)];
+    for (i, &t) in times.iter().enumerate() {
+        let prev = pts.last().map_or(0.0, |p| p.1);
+        pts.push((t, prev));
+        pts.push((t, (i + 1) as f64 / total as f64));
+    }
+    pts
+}
+
+/// The COCO runtime ECDFs over all targets (Hansen et al. 2021): for each
+/// algorithm, the fraction of (run, target) pairs whose target precision
+/// `Δf` (from `hits.csv`, `targets` in all) was reached within a number of
+/// evaluations divided by the dimension; one figure over all problems and,
+/// when there are several functions, one per function.
+pub(super) fn target_ecdfs(ds: &Dataset, targets: usize) -> Result<Vec<Plot>, NoPlot> {
+    if !(0..ds.problems.len())
+        .any(|p| (0..ds.cells.len()).any(|c| ds.runs(p, c).iter().any(|r| !r.hits.is_empty())))
+    {
+        return Err(NoPlot::NoHits);
+    }
+    let mut functions: Vec<&str> = ds.problems.iter().map(|p| p.function.as_str()).collect();
+    functions.sort_unstable();
+    functions.dedup();
+    let mut plots = vec![target_ecdf(ds, targets, None)];
+    if functions.len() > 1 {
+        plots.extend(functions.iter().map(|f| target_ecdf(ds, targets, Some(f))));
+    }
+    Ok(plots)
+}
+
+/// One runtime ECDF over all targets, for the problems of `function` (all
+/// problems when `None`).
+fn target_ecdf(ds: &Dataset, targets: usize, function: Option<&str>) -> Plot {
+    let mut series: Vec<Line> = Vec::new();
+    let mut xmax = 1.0f64;
+    for c in 0..ds.cells.len() {
+        let mut total = 0usize;
+        let mut times: Vec<f64> = Vec::new();
+        for (p, problem) in ds.problems.iter().enumerate() {
+            if function.is_some_and(|f| f != problem.function) {
+                continue;
+            }
+            let d = problem.dim.max(1) as f64;
+            for r in ds.runs(p, c) {
+                total += targets;
+                xmax = xmax.max(r.budget.max(r.evaluations) as f64 / d);
+                times.extend(r.hits.iter().map(|&(_, e)| e.max(1) as f64 / d));
+            }
+        }
+        if total == 0 {
+            continue;
+        }
+        times.sort_by(f64::total_cmp);
+        let start = times.first().copied().unwrap_or(1.0).min(1.0);
+        let mut steps = real_steps(&times, total, start);
+        let last = steps.last().map_or(0.0, |p| p.1);
+        steps.push((xmax, last));
+        series.push((c, steps.into_iter().map(|(x, y)| (lg(x), y)).collect()));
+    }
+    let x0 = series
+        .iter()
+        .filter_map(|(_, pts)| pts.first().map(|p| p.0))
+        .fold(0.0f64, f64::min)
+        .floor();
+    let legend = series
+        .iter()
+        .map(|(c, _)| (ds.cells[*c].name.clone(), colour(*c)))
+        .collect();
+    let (stem, scope) = match function {
+        Some(f) => (
+            format!("ecdf_targets_{}", f.replace('/', "_")),
+            f.to_owned(),
+        ),
+        None => ("ecdf_targets".to_owned(), "all problems".to_owned()),
+    };
+    Plot {
+        stem,
+        title: format!("Runtime ECDF over {targets} targets, {scope}"),
+        caption: format!(
+            "Empirical cumulative distribution of the runtimes to {targets} target \
+             precisions Δf = 10² … 10⁻⁸ (five per decade) above f*, the anytime view \
+             of COCO (Hansen et al. 2021): for each algorithm, the fraction of all its \
+             (run, target) pairs on {scope} whose best error reached the target within \
+             the given number of objective evaluations divided by the dimension (log \
+             scale). The curve ends at the largest budget; its height there is the \
+             fraction of targets reached, so budget dependence is visible without \
+             rerunning."
+        ),
+        figure: Figure::Ecdf(Ecdf {
+            title: format!("Runtime to {targets} targets, {scope}"),
+            legend,
+            series,
+            x: (x0, lg(xmax).max(x0 + 1.0)),
+            x_desc: "objective evaluations / D (log scale)",
+            y_desc: "fraction of (run, target) pairs reached",
+        }),
+    }
 }

@@ -21,6 +21,7 @@ use super::data::Dataset;
 use super::descriptive::CellStats;
 use super::render::{Draw, DrawResult};
 use super::tuning::HeatMap;
+use crate::experiment::records::default_targets;
 
 pub(crate) use self::boxes::Boxes;
 pub(crate) use self::convergence::Convergence;
@@ -101,6 +102,12 @@ pub(crate) enum NoPlot {
     /// No function was run at two dimensions or more.
     #[error("scalability plot skipped: no function was run at more than one dimension")]
     SingleDimension,
+    /// No run reached any target precision (or `hits.csv` is absent).
+    #[error(
+        "runtime ECDFs over all targets skipped: no run reached a target precision \
+         (hits.csv is missing or empty; fitting runs record none)"
+    )]
+    NoHits,
 }
 
 /// Every figure of the report that the data allows, and a note for each one
@@ -123,6 +130,10 @@ pub(crate) fn figures(
             Ok(p) => plots.push(p),
             Err(n) => notes.push(n.to_string()),
         }
+    }
+    match ecdf::target_ecdfs(ds, default_targets().len()) {
+        Ok(p) => plots.extend(p),
+        Err(n) => notes.push(n.to_string()),
     }
     plots.extend(heat_maps.into_iter().map(heat_map::heat));
     (plots, notes)

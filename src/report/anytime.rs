@@ -1,0 +1,126 @@
+//! The anytime view of a campaign: COCO's average runtime aRT to each target
+//! precision, from the exact hits of `hits.csv` (Hansen et al. 2021, "COCO:
+//! a platform for comparing continuous optimizers in a black-box setting",
+//! Optim. Methods Softw. 36(1); Auger & Hansen 2005 for aRT).
+//!
+//! For one algorithm on one function (pooled over its instances and
+//! budgets), the aRT to a target is the evaluations of all runs until they
+//! reached it, or until they ended when they did not, divided by the number
+//! of runs that reached it; it is infinite when none did.
+
+use std::collections::BTreeMap;
+
+use super::data::Dataset;
+use super::format::{csv_real, evaluations, Table};
+
+/// The targets shown in the Markdown table (all are in the CSV file).
+const SHOWN: [f64; 6] = [1e2, 1e0, 1e-2, 1e-4, 1e-6, 1e-8];
+
+/// The aRT to each of `targets` of every algorithm on every function,
+/// dimension and transform; `None` when no run has hits.
+pub(crate) fn art_table(ds: &Dataset, targets: &[f64]) -> Option<Table> {
+    let any = (0..ds.problems.len())
+        .any(|p| (0..ds.cells.len()).any(|c| ds.runs(p, c).iter().any(|r| !r.hits.is_empty())));
+    if !any {
+        return None;
+    }
+    // (function, D, transform) → problems
+    let mut groups: BTreeMap<(String, usize, String), Vec<usize>> = BTreeMap::new();
+    for (p, problem) in ds.problems.iter().enumerate() {
+        groups
+            .entry((
+                problem.function.clone(),
+                problem.dim,
+                problem.transform.name().to_owned(),
+            ))
+            .or_default()
+            .push(p);
+    }
+    let shown: Vec<usize> = SHOWN
+        .iter()
+        .filter_map(|s| targets.iter().position(|t| (t / s - 1.0).abs() < 1e-9))
+        .collect();
+    let mut t = Table {
+        stem: "art_targets".into(),
+        title: "Average runtime to each target".into(),
+        intro: vec![format!(
+            "COCO's average runtime aRT (evaluations of all runs until they reached the \
+             target, or until they ended, divided by the number of runs that reached it; \
+             — when none did) to the target precisions Δf above f*, per algorithm and \
+             function, pooled over instances and budgets. The table shows six of the {} \
+             targets; tables/art_targets.csv has all of them.",
+            targets.len()
+        )],
+        md_header: ["Function", "D", "Transform", "Algorithm"]
+            .map(String::from)
+            .into_iter()
+            .chain(shown.iter().map(|&i| format!("aRT Δf={:.0e}", targets[i])))
+            .collect(),
+        csv_header: [
+            "function",
+            "dim",
+            "transform",
+            "algorithm",
+            "kind",
+            "params",
+            "target",
+            "runs",
+            "reached",
+            "art",
+        ]
+        .map(String::from)
+        .to_vec(),
+        ..Table::default()
+    };
+    for ((function, dim, transform), problems) in &groups {
+        for (c, cell) in ds.cells.iter().enumerate() {
+            let runs: Vec<_> = problems.iter().flat_map(|&p| ds.runs(p, c)).collect();
+            if runs.is_empty() {
+                continue;
+            }
+            let arts: Vec<(usize, Option<f64>)> = targets
+                .iter()
+                .map(|&target| {
+                    let mut spent = 0u64;
+                    let mut reached = 0usize;
+                    for r in &runs {
+                        match r.hits.iter().find(|(p, _)| *p == target) {
+                            Some(&(_, e)) => {
+                                spent += e;
+                                reached += 1;
+                            }
+                            None => spent += r.evaluations,
+                        }
+                    }
+                    (
+                        reached,
+                        (reached > 0).then(|| spent as f64 / reached as f64),
+                    )
+                })
+                .collect();
+            let mut md = vec![
+                function.clone(),
+                dim.to_string(),
+                transform.clone(),
+                cell.name.clone(),
+            ];
+            md.extend(shown.iter().map(|&i| evaluations(arts[i].1)));
+            t.md_rows.push(md);
+            for (target, (reached, art)) in targets.iter().zip(&arts) {
+                t.csv_rows.push(vec![
+                    function.clone(),
+                    dim.to_string(),
+                    transform.clone(),
+                    cell.label.clone(),
+                    cell.kind.clone(),
+                    cell.params.clone(),
+                    csv_real(*target),
+                    runs.len().to_string(),
+                    reached.to_string(),
+                    art.map_or_else(|| "inf".into(), csv_real),
+                ]);
+            }
+        }
+    }
+    Some(t)
+}
