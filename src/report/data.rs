@@ -403,6 +403,8 @@ pub(crate) struct Provenance {
     pub tool: Option<String>,
     /// Hash of the spec text from meta.toml.
     pub spec_hash: Option<String>,
+    /// The factors the campaign paired its seeds on (meta.toml `paired`).
+    pub paired: Vec<String>,
     /// Whether `spec.toml` was found and parsed.
     pub spec_found: bool,
     /// Whether `meta.toml` was found and parsed.
@@ -481,6 +483,11 @@ pub(crate) fn provenance(dir: &Path) -> Provenance {
             (None, None) => None,
         };
         p.spec_hash = meta.get("spec_fnv1a64").map(value_text);
+        p.paired = meta
+            .get("paired")
+            .and_then(|v| v.as_array())
+            .map(|a| a.iter().map(value_text).collect())
+            .unwrap_or_default();
         if p.name.is_none() {
             p.name = meta.get("experiment").map(value_text);
         }

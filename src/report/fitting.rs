@@ -19,7 +19,7 @@ use crate::files::fmt_real;
 use crate::fit::Segment;
 use crate::geometry::Point;
 use crate::reconstruction::{OverlayCurve, OverlayFigure, OverlayPanel};
-use crate::stats::{holm_bonferroni, mann_whitney_u, median, Alternative, MannWhitneyResult, Mark};
+use crate::stats::{holm_bonferroni, mann_whitney_u, median, wilcoxon, Alternative, Mark};
 
 /// What the fitting section adds to a report.
 pub(crate) struct FittingSection {
@@ -429,18 +429,23 @@ fn hybrid_table(fr: &FitRuns<'_>) -> Table {
 }
 
 /// The empty search-space table, with its headers.
-fn search_space_frame(alpha: f64) -> Table {
+fn search_space_frame(alpha: f64, paired: bool) -> Table {
+    let test = if paired {
+        "two-sided Wilcoxon signed-rank test paired by run (the search space is paired in \
+         the spec, so the runs of the two problems share their seeds)"
+    } else {
+        "two-sided Mann–Whitney U test of the two samples (the runs of the two problems \
+         have different seeds, so they are not paired)"
+    };
     Table {
         stem: "fit_search_space".into(),
         title: "Search-space technique against the bounding box".into(),
         intro: vec![format!(
             "For each problem run with both search spaces and each method: the median E \
              inside the technique's boxes and inside the naive bounding box, and the \
-             two-sided Mann–Whitney U test of the two samples (the runs of the two problems \
-             have different seeds, so they are not paired), with Holm's correction over all \
-             rows. The mark is from the technique's point of view at α = {alpha}: + \
-             significantly lower E with the technique, − significantly higher, ≈ no \
-             significant difference."
+             {test}, with Holm's correction over all rows. The mark is from the \
+             technique's point of view at α = {alpha}: + significantly lower E with the \
+             technique, − significantly higher, ≈ no significant difference."
         )],
         md_header: [
             "Problem",
@@ -458,7 +463,7 @@ fn search_space_frame(alpha: f64) -> Table {
             "method",
             "median_technique",
             "median_bounding_box",
-            "u",
+            if paired { "r_plus_minus_r_minus" } else { "u" },
             "p_value",
             "p_holm",
             "mark",
@@ -469,14 +474,24 @@ fn search_space_frame(alpha: f64) -> Table {
     }
 }
 
+/// A test of E with the technique against E in the bounding box: its
+/// p-value and its signed statistic (negative when the technique's E
+/// tends to be lower).
+struct SpaceTest {
+    p_value: f64,
+    direction: f64,
+    /// The statistic written to the CSV file: R⁺ − R⁻ or U.
+    statistic: f64,
+}
+
 /// A method's runs on a problem in both search spaces: (problem of the
 /// technique, method, median E with the technique, median E in the
-/// bounding box, the test of the two samples).
-type SpacePair = (String, String, f64, f64, MannWhitneyResult);
+/// bounding box, the test).
+type SpacePair = (String, String, f64, f64, SpaceTest);
 
-/// Every method run on a problem in both search spaces, with the
-/// Mann–Whitney U test of its two samples.
-fn space_pairs(fr: &FitRuns<'_>) -> Vec<SpacePair> {
+/// Every method run on a problem in both search spaces, with the test of
+/// its two samples: paired by run when `paired`, else unpaired.
+fn space_pairs(fr: &FitRuns<'_>, paired: bool) -> Vec<SpacePair> {
     let mut pairs = Vec::new();
     for (pb, name) in fr.problems.iter().enumerate() {
         let Some(c) = split(name) else { continue };
@@ -491,7 +506,20 @@ fn space_pairs(fr: &FitRuns<'_>) -> Vec<SpacePair> {
             let (Some(ea), Some(eb)) = (fr.errors(pt, cell), fr.errors(pb, cell)) else {
                 continue;
             };
-            if let Ok(t) = mann_whitney_u(&ea, &eb, Alternative::TwoSided) {
+            let test = if paired && ea.len() == eb.len() {
+                wilcoxon(&ea, &eb, Alternative::TwoSided).map(|w| SpaceTest {
+                    p_value: w.p_value,
+                    direction: w.r_plus - w.r_minus,
+                    statistic: w.r_plus - w.r_minus,
+                })
+            } else {
+                mann_whitney_u(&ea, &eb, Alternative::TwoSided).map(|m| SpaceTest {
+                    p_value: m.p_value,
+                    direction: m.statistic - (m.n1 * m.n2) as f64 / 2.0,
+                    statistic: m.statistic,
+                })
+            };
+            if let Ok(t) = test {
                 pairs.push((twin.clone(), cell_name.clone(), median(&ea), median(&eb), t));
             }
         }
@@ -501,17 +529,16 @@ fn space_pairs(fr: &FitRuns<'_>) -> Vec<SpacePair> {
 
 /// The search-space technique against the naive bounding box, with Holm's
 /// correction over all rows.
-fn search_space_table(fr: &FitRuns<'_>, alpha: f64) -> Table {
-    let mut space = search_space_frame(alpha);
-    let pairs = space_pairs(fr);
+fn search_space_table(fr: &FitRuns<'_>, alpha: f64, paired: bool) -> Table {
+    let mut space = search_space_frame(alpha, paired);
+    let pairs = space_pairs(fr, paired);
     if pairs.is_empty() {
         return space;
     }
     let p: Vec<f64> = pairs.iter().map(|x| x.4.p_value).collect();
     let adjusted = holm_bonferroni(&p).unwrap_or(p);
     for ((problem, method, ma, mb, t), ph) in pairs.into_iter().zip(adjusted) {
-        let half = (t.n1 * t.n2) as f64 / 2.0;
-        let mark = Mark::from_p_value(ph, alpha, t.statistic - half);
+        let mark = Mark::from_p_value(ph, alpha, t.direction);
         space.md_rows.push(vec![
             problem.clone(),
             method.clone(),
@@ -660,7 +687,11 @@ pub(crate) fn section(
     let best = fr.best();
     let mut notes = Vec::new();
     let mut tables = vec![quality_table(&fr, &best), functions_table(&fr, &best)];
-    let space = search_space_table(&fr, alpha);
+    let paired = super::data::provenance(dir)
+        .paired
+        .iter()
+        .any(|f| f == "search_space");
+    let space = search_space_table(&fr, alpha, paired);
     if !space.md_rows.is_empty() {
         tables.push(space);
     }
