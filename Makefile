@@ -33,11 +33,12 @@ bench:
 	$(CARGO) bench --locked --bench optimisers
 	$(CARGO) bench --locked --bench fitting
 	$(CARGO) bench --locked --bench implant
+	$(CARGO) bench --locked --bench instances
 
-CH4 := ch4_benchmarks ch4_scalability ch4_tuning
+CH4 := ch4_tuning ch4_benchmarks ch4_scalability ch4_robustness
 # Extra `report` arguments per experiment: the tuning grid has 81 MHS cells,
 # so its tests compare each setting with classical HS.
-REPORT_ARGS_ch4_tuning := --reference HS
+REPORT_ARGS_ch4_tuning := --reference "HS (hms=5, hmcr=0.9, bw=0.01)"
 
 # Each campaign resumes where an interrupted one stopped; the report is
 # regenerated from the finished results.

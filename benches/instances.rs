@@ -1,0 +1,97 @@
+//! The cost of a transformed benchmark instance against the bare function
+//! at D = 30: a shift should cost at most 1.5× the bare evaluation, a
+//! rotation at most the bare evaluation plus one D × D matrix-vector
+//! product (measured here on its own). `make bench` prints the ratios.
+
+mod common;
+
+use common::mean_ns;
+use std::hint::black_box;
+
+use criterion::{Criterion, Throughput};
+use metabezier::functions::{Function, TestProblem, Transform};
+use metabezier::problem::Problem;
+use metabezier::rng::{run_rng, Draw};
+
+const POINTS: usize = 1024;
+const D: usize = 30;
+
+fn points(problem: &TestProblem) -> Vec<Vec<f64>> {
+    let mut rng = run_rng(1);
+    (0..POINTS)
+        .map(|_| {
+            problem
+                .bounds()
+                .iter()
+                .map(|b| b.lerp(rng.unit()))
+                .collect()
+        })
+        .collect()
+}
+
+fn bench(c: &mut Criterion, f: Function) {
+    let mut group = c.benchmark_group(format!("{}-{D}-instance", f.name()));
+    group.throughput(Throughput::Elements(POINTS as u64));
+    for t in [Transform::None, Transform::Shift, Transform::ShiftRotate] {
+        let problem = TestProblem::instance(f, D, t, 1).unwrap();
+        let xs = points(&problem);
+        group.bench_function(t.name(), |b| {
+            b.iter(|| {
+                let mut s = 0.0;
+                for x in &xs {
+                    s += problem.objective(black_box(x));
+                }
+                s
+            })
+        });
+    }
+    // One D × D matrix-vector product, summed left to right as the rotation is.
+    let m: Vec<f64> = {
+        let mut rng = run_rng(2);
+        (0..D * D).map(|_| rng.gaussian()).collect()
+    };
+    let xs = points(&TestProblem::new(f, D).unwrap());
+    group.bench_function("matvec", |b| {
+        let mut y = [0.0; D];
+        b.iter(|| {
+            let mut s = 0.0;
+            for x in &xs {
+                for (yi, row) in y.iter_mut().zip(m.chunks_exact(D)) {
+                    let mut acc = 0.0;
+                    for (a, v) in row.iter().zip(black_box(x)) {
+                        acc += a * v;
+                    }
+                    *yi = acc;
+                }
+                s += y[0];
+            }
+            s
+        })
+    });
+    group.finish();
+}
+
+fn main() {
+    let mut c = Criterion::default().configure_from_args();
+    bench(&mut c, Function::Sphere);
+    bench(&mut c, Function::Rastrigin);
+    c.final_summary();
+    println!("\nTransformed instances at D = {D}, ns per evaluation:");
+    println!(
+        "{:<22} {:>8} {:>8} {:>13} {:>8} {:>16}",
+        "function", "bare", "shift", "shift÷bare", "rotate", "rotate÷(bare+mv)"
+    );
+    for f in ["sphere", "rastrigin"] {
+        let group = format!("{f}-{D}-instance");
+        let per = |id: &str| mean_ns(&group, id).map(|t| t / POINTS as f64);
+        if let (Some(bare), Some(shift), Some(rot), Some(mv)) =
+            (per("none"), per("shift"), per("shift-rotate"), per("matvec"))
+        {
+            println!(
+                "{group:<22} {bare:>8.1} {shift:>8.1} {:>13.2} {rot:>8.1} {:>16.2}",
+                shift / bare,
+                rot / (bare + mv)
+            );
+        }
+    }
+}
