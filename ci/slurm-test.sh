@@ -112,6 +112,9 @@ ProctrackType=proctrack/linuxproc
 TaskPlugin=task/none
 MpiDefault=none
 SchedulerType=sched/builtin
+# Test pending jobs every second (default 60 s), so a requeued task starts
+# as soon as its begin time has passed.
+SchedulerParameters=sched_interval=1
 SelectType=select/cons_tres
 SelectTypeParameters=CR_Core
 JobCompType=jobcomp/none
@@ -203,17 +206,22 @@ JOBS+=("$JOB")
 SHARD=$T/b/results/slurm_ci/shard-2-of-3
 say "B: submitted array job $JOB"
 # Stop it once a few runs are journalled (of 18).
-finished() { grep -c ',ok$' "$SHARD/journal.csv" 2>/dev/null || true; }
+finished() {
+	local n
+	n=$(grep -c ',ok$' "$SHARD/journal.csv" 2>/dev/null || true)
+	echo "${n:-0}"
+}
 for _ in $(seq 1500); do
 	[ "$(finished)" -ge 4 ] && break
 	sleep 0.05
 done
 scontrol suspend "${JOB}_1"
 DONE=$(finished)
-[ ! -e "$SHARD/runs.csv" ] && [ "$DONE" -ge 1 ] && [ "$DONE" -lt 18 ] ||
+if [ -e "$SHARD/runs.csv" ] || [ "$DONE" -lt 1 ] || [ "$DONE" -ge 18 ]; then
 	fail "task 1 was not mid-shard when suspended ($DONE of 18 runs); use a larger budget"
+fi
 scontrol requeue "${JOB}_1"
-say "B: task 1 suspended after $DONE of 18 runs and requeued"
+say "B: task 1 suspended with $DONE of 18 runs journalled, and requeued"
 # A job requeued while suspended may be held; release it.
 for _ in $(seq 100); do
 	state=$(scontrol show job -o "${JOB}_1" | grep -o 'JobState=[A-Z]*')
@@ -224,9 +232,11 @@ scontrol release "${JOB}_1" 2>/dev/null || true
 await "$JOB"
 scontrol show job -o "${JOB}_1" | grep -q 'Restarts=1' || fail "task 1 did not restart"
 grep -q 'DUE TO JOB REQUEUE' "slurm-${JOB}_1.out" || fail "task 1 was not requeued"
+# Its second start kept the runs of the first, which had not finished.
 REUSED=$(sed -n 's/.*18 runs (\([0-9]*\) reused.*/\1/p' "slurm-${JOB}_1.out")
-[ -n "$REUSED" ] && [ "$REUSED" -ge "$DONE" ] ||
-	fail "the requeued task did not resume its journal (reused: '$REUSED')"
+if [ -z "$REUSED" ] || [ "$REUSED" -lt "$DONE" ] || [ "$REUSED" -ge 18 ]; then
+	fail "the requeued task did not resume a shard killed mid-run (reused: '$REUSED')"
+fi
 "$BIN" merge results/slurm_ci
 same "$T/b/results/slurm_ci"
 say "B: requeued task kept $REUSED finished runs; merged files identical to the whole run"
