@@ -78,6 +78,10 @@ enum Command {
         /// the shards; else results/<experiment name>].
         #[arg(long)]
         out: Option<PathBuf>,
+        /// The campaign's spec [default: the shards' copy]; needed when the
+        /// spec names fitting inputs by paths relative to itself.
+        #[arg(long)]
+        spec: Option<PathBuf>,
     },
     /// Print a Slurm array job (an sbatch script) that runs a campaign as
     /// N shards, one per task.
@@ -234,7 +238,7 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
             run(&spec, &opts, w)
         }
         Command::Check { spec } => check(&spec, w),
-        Command::Merge { dirs, out } => merge(&dirs, out, w),
+        Command::Merge { dirs, out, spec } => merge(&dirs, out, spec.as_deref(), w),
         Command::Slurm(args) => slurm(args, w),
         Command::Report {
             dir,
@@ -307,12 +311,21 @@ fn check(spec: &Path, w: &mut String) -> Result<(), Error> {
 }
 
 /// `metabezier merge`: find the shards, check them, and join them, with
-/// the spec copied into the first.
-fn merge(dirs: &[PathBuf], out: Option<PathBuf>, w: &mut String) -> Result<(), Error> {
+/// the spec given or else the one copied into the first.
+fn merge(
+    dirs: &[PathBuf],
+    out: Option<PathBuf>,
+    spec: Option<&Path>,
+    w: &mut String,
+) -> Result<(), Error> {
     let inputs = crate::experiment::find_shards(dirs)?;
-    let copy = inputs.dirs[0].join("spec.toml");
-    let text = read_text(&copy)?;
-    let spec = Spec::parse(&copy, &text)?;
+    let spec = match spec {
+        Some(path) => Spec::load(path)?,
+        None => {
+            let copy = inputs.dirs[0].join("spec.toml");
+            Spec::parse(&copy, &read_text(&copy)?)?
+        }
+    };
     let s = crate::experiment::shards::merge_found(&spec, &inputs, out)?;
     say!(
         w,

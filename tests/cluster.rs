@@ -71,7 +71,11 @@ fn the_array_script_runs_every_shard_and_merge_joins_them() {
         "#SBATCH --requeue\n".to_owned(),
         "#SBATCH --partition=short\n".to_owned(),
         "#SBATCH -A proj\n".to_owned(),
-        format!("merge '{}'\n", scratch.display()),
+        format!(
+            "merge '{}' --spec '{}'\n",
+            scratch.display(),
+            dir.join("array.toml").display()
+        ),
         "--resume --quiet\n".to_owned(),
     ] {
         assert!(script.contains(&line), "{line} not in:\n{script}");
@@ -185,4 +189,41 @@ fn cluster_commands_refuse_bad_input_by_name() {
         "{e}"
     );
     assert!(!dir.join("o/runs.csv").exists(), "nothing merged");
+}
+
+#[test]
+fn a_fitting_campaign_merges_with_its_spec() {
+    // The input is named relative to the spec, so the shards' copies of the
+    // spec cannot find it: `merge --spec` reads the spec where it is.
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/outlines/coin.png");
+    std::fs::copy(data, dir.join("coin.png")).unwrap();
+    std::fs::write(
+        dir.join("fit.toml"),
+        "[experiment]\nname = \"fitm\"\nseed = 1\nruns = 2\n\n[[fit]]\ninput = \"coin.png\"\n\
+         function = \"cubic\"\ncontinuity = \"c1\"\nsegments = 4\nbudget = 200\n\n\
+         [[algorithm]]\nname = \"hs\"\n",
+    )
+    .unwrap();
+    for k in ["1/2", "2/2"] {
+        ok(metabezier(
+            dir,
+            &["run", "fit.toml", "--out", "o", "--shard", k, "-q"],
+        ));
+    }
+    let e = error(metabezier(dir, &["merge", "o"]));
+    assert!(e.contains("shard-1-of-2/coin.png: cannot read"), "{e}");
+    ok(metabezier(dir, &["merge", "o", "--spec", "fit.toml"]));
+    ok(metabezier(
+        dir,
+        &["run", "fit.toml", "--out", "whole", "-q"],
+    ));
+    for file in ["runs.csv", "fits.csv", "segments.csv", "outlines.csv"] {
+        assert_eq!(
+            std::fs::read(dir.join("whole").join(file)).unwrap(),
+            std::fs::read(dir.join("o").join(file)).unwrap(),
+            "{file} differs"
+        );
+    }
 }

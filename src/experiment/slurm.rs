@@ -108,10 +108,11 @@ pub fn sbatch_script(
          # requeued or resubmitted task keeps the runs it finished. Its output goes\n\
          # to slurm-JOB_TASK.out in the submission directory.\n\
          # When every task has finished, join the shards:\n\
-         #   {exe} merge {out}\n",
+         #   {exe} merge {out} --spec {}\n",
         spec.name,
         spec_path.display(),
         opts.out.display(),
+        quote(spec_path),
     ));
     for d in &directives {
         s.push_str(&format!("#SBATCH {d}\n"));
