@@ -3,11 +3,12 @@ CARGO ?= cargo
 BIN := target/release/metabezier
 SPECS := experiments
 
-.PHONY: help build quick test bench reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all fmt lint clean-results
+.PHONY: help build quick test test-cluster bench reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all fmt lint clean-results
 
 help:
 	@echo "make quick          run experiments/quick.toml (seconds) into results/quick/"
 	@echo "make test           the whole test suite, rustfmt check and clippy -D warnings"
+	@echo "make test-cluster   a campaign as a Slurm array job on a private one-node Slurm (root; installs slurm-wlm, munge)"
 	@echo "make bench          criterion benchmarks: optimiser overhead per evaluation, cost of E per fitting function"
 	@echo "make reproduce-ch4  chapter 4: benchmarks, scalability, MHS tuning, with reports (results/ch4_*/)"
 	@echo "make reproduce-ch5  chapter 5: curve fitting of four real outlines, search-space study (results/ch5_*/)"
@@ -28,6 +29,12 @@ test:
 	$(CARGO) test --release --locked
 	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --no-deps --locked
 	$(CARGO) clippy --release --locked --all-targets -- -D warnings
+
+# Installs Debian's slurm-wlm and munge when missing, starts private daemons,
+# runs a campaign as an array job (one task requeued mid-run), merges it and
+# compares it with a whole run byte for byte; stops the daemons it started.
+test-cluster:
+	ci/slurm-test.sh
 
 bench:
 	$(CARGO) bench --locked --bench optimisers

@@ -10,8 +10,9 @@ use clap::{Parser, Subcommand};
 use crate::error::{Error, UsageError};
 use crate::experiment::fit_files::write_fit_records;
 use crate::experiment::runner::{self, RunOptions, Shard};
+use crate::experiment::slurm::{self, SlurmOptions};
 use crate::experiment::Spec;
-use crate::files::read_text;
+use crate::files::{read_text, IoError};
 use crate::fit::{FitOptions, FunctionType, PiecewiseFit, SearchSpace};
 use crate::functions::{Function, Transform};
 use crate::geometry::{Continuity, Parameterisation};
@@ -42,7 +43,8 @@ enum Command {
     Run {
         /// The experiment spec (TOML).
         spec: PathBuf,
-        /// Output directory [default: results/<experiment name>].
+        /// Output directory [default: results/<experiment name>]; a shard
+        /// writes into its own shard-K-of-N/ beneath it.
         #[arg(long)]
         out: Option<PathBuf>,
         /// Worker threads [default: all cores]; results do not depend on it.
@@ -66,15 +68,24 @@ enum Command {
         /// The experiment spec (TOML).
         spec: PathBuf,
     },
-    /// Join the result directories of all shards of a campaign.
+    /// Join the shards of a campaign into files equal to a single run's.
     Merge {
-        /// The shard directories (each holds spec.toml and runs.csv).
+        /// The directory holding the shard-K-of-N/ directories (the --out of
+        /// the shards), or the shard directories themselves.
         #[arg(required = true)]
         dirs: Vec<PathBuf>,
-        /// Output directory [default: results/<experiment name>].
+        /// Output directory [default: the one directory given, when it holds
+        /// the shards; else results/<experiment name>].
         #[arg(long)]
         out: Option<PathBuf>,
+        /// The campaign's spec [default: the shards' copy]; needed when the
+        /// spec names fitting inputs by paths relative to itself.
+        #[arg(long)]
+        spec: Option<PathBuf>,
     },
+    /// Print a Slurm array job (an sbatch script) that runs a campaign as
+    /// N shards, one per task.
+    Slurm(SlurmArgs),
     /// Write report.md, tables/*.csv and plots/ for a results directory.
     Report {
         /// A results directory of `metabezier run` or `metabezier merge`.
@@ -104,6 +115,30 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+}
+
+/// Arguments of `metabezier slurm`.
+#[derive(Debug, clap::Args)]
+struct SlurmArgs {
+    /// The experiment spec (TOML).
+    spec: PathBuf,
+    /// Array tasks, one shard each (at most the campaign's runs).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    tasks: u32,
+    /// The campaign's output directory, on a filesystem every node sees
+    /// [default: results/<experiment name>]; the shards go beneath it.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Time limit per task, HH:MM:SS or D-HH:MM:SS [default: the partition's].
+    #[arg(long, value_name = "HH:MM:SS")]
+    time: Option<String>,
+    /// CPUs per task; each task runs that many threads [default: 1].
+    #[arg(long, value_name = "C", value_parser = clap::value_parser!(u16).range(1..))]
+    cpus: Option<u16>,
+    /// Further sbatch options, one #SBATCH line each, such as
+    /// "--partition=short --account=proj".
+    #[arg(long, value_name = "ARGS", allow_hyphen_values = true)]
+    sbatch: Option<String>,
 }
 
 /// Arguments of `metabezier fit`.
@@ -203,7 +238,8 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
             run(&spec, &opts, w)
         }
         Command::Check { spec } => check(&spec, w),
-        Command::Merge { dirs, out } => merge(&dirs, out, w),
+        Command::Merge { dirs, out, spec } => merge(&dirs, out, spec.as_deref(), w),
+        Command::Slurm(args) => slurm(args, w),
         Command::Report {
             dir,
             reference,
@@ -274,21 +310,53 @@ fn check(spec: &Path, w: &mut String) -> Result<(), Error> {
     Ok(())
 }
 
-/// `metabezier merge`: join the shard directories, with the spec copied
-/// into the first.
-fn merge(dirs: &[PathBuf], out: Option<PathBuf>, w: &mut String) -> Result<(), Error> {
-    let copy = dirs[0].join("spec.toml");
-    let text = read_text(&copy)?;
-    let spec = Spec::parse(&copy, &text)?;
-    let s = runner::merge(&spec, dirs, out)?;
+/// `metabezier merge`: find the shards, check them, and join them, with
+/// the spec given or else the one copied into the first.
+fn merge(
+    dirs: &[PathBuf],
+    out: Option<PathBuf>,
+    spec: Option<&Path>,
+    w: &mut String,
+) -> Result<(), Error> {
+    let inputs = crate::experiment::find_shards(dirs)?;
+    let spec = match spec {
+        Some(path) => Spec::load(path)?,
+        None => {
+            let copy = inputs.dirs[0].join("spec.toml");
+            Spec::parse(&copy, &read_text(&copy)?)?
+        }
+    };
+    let s = crate::experiment::shards::merge_found(&spec, &inputs, out)?;
     say!(
         w,
         "{}: merged {} shard directories, {} runs, into {}",
         spec.name,
-        dirs.len(),
+        inputs.dirs.len(),
         s.total,
         s.out.display()
     );
+    Ok(())
+}
+
+/// `metabezier slurm`: print the sbatch array script of a campaign, with
+/// absolute paths so that it runs from any directory of the cluster.
+fn slurm(a: SlurmArgs, w: &mut String) -> Result<(), Error> {
+    let spec = Spec::load(&a.spec)?;
+    let absolute =
+        |p: &Path| std::path::absolute(p).map_err(|e| IoError::new("resolve the path", p, e));
+    let exe = std::env::current_exe()
+        .map_err(|e| IoError::new("find the running binary", Path::new("metabezier"), e))?;
+    let out = runner::campaign_dir(&spec, a.out.as_deref(), None);
+    let opts = SlurmOptions {
+        tasks: a.tasks as usize,
+        out: absolute(&out)?,
+        time: a.time,
+        cpus: a.cpus,
+        sbatch: a.sbatch,
+    };
+    let script = slurm::sbatch_script(&spec, &absolute(&a.spec)?, &exe, &opts)
+        .map_err(crate::experiment::ExperimentError::from)?;
+    w.push_str(&script);
     Ok(())
 }
 

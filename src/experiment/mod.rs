@@ -3,7 +3,8 @@
 //! runs in parallel and appends each finished run to the [`journal`], and
 //! [`records`] writes the tidy CSV result files (with the per-segment
 //! columns of fitting runs in [`segments`]). [`fit_files`] writes the same
-//! records for a single `metabezier fit`.
+//! records for a single `metabezier fit`. [`shards`] joins the shards of a
+//! campaign, and [`slurm`] writes the array job that runs them on a cluster.
 //!
 //! This room sits above the optimisers, the fitting pipeline and the CT
 //! layer, and below the implant, the report and the command line; the
@@ -14,6 +15,8 @@ pub mod journal;
 pub mod records;
 pub mod runner;
 pub mod segments;
+pub mod shards;
+pub mod slurm;
 pub mod spec;
 
 use std::fmt;
@@ -22,7 +25,9 @@ use std::path::PathBuf;
 use crate::files::IoError;
 
 pub use records::{DataError, DataProblem, ReadError, RunRecord};
-pub use runner::{merge, run_campaign, RunOptions, Shard, ShardError, Summary};
+pub use runner::{run_campaign, RunOptions, Shard, ShardError, ShardProblem, Summary};
+pub use shards::{find_shards, merge, MergeInputs, ShardGap};
+pub use slurm::{SlurmError, SlurmOptions};
 pub use spec::{Spec, SpecError};
 
 /// Why a campaign cannot proceed as asked: a resume or a merge that would
@@ -84,7 +89,7 @@ pub enum CampaignError {
     },
     /// A shard directory was made from a different spec.
     #[error(
-        "cannot merge: {} was made from a different spec than {}",
+        "cannot merge: {} was made from a different spec than {}; shards of different campaigns (or of a changed spec) cannot be joined",
         copy.display(),
         spec.display()
     )]
@@ -94,14 +99,35 @@ pub enum CampaignError {
         /// The spec of the merge.
         spec: PathBuf,
     },
-    /// A shard directory has no `runs.csv` yet.
+    /// A directory given to merge holds neither shard directories nor results.
     #[error(
-        "cannot merge: {} has no runs.csv; finish that shard first (run it again with --resume)",
+        "cannot merge: {} holds no shard directories (shard-K-of-N/) and no spec.toml of a campaign",
         dir.display()
     )]
-    UnfinishedShard {
-        /// The shard directory.
+    NoShards {
+        /// The directory given.
         dir: PathBuf,
+    },
+    /// Some shards of the campaign are missing or unfinished.
+    #[error(
+        "cannot merge: {}; finish each with `metabezier run SPEC --shard K/N --out DIR --resume`",
+        shards::list_gaps(gaps)
+    )]
+    IncompleteShards {
+        /// Every missing or unfinished shard.
+        gaps: Vec<ShardGap>,
+    },
+    /// The shards found split the campaign in different counts.
+    #[error(
+        "cannot merge: the shards found split the campaign in {} parts ({}); merge the shard-K-of-N directories of one count",
+        counts.iter().map(ToString::to_string).collect::<Vec<_>>().join(" and "),
+        dirs.iter().map(|d| d.display().to_string()).collect::<Vec<_>>().join(", ")
+    )]
+    MixedShardCounts {
+        /// The different N found.
+        counts: Vec<usize>,
+        /// The directories found.
+        dirs: Vec<PathBuf>,
     },
     /// Two shards hold different results for the same run.
     #[error("cannot merge: run {run} of {cell} on {problem} differs between shards")]
@@ -164,6 +190,9 @@ pub enum ExperimentError {
     /// The campaign cannot proceed as asked.
     #[error(transparent)]
     Campaign(#[from] CampaignError),
+    /// A Slurm array job cannot be written as asked.
+    #[error(transparent)]
+    Slurm(#[from] SlurmError),
 }
 
 impl From<ReadError> for ExperimentError {

@@ -6,7 +6,8 @@
 //! campaign's fixed order (problem, cell, run) once all runs are done.
 //! Finished runs are journalled as they complete, so `--resume` continues
 //! an interrupted campaign without redoing them, and `--shard K/N` runs one
-//! slice of a campaign for [`merge`] to join.
+//! slice of a campaign, in its own directory, for
+//! [`merge`](super::shards::merge) to join.
 
 use std::collections::HashMap;
 use std::io::{IsTerminal, Write};
@@ -21,7 +22,7 @@ use super::records::default_targets;
 use super::records::{self, FitDetail, RunKey, RunRecord};
 use super::spec::{ProblemKind, RunId, Spec};
 use super::{CampaignAction, CampaignError, ExperimentError};
-use crate::files::{create_dir, csv_bytes, fmt_real, read_text, write_atomic, IoError};
+use crate::files::{create_dir, csv_bytes, fmt_real, write_atomic, IoError};
 use crate::functions::TestProblem;
 use crate::optim::evaluator::log_checkpoints;
 use crate::optim::{Evaluator, Optimiser, Outcome};
@@ -40,12 +41,20 @@ pub struct Shard {
 impl Shard {
     /// Parses `K/N` with `1 ≤ K ≤ N`.
     pub fn parse(text: &str) -> Result<Shard, ShardError> {
-        let bad = || ShardError(text.to_owned());
-        let (k, n) = text.split_once('/').ok_or_else(bad)?;
-        let k: usize = k.trim().parse().map_err(|_| bad())?;
-        let n: usize = n.trim().parse().map_err(|_| bad())?;
-        if k == 0 || n == 0 || k > n {
-            return Err(bad());
+        let bad = |problem| ShardError {
+            text: text.to_owned(),
+            problem,
+        };
+        let (k, n) = text
+            .split_once('/')
+            .ok_or_else(|| bad(ShardProblem::NoSlash))?;
+        let k: usize = k.trim().parse().map_err(|_| bad(ShardProblem::K))?;
+        let n: usize = n.trim().parse().map_err(|_| bad(ShardProblem::N))?;
+        if n == 0 {
+            return Err(bad(ShardProblem::N));
+        }
+        if k == 0 || k > n {
+            return Err(bad(ShardProblem::OutOfRange { k, n }));
         }
         Ok(Shard { k, n })
     }
@@ -53,6 +62,18 @@ impl Shard {
     /// Whether run `index` belongs to this slice.
     pub fn contains(self, index: usize) -> bool {
         index % self.n == self.k - 1
+    }
+
+    /// The name of this shard's own directory, `shard-K-of-N`.
+    pub fn dir_name(self) -> String {
+        format!("shard-{}-of-{}", self.k, self.n)
+    }
+
+    /// The shard a directory named `shard-K-of-N` holds, if it is so named.
+    pub fn from_dir_name(name: &str) -> Option<Shard> {
+        let (k, n) = name.strip_prefix("shard-")?.split_once("-of-")?;
+        let (k, n) = (k.parse().ok()?, n.parse().ok()?);
+        (k >= 1 && k <= n && name == Shard { k, n }.dir_name()).then_some(Shard { k, n })
     }
 }
 
@@ -62,16 +83,44 @@ impl std::fmt::Display for Shard {
     }
 }
 
-/// A shard that is not `K/N` with `1 ≤ K ≤ N`; holds the text given.
+/// A shard that is not `K/N` with `1 ≤ K ≤ N`: the text given and what is
+/// wrong with it.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("expected a shard as K/N with 1 ≤ K ≤ N, such as 2/8, found \"{0}\"")]
-pub struct ShardError(pub String);
+#[error("expected a shard as K/N with 1 ≤ K ≤ N, such as 2/8, found \"{text}\": {problem}")]
+pub struct ShardError {
+    /// The text given.
+    pub text: String,
+    /// What is wrong with it.
+    pub problem: ShardProblem,
+}
+
+/// What is wrong with a shard's text.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum ShardProblem {
+    /// No `/` between K and N.
+    #[error("there is no '/' between K and N")]
+    NoSlash,
+    /// K is not a whole number.
+    #[error("K is not a whole number")]
+    K,
+    /// N is not a whole number of at least 1.
+    #[error("N is not a whole number of at least 1")]
+    N,
+    /// K is 0 or more than N.
+    #[error("shard {k} does not exist; the shards of {n} are 1 to {n}")]
+    OutOfRange {
+        /// The K given.
+        k: usize,
+        /// The N given.
+        n: usize,
+    },
+}
 
 /// How to run a campaign.
 #[derive(Clone, Debug, Default)]
 pub struct RunOptions {
-    /// Output directory; default `results/<name>` (or
-    /// `results/<name>/shard-K-of-N` for a shard).
+    /// Output directory; default `results/<name>`. A shard writes into its
+    /// own `shard-K-of-N/` beneath it (see [`shard_dir`]).
     pub out: Option<PathBuf>,
     /// Worker threads; default all cores.
     pub threads: Option<usize>,
@@ -206,7 +255,7 @@ pub fn execute_on(spec: &Spec, instances: &Instances, id: RunId) -> RunRecord {
 }
 
 /// The `meta.toml` of a campaign directory.
-fn meta_toml(spec: &Spec, shard: Option<Shard>, runs: usize) -> String {
+pub(super) fn meta_toml(spec: &Spec, shard: Option<Shard>, runs: usize) -> String {
     let mut s = String::new();
     s.push_str("# Written by metabezier; see the README for the file formats.\n");
     s.push_str(&format!(
@@ -242,16 +291,47 @@ fn meta_toml(spec: &Spec, shard: Option<Shard>, runs: usize) -> String {
     s
 }
 
-fn default_out(spec: &Spec, shard: Option<Shard>) -> PathBuf {
-    let base = Path::new("results").join(&spec.name);
+/// The directory a campaign writes into: `out`, by default
+/// `results/<name>`; a shard writes into its own directory beneath it
+/// ([`shard_dir`]), so shards never share a file.
+pub fn campaign_dir(spec: &Spec, out: Option<&Path>, shard: Option<Shard>) -> PathBuf {
+    let parent = out.map_or_else(|| default_out(spec), Path::to_owned);
     match shard {
-        Some(s) => base.join(format!("shard-{}-of-{}", s.k, s.n)),
-        None => base,
+        Some(s) => shard_dir(&parent, s),
+        None => parent,
     }
 }
 
+/// The directory of shard `s` under `parent`: `parent/shard-K-of-N`, or
+/// `parent` itself when it already is that shard's directory: so named, or
+/// started as that shard by a version that wrote shards straight into
+/// `--out` (its `meta.toml` says so), which thus still resumes.
+pub fn shard_dir(parent: &Path, s: Shard) -> PathBuf {
+    let named = parent
+        .file_name()
+        .is_some_and(|n| n.to_str() == Some(s.dir_name().as_str()));
+    if named || recorded_shard(parent) == Some(s.to_string()) {
+        parent.to_owned()
+    } else {
+        parent.join(s.dir_name())
+    }
+}
+
+/// The shard (`K/N`) that `dir/meta.toml` says the directory holds, if any.
+pub(super) fn recorded_shard(dir: &Path) -> Option<String> {
+    let meta = std::fs::read_to_string(dir.join("meta.toml")).ok()?;
+    meta.lines()
+        .find_map(|l| l.strip_prefix("shard = \""))
+        .map(|s| s.trim_end_matches('"').to_owned())
+}
+
+/// `results/<name>`, the default output directory of a campaign.
+pub(super) fn default_out(spec: &Spec) -> PathBuf {
+    Path::new("results").join(&spec.name)
+}
+
 /// Maps every run key of the spec to its position in the fixed order.
-fn key_index(spec: &Spec) -> HashMap<RunKey, usize> {
+pub(super) fn key_index(spec: &Spec) -> HashMap<RunKey, usize> {
     let cell_keys: Vec<String> = spec.cells.iter().map(|c| c.key()).collect();
     let problem_keys: Vec<String> = spec.problems.iter().map(|p| p.match_key()).collect();
     spec.run_ids()
@@ -271,7 +351,7 @@ fn key_index(spec: &Spec) -> HashMap<RunKey, usize> {
 }
 
 /// Writes the three result files of `records` (already in final order).
-fn write_results(spec: &Spec, out: &Path, records: &[RunRecord]) -> Result<(), IoError> {
+pub(super) fn write_results(spec: &Spec, out: &Path, records: &[RunRecord]) -> Result<(), IoError> {
     let optimum: HashMap<String, f64> = spec
         .problems
         .iter()
@@ -322,10 +402,7 @@ fn outlines_csv(spec: &Spec) -> Vec<u8> {
 /// Runs (or resumes) a campaign and writes `runs.csv`, `convergence.csv`,
 /// `timing.csv`, a copy of the spec and `meta.toml` into the output directory.
 pub fn run_campaign(spec: &Spec, opts: &RunOptions) -> Result<Summary, ExperimentError> {
-    let out = opts
-        .out
-        .clone()
-        .unwrap_or_else(|| default_out(spec, opts.shard));
+    let out = campaign_dir(spec, opts.out.as_deref(), opts.shard);
     let journal_path = out.join("journal.csv");
     let has_state = journal_path.exists() || out.join("runs.csv").exists();
     if has_state && !opts.resume {
@@ -405,11 +482,8 @@ fn recover(
             .into());
         }
     }
-    if let Ok(meta) = std::fs::read_to_string(out.join("meta.toml")) {
-        let old_shard = meta
-            .lines()
-            .find_map(|l| l.strip_prefix("shard = \""))
-            .map(|s| s.trim_end_matches('"').to_owned());
+    if out.join("meta.toml").exists() {
+        let old_shard = recorded_shard(out);
         let new_shard = shard.map(|s| s.to_string());
         if old_shard != new_shard {
             return Err(CampaignError::ShardChanged {
@@ -511,7 +585,7 @@ fn progress_bar(spec: &Spec, runs: usize, progress: bool) -> indicatif::Progress
 }
 
 /// The error for run `r` of `dir`, which the spec does not define.
-fn foreign_run(action: CampaignAction, dir: &Path, r: &RunRecord) -> CampaignError {
+pub(super) fn foreign_run(action: CampaignAction, dir: &Path, r: &RunRecord) -> CampaignError {
     CampaignError::ForeignRun {
         action,
         dir: dir.to_owned(),
@@ -519,82 +593,4 @@ fn foreign_run(action: CampaignAction, dir: &Path, r: &RunRecord) -> CampaignErr
         cell: r.cell_key(),
         problem: r.match_key(),
     }
-}
-
-/// Joins the result directories of shards of one campaign into one
-/// directory whose files equal those of an unsharded run.
-pub fn merge(
-    spec: &Spec,
-    dirs: &[PathBuf],
-    out: Option<PathBuf>,
-) -> Result<Summary, ExperimentError> {
-    let out = out.unwrap_or_else(|| default_out(spec, None));
-    let index = key_index(spec);
-    let mut done: HashMap<usize, RunRecord> = HashMap::new();
-    for dir in dirs {
-        let copy = dir.join("spec.toml");
-        let text = read_text(&copy)?;
-        if text != spec.text {
-            return Err(CampaignError::DifferentSpec {
-                copy,
-                spec: spec.path.clone(),
-            }
-            .into());
-        }
-        if !dir.join("runs.csv").exists() {
-            return Err(CampaignError::UnfinishedShard { dir: dir.clone() }.into());
-        }
-        for r in records::read_results(dir)? {
-            let i = *index
-                .get(&r.key())
-                .ok_or_else(|| foreign_run(CampaignAction::Merge, dir, &r))?;
-            if let Some(prev) = done.get(&i) {
-                let same = RunRecord {
-                    wall_seconds: prev.wall_seconds,
-                    ..r.clone()
-                };
-                if &same != prev {
-                    return Err(CampaignError::ShardsDisagree {
-                        run: r.run,
-                        cell: r.cell_key(),
-                        problem: r.match_key(),
-                    }
-                    .into());
-                }
-            }
-            done.insert(i, r);
-        }
-    }
-    let ids = spec.run_ids();
-    let missing: Vec<usize> = ids
-        .iter()
-        .filter(|id| !done.contains_key(&id.index))
-        .map(|id| id.index)
-        .collect();
-    if !missing.is_empty() {
-        return Err(CampaignError::MissingRuns {
-            missing: missing.len(),
-            total: ids.len(),
-            first: missing[0],
-        }
-        .into());
-    }
-    create_dir(&out)?;
-    let ordered: Vec<RunRecord> = ids
-        .iter()
-        .map(|id| done.remove(&id.index).expect("complete"))
-        .collect();
-    write_atomic(&out.join("spec.toml"), spec.text.as_bytes())?;
-    write_atomic(
-        &out.join("meta.toml"),
-        meta_toml(spec, None, ids.len()).as_bytes(),
-    )?;
-    write_results(spec, &out, &ordered)?;
-    Ok(Summary {
-        out,
-        total: ids.len(),
-        reused: ids.len(),
-        executed: 0,
-        complete: true,
-    })
 }
