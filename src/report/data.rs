@@ -7,6 +7,7 @@ use std::path::Path;
 
 use crate::experiment::records::{read_results, read_runs, RunRecord, Schema};
 use crate::experiment::{DataError, DataProblem, ReadError};
+use crate::experiment::spec::factor_suffix;
 use crate::functions::Transform;
 
 /// One run, reduced to what the report uses.
@@ -77,13 +78,34 @@ impl Problem {
         } else {
             format!("{}, D = {}", self.function, self.dim)
         };
+        t.push_str(&self.short()[self.function.len()..]);
+        t
+    }
+
+    /// The problem's name in CSV tables: the function (or fitting case),
+    /// followed by `|budget=`, `|transform=` and `|instance=` parts for the
+    /// factors that are not at their default, as in the spec's problem keys.
+    pub fn label(&self) -> String {
+        let mut s = self.function.clone();
+        if let Some(b) = self.budget {
+            s.push_str(&format!("|budget={b}"));
+        }
+        s.push_str(&factor_suffix(self.transform, self.instance, true, true));
+        s
+    }
+
+    /// The problem's name in Markdown tables: the function (or fitting
+    /// case), then `, shift-rotate #2` and `, budget 1000` when those
+    /// factors are not at their default.
+    pub fn short(&self) -> String {
+        let mut s = self.function.clone();
         if self.transform != Transform::None {
-            t.push_str(&format!(", {} #{}", self.transform, self.instance));
+            s.push_str(&format!(", {} #{}", self.transform, self.instance));
         }
         if let Some(b) = self.budget {
-            t.push_str(&format!(", budget {b}"));
+            s.push_str(&format!(", budget {b}"));
         }
-        t
+        s
     }
 
     /// Whether this is a fitting case (its name has `/` parts).

@@ -192,14 +192,14 @@ fn problems_table(ds: &data::Dataset) -> Table {
             .collect::<Vec<_>>()
             .join(" / ");
         t.md_rows.push(vec![
-            problem.function.clone(),
+            problem.short(),
             problem.dim.to_string(),
             budget.clone(),
             algorithms.to_string(),
             runs.to_string(),
         ]);
         t.csv_rows.push(vec![
-            problem.function.clone(),
+            problem.label(),
             problem.dim.to_string(),
             budget,
             algorithms.to_string(),
