@@ -3,7 +3,7 @@ CARGO ?= cargo
 BIN := target/release/metabezier
 SPECS := experiments
 
-.PHONY: help build quick test test-cluster bench reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all fmt lint clean-results
+.PHONY: help build quick test test-cluster bench bbob reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all fmt lint clean-results
 
 help:
 	@echo "make quick          run experiments/quick.toml (seconds) into results/quick/"
@@ -13,6 +13,7 @@ help:
 	@echo "make reproduce-ch4  chapter 4: benchmarks, scalability, MHS tuning, with reports (results/ch4_*/)"
 	@echo "make reproduce-ch5  chapter 5: curve fitting of four real outlines, search-space study (results/ch5_*/)"
 	@echo "make reproduce-ch6  chapter 6: cranial implant from CT 0051, artificial-defect validation (results/ch6_cranial/)"
+	@echo "make bbob           COCO's bbob suite: 5 optimisers x 24 functions x D = 2, 5, 10, report and COCO logs (results/bbob/)"
 	@echo "make reproduce-all  every chapter that exists so far"
 
 build:
@@ -63,6 +64,12 @@ CH6 := ch6_cranial
 # checked mesh; a rerun overwrites the results.
 reproduce-ch6: build
 	$(BIN) implant $(SPECS)/ch6_cranial.toml --out results/ch6_cranial
+
+# COCO's bbob suite through COCO's own code, with its report and COCO-format
+# logs for cocopp in results/bbob/coco/ (see the README).
+bbob: build
+	$(BIN) run $(SPECS)/bbob.toml --resume --coco-log results/bbob/coco
+	$(BIN) report results/bbob
 
 reproduce-all: reproduce-ch4 reproduce-ch5 reproduce-ch6
 

@@ -13,7 +13,6 @@
 typedef struct {
   coco_suite_t *suite;
   coco_problem_t *problem;
-  coco_observer_t *observer;
 } mb_bbob_t;
 
 /* Silences COCO's informational output; call before anything else. */
@@ -28,12 +27,27 @@ int mb_bbob_has_dimension(size_t dimension) {
   return 0;
 }
 
+/* COCO's bbob observer writing into outer_folder/result_folder (COCO
+ * appends _001, ... when it exists) under the algorithm name `algorithm`. */
+coco_observer_t *mb_observer_new(const char *outer_folder, const char *result_folder, const char *algorithm) {
+  char options[3 * 1100];
+  if (strlen(outer_folder) > 1000 || strlen(result_folder) > 1000 || strlen(algorithm) > 1000) return NULL;
+  snprintf(options, sizeof(options), "outer_folder: %s result_folder: %s algorithm_name: %s log_level: error",
+           outer_folder, result_folder, algorithm);
+  return coco_observer("bbob", options);
+}
+
+/* The folder the observer writes into. */
+const char *mb_observer_folder(const coco_observer_t *observer) { return coco_observer_get_result_folder(observer); }
+
+/* Frees an observer; every problem it observed must be freed first. */
+void mb_observer_free(coco_observer_t *observer) { coco_observer_free(observer); }
+
 /* Function f (1..24) of the bbob suite at `dimension`, instance `instance`
- * (1..), observed by the bbob logger into `log_folder` when it is not NULL;
- * NULL when an argument is out of range. */
-mb_bbob_t *mb_bbob_new(size_t function, size_t dimension, size_t instance, const char *log_folder,
-                       const char *algorithm) {
-  char instances[64], options[160], observer_options[1024];
+ * (1..), observed by `observer` when it is not NULL; NULL when an argument
+ * is out of range. */
+mb_bbob_t *mb_bbob_new(size_t function, size_t dimension, size_t instance, coco_observer_t *observer) {
+  char instances[64], options[160];
   mb_bbob_t *b;
   if (function < 1 || function > 24 || !mb_bbob_has_dimension(dimension) || instance < 1 ||
       instance > 1000000)
@@ -44,18 +58,12 @@ mb_bbob_t *mb_bbob_new(size_t function, size_t dimension, size_t instance, const
            (unsigned long)function);
   b->suite = coco_suite("bbob", instances, options);
   b->problem = coco_suite_get_problem_by_function_dimension_instance(b->suite, function, dimension, instance);
-  b->observer = NULL;
   if (b->problem == NULL) {
     coco_suite_free(b->suite);
     coco_free_memory(b);
     return NULL;
   }
-  if (log_folder != NULL) {
-    snprintf(observer_options, sizeof(observer_options),
-             "result_folder: %s algorithm_name: %s log_level: error", log_folder, algorithm);
-    b->observer = coco_observer("bbob", observer_options);
-    b->problem = coco_problem_add_observer(b->problem, b->observer);
-  }
+  if (observer != NULL) b->problem = coco_problem_add_observer(b->problem, observer);
   return b;
 }
 
@@ -81,11 +89,10 @@ const char *mb_bbob_id(const mb_bbob_t *b) { return coco_problem_get_id(b->probl
 double mb_bbob_lower(const mb_bbob_t *b) { return coco_problem_get_smallest_values_of_interest(b->problem)[0]; }
 double mb_bbob_upper(const mb_bbob_t *b) { return coco_problem_get_largest_values_of_interest(b->problem)[0]; }
 
-/* Frees the problem, its observer (closing its files) and its suite. */
+/* Frees the problem (closing its observer's files for it) and its suite. */
 void mb_bbob_free(mb_bbob_t *b) {
   if (b == NULL) return;
   coco_problem_free(b->problem);
-  if (b->observer != NULL) coco_observer_free(b->observer);
   coco_suite_free(b->suite);
   coco_free_memory(b);
 }

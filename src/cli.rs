@@ -11,7 +11,7 @@ use crate::error::{Error, UsageError};
 use crate::experiment::fit_files::write_fit_records;
 use crate::experiment::runner::{self, RunOptions, Shard};
 use crate::experiment::slurm::{self, SlurmOptions};
-use crate::experiment::Spec;
+use crate::experiment::{coco_log, Spec};
 use crate::files::{read_text, IoError};
 use crate::fit::{FitOptions, FunctionType, PiecewiseFit, SearchSpace};
 use crate::functions::{Function, Transform};
@@ -62,6 +62,10 @@ enum Command {
         /// No progress bar.
         #[arg(long, short)]
         quiet: bool,
+        /// Also write COCO-format logs of the bbob runs into this directory
+        /// (for cocopp), by replaying them on one thread once they finish.
+        #[arg(long, value_name = "DIR")]
+        coco_log: Option<PathBuf>,
     },
     /// Check a spec and print what it would run, without running it.
     Check {
@@ -226,6 +230,7 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
             shard,
             max_runs,
             quiet,
+            coco_log,
         } => {
             let opts = RunOptions {
                 out,
@@ -235,7 +240,7 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
                 max_runs,
                 progress: !quiet,
             };
-            run(&spec, &opts, w)
+            run(&spec, &opts, coco_log.as_deref(), w)
         }
         Command::Check { spec } => check(&spec, w),
         Command::Merge { dirs, out, spec } => merge(&dirs, out, spec.as_deref(), w),
@@ -264,8 +269,18 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
 
 /// `metabezier run`: load the spec, run (or resume) the campaign, and say
 /// how far it got.
-fn run(spec: &Path, opts: &RunOptions, w: &mut String) -> Result<(), Error> {
+fn run(
+    spec: &Path,
+    opts: &RunOptions,
+    coco_log: Option<&Path>,
+    w: &mut String,
+) -> Result<(), Error> {
     let spec = Spec::load(spec)?;
+    if let Some(dir) = coco_log {
+        // Refuse a spec without bbob problems or an unwritable folder
+        // before anything runs.
+        coco_log::check(&spec, dir)?;
+    }
     let s = runner::run_campaign(&spec, opts)?;
     let state = if s.complete {
         format!("complete; results in {}", s.out.join("runs.csv").display())
@@ -284,6 +299,15 @@ fn run(spec: &Path, opts: &RunOptions, w: &mut String) -> Result<(), Error> {
         s.reused,
         s.executed
     );
+    if let Some(dir) = coco_log {
+        if s.complete {
+            for folder in coco_log::write_coco_log(&spec, opts.shard, dir)? {
+                say!(w, "  COCO log in {}", folder.display());
+            }
+        } else {
+            say!(w, "  the COCO log is written when the campaign is complete");
+        }
+    }
     Ok(())
 }
 

@@ -10,6 +10,7 @@
 //! layer, and below the implant, the report and the command line; the
 //! report reads what [`records`] writes and nothing else of this room.
 
+pub mod coco_log;
 pub mod fit_files;
 pub mod journal;
 pub mod records;
@@ -190,6 +191,9 @@ pub enum ExperimentError {
     /// The campaign cannot proceed as asked.
     #[error(transparent)]
     Campaign(#[from] CampaignError),
+    /// A COCO log cannot be written.
+    #[error(transparent)]
+    CocoLog(#[from] coco_log::CocoLogError),
     /// A Slurm array job cannot be written as asked.
     #[error(transparent)]
     Slurm(#[from] SlurmError),

@@ -258,7 +258,7 @@ impl Schema {
         let mut budgets: HashMap<(String, String, u32), u64> = HashMap::new();
         let mut keyed_budget = false;
         for r in records {
-            instances |= r.transform != Transform::None;
+            instances |= r.transform != Transform::None || r.instance != 1;
             let b = budgets
                 .entry((r.cell_key(), r.match_key(), r.run))
                 .or_insert(r.budget);

@@ -20,12 +20,15 @@ use rayon::prelude::*;
 use super::journal;
 use super::records::default_targets;
 use super::records::{self, FitDetail, RunKey, RunRecord};
+use super::spec::ProblemEntry;
 use super::spec::{ProblemKind, RunId, Spec};
 use super::{CampaignAction, CampaignError, ExperimentError};
 use crate::files::{create_dir, csv_bytes, fmt_real, write_atomic, IoError};
-use crate::functions::TestProblem;
+use crate::functions::{BbobProblem, TestProblem};
 use crate::optim::evaluator::log_checkpoints;
+use crate::optim::Algorithm;
 use crate::optim::{Evaluator, Optimiser, Outcome};
+use crate::problem::Problem;
 use crate::reconstruction::Method;
 use crate::rng::{derive_seed, fnv1a64, run_rng, RNG_NAME};
 
@@ -178,11 +181,29 @@ impl Instances {
                         TestProblem::instance(*f, entry.dim, entry.transform, entry.instance)
                             .expect("instance checked when the spec loaded"),
                     ),
-                    ProblemKind::Fit(_) => None,
+                    ProblemKind::Fit(_) | ProblemKind::Bbob { .. } => None,
                 })
                 .collect(),
         )
     }
+}
+
+/// Minimises a benchmark problem with optimum `f_star` under the run's
+/// budget, target, target precisions and checkpoints.
+pub fn minimise_benchmark<P: Problem + ?Sized>(
+    spec: &Spec,
+    entry: &ProblemEntry,
+    algorithm: &Algorithm,
+    problem: &P,
+    f_star: f64,
+    seed: u64,
+) -> Outcome {
+    let mut eval = Evaluator::new(problem, entry.budget)
+        .with_target(f_star + spec.threshold)
+        .with_targets(f_star, default_targets())
+        .with_checkpoints(log_checkpoints(entry.budget, spec.checkpoints_per_decade));
+    algorithm.minimise(&mut eval, &mut run_rng(seed));
+    eval.finish()
 }
 
 /// Executes one run: derives its seed, minimises, and records the outcome.
@@ -202,14 +223,18 @@ pub fn execute_on(spec: &Spec, instances: &Instances, id: RunId) -> RunRecord {
             let problem = instances.0[id.problem]
                 .as_ref()
                 .expect("a benchmark problem has an instance");
-            let mut eval = Evaluator::new(problem, entry.budget)
-                .with_target(f.optimum_value() + spec.threshold)
-                .with_targets(f.optimum_value(), default_targets())
-                .with_checkpoints(log_checkpoints(entry.budget, spec.checkpoints_per_decade));
-            algorithm.minimise(&mut eval, &mut run_rng(seed));
-            (eval.finish(), None)
+            let out = minimise_benchmark(spec, entry, algorithm, problem, f.optimum_value(), seed);
+            (out, None)
         }
-        (ProblemKind::Benchmark(_), _) => {
+        (ProblemKind::Bbob { function, fopt }, Method::Metaheuristic(algorithm)) => {
+            // Each run owns its COCO problem: threads never share COCO state.
+            let problem = BbobProblem::new(*function, entry.dim, entry.instance as usize)
+                .expect("the bbob problem was built when the spec loaded");
+            let out = minimise_benchmark(spec, entry, algorithm, &problem, *fopt, seed);
+            debug_assert_eq!(problem.coco_evaluations(), out.evaluations);
+            (out, None)
+        }
+        (ProblemKind::Benchmark(_) | ProblemKind::Bbob { .. }, _) => {
             unreachable!("the spec refuses least-squares methods on benchmark functions")
         }
         (ProblemKind::Fit(case), method) => {
@@ -366,7 +391,7 @@ pub(super) fn write_results(spec: &Spec, out: &Path, records: &[RunRecord]) -> R
     if spec
         .problems
         .iter()
-        .any(|p| matches!(p.kind, ProblemKind::Benchmark(_)))
+        .any(|p| !matches!(p.kind, ProblemKind::Fit(_)))
     {
         write_atomic(&out.join("hits.csv"), &records::hits_csv(records))?;
     }

@@ -74,14 +74,25 @@ struct RawBbob {
     _private: [u8; 0],
 }
 
+#[repr(C)]
+struct RawObserver {
+    _private: [u8; 0],
+}
+
 extern "C" {
     fn mb_coco_quiet();
+    fn mb_observer_new(
+        outer_folder: *const c_char,
+        result_folder: *const c_char,
+        algorithm: *const c_char,
+    ) -> *mut RawObserver;
+    fn mb_observer_folder(observer: *const RawObserver) -> *const c_char;
+    fn mb_observer_free(observer: *mut RawObserver);
     fn mb_bbob_new(
         function: usize,
         dimension: usize,
         instance: usize,
-        log_folder: *const c_char,
-        algorithm: *const c_char,
+        observer: *mut RawObserver,
     ) -> *mut RawBbob;
     fn mb_bbob_evaluate(b: *mut RawBbob, x: *const c_double, y: *mut c_double);
     fn mb_bbob_fopt(b: *const RawBbob) -> c_double;
@@ -98,6 +109,64 @@ extern "C" {
 /// level, observers' open files): they run one at a time.
 static COCO: Mutex<()> = Mutex::new(());
 
+/// Takes the COCO lock, silencing COCO's informational output once.
+fn lock_coco() -> std::sync::MutexGuard<'static, ()> {
+    static QUIET: Once = Once::new();
+    let guard = COCO.lock().unwrap_or_else(|p| p.into_inner());
+    // SAFETY: sets COCO's log level; called under the lock.
+    QUIET.call_once(|| unsafe { mb_coco_quiet() });
+    guard
+}
+
+/// COCO's `bbob` observer: problems made with [`BbobProblem::observed`]
+/// log the `.info`, `.dat` and `.tdat` files that COCO's post-processing
+/// (`cocopp`) reads, into one folder per algorithm.
+pub struct CocoObserver {
+    raw: *mut RawObserver,
+    folder: String,
+}
+
+impl CocoObserver {
+    /// An observer writing into `outer/result` (COCO appends `-001`, … when
+    /// that folder exists) under `algorithm`. `outer` must exist and be
+    /// writable: COCO ends the process when it cannot create its folder, so
+    /// the caller checks that first.
+    pub fn new(outer: &str, result: &str, algorithm: &str) -> Result<Self, BbobError> {
+        let c = |s: &str| -> Result<CString, BbobError> {
+            if s.is_empty() || s.len() > 1000 || s.chars().any(char::is_whitespace) {
+                return Err(BbobError::Name(s.to_owned()));
+            }
+            CString::new(s).map_err(|_| BbobError::Name(s.to_owned()))
+        };
+        let (o, r, a) = (c(outer)?, c(result)?, c(algorithm)?);
+        let _guard = lock_coco();
+        // SAFETY: valid C strings; the observer is freed in Drop.
+        unsafe {
+            let raw = mb_observer_new(o.as_ptr(), r.as_ptr(), a.as_ptr());
+            if raw.is_null() {
+                return Err(BbobError::Name(outer.to_owned()));
+            }
+            let folder = CStr::from_ptr(mb_observer_folder(raw))
+                .to_string_lossy()
+                .into_owned();
+            Ok(CocoObserver { raw, folder })
+        }
+    }
+
+    /// The folder COCO writes into.
+    pub fn folder(&self) -> &str {
+        &self.folder
+    }
+}
+
+impl Drop for CocoObserver {
+    fn drop(&mut self) {
+        let _guard = lock_coco();
+        // SAFETY: made by mb_observer_new, freed once, after its problems.
+        unsafe { mb_observer_free(self.raw) };
+    }
+}
+
 /// Why a bbob problem cannot be made.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum BbobError {
@@ -110,9 +179,10 @@ pub enum BbobError {
     /// The instance number is not ≥ 1.
     #[error("bbob instances are numbered from 1 (up to 1000000), not {0}")]
     Instance(usize),
-    /// A log folder or algorithm name COCO cannot take.
-    #[error("the COCO log folder or algorithm name contains a NUL byte")]
-    Name,
+    /// A log folder or algorithm name COCO cannot take (COCO's option
+    /// parser splits at white space).
+    #[error("COCO cannot log into \"{0}\": the folder and algorithm names must be non-empty, at most 1000 bytes, without white space or NUL bytes")]
+    Name(String),
     /// COCO refused the problem although its arguments were checked.
     #[error("COCO could not build bbob f{function} in {dimension}D, instance {instance}")]
     Refused {
@@ -159,47 +229,35 @@ impl BbobProblem {
 
     /// Function `function` at `dimension`, instance `instance`.
     pub fn new(function: usize, dimension: usize, instance: usize) -> Result<Self, BbobError> {
-        Self::make(function, dimension, instance, None)
+        Self::make(function, dimension, instance, std::ptr::null_mut())
     }
 
-    /// The same, observed by COCO's `bbob` logger, which writes the
-    /// `.info`/`.dat`/`.tdat` files of `cocopp` into `folder` (COCO appends
-    /// `-001`, … when it exists) under the algorithm name `algorithm`.
+    /// The same, observed by COCO's `bbob` logger ([`CocoObserver`]),
+    /// which must outlive it.
     pub fn observed(
         function: usize,
         dimension: usize,
         instance: usize,
-        folder: &str,
-        algorithm: &str,
-    ) -> Result<Self, BbobError> {
-        Self::make(function, dimension, instance, Some((folder, algorithm)))
+        observer: &CocoObserver,
+    ) -> Result<Observed<'_>, BbobError> {
+        Ok(Observed {
+            problem: Self::make(function, dimension, instance, observer.raw)?,
+            _observer: std::marker::PhantomData,
+        })
     }
 
     fn make(
         function: usize,
         dimension: usize,
         instance: usize,
-        log: Option<(&str, &str)>,
+        observer: *mut RawObserver,
     ) -> Result<Self, BbobError> {
         Self::check(function, dimension, instance)?;
-        let log = match log {
-            Some((folder, algorithm)) => Some((
-                CString::new(folder).map_err(|_| BbobError::Name)?,
-                CString::new(algorithm).map_err(|_| BbobError::Name)?,
-            )),
-            None => None,
-        };
-        static QUIET: Once = Once::new();
-        let _guard = COCO.lock().unwrap_or_else(|p| p.into_inner());
+        let _guard = lock_coco();
         // SAFETY: the arguments were checked above; COCO owns the returned
         // handle until mb_bbob_free.
         unsafe {
-            QUIET.call_once(|| mb_coco_quiet());
-            let (folder, algorithm) = match &log {
-                Some((f, a)) => (f.as_ptr(), a.as_ptr()),
-                None => (std::ptr::null(), std::ptr::null()),
-            };
-            let raw = mb_bbob_new(function, dimension, instance, folder, algorithm);
+            let raw = mb_bbob_new(function, dimension, instance, observer);
             if raw.is_null() {
                 return Err(BbobError::Refused {
                     function,
@@ -284,9 +342,36 @@ impl Problem for BbobProblem {
     }
 }
 
+/// A [`BbobProblem`] logged by an observer it may not outlive.
+pub struct Observed<'o> {
+    problem: BbobProblem,
+    _observer: std::marker::PhantomData<&'o CocoObserver>,
+}
+
+impl std::ops::Deref for Observed<'_> {
+    type Target = BbobProblem;
+    fn deref(&self) -> &BbobProblem {
+        &self.problem
+    }
+}
+
+impl Problem for Observed<'_> {
+    fn dim(&self) -> usize {
+        self.problem.dim()
+    }
+
+    fn bounds(&self) -> &[Bounds] {
+        self.problem.bounds()
+    }
+
+    fn objective(&self, x: &[f64]) -> f64 {
+        self.problem.objective(x)
+    }
+}
+
 impl Drop for BbobProblem {
     fn drop(&mut self) {
-        let _guard = COCO.lock().unwrap_or_else(|p| p.into_inner());
+        let _guard = lock_coco();
         // SAFETY: the handle was made by mb_bbob_new and is freed once.
         unsafe { mb_bbob_free(self.raw) };
     }

@@ -30,7 +30,7 @@ use std::sync::Arc;
 
 use crate::problem::{Bounds, Problem};
 
-pub use bbob::{BbobError, BbobProblem};
+pub use bbob::{BbobError, BbobProblem, CocoObserver};
 pub use instance::{instance_seed, Instance, Transform, MAX_ROTATION_DIM};
 
 /// The minimiser of Schwefel 2.26 in each coordinate, `x* = u²` with

@@ -6,8 +6,8 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use crate::experiment::records::{read_results, read_runs, RunRecord, Schema};
-use crate::experiment::{DataError, DataProblem, ReadError};
 use crate::experiment::spec::factor_suffix;
+use crate::experiment::{DataError, DataProblem, ReadError};
 use crate::functions::Transform;
 
 /// One run, reduced to what the report uses.

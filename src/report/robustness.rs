@@ -14,6 +14,7 @@
 
 use std::collections::BTreeMap;
 
+use crate::functions::bbob::bbob_group;
 use crate::stats::Mark;
 
 use super::data::{Dataset, Problem};
@@ -82,8 +83,16 @@ fn factors(p: &Problem) -> Vec<(&'static str, Level)> {
             out.push(("budget", Level::Number(b)));
         }
         out.push(("transform", Level::Text(p.transform.name().into())));
+        if let Some(f) = bbob_function_of(&p.function) {
+            out.push(("bbob group", Level::Text(bbob_group(f).into())));
+        }
         out
     }
+}
+
+/// The bbob function index of a COCO problem id (`bbob_f008_i02_d05`).
+fn bbob_function_of(id: &str) -> Option<usize> {
+    id.strip_prefix("bbob_f")?.get(..3)?.parse().ok()
 }
 
 /// The design point of every problem: its candidate factors restricted to

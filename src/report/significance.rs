@@ -512,11 +512,7 @@ fn comparison_rows<R>(
     for row in rows {
         let problem = &ds.problems[row.problem];
         let cell = &ds.cells[row.cell];
-        let mut md_row = vec![
-            problem.short(),
-            problem.dim.to_string(),
-            cell.name.clone(),
-        ];
+        let mut md_row = vec![problem.short(), problem.dim.to_string(), cell.name.clone()];
         let mut csv_row = vec![
             problem.label(),
             problem.dim.to_string(),

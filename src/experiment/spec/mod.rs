@@ -36,6 +36,7 @@ use crate::functions::{Function, TestProblem, Transform};
 use crate::optim::{quoted_list, Algorithm, ParamDef, ParamSet, Raw, Setting};
 use crate::reconstruction::Method;
 
+mod bbob;
 mod fit;
 
 pub use fit::FitCase;
@@ -160,6 +161,14 @@ impl Factor {
 pub enum ProblemKind {
     /// A benchmark function ([`crate::functions`]).
     Benchmark(Function),
+    /// Function `function` (1..=24) of COCO's bbob suite
+    /// ([`crate::functions::bbob`]), whose optimum is `fopt`.
+    Bbob {
+        /// The bbob function index.
+        function: usize,
+        /// f* of the instance, from COCO.
+        fopt: f64,
+    },
     /// A piecewise curve fit of an outline ([`crate::reconstruction`]).
     Fit(Box<FitCase>),
 }
@@ -170,6 +179,7 @@ impl ProblemEntry {
     pub fn name(&self) -> String {
         match &self.kind {
             ProblemKind::Benchmark(f) => f.name().to_owned(),
+            ProblemKind::Bbob { function, .. } => bbob::bbob_id(*function, self.instance, self.dim),
             ProblemKind::Fit(c) => c.name.clone(),
         }
     }
@@ -199,6 +209,9 @@ impl ProblemEntry {
     fn key_with(&self, paired: &[Factor], with_budget: bool) -> String {
         let name = match &self.kind {
             ProblemKind::Fit(c) if paired.contains(&Factor::SearchSpace) => c.base_name.clone(),
+            ProblemKind::Bbob { function, .. } if paired.contains(&Factor::Instance) => {
+                format!("bbob_f{function:03}_d{:02}", self.dim)
+            }
             _ => self.name(),
         };
         let mut key = format!("{name}-{}", self.dim);
@@ -223,7 +236,7 @@ impl ProblemEntry {
             Factor::Instance => Some(self.instance.to_string()),
             Factor::SearchSpace => match &self.kind {
                 ProblemKind::Fit(c) => Some(c.options.search.kind.name().to_owned()),
-                ProblemKind::Benchmark(_) => None,
+                ProblemKind::Benchmark(_) | ProblemKind::Bbob { .. } => None,
             },
         }
     }
@@ -233,6 +246,7 @@ impl ProblemEntry {
     pub fn optimum_value(&self) -> f64 {
         match &self.kind {
             ProblemKind::Benchmark(f) => f.optimum_value(),
+            ProblemKind::Bbob { fopt, .. } => *fopt,
             ProblemKind::Fit(_) => 0.0,
         }
     }
@@ -385,7 +399,8 @@ const EXPERIMENT_KEYS: [&str; 9] = [
     "paired",
 ];
 const SECTIONS: [&str; 4] = ["experiment", "problem", "fit", "algorithm"];
-const PROBLEM_KEYS: [&str; 6] = [
+const PROBLEM_KEYS: [&str; 7] = [
+    "suite",
     "function",
     "dim",
     "budget",
@@ -482,7 +497,7 @@ impl<'a> Parser<'a> {
         let problems = self.all_problems(root, header.budget.as_ref(), doc.span())?;
         let benchmarks = problems
             .iter()
-            .any(|p| matches!(p.kind, ProblemKind::Benchmark(_)));
+            .any(|p| !matches!(p.kind, ProblemKind::Fit(_)));
         let cells = self.cells(root, doc.span(), benchmarks)?;
         let paired = self.paired(root, &problems)?;
         Ok(Spec {
@@ -869,6 +884,10 @@ impl<'a> Parser<'a> {
                     "no budget: give \"budget\" or \"budget_per_dim\" in [experiment] or in this [[problem]]".into(),
                 )
             })?;
+            if self.problem_suite(table, &section)? {
+                self.bbob_problems(table, &section, entry, budget, &mut out, &mut seen)?;
+                continue;
+            }
             let functions = self.problem_functions(table, &section, entry)?;
             let dims = self.problem_dims(table, &section, entry)?;
             let transforms = self.problem_transforms(table, &section, entry)?;
@@ -913,6 +932,27 @@ impl<'a> Parser<'a> {
             }
         }
         Ok(out)
+    }
+
+    /// Whether a `[[problem]]` names the `bbob` suite (`suite = "bbob"`);
+    /// absent, the problem is one of the thesis's ten functions.
+    fn problem_suite(&self, table: &Table<'_>, section: &str) -> Result<bool, SpecError> {
+        let Some(v) = self.get(table, "suite") else {
+            return Ok(false);
+        };
+        let field = format!("{section}.suite");
+        let name = self.string(v, &field)?;
+        match name.as_str() {
+            "bbob" => Ok(true),
+            _ => Err(self.error(
+                v.span(),
+                &field,
+                format!(
+                    "unknown suite \"{name}\"; {}",
+                    choices_hint(&name, &["bbob"])
+                ),
+            )),
+        }
     }
 
     /// The optional `transform` of a `[[problem]]`: a name or a list.
