@@ -66,6 +66,10 @@ enum Command {
         /// (for cocopp), by replaying them on one thread once they finish.
         #[arg(long, value_name = "DIR")]
         coco_log: Option<PathBuf>,
+        /// Run campaigns over 10 million runs or an estimated 4 GiB of
+        /// results in memory.
+        #[arg(long)]
+        allow_large: bool,
     },
     /// Check a spec and print what it would run, without running it.
     Check {
@@ -231,6 +235,7 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
             max_runs,
             quiet,
             coco_log,
+            allow_large,
         } => {
             let opts = RunOptions {
                 out,
@@ -239,6 +244,7 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
                 shard,
                 max_runs,
                 progress: !quiet,
+                allow_large,
             };
             run(&spec, &opts, coco_log.as_deref(), w)
         }
@@ -322,8 +328,13 @@ fn check(spec: &Path, w: &mut String) -> Result<(), Error> {
         spec.problems.len(),
         spec.cells.len(),
         spec.runs,
-        spec.run_ids().len(),
+        spec.run_count(),
         spec.total_evaluations()
+    );
+    say!(
+        w,
+        "estimated memory of the results before they are written: {:.1} MiB",
+        runner::estimated_bytes(&spec) as f64 / f64::from(1u32 << 20)
     );
     for p in &spec.problems {
         say!(w, "  problem {} (budget {})", p.key(), p.budget);

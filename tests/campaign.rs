@@ -403,3 +403,169 @@ fn adding_cells_and_problems_keeps_the_other_runs() {
         assert!(rb.contains(row), "missing or changed: {row}");
     }
 }
+
+// ------------------------------------------------------------- hardening
+
+fn files_of(dir: &Path) -> Vec<Vec<u8>> {
+    ["runs.csv", "convergence.csv", "hits.csv"]
+        .iter()
+        .map(|f| std::fs::read(dir.join(f)).unwrap())
+        .collect()
+}
+
+#[test]
+fn a_campaign_killed_during_its_final_write_resumes_from_its_journal() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = spec(tmp.path());
+    let whole = run(&spec, tmp.path().join("whole"), 2);
+    // Every run journalled, runs.csv written, convergence.csv not: the state
+    // a kill (or a full disk) leaves during the final write.
+    let out = tmp.path().join("killed");
+    let total = spec.run_ids().len();
+    let opts = RunOptions {
+        out: Some(out.clone()),
+        max_runs: Some(total - 1),
+        ..RunOptions::default()
+    };
+    assert!(!run_campaign(&spec, &opts).unwrap().complete);
+    let last = RunOptions {
+        resume: true,
+        max_runs: Some(1),
+        ..opts.clone()
+    };
+    // Finish the last run but leave a torn runs.csv and no convergence.csv
+    // beside the full journal.
+    let journal = std::fs::read(out.join("journal.csv")).unwrap();
+    run_campaign(&spec, &last).unwrap();
+    std::fs::write(out.join("journal.csv"), {
+        let mut j = journal;
+        j.extend(metabezier::experiment::journal::journal_line(
+            &metabezier::experiment::records::read_results(&out)
+                .unwrap()
+                .into_iter()
+                .find(|r| !String::from_utf8_lossy(&j).contains(&format!(",{},", r.seed)))
+                .unwrap(),
+        ));
+        j
+    })
+    .unwrap();
+    std::fs::write(out.join("runs.csv"), b"algorithm,kind").unwrap();
+    std::fs::remove_file(out.join("convergence.csv")).unwrap();
+    let resumed = run_campaign(
+        &spec,
+        &RunOptions {
+            resume: true,
+            ..opts
+        },
+    )
+    .unwrap();
+    assert!(resumed.complete && resumed.executed == 0, "{resumed:?}");
+    assert_eq!(files_of(&out), files_of(&whole));
+}
+
+#[test]
+fn resume_refuses_another_spec_even_without_its_copy() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = spec(tmp.path());
+    let out = tmp.path().join("c");
+    let opts = RunOptions {
+        out: Some(out.clone()),
+        max_runs: Some(5),
+        ..RunOptions::default()
+    };
+    run_campaign(&spec, &opts).unwrap();
+    std::fs::remove_file(out.join("spec.toml")).unwrap();
+    let other = Spec::parse(
+        &tmp.path().join("other.toml"),
+        &SPEC.replace("seed = 99", "seed = 98"),
+    )
+    .unwrap();
+    let err = run_campaign(
+        &other,
+        &RunOptions {
+            resume: true,
+            ..opts
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        err.starts_with("cannot resume: ")
+            && err.contains("meta.toml records a campaign of a spec with hash"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_second_writer_is_refused_and_the_lock_dies_with_its_holder() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = spec(tmp.path());
+    let out = tmp.path().join("locked");
+    let lock = metabezier::experiment::runner::DirLock::take(&out).unwrap();
+    let opts = RunOptions {
+        out: Some(out.clone()),
+        ..RunOptions::default()
+    };
+    let err = run_campaign(&spec, &opts).unwrap_err().to_string();
+    assert!(
+        err.contains("is in use by another metabezier process"),
+        "{err}"
+    );
+    drop(lock);
+    assert!(run_campaign(&spec, &opts).unwrap().complete);
+}
+
+#[test]
+fn oversized_campaigns_and_thread_counts_are_refused_before_anything_runs() {
+    let tmp = tempfile::tempdir().unwrap();
+    let huge = Spec::parse(
+        &tmp.path().join("huge.toml"),
+        &SPEC.replace("runs = 3", "runs = 4294967295"),
+    )
+    .unwrap();
+    let out = tmp.path().join("huge");
+    let opts = RunOptions {
+        out: Some(out.clone()),
+        ..RunOptions::default()
+    };
+    let err = run_campaign(&huge, &opts).unwrap_err().to_string();
+    assert!(
+        err.contains("runs and an estimated") && err.contains("pass --allow-large"),
+        "{err}"
+    );
+    assert!(!out.exists(), "nothing is written before the check");
+    let err = run_campaign(
+        &spec(tmp.path()),
+        &RunOptions {
+            threads: Some(65535),
+            ..opts
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(err.starts_with("--threads 65535: at most "), "{err}");
+}
+
+#[test]
+fn merge_refuses_to_write_over_another_campaign() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = spec(tmp.path());
+    for k in 1..=2 {
+        let opts = RunOptions {
+            out: Some(tmp.path().join("parent")),
+            shard: Some(Shard { k, n: 2 }),
+            ..RunOptions::default()
+        };
+        run_campaign(&spec, &opts).unwrap();
+    }
+    let busy = tmp.path().join("busy");
+    std::fs::create_dir_all(&busy).unwrap();
+    std::fs::write(busy.join("journal.csv"), b"").unwrap();
+    let err = merge(&spec, &[tmp.path().join("parent")], Some(busy))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.ends_with("it holds journal.csv; merge into an empty directory or that campaign's own"),
+        "{err}"
+    );
+}

@@ -271,6 +271,7 @@ fn run(spec: &Spec, out: &Path, threads: usize, shard: Option<Shard>) {
         shard,
         max_runs: None,
         progress: false,
+        allow_large: false,
     };
     run_campaign(spec, &opts).unwrap();
 }

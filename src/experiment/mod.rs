@@ -152,10 +152,77 @@ pub enum CampaignError {
         /// Index of the first missing run.
         first: usize,
     },
+    /// The spec of a resumed campaign differs from the one recorded in its
+    /// `meta.toml` (whose spec copy is gone).
+    #[error(
+        "cannot resume: {} records a campaign of a spec with hash {recorded}, but {} has hash {found}; restore the spec or choose another --out",
+        meta.display(),
+        spec.display()
+    )]
+    SpecHashChanged {
+        /// The campaign's meta.toml.
+        meta: PathBuf,
+        /// The spec given now.
+        spec: PathBuf,
+        /// The hash recorded.
+        recorded: String,
+        /// The hash of the spec given now.
+        found: String,
+    },
+    /// A merge would write over another campaign's files.
+    #[error(
+        "cannot merge into {}: it holds {found}; merge into an empty directory or that campaign's own",
+        dir.display()
+    )]
+    OtherCampaign {
+        /// The output directory of the merge.
+        dir: PathBuf,
+        /// What it holds.
+        found: &'static str,
+    },
+    /// Another process holds the campaign directory.
+    #[error(
+        "{} is in use by another metabezier process (it holds {}); wait for it to finish, or choose another --out",
+        dir.display(),
+        lock.display()
+    )]
+    Locked {
+        /// The campaign directory.
+        dir: PathBuf,
+        /// Its lock file.
+        lock: PathBuf,
+    },
+    /// The campaign is larger than the limits without `--allow-large`.
+    #[error(
+        "{spec}: {runs} runs and an estimated {gib:.1} GiB of results in memory exceed the limits of {max_runs} runs and 4 GiB; split the campaign into shards, or pass --allow-large",
+        spec = spec.display(),
+        max_runs = MAX_RUNS
+    )]
+    TooLarge {
+        /// The spec.
+        spec: PathBuf,
+        /// Its runs.
+        runs: u128,
+        /// Estimated memory of its records, in GiB.
+        gib: f64,
+    },
+    /// More worker threads than a sane multiple of the cores.
+    #[error("--threads {asked}: at most {max} (4 × the {cores} cores of this machine)")]
+    TooManyThreads {
+        /// Threads asked for.
+        asked: usize,
+        /// The limit.
+        max: usize,
+        /// Cores available.
+        cores: usize,
+    },
     /// The worker thread pool could not be started.
     #[error("cannot start worker threads: {0}")]
     Threads(#[source] rayon::ThreadPoolBuildError),
 }
+
+/// The most runs a campaign may have without `--allow-large`.
+pub const MAX_RUNS: u128 = 10_000_000;
 
 /// What a campaign was doing when it met a foreign run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -135,6 +135,84 @@ pub struct RunOptions {
     pub max_runs: Option<usize>,
     /// Show a progress bar (only ever drawn when stderr is a terminal).
     pub progress: bool,
+    /// Lift the limits on the number of runs and the estimated memory.
+    pub allow_large: bool,
+}
+
+/// An estimate of the memory the records of `spec`'s runs take before
+/// they are written: per run its fixed fields, its convergence checkpoints
+/// and its target hits (24 bytes each), and for a fitting run its segment
+/// rows (22 short strings each).
+pub fn estimated_bytes(spec: &Spec) -> u128 {
+    let per_cell: u128 = spec
+        .problems
+        .iter()
+        .map(|p| {
+            let checkpoints = log_checkpoints(p.budget, spec.checkpoints_per_decade).len() as u128;
+            let segments = match p.kind {
+                ProblemKind::Fit(_) => p.dim as u128 * 22 * 40,
+                _ => 0,
+            };
+            400 + 24 * checkpoints + 24 * default_targets().len() as u128 + segments
+        })
+        .sum();
+    per_cell * spec.cells.len() as u128 * u128::from(spec.runs)
+}
+
+/// Refuses, before anything is allocated, a campaign over
+/// [`super::MAX_RUNS`] runs or an estimated 4 GiB of records, unless
+/// `allow_large`; and more worker threads than 4 × the cores.
+pub fn check_limits(spec: &Spec, opts: &RunOptions) -> Result<(), CampaignError> {
+    let runs = spec.run_count();
+    let bytes = estimated_bytes(spec);
+    if !opts.allow_large && (runs > super::MAX_RUNS || bytes > 4 << 30) {
+        return Err(CampaignError::TooLarge {
+            spec: spec.path.clone(),
+            runs,
+            gib: bytes as f64 / f64::from(1u32 << 30),
+        });
+    }
+    if let Some(asked) = opts.threads {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        if asked > 4 * cores {
+            return Err(CampaignError::TooManyThreads {
+                asked,
+                max: 4 * cores,
+                cores,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// An exclusive lock on a campaign directory (`.lock`, an advisory `flock`
+/// that the operating system releases when the process ends, so a killed
+/// or requeued run never leaves a stale lock); held while it lives.
+pub struct DirLock {
+    _file: std::fs::File,
+}
+
+impl DirLock {
+    /// Takes the lock of `dir` (created if missing), or says who has it.
+    pub fn take(dir: &Path) -> Result<DirLock, ExperimentError> {
+        create_dir(dir)?;
+        let path = dir.join(".lock");
+        let file = std::fs::OpenOptions::new()
+            .create(true)
+            .truncate(false)
+            .write(true)
+            .open(&path)
+            .map_err(|e| IoError::new("open", &path, e))?;
+        match file.try_lock() {
+            Ok(()) => Ok(DirLock { _file: file }),
+            Err(std::fs::TryLockError::WouldBlock) => Err(CampaignError::Locked {
+                dir: dir.to_owned(),
+                lock: path,
+            }
+            .into()),
+            Err(std::fs::TryLockError::Error(e)) => Err(IoError::new("lock", &path, e).into()),
+        }
+    }
 }
 
 /// What a campaign did.
@@ -356,7 +434,7 @@ pub(super) fn default_out(spec: &Spec) -> PathBuf {
 }
 
 /// Maps every run key of the spec to its position in the fixed order.
-pub(super) fn key_index(spec: &Spec) -> HashMap<RunKey, usize> {
+pub fn key_index(spec: &Spec) -> HashMap<RunKey, usize> {
     let cell_keys: Vec<String> = spec.cells.iter().map(|c| c.key()).collect();
     let problem_keys: Vec<String> = spec.problems.iter().map(|p| p.match_key()).collect();
     spec.run_ids()
@@ -427,13 +505,14 @@ fn outlines_csv(spec: &Spec) -> Vec<u8> {
 /// Runs (or resumes) a campaign and writes `runs.csv`, `convergence.csv`,
 /// `timing.csv`, a copy of the spec and `meta.toml` into the output directory.
 pub fn run_campaign(spec: &Spec, opts: &RunOptions) -> Result<Summary, ExperimentError> {
+    check_limits(spec, opts)?;
     let out = campaign_dir(spec, opts.out.as_deref(), opts.shard);
+    let _lock = DirLock::take(&out)?;
     let journal_path = out.join("journal.csv");
     let has_state = journal_path.exists() || out.join("runs.csv").exists();
     if has_state && !opts.resume {
         return Err(CampaignError::AlreadyHoldsRuns { out }.into());
     }
-    create_dir(&out)?;
 
     let index = key_index(spec);
     let mut done = if has_state {
@@ -463,10 +542,16 @@ pub fn run_campaign(spec: &Spec, opts: &RunOptions) -> Result<Summary, Experimen
     if let Some(m) = opts.max_runs {
         todo.truncate(m);
     }
+    // Longest runs first, so that no core idles at the end; the results
+    // are stored by position, so the order of execution changes nothing.
+    todo.sort_by_key(|id| {
+        let p = &spec.problems[id.problem];
+        std::cmp::Reverse(p.budget.saturating_mul(p.dim as u64))
+    });
     let new = execute_journalled(spec, &todo, &journal_path, opts)?;
     let executed = new.len();
     for (id, rec) in todo.iter().zip(new) {
-        done.insert(id.index, rec?);
+        done.insert(id.index, rec);
     }
 
     let complete = ids.iter().all(|id| done.contains_key(&id.index));
@@ -507,6 +592,7 @@ fn recover(
             .into());
         }
     }
+    check_spec_hash(spec, out)?;
     if out.join("meta.toml").exists() {
         let old_shard = recorded_shard(out);
         let new_shard = shard.map(|s| s.to_string());
@@ -519,14 +605,16 @@ fn recover(
             .into());
         }
     }
-    let mut found = Vec::new();
-    if out.join("runs.csv").exists() {
-        found.extend(records::read_results(out)?);
-    }
+    // The journal is the truth while it exists: it holds every finished
+    // run, and the result files beside it may be partial (a campaign killed,
+    // or a disk full, while it wrote them). It is removed only once every
+    // result file is written.
     let journal_path = out.join("journal.csv");
-    if journal_path.exists() {
-        found.extend(journal::read_journal(&journal_path)?);
-    }
+    let found = if journal_path.exists() {
+        journal::read_journal(&journal_path)?
+    } else {
+        records::read_results(out)?
+    };
     let mut done = HashMap::new();
     for r in found {
         let i = *index
@@ -535,6 +623,29 @@ fn recover(
         done.insert(i, r);
     }
     Ok(done)
+}
+
+/// Refuses to resume a campaign whose `meta.toml` records the hash of
+/// another spec (the check that still holds when `spec.toml` is gone).
+fn check_spec_hash(spec: &Spec, out: &Path) -> Result<(), CampaignError> {
+    let meta = out.join("meta.toml");
+    let Ok(text) = std::fs::read_to_string(&meta) else {
+        return Ok(());
+    };
+    let recorded = text
+        .lines()
+        .find_map(|l| l.strip_prefix("spec_fnv1a64 = \""))
+        .map(|s| s.trim_end_matches('"').to_owned());
+    let found = format!("{:016x}", fnv1a64(&spec.text));
+    match recorded {
+        Some(recorded) if recorded != found => Err(CampaignError::SpecHashChanged {
+            meta,
+            spec: spec.path.clone(),
+            recorded,
+            found,
+        }),
+        _ => Ok(()),
+    }
 }
 
 /// Rewrites the journal with the runs already finished, in the fixed order
@@ -553,15 +664,16 @@ fn rewrite_journal(
     write_atomic(path, &bytes)
 }
 
-/// Executes `todo` in parallel, appending each finished run to the journal
-/// at `journal_path`; the records come back in `todo` order, each an error
-/// if its journal line could not be written.
+/// Executes `todo` in parallel, one run per task, appending each finished
+/// run to the journal at `journal_path`; the records come back in `todo`
+/// order. The first journal line that cannot be written stops the campaign
+/// (no new run starts; the journal keeps the finished ones).
 fn execute_journalled(
     spec: &Spec,
     todo: &[RunId],
     journal_path: &Path,
     opts: &RunOptions,
-) -> Result<Vec<Result<RunRecord, IoError>>, ExperimentError> {
+) -> Result<Vec<RunRecord>, ExperimentError> {
     let journal = std::fs::OpenOptions::new()
         .append(true)
         .open(journal_path)
@@ -573,8 +685,9 @@ fn execute_journalled(
         .num_threads(opts.threads.unwrap_or(0))
         .build()
         .map_err(CampaignError::Threads)?;
-    let new = pool.install(|| {
+    let new: Result<Vec<RunRecord>, IoError> = pool.install(|| {
         todo.par_iter()
+            .with_max_len(1)
             .map(|id| {
                 let rec = execute_on(spec, &instances, *id);
                 let line = journal::journal_line(&rec);
@@ -589,7 +702,7 @@ fn execute_journalled(
             .collect()
     });
     bar.finish_and_clear();
-    Ok(new)
+    Ok(new?)
 }
 
 /// A progress bar over `runs` runs, drawn only if asked and stderr is a

@@ -13,11 +13,12 @@ use std::path::{Path, PathBuf};
 use super::journal;
 use super::records::{self, RunRecord};
 use super::runner::{
-    default_out, foreign_run, key_index, meta_toml, recorded_shard, write_results, Shard, Summary,
+    default_out, foreign_run, key_index, meta_toml, recorded_shard, write_results, DirLock, Shard,
+    Summary,
 };
 use super::spec::Spec;
 use super::{CampaignAction, CampaignError, ExperimentError};
-use crate::files::{create_dir, read_text, write_atomic, IoError};
+use crate::files::{read_text, write_atomic, IoError};
 
 /// The result directories a merge joins, found from the directories given.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -217,7 +218,8 @@ pub fn merge_found(
         }
         .into());
     }
-    create_dir(&out)?;
+    let _lock = DirLock::take(&out)?;
+    refuse_other_campaign(spec, &out)?;
     let ordered: Vec<RunRecord> = ids
         .iter()
         .map(|id| done.remove(&id.index).expect("complete"))
@@ -235,6 +237,29 @@ pub fn merge_found(
         executed: 0,
         complete: true,
     })
+}
+
+/// Refuses to merge into a directory that holds another campaign's files:
+/// a journal (an unfinished campaign), or results or a report whose
+/// `spec.toml` is not `spec`.
+fn refuse_other_campaign(spec: &Spec, out: &Path) -> Result<(), CampaignError> {
+    if out.join("journal.csv").exists() {
+        return Err(CampaignError::OtherCampaign {
+            dir: out.to_owned(),
+            found: "journal.csv",
+        });
+    }
+    let holds_results = ["runs.csv", "report.md"]
+        .iter()
+        .any(|f| out.join(f).exists());
+    let same_spec = std::fs::read_to_string(out.join("spec.toml")).is_ok_and(|t| t == spec.text);
+    if holds_results && !same_spec {
+        return Err(CampaignError::OtherCampaign {
+            dir: out.to_owned(),
+            found: "results of another spec",
+        });
+    }
+    Ok(())
 }
 
 /// The runs of every directory, by position in the campaign's fixed order,

@@ -20,6 +20,7 @@ mod descriptive;
 mod error;
 mod fitting;
 mod format;
+mod integrity;
 mod markdown;
 mod overlay;
 mod plots;
@@ -484,6 +485,7 @@ pub fn write_report(dir: &Path, options: &ReportOptions) -> Result<ReportSummary
     if !(options.alpha > 0.0 && options.alpha < 1.0) {
         return Err(ReportError::Alpha(options.alpha));
     }
+    integrity::check_finished(dir)?;
     let ds = data::load(dir, options.external.as_deref())?;
     let provenance = data::provenance(dir);
     let s = sections(dir, &ds, &provenance, options)?;

@@ -90,7 +90,8 @@ fn factors(p: &Problem) -> Vec<(&'static str, Level)> {
     }
 }
 
-/// The bbob function index of a COCO problem id (`bbob_f008_i02_d05`).
+/// The bbob function index of a COCO problem id (`bbob_f008_i02_d05`, or
+/// pooled over instances `bbob_f008_d05`).
 fn bbob_function_of(id: &str) -> Option<usize> {
     id.strip_prefix("bbob_f")?.get(..3)?.parse().ok()
 }

@@ -369,10 +369,15 @@ impl Spec {
         out
     }
 
+    /// The number of runs: problems × cells × runs (without listing them).
+    pub fn run_count(&self) -> u128 {
+        self.problems.len() as u128 * self.cells.len() as u128 * u128::from(self.runs)
+    }
+
     /// The total objective evaluations the campaign will spend.
-    pub fn total_evaluations(&self) -> u64 {
-        let per_cell: u64 = self.problems.iter().map(|p| p.budget).sum();
-        per_cell * self.cells.len() as u64 * u64::from(self.runs)
+    pub fn total_evaluations(&self) -> u128 {
+        let per_cell: u128 = self.problems.iter().map(|p| u128::from(p.budget)).sum();
+        per_cell * self.cells.len() as u128 * u128::from(self.runs)
     }
 }
 
@@ -681,8 +686,10 @@ impl<'a> Parser<'a> {
             problems = self.problems(root, budget, span.clone())?;
         }
         if self.get(root, "fit").is_some() {
+            let mut seen: std::collections::HashSet<String> =
+                problems.iter().map(ProblemEntry::key).collect();
             for p in self.fits(root, budget, span.clone())? {
-                if problems.iter().any(|q: &ProblemEntry| q.key() == p.key()) {
+                if !seen.insert(p.key()) {
                     return Err(self.error(
                         span,
                         "fit",
@@ -1077,6 +1084,7 @@ impl<'a> Parser<'a> {
         benchmarks: bool,
     ) -> Result<Vec<Cell>, SpecError> {
         let mut out: Vec<Cell> = Vec::new();
+        let mut seen = std::collections::HashSet::new();
         for (i, entry) in self
             .array_of_tables(root, "algorithm", span)?
             .into_iter()
@@ -1087,7 +1095,7 @@ impl<'a> Parser<'a> {
             let algorithm = self.algorithm_entry(table, section, entry.span(), benchmarks)?;
             for combo in grid(&algorithm.axes) {
                 let cell = self.grid_cell(&algorithm, &combo)?;
-                if out.iter().any(|c| c.key() == cell.key()) {
+                if !seen.insert(cell.key()) {
                     return Err(self.error(
                         algorithm.span.clone(),
                         &algorithm.section,
