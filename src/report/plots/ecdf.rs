@@ -231,7 +231,10 @@ pub(super) fn target_ecdfs(ds: &Dataset, targets: usize) -> Result<Vec<Plot>, No
     let mut plots = vec![target_ecdf(ds, targets, Scope::All)];
     if functions.len() > MAX_FUNCTION_PLOTS && dims.len() > 1 {
         // Too many functions (a suite such as bbob): one figure per dimension.
-        plots.extend(dims.iter().map(|&d| target_ecdf(ds, targets, Scope::Dim(d))));
+        plots.extend(
+            dims.iter()
+                .map(|&d| target_ecdf(ds, targets, Scope::Dim(d))),
+        );
     } else if functions.len() > 1 && functions.len() <= MAX_FUNCTION_PLOTS {
         plots.extend(
             functions
