@@ -7,10 +7,13 @@
 //! form, with no allocation in the hot path. The table at the end prints
 //! nanoseconds per point and the ratio.
 //!
-//! A second group times a whole fit: the vendored horse outline (2,644
+//! A second group times whole fits: the vendored horse outline (2,644
 //! points) split recursively until every point is within 1 px, with LM and
-//! with MHS (10,000 evaluations per segment, the `metabezier fit` default).
-//! Run with `cargo bench --bench fitting`.
+//! with MHS (10,000 evaluations per segment, the `metabezier fit` default),
+//! and cut into 101 segments (rational cubic, G1, LM), closed smoothly and
+//! closed C⁰ (what the smooth closing costs). The last lines give the
+//! 101-segment fit's orthogonal distances. Run with
+//! `cargo bench --bench fitting`.
 
 mod common;
 
@@ -87,23 +90,28 @@ fn bench(c: &mut Criterion) {
     }
 }
 
-/// Fitting the horse at 1 px tolerance, end to end after loading.
-fn horse(c: &mut Criterion) {
-    use metabezier::fit::{FitOptions, FunctionType};
-    use metabezier::geometry::Continuity;
-    use metabezier::optim::Algorithm;
-    use metabezier::outline::{CornerOptions, ImageOptions, Sampling};
-    use metabezier::reconstruction::{Method, Reconstruction, Segmentation, Source};
-    let source = Source::load(
+/// The vendored horse, its one contour.
+fn horse_source() -> metabezier::reconstruction::Source {
+    use metabezier::reconstruction::{LoadOptions, Source};
+    Source::load(
         "data/outlines/horse.png",
         Path::new(env!("CARGO_MANIFEST_DIR")),
-        0,
-        &ImageOptions::default(),
-        Sampling::default(),
+        &LoadOptions::default(),
     )
-    .expect("the vendored horse");
+    .expect("the vendored horse")
+}
+
+/// Fitting the horse at 1 px tolerance, end to end after loading, and at
+/// 101 segments with LM, closed smoothly and closed C0.
+fn horse(c: &mut Criterion) {
+    use metabezier::fit::{Closing, FitOptions, FunctionType};
+    use metabezier::geometry::Continuity;
+    use metabezier::optim::Algorithm;
+    use metabezier::outline::CornerOptions;
+    use metabezier::reconstruction::{Method, Reconstruction, Segmentation};
+    let source = horse_source();
     let r = Reconstruction {
-        outline: &source.outline,
+        source: &source,
         segmentation: Segmentation::Tolerance(1.0),
         corners: Some(CornerOptions::default()),
         options: FitOptions::new(FunctionType::RationalCubic, Continuity::G1),
@@ -122,6 +130,55 @@ fn horse(c: &mut Criterion) {
         });
     }
     group.finish();
+    let mut group = c.benchmark_group("horse-101");
+    group.sample_size(20);
+    for (name, closing) in [("smooth", Closing::Smooth), ("c0", Closing::C0)] {
+        let mut options = FitOptions::new(FunctionType::RationalCubic, Continuity::G1);
+        options.closing = closing;
+        let r = Reconstruction {
+            source: &source,
+            segmentation: Segmentation::Count(101),
+            corners: Some(CornerOptions::default()),
+            options,
+        };
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                r.fit(&Method::Exact, 1)
+                    .expect("a valid fit")
+                    .metrics
+                    .segments
+            })
+        });
+    }
+    group.finish();
+}
+
+/// The horse at 101 segments (rational cubic, G1, LM): its orthogonal
+/// maximum and RMS distance, by the fit's own measure (each point to its
+/// segment) and as `metabezier score` measures them (to the whole curve).
+fn horse_accuracy() {
+    use metabezier::fit::{FitOptions, FunctionType};
+    use metabezier::geometry::Continuity;
+    use metabezier::outline::{CornerOptions, Segment};
+    use metabezier::reconstruction::{cubic_pieces, score, Method, Reconstruction, Segmentation};
+    let source = horse_source();
+    let r = Reconstruction {
+        source: &source,
+        segmentation: Segmentation::Count(101),
+        corners: Some(CornerOptions::default()),
+        options: FitOptions::new(FunctionType::RationalCubic, Continuity::G1),
+    };
+    let fit = r.fit(&Method::Exact, 1).expect("a valid fit");
+    let curves: Vec<Vec<Segment>> = vec![fit
+        .segments()
+        .flat_map(|(_, s)| cubic_pieces(&s.segment, 1e-6))
+        .map(Segment::Cubic)
+        .collect()];
+    let s = score(&source, &curves);
+    println!(
+        "\nThe horse at 101 segments (rational cubic, G1, LM): max distance {:.3} px, RMS distance {:.3} px (each point to its segment); {:.3} px and {:.3} px to the whole curve",
+        fit.metrics.max_distance, fit.metrics.rms_distance, s.total.max_distance, s.total.rms_distance
+    );
 }
 
 fn main() {
@@ -152,4 +209,14 @@ fn main() {
             println!("{m:<6} {:>10.1} ms", t / 1e6);
         }
     }
+    println!("\nThe horse at 101 segments, rational cubics, G1, LM, by closing:");
+    for m in ["smooth", "c0"] {
+        if let Some(t) = mean_ns("horse-101", m) {
+            println!("{m:<6} {:>10.2} ms", t / 1e6);
+        }
+    }
+    if let (Some(a), Some(b)) = (mean_ns("horse-101", "smooth"), mean_ns("horse-101", "c0")) {
+        println!("closing smoothly costs {:+.1} %", 100.0 * (a / b - 1.0));
+    }
+    horse_accuracy();
 }

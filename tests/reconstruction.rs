@@ -9,22 +9,21 @@ use metabezier::experiment::{merge, run_campaign, RunOptions, Shard};
 use metabezier::fit::{FitOptions, FunctionType};
 use metabezier::geometry::{Continuity, Parameterisation};
 use metabezier::optim::Algorithm;
-use metabezier::outline::{CornerOptions, ImageOptions, Sampling};
-use metabezier::reconstruction::{Method, Reconstruction, Segmentation, Source};
+use metabezier::outline::CornerOptions;
+use metabezier::reconstruction::{
+    ContourChoice, LoadOptions, Method, Reconstruction, Segmentation, Source,
+};
 
 fn data() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("data/outlines")
 }
 
 fn source(input: &str) -> Source {
-    Source::load(
-        input,
-        &data(),
-        0,
-        &ImageOptions::default(),
-        Sampling::default(),
-    )
-    .unwrap()
+    let options = LoadOptions {
+        contour: ContourChoice::Index(0),
+        ..LoadOptions::default()
+    };
+    Source::load(input, &data(), &options).unwrap()
 }
 
 fn metabezier() -> Command {
@@ -42,7 +41,7 @@ fn cantarell_g_is_recovered_from_its_true_break_points() {
         options.parameterisation = parameterisation;
         options.reparameterise = reparameterise;
         Reconstruction {
-            outline: &g.outline,
+            source: &g,
             segmentation: segmentation.clone(),
             corners: None,
             options,
@@ -90,17 +89,18 @@ fn a_metaheuristic_fit_of_the_horse_keeps_every_joint() {
         let mut options = FitOptions::new(function, continuity);
         options.budget_per_segment = 1000;
         let r = Reconstruction {
-            outline: &horse.outline,
+            source: &horse,
             segmentation: Segmentation::Count(30),
             corners: Some(CornerOptions::default()),
             options,
         };
         let mhs = Method::Metaheuristic(Algorithm::default_for("mhs").unwrap());
-        let fit = r.fit(&mhs, 42).unwrap();
+        let shape = r.fit(&mhs, 42).unwrap();
+        let fit = &shape.contours[0].fit;
         assert_eq!(fit.segments.len(), 30);
         assert!(fit.joins_hold(1e-9), "{function:?} {continuity:?}");
         // The corners found on the outline are C0 joints, the others smooth.
-        let corners = r.corner_indices();
+        let corners = r.corner_indices(&horse.contours[0]);
         for s in &fit.segments[1..] {
             let expected = if corners.contains(&s.first) {
                 Continuity::C0
@@ -151,19 +151,26 @@ fn fit_writes_its_files() {
     assert!(lines
         .next()
         .unwrap()
-        .starts_with("segment,first,last,points,join,function,c0x,c0y"));
+        .starts_with("contour,segment,first,last,points,join,function,c0x,c0y"));
     assert_eq!(lines.count(), 6);
     let metrics = std::fs::read_to_string(tmp.path().join("metrics.csv")).unwrap();
     assert!(
-        metrics.starts_with("input,contour,function,continuity,algorithm,seed"),
+        metrics.starts_with("input,function,continuity,closing,algorithm,seed"),
         "{metrics}"
     );
     assert!(
-        metrics.contains(",rational-cubic,g1,pso,3,2000,"),
+        metrics.contains(",rational-cubic,g1,smooth,pso,3,2000,"),
         "{metrics}"
     );
+    // One row per contour, then the totals.
+    let rows: Vec<&str> = metrics.lines().collect();
+    assert_eq!(rows.len(), 3, "{metrics}");
+    assert!(rows[1].contains(",0,counter-clockwise,"), "{metrics}");
+    assert!(rows[2].contains(",all,,"), "{metrics}");
     let svg = std::fs::read_to_string(tmp.path().join("fit.svg")).unwrap();
     assert!(svg.contains("coin: rational-cubic G1, pso"));
+    assert!(svg.contains("fill-rule=\"evenodd\""));
+    assert!(tmp.path().join("overlay.png").exists());
     assert_eq!(
         &std::fs::read(tmp.path().join("fit.png")).unwrap()[1..4],
         b"PNG"
@@ -215,7 +222,20 @@ fn bad_fit_input_gets_a_specific_error() {
     );
     let e = fit_error(&["horse.png", "--segments", "5"]);
     assert!(
-        e.contains("horse.png: 5 segment(s) requested, but the corners split the outline into"),
+        e.contains(
+            "horse.png: contour 0: 5 segment(s) requested, but the corners split the outline into"
+        ),
+        "{e}"
+    );
+    let e = fit_error(&["horse.png", "--contour", "3"]);
+    assert_eq!(
+        e,
+        "metabezier: error: horse.png: contour 3 was asked for, but the input has 1 contour \
+         (numbered from 0 by decreasing area: 0..=0); leave --contour out to fit all\n"
+    );
+    let e = fit_error(&["font:DejaVuSans.ttf:B", "--contour", "7"]);
+    assert!(
+        e.contains("contour 7 was asked for, but the input has 3 contours"),
         "{e}"
     );
     let e = fit_error(&["horse.png", "--true-breaks"]);
@@ -413,7 +433,7 @@ fn bad_fitting_specs_get_specific_errors() {
         ),
         (
             "input = \"horse.png\"\nsegments = 5",
-            "9:12: fit[1].segments: horse/rational-cubic/g1: 5 segment(s) requested",
+            "9:12: fit[1].segments: horse/rational-cubic/g1: contour 0: 5 segment(s) requested",
         ),
         (
             "input = \"coin.png\"\nsegments = 4\nfunction = \"quartic\"",

@@ -58,18 +58,22 @@ mod problem;
 pub mod search_space;
 mod segment;
 mod solver;
+mod span;
+mod trace;
 
 pub use error::FitError;
 pub use function::FunctionType;
 pub use linear::linear_fit;
 pub use metrics::{segment_metrics, FitMetrics, SegmentMetrics};
-pub use options::{FitOptions, GuessRule, SearchSpace, SearchSpaceOptions};
+pub use options::{Closing, FitOptions, GuessRule, SearchSpace, SearchSpaceOptions};
 pub use piecewise::{
-    equal_arc_breaks, fit_adaptive, fit_breaks, fit_piecewise, fit_segment_count, ClosingJoint,
-    FittedSegment, PiecewiseFit, SplitOptions,
+    equal_arc_breaks, fit_adaptive, fit_breaks, fit_independent, fit_piecewise, fit_segment_count,
+    ClosingJoint, PiecewiseFit, SplitOptions,
 };
-pub use problem::{End, SegmentProblem, Start};
+pub use problem::{tangent_meet, End, SegmentProblem, Start};
 pub use segment::Segment;
 pub use solver::{
     HybridSolver, LmSolver, LmStart, OptimiserSolver, SegmentSolver, Solution, SolvePart,
 };
+pub use span::{densify, FittedSegment};
+pub use trace::outline_trace;

@@ -105,6 +105,17 @@ pub enum OutlineError {
         /// Number of cells found.
         found: usize,
     },
+    /// The paths of an SVG file could not be read.
+    Svg(super::SvgError),
+    /// A contour number beyond the input's contours.
+    ContourOutOfRange {
+        /// The input as given (a file or `font:PATH:GLYPH`).
+        input: String,
+        /// The contour asked for.
+        asked: usize,
+        /// How many contours the input has.
+        count: usize,
+    },
     /// A CSV file is malformed in another way (such as invalid UTF-8).
     Csv {
         /// The CSV file.
@@ -202,6 +213,18 @@ impl fmt::Display for OutlineError {
                 "{}:{line}: expected 2 cells \"x,y\", found {found}",
                 path.display()
             ),
+            Self::Svg(e) => write!(f, "{e}"),
+            Self::ContourOutOfRange {
+                input,
+                asked,
+                count,
+            } => write!(
+                f,
+                "{input}: contour {asked} was asked for, but the input has {count} contour{} \
+                 (numbered from 0 by decreasing area: 0..={}); leave --contour out to fit all",
+                if *count == 1 { "" } else { "s" },
+                count.saturating_sub(1)
+            ),
             Self::Csv {
                 path,
                 line: 0,
@@ -220,6 +243,7 @@ impl std::error::Error for OutlineError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
             Self::Io { source, .. } => Some(source),
+            Self::Svg(e) => std::error::Error::source(e),
             _ => None,
         }
     }

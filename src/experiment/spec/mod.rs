@@ -131,11 +131,19 @@ pub enum Factor {
     Instance,
     /// The search space of a fitting case.
     SearchSpace,
+    /// The technique's `α_size` of a fitting case, when listed.
+    AlphaSize,
 }
 
 impl Factor {
     /// The names accepted in `paired`.
-    pub const NAMES: [&'static str; 4] = ["budget", "transform", "instance", "search_space"];
+    pub const NAMES: [&'static str; 5] = [
+        "budget",
+        "transform",
+        "instance",
+        "search_space",
+        "alpha_size",
+    ];
 
     /// Parses a factor name.
     pub fn from_name(name: &str) -> Option<Factor> {
@@ -145,6 +153,7 @@ impl Factor {
                 Factor::Transform,
                 Factor::Instance,
                 Factor::SearchSpace,
+                Factor::AlphaSize,
             ][i]
         })
     }
@@ -198,7 +207,7 @@ impl ProblemEntry {
 
     fn key_with(&self, paired: &[Factor], with_budget: bool) -> String {
         let name = match &self.kind {
-            ProblemKind::Fit(c) if paired.contains(&Factor::SearchSpace) => c.base_name.clone(),
+            ProblemKind::Fit(c) => c.seed_name(paired),
             _ => self.name(),
         };
         let mut key = format!("{name}-{}", self.dim);
@@ -223,6 +232,10 @@ impl ProblemEntry {
             Factor::Instance => Some(self.instance.to_string()),
             Factor::SearchSpace => match &self.kind {
                 ProblemKind::Fit(c) => Some(c.options.search.kind.name().to_owned()),
+                ProblemKind::Benchmark(_) => None,
+            },
+            Factor::AlphaSize => match &self.kind {
+                ProblemKind::Fit(c) => Some(crate::files::fmt_real(c.options.search.alpha_size)),
                 ProblemKind::Benchmark(_) => None,
             },
         }
