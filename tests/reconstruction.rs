@@ -452,3 +452,177 @@ fn bad_fitting_specs_get_specific_errors() {
         "{e}"
     );
 }
+
+/// A campaign with every fitting key that came with the smooth closing:
+/// per-segment problems with listed α_size and budgets (paired), and a
+/// glyph's every contour closed smoothly.
+const CURRENT_SPEC: &str = r#"
+[experiment]
+name = "fit_current"
+seed = 11
+runs = 3
+paired = ["search_space", "alpha_size", "budget"]
+
+[[fit]]
+input = "coin.png"
+function = "rational-cubic"
+continuity = "g1"
+segments = 4
+search_space = ["technique", "bounding-box"]
+alpha_size = [0.1, 0.5]
+budget = [100, 300]
+mode = "per-segment"
+closing = "smooth"
+
+[[fit]]
+input = "font:DejaVuSans.ttf:o"
+function = "cubic"
+continuity = "g1"
+segments = "true-breaks"
+contour = "all"
+closing = "smooth"
+budget = 200
+
+[[algorithm]]
+name = "hs"
+label = "HS"
+
+[[algorithm]]
+name = "mhs"
+label = "MHS"
+"#;
+
+#[test]
+fn a_campaign_with_the_current_fitting_records() {
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::copy(
+        data().join("DejaVuSans.ttf"),
+        tmp.path().join("DejaVuSans.ttf"),
+    )
+    .unwrap();
+    let spec = spec_in(tmp.path(), CURRENT_SPEC);
+    let names: Vec<String> = spec.problems.iter().map(|p| p.key()).collect();
+    assert_eq!(
+        names,
+        [
+            "coin/rational-cubic/g1/alpha=0.1/per-segment-4|budget=400",
+            "coin/rational-cubic/g1/alpha=0.1/per-segment-4|budget=1200",
+            "coin/rational-cubic/g1/per-segment-4|budget=400",
+            "coin/rational-cubic/g1/per-segment-4|budget=1200",
+            "coin/rational-cubic/g1/bounding-box/per-segment-4|budget=400",
+            "coin/rational-cubic/g1/bounding-box/per-segment-4|budget=1200",
+            "DejaVuSans-o/cubic/g1-16",
+        ]
+    );
+    // Paired: the search spaces, α_size and budgets of a case share seeds.
+    let seeds: Vec<String> = spec.problems[..6]
+        .iter()
+        .map(|p| p.seed_key(&spec.paired))
+        .collect();
+    assert!(
+        seeds
+            .iter()
+            .all(|k| k == "coin/rational-cubic/g1/per-segment-4"),
+        "{seeds:?}"
+    );
+
+    let one = tmp.path().join("one");
+    let two = tmp.path().join("two");
+    run(&spec, &one, 1, None);
+    run(&spec, &two, 2, None);
+    for f in ["runs.csv", "convergence.csv", "fits.csv", "segments.csv"] {
+        assert_eq!(
+            std::fs::read(one.join(f)).unwrap(),
+            std::fs::read(two.join(f)).unwrap(),
+            "{f} differs between 1 and 2 threads"
+        );
+    }
+    let fits = std::fs::read_to_string(one.join("fits.csv")).unwrap();
+    assert!(fits.lines().next().unwrap().ends_with(
+        "run,rms,max_distance,rms_distance,closing_angle_degrees,closing_relative_derivative_gap"
+    ), "{fits}");
+    let segments = std::fs::read_to_string(one.join("segments.csv")).unwrap();
+    assert!(segments
+        .lines()
+        .next()
+        .unwrap()
+        .contains(",run,contour,segment,first,"));
+    // The glyph's two contours (outer and counter) are both fitted.
+    assert!(
+        segments
+            .lines()
+            .any(|l| l.starts_with("HS,hs,") && l.contains("DejaVuSans-o") && l.contains(",1,0,")),
+        "{segments}"
+    );
+    // Fitting runs record a best-so-far trace ending at their E.
+    let records = metabezier::experiment::records::read_results(&one).unwrap();
+    for r in &records {
+        let last = r.trace.last().expect("a trace");
+        assert_eq!(last.evaluations, r.evaluations, "{}", r.problem);
+        assert!(
+            (last.best - r.best).abs() <= 1e-9 * r.best.max(1e-300),
+            "{}",
+            r.problem
+        );
+        assert!(
+            r.trace.windows(2).all(|w| w[1].best <= w[0].best),
+            "{}",
+            r.problem
+        );
+        assert!(r.fit.as_ref().unwrap().rms_distance.is_some());
+    }
+    // The glyph closes smoothly where it has no corner, exactly enough.
+    let o = records
+        .iter()
+        .find(|r| r.problem.starts_with("DejaVuSans-o"))
+        .unwrap();
+    assert!(o.fit.as_ref().unwrap().closing_angle_degrees.unwrap() < 1e-6);
+
+    // The report has the segment-level tables and knows the new factors.
+    let summary =
+        metabezier::report::write_report(&one, &metabezier::report::ReportOptions::default())
+            .unwrap();
+    let md = std::fs::read_to_string(one.join("report.md")).unwrap();
+    for needle in [
+        "### Search space per segment: the technique against the bounding box",
+        "### Methods per segment against MHS",
+        "HS against MHS (technique):",
+        "MHS, α_size 0.1: the technique against the bounding box:",
+        "![Convergence](plots/convergence.png)",
+    ] {
+        assert!(
+            md.contains(needle),
+            "report.md lacks {needle}; notes {:?}",
+            summary.notes
+        );
+    }
+    let robustness = std::fs::read_to_string(one.join("tables/robustness.csv")).unwrap();
+    assert!(
+        robustness.starts_with("budget_per_segment,search_space,α_size,mode,"),
+        "{robustness}"
+    );
+
+    // An interrupted campaign resumes to the same files.
+    let part = tmp.path().join("part");
+    let opts = RunOptions {
+        out: Some(part.clone()),
+        threads: Some(2),
+        max_runs: Some(10),
+        ..RunOptions::default()
+    };
+    run_campaign(&spec, &opts).unwrap();
+    let opts = RunOptions {
+        out: Some(part.clone()),
+        threads: Some(2),
+        resume: true,
+        ..RunOptions::default()
+    };
+    run_campaign(&spec, &opts).unwrap();
+    for f in ["runs.csv", "convergence.csv", "fits.csv", "segments.csv"] {
+        assert_eq!(
+            std::fs::read(one.join(f)).unwrap(),
+            std::fs::read(part.join(f)).unwrap(),
+            "{f} differs after resuming"
+        );
+    }
+}

@@ -18,6 +18,7 @@ mod anytime;
 mod data;
 mod descriptive;
 mod error;
+mod fit_units;
 mod fitting;
 mod format;
 mod markdown;
@@ -428,7 +429,7 @@ fn sections(
     let (mut figures, plot_notes) = plots::figures(ds, &stats, heat_maps, provenance.threshold);
     notes.extend(plot_notes);
     let mut fitting = Vec::new();
-    if let Some(f) = fitting::section(dir, ds, options.alpha)? {
+    if let Some(f) = fitting::section(dir, ds, options.alpha, options.reference.as_deref())? {
         figures.extend(f.figures);
         notes.extend(f.notes);
         fitting = f.tables;
