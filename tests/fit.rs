@@ -403,10 +403,10 @@ fn rms_distance_agrees_with_a_brute_force_orthogonal_distance() {
         let dense: Vec<Point> = (0..=200_000)
             .map(|j| s.segment.eval(j as f64 / 200_000.0))
             .collect();
-        for i in s.first..=s.last {
+        for (i, &p) in pts.iter().enumerate().take(s.last + 1).skip(s.first) {
             let d = dense
                 .iter()
-                .map(|q| q.distance(pts[i]))
+                .map(|q| q.distance(p))
                 .fold(f64::INFINITY, f64::min);
             // Break points belong to two segments, and are interpolated.
             if i != s.first {

@@ -165,7 +165,7 @@ pub fn load_svg(path: &Path) -> Result<SvgPaths, SvgError> {
 /// itself.
 struct Tag<'t> {
     name: &'t str,
-    attributes: Vec<(&'t str, &'t str, usize)>,
+    attributes: Vec<Attribute<'t>>,
     self_closing: bool,
 }
 
@@ -220,11 +220,10 @@ pub fn svg_from_str(text: &str, path: &Path) -> Result<SvgPaths, SvgError> {
                     stack.push(current);
                 }
             }
-            name if name.starts_with('/') => {
-                if stack.len() > 1 {
-                    stack.pop();
-                }
+            name if name.starts_with('/') && stack.len() > 1 => {
+                stack.pop();
             }
+            name if name.starts_with('/') => {}
             _ if !tag.self_closing => stack.push(current.then(local)),
             _ => {}
         }
@@ -292,55 +291,59 @@ fn next_tag(text: &str, start: usize) -> Result<(Option<Tag<'_>>, usize), (usize
         match bytes.get(i) {
             None => return Err((start, SvgProblem::Unterminated("tag"))),
             Some(b'>') => {
-                return Ok((
-                    Some(Tag {
-                        name,
-                        attributes,
-                        self_closing: false,
-                    }),
-                    i + 1,
-                ))
+                let tag = Tag {
+                    name,
+                    attributes,
+                    self_closing: false,
+                };
+                return Ok((Some(tag), i + 1));
             }
             Some(b'/') if bytes.get(i + 1) == Some(&b'>') => {
-                return Ok((
-                    Some(Tag {
-                        name,
-                        attributes,
-                        self_closing: true,
-                    }),
-                    i + 2,
-                ))
+                let tag = Tag {
+                    name,
+                    attributes,
+                    self_closing: true,
+                };
+                return Ok((Some(tag), i + 2));
             }
             _ => {}
         }
-        let key_start = i;
-        while i < bytes.len()
-            && bytes[i] != b'='
-            && !bytes[i].is_ascii_whitespace()
-            && bytes[i] != b'>'
-        {
-            i += 1;
-        }
-        let key = &text[key_start..i];
-        while i < bytes.len() && (bytes[i].is_ascii_whitespace() || bytes[i] == b'=') {
-            i += 1;
-        }
-        let quote = *bytes
-            .get(i)
-            .ok_or((key_start, SvgProblem::Unterminated("attribute")))?;
-        if quote != b'"' && quote != b'\'' {
-            return Err((
-                i,
-                SvgProblem::Unterminated("attribute value (expected a quote)"),
-            ));
-        }
-        let value_start = i + 1;
-        let len = text[value_start..]
-            .find(quote as char)
-            .ok_or((key_start, SvgProblem::Unterminated("attribute value")))?;
-        attributes.push((key, &text[value_start..value_start + len], value_start));
-        i = value_start + len + 1;
+        let (attribute, next) = attribute(text, i)?;
+        attributes.push(attribute);
+        i = next;
     }
+}
+
+/// The attribute `key="value"` at byte `i`: the key, the value, the
+/// value's byte offset, and the offset after it.
+type Attribute<'t> = (&'t str, &'t str, usize);
+
+fn attribute(text: &str, mut i: usize) -> Result<(Attribute<'_>, usize), (usize, SvgProblem)> {
+    let bytes = text.as_bytes();
+    let key_start = i;
+    while i < bytes.len() && bytes[i] != b'=' && !bytes[i].is_ascii_whitespace() && bytes[i] != b'>'
+    {
+        i += 1;
+    }
+    let key = &text[key_start..i];
+    while i < bytes.len() && (bytes[i].is_ascii_whitespace() || bytes[i] == b'=') {
+        i += 1;
+    }
+    let quote = *bytes
+        .get(i)
+        .ok_or((key_start, SvgProblem::Unterminated("attribute")))?;
+    if quote != b'"' && quote != b'\'' {
+        return Err((
+            i,
+            SvgProblem::Unterminated("attribute value (expected a quote)"),
+        ));
+    }
+    let value_start = i + 1;
+    let len = text[value_start..]
+        .find(quote as char)
+        .ok_or((key_start, SvgProblem::Unterminated("attribute value")))?;
+    let value = &text[value_start..value_start + len];
+    Ok(((key, value, value_start), value_start + len + 1))
 }
 
 /// A `transform` list: `translate`, `scale` and `matrix`, composed left to

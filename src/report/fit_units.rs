@@ -397,6 +397,9 @@ fn method_verdicts(t: &Table) -> Vec<String> {
     })
 }
 
+/// The mark of a row at its budget per segment.
+type BudgetMark = (Option<u64>, Mark);
+
 /// One line per (cell, level): at which budgets its rows are better, tied
 /// and worse, e.g. "HS against MHS (technique): better at budgets 1000,
 /// 3000; tied at 10000; worse at 30000 (of 4)."
@@ -405,7 +408,7 @@ fn verdict_lines(
     marks: &[Mark],
     name: impl Fn(&(String, String, Option<u64>)) -> String,
 ) -> Vec<String> {
-    let mut by: BTreeMap<(String, String), Vec<(Option<u64>, Mark)>> = BTreeMap::new();
+    let mut by: BTreeMap<(String, String), Vec<BudgetMark>> = BTreeMap::new();
     let mut order: Vec<(String, String)> = Vec::new();
     for (k, &m) in keys.iter().zip(marks) {
         let id = (k.0.clone(), k.1.clone());
