@@ -10,10 +10,10 @@
 //! A second group times whole fits: the vendored horse outline (2,644
 //! points) split recursively until every point is within 1 px, with LM and
 //! with MHS (10,000 evaluations per segment, the `metabezier fit` default),
-//! and cut into 101 segments (rational cubic, G1, LM), closed smoothly and
-//! closed C⁰ (what the smooth closing costs). The last lines give the
-//! 101-segment fit's orthogonal distances. Run with
-//! `cargo bench --bench fitting`.
+//! and cut into 101 segments (rational cubic, G1, LM); then the coin, which
+//! has no corner, at 20 segments closed smoothly and closed C⁰ (what the
+//! smooth closing costs). The last lines give the 101-segment horse's
+//! orthogonal distances. Run with `cargo bench --bench fitting`.
 
 mod common;
 
@@ -104,7 +104,7 @@ fn horse_source() -> metabezier::reconstruction::Source {
 /// Fitting the horse at 1 px tolerance, end to end after loading, and at
 /// 101 segments with LM, closed smoothly and closed C0.
 fn horse(c: &mut Criterion) {
-    use metabezier::fit::{Closing, FitOptions, FunctionType};
+    use metabezier::fit::{FitOptions, FunctionType};
     use metabezier::geometry::Continuity;
     use metabezier::optim::Algorithm;
     use metabezier::outline::CornerOptions;
@@ -132,23 +132,57 @@ fn horse(c: &mut Criterion) {
     group.finish();
     let mut group = c.benchmark_group("horse-101");
     group.sample_size(20);
-    for (name, closing) in [("smooth", Closing::Smooth), ("c0", Closing::C0)] {
-        let mut options = FitOptions::new(FunctionType::RationalCubic, Continuity::G1);
-        options.closing = closing;
-        let r = Reconstruction {
-            source: &source,
-            segmentation: Segmentation::Count(101),
-            corners: Some(CornerOptions::default()),
-            options,
-        };
-        group.bench_function(name, |b| {
-            b.iter(|| {
-                r.fit(&Method::Exact, 1)
-                    .expect("a valid fit")
-                    .metrics
-                    .segments
-            })
-        });
+    let r = Reconstruction {
+        source: &source,
+        segmentation: Segmentation::Count(101),
+        corners: Some(CornerOptions::default()),
+        options: FitOptions::new(FunctionType::RationalCubic, Continuity::G1),
+    };
+    group.bench_function("lm", |b| {
+        b.iter(|| {
+            r.fit(&Method::Exact, 1)
+                .expect("a valid fit")
+                .metrics
+                .segments
+        })
+    });
+    group.finish();
+    closing(c);
+}
+
+/// What the smooth closing costs: the coin (no corner, so its chain closes
+/// with an end join) at 20 segments, rational cubic, G1, with LM and with
+/// MHS (3,000 evaluations per segment), closed smoothly and closed C⁰.
+fn closing(c: &mut Criterion) {
+    use metabezier::fit::{Closing, FitOptions, FunctionType};
+    use metabezier::geometry::Continuity;
+    use metabezier::optim::Algorithm;
+    use metabezier::outline::CornerOptions;
+    use metabezier::reconstruction::{LoadOptions, Method, Reconstruction, Segmentation, Source};
+    let source = Source::load(
+        "data/outlines/coin.png",
+        Path::new(env!("CARGO_MANIFEST_DIR")),
+        &LoadOptions::default(),
+    )
+    .expect("the vendored coin");
+    let mut group = c.benchmark_group("closing");
+    group.sample_size(20);
+    let mhs = Method::Metaheuristic(Algorithm::default_for("mhs").expect("mhs"));
+    for (name, method) in [("lm", Method::Exact), ("mhs", mhs)] {
+        for (closing, label) in [(Closing::Smooth, "smooth"), (Closing::C0, "c0")] {
+            let mut options = FitOptions::new(FunctionType::RationalCubic, Continuity::G1);
+            options.closing = closing;
+            options.budget_per_segment = 3000;
+            let r = Reconstruction {
+                source: &source,
+                segmentation: Segmentation::Count(20),
+                corners: Some(CornerOptions::default()),
+                options,
+            };
+            group.bench_function(format!("{name}-{label}"), |b| {
+                b.iter(|| r.fit(&method, 1).expect("a valid fit").metrics.segments)
+            });
+        }
     }
     group.finish();
 }
@@ -209,14 +243,24 @@ fn main() {
             println!("{m:<6} {:>10.1} ms", t / 1e6);
         }
     }
-    println!("\nThe horse at 101 segments, rational cubics, G1, LM, by closing:");
-    for m in ["smooth", "c0"] {
-        if let Some(t) = mean_ns("horse-101", m) {
-            println!("{m:<6} {:>10.2} ms", t / 1e6);
-        }
+    if let Some(t) = mean_ns("horse-101", "lm") {
+        println!(
+            "\nThe horse at 101 segments, rational cubics, G1, LM: {:.2} ms",
+            t / 1e6
+        );
     }
-    if let (Some(a), Some(b)) = (mean_ns("horse-101", "smooth"), mean_ns("horse-101", "c0")) {
-        println!("closing smoothly costs {:+.1} %", 100.0 * (a / b - 1.0));
+    println!("\nThe coin at 20 segments, rational cubics, G1, closed smoothly against C0:");
+    for m in ["lm", "mhs"] {
+        let smooth = mean_ns("closing", &format!("{m}-smooth"));
+        let c0 = mean_ns("closing", &format!("{m}-c0"));
+        if let (Some(a), Some(b)) = (smooth, c0) {
+            println!(
+                "{m:<6} {:>10.3} ms against {:>10.3} ms: {:+.1} %",
+                a / 1e6,
+                b / 1e6,
+                100.0 * (a / b - 1.0)
+            );
+        }
     }
     horse_accuracy();
 }

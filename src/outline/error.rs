@@ -221,7 +221,8 @@ impl fmt::Display for OutlineError {
             } => write!(
                 f,
                 "{input}: contour {asked} was asked for, but the input has {count} contour{} \
-                 (numbered from 0 by decreasing area: 0..={}); leave --contour out to fit all",
+                 (numbered from 0 by decreasing area: 0..={}); to fit them all, leave --contour \
+                 out (or write contour = \"all\" in a spec)",
                 if *count == 1 { "" } else { "s" },
                 count.saturating_sub(1)
             ),

@@ -3,7 +3,7 @@
 //! segment is a unit of the test, not the whole outline.
 //!
 //! For each comparison (the search-space technique at each α_size against
-//! the bounding box; every method against the reference) at each budget,
+//! the bounding box; every pair of methods) at each budget,
 //! pooled over the sources:
 //!
 //! * per segment, the two samples of E over the runs, tested two-sided
@@ -228,11 +228,7 @@ const HOW_TO_READ: &str = "Segments are the units: every segment is its own prob
      is the median over the segments of (median E of the first) / (median E of the second).";
 
 /// Every segment-level table the per-segment problems allow, and notes.
-pub(crate) fn tables(
-    fr: &FitRuns<'_>,
-    reference: Option<&str>,
-    alpha: f64,
-) -> (Vec<Table>, Vec<String>) {
+pub(crate) fn tables(fr: &FitRuns<'_>, alpha: f64) -> (Vec<Table>, Vec<String>) {
     let groups = groups(fr);
     if groups.is_empty() {
         return (Vec::new(), Vec::new());
@@ -245,17 +241,15 @@ pub(crate) fn tables(
         space.intro.extend(lines);
         tables.push(space);
     }
-    match methods_table(fr, &groups, reference, alpha) {
-        Some(mut t) if !t.md_rows.is_empty() => {
-            let lines = method_verdicts(&t);
-            t.intro.extend(lines);
-            tables.push(t);
-        }
-        _ => notes.push(
-            "no segment-level method table: the per-segment problems have no reference \
-             method (MHS or --reference) run beside another"
-                .into(),
-        ),
+    let mut methods = methods_table(fr, &groups, alpha);
+    if methods.md_rows.is_empty() {
+        notes.push(
+            "no segment-level method table: a single method ran the per-segment problems".into(),
+        );
+    } else {
+        let lines = method_verdicts(&methods);
+        methods.intro.extend(lines);
+        tables.push(methods);
     }
     (tables, notes)
 }
@@ -320,62 +314,56 @@ fn space_table(
     (table, lines)
 }
 
-/// Every method against the reference, per search space and budget,
-/// segments as units.
-fn methods_table(
-    fr: &FitRuns<'_>,
-    groups: &BTreeMap<Group, Vec<usize>>,
-    reference: Option<&str>,
-    alpha: f64,
-) -> Option<Table> {
-    let r = match reference {
-        Some(name) => fr.cells.iter().position(|c| c == name)?,
-        None => fr.cells.iter().position(|c| c == "MHS")?,
-    };
+/// Every pair of methods (each against every later one, in the report's
+/// order), per search space and budget, segments as units.
+fn methods_table(fr: &FitRuns<'_>, groups: &BTreeMap<Group, Vec<usize>>, alpha: f64) -> Table {
     let mut table = frame(
         "fit_segments_methods",
-        &format!("Methods per segment against {}", fr.cells[r]),
+        "Methods per segment, in pairs",
         format!(
-            "For every search space, budget per segment and method: the method against {}. \
-             {HOW_TO_READ} A ratio below 1 and + mean lower E than the reference (marks at \
-             α = {alpha}).",
-            fr.cells[r]
+            "For every search space, budget per segment and pair of methods: the first \
+             against the second. {HOW_TO_READ} A ratio below 1 and + mean lower E with the \
+             first (marks at α = {alpha})."
         ),
-        &["Function", "Search space", "Budget", "Method"],
+        &["Function", "Search space", "Budget", "Method", "Against"],
     );
     let mut rows: Vec<Pending> = Vec::new();
     for ((function, continuity, level, budget), ps) in groups {
-        let Some(base) = pooled(fr, ps, r) else {
-            continue;
-        };
-        for (c, cell) in fr.cells.iter().enumerate() {
-            if c == r {
-                continue;
-            }
-            let Some(a) = pooled(fr, ps, c) else { continue };
-            if let Some(row) = compare(&a, &base, false, alpha) {
-                let labels = vec![
-                    format!("{function}/{continuity}"),
-                    level.clone(),
-                    budget.map_or("—".into(), |b| b.to_string()),
-                    cell.clone(),
-                ];
-                rows.push((labels, row));
+        let units: Vec<Option<UnitRuns>> = (0..fr.cells.len()).map(|c| pooled(fr, ps, c)).collect();
+        for (i, a) in units.iter().enumerate() {
+            for (j, b) in units.iter().enumerate().skip(i + 1) {
+                let (Some(a), Some(b)) = (a, b) else { continue };
+                if let Some(row) = compare(a, b, false, alpha) {
+                    let labels = vec![
+                        format!("{function}/{continuity}"),
+                        level.clone(),
+                        budget.map_or("—".into(), |b| b.to_string()),
+                        fr.cells[i].clone(),
+                        fr.cells[j].clone(),
+                    ];
+                    rows.push((labels, row));
+                }
             }
         }
     }
     finish(&mut table, rows, alpha);
-    Some(table)
+    table
 }
 
-/// The verdict lines of the methods table: per method and search space,
-/// the budgets at which it is better, tied and worse.
+/// The verdict lines of the methods table: per pair and search space,
+/// the budgets at which the first is better, tied and worse.
 fn method_verdicts(t: &Table) -> Vec<String> {
     let n = t.md_header.len();
     let keys: Vec<(String, String, Option<u64>)> = t
         .md_rows
         .iter()
-        .map(|r| (r[3].clone(), r[1].clone(), r[2].parse().ok()))
+        .map(|r| {
+            (
+                format!("{} against {}", r[3], r[4]),
+                r[1].clone(),
+                r[2].parse().ok(),
+            )
+        })
         .collect();
     let marks: Vec<Mark> = t
         .md_rows
@@ -386,14 +374,8 @@ fn method_verdicts(t: &Table) -> Vec<String> {
             _ => Mark::Same,
         })
         .collect();
-    let reference = t
-        .title
-        .rsplit(" against ")
-        .next()
-        .unwrap_or("the reference")
-        .to_owned();
-    verdict_lines(&keys, &marks, |(cell, level, _)| {
-        format!("{cell} against {reference} ({level})")
+    verdict_lines(&keys, &marks, |(pair, level, _)| {
+        format!("{pair} ({level})")
     })
 }
 

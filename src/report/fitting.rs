@@ -861,13 +861,10 @@ fn overlays(
 
 /// The fitting section of the report in `dir`, or `None` if the campaign
 /// has no fitting runs.
-/// `reference` names the method the segment-level comparison tests the
-/// others against (default: MHS, when it ran).
 pub(crate) fn section(
     dir: &Path,
     ds: &Dataset,
     alpha: f64,
-    reference: Option<&str>,
 ) -> Result<Option<FittingSection>, ReadError> {
     if !dir.join("fits.csv").exists() {
         return Ok(None);
@@ -881,7 +878,7 @@ pub(crate) fn section(
     if !space.md_rows.is_empty() {
         tables.push(space);
     }
-    let (units, unit_notes) = super::fit_units::tables(&fr, reference, alpha);
+    let (units, unit_notes) = super::fit_units::tables(&fr, alpha);
     tables.extend(units);
     notes.extend(unit_notes);
     let hybrid = hybrid_table(&fr);

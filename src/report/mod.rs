@@ -429,7 +429,7 @@ fn sections(
     let (mut figures, plot_notes) = plots::figures(ds, &stats, heat_maps, provenance.threshold);
     notes.extend(plot_notes);
     let mut fitting = Vec::new();
-    if let Some(f) = fitting::section(dir, ds, options.alpha, options.reference.as_deref())? {
+    if let Some(f) = fitting::section(dir, ds, options.alpha)? {
         figures.extend(f.figures);
         notes.extend(f.notes);
         fitting = f.tables;
