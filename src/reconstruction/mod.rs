@@ -7,6 +7,15 @@
 //! campaigns declared in a spec go through [`Reconstruction::fit`], so a
 //! campaign run and a single command-line fit of the same case with the
 //! same seed give the same curve.
+//!
+//! | module | concept |
+//! |---|---|
+//! | [`Source`], [`ContourChoice`] | an input's contours (outer boundaries and holes) and which are fitted |
+//! | [`Reconstruction`], [`Method`], [`FitMode`] | the fitting task: whole outlines or per-segment problems |
+//! | [`ShapeFit`] | every contour's fit, with the totals and the best-so-far trace |
+//! | [`shape_svg`], [`save_shape`] | the fit as one even-odd SVG path and its PNG |
+//! | [`score`] | other tools' curves against the same data points |
+//! | [`OverlayFigure`] | the data and the curves on axes, drawn by the report |
 
 mod drawing;
 mod overlay;
@@ -14,10 +23,9 @@ mod score;
 mod shape;
 mod source;
 
-use crate::fit::FitOptions;
 use crate::fit::{
-    fit_adaptive, fit_breaks, fit_independent, fit_segment_count, FitError, HybridSolver, LmSolver,
-    OptimiserSolver, PiecewiseFit, SegmentSolver, SplitOptions,
+    fit_adaptive, fit_breaks, fit_independent, fit_segment_count, FitError, FitOptions,
+    HybridSolver, LmSolver, OptimiserSolver, PiecewiseFit, SegmentSolver, SplitOptions,
 };
 use crate::optim::Algorithm;
 use crate::outline::{find_corners, CornerOptions};
