@@ -195,6 +195,28 @@ impl fmt::Display for OutlineError {
                 "{}: {found} point(s) found, but an outline needs at least {need}",
                 path.display()
             ),
+            Self::Svg(e) => write!(f, "{e}"),
+            Self::ContourOutOfRange {
+                input,
+                asked,
+                count,
+            } => write!(
+                f,
+                "{input}: contour {asked} was asked for, but the input has {count} contour{} \
+                 (numbered from 0 by decreasing area: 0..={}); to fit them all, leave --contour \
+                 out (or write contour = \"all\" in a spec)",
+                if *count == 1 { "" } else { "s" },
+                count.saturating_sub(1)
+            ),
+            csv => csv.fmt_csv(f),
+        }
+    }
+}
+
+impl OutlineError {
+    /// The messages of the CSV variants, with their line and column.
+    fn fmt_csv(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
             Self::CsvNumber {
                 path,
                 line,
@@ -213,19 +235,6 @@ impl fmt::Display for OutlineError {
                 "{}:{line}: expected 2 cells \"x,y\", found {found}",
                 path.display()
             ),
-            Self::Svg(e) => write!(f, "{e}"),
-            Self::ContourOutOfRange {
-                input,
-                asked,
-                count,
-            } => write!(
-                f,
-                "{input}: contour {asked} was asked for, but the input has {count} contour{} \
-                 (numbered from 0 by decreasing area: 0..={}); to fit them all, leave --contour \
-                 out (or write contour = \"all\" in a spec)",
-                if *count == 1 { "" } else { "s" },
-                count.saturating_sub(1)
-            ),
             Self::Csv {
                 path,
                 line: 0,
@@ -236,6 +245,7 @@ impl fmt::Display for OutlineError {
                 line,
                 message,
             } => write!(f, "{}:{line}: {message}", path.display()),
+            other => unreachable!("fmt_csv is only called for the CSV variants, not {other:?}"),
         }
     }
 }
