@@ -25,11 +25,12 @@
 //!
 //! **Keys stay.** The keys and values that came with the smooth closing
 //! (`closing`, `mode`, `contour = "all"`, a list of `alpha_size`,
-//! `parameterisation = "auto"`) are the only ones that change what a section
-//! records: a section that uses one of them gets the current fitting
-//! records (a best-so-far trace in `convergence.csv`, `rms_distance` in
-//! `fits.csv`, `contour` and `rms_distance` in `segments.csv`); a section
-//! that uses none of them gives, bit for bit, the files it gave before.
+//! `parameterisation = "auto"`) are the only ones that change what a
+//! campaign records: a spec with a section that uses one of them gets the
+//! current fitting records for all its fitting problems (a best-so-far
+//! trace in `convergence.csv`, `rms_distance` in `fits.csv`, `contour` and
+//! `rms_distance` in `segments.csv`); a spec that uses none of them gives,
+//! bit for bit, the files it gave before.
 
 use std::collections::HashMap;
 use std::ops::Range;
@@ -101,7 +102,8 @@ pub struct FitCase {
     pub mode: FitMode,
     /// In the per-segment mode, the exact fit whose segments give the joins.
     pub reference: Option<Arc<ShapeFit>>,
-    /// Whether the section uses the current fitting records (see the module
+    /// Whether the campaign writes the current fitting records (some
+    /// section of its spec uses a key that came with them; see the module
     /// docs).
     pub extended: bool,
 }
