@@ -11,7 +11,7 @@ help:
 	@echo "make test-cluster   a campaign as a Slurm array job on a private one-node Slurm (root; installs slurm-wlm, munge)"
 	@echo "make bench          criterion benchmarks: optimiser overhead per evaluation, cost of E per fitting function"
 	@echo "make reproduce-ch4  chapter 4: benchmarks, scalability, MHS tuning, with reports (results/ch4_*/)"
-	@echo "make reproduce-ch5  chapter 5: curve fitting of four real outlines, search-space study (results/ch5_*/)"
+	@echo "make reproduce-ch5  chapter 5: curve fitting of four real outlines, search-space and MHS studies (results/ch5_*/)"
 	@echo "make reproduce-ch6  chapter 6: cranial implant from CT 0051, artificial-defect validation (results/ch6_cranial/)"
 	@echo "make bbob           COCO's bbob suite: 5 optimisers x 24 functions x D = 2, 5, 10, report and COCO logs (results/bbob/)"
 	@echo "make reproduce-all  every chapter that exists so far"
@@ -53,7 +53,7 @@ REPORT_ARGS_ch4_tuning := --reference "HS (hms=5, hmcr=0.9, bw=0.01)"
 reproduce-ch4: build
 	$(foreach e,$(CH4),$(BIN) run $(SPECS)/$(e).toml --resume && $(BIN) report results/$(e) $(REPORT_ARGS_$(e)) &&) true
 
-CH5 := ch5_outlines ch5_search_space
+CH5 := ch5_outlines ch5_search_space ch5_mhs
 
 reproduce-ch5: build
 	$(foreach e,$(CH5),$(BIN) run $(SPECS)/$(e).toml --resume && $(BIN) report results/$(e) $(REPORT_ARGS_$(e)) &&) true

@@ -13,12 +13,15 @@ use crate::experiment::runner::{self, RunOptions, Shard};
 use crate::experiment::slurm::{self, SlurmOptions};
 use crate::experiment::{coco_log, Spec};
 use crate::files::{read_text, IoError};
-use crate::fit::{FitOptions, FunctionType, PiecewiseFit, SearchSpace};
+use crate::fit::{Closing, FitOptions, FunctionType, SearchSpace};
 use crate::functions::{Function, Transform};
-use crate::geometry::{Continuity, Parameterisation};
+use crate::geometry::{Continuity, Parameterisation, Point};
 use crate::optim::Algorithm;
-use crate::outline::{CornerOptions, ImageOptions, Sampling};
-use crate::reconstruction::{Method, OverlayFigure, Reconstruction, Segmentation, Source};
+use crate::outline::{load_svg, CornerOptions, OutlineError};
+use crate::reconstruction::{
+    save_shape, score, ContourChoice, LoadOptions, Method, OverlayFigure, Reconstruction,
+    Segmentation, ShapeFit, Source, SourceError,
+};
 use crate::report::{self, save_overlay, ReportOptions};
 
 /// Appends one line of output to the buffer printed when the command ends.
@@ -111,6 +114,9 @@ enum Command {
     },
     /// Fit piecewise (rational) Bézier curves to an outline.
     Fit(FitArgs),
+    /// Score the paths of an SVG file (another tool's curves) against the
+    /// outline points `fit` would use: orthogonal max and RMS distance.
+    Score(ScoreArgs),
     /// List the algorithms with their parameters, and the benchmark functions.
     List,
     /// Design a cranial implant from CT slices (thesis chapter 6): the real
@@ -180,14 +186,20 @@ struct FitArgs {
     /// Neighbourhood of the corner test, in points.
     #[arg(long, default_value_t = 5)]
     corner_k: usize,
-    /// Which outline of the input: 0 is the largest.
-    #[arg(long, default_value_t = 0)]
-    contour: usize,
+    /// Fit only this contour of the input (0 is the largest); default: every
+    /// contour, outer boundaries and holes.
+    #[arg(long, value_name = "N")]
+    contour: Option<usize>,
+    /// How a closed contour's chain closes: smooth (G1/C1 at the closing
+    /// joint unless it is a corner) or c0.
+    #[arg(long, default_value = "smooth", value_parser = clap::builder::PossibleValuesParser::new(Closing::NAMES))]
+    closing: String,
     /// Search space: the thesis's technique or the data's bounding box.
     #[arg(long, default_value = "technique", value_parser = clap::builder::PossibleValuesParser::new(SearchSpace::NAMES))]
     search_space: String,
-    /// How data points get their curve parameters s_i.
-    #[arg(long, default_value = "chord", value_parser = clap::builder::PossibleValuesParser::new(Parameterisation::NAMES))]
+    /// How data points get their curve parameters s_i: auto is uniform for a
+    /// glyph at its true breaks (its samples' own parameters), chord otherwise.
+    #[arg(long, default_value = "auto", value_parser = clap::builder::PossibleValuesParser::new(PARAMETERISATIONS))]
     parameterisation: String,
     /// Rounds of Newton parameter correction after each segment's solve
     /// (Schneider 1990); each round solves again with a fresh budget.
@@ -202,6 +214,52 @@ struct FitArgs {
     /// Output directory.
     #[arg(long, default_value = "results/fit")]
     out: PathBuf,
+}
+
+/// The `--parameterisation` choices: `auto` and the fixed rules.
+const PARAMETERISATIONS: [&str; 4] = [
+    "auto",
+    Parameterisation::NAMES[0],
+    Parameterisation::NAMES[1],
+    Parameterisation::NAMES[2],
+];
+
+/// Arguments of `metabezier score`.
+#[derive(Debug, clap::Args)]
+struct ScoreArgs {
+    /// The outline: a PNG image, a CSV file of x,y points, or font:PATH:GLYPH.
+    input: String,
+    /// The SVG file whose paths are scored (M L H V C S Q T Z; translate,
+    /// scale and matrix transforms).
+    curves: PathBuf,
+    /// Added to the SVG's coordinates after reflecting y about the
+    /// viewBox: potrace puts pixel corners at integers, so its output needs
+    /// -0.5,-0.5 against an image's outline points.
+    #[arg(long, value_name = "DX,DY", value_parser = parse_offset, allow_hyphen_values = true, default_value = "0,0")]
+    offset: Point,
+    /// Score against this contour only (0 is the largest); default all.
+    #[arg(long, value_name = "N")]
+    contour: Option<usize>,
+    /// Write score.csv into this directory.
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+/// An `--offset` that is not two numbers `DX,DY`.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("expected an offset DX,DY of two finite numbers, such as -0.5,-0.5, found \"{0}\"")]
+struct OffsetError(String);
+
+/// Parses `DX,DY`.
+fn parse_offset(text: &str) -> Result<Point, OffsetError> {
+    let bad = || OffsetError(text.to_owned());
+    let (x, y) = text.split_once(',').ok_or_else(bad)?;
+    let x: f64 = x.trim().parse().map_err(|_| bad())?;
+    let y: f64 = y.trim().parse().map_err(|_| bad())?;
+    if !(x.is_finite() && y.is_finite()) {
+        return Err(bad());
+    }
+    Ok(Point::new(x, y))
 }
 
 /// Parses the command line, runs it, and reports errors on stderr.
@@ -265,6 +323,7 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
             write_report(&dir, &opts, w)
         }
         Command::Fit(args) => fit(args, w),
+        Command::Score(args) => score_curves(args, w),
         Command::Implant { spec, out } => implant(&spec, out, w),
         Command::List => {
             list(w);
@@ -492,18 +551,22 @@ fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
         name: a.algorithm.clone(),
         choices: Method::names(),
     })?;
-    let source = Source::load(
-        &a.input,
-        Path::new(""),
-        a.contour,
-        &ImageOptions::default(),
-        Sampling::default(),
-    )?;
+    let function = FunctionType::from_name(&a.function).expect("clap checked the name");
+    let load = LoadOptions {
+        contour: a.contour.map_or(ContourChoice::All, ContourChoice::Index),
+        min_samples_per_segment: if a.true_breaks {
+            function.min_points() - 1
+        } else {
+            1
+        },
+        ..LoadOptions::default()
+    };
+    let source = Source::load(&a.input, Path::new(""), &load)?;
     let r = Reconstruction {
-        outline: &source.outline,
+        source: &source,
         segmentation: a.segmentation(&source)?,
         corners: a.corners(),
-        options: a.options(),
+        options: a.options(&source),
     };
     let start = std::time::Instant::now();
     let fit = r.fit(&method, a.seed).map_err(|source| Error::Fit {
@@ -519,8 +582,10 @@ fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
         method.name()
     );
     let mut paths = write_fit_records(&a.out, &fit, &a.case(&r.options, &method), wall)?;
-    let figure = OverlayFigure::of_fit(&title, &source.outline.points, &fit);
-    paths.extend(save_overlay(&figure, &a.out, "fit")?);
+    let data = source.points();
+    paths.extend(save_shape(&fit, &data, &title, &a.out, "fit")?);
+    let figure = OverlayFigure::of_fit(&title, &data, &fit);
+    paths.extend(save_overlay(&figure, &a.out, "overlay")?);
     say_fit(w, &source.label(), &fit, wall, &paths);
     Ok(())
 }
@@ -552,27 +617,31 @@ impl FitArgs {
         })
     }
 
-    /// Function, continuity, parameterisation, search space and budget.
-    fn options(&self) -> FitOptions {
+    /// Function, continuity, closing, parameterisation (`auto` resolved for
+    /// `source`), search space and budget.
+    fn options(&self, source: &Source) -> FitOptions {
         let function = FunctionType::from_name(&self.function).expect("clap checked the name");
         let continuity = Continuity::from_name(&self.continuity).expect("clap checked the name");
         let mut options = FitOptions::new(function, continuity);
         options.budget_per_segment = self.budget;
-        options.parameterisation =
-            Parameterisation::from_name(&self.parameterisation).expect("clap checked the name");
+        options.closing = Closing::from_name(&self.closing).expect("clap checked the name");
+        options.parameterisation = match self.parameterisation.as_str() {
+            "auto" => source.auto_parameterisation(self.true_breaks),
+            name => Parameterisation::from_name(name).expect("clap checked the name"),
+        };
         options.reparameterise = self.reparameterise;
         options.search.kind =
             SearchSpace::from_name(&self.search_space).expect("clap checked the name");
         options
     }
 
-    /// The case columns of the fit's record files.
-    fn case(&self, options: &FitOptions, method: &Method) -> [(&'static str, String); 10] {
+    /// The case columns of the fit's `metrics.csv`.
+    fn case(&self, options: &FitOptions, method: &Method) -> [(&'static str, String); 11] {
         [
             ("input", self.input.clone()),
-            ("contour", self.contour.to_string()),
             ("function", options.function.name().to_owned()),
             ("continuity", options.continuity.name().to_owned()),
+            ("closing", options.closing.name().to_owned()),
             ("algorithm", method.name()),
             ("seed", self.seed.to_string()),
             ("budget_per_segment", self.budget.to_string()),
@@ -582,34 +651,129 @@ impl FitArgs {
                 options.parameterisation.name().to_owned(),
             ),
             ("reparameterise", self.reparameterise.to_string()),
+            (
+                "contours",
+                self.contour
+                    .map_or(ContourChoice::All, ContourChoice::Index)
+                    .name(),
+            ),
         ]
     }
 }
 
-/// The summary of a fit of `label`: its metrics, its closing joint, and the
-/// files written.
-fn say_fit(w: &mut String, label: &str, fit: &PiecewiseFit, wall: f64, paths: &[PathBuf]) {
+/// The summary of a fit of `label`: its metrics, each contour's closing
+/// joint, and the files written.
+fn say_fit(w: &mut String, label: &str, fit: &ShapeFit, wall: f64, paths: &[PathBuf]) {
     let m = &fit.metrics;
     say!(
         w,
-        "{label}: {} points, {} segments, E = {:.6e}, RMS = {:.4e}, max distance = {:.4e}, {} evaluations, {:.3} s",
+        "{label}: {} contour(s), {} points, {} segments, E = {:.6e}, RMS = {:.4e}, RMS distance = {:.4e}, max distance = {:.4e}, {} evaluations, {:.3} s",
+        fit.contours.len(),
         m.points,
         m.segments,
         m.sse,
         m.rms,
+        m.rms_distance,
         m.max_distance,
         m.evaluations,
         wall
     );
-    if let Some(c) = fit.closing {
-        say!(
-            w,
-            "  closing joint (C0 only): tangent angle {:.3}°, relative derivative gap {:.3e}",
-            c.angle_degrees,
-            c.relative_derivative_gap
-        );
+    for c in &fit.contours {
+        if let Some(j) = c.fit.closing {
+            let at = if j.at_corner {
+                "at a corner, C0".to_owned()
+            } else {
+                format!("{} imposed", j.imposed.name().to_uppercase())
+            };
+            say!(
+                w,
+                "  contour {} ({} segments): closing joint {at}: tangent angle {:.3e}°, relative derivative gap {:.3e}",
+                c.contour,
+                c.fit.metrics.segments,
+                j.angle_degrees,
+                j.relative_derivative_gap
+            );
+        }
     }
     for p in paths {
         say!(w, "  wrote {}", p.display());
     }
+}
+
+/// `metabezier score`: the orthogonal distances of the outline's points to
+/// the SVG's curves, printed and (with `--out`) written to `score.csv`.
+fn score_curves(a: ScoreArgs, w: &mut String) -> Result<(), Error> {
+    let load = LoadOptions {
+        contour: a.contour.map_or(ContourChoice::All, ContourChoice::Index),
+        ..LoadOptions::default()
+    };
+    let source = Source::load(&a.input, Path::new(""), &load)?;
+    let svg = load_svg(&a.curves).map_err(|e| SourceError(OutlineError::Svg(e)))?;
+    let s = score(&source, &svg.to_frame(a.offset));
+    let curves = a.curves.display().to_string();
+    say!(
+        w,
+        "{} against {curves} (offset {},{}): {} segments",
+        a.input,
+        a.offset.x,
+        a.offset.y,
+        s.segments
+    );
+    say!(
+        w,
+        "  {:<8} {:>8} {:>14} {:>14}",
+        "contour",
+        "points",
+        "max distance",
+        "RMS distance"
+    );
+    let mut rows = Vec::new();
+    let named = s
+        .contours
+        .iter()
+        .map(|(c, d)| (c.to_string(), *d))
+        .chain(std::iter::once(("all".to_owned(), s.total)));
+    for (name, d) in named {
+        say!(
+            w,
+            "  {:<8} {:>8} {:>14.6} {:>14.6}",
+            name,
+            d.points,
+            d.max_distance,
+            d.rms_distance
+        );
+        rows.push(vec![
+            a.input.clone(),
+            curves.clone(),
+            a.offset.x.to_string(),
+            a.offset.y.to_string(),
+            name.clone(),
+            d.points.to_string(),
+            if name == "all" {
+                s.segments.to_string()
+            } else {
+                String::new()
+            },
+            d.max_distance.to_string(),
+            d.rms_distance.to_string(),
+        ]);
+    }
+    if let Some(dir) = &a.out {
+        crate::files::create_dir(dir)?;
+        let path = dir.join("score.csv");
+        let header = [
+            "input",
+            "curves",
+            "offset_x",
+            "offset_y",
+            "contour",
+            "points",
+            "segments",
+            "max_distance",
+            "rms_distance",
+        ];
+        crate::files::write_atomic(&path, &crate::files::csv_bytes(&header, rows))?;
+        say!(w, "  wrote {}", path.display());
+    }
+    Ok(())
 }

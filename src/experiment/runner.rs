@@ -19,7 +19,7 @@ use rayon::prelude::*;
 
 use super::journal;
 use super::records::default_targets;
-use super::records::{self, FitDetail, RunKey, RunRecord};
+use super::records::{self, RunKey, RunRecord};
 use super::spec::ProblemEntry;
 use super::spec::{ProblemKind, RunId, Spec};
 use super::{CampaignAction, CampaignError, ExperimentError};
@@ -316,21 +316,8 @@ pub fn execute_on(spec: &Spec, instances: &Instances, id: RunId) -> RunRecord {
             unreachable!("the spec refuses least-squares methods on benchmark functions")
         }
         (ProblemKind::Fit(case), method) => {
-            let fit = case
-                .reconstruction()
-                .fit(method, seed)
-                .expect("the segmentation was checked when the spec loaded");
-            let m = &fit.metrics;
-            let success = m.sse <= spec.threshold;
-            let outcome = Outcome {
-                best_x: Vec::new(),
-                best_value: m.sse,
-                evaluations: m.evaluations,
-                evaluations_to_target: success.then_some(m.evaluations),
-                trace: Vec::new(),
-                hits: Vec::new(),
-            };
-            (outcome, Some(FitDetail::of(&fit)))
+            let (outcome, detail) = case.run(method, seed, spec.threshold);
+            (outcome, Some(detail))
         }
     };
     let wall_seconds = start.elapsed().as_secs_f64();
@@ -494,9 +481,8 @@ fn outlines_csv(spec: &Spec) -> Vec<u8> {
         })
         .flat_map(|c| {
             c.source
-                .outline
-                .points
-                .iter()
+                .points()
+                .into_iter()
                 .map(move |q| vec![c.source_name.clone(), fmt_real(q.x), fmt_real(q.y)])
         });
     csv_bytes(&["source", "x", "y"], rows)

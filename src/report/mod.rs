@@ -18,6 +18,7 @@ mod anytime;
 mod data;
 mod descriptive;
 mod error;
+mod fit_units;
 mod fitting;
 mod format;
 mod integrity;

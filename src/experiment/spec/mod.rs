@@ -132,11 +132,19 @@ pub enum Factor {
     Instance,
     /// The search space of a fitting case.
     SearchSpace,
+    /// The technique's `α_size` of a fitting case, when listed.
+    AlphaSize,
 }
 
 impl Factor {
     /// The names accepted in `paired`.
-    pub const NAMES: [&'static str; 4] = ["budget", "transform", "instance", "search_space"];
+    pub const NAMES: [&'static str; 5] = [
+        "budget",
+        "transform",
+        "instance",
+        "search_space",
+        "alpha_size",
+    ];
 
     /// Parses a factor name.
     pub fn from_name(name: &str) -> Option<Factor> {
@@ -146,6 +154,7 @@ impl Factor {
                 Factor::Transform,
                 Factor::Instance,
                 Factor::SearchSpace,
+                Factor::AlphaSize,
             ][i]
         })
     }
@@ -208,7 +217,7 @@ impl ProblemEntry {
 
     fn key_with(&self, paired: &[Factor], with_budget: bool) -> String {
         let name = match &self.kind {
-            ProblemKind::Fit(c) if paired.contains(&Factor::SearchSpace) => c.base_name.clone(),
+            ProblemKind::Fit(c) => c.seed_name(paired),
             ProblemKind::Bbob { function, .. } if paired.contains(&Factor::Instance) => {
                 format!("bbob_f{function:03}_d{:02}", self.dim)
             }
@@ -236,6 +245,10 @@ impl ProblemEntry {
             Factor::Instance => Some(self.instance.to_string()),
             Factor::SearchSpace => match &self.kind {
                 ProblemKind::Fit(c) => Some(c.options.search.kind.name().to_owned()),
+                ProblemKind::Benchmark(_) | ProblemKind::Bbob { .. } => None,
+            },
+            Factor::AlphaSize => match &self.kind {
+                ProblemKind::Fit(c) => Some(crate::files::fmt_real(c.options.search.alpha_size)),
                 ProblemKind::Benchmark(_) | ProblemKind::Bbob { .. } => None,
             },
         }
