@@ -42,6 +42,7 @@ bench:
 	$(CARGO) bench --locked --bench fitting
 	$(CARGO) bench --locked --bench implant
 	$(CARGO) bench --locked --bench instances
+	$(CARGO) bench --locked --bench loaders
 
 CH4 := ch4_tuning ch4_benchmarks ch4_scalability ch4_robustness
 # Extra `report` arguments per experiment: the tuning grid has 81 MHS cells,

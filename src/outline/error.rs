@@ -96,6 +96,17 @@ pub enum OutlineError {
         /// The text found in the cell.
         text: String,
     },
+    /// A CSV coordinate is finite but beyond ±[`crate::outline::MAX_COORDINATE`].
+    CsvRange {
+        /// The CSV file.
+        path: PathBuf,
+        /// 1-based line.
+        line: u64,
+        /// 1-based column (1 = x, 2 = y).
+        column: usize,
+        /// The value found.
+        value: f64,
+    },
     /// A CSV line does not have exactly two cells `x,y`.
     CsvFields {
         /// The CSV file.
@@ -217,6 +228,17 @@ impl OutlineError {
     /// The messages of the CSV variants, with their line and column.
     fn fmt_csv(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
+            Self::CsvRange {
+                path,
+                line,
+                column,
+                value,
+            } => write!(
+                f,
+                "{}:{line}: column {column} ({}): {value:e} is beyond ±1e15, the range of coordinates this tool fits (squared distances must not overflow)",
+                path.display(),
+                if *column == 1 { "x" } else { "y" }
+            ),
             Self::CsvNumber {
                 path,
                 line,
