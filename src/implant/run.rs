@@ -59,7 +59,13 @@ struct Outputs<'a> {
 
 impl Outputs<'_> {
     /// Writes `bytes` to `name` in the output directory and records it.
+    /// The directory is created with the first file, so that an input
+    /// refused before then leaves nothing behind.
     fn write(&mut self, name: &str, bytes: &[u8]) -> Result<(), ImplantError> {
+        if self.summary.files.is_empty() {
+            std::fs::create_dir_all(self.dir)
+                .map_err(|e| IoError::new("create the output directory", self.dir, e))?;
+        }
         let p = self.dir.join(name);
         write_atomic(&p, bytes)?;
         self.summary.files.push(p);
@@ -69,8 +75,6 @@ impl Outputs<'_> {
 
 /// Runs the whole experiment of `spec` into `out` (created if needed).
 pub fn run_implant(spec: &ImplantSpec, out: &Path) -> Result<RunSummary, ImplantError> {
-    std::fs::create_dir_all(out)
-        .map_err(|e| IoError::new("create the output directory", out, e))?;
     let t0 = Instant::now();
     let volume = load_volume(&spec.volume)?;
     let mut outputs = Outputs {
