@@ -569,3 +569,30 @@ fn merge_refuses_to_write_over_another_campaign() {
         "{err}"
     );
 }
+
+#[test]
+fn run_positions_and_keys_agree_with_the_listed_order() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = spec(tmp.path());
+    let index = metabezier::experiment::runner::RunIndex::of(&spec);
+    let ids = spec.run_ids();
+    assert_eq!(index.len(), ids.len());
+    assert!(ids.len() > 8);
+    for id in &ids {
+        assert_eq!(spec.run_id(id.index), *id);
+        let key = (
+            spec.cells[id.cell].key(),
+            spec.problems[id.problem].match_key(),
+            spec.problems[id.problem].budget,
+            id.run,
+        );
+        assert_eq!(index.key(id.index), key);
+        assert_eq!(index.get(&key), Some(id.index));
+    }
+    let mut foreign = index.key(0);
+    foreign.3 = spec.runs;
+    assert_eq!(index.get(&foreign), None, "a run number beyond the spec's");
+    foreign = index.key(0);
+    foreign.2 += 1;
+    assert_eq!(index.get(&foreign), None, "another budget");
+}

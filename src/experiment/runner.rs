@@ -420,24 +420,74 @@ pub(super) fn default_out(spec: &Spec) -> PathBuf {
     Path::new("results").join(&spec.name)
 }
 
-/// Maps every run key of the spec to its position in the fixed order.
-pub fn key_index(spec: &Spec) -> HashMap<RunKey, usize> {
-    let cell_keys: Vec<String> = spec.cells.iter().map(|c| c.key()).collect();
-    let problem_keys: Vec<String> = spec.problems.iter().map(|p| p.match_key()).collect();
-    spec.run_ids()
-        .into_iter()
-        .map(|id| {
-            (
-                (
-                    cell_keys[id.cell].clone(),
-                    problem_keys[id.problem].clone(),
-                    spec.problems[id.problem].budget,
-                    id.run,
-                ),
-                id.index,
-            )
-        })
-        .collect()
+/// The position of every run of a spec in its fixed order (problem, cell,
+/// run), found from a run's key by arithmetic: it holds one entry per cell
+/// and per problem, not per run, so its memory does not grow with `runs`.
+#[derive(Clone, Debug)]
+pub struct RunIndex {
+    /// Cell key → cell number.
+    cells: HashMap<String, usize>,
+    /// (problem match key, budget) → problem number.
+    problems: HashMap<(String, u64), usize>,
+    /// The cell keys in order.
+    cell_keys: Vec<String>,
+    /// The problems' (match key, budget) in order.
+    problem_keys: Vec<(String, u64)>,
+    /// Runs per (problem, cell).
+    runs: u32,
+}
+
+impl RunIndex {
+    /// The index of `spec`'s runs.
+    pub fn of(spec: &Spec) -> Self {
+        let cell_keys: Vec<String> = spec.cells.iter().map(|c| c.key()).collect();
+        let problem_keys: Vec<(String, u64)> = spec
+            .problems
+            .iter()
+            .map(|p| (p.match_key(), p.budget))
+            .collect();
+        RunIndex {
+            cells: cell_keys.iter().cloned().zip(0..).collect(),
+            problems: problem_keys.iter().cloned().zip(0..).collect(),
+            cell_keys,
+            problem_keys,
+            runs: spec.runs,
+        }
+    }
+
+    /// The position of the run with `key`, if the spec defines it:
+    /// `(problem · cells + cell) · runs + run`, as [`Spec::run_ids`].
+    pub fn get(&self, key: &RunKey) -> Option<usize> {
+        let (cell, problem, budget, run) = key;
+        let c = *self.cells.get(cell)?;
+        let p = *self.problems.get(&(problem.clone(), *budget))?;
+        (*run < self.runs)
+            .then(|| (p * self.cell_keys.len() + c) * self.runs as usize + *run as usize)
+    }
+
+    /// The number of runs.
+    pub fn len(&self) -> usize {
+        self.problem_keys.len() * self.cell_keys.len() * self.runs as usize
+    }
+
+    /// Whether the spec defines no run.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The key of the run at position `i < len()`.
+    pub fn key(&self, i: usize) -> RunKey {
+        let runs = self.runs as usize;
+        let (pc, run) = (i / runs, i % runs);
+        let (p, c) = (pc / self.cell_keys.len(), pc % self.cell_keys.len());
+        let (problem, budget) = &self.problem_keys[p];
+        (
+            self.cell_keys[c].clone(),
+            problem.clone(),
+            *budget,
+            run as u32,
+        )
+    }
 }
 
 /// Writes the three result files of `records` (already in final order).
@@ -500,16 +550,16 @@ pub fn run_campaign(spec: &Spec, opts: &RunOptions) -> Result<Summary, Experimen
         return Err(CampaignError::AlreadyHoldsRuns { out }.into());
     }
 
-    let index = key_index(spec);
+    let index = RunIndex::of(spec);
     let mut done = if has_state {
         recover(spec, opts.shard, &out, &index)?
     } else {
         HashMap::new()
     };
-    let ids: Vec<RunId> = spec
-        .run_ids()
-        .into_iter()
-        .filter(|id| opts.shard.is_none_or(|s| s.contains(id.index)))
+    // Positions, not run ids or keys: 8 bytes per run of the shard before
+    // the first run starts.
+    let ids: Vec<usize> = (0..index.len())
+        .filter(|&i| opts.shard.is_none_or(|s| s.contains(i)))
         .collect();
     let total = ids.len();
     write_atomic(&out.join("spec.toml"), spec.text.as_bytes())?;
@@ -520,31 +570,31 @@ pub fn run_campaign(spec: &Spec, opts: &RunOptions) -> Result<Summary, Experimen
     rewrite_journal(&journal_path, &done, &index)?;
     let reused = done.len();
 
-    let mut todo: Vec<RunId> = ids
+    let mut todo: Vec<usize> = ids
         .iter()
         .copied()
-        .filter(|id| !done.contains_key(&id.index))
+        .filter(|i| !done.contains_key(i))
         .collect();
     if let Some(m) = opts.max_runs {
         todo.truncate(m);
     }
     // Longest runs first, so that no core idles at the end; the results
     // are stored by position, so the order of execution changes nothing.
-    todo.sort_by_key(|id| {
-        let p = &spec.problems[id.problem];
+    todo.sort_by_key(|&i| {
+        let p = &spec.problems[spec.run_id(i).problem];
         std::cmp::Reverse(p.budget.saturating_mul(p.dim as u64))
     });
     let new = execute_journalled(spec, &todo, &journal_path, opts)?;
     let executed = new.len();
-    for (id, rec) in todo.iter().zip(new) {
-        done.insert(id.index, rec);
+    for (&i, rec) in todo.iter().zip(new) {
+        done.insert(i, rec);
     }
 
-    let complete = ids.iter().all(|id| done.contains_key(&id.index));
+    let complete = ids.iter().all(|i| done.contains_key(i));
     if complete {
         let ordered: Vec<RunRecord> = ids
             .iter()
-            .map(|id| done.remove(&id.index).expect("complete"))
+            .map(|i| done.remove(i).expect("complete"))
             .collect();
         write_results(spec, &out, &ordered)?;
         std::fs::remove_file(&journal_path)
@@ -566,7 +616,7 @@ fn recover(
     spec: &Spec,
     shard: Option<Shard>,
     out: &Path,
-    index: &HashMap<RunKey, usize>,
+    index: &RunIndex,
 ) -> Result<HashMap<usize, RunRecord>, ExperimentError> {
     let spec_copy = out.join("spec.toml");
     if let Ok(old) = std::fs::read_to_string(&spec_copy) {
@@ -603,7 +653,7 @@ fn recover(
     };
     let mut done = HashMap::new();
     for r in found {
-        let i = *index
+        let i = index
             .get(&r.key())
             .ok_or_else(|| foreign_run(CampaignAction::Resume, out, &r))?;
         done.insert(i, r);
@@ -639,24 +689,24 @@ fn check_spec_hash(spec: &Spec, out: &Path) -> Result<(), CampaignError> {
 fn rewrite_journal(
     path: &Path,
     done: &HashMap<usize, RunRecord>,
-    index: &HashMap<RunKey, usize>,
+    index: &RunIndex,
 ) -> Result<(), IoError> {
     let mut bytes = Vec::new();
     let mut reused: Vec<&RunRecord> = done.values().collect();
-    reused.sort_by_key(|r| index[&r.key()]);
+    reused.sort_by_key(|r| index.get(&r.key()));
     for r in &reused {
         bytes.extend(journal::journal_line(r));
     }
     write_atomic(path, &bytes)
 }
 
-/// Executes `todo` in parallel, one run per task, appending each finished
+/// Executes the runs at positions `todo` in parallel, one run per task, appending each finished
 /// run to the journal at `journal_path`; the records come back in `todo`
 /// order. The first journal line that cannot be written stops the campaign
 /// (no new run starts; the journal keeps the finished ones).
 fn execute_journalled(
     spec: &Spec,
-    todo: &[RunId],
+    todo: &[usize],
     journal_path: &Path,
     opts: &RunOptions,
 ) -> Result<Vec<RunRecord>, ExperimentError> {
@@ -674,8 +724,8 @@ fn execute_journalled(
     let new: Result<Vec<RunRecord>, IoError> = pool.install(|| {
         todo.par_iter()
             .with_max_len(1)
-            .map(|id| {
-                let rec = execute_on(spec, &instances, *id);
+            .map(|&i| {
+                let rec = execute_on(spec, &instances, spec.run_id(i));
                 let line = journal::journal_line(&rec);
                 let mut j = journal.lock().unwrap_or_else(|p| p.into_inner());
                 j.write_all(&line)

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use super::journal;
 use super::records::{self, RunRecord};
 use super::runner::{
-    default_out, foreign_run, key_index, meta_toml, recorded_shard, write_results, DirLock, Shard,
+    default_out, foreign_run, meta_toml, recorded_shard, write_results, DirLock, RunIndex, Shard,
     Summary,
 };
 use super::spec::Spec;
@@ -269,7 +269,7 @@ fn read_shards(
     spec: &Spec,
     dirs: &[PathBuf],
 ) -> Result<HashMap<usize, RunRecord>, ExperimentError> {
-    let index = key_index(spec);
+    let index = RunIndex::of(spec);
     let mut done: HashMap<usize, RunRecord> = HashMap::new();
     for dir in dirs {
         let copy = dir.join("spec.toml");
@@ -281,7 +281,7 @@ fn read_shards(
             .into());
         }
         for r in records::read_results(dir)? {
-            let i = *index
+            let i = index
                 .get(&r.key())
                 .ok_or_else(|| foreign_run(CampaignAction::Merge, dir, &r))?;
             if let Some(prev) = done.get(&i) {

@@ -425,6 +425,9 @@ pub struct TestProblem {
 /// Dimensions up to this evaluate a transformed instance without allocating.
 const STACK_DIM: usize = 128;
 
+/// The smaller stack buffer, for the thesis's dimensions up to 32.
+const SMALL_STACK_DIM: usize = 32;
+
 impl TestProblem {
     /// The function at dimension `dim`; fails if `dim == 0`, or if the
     /// function has a fixed dimension (camel-back: 2) and `dim` differs.
@@ -485,6 +488,14 @@ impl TestProblem {
         Ok(())
     }
 
+    /// The function at `inst`'s map of `x`, through a stack buffer of `N ≥ D`.
+    #[inline]
+    fn eval_mapped<const N: usize>(&self, inst: &Instance, x: &[f64]) -> f64 {
+        let mut y = [0.0; N];
+        inst.map_into(x, &mut y[..self.dim]);
+        self.function.eval(&y[..self.dim])
+    }
+
     /// This problem on an already drawn instance of its function and
     /// dimension (instances are shared between runs).
     pub fn with_instance(mut self, instance: Arc<Instance>) -> TestProblem {
@@ -530,11 +541,12 @@ impl Problem for TestProblem {
         );
         match &self.instance {
             None => self.function.eval(x),
-            Some(inst) if self.dim <= STACK_DIM => {
-                let mut y = [0.0; STACK_DIM];
-                inst.map_into(x, &mut y[..self.dim]);
-                self.function.eval(&y[..self.dim])
+            // Two stack sizes, so that a small D does not pay for zeroing
+            // 128 entries per evaluation (the values are the same).
+            Some(inst) if self.dim <= SMALL_STACK_DIM => {
+                self.eval_mapped::<SMALL_STACK_DIM>(inst, x)
             }
+            Some(inst) if self.dim <= STACK_DIM => self.eval_mapped::<STACK_DIM>(inst, x),
             Some(inst) => {
                 let mut y = vec![0.0; self.dim];
                 inst.map_into(x, &mut y);

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use super::ReportError;
 use crate::experiment::records::RunKey;
-use crate::experiment::runner::key_index;
+use crate::experiment::runner::RunIndex;
 use crate::experiment::{RunRecord, Spec};
 
 /// What is wrong with the rows of `runs.csv`.
@@ -145,8 +145,8 @@ pub(crate) fn check_rows(dir: &Path, records: &[RunRecord]) -> Result<Option<Str
         Ok(s) => s,
         Err(_) => return check_run_numbers(&spec_path, &path, records),
     };
-    let index = key_index(&spec);
-    if let Some(r) = records.iter().find(|r| !index.contains_key(&r.key())) {
+    let index = RunIndex::of(&spec);
+    if let Some(r) = records.iter().find(|r| index.get(&r.key()).is_none()) {
         return Err(rows(RowProblem::Foreign {
             run: r.run,
             cell: r.cell_key(),
@@ -154,12 +154,12 @@ pub(crate) fn check_rows(dir: &Path, records: &[RunRecord]) -> Result<Option<Str
         }));
     }
     if records.len() < index.len() {
-        let mut absent: Vec<(&RunKey, &usize)> =
-            index.iter().filter(|(k, _)| !seen.contains(*k)).collect();
-        absent.sort_by_key(|(_, i)| **i);
-        let (key, _) = absent[0];
+        let key = (0..index.len())
+            .map(|i| index.key(i))
+            .find(|k| !seen.contains(k))
+            .expect("fewer rows than runs, none foreign or twice");
         return Err(rows(RowProblem::Missing {
-            missing: absent.len(),
+            missing: index.len() - records.len(),
             total: index.len(),
             run: key.3,
             cell: key.0.clone(),

@@ -382,6 +382,19 @@ impl Spec {
         out
     }
 
+    /// The run at position `index` of the fixed order, as [`Spec::run_ids`]
+    /// lists it, without listing the others.
+    pub fn run_id(&self, index: usize) -> RunId {
+        let runs = self.runs as usize;
+        let (pc, run) = (index / runs, index % runs);
+        RunId {
+            index,
+            problem: pc / self.cells.len(),
+            cell: pc % self.cells.len(),
+            run: run as u32,
+        }
+    }
+
     /// The number of runs: problems × cells × runs (without listing them).
     pub fn run_count(&self) -> u128 {
         self.problems.len() as u128 * self.cells.len() as u128 * u128::from(self.runs)
