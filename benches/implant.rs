@@ -12,7 +12,8 @@ use criterion::Criterion;
 use metabezier::ct::{stl_bytes, CT0051_FIRST_Z, CT0051_MEASURED_ENDS, CT0051_PATH};
 use metabezier::files::write_atomic;
 use metabezier::implant::{
-    load_volume, reconstruct_defect, DefectConfig, Ends, MidlineSpec, SliceSpec, WallOptions,
+    load_volume, reconstruct_defect, DefectConfig, Ends, MidlineSpec, SliceSpec, Smoothing,
+    WallOptions,
 };
 use metabezier::optim::Algorithm;
 use metabezier::reconstruction::Method;
@@ -33,8 +34,11 @@ fn config() -> DefectConfig {
             })
             .collect(),
         midline: MidlineSpec::Auto((86..=92).collect()),
+        max_tilt_deg: 20.0,
         threshold: 300,
         wall: WallOptions::default(),
+        smoothing: Smoothing::default(),
+        templates: None,
         ring_points: 160,
     }
 }

@@ -84,9 +84,12 @@ fn main() {
     for f in ["sphere", "rastrigin"] {
         let group = format!("{f}-{D}-instance");
         let per = |id: &str| mean_ns(&group, id).map(|t| t / POINTS as f64);
-        if let (Some(bare), Some(shift), Some(rot), Some(mv)) =
-            (per("none"), per("shift"), per("shift-rotate"), per("matvec"))
-        {
+        if let (Some(bare), Some(shift), Some(rot), Some(mv)) = (
+            per("none"),
+            per("shift"),
+            per("shift-rotate"),
+            per("matvec"),
+        ) {
             println!(
                 "{group:<22} {bare:>8.1} {shift:>8.1} {:>13.2} {rot:>8.1} {:>16.2}",
                 shift / bare,

@@ -68,7 +68,14 @@ fn inv3_round_trip_and_errors() {
     let p = dir.path().join("a.inv3");
     let v = small_volume();
     write_inv3(&p, &v, "test & <name>").unwrap();
-    assert_eq!(read_inv3(&p).unwrap(), v);
+    // An .inv3 holds no origin or axes: it reads back at the identity frame
+    // and says where the frame came from.
+    let inv3_frame = FrameSource::Inv3 { orientation: None };
+    let expected = v
+        .clone()
+        .with_frame([0.0; 3], IDENTITY_AXES, inv3_frame)
+        .unwrap();
+    assert_eq!(read_inv3(&p).unwrap(), expected);
 
     // Truncated file: the error names the file and says truncated/corrupt.
     let bytes = std::fs::read(&p).unwrap();
@@ -913,6 +920,7 @@ fn overlay_and_mesh_previews_render() {
         ],
         points: vec![("A".into(), d.a_mm, red), ("B".into(), d.b_mm, red)],
         vertical_lines: vec![(128.0 * s.sx, [255, 255, 0])],
+        ..Default::default()
     };
     let png = slice_overlay_png(&s, Window::BONE, 2, &overlay).unwrap();
     let img = image::load_from_memory(&png).unwrap().to_rgb8();

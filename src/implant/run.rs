@@ -14,11 +14,11 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use super::pipeline::{reconstruct_defect, resolve_midline, DefectConfig, ImplantError};
-use super::render::{
-    defect_csv, defect_report, overlay_png, preview_png, report_header, validation_csv,
-    validation_report,
-};
+use super::render::{overlay_png, preview_png};
 use super::spec::{ImplantSpec, ValidationSpec};
+use super::tables::{
+    defect_csv, defect_report, report_header, slices_off_target, validation_csv, validation_report,
+};
 use super::validation::{evaluate, prepare_case, Case, PreparedCase, ValidationRow};
 use super::wall::WallKind;
 use crate::ct::{read_dicom_dir, read_inv3, stl_bytes, Volume};
@@ -117,15 +117,19 @@ fn run_defect(
             oriented,
         });
     }
-    let stl = stl_bytes(&implant.mesh, "metabezier chapter-6 implant, mm");
+    let stl = stl_bytes(&implant.patient_mesh(), &implant.frame.stl_header());
     outputs.write("implant.stl", &stl)?;
     let secs = t0.elapsed().as_secs_f64();
     outputs.summary.pipeline_seconds = Some(secs);
     let _ = writeln!(outputs.timing, "pipeline_seconds_load_to_stl {secs:.3}");
     outputs.write("metrics.csv", &defect_csv(&implant))?;
-    for &z in &spec.overlays {
+    let mut zs = spec.overlays.clone();
+    zs.extend(slices_off_target(&implant));
+    zs.sort_unstable();
+    zs.dedup();
+    for z in zs {
         if let Some(s) = implant.slices.iter().find(|s| s.z == z) {
-            let png = overlay_png(volume, cfg, s)?;
+            let png = overlay_png(volume, cfg, &implant, s)?;
             outputs.write(&format!("overlay_z{z:03}.png"), &png)?;
         }
     }
@@ -176,7 +180,7 @@ fn validation_rows(
     volume: &Volume,
 ) -> Result<Vec<ValidationRow>, ImplantError> {
     let cfg = &spec.defect_config;
-    let (mx, _) = resolve_midline(volume, cfg)?;
+    let (midline, _) = resolve_midline(volume, cfg)?;
     let mut rows = Vec::new();
     for &z in &val.slices {
         let index = validation_index(cfg, volume, z)?;
@@ -187,7 +191,7 @@ fn validation_rows(
                     position_deg: pos,
                     width_mm: w,
                 };
-                let prepared = prepare_case(volume, case, mx, cfg.threshold)
+                let prepared = prepare_case(volume, case, midline, cfg.threshold)
                     .map_err(|source| ImplantError::Slice { z, source })?;
                 case_rows(spec, val, &prepared, z, &mut rows);
             }
