@@ -19,9 +19,10 @@
 //! | [`wall`] | one slice's outer and inner wall ([`design_outer`], [`finish_wall`], [`reconstruct_wall`]) |
 //! | [`smooth`] | thickness and outer-wall smoothing across slices |
 //! | [`pipeline`] | the real defect: slices → mesh → voxels ([`reconstruct_defect`]) |
-//! | [`validation`] | artificial defects on intact bone, AutoImplant metrics |
+//! | [`validation`] | artificial defects on intact bone, one slice each, AutoImplant metrics |
+//! | [`validation3d`] | patches across slices through the whole pipeline, 3D metrics |
 //! | [`spec`], [`run`] | the TOML experiment and its driver (`metabezier implant`) |
-//! | [`tables`] | its tables: report sections and CSV files |
+//! | [`tables`], [`tables3d`] | its tables: report sections and CSV files |
 //! | [`render`] | its pictures: slice overlays and the 3D preview |
 
 pub mod pipeline;
@@ -30,9 +31,9 @@ pub mod smooth;
 pub mod wall;
 
 pub use pipeline::{
-    build_mesh, index_of, reconstruct_defect, reconstruct_defect_with, resolve_midline,
-    slice_context, slice_mask, DefectConfig, Ends, Implant, ImplantError, MidlineSpec,
-    SliceContext, SliceResult, SliceSpec, Smoothing, Templates, MIN_MIDLINE_DICE,
+    build_mesh, index_of, reconstruct_defect, reconstruct_defect_with, reconstruct_from,
+    resolve_midline, slice_context, slice_mask, DefectConfig, Ends, Implant, ImplantError,
+    MidlineSpec, SliceContext, SliceResult, SliceSpec, Smoothing, Templates, MIN_MIDLINE_DICE,
 };
 pub use smooth::{choose_seats, lipschitz_envelope, roughness, smooth_outer_walls};
 pub use wall::{
@@ -43,8 +44,10 @@ pub mod render;
 pub mod run;
 pub mod spec;
 pub mod tables;
+pub mod tables3d;
 pub mod template;
 pub mod validation;
+pub mod validation3d;
 
 pub use run::{load_volume, run_implant, RunSummary};
 pub use spec::{ImplantSpec, Validation3dSpec, ValidationSpec};
@@ -52,4 +55,7 @@ pub use template::{read_templates, templates_csv};
 pub use validation::{
     case_metrics, evaluate, prepare_case, reconstruct_case, Case, CaseError, CaseMetrics,
     PreparedCase, ValidationRow,
+};
+pub use validation3d::{
+    evaluate_3d, prepare_case_3d, score_3d, Case3d, Metrics3d, Prepared3d, Row3d,
 };

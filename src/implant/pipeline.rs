@@ -437,11 +437,7 @@ pub fn reconstruct_defect<S: SegmentSolver + ?Sized>(
 }
 
 /// The whole pipeline with walls of `kind`: the midline; per slice its
-/// context and outer design (the solver is shared by the slices in order,
-/// one random stream for a seeded metaheuristic); the thickness and
-/// outer-wall smoothing across slices ([`super::smooth`]); per slice the
-/// inner wall and the clipped section; the lofted mesh (a one-slice study
-/// is a slab one slice thick), its voxels and each slice's bone overlap.
+/// context ([`slice_context`]); then [`reconstruct_from`].
 pub fn reconstruct_defect_with<S: SegmentSolver + ?Sized>(
     volume: &Volume,
     cfg: &DefectConfig,
@@ -455,44 +451,45 @@ pub fn reconstruct_defect_with<S: SegmentSolver + ?Sized>(
         .iter()
         .map(|s| slice_context(volume, cfg, s, midline))
         .collect::<Result<Vec<_>, _>>()?;
+    reconstruct_from(
+        volume,
+        cfg,
+        (midline, midline_dice),
+        &contexts,
+        kind,
+        solver,
+    )
+}
+
+/// The pipeline from the slice contexts on: the seats of A′ and B′
+/// ([`choose_seats`]) and the outer designs (the solver is shared by the
+/// slices in order, one random stream for a seeded metaheuristic); the
+/// thickness and outer-wall smoothing across slices ([`super::smooth`]);
+/// per slice the inner wall and the clipped section; the lofted mesh (a
+/// one-slice study is a slab one slice thick), its voxels and each slice's
+/// bone overlap and roughness.
+pub fn reconstruct_from<S: SegmentSolver + ?Sized>(
+    volume: &Volume,
+    cfg: &DefectConfig,
+    (midline, midline_dice): (MidLine, Option<f64>),
+    contexts: &[SliceContext],
+    kind: WallKind,
+    solver: &mut S,
+) -> Result<Implant, ImplantError> {
     let zs: Vec<usize> = contexts.iter().map(|c| c.z).collect();
-    let bends = contexts
-        .iter()
-        .map(|ctx| {
-            with_input(volume, cfg, ctx, midline, |input| {
-                seat_bends(input, &cfg.wall)
-            })
-            .map_err(|source| ImplantError::Slice { z: ctx.z, source })
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    let seats = choose_seats(
-        &bends,
-        &zs,
-        cfg.wall.seat_bend_deg,
-        cfg.smoothing.seat_change_deg_per_mm,
-    );
-    let mut designs = contexts
-        .iter()
-        .zip(&seats)
-        .map(|(ctx, &seat)| {
-            with_input(volume, cfg, ctx, midline, |input| {
-                design_outer(input, kind, &cfg.wall, Some(seat), solver)
-            })
-            .map_err(|source| ImplantError::Slice { z: ctx.z, source })
-        })
-        .collect::<Result<Vec<_>, _>>()?;
+    let mut designs = design_walls(volume, cfg, midline, contexts, kind, solver)?;
     smooth_outer_walls(&mut designs, &zs, cfg.smoothing.wall_half_width, &cfg.wall)?;
     let thickness = smoothed_thickness(&designs, &zs, cfg.smoothing.max_thickness_step_mm);
     let mut slices = Vec::with_capacity(contexts.len());
-    for ((ctx, design), t) in contexts.into_iter().zip(designs).zip(thickness) {
+    for ((ctx, design), t) in contexts.iter().zip(designs).zip(thickness) {
         let slice = volume.slice(ctx.k);
         let wall = finish_wall(design, t, Some((&slice, cfg.threshold)), &cfg.wall)
             .map_err(|source| ImplantError::Slice { z: ctx.z, source })?;
         slices.push(SliceResult {
             z: ctx.z,
             ends_mm: ctx.ends,
-            outer: ctx.tables.outer,
-            inner: ctx.tables.inner,
+            outer: ctx.tables.outer.clone(),
+            inner: ctx.tables.inner.clone(),
             midline,
             wall,
             implant_pixels: 0,
@@ -501,7 +498,7 @@ pub fn reconstruct_defect_with<S: SegmentSolver + ?Sized>(
             template_roughness_mm: None,
         });
     }
-    let indices: Vec<usize> = slices.iter().map(|s| s.z - cfg.first_z).collect();
+    let indices: Vec<usize> = contexts.iter().map(|c| c.k).collect();
     let sections: Vec<Polyline> = slices.iter().map(|s| s.wall.section.clone()).collect();
     let (mesh, mask) = build_mesh(volume, &indices, &sections, cfg.ring_points)?;
     measure_slices(volume, cfg, &mask, &mut slices);
@@ -513,6 +510,44 @@ pub fn reconstruct_defect_with<S: SegmentSolver + ?Sized>(
         mask,
         frame: volume.frame(),
     })
+}
+
+/// The seats and the outer design of every slice.
+fn design_walls<S: SegmentSolver + ?Sized>(
+    volume: &Volume,
+    cfg: &DefectConfig,
+    midline: MidLine,
+    contexts: &[SliceContext],
+    kind: WallKind,
+    solver: &mut S,
+) -> Result<Vec<OuterDesign>, ImplantError> {
+    let zs: Vec<usize> = contexts.iter().map(|c| c.z).collect();
+    let at = |z: usize| move |source: CtError| ImplantError::Slice { z, source };
+    let bends = contexts
+        .iter()
+        .map(|ctx| {
+            with_input(volume, cfg, ctx, midline, |input| {
+                seat_bends(input, &cfg.wall)
+            })
+            .map_err(at(ctx.z))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let seats = choose_seats(
+        &bends,
+        &zs,
+        cfg.wall.seat_bend_deg,
+        cfg.smoothing.seat_change_deg_per_mm,
+    );
+    contexts
+        .iter()
+        .zip(&seats)
+        .map(|(ctx, &seat)| {
+            with_input(volume, cfg, ctx, midline, |input| {
+                design_outer(input, kind, &cfg.wall, Some(seat), solver)
+            })
+            .map_err(at(ctx.z))
+        })
+        .collect()
 }
 
 /// The thickness at A′ and B′ of every slice after the Lipschitz envelope.

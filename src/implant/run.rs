@@ -15,11 +15,13 @@ use std::time::Instant;
 
 use super::pipeline::{reconstruct_defect, resolve_midline, DefectConfig, ImplantError};
 use super::render::{overlay_png, preview_png};
-use super::spec::{ImplantSpec, ValidationSpec};
+use super::spec::{ImplantSpec, Validation3dSpec, ValidationSpec};
 use super::tables::{
     defect_csv, defect_report, report_header, slices_off_target, validation_csv, validation_report,
 };
+use super::tables3d::{validation_3d_csv, validation_3d_report};
 use super::validation::{evaluate, prepare_case, Case, PreparedCase, ValidationRow};
+use super::validation3d::{evaluate_3d, prepare_case_3d, Case3d, Prepared3d, Row3d};
 use super::wall::WallKind;
 use crate::ct::{read_dicom_dir, read_inv3, stl_bytes, Volume};
 use crate::files::{write_atomic, IoError};
@@ -84,6 +86,9 @@ pub fn run_implant(spec: &ImplantSpec, out: &Path) -> Result<RunSummary, Implant
     }
     if let Some(val) = &spec.validation {
         run_validation(spec, val, &volume, &mut outputs)?;
+    }
+    if let Some(val) = &spec.validation_3d {
+        run_validation_3d(spec, val, &volume, &mut outputs)?;
     }
     let report = std::mem::take(&mut outputs.report);
     outputs.write("report.md", report.as_bytes())?;
@@ -158,6 +163,73 @@ fn run_validation(
     validation_report(&mut outputs.report, val, &rows)?;
     outputs.summary.validation_rows = rows.len();
     Ok(())
+}
+
+/// The 3D validation: `validation_3d.csv`, its time and the report's
+/// section.
+fn run_validation_3d(
+    spec: &ImplantSpec,
+    val: &Validation3dSpec,
+    volume: &Volume,
+    outputs: &mut Outputs<'_>,
+) -> Result<(), ImplantError> {
+    let t1 = Instant::now();
+    let (midline, _) = resolve_midline(volume, &spec.defect_config)?;
+    let mut rows = Vec::new();
+    for &range in &val.ranges {
+        for &position_deg in &val.positions {
+            for &width_mm in &val.widths {
+                let case = Case3d {
+                    range,
+                    position_deg,
+                    width_mm,
+                };
+                let p = prepare_case_3d(volume, &spec.defect_config, case, midline)?;
+                case_rows_3d(spec, val, &p, &mut rows);
+            }
+        }
+    }
+    let _ = writeln!(
+        outputs.timing,
+        "validation_3d_seconds {:.3}",
+        t1.elapsed().as_secs_f64()
+    );
+    outputs.write("validation_3d.csv", &validation_3d_csv(&rows))?;
+    validation_3d_report(&mut outputs.report, val, &rows)?;
+    outputs.summary.validation_rows += rows.len();
+    Ok(())
+}
+
+/// The rows of one prepared 3D case: both baselines, then every curve-fit
+/// method (`val.runs` seeded runs for a stochastic one).
+fn case_rows_3d(spec: &ImplantSpec, val: &Validation3dSpec, p: &Prepared3d, rows: &mut Vec<Row3d>) {
+    for kind in [WallKind::Template, WallKind::Straight] {
+        rows.push(Row3d {
+            case: p.case,
+            method: kind.name().to_string(),
+            run: 0,
+            seed: 0,
+            metrics: evaluate_3d(p, kind, val.margin_mm, &mut LmSolver::default()),
+        });
+    }
+    for m in &val.methods {
+        let runs = if m.is_stochastic() { val.runs } else { 1 };
+        for run in 0..runs {
+            let seed = if m.is_stochastic() {
+                spec.seed + run as u64
+            } else {
+                0
+            };
+            let mut solver = m.solver(seed);
+            rows.push(Row3d {
+                case: p.case,
+                method: format!("curve:{}", m.name()),
+                run,
+                seed,
+                metrics: evaluate_3d(p, WallKind::CurveFit, val.margin_mm, &mut *solver),
+            });
+        }
+    }
 }
 
 /// The volume index of validation slice `z` (original numbering).

@@ -360,8 +360,13 @@ impl Parser<'_> {
                 } else {
                     "for a one-slice study"
                 };
+                let span = self
+                    .table(imp, "implant")
+                    .ok()
+                    .and_then(|t| self.get(t, "midline"))
+                    .map_or(imp.span(), |v| v.span());
                 return Err(self.error(
-                    imp.span(),
+                    span,
                     "implant.midline",
                     format!("`midline = \"auto\"` {what} needs `midline_slices` (intact slices to estimate it from); or give `midline` in mm"),
                 ));

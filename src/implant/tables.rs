@@ -501,7 +501,7 @@ fn case_keys(rows: &[ValidationRow]) -> Vec<CaseKey> {
 
 /// One row of the paired-test table: a curve method against a baseline on
 /// one metric.
-struct PairedTest {
+pub(crate) struct PairedTest {
     /// `curve:<method>`.
     curve: String,
     /// `template` or `straight`.
@@ -519,7 +519,7 @@ struct PairedTest {
     /// Cases where the curve method is strictly better.
     better: usize,
     /// Two-sided Wilcoxon signed-rank p-value (NaN when undefined).
-    p: f64,
+    pub(crate) p: f64,
 }
 
 /// Pairs, per case, the median over runs of `curve` and of `baseline` on
@@ -551,22 +551,35 @@ fn paired_test(
             ys.push(median(&b));
         }
     }
+    paired_from((curve, baseline, metric), &xs, &ys, larger_better)
+}
+
+/// The paired test of per-case values `xs` (the curve method) against `ys`
+/// (the baseline) on one metric: medians, the median difference, the cases
+/// where the curve is strictly better, and the two-sided Wilcoxon
+/// signed-rank p-value (NaN when undefined).
+pub(crate) fn paired_from(
+    (curve, baseline, metric): (&str, &'static str, &'static str),
+    xs: &[f64],
+    ys: &[f64],
+    larger_better: bool,
+) -> PairedTest {
     let better = xs
         .iter()
-        .zip(&ys)
+        .zip(ys)
         .filter(|(x, y)| if larger_better { x > y } else { x < y })
         .count();
-    let p = wilcoxon(&xs, &ys, Alternative::TwoSided)
+    let p = wilcoxon(xs, ys, Alternative::TwoSided)
         .map(|t| t.p_value)
         .unwrap_or(f64::NAN);
-    let diffs: Vec<f64> = xs.iter().zip(&ys).map(|(x, y)| x - y).collect();
+    let diffs: Vec<f64> = xs.iter().zip(ys).map(|(x, y)| x - y).collect();
     PairedTest {
         curve: curve.to_string(),
         baseline,
         metric,
         cases: xs.len(),
-        median_curve: median(&xs),
-        median_baseline: median(&ys),
+        median_curve: median(xs),
+        median_baseline: median(ys),
         median_difference: median(&diffs),
         better,
         p,
@@ -608,7 +621,7 @@ fn paired_tests(
 }
 
 /// The markdown table of the paired tests with their Holm-corrected p.
-fn paired_table(tests: &[PairedTest], holm: &[f64]) -> String {
+pub(crate) fn paired_table(tests: &[PairedTest], holm: &[f64]) -> String {
     let header = [
         "curve method",
         "baseline",
