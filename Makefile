@@ -3,15 +3,17 @@ CARGO ?= cargo
 BIN := target/release/metabezier
 SPECS := experiments
 
-.PHONY: help build quick test bench reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all fmt lint clean-results
+.PHONY: help build quick test test-cluster bench bbob reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all fmt lint clean-results
 
 help:
 	@echo "make quick          run experiments/quick.toml (seconds) into results/quick/"
 	@echo "make test           the whole test suite, rustfmt check and clippy -D warnings"
+	@echo "make test-cluster   a campaign as a Slurm array job on a private one-node Slurm (root; installs slurm-wlm, munge)"
 	@echo "make bench          criterion benchmarks: optimiser overhead per evaluation, cost of E per fitting function"
 	@echo "make reproduce-ch4  chapter 4: benchmarks, scalability, MHS tuning, with reports (results/ch4_*/)"
-	@echo "make reproduce-ch5  chapter 5: curve fitting of four real outlines, search-space study (results/ch5_*/)"
+	@echo "make reproduce-ch5  chapter 5: curve fitting of four real outlines, search-space and MHS studies (results/ch5_*/)"
 	@echo "make reproduce-ch6  chapter 6: cranial implant from CT 0051, artificial-defect validation (results/ch6_cranial/)"
+	@echo "make bbob           COCO's bbob suite: 5 optimisers x 24 functions x D = 2, 5, 10, report and COCO logs (results/bbob/)"
 	@echo "make reproduce-all  every chapter that exists so far"
 
 build:
@@ -29,11 +31,18 @@ test:
 	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --no-deps --locked
 	$(CARGO) clippy --release --locked --all-targets -- -D warnings
 
+# Installs Debian's slurm-wlm and munge when missing, starts private daemons,
+# runs a campaign as an array job (one task requeued mid-run), merges it and
+# compares it with a whole run byte for byte; stops the daemons it started.
+test-cluster:
+	ci/slurm-test.sh
+
 bench:
 	$(CARGO) bench --locked --bench optimisers
 	$(CARGO) bench --locked --bench fitting
 	$(CARGO) bench --locked --bench implant
 	$(CARGO) bench --locked --bench instances
+	$(CARGO) bench --locked --bench loaders
 
 CH4 := ch4_tuning ch4_benchmarks ch4_scalability ch4_robustness
 # Extra `report` arguments per experiment: the tuning grid has 81 MHS cells,
@@ -45,7 +54,7 @@ REPORT_ARGS_ch4_tuning := --reference "HS (hms=5, hmcr=0.9, bw=0.01)"
 reproduce-ch4: build
 	$(foreach e,$(CH4),$(BIN) run $(SPECS)/$(e).toml --resume && $(BIN) report results/$(e) $(REPORT_ARGS_$(e)) &&) true
 
-CH5 := ch5_outlines ch5_search_space
+CH5 := ch5_outlines ch5_search_space ch5_mhs
 
 reproduce-ch5: build
 	$(foreach e,$(CH5),$(BIN) run $(SPECS)/$(e).toml --resume && $(BIN) report results/$(e) $(REPORT_ARGS_$(e)) &&) true
@@ -56,6 +65,12 @@ CH6 := ch6_cranial
 # checked mesh; a rerun overwrites the results.
 reproduce-ch6: build
 	$(BIN) implant $(SPECS)/ch6_cranial.toml --out results/ch6_cranial
+
+# COCO's bbob suite through COCO's own code, with its report and COCO-format
+# logs for cocopp in results/bbob/coco/ (see the README).
+bbob: build
+	$(BIN) run $(SPECS)/bbob.toml --resume --coco-log results/bbob/coco
+	$(BIN) report results/bbob
 
 reproduce-all: reproduce-ch4 reproduce-ch5 reproduce-ch6
 

@@ -7,10 +7,13 @@
 //! form, with no allocation in the hot path. The table at the end prints
 //! nanoseconds per point and the ratio.
 //!
-//! A second group times a whole fit: the vendored horse outline (2,644
+//! A second group times whole fits: the vendored horse outline (2,644
 //! points) split recursively until every point is within 1 px, with LM and
-//! with MHS (10,000 evaluations per segment, the `metabezier fit` default).
-//! Run with `cargo bench --bench fitting`.
+//! with MHS (10,000 evaluations per segment, the `metabezier fit` default),
+//! and cut into 101 segments (rational cubic, G1, LM); then the coin, which
+//! has no corner, at 20 segments closed smoothly and closed C⁰ (what the
+//! smooth closing costs). The last lines give the 101-segment horse's
+//! orthogonal distances. Run with `cargo bench --bench fitting`.
 
 mod common;
 
@@ -87,23 +90,28 @@ fn bench(c: &mut Criterion) {
     }
 }
 
-/// Fitting the horse at 1 px tolerance, end to end after loading.
+/// The vendored horse, its one contour.
+fn horse_source() -> metabezier::reconstruction::Source {
+    use metabezier::reconstruction::{LoadOptions, Source};
+    Source::load(
+        "data/outlines/horse.png",
+        Path::new(env!("CARGO_MANIFEST_DIR")),
+        &LoadOptions::default(),
+    )
+    .expect("the vendored horse")
+}
+
+/// Fitting the horse at 1 px tolerance, end to end after loading, and at
+/// 101 segments with LM, closed smoothly and closed C0.
 fn horse(c: &mut Criterion) {
     use metabezier::fit::{FitOptions, FunctionType};
     use metabezier::geometry::Continuity;
     use metabezier::optim::Algorithm;
-    use metabezier::outline::{CornerOptions, ImageOptions, Sampling};
-    use metabezier::reconstruction::{Method, Reconstruction, Segmentation, Source};
-    let source = Source::load(
-        "data/outlines/horse.png",
-        Path::new(env!("CARGO_MANIFEST_DIR")),
-        0,
-        &ImageOptions::default(),
-        Sampling::default(),
-    )
-    .expect("the vendored horse");
+    use metabezier::outline::CornerOptions;
+    use metabezier::reconstruction::{Method, Reconstruction, Segmentation};
+    let source = horse_source();
     let r = Reconstruction {
-        outline: &source.outline,
+        source: &source,
         segmentation: Segmentation::Tolerance(1.0),
         corners: Some(CornerOptions::default()),
         options: FitOptions::new(FunctionType::RationalCubic, Continuity::G1),
@@ -122,6 +130,89 @@ fn horse(c: &mut Criterion) {
         });
     }
     group.finish();
+    let mut group = c.benchmark_group("horse-101");
+    group.sample_size(20);
+    let r = Reconstruction {
+        source: &source,
+        segmentation: Segmentation::Count(101),
+        corners: Some(CornerOptions::default()),
+        options: FitOptions::new(FunctionType::RationalCubic, Continuity::G1),
+    };
+    group.bench_function("lm", |b| {
+        b.iter(|| {
+            r.fit(&Method::Exact, 1)
+                .expect("a valid fit")
+                .metrics
+                .segments
+        })
+    });
+    group.finish();
+    closing(c);
+}
+
+/// What the smooth closing costs: the coin (no corner, so its chain closes
+/// with an end join) at 20 segments, rational cubic, G1, with LM and with
+/// MHS (3,000 evaluations per segment), closed smoothly and closed C⁰.
+fn closing(c: &mut Criterion) {
+    use metabezier::fit::{Closing, FitOptions, FunctionType};
+    use metabezier::geometry::Continuity;
+    use metabezier::optim::Algorithm;
+    use metabezier::outline::CornerOptions;
+    use metabezier::reconstruction::{LoadOptions, Method, Reconstruction, Segmentation, Source};
+    let source = Source::load(
+        "data/outlines/coin.png",
+        Path::new(env!("CARGO_MANIFEST_DIR")),
+        &LoadOptions::default(),
+    )
+    .expect("the vendored coin");
+    let mut group = c.benchmark_group("closing");
+    group.sample_size(20);
+    let mhs = Method::Metaheuristic(Algorithm::default_for("mhs").expect("mhs"));
+    for (name, method) in [("lm", Method::Exact), ("mhs", mhs)] {
+        for (closing, label) in [(Closing::Smooth, "smooth"), (Closing::C0, "c0")] {
+            let mut options = FitOptions::new(FunctionType::RationalCubic, Continuity::G1);
+            options.closing = closing;
+            options.budget_per_segment = 3000;
+            let r = Reconstruction {
+                source: &source,
+                segmentation: Segmentation::Count(20),
+                corners: Some(CornerOptions::default()),
+                options,
+            };
+            group.bench_function(format!("{name}-{label}"), |b| {
+                b.iter(|| r.fit(&method, 1).expect("a valid fit").metrics.segments)
+            });
+        }
+    }
+    group.finish();
+}
+
+/// The horse at 101 segments (rational cubic, G1, LM): its orthogonal
+/// maximum and RMS distance, by the fit's own measure (each point to its
+/// segment) and as `metabezier score` measures them (to the whole curve).
+fn horse_accuracy() {
+    use metabezier::fit::{FitOptions, FunctionType};
+    use metabezier::geometry::Continuity;
+    use metabezier::outline::{CornerOptions, Segment};
+    use metabezier::reconstruction::{cubic_pieces, score, Method, Reconstruction, Segmentation};
+    let source = horse_source();
+    let r = Reconstruction {
+        source: &source,
+        segmentation: Segmentation::Count(101),
+        corners: Some(CornerOptions::default()),
+        options: FitOptions::new(FunctionType::RationalCubic, Continuity::G1),
+    };
+    let fit = r.fit(&Method::Exact, 1).expect("a valid fit");
+    let curves: Vec<Vec<Segment>> = vec![fit
+        .segments()
+        .flat_map(|(_, s)| cubic_pieces(&s.segment, 1e-6))
+        .map(Segment::Cubic)
+        .collect()];
+    let s = score(&source, &curves);
+    println!(
+        "\nThe horse at 101 segments (rational cubic, G1, LM): max distance {:.3} px, RMS distance {:.3} px (each point to its segment); {:.3} px and {:.3} px to the whole curve",
+        fit.metrics.max_distance, fit.metrics.rms_distance, s.total.max_distance, s.total.rms_distance
+    );
 }
 
 fn main() {
@@ -152,4 +243,24 @@ fn main() {
             println!("{m:<6} {:>10.1} ms", t / 1e6);
         }
     }
+    if let Some(t) = mean_ns("horse-101", "lm") {
+        println!(
+            "\nThe horse at 101 segments, rational cubics, G1, LM: {:.2} ms",
+            t / 1e6
+        );
+    }
+    println!("\nThe coin at 20 segments, rational cubics, G1, closed smoothly against C0:");
+    for m in ["lm", "mhs"] {
+        let smooth = mean_ns("closing", &format!("{m}-smooth"));
+        let c0 = mean_ns("closing", &format!("{m}-c0"));
+        if let (Some(a), Some(b)) = (smooth, c0) {
+            println!(
+                "{m:<6} {:>10.3} ms against {:>10.3} ms: {:+.1} %",
+                a / 1e6,
+                b / 1e6,
+                100.0 * (a / b - 1.0)
+            );
+        }
+    }
+    horse_accuracy();
 }

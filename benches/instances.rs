@@ -1,7 +1,9 @@
 //! The cost of a transformed benchmark instance against the bare function
 //! at D = 30: a shift should cost at most 1.5× the bare evaluation, a
 //! rotation at most the bare evaluation plus one D × D matrix-vector
-//! product (measured here on its own). `make bench` prints the ratios.
+//! product (measured here on its own). Also one evaluation of COCO's bbob
+//! f1 through COCO's C code against our Sphere at D = 10. `make bench`
+//! prints the ratios.
 
 mod common;
 
@@ -9,7 +11,7 @@ use common::mean_ns;
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput};
-use metabezier::functions::{Function, TestProblem, Transform};
+use metabezier::functions::{BbobProblem, Function, TestProblem, Transform};
 use metabezier::problem::Problem;
 use metabezier::rng::{run_rng, Draw};
 
@@ -71,11 +73,39 @@ fn bench(c: &mut Criterion, f: Function) {
     group.finish();
 }
 
+/// One evaluation of COCO's bbob f1 (sphere) through COCO's C code against
+/// our own Sphere, at D = 10.
+fn bench_coco(c: &mut Criterion) {
+    let ours = TestProblem::new(Function::Sphere, 10).unwrap();
+    let coco = BbobProblem::new(1, 10, 1).unwrap();
+    let xs = points(&ours);
+    let mut group = c.benchmark_group("sphere-10-coco");
+    group.throughput(Throughput::Elements(POINTS as u64));
+    group.bench_function("ours", |b| {
+        b.iter(|| xs.iter().map(|x| ours.objective(black_box(x))).sum::<f64>())
+    });
+    group.bench_function("coco-f1", |b| {
+        b.iter(|| xs.iter().map(|x| coco.objective(black_box(x))).sum::<f64>())
+    });
+    group.finish();
+}
+
 fn main() {
     let mut c = Criterion::default().configure_from_args();
     bench(&mut c, Function::Sphere);
     bench(&mut c, Function::Rastrigin);
+    bench_coco(&mut c);
     c.final_summary();
+    let per = |g: &str, id: &str| mean_ns(g, id).map(|t| t / POINTS as f64);
+    if let (Some(ours), Some(coco)) = (
+        per("sphere-10-coco", "ours"),
+        per("sphere-10-coco", "coco-f1"),
+    ) {
+        println!(
+            "\nD = 10, ns per evaluation: our Sphere {ours:.1}, COCO's bbob f1 {coco:.1} ({:.1}×)",
+            coco / ours
+        );
+    }
     println!("\nTransformed instances at D = {D}, ns per evaluation:");
     println!(
         "{:<22} {:>8} {:>8} {:>13} {:>8} {:>16}",

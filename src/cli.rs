@@ -10,14 +10,18 @@ use clap::{Parser, Subcommand};
 use crate::error::{Error, UsageError};
 use crate::experiment::fit_files::write_fit_records;
 use crate::experiment::runner::{self, RunOptions, Shard};
-use crate::experiment::Spec;
-use crate::files::read_text;
-use crate::fit::{FitOptions, FunctionType, PiecewiseFit, SearchSpace};
+use crate::experiment::slurm::{self, SlurmOptions};
+use crate::experiment::{coco_log, Spec};
+use crate::files::{read_text, IoError};
+use crate::fit::{Closing, FitOptions, FunctionType, SearchSpace};
 use crate::functions::{Function, Transform};
-use crate::geometry::{Continuity, Parameterisation};
+use crate::geometry::{Continuity, Parameterisation, Point};
 use crate::optim::Algorithm;
-use crate::outline::{CornerOptions, ImageOptions, Sampling};
-use crate::reconstruction::{Method, OverlayFigure, Reconstruction, Segmentation, Source};
+use crate::outline::{load_svg, CornerOptions, OutlineError};
+use crate::reconstruction::{
+    save_shape, score, ContourChoice, LoadOptions, Method, OverlayFigure, Reconstruction,
+    Segmentation, ShapeFit, Source, SourceError,
+};
 use crate::report::{self, save_overlay, ReportOptions};
 
 /// Appends one line of output to the buffer printed when the command ends.
@@ -42,7 +46,8 @@ enum Command {
     Run {
         /// The experiment spec (TOML).
         spec: PathBuf,
-        /// Output directory [default: results/<experiment name>].
+        /// Output directory [default: results/<experiment name>]; a shard
+        /// writes into its own shard-K-of-N/ beneath it.
         #[arg(long)]
         out: Option<PathBuf>,
         /// Worker threads [default: all cores]; results do not depend on it.
@@ -60,21 +65,38 @@ enum Command {
         /// No progress bar.
         #[arg(long, short)]
         quiet: bool,
+        /// Also write COCO-format logs of the bbob runs into this directory
+        /// (for cocopp), by replaying them on one thread once they finish.
+        #[arg(long, value_name = "DIR")]
+        coco_log: Option<PathBuf>,
+        /// Run campaigns over 10 million runs or an estimated 4 GiB of
+        /// results in memory.
+        #[arg(long)]
+        allow_large: bool,
     },
     /// Check a spec and print what it would run, without running it.
     Check {
         /// The experiment spec (TOML).
         spec: PathBuf,
     },
-    /// Join the result directories of all shards of a campaign.
+    /// Join the shards of a campaign into files equal to a single run's.
     Merge {
-        /// The shard directories (each holds spec.toml and runs.csv).
+        /// The directory holding the shard-K-of-N/ directories (the --out of
+        /// the shards), or the shard directories themselves.
         #[arg(required = true)]
         dirs: Vec<PathBuf>,
-        /// Output directory [default: results/<experiment name>].
+        /// Output directory [default: the one directory given, when it holds
+        /// the shards; else results/<experiment name>].
         #[arg(long)]
         out: Option<PathBuf>,
+        /// The campaign's spec [default: the shards' copy]; needed when the
+        /// spec names fitting inputs by paths relative to itself.
+        #[arg(long)]
+        spec: Option<PathBuf>,
     },
+    /// Print a Slurm array job (an sbatch script) that runs a campaign as
+    /// N shards, one per task.
+    Slurm(SlurmArgs),
     /// Write report.md, tables/*.csv and plots/ for a results directory.
     Report {
         /// A results directory of `metabezier run` or `metabezier merge`.
@@ -92,6 +114,9 @@ enum Command {
     },
     /// Fit piecewise (rational) Bézier curves to an outline.
     Fit(FitArgs),
+    /// Score the paths of an SVG file (another tool's curves) against the
+    /// outline points `fit` would use: orthogonal max and RMS distance.
+    Score(ScoreArgs),
     /// List the algorithms with their parameters, and the benchmark functions.
     List,
     /// Design a cranial implant from CT slices (thesis chapter 6): the real
@@ -104,6 +129,30 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+}
+
+/// Arguments of `metabezier slurm`.
+#[derive(Debug, clap::Args)]
+struct SlurmArgs {
+    /// The experiment spec (TOML).
+    spec: PathBuf,
+    /// Array tasks, one shard each (at most the campaign's runs).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    tasks: u32,
+    /// The campaign's output directory, on a filesystem every node sees
+    /// [default: results/<experiment name>]; the shards go beneath it.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Time limit per task, HH:MM:SS or D-HH:MM:SS [default: the partition's].
+    #[arg(long, value_name = "HH:MM:SS")]
+    time: Option<String>,
+    /// CPUs per task; each task runs that many threads [default: 1].
+    #[arg(long, value_name = "C", value_parser = clap::value_parser!(u16).range(1..))]
+    cpus: Option<u16>,
+    /// Further sbatch options, one #SBATCH line each, such as
+    /// "--partition=short --account=proj".
+    #[arg(long, value_name = "ARGS", allow_hyphen_values = true)]
+    sbatch: Option<String>,
 }
 
 /// Arguments of `metabezier fit`.
@@ -137,14 +186,20 @@ struct FitArgs {
     /// Neighbourhood of the corner test, in points.
     #[arg(long, default_value_t = 5)]
     corner_k: usize,
-    /// Which outline of the input: 0 is the largest.
-    #[arg(long, default_value_t = 0)]
-    contour: usize,
+    /// Fit only this contour of the input (0 is the largest); default: every
+    /// contour, outer boundaries and holes.
+    #[arg(long, value_name = "N")]
+    contour: Option<usize>,
+    /// How a closed contour's chain closes: smooth (G1/C1 at the closing
+    /// joint unless it is a corner) or c0.
+    #[arg(long, default_value = "smooth", value_parser = clap::builder::PossibleValuesParser::new(Closing::NAMES))]
+    closing: String,
     /// Search space: the thesis's technique or the data's bounding box.
     #[arg(long, default_value = "technique", value_parser = clap::builder::PossibleValuesParser::new(SearchSpace::NAMES))]
     search_space: String,
-    /// How data points get their curve parameters s_i.
-    #[arg(long, default_value = "chord", value_parser = clap::builder::PossibleValuesParser::new(Parameterisation::NAMES))]
+    /// How data points get their curve parameters s_i: auto is uniform for a
+    /// glyph at its true breaks (its samples' own parameters), chord otherwise.
+    #[arg(long, default_value = "auto", value_parser = clap::builder::PossibleValuesParser::new(PARAMETERISATIONS))]
     parameterisation: String,
     /// Rounds of Newton parameter correction after each segment's solve
     /// (Schneider 1990); each round solves again with a fresh budget.
@@ -159,6 +214,52 @@ struct FitArgs {
     /// Output directory.
     #[arg(long, default_value = "results/fit")]
     out: PathBuf,
+}
+
+/// The `--parameterisation` choices: `auto` and the fixed rules.
+const PARAMETERISATIONS: [&str; 4] = [
+    "auto",
+    Parameterisation::NAMES[0],
+    Parameterisation::NAMES[1],
+    Parameterisation::NAMES[2],
+];
+
+/// Arguments of `metabezier score`.
+#[derive(Debug, clap::Args)]
+struct ScoreArgs {
+    /// The outline: a PNG image, a CSV file of x,y points, or font:PATH:GLYPH.
+    input: String,
+    /// The SVG file whose paths are scored (M L H V C S Q T Z; translate,
+    /// scale and matrix transforms).
+    curves: PathBuf,
+    /// Added to the SVG's coordinates after reflecting y about the
+    /// viewBox: potrace puts pixel corners at integers, so its output needs
+    /// -0.5,-0.5 against an image's outline points.
+    #[arg(long, value_name = "DX,DY", value_parser = parse_offset, allow_hyphen_values = true, default_value = "0,0")]
+    offset: Point,
+    /// Score against this contour only (0 is the largest); default all.
+    #[arg(long, value_name = "N")]
+    contour: Option<usize>,
+    /// Write score.csv into this directory.
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+/// An `--offset` that is not two numbers `DX,DY`.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("expected an offset DX,DY of two finite numbers, such as -0.5,-0.5, found \"{0}\"")]
+struct OffsetError(String);
+
+/// Parses `DX,DY`.
+fn parse_offset(text: &str) -> Result<Point, OffsetError> {
+    let bad = || OffsetError(text.to_owned());
+    let (x, y) = text.split_once(',').ok_or_else(bad)?;
+    let x: f64 = x.trim().parse().map_err(|_| bad())?;
+    let y: f64 = y.trim().parse().map_err(|_| bad())?;
+    if !(x.is_finite() && y.is_finite()) {
+        return Err(bad());
+    }
+    Ok(Point::new(x, y))
 }
 
 /// Parses the command line, runs it, and reports errors on stderr.
@@ -191,6 +292,8 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
             shard,
             max_runs,
             quiet,
+            coco_log,
+            allow_large,
         } => {
             let opts = RunOptions {
                 out,
@@ -199,11 +302,13 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
                 shard,
                 max_runs,
                 progress: !quiet,
+                allow_large,
             };
-            run(&spec, &opts, w)
+            run(&spec, &opts, coco_log.as_deref(), w)
         }
         Command::Check { spec } => check(&spec, w),
-        Command::Merge { dirs, out } => merge(&dirs, out, w),
+        Command::Merge { dirs, out, spec } => merge(&dirs, out, spec.as_deref(), w),
+        Command::Slurm(args) => slurm(args, w),
         Command::Report {
             dir,
             reference,
@@ -218,6 +323,7 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
             write_report(&dir, &opts, w)
         }
         Command::Fit(args) => fit(args, w),
+        Command::Score(args) => score_curves(args, w),
         Command::Implant { spec, out } => implant(&spec, out, w),
         Command::List => {
             list(w);
@@ -228,8 +334,18 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
 
 /// `metabezier run`: load the spec, run (or resume) the campaign, and say
 /// how far it got.
-fn run(spec: &Path, opts: &RunOptions, w: &mut String) -> Result<(), Error> {
+fn run(
+    spec: &Path,
+    opts: &RunOptions,
+    coco_log: Option<&Path>,
+    w: &mut String,
+) -> Result<(), Error> {
     let spec = Spec::load(spec)?;
+    if let Some(dir) = coco_log {
+        // Refuse a spec without bbob problems or an unwritable folder
+        // before anything runs.
+        coco_log::check(&spec, dir)?;
+    }
     let s = runner::run_campaign(&spec, opts)?;
     let state = if s.complete {
         format!("complete; results in {}", s.out.join("runs.csv").display())
@@ -248,6 +364,15 @@ fn run(spec: &Path, opts: &RunOptions, w: &mut String) -> Result<(), Error> {
         s.reused,
         s.executed
     );
+    if let Some(dir) = coco_log {
+        if s.complete {
+            for folder in coco_log::write_coco_log(&spec, opts.shard, dir)? {
+                say!(w, "  COCO log in {}", folder.display());
+            }
+        } else {
+            say!(w, "  the COCO log is written when the campaign is complete");
+        }
+    }
     Ok(())
 }
 
@@ -262,8 +387,13 @@ fn check(spec: &Path, w: &mut String) -> Result<(), Error> {
         spec.problems.len(),
         spec.cells.len(),
         spec.runs,
-        spec.run_ids().len(),
+        spec.run_count(),
         spec.total_evaluations()
+    );
+    say!(
+        w,
+        "estimated memory of the results before they are written: {:.1} MiB",
+        runner::estimated_bytes(&spec) as f64 / f64::from(1u32 << 20)
     );
     for p in &spec.problems {
         say!(w, "  problem {} (budget {})", p.key(), p.budget);
@@ -274,21 +404,53 @@ fn check(spec: &Path, w: &mut String) -> Result<(), Error> {
     Ok(())
 }
 
-/// `metabezier merge`: join the shard directories, with the spec copied
-/// into the first.
-fn merge(dirs: &[PathBuf], out: Option<PathBuf>, w: &mut String) -> Result<(), Error> {
-    let copy = dirs[0].join("spec.toml");
-    let text = read_text(&copy)?;
-    let spec = Spec::parse(&copy, &text)?;
-    let s = runner::merge(&spec, dirs, out)?;
+/// `metabezier merge`: find the shards, check them, and join them, with
+/// the spec given or else the one copied into the first.
+fn merge(
+    dirs: &[PathBuf],
+    out: Option<PathBuf>,
+    spec: Option<&Path>,
+    w: &mut String,
+) -> Result<(), Error> {
+    let inputs = crate::experiment::find_shards(dirs)?;
+    let spec = match spec {
+        Some(path) => Spec::load(path)?,
+        None => {
+            let copy = inputs.dirs[0].join("spec.toml");
+            Spec::parse(&copy, &read_text(&copy)?)?
+        }
+    };
+    let s = crate::experiment::shards::merge_found(&spec, &inputs, out)?;
     say!(
         w,
         "{}: merged {} shard directories, {} runs, into {}",
         spec.name,
-        dirs.len(),
+        inputs.dirs.len(),
         s.total,
         s.out.display()
     );
+    Ok(())
+}
+
+/// `metabezier slurm`: print the sbatch array script of a campaign, with
+/// absolute paths so that it runs from any directory of the cluster.
+fn slurm(a: SlurmArgs, w: &mut String) -> Result<(), Error> {
+    let spec = Spec::load(&a.spec)?;
+    let absolute =
+        |p: &Path| std::path::absolute(p).map_err(|e| IoError::new("resolve the path", p, e));
+    let exe = std::env::current_exe()
+        .map_err(|e| IoError::new("find the running binary", Path::new("metabezier"), e))?;
+    let out = runner::campaign_dir(&spec, a.out.as_deref(), None);
+    let opts = SlurmOptions {
+        tasks: a.tasks as usize,
+        out: absolute(&out)?,
+        time: a.time,
+        cpus: a.cpus,
+        sbatch: a.sbatch,
+    };
+    let script = slurm::sbatch_script(&spec, &absolute(&a.spec)?, &exe, &opts)
+        .map_err(crate::experiment::ExperimentError::from)?;
+    w.push_str(&script);
     Ok(())
 }
 
@@ -389,18 +551,22 @@ fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
         name: a.algorithm.clone(),
         choices: Method::names(),
     })?;
-    let source = Source::load(
-        &a.input,
-        Path::new(""),
-        a.contour,
-        &ImageOptions::default(),
-        Sampling::default(),
-    )?;
+    let function = FunctionType::from_name(&a.function).expect("clap checked the name");
+    let load = LoadOptions {
+        contour: a.contour.map_or(ContourChoice::All, ContourChoice::Index),
+        min_samples_per_segment: if a.true_breaks {
+            function.min_points() - 1
+        } else {
+            1
+        },
+        ..LoadOptions::default()
+    };
+    let source = Source::load(&a.input, Path::new(""), &load)?;
     let r = Reconstruction {
-        outline: &source.outline,
+        source: &source,
         segmentation: a.segmentation(&source)?,
         corners: a.corners(),
-        options: a.options(),
+        options: a.options(&source),
     };
     let start = std::time::Instant::now();
     let fit = r.fit(&method, a.seed).map_err(|source| Error::Fit {
@@ -416,8 +582,10 @@ fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
         method.name()
     );
     let mut paths = write_fit_records(&a.out, &fit, &a.case(&r.options, &method), wall)?;
-    let figure = OverlayFigure::of_fit(&title, &source.outline.points, &fit);
-    paths.extend(save_overlay(&figure, &a.out, "fit")?);
+    let data = source.points();
+    paths.extend(save_shape(&fit, &data, &title, &a.out, "fit")?);
+    let figure = OverlayFigure::of_fit(&title, &data, &fit);
+    paths.extend(save_overlay(&figure, &a.out, "overlay")?);
     say_fit(w, &source.label(), &fit, wall, &paths);
     Ok(())
 }
@@ -449,27 +617,31 @@ impl FitArgs {
         })
     }
 
-    /// Function, continuity, parameterisation, search space and budget.
-    fn options(&self) -> FitOptions {
+    /// Function, continuity, closing, parameterisation (`auto` resolved for
+    /// `source`), search space and budget.
+    fn options(&self, source: &Source) -> FitOptions {
         let function = FunctionType::from_name(&self.function).expect("clap checked the name");
         let continuity = Continuity::from_name(&self.continuity).expect("clap checked the name");
         let mut options = FitOptions::new(function, continuity);
         options.budget_per_segment = self.budget;
-        options.parameterisation =
-            Parameterisation::from_name(&self.parameterisation).expect("clap checked the name");
+        options.closing = Closing::from_name(&self.closing).expect("clap checked the name");
+        options.parameterisation = match self.parameterisation.as_str() {
+            "auto" => source.auto_parameterisation(self.true_breaks),
+            name => Parameterisation::from_name(name).expect("clap checked the name"),
+        };
         options.reparameterise = self.reparameterise;
         options.search.kind =
             SearchSpace::from_name(&self.search_space).expect("clap checked the name");
         options
     }
 
-    /// The case columns of the fit's record files.
-    fn case(&self, options: &FitOptions, method: &Method) -> [(&'static str, String); 10] {
+    /// The case columns of the fit's `metrics.csv`.
+    fn case(&self, options: &FitOptions, method: &Method) -> [(&'static str, String); 11] {
         [
             ("input", self.input.clone()),
-            ("contour", self.contour.to_string()),
             ("function", options.function.name().to_owned()),
             ("continuity", options.continuity.name().to_owned()),
+            ("closing", options.closing.name().to_owned()),
             ("algorithm", method.name()),
             ("seed", self.seed.to_string()),
             ("budget_per_segment", self.budget.to_string()),
@@ -479,34 +651,129 @@ impl FitArgs {
                 options.parameterisation.name().to_owned(),
             ),
             ("reparameterise", self.reparameterise.to_string()),
+            (
+                "contours",
+                self.contour
+                    .map_or(ContourChoice::All, ContourChoice::Index)
+                    .name(),
+            ),
         ]
     }
 }
 
-/// The summary of a fit of `label`: its metrics, its closing joint, and the
-/// files written.
-fn say_fit(w: &mut String, label: &str, fit: &PiecewiseFit, wall: f64, paths: &[PathBuf]) {
+/// The summary of a fit of `label`: its metrics, each contour's closing
+/// joint, and the files written.
+fn say_fit(w: &mut String, label: &str, fit: &ShapeFit, wall: f64, paths: &[PathBuf]) {
     let m = &fit.metrics;
     say!(
         w,
-        "{label}: {} points, {} segments, E = {:.6e}, RMS = {:.4e}, max distance = {:.4e}, {} evaluations, {:.3} s",
+        "{label}: {} contour(s), {} points, {} segments, E = {:.6e}, RMS = {:.4e}, RMS distance = {:.4e}, max distance = {:.4e}, {} evaluations, {:.3} s",
+        fit.contours.len(),
         m.points,
         m.segments,
         m.sse,
         m.rms,
+        m.rms_distance,
         m.max_distance,
         m.evaluations,
         wall
     );
-    if let Some(c) = fit.closing {
-        say!(
-            w,
-            "  closing joint (C0 only): tangent angle {:.3}°, relative derivative gap {:.3e}",
-            c.angle_degrees,
-            c.relative_derivative_gap
-        );
+    for c in &fit.contours {
+        if let Some(j) = c.fit.closing {
+            let at = if j.at_corner {
+                "at a corner, C0".to_owned()
+            } else {
+                format!("{} imposed", j.imposed.name().to_uppercase())
+            };
+            say!(
+                w,
+                "  contour {} ({} segments): closing joint {at}: tangent angle {:.3e}°, relative derivative gap {:.3e}",
+                c.contour,
+                c.fit.metrics.segments,
+                j.angle_degrees,
+                j.relative_derivative_gap
+            );
+        }
     }
     for p in paths {
         say!(w, "  wrote {}", p.display());
     }
+}
+
+/// `metabezier score`: the orthogonal distances of the outline's points to
+/// the SVG's curves, printed and (with `--out`) written to `score.csv`.
+fn score_curves(a: ScoreArgs, w: &mut String) -> Result<(), Error> {
+    let load = LoadOptions {
+        contour: a.contour.map_or(ContourChoice::All, ContourChoice::Index),
+        ..LoadOptions::default()
+    };
+    let source = Source::load(&a.input, Path::new(""), &load)?;
+    let svg = load_svg(&a.curves).map_err(|e| SourceError(OutlineError::Svg(e)))?;
+    let s = score(&source, &svg.to_frame(a.offset));
+    let curves = a.curves.display().to_string();
+    say!(
+        w,
+        "{} against {curves} (offset {},{}): {} segments",
+        a.input,
+        a.offset.x,
+        a.offset.y,
+        s.segments
+    );
+    say!(
+        w,
+        "  {:<8} {:>8} {:>14} {:>14}",
+        "contour",
+        "points",
+        "max distance",
+        "RMS distance"
+    );
+    let mut rows = Vec::new();
+    let named = s
+        .contours
+        .iter()
+        .map(|(c, d)| (c.to_string(), *d))
+        .chain(std::iter::once(("all".to_owned(), s.total)));
+    for (name, d) in named {
+        say!(
+            w,
+            "  {:<8} {:>8} {:>14.6} {:>14.6}",
+            name,
+            d.points,
+            d.max_distance,
+            d.rms_distance
+        );
+        rows.push(vec![
+            a.input.clone(),
+            curves.clone(),
+            a.offset.x.to_string(),
+            a.offset.y.to_string(),
+            name.clone(),
+            d.points.to_string(),
+            if name == "all" {
+                s.segments.to_string()
+            } else {
+                String::new()
+            },
+            d.max_distance.to_string(),
+            d.rms_distance.to_string(),
+        ]);
+    }
+    if let Some(dir) = &a.out {
+        crate::files::create_dir(dir)?;
+        let path = dir.join("score.csv");
+        let header = [
+            "input",
+            "curves",
+            "offset_x",
+            "offset_y",
+            "contour",
+            "points",
+            "segments",
+            "max_distance",
+            "rms_distance",
+        ];
+        crate::files::write_atomic(&path, &crate::files::csv_bytes(&header, rows))?;
+        say!(w, "  wrote {}", path.display());
+    }
+    Ok(())
 }

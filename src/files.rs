@@ -44,21 +44,18 @@ pub fn read_text(path: &Path) -> Result<String, IoError> {
 /// Writes `bytes` to `path` atomically: to a temporary file in the same
 /// directory, synced, then renamed over `path`, so that no reader ever sees a
 /// half-written file.
+///
+/// The temporary file is created exclusively (`O_EXCL`, atomic on local
+/// filesystems and NFSv3+) under a name with 64 random bits, so writers that
+/// share a directory never share a temporary file, even two processes with
+/// the same id on different nodes of a cluster.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
     use std::io::Write;
-    let dir = path.parent().filter(|p| !p.as_os_str().is_empty());
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = match dir {
-        Some(d) => d.join(format!(".{name}.{}.tmp", std::process::id())),
-        None => PathBuf::from(format!(".{name}.{}.tmp", std::process::id())),
-    };
+    let (mut file, tmp) = create_temporary(path).map_err(|e| IoError::new("write", path, e))?;
     let result = (|| {
-        let mut file = std::fs::File::create(&tmp)?;
         file.write_all(bytes)?;
         file.sync_all()?;
+        drop(file);
         std::fs::rename(&tmp, path)
     })();
     if let Err(e) = result {
@@ -66,6 +63,47 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
         return Err(IoError::new("write", path, e));
     }
     Ok(())
+}
+
+/// Creates a new, empty temporary file beside `path`, named
+/// `.NAME.PID.RANDOM.tmp`; a name that exists already is never reused.
+fn create_temporary(path: &Path) -> io::Result<(std::fs::File, PathBuf)> {
+    let dir = path.parent().filter(|p| !p.as_os_str().is_empty());
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    loop {
+        let tmp_name = format!(".{name}.{}.{:016x}.tmp", std::process::id(), random_u64());
+        let tmp = match dir {
+            Some(d) => d.join(tmp_name),
+            None => PathBuf::from(tmp_name),
+        };
+        match std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&tmp)
+        {
+            Ok(file) => return Ok((file, tmp)),
+            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => continue,
+            Err(e) => return Err(e),
+        }
+    }
+}
+
+/// 64 random bits: the standard library's per-process random hash keys
+/// (drawn from the operating system), mixed with a counter and the clock.
+fn random_u64() -> u64 {
+    use std::hash::{BuildHasher, Hasher};
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    let mut h = std::collections::hash_map::RandomState::new().build_hasher();
+    h.write_u64(COUNTER.fetch_add(1, Ordering::Relaxed));
+    let now = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos());
+    h.write_u128(now);
+    h.finish()
 }
 
 /// A real in shortest round-trip form: plain notation for magnitudes in
@@ -137,6 +175,19 @@ mod tests {
         write_atomic(&path, b"x\n").unwrap();
         assert_eq!(std::fs::read(&path).unwrap(), b"x\n");
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+        // Temporary names never repeat, within a process or across them.
+        let names: std::collections::HashSet<PathBuf> = (0..1000)
+            .map(|_| {
+                let (_, tmp) = create_temporary(&path).unwrap();
+                tmp
+            })
+            .collect();
+        assert_eq!(names.len(), 1000);
+        assert!(names.iter().all(|t| t.exists()
+            && t.file_name()
+                .unwrap()
+                .to_string_lossy()
+                .starts_with(".out.csv.")));
         let e = write_atomic(&dir.path().join("missing/out.csv"), b"x").unwrap_err();
         assert!(
             e.to_string().contains("missing/out.csv: cannot write"),

@@ -1,8 +1,10 @@
 //! Reproducibility of campaigns: thread count, resume and shards must not
-//! change a single byte of runs.csv or convergence.csv.
+//! change a single byte of runs.csv or convergence.csv; shards keep to
+//! their own directories, and a merge names what it lacks.
 
 use std::path::{Path, PathBuf};
 
+use metabezier::experiment::runner::{campaign_dir, shard_dir};
 use metabezier::experiment::Spec;
 use metabezier::experiment::{merge, run_campaign, RunOptions, Shard};
 
@@ -173,44 +175,199 @@ fn resuming_with_a_changed_spec_is_refused() {
     assert!(err.contains("differs from"), "{err}");
 }
 
+fn run_shard(spec: &Spec, parent: &Path, k: usize, n: usize, max_runs: Option<usize>) -> PathBuf {
+    let opts = RunOptions {
+        out: Some(parent.to_owned()),
+        threads: Some(1),
+        resume: true,
+        shard: Some(Shard { k, n }),
+        max_runs,
+        ..RunOptions::default()
+    };
+    run_campaign(spec, &opts).unwrap().out
+}
+
+/// The names of the files (not directories) in `dir`.
+fn files(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap())
+        .filter(|e| e.path().is_file())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
 #[test]
-fn merged_shards_equal_one_run() {
+fn shards_run_at_once_into_one_out_and_merge_into_it() {
     let tmp = tempfile::tempdir().unwrap();
     let spec = spec(tmp.path());
     let whole = run(&spec, tmp.path().join("whole"), 2);
-    let mut dirs = Vec::new();
-    for k in 1..=3 {
-        let out = tmp.path().join(format!("shard{k}"));
-        let opts = RunOptions {
-            out: Some(out.clone()),
-            threads: Some(1),
-            shard: Some(Shard { k, n: 3 }),
-            ..RunOptions::default()
-        };
-        let s = run_campaign(&spec, &opts).unwrap();
-        assert_eq!(s.total, 18);
-        dirs.push(out);
+    // Three shards at the same moment, all given the same --out: each
+    // writes into its own shard-K-of-3/ directory.
+    let parent = tmp.path().join("cluster");
+    let outs: Vec<PathBuf> = std::thread::scope(|scope| {
+        let handles: Vec<_> = (1..=3)
+            .map(|k| {
+                let (spec, parent) = (&spec, &parent);
+                scope.spawn(move || run_shard(spec, parent, k, 3, None))
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    for (k, out) in (1..=3).zip(&outs) {
+        assert_eq!(*out, parent.join(format!("shard-{k}-of-3")));
+        let runs = String::from_utf8(read(out, "runs.csv")).unwrap();
+        assert_eq!(runs.lines().count(), 1 + 18);
     }
-    // Two of three shards are not enough.
-    let err = merge(&spec, &dirs[..2], Some(tmp.path().join("partial")))
-        .unwrap_err()
-        .to_string();
-    assert!(err.contains("18 of 54 runs are missing"), "{err}");
+    // `merge DIR` finds the shards and writes into DIR the very files of a
+    // single run, hits.csv included.
+    let s = merge(&spec, std::slice::from_ref(&parent), None).unwrap();
+    assert_eq!(s.out, parent);
+    assert_eq!(files(&parent), files(&whole));
+    for file in files(&whole).iter().filter(|f| *f != "timing.csv") {
+        assert_eq!(read(&whole, file), read(&parent, file), "{file} differs");
+    }
+    assert!(files(&whole).contains(&"hits.csv".to_owned()));
+    // The shard directories themselves merge as well, and again in place.
     let merged = tmp.path().join("merged");
-    merge(&spec, &dirs, Some(merged.clone())).unwrap();
-    for file in ["runs.csv", "convergence.csv", "spec.toml", "meta.toml"] {
+    merge(&spec, &outs, Some(merged.clone())).unwrap();
+    merge(&spec, std::slice::from_ref(&parent), None).unwrap();
+    for file in ["runs.csv", "convergence.csv", "hits.csv"] {
         assert_eq!(read(&whole, file), read(&merged, file), "{file} differs");
+        assert_eq!(read(&whole, file), read(&parent, file), "{file} differs");
     }
+}
+
+#[test]
+fn a_merge_names_missing_and_unfinished_shards() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = spec(tmp.path());
+    let parent = tmp.path().join("cluster");
+    let err = |dirs: &[PathBuf]| merge(&spec, dirs, None).unwrap_err().to_string();
+    let one = std::slice::from_ref(&parent);
+    std::fs::create_dir(&parent).unwrap();
+    let e = err(one);
+    assert!(
+        e.contains("holds no shard directories (shard-K-of-N/)"),
+        "{e}"
+    );
+
+    run_shard(&spec, &parent, 1, 4, None);
+    run_shard(&spec, &parent, 3, 4, Some(5));
+    let e = err(one);
+    let shard = |k: usize| parent.join(format!("shard-{k}-of-4")).display().to_string();
+    for part in [
+        format!("shard 2/4 is missing (no {})", shard(2)),
+        format!("shard 4/4 is missing (no {})", shard(4)),
+        format!(
+            "shard 3/4 is unfinished ({}: 5 finished runs in journal.csv, no runs.csv)",
+            shard(3)
+        ),
+        "--resume".to_owned(),
+    ] {
+        assert!(e.contains(&part), "{part} not in: {e}");
+    }
+    // Explicit shard directories: the missing ones are named too.
+    let e = err(&[parent.join("shard-1-of-4")]);
+    assert!(
+        e.contains("shard 2/4 is missing (no directory given holds it)"),
+        "{e}"
+    );
+    // Shards of another count beside them.
+    run_shard(&spec, &parent, 1, 2, None);
+    let e = err(one);
+    assert!(
+        e.contains("the shards found split the campaign in 2 and 4 parts"),
+        "{e}"
+    );
+    std::fs::remove_dir_all(parent.join("shard-1-of-2")).unwrap();
+
+    // A shard of another spec: named by its copy of the spec.
+    for k in [2, 3, 4] {
+        run_shard(&spec, &parent, k, 4, None);
+    }
+    let other_dir = tmp.path().join("other");
+    std::fs::create_dir(&other_dir).unwrap();
+    let other_path = other_dir.join("spec.toml");
+    std::fs::write(&other_path, SPEC.replace("seed = 99", "seed = 100")).unwrap();
+    let other = Spec::load(&other_path).unwrap();
+    let foreign = run_shard(&other, &other_dir, 4, 4, None);
+    let mut dirs: Vec<PathBuf> = (1..=3)
+        .map(|k| parent.join(format!("shard-{k}-of-4")))
+        .collect();
+    dirs.push(foreign.clone());
+    let e = err(&dirs);
+    assert!(
+        e.contains(&format!(
+            "{} was made from a different spec",
+            foreign.join("spec.toml").display()
+        )),
+        "{e}"
+    );
+    // Complete and of one spec: merged.
+    merge(&spec, one, None).unwrap();
+}
+
+#[test]
+fn shard_directories_are_their_own() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = spec(tmp.path());
+    let s = Shard { k: 2, n: 3 };
+    assert_eq!(s.dir_name(), "shard-2-of-3");
+    assert_eq!(Shard::from_dir_name("shard-2-of-3"), Some(s));
+    for bad in [
+        "shard-0-of-3",
+        "shard-4-of-3",
+        "shard-02-of-3",
+        "shard-2-of-3x",
+        "shard-2",
+    ] {
+        assert_eq!(Shard::from_dir_name(bad), None, "{bad}");
+    }
+    let base = tmp.path().join("out");
+    assert_eq!(shard_dir(&base, s), base.join("shard-2-of-3"));
+    // Given its own directory, a shard stays in it.
+    assert_eq!(
+        shard_dir(&base.join("shard-2-of-3"), s),
+        base.join("shard-2-of-3")
+    );
+    // A shard started by an older version straight in --out still resumes.
+    let legacy = tmp.path().join("legacy");
+    std::fs::create_dir(&legacy).unwrap();
+    std::fs::write(legacy.join("meta.toml"), "runs = 18\nshard = \"2/3\"\n").unwrap();
+    assert_eq!(shard_dir(&legacy, s), legacy);
+    assert_eq!(
+        shard_dir(&legacy, Shard { k: 1, n: 3 }),
+        legacy.join("shard-1-of-3")
+    );
+    assert_eq!(
+        campaign_dir(&spec, None, Some(s)),
+        Path::new("results/determinism/shard-2-of-3")
+    );
+    assert_eq!(
+        campaign_dir(&spec, None, None),
+        Path::new("results/determinism")
+    );
 }
 
 #[test]
 fn shard_syntax_is_checked() {
     assert_eq!(Shard::parse("2/8"), Ok(Shard { k: 2, n: 8 }));
-    for bad in ["0/3", "4/3", "3", "a/b", "1/0"] {
+    for (bad, why) in [
+        ("0/3", "shard 0 does not exist; the shards of 3 are 1 to 3"),
+        ("4/3", "shard 4 does not exist; the shards of 3 are 1 to 3"),
+        ("x/3", "K is not a whole number"),
+        ("3", "there is no '/' between K and N"),
+        ("a/b", "K is not a whole number"),
+        ("1/0", "N is not a whole number of at least 1"),
+        ("1/y", "N is not a whole number of at least 1"),
+    ] {
         let e = Shard::parse(bad).unwrap_err();
         assert_eq!(
             e.to_string(),
-            format!("expected a shard as K/N with 1 ≤ K ≤ N, such as 2/8, found \"{bad}\"")
+            format!("expected a shard as K/N with 1 ≤ K ≤ N, such as 2/8, found \"{bad}\": {why}")
         );
     }
 }
@@ -245,4 +402,170 @@ fn adding_cells_and_problems_keeps_the_other_runs() {
     for row in &ra {
         assert!(rb.contains(row), "missing or changed: {row}");
     }
+}
+
+// ------------------------------------------------------------- hardening
+
+fn files_of(dir: &Path) -> Vec<Vec<u8>> {
+    ["runs.csv", "convergence.csv", "hits.csv"]
+        .iter()
+        .map(|f| std::fs::read(dir.join(f)).unwrap())
+        .collect()
+}
+
+#[test]
+fn a_campaign_killed_during_its_final_write_resumes_from_its_journal() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = spec(tmp.path());
+    let whole = run(&spec, tmp.path().join("whole"), 2);
+    // Every run journalled, runs.csv written, convergence.csv not: the state
+    // a kill (or a full disk) leaves during the final write.
+    let out = tmp.path().join("killed");
+    let total = spec.run_ids().len();
+    let opts = RunOptions {
+        out: Some(out.clone()),
+        max_runs: Some(total - 1),
+        ..RunOptions::default()
+    };
+    assert!(!run_campaign(&spec, &opts).unwrap().complete);
+    let last = RunOptions {
+        resume: true,
+        max_runs: Some(1),
+        ..opts.clone()
+    };
+    // Finish the last run but leave a torn runs.csv and no convergence.csv
+    // beside the full journal.
+    let journal = std::fs::read(out.join("journal.csv")).unwrap();
+    run_campaign(&spec, &last).unwrap();
+    std::fs::write(out.join("journal.csv"), {
+        let mut j = journal;
+        j.extend(metabezier::experiment::journal::journal_line(
+            &metabezier::experiment::records::read_results(&out)
+                .unwrap()
+                .into_iter()
+                .find(|r| !String::from_utf8_lossy(&j).contains(&format!(",{},", r.seed)))
+                .unwrap(),
+        ));
+        j
+    })
+    .unwrap();
+    std::fs::write(out.join("runs.csv"), b"algorithm,kind").unwrap();
+    std::fs::remove_file(out.join("convergence.csv")).unwrap();
+    let resumed = run_campaign(
+        &spec,
+        &RunOptions {
+            resume: true,
+            ..opts
+        },
+    )
+    .unwrap();
+    assert!(resumed.complete && resumed.executed == 0, "{resumed:?}");
+    assert_eq!(files_of(&out), files_of(&whole));
+}
+
+#[test]
+fn resume_refuses_another_spec_even_without_its_copy() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = spec(tmp.path());
+    let out = tmp.path().join("c");
+    let opts = RunOptions {
+        out: Some(out.clone()),
+        max_runs: Some(5),
+        ..RunOptions::default()
+    };
+    run_campaign(&spec, &opts).unwrap();
+    std::fs::remove_file(out.join("spec.toml")).unwrap();
+    let other = Spec::parse(
+        &tmp.path().join("other.toml"),
+        &SPEC.replace("seed = 99", "seed = 98"),
+    )
+    .unwrap();
+    let err = run_campaign(
+        &other,
+        &RunOptions {
+            resume: true,
+            ..opts
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        err.starts_with("cannot resume: ")
+            && err.contains("meta.toml records a campaign of a spec with hash"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_second_writer_is_refused_and_the_lock_dies_with_its_holder() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = spec(tmp.path());
+    let out = tmp.path().join("locked");
+    let lock = metabezier::experiment::runner::DirLock::take(&out).unwrap();
+    let opts = RunOptions {
+        out: Some(out.clone()),
+        ..RunOptions::default()
+    };
+    let err = run_campaign(&spec, &opts).unwrap_err().to_string();
+    assert!(
+        err.contains("is in use by another metabezier process"),
+        "{err}"
+    );
+    drop(lock);
+    assert!(run_campaign(&spec, &opts).unwrap().complete);
+}
+
+#[test]
+fn oversized_campaigns_and_thread_counts_are_refused_before_anything_runs() {
+    let tmp = tempfile::tempdir().unwrap();
+    let huge = Spec::parse(
+        &tmp.path().join("huge.toml"),
+        &SPEC.replace("runs = 3", "runs = 4294967295"),
+    )
+    .unwrap();
+    let out = tmp.path().join("huge");
+    let opts = RunOptions {
+        out: Some(out.clone()),
+        ..RunOptions::default()
+    };
+    let err = run_campaign(&huge, &opts).unwrap_err().to_string();
+    assert!(
+        err.contains("runs and an estimated") && err.contains("pass --allow-large"),
+        "{err}"
+    );
+    assert!(!out.exists(), "nothing is written before the check");
+    let err = run_campaign(
+        &spec(tmp.path()),
+        &RunOptions {
+            threads: Some(65535),
+            ..opts
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(err.starts_with("--threads 65535: at most "), "{err}");
+}
+
+#[test]
+fn merge_refuses_to_write_over_another_campaign() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = spec(tmp.path());
+    for k in 1..=2 {
+        let opts = RunOptions {
+            out: Some(tmp.path().join("parent")),
+            shard: Some(Shard { k, n: 2 }),
+            ..RunOptions::default()
+        };
+        run_campaign(&spec, &opts).unwrap();
+    }
+    let busy = tmp.path().join("busy");
+    std::fs::create_dir_all(&busy).unwrap();
+    std::fs::write(busy.join("journal.csv"), b"").unwrap();
+    let err = merge(&spec, &[tmp.path().join("parent")], Some(busy))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.ends_with("it holds journal.csv; merge into an empty directory or that campaign's own"),
+        "{err}"
+    );
 }

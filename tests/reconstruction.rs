@@ -9,22 +9,21 @@ use metabezier::experiment::{merge, run_campaign, RunOptions, Shard};
 use metabezier::fit::{FitOptions, FunctionType};
 use metabezier::geometry::{Continuity, Parameterisation};
 use metabezier::optim::Algorithm;
-use metabezier::outline::{CornerOptions, ImageOptions, Sampling};
-use metabezier::reconstruction::{Method, Reconstruction, Segmentation, Source};
+use metabezier::outline::CornerOptions;
+use metabezier::reconstruction::{
+    ContourChoice, LoadOptions, Method, Reconstruction, Segmentation, Source,
+};
 
 fn data() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("data/outlines")
 }
 
 fn source(input: &str) -> Source {
-    Source::load(
-        input,
-        &data(),
-        0,
-        &ImageOptions::default(),
-        Sampling::default(),
-    )
-    .unwrap()
+    let options = LoadOptions {
+        contour: ContourChoice::Index(0),
+        ..LoadOptions::default()
+    };
+    Source::load(input, &data(), &options).unwrap()
 }
 
 fn metabezier() -> Command {
@@ -42,7 +41,7 @@ fn cantarell_g_is_recovered_from_its_true_break_points() {
         options.parameterisation = parameterisation;
         options.reparameterise = reparameterise;
         Reconstruction {
-            outline: &g.outline,
+            source: &g,
             segmentation: segmentation.clone(),
             corners: None,
             options,
@@ -90,17 +89,18 @@ fn a_metaheuristic_fit_of_the_horse_keeps_every_joint() {
         let mut options = FitOptions::new(function, continuity);
         options.budget_per_segment = 1000;
         let r = Reconstruction {
-            outline: &horse.outline,
+            source: &horse,
             segmentation: Segmentation::Count(30),
             corners: Some(CornerOptions::default()),
             options,
         };
         let mhs = Method::Metaheuristic(Algorithm::default_for("mhs").unwrap());
-        let fit = r.fit(&mhs, 42).unwrap();
+        let shape = r.fit(&mhs, 42).unwrap();
+        let fit = &shape.contours[0].fit;
         assert_eq!(fit.segments.len(), 30);
         assert!(fit.joins_hold(1e-9), "{function:?} {continuity:?}");
         // The corners found on the outline are C0 joints, the others smooth.
-        let corners = r.corner_indices();
+        let corners = r.corner_indices(&horse.contours[0]);
         for s in &fit.segments[1..] {
             let expected = if corners.contains(&s.first) {
                 Continuity::C0
@@ -151,19 +151,26 @@ fn fit_writes_its_files() {
     assert!(lines
         .next()
         .unwrap()
-        .starts_with("segment,first,last,points,join,function,c0x,c0y"));
+        .starts_with("contour,segment,first,last,points,join,function,c0x,c0y"));
     assert_eq!(lines.count(), 6);
     let metrics = std::fs::read_to_string(tmp.path().join("metrics.csv")).unwrap();
     assert!(
-        metrics.starts_with("input,contour,function,continuity,algorithm,seed"),
+        metrics.starts_with("input,function,continuity,closing,algorithm,seed"),
         "{metrics}"
     );
     assert!(
-        metrics.contains(",rational-cubic,g1,pso,3,2000,"),
+        metrics.contains(",rational-cubic,g1,smooth,pso,3,2000,"),
         "{metrics}"
     );
+    // One row per contour, then the totals.
+    let rows: Vec<&str> = metrics.lines().collect();
+    assert_eq!(rows.len(), 3, "{metrics}");
+    assert!(rows[1].contains(",0,counter-clockwise,"), "{metrics}");
+    assert!(rows[2].contains(",all,,"), "{metrics}");
     let svg = std::fs::read_to_string(tmp.path().join("fit.svg")).unwrap();
     assert!(svg.contains("coin: rational-cubic G1, pso"));
+    assert!(svg.contains("fill-rule=\"evenodd\""));
+    assert!(tmp.path().join("overlay.png").exists());
     assert_eq!(
         &std::fs::read(tmp.path().join("fit.png")).unwrap()[1..4],
         b"PNG"
@@ -215,7 +222,21 @@ fn bad_fit_input_gets_a_specific_error() {
     );
     let e = fit_error(&["horse.png", "--segments", "5"]);
     assert!(
-        e.contains("horse.png: 5 segment(s) requested, but the corners split the outline into"),
+        e.contains(
+            "horse.png: contour 0: 5 segment(s) requested, but the corners split the outline into"
+        ),
+        "{e}"
+    );
+    let e = fit_error(&["horse.png", "--contour", "3"]);
+    assert_eq!(
+        e,
+        "metabezier: error: horse.png: contour 3 was asked for, but the input has 1 contour \
+         (numbered from 0 by decreasing area: 0..=0); to fit them all, leave --contour out \
+         (or write contour = \"all\" in a spec)\n"
+    );
+    let e = fit_error(&["font:DejaVuSans.ttf:B", "--contour", "7"]);
+    assert!(
+        e.contains("contour 7 was asked for, but the input has 3 contours"),
         "{e}"
     );
     let e = fit_error(&["horse.png", "--true-breaks"]);
@@ -271,6 +292,7 @@ fn run(spec: &Spec, out: &Path, threads: usize, shard: Option<Shard>) {
         shard,
         max_runs: None,
         progress: false,
+        allow_large: false,
     };
     run_campaign(spec, &opts).unwrap();
 }
@@ -413,7 +435,27 @@ fn bad_fitting_specs_get_specific_errors() {
         ),
         (
             "input = \"horse.png\"\nsegments = 5",
-            "9:12: fit[1].segments: horse/rational-cubic/g1: 5 segment(s) requested",
+            "9:12: fit[1].segments: horse/rational-cubic/g1: contour 0: 5 segment(s) requested",
+        ),
+        (
+            "input = \"coin.png\"\nsegments = 4\ncontour = \"every\"",
+            "10:11: fit[1].contour: expected a contour number ≥ 0 or \"all\", found \"every\"",
+        ),
+        (
+            "input = \"coin.png\"\nsegments = 4\ncontour = 3",
+            "8:9: fit[1].input: coin.png: contour 3 was asked for, but the input has 1 contour",
+        ),
+        (
+            "input = \"coin.png\"\nsegments = 4\nclosing = \"round\"",
+            "10:11: fit[1].closing: unknown value \"round\"; valid choices: \"smooth\" or \"c0\"",
+        ),
+        (
+            "input = \"coin.png\"\nsegments = 4\nmode = \"per-segmnet\"",
+            "10:8: fit[1].mode: unknown value \"per-segmnet\"; did you mean \"per-segment\"?",
+        ),
+        (
+            "input = \"coin.png\"\nsegments = 4\nalpha_size = [0.1, 0]",
+            "10:20: fit[1].alpha_size: expected a real number in (0, 1000000], found 0",
         ),
         (
             "input = \"coin.png\"\nsegments = 4\nfunction = \"quartic\"",
@@ -430,5 +472,443 @@ fn bad_fitting_specs_get_specific_errors() {
     assert!(
         e.starts_with("12:8: algorithm[1].name: \"lm\" uses Levenberg–Marquardt, which solves least-squares fitting problems only"),
         "{e}"
+    );
+}
+
+/// A campaign with every fitting key that came with the smooth closing:
+/// per-segment problems with listed α_size and budgets (paired), and a
+/// glyph's every contour closed smoothly.
+const CURRENT_SPEC: &str = r#"
+[experiment]
+name = "fit_current"
+seed = 11
+runs = 3
+paired = ["search_space", "alpha_size", "budget"]
+
+[[fit]]
+input = "coin.png"
+function = "rational-cubic"
+continuity = "g1"
+segments = 4
+search_space = ["technique", "bounding-box"]
+alpha_size = [0.1, 0.5]
+budget = [100, 300]
+mode = "per-segment"
+closing = "smooth"
+
+[[fit]]
+input = "font:DejaVuSans.ttf:o"
+function = "cubic"
+continuity = "g1"
+segments = "true-breaks"
+contour = "all"
+closing = "smooth"
+budget = 200
+
+[[algorithm]]
+name = "hs"
+label = "HS"
+
+[[algorithm]]
+name = "mhs"
+label = "MHS"
+"#;
+
+#[test]
+fn a_campaign_with_the_current_fitting_records() {
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::copy(
+        data().join("DejaVuSans.ttf"),
+        tmp.path().join("DejaVuSans.ttf"),
+    )
+    .unwrap();
+    let spec = spec_in(tmp.path(), CURRENT_SPEC);
+    let names: Vec<String> = spec.problems.iter().map(|p| p.key()).collect();
+    assert_eq!(
+        names,
+        [
+            "coin/rational-cubic/g1/alpha=0.1/per-segment-4|budget=400",
+            "coin/rational-cubic/g1/alpha=0.1/per-segment-4|budget=1200",
+            "coin/rational-cubic/g1/per-segment-4|budget=400",
+            "coin/rational-cubic/g1/per-segment-4|budget=1200",
+            "coin/rational-cubic/g1/bounding-box/per-segment-4|budget=400",
+            "coin/rational-cubic/g1/bounding-box/per-segment-4|budget=1200",
+            "DejaVuSans-o/cubic/g1-16",
+        ]
+    );
+    // Paired: the search spaces, α_size and budgets of a case share seeds.
+    let seeds: Vec<String> = spec.problems[..6]
+        .iter()
+        .map(|p| p.seed_key(&spec.paired))
+        .collect();
+    assert!(
+        seeds
+            .iter()
+            .all(|k| k == "coin/rational-cubic/g1/per-segment-4"),
+        "{seeds:?}"
+    );
+
+    let one = tmp.path().join("one");
+    let two = tmp.path().join("two");
+    run(&spec, &one, 1, None);
+    run(&spec, &two, 2, None);
+    for f in ["runs.csv", "convergence.csv", "fits.csv", "segments.csv"] {
+        assert_eq!(
+            std::fs::read(one.join(f)).unwrap(),
+            std::fs::read(two.join(f)).unwrap(),
+            "{f} differs between 1 and 2 threads"
+        );
+    }
+    let fits = std::fs::read_to_string(one.join("fits.csv")).unwrap();
+    assert!(fits.lines().next().unwrap().ends_with(
+        "run,rms,max_distance,rms_distance,closing_angle_degrees,closing_relative_derivative_gap"
+    ), "{fits}");
+    let segments = std::fs::read_to_string(one.join("segments.csv")).unwrap();
+    assert!(segments
+        .lines()
+        .next()
+        .unwrap()
+        .contains(",run,contour,segment,first,"));
+    // The glyph's two contours (outer and counter) are both fitted.
+    assert!(
+        segments
+            .lines()
+            .any(|l| l.starts_with("HS,hs,") && l.contains("DejaVuSans-o") && l.contains(",1,0,")),
+        "{segments}"
+    );
+    // Fitting runs record a best-so-far trace ending at their E.
+    let records = metabezier::experiment::records::read_results(&one).unwrap();
+    for r in &records {
+        let last = r.trace.last().expect("a trace");
+        assert_eq!(last.evaluations, r.evaluations, "{}", r.problem);
+        assert!(
+            (last.best - r.best).abs() <= 1e-9 * r.best.max(1e-300),
+            "{}",
+            r.problem
+        );
+        assert!(
+            r.trace.windows(2).all(|w| w[1].best <= w[0].best),
+            "{}",
+            r.problem
+        );
+        assert!(r.fit.as_ref().unwrap().rms_distance.is_some());
+    }
+    // The glyph closes smoothly where it has no corner, exactly enough.
+    let o = records
+        .iter()
+        .find(|r| r.problem.starts_with("DejaVuSans-o"))
+        .unwrap();
+    assert!(o.fit.as_ref().unwrap().closing_angle_degrees.unwrap() < 1e-6);
+
+    // The report has the segment-level tables and knows the new factors.
+    let summary =
+        metabezier::report::write_report(&one, &metabezier::report::ReportOptions::default())
+            .unwrap();
+    let md = std::fs::read_to_string(one.join("report.md")).unwrap();
+    for needle in [
+        "### Search space per segment: the technique against the bounding box",
+        "### Methods per segment, in pairs",
+        "HS against MHS (technique):",
+        "MHS, α_size 0.1: the technique against the bounding box:",
+        "![Convergence](plots/convergence.png)",
+    ] {
+        assert!(
+            md.contains(needle),
+            "report.md lacks {needle}; notes {:?}",
+            summary.notes
+        );
+    }
+    let robustness = std::fs::read_to_string(one.join("tables/robustness.csv")).unwrap();
+    assert!(
+        robustness.starts_with("budget_per_segment,search_space,α_size,mode,"),
+        "{robustness}"
+    );
+
+    // An interrupted campaign resumes to the same files.
+    let part = tmp.path().join("part");
+    let opts = RunOptions {
+        out: Some(part.clone()),
+        threads: Some(2),
+        max_runs: Some(10),
+        ..RunOptions::default()
+    };
+    run_campaign(&spec, &opts).unwrap();
+    let opts = RunOptions {
+        out: Some(part.clone()),
+        threads: Some(2),
+        resume: true,
+        ..RunOptions::default()
+    };
+    run_campaign(&spec, &opts).unwrap();
+    for f in ["runs.csv", "convergence.csv", "fits.csv", "segments.csv"] {
+        assert_eq!(
+            std::fs::read(one.join(f)).unwrap(),
+            std::fs::read(part.join(f)).unwrap(),
+            "{f} differs after resuming"
+        );
+    }
+}
+
+/// Runs `metabezier` with `args` in the data directory; (status, stdout,
+/// stderr).
+fn cli(args: &[&str]) -> (bool, String, String) {
+    let out = metabezier()
+        .current_dir(data())
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8(out.stdout).unwrap(),
+        String::from_utf8(out.stderr).unwrap(),
+    )
+}
+
+/// The `all` row of a `metrics.csv`, as column name → value.
+fn all_row(dir: &Path) -> std::collections::HashMap<String, String> {
+    let text = std::fs::read_to_string(dir.join("metrics.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let all: Vec<&str> = lines.last().unwrap().split(',').collect();
+    header
+        .iter()
+        .zip(all)
+        .map(|(h, v)| (h.to_string(), v.to_string()))
+        .collect()
+}
+
+#[test]
+fn glyphs_keep_every_contour_and_are_recovered_at_their_own_breaks() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().to_str().unwrap();
+    // B: the outer contour and two counters, holes clockwise.
+    let (ok, stdout, err) = cli(&[
+        "fit",
+        "font:DejaVuSans.ttf:B",
+        "--true-breaks",
+        "--algorithm",
+        "lm",
+        "--out",
+        out,
+    ]);
+    assert!(ok, "{err}");
+    assert!(stdout.contains("3 contour(s)"), "{stdout}");
+    let metrics = std::fs::read_to_string(tmp.path().join("metrics.csv")).unwrap();
+    assert_eq!(metrics.lines().count(), 1 + 3 + 1, "{metrics}");
+    assert_eq!(
+        metrics.matches(",counter-clockwise,").count(),
+        1,
+        "{metrics}"
+    );
+    assert_eq!(metrics.matches(",clockwise,").count(), 2, "{metrics}");
+    let fit_csv = std::fs::read_to_string(tmp.path().join("fit.csv")).unwrap();
+    for contour in ["0", "1", "2"] {
+        assert!(fit_csv
+            .lines()
+            .any(|l| l.starts_with(&format!("{contour},"))));
+    }
+    // Quadratic TrueType glyphs at their own breaks, with the default
+    // parameterisation (auto: the samples' own, uniform, parameters) and G1:
+    // recovered to 1e-6 font units. The 'a' has a segment too short for a
+    // rational cubic at the default sampling; it gets more samples of the
+    // exact outline instead of stopping the fit.
+    for (glyph, function) in [
+        ("S", "quadratic"),
+        ("o", "quadratic"),
+        ("8", "cubic"),
+        ("a", "rational-cubic"),
+    ] {
+        let input = format!("font:DejaVuSans.ttf:{glyph}");
+        let (ok, _, err) = cli(&[
+            "fit",
+            &input,
+            "--true-breaks",
+            "--algorithm",
+            "lm",
+            "--function",
+            function,
+            "--out",
+            out,
+        ]);
+        assert!(ok, "{glyph}: {err}");
+        let all = all_row(tmp.path());
+        assert_eq!(all["parameterisation"], "uniform");
+        let max: f64 = all["max_distance"].parse().unwrap();
+        assert!(max < 1e-6, "{glyph} {function}: {max}");
+    }
+    // Chord-length parameters miss the same glyph by font units.
+    let (ok, _, _) = cli(&[
+        "fit",
+        "font:DejaVuSans.ttf:S",
+        "--true-breaks",
+        "--algorithm",
+        "lm",
+        "--function",
+        "quadratic",
+        "--parameterisation",
+        "chord",
+        "--out",
+        out,
+    ]);
+    assert!(ok);
+    let max: f64 = all_row(tmp.path())["max_distance"].parse().unwrap();
+    assert!(max > 1.0, "{max}");
+}
+
+/// A closed square of side 10 with `n` points per side, as a CSV file.
+fn square_csv(dir: &Path, n: usize) -> std::path::PathBuf {
+    let mut text = String::from("x,y\n");
+    let corners = [(0.0, 0.0), (10.0, 0.0), (10.0, 10.0), (0.0, 10.0)];
+    for k in 0..4 {
+        let (a, b) = (corners[k], corners[(k + 1) % 4]);
+        for j in 0..n {
+            let t = j as f64 / n as f64;
+            text.push_str(&format!(
+                "{},{}\n",
+                a.0 + t * (b.0 - a.0),
+                a.1 + t * (b.1 - a.1)
+            ));
+        }
+    }
+    text.push_str("0,0\n");
+    let path = dir.join("square.csv");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn score_measures_other_curves_against_the_same_points() {
+    let tmp = tempfile::tempdir().unwrap();
+    let square = square_csv(tmp.path(), 20);
+    // The square moved one unit right, in SVG's y-down user space (the
+    // viewBox spans y 0..20, so y_up = 20 − y).
+    let svg = tmp.path().join("shifted.svg");
+    std::fs::write(
+        &svg,
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 20 20\">\n\
+         <path d=\"M 1 20 H 11 V 10 H 1 Z\"/>\n</svg>\n",
+    )
+    .unwrap();
+    let sq = square.to_str().unwrap();
+    let (ok, stdout, err) = cli(&[
+        "score",
+        sq,
+        svg.to_str().unwrap(),
+        "--out",
+        tmp.path().to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(stdout.contains("4 segments"), "{stdout}");
+    let csv = std::fs::read_to_string(tmp.path().join("score.csv")).unwrap();
+    let all: Vec<&str> = csv.lines().last().unwrap().split(',').collect();
+    assert_eq!(all[4], "all");
+    assert_eq!(all[7].parse::<f64>().unwrap(), 1.0, "{csv}");
+    // The offset moves it back: every point on the curves.
+    let (ok, stdout, _) = cli(&["score", sq, svg.to_str().unwrap(), "--offset", "-1,0"]);
+    assert!(ok);
+    let all: Vec<&str> = stdout.lines().last().unwrap().split_whitespace().collect();
+    assert_eq!(all[..2], ["all", "80"], "{stdout}");
+    assert!(all[2].parse::<f64>().unwrap() < 1e-12, "{stdout}");
+
+    // potrace's trace of the horse (vendored): 101 segments, pixel corners
+    // at integers, hence the offset.
+    let (ok, stdout, err) = cli(&[
+        "score",
+        "horse.png",
+        "horse-potrace.svg",
+        "--offset",
+        "-0.5,-0.5",
+    ]);
+    assert!(ok, "{err}");
+    assert!(stdout.contains("101 segments"), "{stdout}");
+    let all = stdout
+        .lines()
+        .last()
+        .unwrap()
+        .split_whitespace()
+        .collect::<Vec<_>>();
+    let (max, rms): (f64, f64) = (all[2].parse().unwrap(), all[3].parse().unwrap());
+    assert!(
+        (max - 1.940).abs() < 1e-3 && (rms - 0.331).abs() < 1e-3,
+        "{stdout}"
+    );
+
+    // Our own fit.svg reads back in the outline frame with no offset.
+    let out = tmp.path().join("fit");
+    let (ok, _, err) = cli(&[
+        "fit",
+        "horse.png",
+        "--algorithm",
+        "lm",
+        "--segments",
+        "101",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let fit_max: f64 = all_row(&out)["max_distance"].parse().unwrap();
+    let (ok, stdout, _) = cli(&["score", "horse.png", out.join("fit.svg").to_str().unwrap()]);
+    assert!(ok);
+    let all = stdout
+        .lines()
+        .last()
+        .unwrap()
+        .split_whitespace()
+        .collect::<Vec<_>>();
+    let scored: f64 = all[2].parse().unwrap();
+    assert!(
+        scored <= fit_max + 1e-3 && scored > fit_max - 0.05,
+        "{scored} vs {fit_max}"
+    );
+}
+
+#[test]
+fn bad_curves_and_contours_are_named_with_their_place() {
+    let tmp = tempfile::tempdir().unwrap();
+    let square = square_csv(tmp.path(), 5);
+    let sq = square.to_str().unwrap();
+    let write = |name: &str, text: &str| {
+        let p = tmp.path().join(name);
+        std::fs::write(&p, text).unwrap();
+        p.to_str().unwrap().to_owned()
+    };
+    let cases = [
+        (
+            "none.svg",
+            "<svg>\n<rect width=\"1\" height=\"1\"/>\n</svg>\n",
+            "none.svg: no <path> element with a \"d\" attribute",
+        ),
+        (
+            "arc.svg",
+            "<svg>\n<path d=\"M 0 0 A 5 5 0 0 1 10 0\"/>\n</svg>\n",
+            "arc.svg:2:16: unsupported path command 'A'",
+        ),
+        (
+            "nan.svg",
+            "<svg>\n<path d=\"M 0 0 L NaN 3\"/>\n</svg>\n",
+            "nan.svg:2:18: expected a number, found \"NaN\"",
+        ),
+    ];
+    for (name, text, expected) in cases {
+        let path = write(name, text);
+        let (ok, _, err) = cli(&["score", sq, &path]);
+        assert!(!ok);
+        assert!(
+            err.starts_with("metabezier: error: ") && err.contains(expected),
+            "{err}"
+        );
+    }
+    let path = write("ok.svg", "<svg><path d=\"M0 0 L 1 1\"/></svg>");
+    let (ok, _, err) = cli(&["score", sq, &path, "--contour", "2"]);
+    assert!(!ok);
+    assert!(
+        err.contains("square.csv: contour 2 was asked for, but the input has 1 contour"),
+        "{err}"
+    );
+    let (ok, _, err) = cli(&["score", sq, &path, "--offset", "a,b"]);
+    assert!(!ok);
+    assert!(
+        err.contains("expected an offset DX,DY of two finite numbers"),
+        "{err}"
     );
 }

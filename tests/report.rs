@@ -358,12 +358,11 @@ fn degenerate_inputs_do_not_fail() {
     assert!(md.contains("runtime ECDF skipped: no run reached the success threshold"));
     assert!(!dir.join("tables/wilcoxon.csv").exists());
 
-    // NaN and infinite errors, duplicate run numbers, odd labels.
+    // NaN and infinite errors, odd labels.
     let dir = tmp.path().join("odd");
     std::fs::create_dir_all(&dir).unwrap();
     let mut text = hand_made(&[
         ("A|B", "sphere", 0, f64::NAN, None),
-        ("A|B", "sphere", 0, 1.0, None),
         ("A|B", "sphere", 1, f64::INFINITY, None),
         ("\"x, y\"", "sphere", 0, 2.0, Some(3)),
         ("\"x, y\"", "sphere", 1, 3.0, None),
@@ -374,7 +373,6 @@ fn degenerate_inputs_do_not_fail() {
     let s = write_report(&dir, &ReportOptions::default()).unwrap();
     assert_eq!(s.algorithms, 2);
     let md = read(&dir.join("report.md"));
-    assert!(md.contains("repeat the run number"));
     assert!(md.contains("spec.toml is not valid TOML"));
     assert!(md.contains("A\\|B"));
 
@@ -465,4 +463,45 @@ fn external_runs_join_the_comparison() {
     let cma = wil.lines().find(|l| l.contains(",CMA-ES,")).unwrap();
     assert!(cma.ends_with(",+,"), "{cma}");
     keep(&dir, "external");
+}
+
+#[test]
+fn a_report_refuses_rows_that_do_not_state_the_campaign() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = campaign(tmp.path(), "honest", SPEC);
+    for f in ["convergence.csv", "timing.csv", "hits.csv"] {
+        std::fs::remove_file(out.join(f)).unwrap();
+    }
+    let runs = read(&out.join("runs.csv"));
+    let lines: Vec<&str> = runs.lines().collect();
+    let report = |text: &str| {
+        std::fs::write(out.join("runs.csv"), text).unwrap();
+        write_report(&out, &ReportOptions::default())
+            .map(|_| String::new())
+            .unwrap_or_else(|e| e.to_string())
+    };
+    // A duplicated row.
+    let dup = format!("{}\n{}\n", runs.trim_end(), lines[1]);
+    let e = report(&dup);
+    assert!(e.ends_with("runs.csv: run 0 of HS:hs[hms=5;hmcr=0.9;par=0.3;bw=0.01;bw_decay=none;bw_min=0.000001;bounds=clip] on sphere-2 appears twice"), "{e}");
+    // A missing row.
+    let missing = format!("{}\n", lines[..lines.len() - 1].join("\n"));
+    let e = report(&missing);
+    assert!(
+        e.contains("runs.csv: 1 of 60 runs are missing (the first is run 4 of MHS:mhs["),
+        "{e}"
+    );
+    // A foreign row (another seed's problem).
+    let foreign = runs.replacen("sphere,2,", "sphere,3,", 1);
+    let e = report(&foreign);
+    assert!(e.contains("is not a run of spec.toml"), "{e}");
+    // The original rows are accepted again.
+    assert_eq!(report(&runs), "");
+    // An unfinished campaign.
+    std::fs::remove_file(out.join("runs.csv")).unwrap();
+    std::fs::write(out.join("journal.csv"), b"").unwrap();
+    let e = write_report(&out, &ReportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.ends_with("campaign unfinished (a journal.csv and no runs.csv): run `metabezier run SPEC --resume` to finish it"), "{e}");
 }

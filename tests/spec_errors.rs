@@ -216,7 +216,7 @@ fn instances_budgets_and_pairing_are_checked_before_anything_runs() {
     assert!(e.contains("two global minimisers"), "{e}");
     assert_eq!(
         error_of(&BASE.replace("runs = 2", "runs = 2\npaired = [\"budjet\"]")),
-        "spec.toml:5:11: experiment.paired: unknown factor \"budjet\"; did you mean \"budget\"? Valid choices: \"budget\", \"transform\", \"instance\" or \"search_space\""
+        "spec.toml:5:11: experiment.paired: unknown factor \"budjet\"; did you mean \"budget\"? Valid choices: \"budget\", \"transform\", \"instance\", \"search_space\" or \"alpha_size\""
     );
     assert_eq!(
         error_of(&BASE.replace("runs = 2", "runs = 2\npaired = \"budget\"")),

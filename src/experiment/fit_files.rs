@@ -1,22 +1,78 @@
 //! The record files of a single `metabezier fit`: `fit.csv` (one row per
-//! segment, the columns of [`SEGMENT_HEADER`]), `metrics.csv` (the case and
-//! the fit's totals) and `timing.csv` (wall time, apart as in campaigns).
-//! The overlay figure beside them is drawn by the report.
+//! segment of every contour, the columns of [`FIT_SEGMENT_HEADER`]),
+//! `metrics.csv` (the case, then one row per contour and a final `all`
+//! row with the totals) and `timing.csv` (wall time, apart as in
+//! campaigns). The figures beside them are drawn elsewhere.
 
 use std::path::{Path, PathBuf};
 
-use super::segments::{segment_rows, SEGMENT_HEADER};
+use super::segments::{segment_rows, FIT_SEGMENT_HEADER};
 use crate::files::{create_dir, csv_bytes, write_atomic, IoError};
-use crate::fit::PiecewiseFit;
+use crate::fit::{ClosingJoint, FitMetrics};
+use crate::geometry::Orientation;
+use crate::reconstruction::ShapeFit;
+
+/// The columns of `metrics.csv` after the case columns.
+pub const METRICS_COLUMNS: [&str; 12] = [
+    "contour",
+    "orientation",
+    "points",
+    "segments",
+    "sse",
+    "rms",
+    "max_distance",
+    "rms_distance",
+    "evaluations",
+    "closing_join",
+    "closing_angle_degrees",
+    "closing_relative_derivative_gap",
+];
+
+/// The metrics columns of one row: a contour (with its orientation and
+/// closing joint) or the `all` row.
+fn metrics_fields(
+    contour: &str,
+    orientation: Option<Orientation>,
+    m: &FitMetrics,
+    closing: Option<ClosingJoint>,
+) -> Vec<String> {
+    let orientation = match orientation {
+        Some(Orientation::CounterClockwise) => "counter-clockwise",
+        Some(Orientation::Clockwise) => "clockwise",
+        Some(Orientation::Degenerate) => "degenerate",
+        None => "",
+    };
+    let join = closing.map_or(String::new(), |c| {
+        if c.at_corner {
+            "c0 (corner)".to_owned()
+        } else {
+            c.imposed.name().to_owned()
+        }
+    });
+    vec![
+        contour.to_owned(),
+        orientation.to_owned(),
+        m.points.to_string(),
+        m.segments.to_string(),
+        m.sse.to_string(),
+        m.rms.to_string(),
+        m.max_distance.to_string(),
+        m.rms_distance.to_string(),
+        m.evaluations.to_string(),
+        join,
+        closing.map_or(String::new(), |c| c.angle_degrees.to_string()),
+        closing.map_or(String::new(), |c| c.relative_derivative_gap.to_string()),
+    ]
+}
 
 /// Writes `fit.csv`, `metrics.csv` and `timing.csv` into `dir` (created if
 /// missing); returns the paths.
 ///
 /// `case` holds the descriptive columns of `metrics.csv` (input, function,
-/// continuity, method, seed, …), written before the fit's totals.
+/// continuity, method, seed, …), written before the metrics of each row.
 pub fn write_fit_records(
     dir: &Path,
-    fit: &PiecewiseFit,
+    fit: &ShapeFit,
     case: &[(&str, String)],
     wall_seconds: f64,
 ) -> Result<Vec<PathBuf>, IoError> {
@@ -24,34 +80,35 @@ pub fn write_fit_records(
     let mut written = Vec::new();
 
     let fit_csv = dir.join("fit.csv");
-    write_atomic(&fit_csv, &csv_bytes(&SEGMENT_HEADER, segment_rows(fit)))?;
+    write_atomic(
+        &fit_csv,
+        &csv_bytes(&FIT_SEGMENT_HEADER, segment_rows(fit, true)),
+    )?;
     written.push(fit_csv);
 
-    let m = &fit.metrics;
     let mut header: Vec<&str> = case.iter().map(|(k, _)| *k).collect();
-    let mut row: Vec<String> = case.iter().map(|(_, v)| v.clone()).collect();
-    let closing = fit.closing;
-    for (k, v) in [
-        ("points", m.points.to_string()),
-        ("segments", m.segments.to_string()),
-        ("sse", m.sse.to_string()),
-        ("rms", m.rms.to_string()),
-        ("max_distance", m.max_distance.to_string()),
-        ("evaluations", m.evaluations.to_string()),
-        (
-            "closing_angle_degrees",
-            closing.map_or(String::new(), |c| c.angle_degrees.to_string()),
-        ),
-        (
-            "closing_relative_derivative_gap",
-            closing.map_or(String::new(), |c| c.relative_derivative_gap.to_string()),
-        ),
-    ] {
-        header.push(k);
-        row.push(v);
-    }
+    header.extend(METRICS_COLUMNS);
+    let case_values: Vec<String> = case.iter().map(|(_, v)| v.clone()).collect();
+    let mut rows: Vec<Vec<String>> = fit
+        .contours
+        .iter()
+        .map(|c| {
+            let mut row = case_values.clone();
+            let name = c.contour.to_string();
+            row.extend(metrics_fields(
+                &name,
+                Some(c.orientation),
+                &c.fit.metrics,
+                c.fit.closing,
+            ));
+            row
+        })
+        .collect();
+    let mut all = case_values;
+    all.extend(metrics_fields("all", None, &fit.metrics, None));
+    rows.push(all);
     let metrics_csv = dir.join("metrics.csv");
-    write_atomic(&metrics_csv, &csv_bytes(&header, [row]))?;
+    write_atomic(&metrics_csv, &csv_bytes(&header, rows))?;
     written.push(metrics_csv);
 
     let timing_csv = dir.join("timing.csv");

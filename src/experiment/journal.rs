@@ -15,9 +15,9 @@ use std::path::Path;
 
 use super::records::{
     data, parse, parse_transform, record_from_fields, run_fields, DataProblem, FitDetail,
-    ReadError, RunRecord, FIT_FIELDS, RUNS_HEADER,
+    ReadError, RunRecord, FIT_FIELDS, FIT_FIELDS_CURRENT, RUNS_HEADER,
 };
-use super::segments::SEGMENT_HEADER;
+use super::segments::{FIT_SEGMENT_HEADER, SEGMENT_HEADER};
 use crate::files::{fmt_real, IoError};
 use crate::optim::{TargetHit, TracePoint};
 
@@ -149,13 +149,19 @@ fn fit_field(detail: &FitDetail) -> String {
 fn fit_from_field(path: &Path, line: u64, text: &str) -> Result<FitDetail, ReadError> {
     let mut parts = text.split('|');
     let head: Vec<&str> = parts.next().unwrap_or("").split(';').collect();
-    if head.len() != FIT_FIELDS.len() {
+    let current = head.len() == FIT_FIELDS_CURRENT.len();
+    if head.len() != FIT_FIELDS.len() && !current {
         return Err(data(path, line, DataProblem::Malformed("fit detail")));
     }
     let mut detail = FitDetail::from_fields(path, line, &head)?;
     for part in parts {
         let row: Vec<String> = part.split(';').map(str::to_owned).collect();
-        if row.len() != SEGMENT_HEADER.len() {
+        let width = if current {
+            FIT_SEGMENT_HEADER.len()
+        } else {
+            SEGMENT_HEADER.len()
+        };
+        if row.len() != width {
             return Err(data(
                 path,
                 line,

@@ -3,17 +3,21 @@
 //! runs in parallel and appends each finished run to the [`journal`], and
 //! [`records`] writes the tidy CSV result files (with the per-segment
 //! columns of fitting runs in [`segments`]). [`fit_files`] writes the same
-//! records for a single `metabezier fit`.
+//! records for a single `metabezier fit`. [`shards`] joins the shards of a
+//! campaign, and [`slurm`] writes the array job that runs them on a cluster.
 //!
 //! This room sits above the optimisers, the fitting pipeline and the CT
 //! layer, and below the implant, the report and the command line; the
 //! report reads what [`records`] writes and nothing else of this room.
 
+pub mod coco_log;
 pub mod fit_files;
 pub mod journal;
 pub mod records;
 pub mod runner;
 pub mod segments;
+pub mod shards;
+pub mod slurm;
 pub mod spec;
 
 use std::fmt;
@@ -22,7 +26,9 @@ use std::path::PathBuf;
 use crate::files::IoError;
 
 pub use records::{DataError, DataProblem, ReadError, RunRecord};
-pub use runner::{merge, run_campaign, RunOptions, Shard, ShardError, Summary};
+pub use runner::{run_campaign, RunOptions, Shard, ShardError, ShardProblem, Summary};
+pub use shards::{find_shards, merge, MergeInputs, ShardGap};
+pub use slurm::{SlurmError, SlurmOptions};
 pub use spec::{Spec, SpecError};
 
 /// Why a campaign cannot proceed as asked: a resume or a merge that would
@@ -84,7 +90,7 @@ pub enum CampaignError {
     },
     /// A shard directory was made from a different spec.
     #[error(
-        "cannot merge: {} was made from a different spec than {}",
+        "cannot merge: {} was made from a different spec than {}; shards of different campaigns (or of a changed spec) cannot be joined",
         copy.display(),
         spec.display()
     )]
@@ -94,14 +100,35 @@ pub enum CampaignError {
         /// The spec of the merge.
         spec: PathBuf,
     },
-    /// A shard directory has no `runs.csv` yet.
+    /// A directory given to merge holds neither shard directories nor results.
     #[error(
-        "cannot merge: {} has no runs.csv; finish that shard first (run it again with --resume)",
+        "cannot merge: {} holds no shard directories (shard-K-of-N/) and no spec.toml of a campaign",
         dir.display()
     )]
-    UnfinishedShard {
-        /// The shard directory.
+    NoShards {
+        /// The directory given.
         dir: PathBuf,
+    },
+    /// Some shards of the campaign are missing or unfinished.
+    #[error(
+        "cannot merge: {}; finish each with `metabezier run SPEC --shard K/N --out DIR --resume`",
+        shards::list_gaps(gaps)
+    )]
+    IncompleteShards {
+        /// Every missing or unfinished shard.
+        gaps: Vec<ShardGap>,
+    },
+    /// The shards found split the campaign in different counts.
+    #[error(
+        "cannot merge: the shards found split the campaign in {} parts ({}); merge the shard-K-of-N directories of one count",
+        counts.iter().map(ToString::to_string).collect::<Vec<_>>().join(" and "),
+        dirs.iter().map(|d| d.display().to_string()).collect::<Vec<_>>().join(", ")
+    )]
+    MixedShardCounts {
+        /// The different N found.
+        counts: Vec<usize>,
+        /// The directories found.
+        dirs: Vec<PathBuf>,
     },
     /// Two shards hold different results for the same run.
     #[error("cannot merge: run {run} of {cell} on {problem} differs between shards")]
@@ -125,10 +152,77 @@ pub enum CampaignError {
         /// Index of the first missing run.
         first: usize,
     },
+    /// The spec of a resumed campaign differs from the one recorded in its
+    /// `meta.toml` (whose spec copy is gone).
+    #[error(
+        "cannot resume: {} records a campaign of a spec with hash {recorded}, but {} has hash {found}; restore the spec or choose another --out",
+        meta.display(),
+        spec.display()
+    )]
+    SpecHashChanged {
+        /// The campaign's meta.toml.
+        meta: PathBuf,
+        /// The spec given now.
+        spec: PathBuf,
+        /// The hash recorded.
+        recorded: String,
+        /// The hash of the spec given now.
+        found: String,
+    },
+    /// A merge would write over another campaign's files.
+    #[error(
+        "cannot merge into {}: it holds {found}; merge into an empty directory or that campaign's own",
+        dir.display()
+    )]
+    OtherCampaign {
+        /// The output directory of the merge.
+        dir: PathBuf,
+        /// What it holds.
+        found: &'static str,
+    },
+    /// Another process holds the campaign directory.
+    #[error(
+        "{} is in use by another metabezier process (it holds {}); wait for it to finish, or choose another --out",
+        dir.display(),
+        lock.display()
+    )]
+    Locked {
+        /// The campaign directory.
+        dir: PathBuf,
+        /// Its lock file.
+        lock: PathBuf,
+    },
+    /// The campaign is larger than the limits without `--allow-large`.
+    #[error(
+        "{spec}: {runs} runs and an estimated {gib:.1} GiB of results in memory exceed the limits of {max_runs} runs and 4 GiB; split the campaign into shards, or pass --allow-large",
+        spec = spec.display(),
+        max_runs = MAX_RUNS
+    )]
+    TooLarge {
+        /// The spec.
+        spec: PathBuf,
+        /// Its runs.
+        runs: u128,
+        /// Estimated memory of its records, in GiB.
+        gib: f64,
+    },
+    /// More worker threads than a sane multiple of the cores.
+    #[error("--threads {asked}: at most {max} (4 × the {cores} cores of this machine)")]
+    TooManyThreads {
+        /// Threads asked for.
+        asked: usize,
+        /// The limit.
+        max: usize,
+        /// Cores available.
+        cores: usize,
+    },
     /// The worker thread pool could not be started.
     #[error("cannot start worker threads: {0}")]
     Threads(#[source] rayon::ThreadPoolBuildError),
 }
+
+/// The most runs a campaign may have without `--allow-large`.
+pub const MAX_RUNS: u128 = 10_000_000;
 
 /// What a campaign was doing when it met a foreign run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -164,6 +258,12 @@ pub enum ExperimentError {
     /// The campaign cannot proceed as asked.
     #[error(transparent)]
     Campaign(#[from] CampaignError),
+    /// A COCO log cannot be written.
+    #[error(transparent)]
+    CocoLog(#[from] coco_log::CocoLogError),
+    /// A Slurm array job cannot be written as asked.
+    #[error(transparent)]
+    Slurm(#[from] SlurmError),
 }
 
 impl From<ReadError> for ExperimentError {

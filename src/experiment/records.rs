@@ -19,12 +19,12 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use super::segments::{segment_rows, SEGMENT_HEADER};
+use super::segments::{segment_rows, FIT_SEGMENT_HEADER, SEGMENT_HEADER};
 use super::spec::factor_suffix;
 use crate::files::{csv_bytes, fmt_real, IoError};
-use crate::fit::PiecewiseFit;
 use crate::functions::Transform;
 use crate::optim::{TargetHit, TracePoint};
+use crate::reconstruction::ShapeFit;
 
 /// What is wrong with a results file at one line.
 #[derive(Debug, thiserror::Error)]
@@ -174,43 +174,56 @@ pub struct RunRecord {
 /// and every segment's control points.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FitDetail {
-    /// `√(E/N)`.
+    /// `√(E/N)`, measured at the parameters `sᵢ`.
     pub rms: f64,
     /// The largest orthogonal distance of a data point to the curve.
     pub max_distance: f64,
-    /// On a closed outline, the tangent angle at the closing joint
-    /// (degrees), where only C⁰ is imposed.
+    /// The RMS of the orthogonal distances, with the current fitting records
+    /// (`None` in the legacy layout, which has no such column).
+    pub rms_distance: Option<f64>,
+    /// On closed outlines, the largest tangent angle at a closing joint
+    /// (degrees).
     pub closing_angle_degrees: Option<f64>,
-    /// On a closed outline, the relative derivative gap there.
+    /// On closed outlines, the largest relative derivative gap there.
     pub closing_relative_derivative_gap: Option<f64>,
-    /// One row per segment, in the columns of [`SEGMENT_HEADER`].
+    /// One row per segment, in the columns of [`FIT_SEGMENT_HEADER`] with
+    /// the current records, of [`SEGMENT_HEADER`] without.
     pub segments: Vec<Vec<String>>,
 }
 
 impl FitDetail {
-    /// The detail of a finished fit.
-    pub fn of(fit: &PiecewiseFit) -> FitDetail {
+    /// The detail of a finished fit, with the current records or the
+    /// legacy ones.
+    pub fn of(fit: &ShapeFit, current: bool) -> FitDetail {
+        let gap = fit
+            .contours
+            .iter()
+            .filter_map(|c| c.fit.closing.map(|j| j.relative_derivative_gap))
+            .reduce(f64::max);
         FitDetail {
             rms: fit.metrics.rms,
             max_distance: fit.metrics.max_distance,
-            closing_angle_degrees: fit.closing.map(|c| c.angle_degrees),
-            closing_relative_derivative_gap: fit.closing.map(|c| c.relative_derivative_gap),
-            segments: segment_rows(fit),
+            rms_distance: current.then_some(fit.metrics.rms_distance),
+            closing_angle_degrees: fit.closing_angle_degrees(),
+            closing_relative_derivative_gap: gap,
+            segments: segment_rows(fit, current),
         }
     }
 
-    /// The run-level columns of `fits.csv` after the run key.
+    /// The run-level columns of `fits.csv` after the run key: those of
+    /// [`FIT_FIELDS_CURRENT`] with `rms_distance`, else of [`FIT_FIELDS`].
     pub(super) fn fields(&self) -> Vec<String> {
         let opt = |x: Option<f64>| x.map_or(String::new(), fmt_real);
-        vec![
-            fmt_real(self.rms),
-            fmt_real(self.max_distance),
-            opt(self.closing_angle_degrees),
-            opt(self.closing_relative_derivative_gap),
-        ]
+        let mut out = vec![fmt_real(self.rms), fmt_real(self.max_distance)];
+        if let Some(d) = self.rms_distance {
+            out.push(fmt_real(d));
+        }
+        out.push(opt(self.closing_angle_degrees));
+        out.push(opt(self.closing_relative_derivative_gap));
+        out
     }
 
-    /// Reads [`FitDetail::fields`] back (segments empty).
+    /// Reads [`FitDetail::fields`] back (segments empty), in either layout.
     pub(super) fn from_fields(path: &Path, line: u64, f: &[&str]) -> Result<FitDetail, ReadError> {
         let opt = |name: &str, t: &str| -> Result<Option<f64>, ReadError> {
             if t.is_empty() {
@@ -219,23 +232,47 @@ impl FitDetail {
                 parse(path, line, name, t).map(Some)
             }
         };
+        let current = f.len() == FIT_FIELDS_CURRENT.len();
+        let at = usize::from(current);
         Ok(FitDetail {
             rms: parse(path, line, "rms", f[0])?,
             max_distance: parse(path, line, "max_distance", f[1])?,
-            closing_angle_degrees: opt("closing_angle_degrees", f[2])?,
-            closing_relative_derivative_gap: opt("closing_relative_derivative_gap", f[3])?,
+            rms_distance: if current {
+                Some(parse(path, line, "rms_distance", f[2])?)
+            } else {
+                None
+            },
+            closing_angle_degrees: opt("closing_angle_degrees", f[2 + at])?,
+            closing_relative_derivative_gap: opt("closing_relative_derivative_gap", f[3 + at])?,
             segments: Vec::new(),
         })
     }
 }
 
-/// The run-level columns of `fits.csv` after the run key.
+/// The run-level columns of a legacy `fits.csv` after the run key.
 pub(super) const FIT_FIELDS: [&str; 4] = [
     "rms",
     "max_distance",
     "closing_angle_degrees",
     "closing_relative_derivative_gap",
 ];
+
+/// The run-level columns of `fits.csv` with the current fitting records:
+/// the orthogonal `rms_distance` next to `max_distance`.
+pub(super) const FIT_FIELDS_CURRENT: [&str; 5] = [
+    "rms",
+    "max_distance",
+    "rms_distance",
+    "closing_angle_degrees",
+    "closing_relative_derivative_gap",
+];
+
+/// Whether any record carries the current fitting records.
+fn current_fit_records(records: &[RunRecord]) -> bool {
+    records
+        .iter()
+        .any(|r| r.fit.as_ref().is_some_and(|f| f.rms_distance.is_some()))
+}
 
 /// Which design-factor columns the result files of a campaign carry, beyond
 /// the columns every campaign has. Files of campaigns without transformed
@@ -258,7 +295,7 @@ impl Schema {
         let mut budgets: HashMap<(String, String, u32), u64> = HashMap::new();
         let mut keyed_budget = false;
         for r in records {
-            instances |= r.transform != Transform::None;
+            instances |= r.transform != Transform::None || r.instance != 1;
             let b = budgets
                 .entry((r.cell_key(), r.match_key(), r.run))
                 .or_insert(r.budget);
@@ -373,6 +410,11 @@ const HITS_FIELDS: [&str; 2] = ["target", "evaluations"];
 /// in `runs.csv`).
 pub fn fits_csv(records: &[RunRecord]) -> Vec<u8> {
     let schema = Schema::of(records);
+    let rest: &[&'static str] = if current_fit_records(records) {
+        &FIT_FIELDS_CURRENT
+    } else {
+        &FIT_FIELDS
+    };
     let rows = records.iter().filter_map(|r| {
         r.fit.as_ref().map(|f| {
             let mut row = schema.key_fields(r);
@@ -380,13 +422,19 @@ pub fn fits_csv(records: &[RunRecord]) -> Vec<u8> {
             row
         })
     });
-    csv_bytes(&schema.keyed_header(&FIT_FIELDS), rows)
+    csv_bytes(&schema.keyed_header(rest), rows)
 }
 
 /// The bytes of `segments.csv`: one row per segment of every fitting run,
-/// with its control points, weights and metrics.
+/// with its control points, weights and metrics (and its contour and
+/// orthogonal RMS with the current fitting records).
 pub fn segments_csv(records: &[RunRecord]) -> Vec<u8> {
     let schema = Schema::of(records);
+    let rest: &[&'static str] = if current_fit_records(records) {
+        &FIT_SEGMENT_HEADER
+    } else {
+        &SEGMENT_HEADER
+    };
     let rows = records.iter().flat_map(|r| {
         let key = schema.key_fields(r);
         r.fit.iter().flat_map(move |f| {
@@ -398,7 +446,7 @@ pub fn segments_csv(records: &[RunRecord]) -> Vec<u8> {
             })
         })
     });
-    csv_bytes(&schema.keyed_header(&SEGMENT_HEADER), rows)
+    csv_bytes(&schema.keyed_header(rest), rows)
 }
 
 /// Identifies a run within a campaign: (cell key, problem match key,
@@ -755,6 +803,15 @@ fn read_keyed(
     Ok(())
 }
 
+/// Whether the header line of the CSV file at `path` has the column `name`.
+fn header_has(path: &Path, name: &str) -> Result<bool, ReadError> {
+    let mut reader = open_csv(path)?;
+    let header = reader
+        .headers()
+        .map_err(|e| data(path, 1, DataProblem::Csv(e)))?;
+    Ok(header.iter().any(|h| h == name))
+}
+
 /// Reads a finished campaign directory's `runs.csv`, `convergence.csv`,
 /// `timing.csv` and, when present, `hits.csv`, `fits.csv` and
 /// `segments.csv` back into complete records.
@@ -789,12 +846,18 @@ pub fn read_results(dir: &Path) -> Result<Vec<RunRecord>, ReadError> {
     let mut fits: Vec<Option<FitDetail>> = vec![None; records.len()];
     if dir.join("fits.csv").exists() {
         let path = dir.join("fits.csv");
-        read_keyed(&path, &FIT_FIELDS, &records, |k, f, line| {
+        let current = header_has(&path, "rms_distance")?;
+        let (fit_rest, segment_rest): (&[&'static str], &[&'static str]) = if current {
+            (&FIT_FIELDS_CURRENT, &FIT_SEGMENT_HEADER)
+        } else {
+            (&FIT_FIELDS, &SEGMENT_HEADER)
+        };
+        read_keyed(&path, fit_rest, &records, |k, f, line| {
             fits[k] = Some(FitDetail::from_fields(&path, line, f)?);
             Ok(())
         })?;
         let path = dir.join("segments.csv");
-        read_keyed(&path, &SEGMENT_HEADER, &records, |k, f, line| {
+        read_keyed(&path, segment_rest, &records, |k, f, line| {
             let fit = fits[k]
                 .as_mut()
                 .ok_or_else(|| data(&path, line, DataProblem::NoFitRow))?;

@@ -6,7 +6,8 @@
 //! campaign's fixed order (problem, cell, run) once all runs are done.
 //! Finished runs are journalled as they complete, so `--resume` continues
 //! an interrupted campaign without redoing them, and `--shard K/N` runs one
-//! slice of a campaign for [`merge`] to join.
+//! slice of a campaign, in its own directory, for
+//! [`merge`](super::shards::merge) to join.
 
 use std::collections::HashMap;
 use std::io::{IsTerminal, Write};
@@ -18,13 +19,16 @@ use rayon::prelude::*;
 
 use super::journal;
 use super::records::default_targets;
-use super::records::{self, FitDetail, RunKey, RunRecord};
+use super::records::{self, RunKey, RunRecord};
+use super::spec::ProblemEntry;
 use super::spec::{ProblemKind, RunId, Spec};
 use super::{CampaignAction, CampaignError, ExperimentError};
-use crate::files::{create_dir, csv_bytes, fmt_real, read_text, write_atomic, IoError};
-use crate::functions::TestProblem;
+use crate::files::{create_dir, csv_bytes, fmt_real, write_atomic, IoError};
+use crate::functions::{BbobProblem, TestProblem};
 use crate::optim::evaluator::log_checkpoints;
+use crate::optim::Algorithm;
 use crate::optim::{Evaluator, Optimiser, Outcome};
+use crate::problem::Problem;
 use crate::reconstruction::Method;
 use crate::rng::{derive_seed, fnv1a64, run_rng, RNG_NAME};
 
@@ -40,12 +44,20 @@ pub struct Shard {
 impl Shard {
     /// Parses `K/N` with `1 ≤ K ≤ N`.
     pub fn parse(text: &str) -> Result<Shard, ShardError> {
-        let bad = || ShardError(text.to_owned());
-        let (k, n) = text.split_once('/').ok_or_else(bad)?;
-        let k: usize = k.trim().parse().map_err(|_| bad())?;
-        let n: usize = n.trim().parse().map_err(|_| bad())?;
-        if k == 0 || n == 0 || k > n {
-            return Err(bad());
+        let bad = |problem| ShardError {
+            text: text.to_owned(),
+            problem,
+        };
+        let (k, n) = text
+            .split_once('/')
+            .ok_or_else(|| bad(ShardProblem::NoSlash))?;
+        let k: usize = k.trim().parse().map_err(|_| bad(ShardProblem::K))?;
+        let n: usize = n.trim().parse().map_err(|_| bad(ShardProblem::N))?;
+        if n == 0 {
+            return Err(bad(ShardProblem::N));
+        }
+        if k == 0 || k > n {
+            return Err(bad(ShardProblem::OutOfRange { k, n }));
         }
         Ok(Shard { k, n })
     }
@@ -53,6 +65,18 @@ impl Shard {
     /// Whether run `index` belongs to this slice.
     pub fn contains(self, index: usize) -> bool {
         index % self.n == self.k - 1
+    }
+
+    /// The name of this shard's own directory, `shard-K-of-N`.
+    pub fn dir_name(self) -> String {
+        format!("shard-{}-of-{}", self.k, self.n)
+    }
+
+    /// The shard a directory named `shard-K-of-N` holds, if it is so named.
+    pub fn from_dir_name(name: &str) -> Option<Shard> {
+        let (k, n) = name.strip_prefix("shard-")?.split_once("-of-")?;
+        let (k, n) = (k.parse().ok()?, n.parse().ok()?);
+        (k >= 1 && k <= n && name == Shard { k, n }.dir_name()).then_some(Shard { k, n })
     }
 }
 
@@ -62,16 +86,44 @@ impl std::fmt::Display for Shard {
     }
 }
 
-/// A shard that is not `K/N` with `1 ≤ K ≤ N`; holds the text given.
+/// A shard that is not `K/N` with `1 ≤ K ≤ N`: the text given and what is
+/// wrong with it.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("expected a shard as K/N with 1 ≤ K ≤ N, such as 2/8, found \"{0}\"")]
-pub struct ShardError(pub String);
+#[error("expected a shard as K/N with 1 ≤ K ≤ N, such as 2/8, found \"{text}\": {problem}")]
+pub struct ShardError {
+    /// The text given.
+    pub text: String,
+    /// What is wrong with it.
+    pub problem: ShardProblem,
+}
+
+/// What is wrong with a shard's text.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum ShardProblem {
+    /// No `/` between K and N.
+    #[error("there is no '/' between K and N")]
+    NoSlash,
+    /// K is not a whole number.
+    #[error("K is not a whole number")]
+    K,
+    /// N is not a whole number of at least 1.
+    #[error("N is not a whole number of at least 1")]
+    N,
+    /// K is 0 or more than N.
+    #[error("shard {k} does not exist; the shards of {n} are 1 to {n}")]
+    OutOfRange {
+        /// The K given.
+        k: usize,
+        /// The N given.
+        n: usize,
+    },
+}
 
 /// How to run a campaign.
 #[derive(Clone, Debug, Default)]
 pub struct RunOptions {
-    /// Output directory; default `results/<name>` (or
-    /// `results/<name>/shard-K-of-N` for a shard).
+    /// Output directory; default `results/<name>`. A shard writes into its
+    /// own `shard-K-of-N/` beneath it (see [`shard_dir`]).
     pub out: Option<PathBuf>,
     /// Worker threads; default all cores.
     pub threads: Option<usize>,
@@ -83,6 +135,84 @@ pub struct RunOptions {
     pub max_runs: Option<usize>,
     /// Show a progress bar (only ever drawn when stderr is a terminal).
     pub progress: bool,
+    /// Lift the limits on the number of runs and the estimated memory.
+    pub allow_large: bool,
+}
+
+/// An estimate of the memory the records of `spec`'s runs take before
+/// they are written: per run its fixed fields, its convergence checkpoints
+/// and its target hits (24 bytes each), and for a fitting run its segment
+/// rows (22 short strings each).
+pub fn estimated_bytes(spec: &Spec) -> u128 {
+    let per_cell: u128 = spec
+        .problems
+        .iter()
+        .map(|p| {
+            let checkpoints = log_checkpoints(p.budget, spec.checkpoints_per_decade).len() as u128;
+            let segments = match p.kind {
+                ProblemKind::Fit(_) => p.dim as u128 * 22 * 40,
+                _ => 0,
+            };
+            400 + 24 * checkpoints + 24 * default_targets().len() as u128 + segments
+        })
+        .sum();
+    per_cell * spec.cells.len() as u128 * u128::from(spec.runs)
+}
+
+/// Refuses, before anything is allocated, a campaign over
+/// [`super::MAX_RUNS`] runs or an estimated 4 GiB of records, unless
+/// `allow_large`; and more worker threads than 4 × the cores.
+pub fn check_limits(spec: &Spec, opts: &RunOptions) -> Result<(), CampaignError> {
+    let runs = spec.run_count();
+    let bytes = estimated_bytes(spec);
+    if !opts.allow_large && (runs > super::MAX_RUNS || bytes > 4 << 30) {
+        return Err(CampaignError::TooLarge {
+            spec: spec.path.clone(),
+            runs,
+            gib: bytes as f64 / f64::from(1u32 << 30),
+        });
+    }
+    if let Some(asked) = opts.threads {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        if asked > 4 * cores {
+            return Err(CampaignError::TooManyThreads {
+                asked,
+                max: 4 * cores,
+                cores,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// An exclusive lock on a campaign directory (`.lock`, an advisory `flock`
+/// that the operating system releases when the process ends, so a killed
+/// or requeued run never leaves a stale lock); held while it lives.
+pub struct DirLock {
+    _file: std::fs::File,
+}
+
+impl DirLock {
+    /// Takes the lock of `dir` (created if missing), or says who has it.
+    pub fn take(dir: &Path) -> Result<DirLock, ExperimentError> {
+        create_dir(dir)?;
+        let path = dir.join(".lock");
+        let file = std::fs::OpenOptions::new()
+            .create(true)
+            .truncate(false)
+            .write(true)
+            .open(&path)
+            .map_err(|e| IoError::new("open", &path, e))?;
+        match file.try_lock() {
+            Ok(()) => Ok(DirLock { _file: file }),
+            Err(std::fs::TryLockError::WouldBlock) => Err(CampaignError::Locked {
+                dir: dir.to_owned(),
+                lock: path,
+            }
+            .into()),
+            Err(std::fs::TryLockError::Error(e)) => Err(IoError::new("lock", &path, e).into()),
+        }
+    }
 }
 
 /// What a campaign did.
@@ -129,11 +259,29 @@ impl Instances {
                         TestProblem::instance(*f, entry.dim, entry.transform, entry.instance)
                             .expect("instance checked when the spec loaded"),
                     ),
-                    ProblemKind::Fit(_) => None,
+                    ProblemKind::Fit(_) | ProblemKind::Bbob { .. } => None,
                 })
                 .collect(),
         )
     }
+}
+
+/// Minimises a benchmark problem with optimum `f_star` under the run's
+/// budget, target, target precisions and checkpoints.
+pub fn minimise_benchmark<P: Problem + ?Sized>(
+    spec: &Spec,
+    entry: &ProblemEntry,
+    algorithm: &Algorithm,
+    problem: &P,
+    f_star: f64,
+    seed: u64,
+) -> Outcome {
+    let mut eval = Evaluator::new(problem, entry.budget)
+        .with_target(f_star + spec.threshold)
+        .with_targets(f_star, default_targets())
+        .with_checkpoints(log_checkpoints(entry.budget, spec.checkpoints_per_decade));
+    algorithm.minimise(&mut eval, &mut run_rng(seed));
+    eval.finish()
 }
 
 /// Executes one run: derives its seed, minimises, and records the outcome.
@@ -153,32 +301,23 @@ pub fn execute_on(spec: &Spec, instances: &Instances, id: RunId) -> RunRecord {
             let problem = instances.0[id.problem]
                 .as_ref()
                 .expect("a benchmark problem has an instance");
-            let mut eval = Evaluator::new(problem, entry.budget)
-                .with_target(f.optimum_value() + spec.threshold)
-                .with_targets(f.optimum_value(), default_targets())
-                .with_checkpoints(log_checkpoints(entry.budget, spec.checkpoints_per_decade));
-            algorithm.minimise(&mut eval, &mut run_rng(seed));
-            (eval.finish(), None)
+            let out = minimise_benchmark(spec, entry, algorithm, problem, f.optimum_value(), seed);
+            (out, None)
         }
-        (ProblemKind::Benchmark(_), _) => {
+        (ProblemKind::Bbob { function, fopt }, Method::Metaheuristic(algorithm)) => {
+            // Each run owns its COCO problem: threads never share COCO state.
+            let problem = BbobProblem::new(*function, entry.dim, entry.instance as usize)
+                .expect("the bbob problem was built when the spec loaded");
+            let out = minimise_benchmark(spec, entry, algorithm, &problem, *fopt, seed);
+            debug_assert_eq!(problem.coco_evaluations(), out.evaluations);
+            (out, None)
+        }
+        (ProblemKind::Benchmark(_) | ProblemKind::Bbob { .. }, _) => {
             unreachable!("the spec refuses least-squares methods on benchmark functions")
         }
         (ProblemKind::Fit(case), method) => {
-            let fit = case
-                .reconstruction()
-                .fit(method, seed)
-                .expect("the segmentation was checked when the spec loaded");
-            let m = &fit.metrics;
-            let success = m.sse <= spec.threshold;
-            let outcome = Outcome {
-                best_x: Vec::new(),
-                best_value: m.sse,
-                evaluations: m.evaluations,
-                evaluations_to_target: success.then_some(m.evaluations),
-                trace: Vec::new(),
-                hits: Vec::new(),
-            };
-            (outcome, Some(FitDetail::of(&fit)))
+            let (outcome, detail) = case.run(method, seed, spec.threshold);
+            (outcome, Some(detail))
         }
     };
     let wall_seconds = start.elapsed().as_secs_f64();
@@ -206,7 +345,7 @@ pub fn execute_on(spec: &Spec, instances: &Instances, id: RunId) -> RunRecord {
 }
 
 /// The `meta.toml` of a campaign directory.
-fn meta_toml(spec: &Spec, shard: Option<Shard>, runs: usize) -> String {
+pub(super) fn meta_toml(spec: &Spec, shard: Option<Shard>, runs: usize) -> String {
     let mut s = String::new();
     s.push_str("# Written by metabezier; see the README for the file formats.\n");
     s.push_str(&format!(
@@ -242,16 +381,47 @@ fn meta_toml(spec: &Spec, shard: Option<Shard>, runs: usize) -> String {
     s
 }
 
-fn default_out(spec: &Spec, shard: Option<Shard>) -> PathBuf {
-    let base = Path::new("results").join(&spec.name);
+/// The directory a campaign writes into: `out`, by default
+/// `results/<name>`; a shard writes into its own directory beneath it
+/// ([`shard_dir`]), so shards never share a file.
+pub fn campaign_dir(spec: &Spec, out: Option<&Path>, shard: Option<Shard>) -> PathBuf {
+    let parent = out.map_or_else(|| default_out(spec), Path::to_owned);
     match shard {
-        Some(s) => base.join(format!("shard-{}-of-{}", s.k, s.n)),
-        None => base,
+        Some(s) => shard_dir(&parent, s),
+        None => parent,
     }
 }
 
+/// The directory of shard `s` under `parent`: `parent/shard-K-of-N`, or
+/// `parent` itself when it already is that shard's directory: so named, or
+/// started as that shard by a version that wrote shards straight into
+/// `--out` (its `meta.toml` says so), which thus still resumes.
+pub fn shard_dir(parent: &Path, s: Shard) -> PathBuf {
+    let named = parent
+        .file_name()
+        .is_some_and(|n| n.to_str() == Some(s.dir_name().as_str()));
+    if named || recorded_shard(parent) == Some(s.to_string()) {
+        parent.to_owned()
+    } else {
+        parent.join(s.dir_name())
+    }
+}
+
+/// The shard (`K/N`) that `dir/meta.toml` says the directory holds, if any.
+pub(super) fn recorded_shard(dir: &Path) -> Option<String> {
+    let meta = std::fs::read_to_string(dir.join("meta.toml")).ok()?;
+    meta.lines()
+        .find_map(|l| l.strip_prefix("shard = \""))
+        .map(|s| s.trim_end_matches('"').to_owned())
+}
+
+/// `results/<name>`, the default output directory of a campaign.
+pub(super) fn default_out(spec: &Spec) -> PathBuf {
+    Path::new("results").join(&spec.name)
+}
+
 /// Maps every run key of the spec to its position in the fixed order.
-fn key_index(spec: &Spec) -> HashMap<RunKey, usize> {
+pub fn key_index(spec: &Spec) -> HashMap<RunKey, usize> {
     let cell_keys: Vec<String> = spec.cells.iter().map(|c| c.key()).collect();
     let problem_keys: Vec<String> = spec.problems.iter().map(|p| p.match_key()).collect();
     spec.run_ids()
@@ -271,7 +441,7 @@ fn key_index(spec: &Spec) -> HashMap<RunKey, usize> {
 }
 
 /// Writes the three result files of `records` (already in final order).
-fn write_results(spec: &Spec, out: &Path, records: &[RunRecord]) -> Result<(), IoError> {
+pub(super) fn write_results(spec: &Spec, out: &Path, records: &[RunRecord]) -> Result<(), IoError> {
     let optimum: HashMap<String, f64> = spec
         .problems
         .iter()
@@ -286,7 +456,7 @@ fn write_results(spec: &Spec, out: &Path, records: &[RunRecord]) -> Result<(), I
     if spec
         .problems
         .iter()
-        .any(|p| matches!(p.kind, ProblemKind::Benchmark(_)))
+        .any(|p| !matches!(p.kind, ProblemKind::Fit(_)))
     {
         write_atomic(&out.join("hits.csv"), &records::hits_csv(records))?;
     }
@@ -311,9 +481,8 @@ fn outlines_csv(spec: &Spec) -> Vec<u8> {
         })
         .flat_map(|c| {
             c.source
-                .outline
-                .points
-                .iter()
+                .points()
+                .into_iter()
                 .map(move |q| vec![c.source_name.clone(), fmt_real(q.x), fmt_real(q.y)])
         });
     csv_bytes(&["source", "x", "y"], rows)
@@ -322,16 +491,14 @@ fn outlines_csv(spec: &Spec) -> Vec<u8> {
 /// Runs (or resumes) a campaign and writes `runs.csv`, `convergence.csv`,
 /// `timing.csv`, a copy of the spec and `meta.toml` into the output directory.
 pub fn run_campaign(spec: &Spec, opts: &RunOptions) -> Result<Summary, ExperimentError> {
-    let out = opts
-        .out
-        .clone()
-        .unwrap_or_else(|| default_out(spec, opts.shard));
+    check_limits(spec, opts)?;
+    let out = campaign_dir(spec, opts.out.as_deref(), opts.shard);
+    let _lock = DirLock::take(&out)?;
     let journal_path = out.join("journal.csv");
     let has_state = journal_path.exists() || out.join("runs.csv").exists();
     if has_state && !opts.resume {
         return Err(CampaignError::AlreadyHoldsRuns { out }.into());
     }
-    create_dir(&out)?;
 
     let index = key_index(spec);
     let mut done = if has_state {
@@ -361,10 +528,16 @@ pub fn run_campaign(spec: &Spec, opts: &RunOptions) -> Result<Summary, Experimen
     if let Some(m) = opts.max_runs {
         todo.truncate(m);
     }
+    // Longest runs first, so that no core idles at the end; the results
+    // are stored by position, so the order of execution changes nothing.
+    todo.sort_by_key(|id| {
+        let p = &spec.problems[id.problem];
+        std::cmp::Reverse(p.budget.saturating_mul(p.dim as u64))
+    });
     let new = execute_journalled(spec, &todo, &journal_path, opts)?;
     let executed = new.len();
     for (id, rec) in todo.iter().zip(new) {
-        done.insert(id.index, rec?);
+        done.insert(id.index, rec);
     }
 
     let complete = ids.iter().all(|id| done.contains_key(&id.index));
@@ -405,11 +578,9 @@ fn recover(
             .into());
         }
     }
-    if let Ok(meta) = std::fs::read_to_string(out.join("meta.toml")) {
-        let old_shard = meta
-            .lines()
-            .find_map(|l| l.strip_prefix("shard = \""))
-            .map(|s| s.trim_end_matches('"').to_owned());
+    check_spec_hash(spec, out)?;
+    if out.join("meta.toml").exists() {
+        let old_shard = recorded_shard(out);
         let new_shard = shard.map(|s| s.to_string());
         if old_shard != new_shard {
             return Err(CampaignError::ShardChanged {
@@ -420,14 +591,16 @@ fn recover(
             .into());
         }
     }
-    let mut found = Vec::new();
-    if out.join("runs.csv").exists() {
-        found.extend(records::read_results(out)?);
-    }
+    // The journal is the truth while it exists: it holds every finished
+    // run, and the result files beside it may be partial (a campaign killed,
+    // or a disk full, while it wrote them). It is removed only once every
+    // result file is written.
     let journal_path = out.join("journal.csv");
-    if journal_path.exists() {
-        found.extend(journal::read_journal(&journal_path)?);
-    }
+    let found = if journal_path.exists() {
+        journal::read_journal(&journal_path)?
+    } else {
+        records::read_results(out)?
+    };
     let mut done = HashMap::new();
     for r in found {
         let i = *index
@@ -436,6 +609,29 @@ fn recover(
         done.insert(i, r);
     }
     Ok(done)
+}
+
+/// Refuses to resume a campaign whose `meta.toml` records the hash of
+/// another spec (the check that still holds when `spec.toml` is gone).
+fn check_spec_hash(spec: &Spec, out: &Path) -> Result<(), CampaignError> {
+    let meta = out.join("meta.toml");
+    let Ok(text) = std::fs::read_to_string(&meta) else {
+        return Ok(());
+    };
+    let recorded = text
+        .lines()
+        .find_map(|l| l.strip_prefix("spec_fnv1a64 = \""))
+        .map(|s| s.trim_end_matches('"').to_owned());
+    let found = format!("{:016x}", fnv1a64(&spec.text));
+    match recorded {
+        Some(recorded) if recorded != found => Err(CampaignError::SpecHashChanged {
+            meta,
+            spec: spec.path.clone(),
+            recorded,
+            found,
+        }),
+        _ => Ok(()),
+    }
 }
 
 /// Rewrites the journal with the runs already finished, in the fixed order
@@ -454,15 +650,16 @@ fn rewrite_journal(
     write_atomic(path, &bytes)
 }
 
-/// Executes `todo` in parallel, appending each finished run to the journal
-/// at `journal_path`; the records come back in `todo` order, each an error
-/// if its journal line could not be written.
+/// Executes `todo` in parallel, one run per task, appending each finished
+/// run to the journal at `journal_path`; the records come back in `todo`
+/// order. The first journal line that cannot be written stops the campaign
+/// (no new run starts; the journal keeps the finished ones).
 fn execute_journalled(
     spec: &Spec,
     todo: &[RunId],
     journal_path: &Path,
     opts: &RunOptions,
-) -> Result<Vec<Result<RunRecord, IoError>>, ExperimentError> {
+) -> Result<Vec<RunRecord>, ExperimentError> {
     let journal = std::fs::OpenOptions::new()
         .append(true)
         .open(journal_path)
@@ -474,8 +671,9 @@ fn execute_journalled(
         .num_threads(opts.threads.unwrap_or(0))
         .build()
         .map_err(CampaignError::Threads)?;
-    let new = pool.install(|| {
+    let new: Result<Vec<RunRecord>, IoError> = pool.install(|| {
         todo.par_iter()
+            .with_max_len(1)
             .map(|id| {
                 let rec = execute_on(spec, &instances, *id);
                 let line = journal::journal_line(&rec);
@@ -490,7 +688,7 @@ fn execute_journalled(
             .collect()
     });
     bar.finish_and_clear();
-    Ok(new)
+    Ok(new?)
 }
 
 /// A progress bar over `runs` runs, drawn only if asked and stderr is a
@@ -511,7 +709,7 @@ fn progress_bar(spec: &Spec, runs: usize, progress: bool) -> indicatif::Progress
 }
 
 /// The error for run `r` of `dir`, which the spec does not define.
-fn foreign_run(action: CampaignAction, dir: &Path, r: &RunRecord) -> CampaignError {
+pub(super) fn foreign_run(action: CampaignAction, dir: &Path, r: &RunRecord) -> CampaignError {
     CampaignError::ForeignRun {
         action,
         dir: dir.to_owned(),
@@ -519,82 +717,4 @@ fn foreign_run(action: CampaignAction, dir: &Path, r: &RunRecord) -> CampaignErr
         cell: r.cell_key(),
         problem: r.match_key(),
     }
-}
-
-/// Joins the result directories of shards of one campaign into one
-/// directory whose files equal those of an unsharded run.
-pub fn merge(
-    spec: &Spec,
-    dirs: &[PathBuf],
-    out: Option<PathBuf>,
-) -> Result<Summary, ExperimentError> {
-    let out = out.unwrap_or_else(|| default_out(spec, None));
-    let index = key_index(spec);
-    let mut done: HashMap<usize, RunRecord> = HashMap::new();
-    for dir in dirs {
-        let copy = dir.join("spec.toml");
-        let text = read_text(&copy)?;
-        if text != spec.text {
-            return Err(CampaignError::DifferentSpec {
-                copy,
-                spec: spec.path.clone(),
-            }
-            .into());
-        }
-        if !dir.join("runs.csv").exists() {
-            return Err(CampaignError::UnfinishedShard { dir: dir.clone() }.into());
-        }
-        for r in records::read_results(dir)? {
-            let i = *index
-                .get(&r.key())
-                .ok_or_else(|| foreign_run(CampaignAction::Merge, dir, &r))?;
-            if let Some(prev) = done.get(&i) {
-                let same = RunRecord {
-                    wall_seconds: prev.wall_seconds,
-                    ..r.clone()
-                };
-                if &same != prev {
-                    return Err(CampaignError::ShardsDisagree {
-                        run: r.run,
-                        cell: r.cell_key(),
-                        problem: r.match_key(),
-                    }
-                    .into());
-                }
-            }
-            done.insert(i, r);
-        }
-    }
-    let ids = spec.run_ids();
-    let missing: Vec<usize> = ids
-        .iter()
-        .filter(|id| !done.contains_key(&id.index))
-        .map(|id| id.index)
-        .collect();
-    if !missing.is_empty() {
-        return Err(CampaignError::MissingRuns {
-            missing: missing.len(),
-            total: ids.len(),
-            first: missing[0],
-        }
-        .into());
-    }
-    create_dir(&out)?;
-    let ordered: Vec<RunRecord> = ids
-        .iter()
-        .map(|id| done.remove(&id.index).expect("complete"))
-        .collect();
-    write_atomic(&out.join("spec.toml"), spec.text.as_bytes())?;
-    write_atomic(
-        &out.join("meta.toml"),
-        meta_toml(spec, None, ids.len()).as_bytes(),
-    )?;
-    write_results(spec, &out, &ordered)?;
-    Ok(Summary {
-        out,
-        total: ids.len(),
-        reused: ids.len(),
-        executed: 0,
-        complete: true,
-    })
 }

@@ -90,6 +90,23 @@ pub enum FitError {
         /// The length given.
         found: usize,
     },
+    /// A fit of one contour of a shape failed.
+    Contour {
+        /// The contour's number in its input.
+        contour: usize,
+        /// Why.
+        error: Box<FitError>,
+    },
+}
+
+impl FitError {
+    /// `error`, located in contour `contour` of a shape.
+    pub fn in_contour(contour: usize, error: FitError) -> FitError {
+        FitError::Contour {
+            contour,
+            error: Box::new(error),
+        }
+    }
 }
 
 impl fmt::Display for FitError {
@@ -158,8 +175,16 @@ impl fmt::Display for FitError {
                 f,
                 "the decision vector has {found} value(s), the problem {expected}"
             ),
+            FitError::Contour { contour, error } => write!(f, "contour {contour}: {error}"),
         }
     }
 }
 
-impl std::error::Error for FitError {}
+impl std::error::Error for FitError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            FitError::Contour { error, .. } => Some(error.as_ref()),
+            _ => None,
+        }
+    }
+}

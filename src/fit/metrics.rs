@@ -18,6 +18,13 @@ pub struct SegmentMetrics {
     pub max_distance: f64,
     /// The local index (0-based within the segment) of that point.
     pub max_index: usize,
+    /// `Σᵢ dᵢ²`, the orthogonal distances `dᵢ` of the data points squared
+    /// and summed (compare `sse`, measured at the parameters `sᵢ`).
+    pub sum_sq_distance: f64,
+    /// `√(Σᵢ dᵢ²/N)`: the RMS of the orthogonal distances (what tools such
+    /// as potrace, FontForge and Inkscape are judged by); `rms` is measured
+    /// at the parameters `sᵢ` and is never smaller.
+    pub rms_distance: f64,
     /// Objective evaluations spent on the segment.
     pub evaluations: u64,
 }
@@ -30,24 +37,24 @@ pub fn segment_metrics<C: Curve + ?Sized>(
     evaluations: u64,
 ) -> SegmentMetrics {
     let sse = curve.sse(points, params);
-    let (max_index, max_distance) = points
-        .iter()
-        .map(|&p| nearest(curve, p).1)
-        .enumerate()
-        .fold(
-            (0, 0.0),
-            |best, (i, d)| if d > best.1 { (i, d) } else { best },
-        );
+    let mut max_index = 0;
+    let mut max_distance = 0.0;
+    let mut sum_sq_distance = 0.0;
+    for (i, &p) in points.iter().enumerate() {
+        let d = nearest(curve, p).1;
+        sum_sq_distance += d * d;
+        if d > max_distance {
+            (max_index, max_distance) = (i, d);
+        }
+    }
     SegmentMetrics {
         points: points.len(),
         sse,
-        rms: if points.is_empty() {
-            0.0
-        } else {
-            (sse / points.len() as f64).sqrt()
-        },
+        rms: per_point(sse, points.len()),
         max_distance,
         max_index,
+        sum_sq_distance,
+        rms_distance: per_point(sum_sq_distance, points.len()),
         evaluations,
     }
 }
@@ -66,6 +73,11 @@ pub struct FitMetrics {
     pub rms: f64,
     /// The largest orthogonal distance over all segments.
     pub max_distance: f64,
+    /// `√(Σ d²/N)`: the RMS of the orthogonal distances of the data points
+    /// (break points count once: their distance is 0 in both segments).
+    pub rms_distance: f64,
+    /// `Σ d²` over the data points.
+    pub sum_sq_distance: f64,
     /// Objective evaluations over all segments.
     pub evaluations: u64,
 }
@@ -74,18 +86,44 @@ impl FitMetrics {
     /// Totals of the per-segment metrics for an outline of `points` points.
     pub fn total(segments: &[SegmentMetrics], points: usize) -> FitMetrics {
         let sse: f64 = segments.iter().map(|s| s.sse).sum();
+        let sum_sq: f64 = segments.iter().map(|s| s.sum_sq_distance).sum();
         FitMetrics {
             points,
             segments: segments.len(),
             sse,
-            rms: if points == 0 {
-                0.0
-            } else {
-                (sse / points as f64).sqrt()
-            },
+            rms: per_point(sse, points),
             max_distance: segments.iter().map(|s| s.max_distance).fold(0.0, f64::max),
+            rms_distance: per_point(sum_sq, points),
+            sum_sq_distance: sum_sq,
             evaluations: segments.iter().map(|s| s.evaluations).sum(),
         }
+    }
+
+    /// The totals of several fits (the contours of one shape): sums of
+    /// points, segments, `E`, `Σ d²` and evaluations; the largest distance.
+    pub fn combine(parts: &[FitMetrics]) -> FitMetrics {
+        let points: usize = parts.iter().map(|m| m.points).sum();
+        let sse: f64 = parts.iter().map(|m| m.sse).sum();
+        let sum_sq: f64 = parts.iter().map(|m| m.sum_sq_distance).sum();
+        FitMetrics {
+            points,
+            segments: parts.iter().map(|m| m.segments).sum(),
+            sse,
+            rms: per_point(sse, points),
+            max_distance: parts.iter().map(|m| m.max_distance).fold(0.0, f64::max),
+            rms_distance: per_point(sum_sq, points),
+            sum_sq_distance: sum_sq,
+            evaluations: parts.iter().map(|m| m.evaluations).sum(),
+        }
+    }
+}
+
+/// `√(total/n)`, 0 for no points.
+fn per_point(total: f64, n: usize) -> f64 {
+    if n == 0 {
+        0.0
+    } else {
+        (total / n as f64).sqrt()
     }
 }
 

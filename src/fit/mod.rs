@@ -7,7 +7,8 @@
 //! the segment's first and last data points, minimising
 //! `E = Σᵢ |Rᵢ − P(sᵢ)|²` at parameters `sᵢ` (chord length by default).
 //! Segments are fitted in sequence; each joins the previous one with C⁰, C¹
-//! or G¹ continuity (Farin 2002, §10.2 and §13.6).
+//! or G¹ continuity (Farin 2002, §10.2 and §13.6), and a closed outline's
+//! chain closes smoothly ([`Closing`]).
 //!
 //! The split follows argmin's: a [`SegmentProblem`] is an ordinary
 //! box-bounded [`crate::problem::Problem`] (and a
@@ -23,8 +24,11 @@
 //! | [`search_space`] | the thesis's search-space technique (reconstructed) |
 //! | [`linear_fit`] | fixed-weight linear least squares |
 //! | [`SegmentSolver`] | metaheuristic, LM and hybrid solvers |
-//! | [`fit_piecewise`], [`fit_segment_count`], [`fit_adaptive`] | whole outlines |
-//! | [`SegmentMetrics`], [`FitMetrics`] | E, RMS, max orthogonal distance, evaluations |
+//! | [`fit_piecewise`], [`fit_segment_count`], [`fit_adaptive`] | whole outlines, closed smoothly or C⁰ ([`Closing`]) |
+//! | [`fit_independent`] | every segment of a reference fit as its own problem |
+//! | [`densify`] | points inserted into a span too short for its function |
+//! | [`SegmentMetrics`], [`FitMetrics`] | E, RMS, orthogonal max and RMS distance, evaluations |
+//! | [`outline_trace`] | the best-so-far E of a whole fit |
 //!
 //! ```
 //! use std::f64::consts::FRAC_PI_2;
@@ -58,18 +62,22 @@ mod problem;
 pub mod search_space;
 mod segment;
 mod solver;
+mod span;
+mod trace;
 
 pub use error::FitError;
 pub use function::FunctionType;
 pub use linear::linear_fit;
 pub use metrics::{segment_metrics, FitMetrics, SegmentMetrics};
-pub use options::{FitOptions, GuessRule, SearchSpace, SearchSpaceOptions};
+pub use options::{Closing, FitOptions, GuessRule, SearchSpace, SearchSpaceOptions};
 pub use piecewise::{
-    equal_arc_breaks, fit_adaptive, fit_breaks, fit_piecewise, fit_segment_count, ClosingJoint,
-    FittedSegment, PiecewiseFit, SplitOptions,
+    equal_arc_breaks, fit_adaptive, fit_breaks, fit_independent, fit_piecewise, fit_segment_count,
+    ClosingJoint, PiecewiseFit, SplitOptions,
 };
-pub use problem::{End, SegmentProblem, Start};
+pub use problem::{tangent_meet, End, SegmentProblem, Start};
 pub use segment::Segment;
 pub use solver::{
     HybridSolver, LmSolver, LmStart, OptimiserSolver, SegmentSolver, Solution, SolvePart,
 };
+pub use span::{densify, FittedSegment};
+pub use trace::outline_trace;

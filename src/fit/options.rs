@@ -151,6 +151,44 @@ impl SearchSpaceOptions {
     }
 }
 
+/// How the chain of segments closes on a closed outline.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Closing {
+    /// The closing joint gets the requested continuity unless it lies at a
+    /// corner: the chain starts at a corner when the outline has one (so it
+    /// also closes there, where C⁰ is right); otherwise the last segment is
+    /// fitted with an end join to the first segment's start tangent
+    /// ([`crate::fit::End`]), so the closing joint is G¹ or C¹ by construction.
+    #[default]
+    Smooth,
+    /// The chain starts at the first break and the closing joint is only C⁰
+    /// (sequential fitting as the thesis describes it; the behaviour of
+    /// specs written before the smooth closing existed).
+    C0,
+}
+
+impl Closing {
+    /// The names accepted in specs and on the command line.
+    pub const NAMES: [&'static str; 2] = ["smooth", "c0"];
+
+    /// Parses a name.
+    pub fn from_name(name: &str) -> Option<Closing> {
+        match name {
+            "smooth" => Some(Closing::Smooth),
+            "c0" | "C0" => Some(Closing::C0),
+            _ => None,
+        }
+    }
+
+    /// The name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Closing::Smooth => "smooth",
+            Closing::C0 => "c0",
+        }
+    }
+}
+
 /// Everything a piecewise fit needs besides the data, the breaks and the solver.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FitOptions {
@@ -171,6 +209,8 @@ pub struct FitOptions {
     /// solves again, with a fresh `budget_per_segment`. Default 0 (the
     /// thesis keeps the parameters fixed).
     pub reparameterise: u32,
+    /// How a closed outline's chain closes; default [`Closing::Smooth`].
+    pub closing: Closing,
 }
 
 impl Default for FitOptions {
@@ -182,6 +222,7 @@ impl Default for FitOptions {
             search: SearchSpaceOptions::default(),
             budget_per_segment: 10_000,
             reparameterise: 0,
+            closing: Closing::Smooth,
         }
     }
 }

@@ -12,43 +12,32 @@
 //!
 //! Segment `k > 0` starts where segment `k − 1` ends and inherits its join
 //! from it ([`Start::after`]), so interior joints hold C¹ or G¹ *by
-//! construction*. On a closed outline the last segment must also end at the
-//! first segment's start, which is all that can be imposed there without
-//! solving the segments simultaneously: the closing joint is only C⁰, and
-//! [`PiecewiseFit::closing`] reports its tangent and derivative mismatch.
+//! construction*. On a closed outline the chain must also close
+//! ([`Closing`]): closed smoothly (the default), it starts at a corner when
+//! the outline has one, so it closes at that corner (C⁰ is right there);
+//! without a corner the last segment is fitted with an end join to the
+//! first segment's start ([`End`]), so the closing joint is G¹ or C¹ by
+//! construction too, at no extra solve. Quadratic functions have one inner
+//! control point: they close G¹ where the two tangent lines meet in front
+//! of both ends ([`crate::fit::tangent_meet`]) and C⁰ otherwise, and with
+//! C¹ joins they close C⁰ (C¹ would fix that point twice). Closed C⁰
+//! ([`Closing::C0`]) the chain starts at the first break and only C⁰ is
+//! imposed at the closing joint, as the thesis's sequential fitting does.
+//! [`PiecewiseFit::closing`] reports the closing joint's mismatch either way.
+//!
+//! [`fit_independent`] refits every segment of a reference fit as its own
+//! problem, joined to the reference's neighbours (the per-segment mode).
 
-use super::metrics::{segment_metrics, FitMetrics, SegmentMetrics};
-use super::{FitError, FitOptions, Segment, SegmentProblem, SegmentSolver, Solution, Start};
+use super::metrics::{FitMetrics, SegmentMetrics};
+use super::span::{fit_one, Outline, Piece};
+use super::{
+    outline_trace, Closing, End, FitError, FitOptions, FittedSegment, SegmentSolver, Start,
+};
 use crate::geometry::{check_join, Continuity, Curve, Point};
-use crate::problem::Problem;
-
-/// One fitted segment of an outline.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FittedSegment {
-    /// The geometry.
-    pub segment: Segment,
-    /// Outline index of its first data point.
-    pub first: usize,
-    /// Outline index of its last data point (on a closed outline the last
-    /// segment wraps around, so `last` may be smaller than `first`).
-    pub last: usize,
-    /// The continuity imposed at its start (C⁰ for the first segment and
-    /// after a corner).
-    pub join: Continuity,
-    /// The decision vector found.
-    pub x: Vec<f64>,
-    /// The local parameters `sᵢ` the error was measured at (after any
-    /// parameter correction).
-    pub params: Vec<f64>,
-    /// What the solver reported (with parameter correction, the last solve;
-    /// `evaluations` counts all of them).
-    pub solution: Solution,
-    /// Its error, distances and cost.
-    pub metrics: SegmentMetrics,
-}
+use crate::optim::TracePoint;
 
 /// The mismatch at the closing joint of a closed outline (last segment's end
-/// → first segment's start), where only C⁰ is imposed.
+/// → first segment's start).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ClosingJoint {
     /// `|Q_last(1) − Q_first(0)|` (zero by construction, up to rounding).
@@ -60,10 +49,16 @@ pub struct ClosingJoint {
     pub derivative_gap: f64,
     /// The derivative gap relative to the larger derivative's length.
     pub relative_derivative_gap: f64,
+    /// The continuity imposed there: C⁰ at a corner or for a chain closed
+    /// C⁰ ([`Closing::C0`]), else the fit's continuity.
+    pub imposed: Continuity,
+    /// Whether the chain starts, and so closes, at a detected corner.
+    pub at_corner: bool,
 }
 
 impl ClosingJoint {
-    /// The mismatch between the end of `last` and the start of `first`.
+    /// The mismatch between the end of `last` and the start of `first`
+    /// (imposed C⁰, not at a corner; see [`ClosingJoint::imposed`]).
     pub fn between<L: Curve + ?Sized, F: Curve + ?Sized>(last: &L, first: &F) -> ClosingJoint {
         let (d1, d2) = (last.deriv(1.0), first.deriv(0.0));
         let (l1, l2) = (d1.hypot(), d2.hypot());
@@ -79,6 +74,8 @@ impl ClosingJoint {
             angle_degrees: angle,
             derivative_gap: gap,
             relative_derivative_gap: if scale > 0.0 { gap / scale } else { 0.0 },
+            imposed: Continuity::C0,
+            at_corner: false,
         }
     }
 }
@@ -86,7 +83,8 @@ impl ClosingJoint {
 /// A fitted outline.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PiecewiseFit {
-    /// The segments in order along the outline.
+    /// The segments in fitting order along the outline (on a closed outline
+    /// closed smoothly, starting at a corner when there is one).
     pub segments: Vec<FittedSegment>,
     /// Whether the outline is closed.
     pub closed: bool,
@@ -112,168 +110,12 @@ impl PiecewiseFit {
             .windows(2)
             .all(|w| check_join(&w[0].segment, &w[1].segment, w[1].join, tol))
     }
-}
 
-/// The outline and how to read a segment's data from it.
-struct Outline<'a> {
-    points: &'a [Point],
-    closed: bool,
-}
-
-impl Outline<'_> {
-    fn new(points: &[Point], closed: bool, function_min: usize) -> Result<Outline<'_>, FitError> {
-        let needed = if closed {
-            function_min - 1
-        } else {
-            function_min
-        };
-        if points.len() < needed.max(2) {
-            return Err(FitError::TooFewOutlinePoints {
-                found: points.len(),
-                needed: needed.max(2),
-            });
-        }
-        if let Some(index) = points.iter().position(|p| !p.is_finite()) {
-            return Err(FitError::NonFinitePoint { index });
-        }
-        Ok(Outline { points, closed })
+    /// The best-so-far `E` of the whole fit against evaluations
+    /// ([`outline_trace`]).
+    pub fn trace(&self) -> Vec<TracePoint> {
+        outline_trace(&self.segments)
     }
-
-    fn len(&self) -> usize {
-        self.points.len()
-    }
-
-    /// The points `first..=last` (`last ≥ first`, possibly `≥ len` for a
-    /// wrap on a closed outline).
-    fn gather(&self, first: usize, last: usize) -> Vec<Point> {
-        (first..=last)
-            .map(|i| self.points[i % self.len()])
-            .collect()
-    }
-
-    /// Cumulative chord length from `first` over `first..=last`.
-    fn cumulative(&self, first: usize, last: usize) -> Vec<f64> {
-        let pts = self.gather(first, last);
-        let mut acc = 0.0;
-        let mut out = Vec::with_capacity(pts.len());
-        out.push(0.0);
-        for w in pts.windows(2) {
-            acc += w[0].distance(w[1]);
-            out.push(acc);
-        }
-        out
-    }
-
-    /// The spans `(first, last)` between consecutive breaks: on an open
-    /// outline the ends are breaks too; on a closed one the last span wraps
-    /// to the first break (no breaks: one span from point 0 round to itself).
-    fn spans(&self, breaks: &[usize]) -> Result<Vec<(usize, usize)>, FitError> {
-        let n = self.len();
-        for (k, &b) in breaks.iter().enumerate() {
-            if b >= n {
-                return Err(FitError::BreakOutOfRange { index: b, len: n });
-            }
-            if k > 0 && b <= breaks[k - 1] {
-                return Err(FitError::BreaksNotSorted {
-                    position: k,
-                    previous: breaks[k - 1],
-                    index: b,
-                });
-            }
-        }
-        let mut b = breaks.to_vec();
-        if self.closed {
-            if b.is_empty() {
-                b.push(0);
-            }
-            let mut spans: Vec<(usize, usize)> = b.windows(2).map(|w| (w[0], w[1])).collect();
-            spans.push((b[b.len() - 1], b[0] + n));
-            Ok(spans)
-        } else {
-            if b.first() != Some(&0) {
-                b.insert(0, 0);
-            }
-            if b.last() != Some(&(n - 1)) {
-                b.push(n - 1);
-            }
-            Ok(b.windows(2).map(|w| (w[0], w[1])).collect())
-        }
-    }
-}
-
-/// Checks that a span has enough points for `options.function`.
-fn check_span(
-    outline: &Outline<'_>,
-    segment: usize,
-    first: usize,
-    last: usize,
-    options: &FitOptions,
-) -> Result<(), FitError> {
-    let found = last - first + 1;
-    let needed = options.function.min_points();
-    if found < needed {
-        return Err(FitError::TooFewPoints {
-            segment,
-            first,
-            last: last % outline.len(),
-            found,
-            needed,
-            function: options.function,
-        });
-    }
-    Ok(())
-}
-
-/// Fits one segment on `first..=last` starting as `start` says.
-#[allow(clippy::too_many_arguments)]
-fn fit_one<S: SegmentSolver + ?Sized>(
-    outline: &Outline<'_>,
-    index: usize,
-    first: usize,
-    last: usize,
-    start: Start,
-    join: Continuity,
-    options: &FitOptions,
-    solver: &mut S,
-) -> Result<FittedSegment, FitError> {
-    check_span(outline, index, first, last, options)?;
-    let pts = outline.gather(first, last);
-    let mut problem = SegmentProblem::with_parameterisation(
-        options.function,
-        pts,
-        options.parameterisation,
-        start,
-        &options.search,
-    )?;
-    let solve = |problem: &SegmentProblem, solver: &mut S| {
-        if problem.dim() == 0 {
-            // Fully determined (a quadratic with a C¹ join): no optimiser.
-            Solution::fixed(problem, options.budget_per_segment)
-        } else {
-            solver.solve(problem, options.budget_per_segment)
-        }
-    };
-    let mut solution = solve(&problem, solver);
-    let mut spent = solution.evaluations;
-    for _ in 0..options.reparameterise {
-        let seg = problem.segment(&solution.x);
-        problem = problem.with_params(problem.corrected_params(&seg))?;
-        solution = solve(&problem, solver);
-        spent += solution.evaluations;
-    }
-    solution.evaluations = spent;
-    let segment = problem.segment(&solution.x);
-    let metrics = segment_metrics(&segment, problem.points(), problem.params(), spent);
-    Ok(FittedSegment {
-        segment,
-        first,
-        last: last % outline.len(),
-        join,
-        x: solution.x.clone(),
-        params: problem.params().to_vec(),
-        solution,
-        metrics,
-    })
 }
 
 /// The start of the next segment after `previous` at a joint of `join`.
@@ -281,13 +123,39 @@ fn start_after(previous: Option<&FittedSegment>, join: Continuity) -> Start {
     previous.map_or(Start::Free, |p| Start::after(&p.segment, join))
 }
 
-/// Assembles the result.
-fn finish(outline: &Outline<'_>, segments: Vec<FittedSegment>, discarded: u64) -> PiecewiseFit {
+/// The end join of a segment that closes the chain before `first`: the
+/// first segment's start tangent (G¹) or derivative (C¹).
+fn end_before(first: &FittedSegment, continuity: Continuity) -> End {
+    let d = first.segment.deriv(0.0);
+    match continuity {
+        Continuity::C0 => End::Free,
+        Continuity::C1 => End::C1 { derivative: d },
+        Continuity::G1 => End::G1 { dir: d },
+    }
+}
+
+/// Assembles the result; `at_corner` says whether the chain starts (and
+/// closes) at a corner.
+fn finish(
+    outline: &Outline<'_>,
+    segments: Vec<FittedSegment>,
+    discarded: u64,
+    at_corner: bool,
+) -> PiecewiseFit {
     let per: Vec<SegmentMetrics> = segments.iter().map(|s| s.metrics).collect();
     let mut metrics = FitMetrics::total(&per, outline.len());
     metrics.evaluations += discarded;
     let closing = match (outline.closed, segments.first(), segments.last()) {
-        (true, Some(f), Some(l)) => Some(ClosingJoint::between(&l.segment, &f.segment)),
+        (true, Some(f), Some(l)) => {
+            let mut c = ClosingJoint::between(&l.segment, &f.segment);
+            c.at_corner = at_corner;
+            c.imposed = match l.end {
+                End::Free => Continuity::C0,
+                End::C1 { .. } => Continuity::C1,
+                End::G1 { .. } => Continuity::G1,
+            };
+            Some(c)
+        }
         _ => None,
     };
     PiecewiseFit {
@@ -299,24 +167,102 @@ fn finish(outline: &Outline<'_>, segments: Vec<FittedSegment>, discarded: u64) -
     }
 }
 
-/// Fits the spans in order; `joins[k]` is the continuity at the start of span `k`.
+/// The spans of a chain in fitting order, the continuity at each start,
+/// and whether the first starts at a corner.
+struct Chain {
+    spans: Vec<(usize, usize)>,
+    joins: Vec<Continuity>,
+    at_corner: bool,
+}
+
+impl Chain {
+    /// The chain of `spans` (in outline order) whose starts are corners
+    /// where `corner[k]`: C⁰ there, the options' continuity elsewhere, the
+    /// first segment free. A closed outline closed smoothly starts at its
+    /// first corner, if any (the spans rotated, wrapping indices kept
+    /// increasing); otherwise the chain starts at the first span.
+    fn new(
+        outline: &Outline<'_>,
+        spans: Vec<(usize, usize)>,
+        corner: &[bool],
+        options: &FitOptions,
+    ) -> Chain {
+        let mut joins: Vec<Continuity> = corner
+            .iter()
+            .map(|&c| {
+                if c {
+                    Continuity::C0
+                } else {
+                    options.continuity
+                }
+            })
+            .collect();
+        let smooth = outline.closed && options.closing == Closing::Smooth;
+        let first = if smooth {
+            corner.iter().position(|&c| c).unwrap_or(0)
+        } else {
+            0
+        };
+        let n = outline.len();
+        let mut spans = spans;
+        spans.rotate_left(first);
+        joins.rotate_left(first);
+        // Indices after the rotation point wrap: keep them increasing.
+        let base = spans.first().map_or(0, |s| s.0);
+        for s in spans.iter_mut() {
+            if s.0 < base {
+                *s = (s.0 + n, s.1 + n);
+            }
+        }
+        let at_corner = outline.closed && corner.get(first).copied().unwrap_or(false);
+        if let Some(j) = joins.first_mut() {
+            *j = Continuity::C0;
+        }
+        Chain {
+            spans,
+            joins,
+            at_corner,
+        }
+    }
+
+    /// Whether the last segment joins the first one's start: a closed
+    /// outline closed smoothly, not at a corner, with a smooth continuity
+    /// and more than one segment.
+    fn closes_smoothly(&self, outline: &Outline<'_>, options: &FitOptions) -> bool {
+        outline.closed
+            && options.closing == Closing::Smooth
+            && !self.at_corner
+            && options.continuity != Continuity::C0
+            && self.spans.len() > 1
+    }
+}
+
+/// Fits the chain's spans in order, each inheriting its join; the last one
+/// joins the first when the chain closes smoothly.
 fn fit_chain<S: SegmentSolver + ?Sized>(
     outline: &Outline<'_>,
-    spans: &[(usize, usize)],
-    joins: &[Continuity],
+    chain: &Chain,
     options: &FitOptions,
     solver: &mut S,
 ) -> Result<PiecewiseFit, FitError> {
-    for (k, &(a, b)) in spans.iter().enumerate() {
-        check_span(outline, k, a, b, options)?;
+    let close = chain.closes_smoothly(outline, options);
+    let n = chain.spans.len();
+    let mut segments: Vec<FittedSegment> = Vec::with_capacity(n);
+    for (k, (&(first, last), &join)) in chain.spans.iter().zip(&chain.joins).enumerate() {
+        let end = match segments.first() {
+            Some(f) if close && k + 1 == n => end_before(f, options.continuity),
+            _ => End::Free,
+        };
+        let piece = Piece {
+            first,
+            last,
+            join,
+            start: start_after(segments.last(), join),
+            end,
+        };
+        segments.push(fit_one(outline, piece, options, solver)?);
     }
-    let mut segments: Vec<FittedSegment> = Vec::with_capacity(spans.len());
-    for (k, (&(a, b), &join)) in spans.iter().zip(joins).enumerate() {
-        let start = start_after(segments.last(), join);
-        let seg = fit_one(outline, k, a, b, start, join, options, solver)?;
-        segments.push(seg);
-    }
-    Ok(finish(outline, segments, 0))
+    Ok(finish(outline, segments, 0, chain.at_corner))
 }
 
 /// Fits `options.function` to `points` split at `breaks`, every interior
@@ -353,18 +299,12 @@ pub fn fit_breaks<S: SegmentSolver + ?Sized>(
     options.validate()?;
     let outline = Outline::new(points, closed, options.function.min_points())?;
     let spans = outline.spans(breaks)?;
-    let joins: Vec<Continuity> = spans
+    let corner: Vec<bool> = spans
         .iter()
-        .enumerate()
-        .map(|(k, &(a, _))| {
-            if k == 0 || corners.contains(&(a % points.len())) {
-                Continuity::C0
-            } else {
-                options.continuity
-            }
-        })
+        .map(|&(a, _)| corners.contains(&(a % points.len())))
         .collect();
-    fit_chain(&outline, &spans, &joins, options, solver)
+    let chain = Chain::new(&outline, spans, &corner, options);
+    fit_chain(&outline, &chain, options, solver)
 }
 
 /// The break indices of `count` segments: the spans between `corners` get
@@ -410,7 +350,9 @@ pub fn equal_arc_breaks(
     let n = points.len();
     let mut out: Vec<(usize, bool)> = Vec::new();
     for ((&(a, b), cum), &parts) in spans.iter().zip(&lengths).zip(&alloc) {
-        out.push((a % n, true));
+        // A span starts at a corner, or at point 0 of an outline without
+        // corners (open, or closed and smooth all round).
+        out.push((a % n, corners.contains(&(a % n))));
         let len = total(cum);
         let mut prev = 0usize;
         for j in 1..parts {
@@ -426,12 +368,6 @@ pub fn equal_arc_breaks(
             let best = best.min(b - a - (parts - j)).max(prev + 1);
             out.push(((a + best) % n, false));
             prev = best;
-        }
-    }
-    // Spans on an open outline start at 0, which is not a corner unless listed.
-    if !closed {
-        if let Some(first) = out.first_mut() {
-            first.1 = corners.contains(&0);
         }
     }
     out.sort_by_key(|&(i, _)| i);
@@ -455,22 +391,17 @@ pub fn fit_segment_count<S: SegmentSolver + ?Sized>(
     let outline = Outline::new(points, closed, options.function.min_points())?;
     let (breaks, is_corner) = equal_arc_breaks(points, closed, corners, count)?;
     let spans = outline.spans(&breaks)?;
-    let joins: Vec<Continuity> = spans
+    let corner: Vec<bool> = spans
         .iter()
-        .enumerate()
-        .map(|(k, &(a, _))| {
-            let corner = breaks
+        .map(|&(a, _)| {
+            breaks
                 .iter()
                 .position(|&b| b == a)
-                .is_some_and(|p| is_corner[p]);
-            if k == 0 || corner {
-                Continuity::C0
-            } else {
-                options.continuity
-            }
+                .is_some_and(|p| is_corner[p])
         })
         .collect();
-    fit_chain(&outline, &spans, &joins, options, solver)
+    let chain = Chain::new(&outline, spans, &corner, options);
+    fit_chain(&outline, &chain, options, solver)
 }
 
 /// The stopping rule of [`fit_adaptive`].
@@ -526,13 +457,17 @@ pub fn fit_adaptive<S: SegmentSolver + ?Sized>(
     options.validate()?;
     let outline = Outline::new(points, closed, options.function.min_points())?;
     let spans = outline.spans(corners)?;
-    for (k, &(a, b)) in spans.iter().enumerate() {
-        check_span(&outline, k, a, b, options)?;
-    }
+    let corner: Vec<bool> = spans
+        .iter()
+        .map(|&(a, _)| corners.contains(&(a % points.len())))
+        .collect();
+    let chain = Chain::new(&outline, spans, &corner, options);
+    let close = chain.closes_smoothly(&outline, options);
+    let closing_point = chain.spans.last().map_or(0, |s| s.1);
     let min_pts = split.min_points.max(options.function.min_points());
     let mut segments: Vec<FittedSegment> = Vec::new();
     let mut discarded = 0u64;
-    for &(a, b) in &spans {
+    for &(a, b) in &chain.spans {
         // Pending pieces, the next one on top: (first, last, depth).
         let mut stack = vec![(a, b, 0u32)];
         while let Some((p, q, depth)) = stack.pop() {
@@ -541,8 +476,18 @@ pub fn fit_adaptive<S: SegmentSolver + ?Sized>(
             } else {
                 options.continuity
             };
-            let start = start_after(segments.last(), join);
-            let fit = fit_one(&outline, segments.len(), p, q, start, join, options, solver)?;
+            let end = match segments.first() {
+                Some(f) if close && q == closing_point => end_before(f, options.continuity),
+                _ => End::Free,
+            };
+            let piece = Piece {
+                first: p,
+                last: q,
+                join,
+                start: start_after(segments.last(), join),
+                end,
+            };
+            let fit = fit_one(&outline, piece, options, solver)?;
             let lo = p + min_pts - 1;
             let hi = q + 1 - min_pts.min(q + 1);
             if fit.metrics.max_distance > split.tolerance && depth < split.max_depth && lo <= hi {
@@ -557,7 +502,57 @@ pub fn fit_adaptive<S: SegmentSolver + ?Sized>(
             }
         }
     }
-    Ok(finish(&outline, segments, discarded))
+    Ok(finish(&outline, segments, discarded, chain.at_corner))
+}
+
+/// Fits every segment of `reference` again as its own problem: the same
+/// data span, the same joins, but each segment's start joined to the
+/// *reference's* previous segment (and a smoothly closing last segment to
+/// the reference's first), so that no segment inherits anything from how
+/// its neighbours were fitted now. Segment `k` is solved by
+/// `solver_for(k)`; with the exact fit (LM) as the reference, this is the
+/// per-segment problem mode of the chapter-5 studies, where segments are
+/// the units of the tests.
+///
+/// The segments of the result meet their *reference* neighbours with the
+/// required continuity, not one another (their joints are C⁰ only).
+pub fn fit_independent<S, F>(
+    points: &[Point],
+    closed: bool,
+    reference: &PiecewiseFit,
+    options: &FitOptions,
+    mut solver_for: F,
+) -> Result<PiecewiseFit, FitError>
+where
+    S: SegmentSolver,
+    F: FnMut(usize) -> S,
+{
+    options.validate()?;
+    let outline = Outline::new(points, closed, options.function.min_points())?;
+    let n = points.len();
+    let refs = &reference.segments;
+    let mut segments = Vec::with_capacity(refs.len());
+    for (k, r) in refs.iter().enumerate() {
+        let last = if r.last <= r.first && closed {
+            r.last + n
+        } else {
+            r.last
+        };
+        let start = match k.checked_sub(1) {
+            Some(p) if r.join != Continuity::C0 => Start::after(&refs[p].segment, r.join),
+            _ => Start::Free,
+        };
+        let piece = Piece {
+            first: r.first,
+            last,
+            join: r.join,
+            start,
+            end: r.end,
+        };
+        segments.push(fit_one(&outline, piece, options, &mut solver_for(k))?);
+    }
+    let at_corner = reference.closing.is_some_and(|c| c.at_corner);
+    Ok(finish(&outline, segments, 0, at_corner))
 }
 
 #[cfg(test)]

@@ -116,6 +116,9 @@ enum C1Var {
     EndDerived(Point),
     /// `C_{m−1} = C_m − x[i]·dir` (G¹ join at the end).
     EndRatio(usize, Point),
+    /// A fixed point: the inner control point of a quadratic joined G¹ at
+    /// both ends, where the two tangent lines meet.
+    Fixed(Point),
 }
 
 /// Where each quantity sits in the decision vector.
@@ -129,9 +132,11 @@ struct Layout {
 }
 
 impl Layout {
-    /// The layout; a quadratic with an end join must start [`Start::Free`]
-    /// (checked by the caller), and its `C₁` then comes from the end.
-    fn new(function: FunctionType, start: Start, end: End) -> Layout {
+    /// The layout; a quadratic with an end join must start [`Start::Free`],
+    /// and its `C₁` then comes from the end, or [`Start::G1`] with a G¹ end,
+    /// and its `C₁` is then `meet`, where the two tangent lines cross
+    /// (checked by the caller).
+    fn new(function: FunctionType, start: Start, end: End, meet: Option<Point>) -> Layout {
         let mut dim = 0;
         let mut take = |k: usize| {
             let i = dim;
@@ -143,11 +148,14 @@ impl Layout {
             End::C1 { derivative } => C1Var::EndDerived(derivative),
             End::G1 { dir } => C1Var::EndRatio(take(1), dir),
         };
-        let c1 = match start {
-            Start::Free if function.degree() == 2 => end_var(&mut take),
-            Start::Free => C1Var::Free(take(2)),
-            Start::C1 { derivative } => C1Var::Derived(derivative),
-            Start::G1 { leg } => C1Var::Ratio(take(1), leg),
+        let c1 = match (start, meet) {
+            (_, Some(p)) => C1Var::Fixed(p),
+            (start, None) => match start {
+                Start::Free if function.degree() == 2 => end_var(&mut take),
+                Start::Free => C1Var::Free(take(2)),
+                Start::C1 { derivative } => C1Var::Derived(derivative),
+                Start::G1 { leg } => C1Var::Ratio(take(1), leg),
+            },
         };
         let c2 = (function.degree() == 3).then(|| end_var(&mut take));
         let w1 = function.is_rational().then(|| take(1));
@@ -160,6 +168,21 @@ impl Layout {
             dim,
         }
     }
+}
+
+/// Where the start tangent line `C₀ + t·leg` meets the end tangent line
+/// `C_m − u·dir`, if it does so in front of both ends (`t, u > 0`): the
+/// inner control point of a quadratic joined G¹ at both ends (Farin 2002,
+/// §10.2). `None` for (nearly) parallel lines.
+pub fn tangent_meet(c0: Point, leg: Point, cn: Point, dir: Point) -> Option<Point> {
+    let det = leg.cross(dir);
+    let d = cn - c0;
+    if det.abs() <= 1e-12 * leg.hypot() * dir.hypot() || !det.is_finite() {
+        return None;
+    }
+    let t = d.cross(dir) / det;
+    let u = leg.cross(d) / det;
+    (t > 0.0 && u > 0.0).then(|| c0 + leg * t)
 }
 
 /// The control points (`c[0..=m]`, unused slots zero) and inner weights of a
@@ -240,7 +263,7 @@ impl SegmentProblem {
                 found: params.len(),
             });
         }
-        let layout = Layout::new(function, start, End::Free);
+        let layout = Layout::new(function, start, End::Free, None);
         let mut problem = SegmentProblem {
             function,
             start,
@@ -272,13 +295,17 @@ impl SegmentProblem {
 
     /// The same problem with the end joined as `end` says (see [`End`]): for
     /// a cubic `C₂` becomes `C₃ − T_end·dir` (G¹, one variable `T_end`
-    /// instead of two) or `C₃ − D/(3w₂)` (C¹, none); for a quadratic `C₁`
-    /// comes from the end instead, which needs [`Start::Free`]. The box and
-    /// the guess are rebuilt; `T_end` gets the same range as the start's `T`.
+    /// instead of two) or `C₃ − D/(3w₂)` (C¹, none); for a quadratic with a
+    /// free start `C₁` comes from the end instead; for a quadratic joined G¹
+    /// at both ends `C₁` is where the two tangent lines meet (no variable
+    /// left but `h₁`). The box and the guess are rebuilt; `T_end` gets the
+    /// same range as the start's `T`.
     ///
     /// Fails ([`FitError::InvalidOption`] named `"end"`) for a quadratic
-    /// whose start is also joined (its only inner control point cannot
-    /// satisfy both), or for a zero or non-finite end direction.
+    /// joined C¹ at one end and at the other (its only inner control point
+    /// cannot satisfy both), for a quadratic joined G¹ at both ends whose
+    /// tangent lines do not meet in front of both ends, or for a zero or
+    /// non-finite end direction.
     pub fn with_end(mut self, end: End) -> Result<SegmentProblem, FitError> {
         if let Some(d) = end.tangent() {
             if !(d.is_finite() && d.hypot() > 0.0) {
@@ -289,15 +316,33 @@ impl SegmentProblem {
                 });
             }
         }
-        if self.function.degree() == 2 && end != End::Free && self.start != Start::Free {
-            return Err(FitError::InvalidOption {
-                name: "end",
-                value: 2.0,
-                expected: "a free start for a quadratic joined at its end (C₁ is shared)",
-            });
+        let mut meet = None;
+        if self.function.degree() == 2 && end != End::Free {
+            let (c0, cn) = (self.points[0], self.points[self.points.len() - 1]);
+            match (self.start, end) {
+                (Start::Free, _) => {}
+                (Start::G1 { leg }, End::G1 { dir }) => {
+                    meet = Some(
+                        tangent_meet(c0, leg, cn, dir).ok_or(FitError::InvalidOption {
+                            name: "end",
+                            value: leg.cross(dir),
+                            expected: "tangent lines that meet in front of both ends \
+                                       (a quadratic joined G1 at both ends)",
+                        })?,
+                    );
+                }
+                _ => {
+                    return Err(FitError::InvalidOption {
+                        name: "end",
+                        value: 2.0,
+                        expected: "a free start, or G1 at both ends, for a quadratic \
+                                   joined at its end (C₁ is shared)",
+                    })
+                }
+            }
         }
         self.end = end;
-        self.layout = Layout::new(self.function, self.start, end);
+        self.layout = Layout::new(self.function, self.start, end, meet);
         self.build_search_space();
         Ok(self)
     }
@@ -367,7 +412,7 @@ impl SegmentProblem {
                     guess[i] = bounds[i].clip(a.x);
                     guess[i + 1] = bounds[i + 1].clip(a.y);
                 }
-                C1Var::Derived(_) | C1Var::EndDerived(_) => {}
+                C1Var::Derived(_) | C1Var::EndDerived(_) | C1Var::Fixed(_) => {}
                 C1Var::Ratio(i, leg) => ratio(bounds, guess, i, c0, leg),
                 // C_{m−1} = C_m − T·dir: T = (C_m − A)·dir/|dir|².
                 C1Var::EndRatio(i, dir) => ratio(bounds, guess, i, cn, -dir),
@@ -426,7 +471,7 @@ impl SegmentProblem {
                 names[i] = "C1.x";
                 names[i + 1] = "C1.y";
             }
-            C1Var::Derived(_) | C1Var::EndDerived(_) => {}
+            C1Var::Derived(_) | C1Var::EndDerived(_) | C1Var::Fixed(_) => {}
             C1Var::Ratio(i, _) => names[i] = "T",
             C1Var::EndRatio(i, _) => names[i] = "T_end",
         }
@@ -473,6 +518,7 @@ impl SegmentProblem {
             C1Var::Ratio(i, leg) => c0 + leg * x[i],
             C1Var::EndDerived(d) => cn - d / (m as f64 * w),
             C1Var::EndRatio(i, dir) => cn - dir * x[i],
+            C1Var::Fixed(p) => p,
         };
         let c1 = inner(self.layout.c1, w1);
         let c = if m == 3 {
@@ -573,7 +619,7 @@ impl SegmentProblem {
                     put(j, Point::new(a, 0.0));
                     put(j + 1, Point::new(0.0, a));
                 }
-                C1Var::Derived(_) | C1Var::EndDerived(_) => {}
+                C1Var::Derived(_) | C1Var::EndDerived(_) | C1Var::Fixed(_) => {}
                 C1Var::Ratio(j, leg) => put(j, leg * a),
                 C1Var::EndRatio(j, dir) => put(j, dir * -a),
             };
@@ -996,12 +1042,22 @@ mod tests {
                     let built = SegmentProblem::new(f, pts.clone(), ps.clone(), start, &o)
                         .unwrap()
                         .with_end(end);
-                    if f.degree() == 2 && start != Start::Free {
+                    let both_g1 = start_cont == Continuity::G1 && end_cont == Continuity::G1;
+                    if f.degree() == 2 && start != Start::Free && !both_g1 {
                         let e = built.unwrap_err();
                         assert!(e.to_string().contains("free start"), "{e}");
                         continue;
                     }
-                    let p = built.unwrap();
+                    let p = match built {
+                        Ok(p) => p,
+                        Err(e) => {
+                            // G¹ at both ends of a quadratic: only when the
+                            // tangent lines meet in front of both ends.
+                            assert!(f.degree() == 2 && both_g1, "{f}: {e}");
+                            assert!(e.to_string().contains("meet in front"), "{e}");
+                            continue;
+                        }
+                    };
                     assert_eq!(p.end(), end);
                     assert_eq!(p.variable_names().len(), p.dim());
                     assert!(p.variable_names().iter().all(|n| !n.is_empty()));
@@ -1027,6 +1083,64 @@ mod tests {
                     assert_jacobian(&p, &format!("{f} {start_cont:?} {end_cont:?}"));
                 }
             }
+        }
+    }
+
+    #[test]
+    fn a_quadratic_joined_g1_at_both_ends_meets_its_tangent_lines() {
+        // The quadratic (0,0)-(1,1)-(2,0): start tangent (1,1), end tangent (1,−1).
+        let q = QuadBez::new(Point::ZERO, Point::new(1.0, 1.0), Point::new(2.0, 0.0));
+        let (pts, ps) = sample(&q, 10);
+        assert_eq!(
+            tangent_meet(
+                Point::ZERO,
+                Point::new(0.5, 0.5),
+                Point::new(2.0, 0.0),
+                Point::new(3.0, -3.0)
+            ),
+            Some(Point::new(1.0, 1.0))
+        );
+        // Behind an end, or parallel: no meeting point.
+        assert_eq!(
+            tangent_meet(
+                Point::ZERO,
+                Point::new(-1.0, -1.0),
+                Point::new(2.0, 0.0),
+                Point::new(1.0, -1.0)
+            ),
+            None
+        );
+        assert_eq!(
+            tangent_meet(
+                Point::ZERO,
+                Point::new(1.0, 0.0),
+                Point::new(2.0, 1.0),
+                Point::new(1.0, 0.0)
+            ),
+            None
+        );
+        let o = SearchSpaceOptions::default();
+        for (f, dim) in [
+            (FunctionType::Quadratic, 0),
+            (FunctionType::RationalQuadratic, 1),
+        ] {
+            let p = SegmentProblem::new(
+                f,
+                pts.clone(),
+                ps.clone(),
+                Start::G1 {
+                    leg: Point::new(2.0, 2.0),
+                },
+                &o,
+            )
+            .unwrap()
+            .with_end(End::G1 {
+                dir: Point::new(1.0, -1.0),
+            })
+            .unwrap();
+            assert_eq!(p.dim(), dim, "{f}");
+            let x = vec![1.0; dim];
+            assert!(p.objective(&x) < 1e-24, "{f}");
         }
     }
 

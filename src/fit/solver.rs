@@ -8,7 +8,7 @@ use rand::RngCore;
 
 use super::{linear_fit, SegmentProblem};
 use crate::optim::lm::{LevenbergMarquardt, Termination};
-use crate::optim::Optimiser;
+use crate::optim::{Optimiser, TracePoint};
 use crate::problem::Problem;
 
 /// One stage of a solve (a hybrid has two).
@@ -33,6 +33,11 @@ pub struct Solution {
     pub evaluations: u64,
     /// The stages, in order.
     pub parts: Vec<SolvePart>,
+    /// The best-so-far `E` against evaluations: a metaheuristic's at
+    /// log-spaced checkpoints (10 per decade) and its last evaluation;
+    /// Levenberg–Marquardt's at its first evaluation (the start) and its
+    /// last; a hybrid's global stage, then the polish's end.
+    pub trace: Vec<TracePoint>,
 }
 
 impl Solution {
@@ -53,6 +58,7 @@ impl Solution {
                 value,
                 evaluations,
             }],
+            trace: end_trace(evaluations, value),
         }
     }
 }
@@ -64,6 +70,12 @@ pub trait SegmentSolver {
 }
 
 impl<S: SegmentSolver + ?Sized> SegmentSolver for &mut S {
+    fn solve(&mut self, problem: &SegmentProblem, budget: u64) -> Solution {
+        (**self).solve(problem, budget)
+    }
+}
+
+impl<S: SegmentSolver + ?Sized> SegmentSolver for Box<S> {
     fn solve(&mut self, problem: &SegmentProblem, budget: u64) -> Solution {
         (**self).solve(problem, budget)
     }
@@ -114,6 +126,7 @@ impl<O: Optimiser, R: RngCore> SegmentSolver for OptimiserSolver<O, R> {
                 evaluations: out.evaluations,
             }],
             x: out.best_x,
+            trace: out.trace,
         }
     }
 }
@@ -166,6 +179,7 @@ impl SegmentSolver for LmSolver {
                 value: out.value,
                 evaluations: out.evaluations,
             }],
+            trace: lm_trace(problem, &x0, out.evaluations, out.value),
             x: out.x,
         }
     }
@@ -221,11 +235,57 @@ impl<O: Optimiser, R: RngCore> SegmentSolver for HybridSolver<O, R> {
             } else {
                 (global.x, global.value)
             };
+        let evaluations = global.evaluations + polish.evaluations;
+        let mut trace = global.trace;
+        if polish.evaluations > 0 {
+            trace.push(TracePoint {
+                evaluations,
+                best: value,
+            });
+        }
         Solution {
             x,
             value,
-            evaluations: global.evaluations + polish.evaluations,
+            evaluations,
             parts,
+            trace,
         }
     }
+}
+
+/// The one-point trace of a solve that ends at `evaluations` with `value`
+/// (none for no evaluation).
+fn end_trace(evaluations: u64, value: f64) -> Vec<TracePoint> {
+    if evaluations == 0 {
+        return Vec::new();
+    }
+    vec![TracePoint {
+        evaluations,
+        best: value,
+    }]
+}
+
+/// Levenberg–Marquardt's trace: `E(x₀)` after its first evaluation (the
+/// residuals at the start, clipped into the box as LM does), then its end.
+fn lm_trace(problem: &SegmentProblem, x0: &[f64], evaluations: u64, value: f64) -> Vec<TracePoint> {
+    if evaluations == 0 {
+        return Vec::new();
+    }
+    let start: Vec<f64> = x0
+        .iter()
+        .zip(problem.bounds())
+        .map(|(&v, b)| b.clip(v))
+        .collect();
+    let first = crate::optim::evaluator::sanitise(problem.objective(&start)).max(value);
+    let mut trace = vec![TracePoint {
+        evaluations: 1,
+        best: first,
+    }];
+    if evaluations > 1 {
+        trace.push(TracePoint {
+            evaluations,
+            best: value,
+        });
+    }
+    trace
 }

@@ -21,6 +21,7 @@
 //! * [`Function::eval`] expects a non-empty slice (`x.len() == 2` for the
 //!   camel-back, which panics otherwise); [`TestProblem`] guarantees both.
 
+pub mod bbob;
 mod instance;
 
 use std::f64::consts::{E, TAU};
@@ -29,6 +30,7 @@ use std::sync::Arc;
 
 use crate::problem::{Bounds, Problem};
 
+pub use bbob::{BbobError, BbobProblem, CocoObserver};
 pub use instance::{instance_seed, Instance, Transform, MAX_ROTATION_DIM};
 
 /// The minimiser of Schwefel 2.26 in each coordinate, `x* = u²` with

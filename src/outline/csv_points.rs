@@ -37,6 +37,45 @@ fn number(cell: &str) -> Option<f64> {
     cell.parse::<f64>().ok().filter(|v| v.is_finite())
 }
 
+/// The largest coordinate magnitude accepted: squared distances of points
+/// this far apart stay far from overflow, and no image or font comes near.
+pub const MAX_COORDINATE: f64 = 1e15;
+
+/// 1-based line numbers of byte offsets, counted forward from the last
+/// offset asked (records come in order), so a file is scanned once.
+struct Lines<'b> {
+    bytes: &'b [u8],
+    at: usize,
+    line: u64,
+}
+
+impl Lines<'_> {
+    /// The line of the first record at or after `byte`: the line holding
+    /// `byte`, moved past the comment and empty lines the reader skipped.
+    fn of(&mut self, byte: usize) -> u64 {
+        let byte = byte.min(self.bytes.len());
+        if byte < self.at {
+            self.at = 0;
+            self.line = 1;
+        }
+        self.line += self.bytes[self.at..byte]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count() as u64;
+        self.at = byte;
+        let (mut start, mut line) = (byte, self.line);
+        while let Some(len) = self.bytes[start..].iter().position(|&b| b == b'\n') {
+            let text = &self.bytes[start..start + len];
+            if !(text.is_empty() || text == b"\r" || text.starts_with(b"#")) {
+                break;
+            }
+            start += len + 1;
+            line += 1;
+        }
+        line
+    }
+}
+
 /// Reads the CSV point list at `path` (see the module documentation).
 pub fn load_csv(path: &Path, options: &CsvOptions) -> Result<Outline, OutlineError> {
     let bytes = std::fs::read(path).map_err(|source| OutlineError::Io {
@@ -60,22 +99,13 @@ pub fn csv_from_bytes(
         .from_reader(bytes);
     // The 1-based line where a record starts. The reader's position points
     // before the comment and empty lines it skipped (and its line count
-    // ignores comments), so skip them forward from the byte offset.
-    let line_of = |pos: Option<&csv::Position>| {
-        pos.map_or(0, |p| {
-            let mut start = (p.byte() as usize).min(bytes.len());
-            let mut line = 1 + bytes[..start].iter().filter(|&&b| b == b'\n').count() as u64;
-            while let Some(len) = bytes[start..].iter().position(|&b| b == b'\n') {
-                let text = &bytes[start..start + len];
-                if !(text.is_empty() || text == b"\r" || text.starts_with(b"#")) {
-                    break;
-                }
-                start += len + 1;
-                line += 1;
-            }
-            line
-        })
+    // ignores comments), so they are skipped forward from the byte offset.
+    let mut lines = Lines {
+        bytes,
+        at: 0,
+        line: 1,
     };
+    let mut line_of = |pos: Option<&csv::Position>| pos.map_or(0, |p| lines.of(p.byte() as usize));
     let mut points = Vec::new();
     let mut first = true;
     for record in reader.records() {
@@ -113,6 +143,16 @@ pub fn csv_from_bytes(
         };
         let x = x.ok_or_else(|| bad(1))?;
         let y = y.ok_or_else(|| bad(2))?;
+        for (column, v) in [(1, x), (2, y)] {
+            if v.abs() > MAX_COORDINATE {
+                return Err(OutlineError::CsvRange {
+                    path: path.to_owned(),
+                    line,
+                    column,
+                    value: v,
+                });
+            }
+        }
         points.push(Point::new(x, y));
     }
     let repeats = points.len() > 1 && points.first() == points.last();
@@ -140,6 +180,20 @@ mod tests {
             Path::new("pts.csv"),
             &CsvOptions::default(),
         )
+    }
+
+    #[test]
+    fn huge_coordinates_are_refused_with_their_line_after_comments() {
+        let mut text = String::from("x,y\n");
+        for i in 0..1000 {
+            text.push_str(&format!("# note {i}\n{i},1\n\n"));
+        }
+        text.push_str("3,1e300\n");
+        let e = read(&text).unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "pts.csv:3002: column 2 (y): 1e300 is beyond ±1e15, the range of coordinates this tool fits (squared distances must not overflow)"
+        );
     }
 
     #[test]

@@ -96,6 +96,17 @@ pub enum OutlineError {
         /// The text found in the cell.
         text: String,
     },
+    /// A CSV coordinate is finite but beyond ±[`crate::outline::MAX_COORDINATE`].
+    CsvRange {
+        /// The CSV file.
+        path: PathBuf,
+        /// 1-based line.
+        line: u64,
+        /// 1-based column (1 = x, 2 = y).
+        column: usize,
+        /// The value found.
+        value: f64,
+    },
     /// A CSV line does not have exactly two cells `x,y`.
     CsvFields {
         /// The CSV file.
@@ -104,6 +115,17 @@ pub enum OutlineError {
         line: u64,
         /// Number of cells found.
         found: usize,
+    },
+    /// The paths of an SVG file could not be read.
+    Svg(super::SvgError),
+    /// A contour number beyond the input's contours.
+    ContourOutOfRange {
+        /// The input as given (a file or `font:PATH:GLYPH`).
+        input: String,
+        /// The contour asked for.
+        asked: usize,
+        /// How many contours the input has.
+        count: usize,
     },
     /// A CSV file is malformed in another way (such as invalid UTF-8).
     Csv {
@@ -184,6 +206,39 @@ impl fmt::Display for OutlineError {
                 "{}: {found} point(s) found, but an outline needs at least {need}",
                 path.display()
             ),
+            Self::Svg(e) => write!(f, "{e}"),
+            Self::ContourOutOfRange {
+                input,
+                asked,
+                count,
+            } => write!(
+                f,
+                "{input}: contour {asked} was asked for, but the input has {count} contour{} \
+                 (numbered from 0 by decreasing area: 0..={}); to fit them all, leave --contour \
+                 out (or write contour = \"all\" in a spec)",
+                if *count == 1 { "" } else { "s" },
+                count.saturating_sub(1)
+            ),
+            csv => csv.fmt_csv(f),
+        }
+    }
+}
+
+impl OutlineError {
+    /// The messages of the CSV variants, with their line and column.
+    fn fmt_csv(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::CsvRange {
+                path,
+                line,
+                column,
+                value,
+            } => write!(
+                f,
+                "{}:{line}: column {column} ({}): {value:e} is beyond ±1e15, the range of coordinates this tool fits (squared distances must not overflow)",
+                path.display(),
+                if *column == 1 { "x" } else { "y" }
+            ),
             Self::CsvNumber {
                 path,
                 line,
@@ -212,6 +267,7 @@ impl fmt::Display for OutlineError {
                 line,
                 message,
             } => write!(f, "{}:{line}: {message}", path.display()),
+            other => unreachable!("fmt_csv is only called for the CSV variants, not {other:?}"),
         }
     }
 }
@@ -220,6 +276,7 @@ impl std::error::Error for OutlineError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
             Self::Io { source, .. } => Some(source),
+            Self::Svg(e) => std::error::Error::source(e),
             _ => None,
         }
     }

@@ -142,15 +142,21 @@ pub struct SampledContour {
     /// For every point, `(segment index, t)` with `point = segment.eval(t)`.
     pub params: Vec<(usize, f64)>,
     /// The break points (indices into `outline.points`) where the direction
-    /// of travel turns by more than [`CORNER_DEGREES`]: the font's corners.
+    /// of travel turns by more than [`CORNER_DEGREES`]: where the font is
+    /// not G¹.
     /// At the others the glyph is G¹.
     pub corners: Vec<usize>,
 }
 
-/// The turning angle above which a joint of a glyph contour is a corner:
-/// fonts store smooth joints with collinear control points, up to the
-/// rounding of coordinates to integer font units.
-pub const CORNER_DEGREES: f64 = 3.0;
+/// The turning angle above which a joint of a glyph contour is a corner,
+/// that is, not G¹ in the font: any turn beyond floating-point noise.
+/// Smooth joints whose control points are exactly collinear (TrueType's
+/// implied on-curve points, most CFF joints) turn by 0; explicit on-curve
+/// points whose neighbours were rounded to integer font units can turn by a
+/// fraction of a degree (DejaVu Sans `S` has joints at 0.22°–1.0°), and
+/// the font is only C⁰ there, so a fit at the glyph's own breaks must be
+/// too, or it cannot recover the glyph.
+pub const CORNER_DEGREES: f64 = 1e-6;
 
 /// The exact outline of one glyph of a font.
 #[derive(Clone, Debug, PartialEq)]
@@ -198,6 +204,13 @@ impl Glyph {
     /// Every contour sampled at `t = k/n` on each segment, with the indices
     /// where segments start (see [`SampledContour`]).
     pub fn sample(&self, sampling: Sampling) -> Vec<SampledContour> {
+        self.sample_at_least(sampling, 1)
+    }
+
+    /// As [`Glyph::sample`], with at least `min` samples on every segment
+    /// (so that a fit at the glyph's own break points has `min + 1` points
+    /// per segment however short the segment is).
+    pub fn sample_at_least(&self, sampling: Sampling, min: usize) -> Vec<SampledContour> {
         self.contours
             .iter()
             .map(|contour| {
@@ -206,7 +219,7 @@ impl Glyph {
                 let mut params = Vec::new();
                 for (j, seg) in contour.iter().enumerate() {
                     breaks.push(points.len());
-                    let n = self.samples_on(seg, sampling);
+                    let n = self.samples_on(seg, sampling).max(min);
                     for k in 0..n {
                         let t = k as f64 / n as f64;
                         points.push(seg.eval(t));

@@ -6,8 +6,9 @@
 //! [`Outline`] (the ordered points), Otsu thresholding and Suzuki–Abe
 //! border following for images, CSV point lists, exact glyph outlines
 //! (TrueType quadratic, CFF cubic) with their dense sampling and true break
-//! points, corner detection, and the `*.png` / `*.csv` / `font:PATH:GLYPH`
-//! input strings of the command line.
+//! points, corner detection, the `*.png` / `*.csv` / `font:PATH:GLYPH`
+//! input strings of the command line, and the paths of SVG files (other
+//! tools' curves, to be scored against the same points).
 //!
 //! Every outline is in a y-up frame. Image pixel `(col, row)` of an image of
 //! height `H` is the point `(col, H − 1 − row)`; CSV coordinates are taken as
@@ -30,6 +31,7 @@ mod glyph;
 mod image;
 mod input;
 mod otsu;
+mod svg;
 
 pub use self::image::{
     binarize, boundaries, grey_outlines, load_grey, load_image, luminance, select_outlines,
@@ -38,13 +40,14 @@ pub use self::image::{
 pub use crate::geometry::Orientation;
 pub use border::{find_borders, BinaryImage, Border, BorderKind, Side};
 pub use corners::{find_corners, split_at, turning_angles, CornerOptions};
-pub use csv_points::{csv_from_bytes, load_csv, CsvOptions};
+pub use csv_points::{csv_from_bytes, load_csv, CsvOptions, MAX_COORDINATE};
 pub use error::OutlineError;
 pub use glyph::{
     glyph_from_bytes, load_glyph, Glyph, SampledContour, Sampling, Segment, CORNER_DEGREES,
 };
 pub use input::{load, parse_glyph, parse_input, Input, Options};
 pub use otsu::{histogram, otsu_threshold};
+pub use svg::{load_svg, svg_from_str, SvgError, SvgPaths, SvgProblem};
 
 /// An outline: the ordered boundary points of a shape in an image or a
 /// glyph, a [`Polyline`](crate::geometry::Polyline) (outer boundaries run

@@ -7,23 +7,35 @@
 //! campaigns declared in a spec go through [`Reconstruction::fit`], so a
 //! campaign run and a single command-line fit of the same case with the
 //! same seed give the same curve.
+//!
+//! | module | concept |
+//! |---|---|
+//! | [`Source`], [`ContourChoice`] | an input's contours (outer boundaries and holes) and which are fitted |
+//! | [`Reconstruction`], [`Method`], [`FitMode`] | the fitting task: whole outlines or per-segment problems |
+//! | [`ShapeFit`] | every contour's fit, with the totals and the best-so-far trace |
+//! | [`shape_svg`], [`save_shape`] | the fit as one even-odd SVG path and its PNG |
+//! | [`score`] | other tools' curves against the same data points |
+//! | [`OverlayFigure`] | the data and the curves on axes, drawn by the report |
 
+mod drawing;
 mod overlay;
-
-use std::path::{Path, PathBuf};
+mod score;
+mod shape;
+mod source;
 
 use crate::fit::{
-    fit_adaptive, fit_breaks, fit_segment_count, FitError, FitOptions, HybridSolver, LmSolver,
-    OptimiserSolver, PiecewiseFit, SegmentSolver, SplitOptions,
+    fit_adaptive, fit_breaks, fit_independent, fit_segment_count, FitError, FitOptions,
+    HybridSolver, LmSolver, OptimiserSolver, PiecewiseFit, SegmentSolver, SplitOptions,
 };
 use crate::optim::Algorithm;
-use crate::outline::{
-    find_corners, load_glyph, load_image, parse_input, CornerOptions, ImageOptions, Input, Outline,
-    OutlineError, Sampling,
-};
-use crate::rng::run_rng;
+use crate::outline::{find_corners, CornerOptions};
+use crate::rng::{run_rng, splitmix64};
 
+pub use drawing::{cubic_pieces, save_shape, shape_raster, shape_svg};
 pub use overlay::{OverlayCurve, OverlayFigure, OverlayPanel};
+pub use score::{score, segment_distance, Distances, Score};
+pub use shape::{ContourFit, ShapeFit};
+pub use source::{ContourChoice, LoadOptions, Source, SourceContour, SourceError};
 
 /// How a segment problem is solved.
 #[derive(Clone, Debug)]
@@ -122,16 +134,54 @@ impl Method {
     }
 }
 
+/// How a fitting case's segments are posed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum FitMode {
+    /// The whole outline as one chain: segments fitted in sequence, each
+    /// inheriting its join from the one the method fitted before it.
+    #[default]
+    Outline,
+    /// Every segment as its own problem, joined to the neighbours of the
+    /// exact (Levenberg–Marquardt) fit ([`Reconstruction::fit_per_segment`]),
+    /// so that segments are independent units of a study.
+    PerSegment,
+}
+
+impl FitMode {
+    /// The names accepted in specs.
+    pub const NAMES: [&'static str; 2] = ["outline", "per-segment"];
+
+    /// Parses a name.
+    pub fn from_name(name: &str) -> Option<FitMode> {
+        match name {
+            "outline" => Some(FitMode::Outline),
+            "per-segment" | "per_segment" => Some(FitMode::PerSegment),
+            _ => None,
+        }
+    }
+
+    /// The name.
+    pub fn name(self) -> &'static str {
+        match self {
+            FitMode::Outline => "outline",
+            FitMode::PerSegment => "per-segment",
+        }
+    }
+}
+
 /// How an outline is cut into segments.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Segmentation {
-    /// This many segments: split at the corners, then at equal arc length.
+    /// This many segments per contour: split at the corners, then at equal
+    /// arc length.
     Count(usize),
     /// Schneider's recursive split until every segment's largest orthogonal
-    /// distance is at most this (data units).
+    /// distance is at most this (data units), per contour.
     Tolerance(f64),
-    /// These break indices, used as given (corners are not searched); the
-    /// joints at `corners` (a subset) are C⁰ only.
+    /// A glyph's own break points on each contour, C⁰ at its corners.
+    TrueBreaks,
+    /// These break indices, used as given on every contour (corners are not
+    /// searched); the joints at `corners` (a subset) are C⁰ only.
     Breaks {
         /// Break indices into the outline.
         breaks: Vec<usize>,
@@ -140,127 +190,11 @@ pub enum Segmentation {
     },
 }
 
-/// Where the data points come from and which contour is fitted.
-#[derive(Clone, Debug)]
-pub struct Source {
-    /// The input as the user wrote it (`horse.png`, `pts.csv`,
-    /// `font:PATH:GLYPH`).
-    pub input: String,
-    /// The parsed input, with paths resolved.
-    pub parsed: Input,
-    /// The outline fitted.
-    pub outline: Outline,
-    /// For a glyph, the sampled indices where its exact segments start.
-    pub true_breaks: Option<Vec<usize>>,
-    /// For a glyph, those of `true_breaks` that are corners.
-    pub true_corners: Option<Vec<usize>>,
-    /// For a glyph, its height (font units), the scale of its errors.
-    pub glyph_height: Option<f64>,
-}
-
-/// A source could not be read; the outline error says why (and is its
-/// [`std::error::Error::source`]).
-#[derive(Debug, thiserror::Error)]
-#[error("{0}")]
-pub struct SourceError(#[from] pub OutlineError);
-
 impl Source {
-    /// The glyph's own segmentation: its true break points, C⁰ at its
-    /// corners; `None` for an image or CSV source.
+    /// The glyph's own segmentation ([`Segmentation::TrueBreaks`]); `None`
+    /// for an image or CSV source.
     pub fn true_segmentation(&self) -> Option<Segmentation> {
-        Some(Segmentation::Breaks {
-            breaks: self.true_breaks.clone()?,
-            corners: self.true_corners.clone().unwrap_or_default(),
-        })
-    }
-
-    /// Loads `input` (resolving relative paths against `base`) and picks
-    /// its `contour`-th outline: for an image its shapes by decreasing
-    /// area, for a glyph its contours by decreasing area, for a CSV file
-    /// its only one. Glyphs are sampled with `sampling`.
-    pub fn load(
-        input: &str,
-        base: &Path,
-        contour: usize,
-        image: &ImageOptions,
-        sampling: Sampling,
-    ) -> Result<Source, SourceError> {
-        let parsed = match parse_input(input)? {
-            Input::Image(p) => Input::Image(resolve(base, &p)),
-            Input::Csv(p) => Input::Csv(resolve(base, &p)),
-            Input::Glyph { font, glyph } => Input::Glyph {
-                font: resolve(base, &font),
-                glyph,
-            },
-        };
-        let pick = |n: usize| -> Result<usize, SourceError> {
-            if contour < n {
-                Ok(contour)
-            } else {
-                Err(SourceError(OutlineError::BadInput {
-                    input: input.to_owned(),
-                    message: format!(
-                        "contour {contour} was asked for, but it has {n} (numbered from 0)"
-                    ),
-                }))
-            }
-        };
-        let (outline, true_breaks, true_corners, glyph_height) = match &parsed {
-            Input::Image(path) => {
-                let mut shapes = load_image(path, image)?;
-                let k = pick(shapes.len())?;
-                (shapes.swap_remove(k), None, None, None)
-            }
-            Input::Csv(path) => {
-                let o = crate::outline::load_csv(path, &Default::default())?;
-                pick(1)?;
-                (o, None, None, None)
-            }
-            Input::Glyph { font, glyph } => {
-                let g = load_glyph(font, *glyph)?;
-                let mut contours = g.sample(sampling);
-                contours.sort_by(|a, b| b.outline.area().total_cmp(&a.outline.area()));
-                let k = pick(contours.len())?;
-                let c = contours.swap_remove(k);
-                (c.outline, Some(c.breaks), Some(c.corners), Some(g.height()))
-            }
-        };
-        Ok(Source {
-            input: input.to_owned(),
-            parsed,
-            outline,
-            true_breaks,
-            true_corners,
-            glyph_height,
-        })
-    }
-
-    /// A short name for tables and file names: the file stem, or
-    /// `<font stem>-<glyph>` for a glyph.
-    pub fn label(&self) -> String {
-        let stem = |p: &Path| {
-            p.file_stem()
-                .map_or_else(|| "input".into(), |s| s.to_string_lossy().into_owned())
-        };
-        match &self.parsed {
-            Input::Image(p) | Input::Csv(p) => stem(p),
-            Input::Glyph { font, glyph } => {
-                let g = if glyph.is_ascii_alphanumeric() {
-                    glyph.to_string()
-                } else {
-                    format!("U+{:04X}", u32::from(*glyph))
-                };
-                format!("{}-{g}", stem(font))
-            }
-        }
-    }
-}
-
-fn resolve(base: &Path, p: &Path) -> PathBuf {
-    if p.is_absolute() {
-        p.to_owned()
-    } else {
-        base.join(p)
+        self.is_glyph().then_some(Segmentation::TrueBreaks)
     }
 }
 
@@ -268,69 +202,151 @@ fn resolve(base: &Path, p: &Path) -> PathBuf {
 /// corner detector.
 #[derive(Clone, Debug)]
 pub struct Reconstruction<'a> {
-    /// The outline fitted.
-    pub outline: &'a Outline,
-    /// How it is cut into segments.
+    /// The contours fitted.
+    pub source: &'a Source,
+    /// How each contour is cut into segments.
     pub segmentation: Segmentation,
     /// Corner detection for [`Segmentation::Count`] and
     /// [`Segmentation::Tolerance`]; `None` finds no corners.
     pub corners: Option<CornerOptions>,
-    /// Function, continuity, parameterisation, search space and budget per
-    /// segment.
+    /// Function, continuity, closing, parameterisation, search space and
+    /// budget per segment.
     pub options: FitOptions,
 }
 
 impl Reconstruction<'_> {
-    /// The corner indices this reconstruction splits at first.
-    pub fn corner_indices(&self) -> Vec<usize> {
+    /// The corner indices `contour` is split at first.
+    pub fn corner_indices(&self, contour: &SourceContour) -> Vec<usize> {
         match (&self.segmentation, self.corners) {
-            (Segmentation::Breaks { .. }, _) | (_, None) => Vec::new(),
-            (_, Some(c)) => find_corners(self.outline, &c),
+            (Segmentation::Breaks { .. } | Segmentation::TrueBreaks, _) | (_, None) => Vec::new(),
+            (_, Some(c)) => find_corners(&contour.outline, &c),
         }
     }
 
-    /// Fits the outline with `method`'s solver ([`Method::solver`]) seeded
-    /// with `seed`.
-    pub fn fit(&self, method: &Method, seed: u64) -> Result<PiecewiseFit, FitError> {
+    /// Fits every contour with `method`'s solver ([`Method::solver`])
+    /// seeded with `seed` (one stream over all contours, in order).
+    pub fn fit(&self, method: &Method, seed: u64) -> Result<ShapeFit, FitError> {
         self.fit_with(method.solver(seed).as_mut())
     }
 
-    /// Fits the outline with any segment solver.
+    /// Fits every contour with any segment solver, contour after contour.
     pub fn fit_with<S: SegmentSolver + ?Sized>(
         &self,
         solver: &mut S,
+    ) -> Result<ShapeFit, FitError> {
+        let mut contours = Vec::with_capacity(self.source.contours.len());
+        for c in &self.source.contours {
+            let fit = self
+                .fit_contour(c, &mut *solver)
+                .map_err(|e| FitError::in_contour(c.index, e))?;
+            contours.push(ContourFit {
+                contour: c.index,
+                orientation: c.orientation(),
+                fit,
+            });
+        }
+        Ok(ShapeFit::new(contours))
+    }
+
+    /// Fits one contour with `solver`.
+    pub fn fit_contour<S: SegmentSolver + ?Sized>(
+        &self,
+        contour: &SourceContour,
+        solver: &mut S,
     ) -> Result<PiecewiseFit, FitError> {
-        let points = &self.outline.points;
-        let closed = self.outline.closed;
+        let points = &contour.outline.points;
+        let closed = contour.outline.closed;
+        let options = &self.options;
         match &self.segmentation {
             Segmentation::Breaks { breaks, corners } => {
-                fit_breaks(points, closed, breaks, corners, &self.options, solver)
+                fit_breaks(points, closed, breaks, corners, options, solver)
             }
-            Segmentation::Count(n) => fit_segment_count(
-                points,
-                closed,
-                &self.corner_indices(),
-                *n,
-                &self.options,
-                solver,
-            ),
-            Segmentation::Tolerance(t) => fit_adaptive(
-                points,
-                closed,
-                &self.corner_indices(),
-                &SplitOptions::new(*t),
-                &self.options,
-                solver,
-            ),
+            Segmentation::TrueBreaks => {
+                let breaks = contour.true_breaks.clone().unwrap_or_default();
+                let corners = contour.true_corners.clone().unwrap_or_default();
+                fit_breaks(points, closed, &breaks, &corners, options, solver)
+            }
+            Segmentation::Count(n) => {
+                let corners = self.corner_indices(contour);
+                fit_segment_count(points, closed, &corners, *n, options, solver)
+            }
+            Segmentation::Tolerance(t) => {
+                let corners = self.corner_indices(contour);
+                let split = SplitOptions::new(*t);
+                fit_adaptive(points, closed, &corners, &split, options, solver)
+            }
         }
     }
+
+    /// The exact reference of the per-segment mode: every contour fitted by
+    /// Levenberg–Marquardt ([`Method::Exact`]).
+    pub fn reference(&self) -> Result<ShapeFit, FitError> {
+        self.fit(&Method::Exact, 0)
+    }
+
+    /// The per-segment mode ([`fit_independent`]): every segment of
+    /// `reference` solved again as its own problem by `method`, joined to
+    /// the reference's neighbours, segment `k` of the `c`-th contour seeded
+    /// with [`segment_seed`]`(seed, c, k)`.
+    pub fn fit_per_segment(
+        &self,
+        method: &Method,
+        seed: u64,
+        reference: &ShapeFit,
+    ) -> Result<ShapeFit, FitError> {
+        self.fit_per_segment_with(reference, |c, k| method.solver(segment_seed(seed, c, k)))
+    }
+
+    /// The per-segment mode with the solver `solver_for(c, k)` for segment
+    /// `k` of the `c`-th contour.
+    pub fn fit_per_segment_with<S, F>(
+        &self,
+        reference: &ShapeFit,
+        mut solver_for: F,
+    ) -> Result<ShapeFit, FitError>
+    where
+        S: SegmentSolver,
+        F: FnMut(usize, usize) -> S,
+    {
+        let mut contours = Vec::with_capacity(reference.contours.len());
+        for (pos, (c, r)) in self
+            .source
+            .contours
+            .iter()
+            .zip(&reference.contours)
+            .enumerate()
+        {
+            let points = &c.outline.points;
+            let fit = fit_independent(points, c.outline.closed, &r.fit, &self.options, |k| {
+                solver_for(pos, k)
+            })
+            .map_err(|e| FitError::in_contour(c.index, e))?;
+            contours.push(ContourFit {
+                contour: c.index,
+                orientation: c.orientation(),
+                fit,
+            });
+        }
+        Ok(ShapeFit::new(contours))
+    }
+}
+
+/// The seed of segment `k` of the `contour`-th fitted contour in the
+/// per-segment mode: `splitmix64` folded over (run seed, contour, segment),
+/// so that a segment's random numbers do not depend on the others'.
+pub fn segment_seed(seed: u64, contour: usize, k: usize) -> u64 {
+    let s = splitmix64(seed ^ splitmix64(contour as u64));
+    splitmix64(s ^ k as u64)
 }
 
 #[cfg(test)]
 mod tests {
+    use std::path::Path;
+
     use super::*;
     use crate::fit::FunctionType;
     use crate::geometry::{Continuity, Point};
+    use crate::outline::Outline;
 
     #[test]
     fn method_names_round_trip() {
@@ -340,9 +356,12 @@ mod tests {
         assert!(Method::parse_name("hz").is_none());
         assert!(Method::parse_name("lm+lm").is_none());
         assert!(Method::from_name("hz").is_none());
+        for m in FitMode::NAMES {
+            assert_eq!(FitMode::from_name(m).unwrap().name(), m);
+        }
     }
 
-    fn square(n: usize) -> Outline {
+    fn square(n: usize) -> Source {
         // A square with rounded-off sampling: n points per side, closed.
         let corners = [
             Point::new(0.0, 0.0),
@@ -357,31 +376,33 @@ mod tests {
                 pts.push(a.lerp(b, j as f64 / n as f64));
             }
         }
-        Outline::new(pts, true)
+        Source::from_outline("square", Outline::new(pts, true))
     }
 
     #[test]
     fn a_square_is_cut_at_its_corners_and_fitted_exactly() {
-        let outline = square(20);
+        let source = square(20);
         let r = Reconstruction {
-            outline: &outline,
+            source: &source,
             segmentation: Segmentation::Count(4),
             corners: Some(CornerOptions::default()),
             options: FitOptions::new(FunctionType::Cubic, Continuity::G1),
         };
-        assert_eq!(r.corner_indices(), vec![0, 20, 40, 60]);
+        assert_eq!(r.corner_indices(&source.contours[0]), vec![0, 20, 40, 60]);
         let fit = r.fit(&Method::Exact, 1).unwrap();
-        assert_eq!(fit.breaks(), vec![0, 20, 40, 60]);
+        assert_eq!(fit.contours[0].fit.breaks(), vec![0, 20, 40, 60]);
         assert!(fit.metrics.max_distance < 1e-6, "{:?}", fit.metrics);
+        // The chain starts at a corner, so it closes there.
+        assert!(fit.contours[0].fit.closing.unwrap().at_corner);
     }
 
     #[test]
     fn the_same_seed_gives_the_same_fit() {
-        let outline = square(12);
+        let source = square(12);
         let mut options = FitOptions::new(FunctionType::RationalCubic, Continuity::C1);
         options.budget_per_segment = 2000;
         let r = Reconstruction {
-            outline: &outline,
+            source: &source,
             segmentation: Segmentation::Count(4),
             corners: Some(CornerOptions::default()),
             options,
@@ -393,6 +414,14 @@ mod tests {
         assert_eq!(a.metrics.sse.to_bits(), b.metrics.sse.to_bits());
         assert_ne!(a.metrics.sse.to_bits(), c.metrics.sse.to_bits());
         assert_eq!(a.metrics.evaluations, 4 * 2000);
+        // Per segment: every segment on its own seed, joined to the reference.
+        let reference = r.reference().unwrap();
+        let p = r.fit_per_segment(&m, 7, &reference).unwrap();
+        let q = r.fit_per_segment(&m, 7, &reference).unwrap();
+        assert_eq!(p, q);
+        assert_eq!(p.metrics.segments, 4);
+        assert_ne!(segment_seed(7, 0, 1), segment_seed(7, 0, 2));
+        assert_ne!(segment_seed(7, 0, 1), segment_seed(7, 1, 1));
     }
 
     #[test]
@@ -400,9 +429,7 @@ mod tests {
         let e = Source::load(
             "a.csv",
             Path::new("/nonexistent-dir"),
-            0,
-            &ImageOptions::default(),
-            Sampling::default(),
+            &LoadOptions::default(),
         )
         .unwrap_err();
         let cause = std::error::Error::source(&e).expect("the outline error");

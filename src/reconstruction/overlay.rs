@@ -2,7 +2,8 @@
 //! the fitted curves over them, as polylines. The report draws it; this
 //! module only samples the curves.
 
-use crate::fit::{PiecewiseFit, Segment};
+use super::ShapeFit;
+use crate::fit::Segment;
 use crate::geometry::{Curve, Point};
 
 /// Samples per segment in an overlay (plus one: both ends are drawn).
@@ -21,16 +22,15 @@ pub struct OverlayCurve {
 }
 
 impl OverlayCurve {
-    /// The fitted curve of `fit`: each segment sampled at 65 uniform
-    /// parameters and, if `polygons`, its control polygon.
-    pub fn of_fit(label: String, fit: &PiecewiseFit, polygons: bool) -> OverlayCurve {
+    /// The fitted curves of every contour of `fit`: each segment sampled at
+    /// 65 uniform parameters and, if `polygons`, its control polygon.
+    pub fn of_fit(label: String, fit: &ShapeFit, polygons: bool) -> OverlayCurve {
         OverlayCurve {
             label,
-            segments: fit.segments.iter().map(|s| sample(&s.segment)).collect(),
+            segments: fit.segments().map(|(_, s)| sample(&s.segment)).collect(),
             control_polygons: if polygons {
-                fit.segments
-                    .iter()
-                    .map(|s| s.segment.control_points())
+                fit.segments()
+                    .map(|(_, s)| s.segment.control_points())
                     .collect()
             } else {
                 Vec::new()
@@ -75,16 +75,19 @@ pub struct OverlayFigure {
 }
 
 impl OverlayFigure {
-    /// The figure of one fit: its data, the fitted curve and its control
-    /// polygons in one panel titled with the fit's totals.
-    pub fn of_fit(title: &str, data: &[Point], fit: &PiecewiseFit) -> OverlayFigure {
+    /// The figure of one fit: its data, the fitted curves of every contour
+    /// and their control polygons in one panel titled with the fit's totals.
+    pub fn of_fit(title: &str, data: &[Point], fit: &ShapeFit) -> OverlayFigure {
         let m = &fit.metrics;
         OverlayFigure {
             title: title.to_owned(),
             panels: vec![OverlayPanel {
                 title: format!(
-                    "{} segments, E = {:.4e}, max distance {:.3e}",
-                    m.segments, m.sse, m.max_distance
+                    "{} contour(s), {} segments, E = {:.4e}, max distance {:.3e}",
+                    fit.contours.len(),
+                    m.segments,
+                    m.sse,
+                    m.max_distance
                 ),
                 data: data.to_vec(),
                 curves: vec![OverlayCurve::of_fit("fit".into(), fit, true)],

@@ -10,11 +10,32 @@
 
 use std::collections::BTreeMap;
 
-use super::data::Dataset;
+use super::data::{Dataset, Run};
 use super::format::{csv_real, evaluations, Table};
 
 /// The targets shown in the Markdown table (all are in the CSV file).
 const SHOWN: [f64; 6] = [1e2, 1e0, 1e-2, 1e-4, 1e-6, 1e-8];
+
+/// The number of `runs` that reached `target` and their aRT: the
+/// evaluations of all runs until they reached it (or ended), divided by
+/// that number (`None` when none did).
+fn art(runs: &[&Run], target: f64) -> (usize, Option<f64>) {
+    let mut spent = 0u64;
+    let mut reached = 0usize;
+    for r in runs {
+        match r.hits.iter().find(|(p, _)| *p == target) {
+            Some(&(_, e)) => {
+                spent += e;
+                reached += 1;
+            }
+            None => spent += r.evaluations,
+        }
+    }
+    (
+        reached,
+        (reached > 0).then(|| spent as f64 / reached as f64),
+    )
+}
 
 /// The aRT to each of `targets` of every algorithm on every function,
 /// dimension and transform; `None` when no run has hits.
@@ -74,30 +95,12 @@ pub(crate) fn art_table(ds: &Dataset, targets: &[f64]) -> Option<Table> {
     };
     for ((function, dim, transform), problems) in &groups {
         for (c, cell) in ds.cells.iter().enumerate() {
-            let runs: Vec<_> = problems.iter().flat_map(|&p| ds.runs(p, c)).collect();
+            let runs: Vec<&Run> = problems.iter().flat_map(|&p| ds.runs(p, c)).collect();
             if runs.is_empty() {
                 continue;
             }
-            let arts: Vec<(usize, Option<f64>)> = targets
-                .iter()
-                .map(|&target| {
-                    let mut spent = 0u64;
-                    let mut reached = 0usize;
-                    for r in &runs {
-                        match r.hits.iter().find(|(p, _)| *p == target) {
-                            Some(&(_, e)) => {
-                                spent += e;
-                                reached += 1;
-                            }
-                            None => spent += r.evaluations,
-                        }
-                    }
-                    (
-                        reached,
-                        (reached > 0).then(|| spent as f64 / reached as f64),
-                    )
-                })
-                .collect();
+            let arts: Vec<(usize, Option<f64>)> =
+                targets.iter().map(|&target| art(&runs, target)).collect();
             let mut md = vec![
                 function.clone(),
                 dim.to_string(),

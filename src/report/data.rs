@@ -5,8 +5,10 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
+use super::ReportError;
 use crate::experiment::records::{read_results, read_runs, RunRecord, Schema};
-use crate::experiment::{DataError, DataProblem, ReadError};
+use crate::experiment::spec::factor_suffix;
+use crate::experiment::{DataError, DataProblem};
 use crate::functions::Transform;
 
 /// One run, reduced to what the report uses.
@@ -77,19 +79,53 @@ impl Problem {
         } else {
             format!("{}, D = {}", self.function, self.dim)
         };
+        t.push_str(&self.short()[self.function.len()..]);
+        t
+    }
+
+    /// The problem's name in CSV tables: the function (or fitting case),
+    /// followed by `|budget=`, `|transform=` and `|instance=` parts for the
+    /// factors that are not at their default, as in the spec's problem keys.
+    pub fn label(&self) -> String {
+        let mut s = self.function.clone();
+        if let Some(b) = self.budget {
+            s.push_str(&format!("|budget={b}"));
+        }
+        s.push_str(&factor_suffix(self.transform, self.instance, true, true));
+        s
+    }
+
+    /// The problem's name in Markdown tables: the function (or fitting
+    /// case), then `, shift-rotate #2` and `, budget 1000` when those
+    /// factors are not at their default.
+    pub fn short(&self) -> String {
+        let mut s = self.function.clone();
         if self.transform != Transform::None {
-            t.push_str(&format!(", {} #{}", self.transform, self.instance));
+            s.push_str(&format!(", {} #{}", self.transform, self.instance));
         }
         if let Some(b) = self.budget {
-            t.push_str(&format!(", budget {b}"));
+            s.push_str(&format!(", budget {b}"));
         }
-        t
+        s
     }
 
     /// Whether this is a fitting case (its name has `/` parts).
     pub fn is_fit(&self) -> bool {
         self.function.contains('/')
     }
+}
+
+/// Run numbers of pooled bbob instances: instance k's run r is
+/// `(k − 1)·BBOB_RUN_STRIDE + r`, the same for every algorithm, so paired
+/// tests pair the same instance and run.
+const BBOB_RUN_STRIDE: u32 = 100_000;
+
+/// The pooled name of a COCO bbob id: `bbob_f008_i02_d05` → `bbob_f008_d05`.
+fn bbob_pooled(id: &str) -> Option<String> {
+    let rest = id.strip_prefix("bbob_f")?;
+    let (f, rest) = rest.split_once("_i")?;
+    let (_, d) = rest.split_once("_d")?;
+    Some(format!("bbob_f{f}_d{d}"))
 }
 
 /// All runs of a report, indexed by problem and cell.
@@ -150,12 +186,18 @@ impl Dataset {
                 });
                 cells.len() - 1
             });
+            // A bbob problem pools its instances, as COCO does: the
+            // instances of bbob_f008_iKK_d05 are runs of bbob_f008_d05.
+            let (function, instance, run_number) = match bbob_pooled(&r.problem) {
+                Some(f) => (f, 1, (r.instance - 1) * BBOB_RUN_STRIDE + r.run),
+                None => (r.problem.clone(), r.instance, r.run),
+            };
             let problem = Problem {
-                function: r.problem.clone(),
+                function,
                 dim: r.dim,
                 budget: budget_factor.then_some(r.budget),
                 transform: r.transform,
-                instance: r.instance,
+                instance,
             };
             let p = *problem_index.entry(problem.clone()).or_insert_with(|| {
                 problems.push(problem);
@@ -169,7 +211,7 @@ impl Dataset {
                 .collect();
             has_convergence |= !trace.is_empty();
             let run = Run {
-                run: r.run,
+                run: run_number,
                 budget: r.budget,
                 error: r.error,
                 evaluations: r.evaluations,
@@ -183,7 +225,7 @@ impl Dataset {
                     .collect(),
                 wall_seconds: Some(r.wall_seconds),
             };
-            match grouped.entry((p, c)).or_default().entry(r.run) {
+            match grouped.entry((p, c)).or_default().entry(run_number) {
                 std::collections::btree_map::Entry::Occupied(_) => duplicates += 1,
                 std::collections::btree_map::Entry::Vacant(slot) => {
                     slot.insert(run);
@@ -328,7 +370,7 @@ fn name_cells(cells: &mut [Cell]) {
 
 /// Reads the runs of a results directory and of an optional external
 /// `runs.csv`.
-pub(crate) fn load(dir: &Path, external: Option<&Path>) -> Result<Dataset, ReadError> {
+pub(crate) fn load(dir: &Path, external: Option<&Path>) -> Result<Dataset, ReportError> {
     let runs_path = dir.join("runs.csv");
     let conv = dir.join("convergence.csv").is_file();
     let timing = dir.join("timing.csv").is_file();
@@ -351,6 +393,7 @@ pub(crate) fn load(dir: &Path, external: Option<&Path>) -> Result<Dataset, ReadE
     if records.is_empty() {
         return Err(DataError::new(&runs_path, 0, DataProblem::NoRuns).into());
     }
+    notes.extend(super::integrity::check_rows(dir, &records)?);
     let internal_labels: std::collections::BTreeSet<String> =
         records.iter().map(|r| r.algorithm.clone()).collect();
     let mut all: Vec<(RunRecord, bool)> = records.into_iter().map(|r| (r, false)).collect();

@@ -119,7 +119,7 @@ pub(crate) fn table(ds: &Dataset, stats: &[Vec<Option<CellStats>>]) -> Table {
             let sm = s.summary.as_ref();
             let sc = s.success.as_ref();
             t.md_rows.push(vec![
-                problem.function.clone(),
+                problem.short(),
                 problem.dim.to_string(),
                 cell.name.clone(),
                 s.runs.to_string(),
@@ -133,7 +133,7 @@ pub(crate) fn table(ds: &Dataset, stats: &[Vec<Option<CellStats>>]) -> Table {
                 evaluations(sc.and_then(|x| x.average_runtime)),
             ]);
             t.csv_rows.push(vec![
-                problem.function.clone(),
+                problem.label(),
                 problem.dim.to_string(),
                 cell.label.clone(),
                 cell.kind.clone(),

@@ -1,5 +1,7 @@
 //! The report's error type.
 
+use std::path::PathBuf;
+
 use crate::experiment::{DataError, ReadError};
 use crate::files::IoError;
 use crate::font::FontError;
@@ -26,6 +28,24 @@ pub enum ReportError {
         requested: String,
         /// The configurations in the results.
         names: Vec<String>,
+    },
+    /// The campaign in the directory is not finished.
+    #[error(
+        "{}: campaign unfinished (a journal.csv and no runs.csv): run `metabezier run SPEC --resume` to finish it",
+        dir.display()
+    )]
+    Unfinished {
+        /// The results directory.
+        dir: PathBuf,
+    },
+    /// The rows of runs.csv do not state the campaign.
+    #[error("{}: {problem}", path.display())]
+    Rows {
+        /// The runs.csv file.
+        path: PathBuf,
+        /// What is wrong.
+        #[source]
+        problem: super::integrity::RowProblem,
     },
     /// The embedded font could not be registered.
     #[error(transparent)]

@@ -1,10 +1,15 @@
 //! The curve-fitting part of a report, for campaigns with `[[fit]]`
 //! problems: fit quality beyond `E`, the gap of every method to the best
-//! `E` found by any method, whether the hybrid beats both of its parts, and
-//! overlays of the best fit of each function on each outline.
+//! `E` found by any method, whether the hybrid beats both of its parts, the
+//! search-space technique against the bounding box, overlays of the best
+//! fit of each function on each outline and, for campaigns in the
+//! per-segment mode, the segment-level tests ([`super::fit_units`]).
 //!
 //! Problem names of fitting campaigns are `source/function/continuity`,
-//! with `/bounding-box` appended for the naive search space.
+//! then `/bounding-box` for the naive search space, `/alpha=A` for a listed
+//! α_size other than 0.5, `/per-segment` in the per-segment mode. When runs
+//! of one name differ in budget, each budget per segment is its own problem
+//! here, as in the rest of the report.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -31,23 +36,70 @@ pub(crate) struct FittingSection {
     pub notes: Vec<String>,
 }
 
-/// A problem name split into its parts.
-struct Case<'a> {
-    source: &'a str,
-    function: &'a str,
-    continuity: &'a str,
-    space: Option<&'a str>,
+/// A fitting problem name split into its parts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Case<'a> {
+    /// The source (file stem or `font-glyph`).
+    pub source: &'a str,
+    /// The fitting function.
+    pub function: &'a str,
+    /// The continuity.
+    pub continuity: &'a str,
+    /// `Some("bounding-box")` for the naive search space, `None` for the
+    /// technique.
+    pub space: Option<&'a str>,
+    /// The technique's α_size when it is a listed value other than 0.5.
+    pub alpha: Option<&'a str>,
+    /// Whether the case is in the per-segment mode.
+    pub per_segment: bool,
 }
 
-fn split(name: &str) -> Option<Case<'_>> {
+impl Case<'_> {
+    /// `source/function/continuity` and `/per-segment`: what a technique
+    /// case and its bounding-box twin share.
+    pub fn base(&self) -> String {
+        let mut s = format!("{}/{}/{}", self.source, self.function, self.continuity);
+        if self.per_segment {
+            s.push_str("/per-segment");
+        }
+        s
+    }
+
+    /// The search space as a design level: `bounding-box`, or
+    /// `technique` with its α_size (`technique` alone at the default).
+    pub fn space_level(&self) -> String {
+        match (self.space, self.alpha) {
+            (Some(s), _) => s.to_owned(),
+            (None, Some(a)) => format!("technique, α = {a}"),
+            (None, None) => "technique".into(),
+        }
+    }
+}
+
+/// The parts of a fitting problem name; `None` for another name.
+pub(crate) fn split(name: &str) -> Option<Case<'_>> {
     let mut parts = name.split('/');
-    let case = Case {
+    let mut case = Case {
         source: parts.next()?,
         function: parts.next()?,
         continuity: parts.next()?,
-        space: parts.next(),
+        space: None,
+        alpha: None,
+        per_segment: false,
     };
-    parts.next().is_none().then_some(case)
+    for part in parts {
+        match part {
+            "per-segment" if !case.per_segment => case.per_segment = true,
+            _ if part.starts_with("alpha=") && case.alpha.is_none() => {
+                case.alpha = Some(&part["alpha=".len()..]);
+            }
+            _ if case.space.is_none() && case.alpha.is_none() && !case.per_segment => {
+                case.space = Some(part);
+            }
+            _ => return None,
+        }
+    }
+    Some(case)
 }
 
 fn mean(v: &[f64]) -> f64 {
@@ -98,39 +150,56 @@ fn cell_name(ds: &Dataset, r: &RunRecord) -> String {
         .map_or_else(|| r.algorithm.clone(), |c| c.name.clone())
 }
 
+/// A fitting problem of the section: its name and, when runs of the name
+/// differ in budget, its budget per segment.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub(crate) struct FitProblem {
+    /// The problem name.
+    pub name: String,
+    /// The budget per segment, when it tells problems of one name apart.
+    pub budget: Option<u64>,
+}
+
+impl FitProblem {
+    /// The name, with `, budget B per segment` when there is one.
+    pub fn label(&self) -> String {
+        match self.budget {
+            Some(b) => format!("{}, budget {b} per segment", self.name),
+            None => self.name.clone(),
+        }
+    }
+}
+
 /// The fitting runs grouped by problem and method, both in the order of
 /// their first appearance.
-struct FitRuns<'r> {
-    /// Problem names (`source/function/continuity[/space]`).
-    problems: Vec<String>,
+pub(crate) struct FitRuns<'r> {
+    /// The problems.
+    pub problems: Vec<FitProblem>,
     /// Method (cell) names.
-    cells: Vec<String>,
+    pub cells: Vec<String>,
     /// (problem, cell) → its runs.
-    runs: BTreeMap<(usize, usize), Vec<&'r RunRecord>>,
+    pub runs: BTreeMap<(usize, usize), Vec<&'r RunRecord>>,
 }
 
 impl<'r> FitRuns<'r> {
     /// Groups the records that have fit details.
-    fn group(ds: &Dataset, records: &'r [RunRecord]) -> Self {
-        let mut problems: Vec<String> = Vec::new();
+    pub fn group(ds: &Dataset, records: &'r [RunRecord]) -> Self {
+        let fits: Vec<&RunRecord> = records.iter().filter(|r| r.fit.is_some()).collect();
+        let mut budgets: BTreeMap<&str, std::collections::BTreeSet<u64>> = BTreeMap::new();
+        for r in &fits {
+            budgets.entry(&r.problem).or_default().insert(r.budget);
+        }
+        let mut problems: Vec<FitProblem> = Vec::new();
         let mut cells: Vec<String> = Vec::new();
         let mut runs: BTreeMap<(usize, usize), Vec<&RunRecord>> = BTreeMap::new();
-        for r in records.iter().filter(|r| r.fit.is_some()) {
-            let p = match problems.iter().position(|q| *q == r.problem) {
-                Some(p) => p,
-                None => {
-                    problems.push(r.problem.clone());
-                    problems.len() - 1
-                }
+        for r in fits {
+            let key = FitProblem {
+                name: r.problem.clone(),
+                budget: (budgets[r.problem.as_str()].len() > 1)
+                    .then(|| r.budget / r.dim.max(1) as u64),
             };
-            let name = cell_name(ds, r);
-            let c = match cells.iter().position(|q| *q == name) {
-                Some(c) => c,
-                None => {
-                    cells.push(name);
-                    cells.len() - 1
-                }
-            };
+            let p = position_or_push(&mut problems, key);
+            let c = position_or_push(&mut cells, cell_name(ds, r));
             runs.entry((p, c)).or_default().push(r);
         }
         FitRuns {
@@ -141,7 +210,7 @@ impl<'r> FitRuns<'r> {
     }
 
     /// The final E of every run of cell `c` on problem `p`, if it ran.
-    fn errors(&self, p: usize, c: usize) -> Option<Vec<f64>> {
+    pub fn errors(&self, p: usize, c: usize) -> Option<Vec<f64>> {
         self.runs
             .get(&(p, c))
             .map(|rs| rs.iter().map(|r| r.best).collect())
@@ -184,6 +253,17 @@ impl<'r> FitRuns<'r> {
     }
 }
 
+/// The position of `item` in `list`, appended if absent.
+fn position_or_push<T: PartialEq>(list: &mut Vec<T>, item: T) -> usize {
+    match list.iter().position(|q| *q == item) {
+        Some(i) => i,
+        None => {
+            list.push(item);
+            list.len() - 1
+        }
+    }
+}
+
 /// The empty fit-quality table, with its headers.
 fn quality_frame() -> Table {
     Table {
@@ -193,9 +273,12 @@ fn quality_frame() -> Table {
             "For each fitting problem (source/function/continuity) and method: the mean and \
              best E = Σ|Rᵢ − P(sᵢ)|² over the runs, the relative gap of the mean to the best E \
              found by any method on that problem (the exact reference LM included), the mean \
-             RMS distance √(E/N), the mean largest orthogonal distance of a data point to the \
-             curve, and the mean tangent angle at the closing joint of the closed outline, \
-             where only C⁰ is imposed (data units: pixels for images, font units for glyphs)."
+             RMS √(E/N) (measured at the parameters sᵢ), the mean RMS of the orthogonal \
+             distances (each data point to its segment; with the current fitting records), \
+             the mean largest orthogonal distance of a data point to the curve, and the mean \
+             tangent angle at the closing joint of a closed outline (the largest over its \
+             contours): near 0 where the chain closes smoothly, a kink where it closes C⁰ \
+             or at a corner (data units: pixels for images, font units for glyphs)."
                 .into(),
         ],
         md_header: [
@@ -229,66 +312,102 @@ fn quality_frame() -> Table {
     }
 }
 
+/// The means of one method's runs on one problem.
+struct Quality {
+    mean: f64,
+    best: f64,
+    gap: f64,
+    rms: f64,
+    rms_distance: f64,
+    max_distance: f64,
+    angle: f64,
+}
+
+impl Quality {
+    /// The quality of `runs` against the best E found, `known`.
+    fn of(runs: &[&RunRecord], known: f64) -> Quality {
+        let e: Vec<f64> = runs.iter().map(|r| r.best).collect();
+        let fit = |f: fn(&FitDetail) -> Option<f64>| -> f64 {
+            let v: Vec<f64> = runs
+                .iter()
+                .filter_map(|r| r.fit.as_ref().and_then(f))
+                .collect();
+            if v.is_empty() {
+                f64::NAN
+            } else {
+                mean(&v)
+            }
+        };
+        let m = mean(&e);
+        Quality {
+            mean: m,
+            best: e.iter().copied().fold(f64::INFINITY, f64::min),
+            gap: if known > 0.0 {
+                m / known - 1.0
+            } else {
+                f64::NAN
+            },
+            rms: fit(|d| Some(d.rms)),
+            rms_distance: fit(|d| d.rms_distance),
+            max_distance: fit(|d| Some(d.max_distance)),
+            angle: fit(|d| d.closing_angle_degrees.filter(|a| a.is_finite())),
+        }
+    }
+}
+
 /// The fit quality of every method on every problem, with the gap of its
-/// mean E to the best E found (`known`).
+/// mean E to the best E found (`known`); the orthogonal RMS when the
+/// records have it.
 fn quality_table(fr: &FitRuns<'_>, best: &[(f64, String)]) -> Table {
     let mut quality = quality_frame();
+    let orthogonal = fr
+        .runs
+        .values()
+        .flatten()
+        .any(|r| r.fit.as_ref().is_some_and(|f| f.rms_distance.is_some()));
+    if orthogonal {
+        quality.md_header.insert(7, "Mean RMS distance".into());
+        quality.csv_header.insert(8, "mean_rms_distance".into());
+    }
     for (p, problem) in fr.problems.iter().enumerate() {
         for (c, cell) in fr.cells.iter().enumerate() {
             let Some(rs) = fr.runs.get(&(p, c)) else {
                 continue;
             };
-            let e: Vec<f64> = rs.iter().map(|r| r.best).collect();
-            let fit = |f: fn(&FitDetail) -> Option<f64>| -> Vec<f64> {
-                rs.iter()
-                    .filter_map(|r| r.fit.as_ref().and_then(f))
-                    .collect()
-            };
-            let rms = fit(|d| Some(d.rms));
-            let maxd = fit(|d| Some(d.max_distance));
-            let angle = fit(|d| d.closing_angle_degrees.filter(|a| a.is_finite()));
-            let (m, b, known) = (
-                mean(&e),
-                e.iter().copied().fold(f64::INFINITY, f64::min),
-                best[p].0,
-            );
-            let gap = if known > 0.0 {
-                m / known - 1.0
-            } else {
-                f64::NAN
-            };
-            let angle_mean = if angle.is_empty() {
-                f64::NAN
-            } else {
-                mean(&angle)
-            };
-            quality.md_rows.push(vec![
-                problem.clone(),
+            let q = Quality::of(rs, best[p].0);
+            let mut md = vec![
+                problem.label(),
                 cell.clone(),
                 rs.len().to_string(),
-                sci(m),
-                sci(b),
-                sci(gap),
-                sci(mean(&rms)),
-                sci(mean(&maxd)),
-                if angle_mean.is_nan() {
+                sci(q.mean),
+                sci(q.best),
+                sci(q.gap),
+                sci(q.rms),
+                sci(q.max_distance),
+                if q.angle.is_nan() {
                     "—".into()
                 } else {
-                    format!("{angle_mean:.2}")
+                    format!("{:.2}", q.angle)
                 },
-            ]);
-            quality.csv_rows.push(vec![
-                problem.clone(),
+            ];
+            let mut csv = vec![
+                problem.label(),
                 cell.clone(),
                 rs.len().to_string(),
-                fmt_real(m),
-                fmt_real(b),
-                fmt_real(known),
-                fmt_real(gap),
-                fmt_real(mean(&rms)),
-                fmt_real(mean(&maxd)),
-                fmt_real(angle_mean),
-            ]);
+                fmt_real(q.mean),
+                fmt_real(q.best),
+                fmt_real(best[p].0),
+                fmt_real(q.gap),
+                fmt_real(q.rms),
+                fmt_real(q.max_distance),
+                fmt_real(q.angle),
+            ];
+            if orthogonal {
+                md.insert(7, sci(q.rms_distance));
+                csv.insert(8, fmt_real(q.rms_distance));
+            }
+            quality.md_rows.push(md);
+            quality.csv_rows.push(csv);
         }
     }
     quality
@@ -313,6 +432,7 @@ fn functions_table(fr: &FitRuns<'_>, best: &[(f64, String)]) -> Table {
             "source",
             "continuity",
             "search_space",
+            "budget_per_segment",
             "function",
             "best_sse",
             "found_by",
@@ -323,15 +443,28 @@ fn functions_table(fr: &FitRuns<'_>, best: &[(f64, String)]) -> Table {
     };
     let problems = &fr.problems;
     let mut order: Vec<usize> = (0..problems.len()).collect();
-    order.sort_by_key(|&p| split(&problems[p]).map(|c| (c.source, c.space, c.continuity, p)));
+    order.sort_by_key(|&p| {
+        split(&problems[p].name).map(|c| {
+            (
+                c.source,
+                c.space_level(),
+                problems[p].budget,
+                c.continuity,
+                p,
+            )
+        })
+    });
     for p in order {
-        let Some(case) = split(&problems[p]) else {
+        let Some(case) = split(&problems[p].name) else {
             continue;
         };
-        let cont = match case.space {
-            Some(s) => format!("{} ({s})", case.continuity.to_uppercase()),
-            None => case.continuity.to_uppercase(),
-        };
+        let mut cont = case.continuity.to_uppercase();
+        if case.space.is_some() || case.alpha.is_some() {
+            cont = format!("{cont} ({})", case.space_level());
+        }
+        if let Some(b) = problems[p].budget {
+            cont = format!("{cont}, budget {b}");
+        }
         functions.md_rows.push(vec![
             case.source.into(),
             cont,
@@ -342,7 +475,8 @@ fn functions_table(fr: &FitRuns<'_>, best: &[(f64, String)]) -> Table {
         functions.csv_rows.push(vec![
             case.source.into(),
             case.continuity.into(),
-            case.space.unwrap_or("technique").into(),
+            case.space_level(),
+            problems[p].budget.map_or(String::new(), |b| b.to_string()),
             case.function.into(),
             fmt_real(best[p].0),
             best[p].1.clone(),
@@ -408,7 +542,7 @@ fn hybrid_table(fr: &FitRuns<'_>) -> Table {
             };
             let beats = mh < mx.min(ml) * (1.0 - 1e-9);
             hybrid.md_rows.push(vec![
-                problem.clone(),
+                problem.label(),
                 fr.cells[x].clone(),
                 sci(mx),
                 sci(ml),
@@ -416,7 +550,7 @@ fn hybrid_table(fr: &FitRuns<'_>) -> Table {
                 if beats { "yes" } else { "no" }.into(),
             ]);
             hybrid.csv_rows.push(vec![
-                problem.clone(),
+                problem.label(),
                 fr.cells[x].clone(),
                 fmt_real(mx),
                 fmt_real(ml),
@@ -429,29 +563,27 @@ fn hybrid_table(fr: &FitRuns<'_>) -> Table {
 }
 
 /// The empty search-space table, with its headers.
-fn search_space_frame(alpha: f64, paired: bool) -> Table {
-    let test = if paired {
-        "two-sided Wilcoxon signed-rank test paired by run (the search space is paired in \
-         the spec, so the runs of the two problems share their seeds)"
-    } else {
-        "two-sided Mann–Whitney U test of the two samples (the runs of the two problems \
-         have different seeds, so they are not paired)"
-    };
+fn search_space_frame(alpha: f64) -> Table {
     Table {
         stem: "fit_search_space".into(),
         title: "Search-space technique against the bounding box".into(),
         intro: vec![format!(
-            "For each problem run with both search spaces and each method: the median E \
-             inside the technique's boxes and inside the naive bounding box, and the \
-             {test}, with Holm's correction over all rows. The mark is from the \
-             technique's point of view at α = {alpha}: + significantly lower E with the \
-             technique, − significantly higher, ≈ no significant difference."
+            "For each problem run with the technique (at each α_size) and with the bounding \
+             box, at the same budget, and each method: the median E inside the technique's \
+             boxes and inside the naive bounding box, and a two-sided test with Holm's \
+             correction over all rows — the Wilcoxon signed-rank test paired by run where \
+             the runs of the two problems share their seeds (the spec pairs the search space \
+             and α_size), else the Mann–Whitney U test. The mark is from the technique's \
+             point of view at α = {alpha}: + significantly lower E with the technique, − \
+             significantly higher, ≈ no significant difference. Here the whole outline is \
+             the unit; the segment-level table, where there is one, has segments as units."
         )],
         md_header: [
             "Problem",
             "Method",
             "Median E (technique)",
             "Median E (bounding box)",
+            "Test",
             "p",
             "p (Holm)",
             "Mark",
@@ -460,10 +592,13 @@ fn search_space_frame(alpha: f64, paired: bool) -> Table {
         .to_vec(),
         csv_header: [
             "problem",
+            "search_space",
+            "budget_per_segment",
             "method",
             "median_technique",
             "median_bounding_box",
-            if paired { "r_plus_minus_r_minus" } else { "u" },
+            "test",
+            "statistic",
             "p_value",
             "p_holm",
             "mark",
@@ -477,50 +612,86 @@ fn search_space_frame(alpha: f64, paired: bool) -> Table {
 /// A test of E with the technique against E in the bounding box: its
 /// p-value and its signed statistic (negative when the technique's E
 /// tends to be lower).
-struct SpaceTest {
-    p_value: f64,
-    direction: f64,
+pub(crate) struct SpaceTest {
+    /// The two-sided p-value.
+    pub p_value: f64,
+    /// Negative when the first sample tends to be lower.
+    pub direction: f64,
     /// The statistic written to the CSV file: R⁺ − R⁻ or U.
-    statistic: f64,
+    pub statistic: f64,
+    /// `wilcoxon` (paired) or `mann-whitney`.
+    pub test: &'static str,
 }
 
-/// A method's runs on a problem in both search spaces: (problem of the
-/// technique, method, median E with the technique, median E in the
-/// bounding box, the test).
-type SpacePair = (String, String, f64, f64, SpaceTest);
+/// The two-sided test of `a` against `b`: Wilcoxon signed-rank paired by
+/// run when `paired` (same seeds, run by run), else Mann–Whitney U.
+pub(crate) fn two_sample_test(a: &[f64], b: &[f64], paired: bool) -> Option<SpaceTest> {
+    if paired && a.len() == b.len() {
+        wilcoxon(a, b, Alternative::TwoSided)
+            .ok()
+            .map(|w| SpaceTest {
+                p_value: w.p_value,
+                direction: w.r_plus - w.r_minus,
+                statistic: w.r_plus - w.r_minus,
+                test: "wilcoxon",
+            })
+    } else {
+        mann_whitney_u(a, b, Alternative::TwoSided)
+            .ok()
+            .map(|m| SpaceTest {
+                p_value: m.p_value,
+                direction: m.statistic - (m.n1 * m.n2) as f64 / 2.0,
+                statistic: m.statistic,
+                test: "mann-whitney",
+            })
+    }
+}
 
-/// Every method run on a problem in both search spaces, with the test of
-/// its two samples: paired by run when `paired`, else unpaired.
-fn space_pairs(fr: &FitRuns<'_>, paired: bool) -> Vec<SpacePair> {
+/// Whether the runs of cell `c` on problems `p` and `q` share their seeds
+/// run by run (so that they are paired).
+pub(crate) fn same_seeds(fr: &FitRuns<'_>, p: usize, q: usize, c: usize) -> bool {
+    let seeds = |p: usize| -> Option<Vec<(u32, u64)>> {
+        let mut v: Vec<(u32, u64)> = fr
+            .runs
+            .get(&(p, c))?
+            .iter()
+            .map(|r| (r.run, r.seed))
+            .collect();
+        v.sort_unstable();
+        Some(v)
+    };
+    matches!((seeds(p), seeds(q)), (Some(a), Some(b)) if a == b)
+}
+
+/// A method's runs on a problem in both search spaces: (the technique's
+/// problem, method, median E with the technique, median E in the
+/// bounding box, the test).
+type SpacePair = (usize, String, f64, f64, SpaceTest);
+
+/// Every technique problem (each α_size) with a bounding-box twin at the
+/// same budget, and every method run on both, with the test of its two
+/// samples.
+fn space_pairs(fr: &FitRuns<'_>) -> Vec<SpacePair> {
     let mut pairs = Vec::new();
-    for (pb, name) in fr.problems.iter().enumerate() {
-        let Some(c) = split(name) else { continue };
+    for (pb, bb) in fr.problems.iter().enumerate() {
+        let Some(c) = split(&bb.name) else { continue };
         if c.space != Some("bounding-box") {
             continue;
         }
-        let twin = format!("{}/{}/{}", c.source, c.function, c.continuity);
-        let Some(pt) = fr.problems.iter().position(|q| *q == twin) else {
-            continue;
-        };
-        for (cell, cell_name) in fr.cells.iter().enumerate() {
-            let (Some(ea), Some(eb)) = (fr.errors(pt, cell), fr.errors(pb, cell)) else {
+        for (pt, tech) in fr.problems.iter().enumerate() {
+            let twin = split(&tech.name).is_some_and(|t| {
+                t.space.is_none() && t.base() == c.base() && tech.budget == bb.budget
+            });
+            if !twin {
                 continue;
-            };
-            let test = if paired && ea.len() == eb.len() {
-                wilcoxon(&ea, &eb, Alternative::TwoSided).map(|w| SpaceTest {
-                    p_value: w.p_value,
-                    direction: w.r_plus - w.r_minus,
-                    statistic: w.r_plus - w.r_minus,
-                })
-            } else {
-                mann_whitney_u(&ea, &eb, Alternative::TwoSided).map(|m| SpaceTest {
-                    p_value: m.p_value,
-                    direction: m.statistic - (m.n1 * m.n2) as f64 / 2.0,
-                    statistic: m.statistic,
-                })
-            };
-            if let Ok(t) = test {
-                pairs.push((twin.clone(), cell_name.clone(), median(&ea), median(&eb), t));
+            }
+            for (cell, cell_name) in fr.cells.iter().enumerate() {
+                let (Some(ea), Some(eb)) = (fr.errors(pt, cell), fr.errors(pb, cell)) else {
+                    continue;
+                };
+                if let Some(t) = two_sample_test(&ea, &eb, same_seeds(fr, pt, pb, cell)) {
+                    pairs.push((pt, cell_name.clone(), median(&ea), median(&eb), t));
+                }
             }
         }
     }
@@ -529,30 +700,36 @@ fn space_pairs(fr: &FitRuns<'_>, paired: bool) -> Vec<SpacePair> {
 
 /// The search-space technique against the naive bounding box, with Holm's
 /// correction over all rows.
-fn search_space_table(fr: &FitRuns<'_>, alpha: f64, paired: bool) -> Table {
-    let mut space = search_space_frame(alpha, paired);
-    let pairs = space_pairs(fr, paired);
+fn search_space_table(fr: &FitRuns<'_>, alpha: f64) -> Table {
+    let mut space = search_space_frame(alpha);
+    let pairs = space_pairs(fr);
     if pairs.is_empty() {
         return space;
     }
     let p: Vec<f64> = pairs.iter().map(|x| x.4.p_value).collect();
     let adjusted = holm_bonferroni(&p).unwrap_or(p);
-    for ((problem, method, ma, mb, t), ph) in pairs.into_iter().zip(adjusted) {
+    for ((pt, method, ma, mb, t), ph) in pairs.into_iter().zip(adjusted) {
         let mark = Mark::from_p_value(ph, alpha, t.direction);
+        let problem = &fr.problems[pt];
+        let level = split(&problem.name).map_or(String::new(), |c| c.space_level());
         space.md_rows.push(vec![
-            problem.clone(),
+            problem.label(),
             method.clone(),
             sci(ma),
             sci(mb),
+            t.test.into(),
             sci(t.p_value),
             sci(ph),
             mark.symbol().into(),
         ]);
         space.csv_rows.push(vec![
-            problem,
+            problem.name.clone(),
+            level,
+            problem.budget.map_or(String::new(), |b| b.to_string()),
             method,
             fmt_real(ma),
             fmt_real(mb),
+            t.test.into(),
             fmt_real(t.statistic),
             fmt_real(t.p_value),
             fmt_real(ph),
@@ -563,7 +740,8 @@ fn search_space_table(fr: &FitRuns<'_>, alpha: f64, paired: bool) -> Table {
 }
 
 /// The overlay panel of one function on one source: the best fit of each
-/// continuity (technique search space), titled with their E and method.
+/// continuity (technique search space at its default α_size, any budget),
+/// titled with their E and method.
 fn overlay_panel(
     ds: &Dataset,
     fr: &FitRuns<'_>,
@@ -571,21 +749,26 @@ fn overlay_panel(
     function: &str,
     data: &[Point],
 ) -> OverlayPanel {
-    let mut curves = Vec::new();
-    let mut bests = Vec::new();
-    for (p, name) in fr.problems.iter().enumerate() {
-        let Some(c) = split(name) else { continue };
-        if c.source != source || c.function != function || c.space.is_some() {
+    let mut best: Vec<(String, &RunRecord)> = Vec::new();
+    for ((p, _), rs) in &fr.runs {
+        let Some(c) = split(&fr.problems[*p].name) else {
+            continue;
+        };
+        if c.source != source || c.function != function || c.space.is_some() || c.alpha.is_some() {
             continue;
         }
-        let best_run = fr
-            .runs
-            .iter()
-            .filter(|((pp, _), _)| *pp == p)
-            .flat_map(|(_, rs)| rs.iter())
-            .min_by(|a, b| a.best.total_cmp(&b.best));
-        let Some(r) = best_run else { continue };
         let cont = c.continuity.to_uppercase();
+        for r in rs {
+            match best.iter_mut().find(|(k, _)| *k == cont) {
+                Some((_, b)) if r.best < b.best => *b = r,
+                Some(_) => {}
+                None => best.push((cont.clone(), r)),
+            }
+        }
+    }
+    let mut curves = Vec::new();
+    let mut bests = Vec::new();
+    for (cont, r) in best {
         if let Some(curve) = r
             .fit
             .as_ref()
@@ -608,8 +791,12 @@ fn overlay_panel(
 fn overlay_plot(ds: &Dataset, fr: &FitRuns<'_>, source: &str, data: &[Point]) -> Option<Plot> {
     let mut function_names: Vec<&str> = Vec::new();
     for p in &fr.problems {
-        if let Some(c) = split(p) {
-            if c.source == source && c.space.is_none() && !function_names.contains(&c.function) {
+        if let Some(c) = split(&p.name) {
+            if c.source == source
+                && c.space.is_none()
+                && c.alpha.is_none()
+                && !function_names.contains(&c.function)
+            {
                 function_names.push(c.function);
             }
         }
@@ -654,7 +841,7 @@ fn overlays(
     let mut sources: Vec<&str> = fr
         .problems
         .iter()
-        .filter_map(|p| split(p).map(|c| c.source))
+        .filter_map(|p| split(&p.name).map(|c| c.source))
         .collect();
     sources.dedup();
     let mut seen = std::collections::BTreeSet::new();
@@ -687,14 +874,13 @@ pub(crate) fn section(
     let best = fr.best();
     let mut notes = Vec::new();
     let mut tables = vec![quality_table(&fr, &best), functions_table(&fr, &best)];
-    let paired = super::data::provenance(dir)
-        .paired
-        .iter()
-        .any(|f| f == "search_space");
-    let space = search_space_table(&fr, alpha, paired);
+    let space = search_space_table(&fr, alpha);
     if !space.md_rows.is_empty() {
         tables.push(space);
     }
+    let (units, unit_notes) = super::fit_units::tables(&fr, alpha);
+    tables.extend(units);
+    notes.extend(unit_notes);
     let hybrid = hybrid_table(&fr);
     if hybrid.md_rows.is_empty() {
         notes.push(

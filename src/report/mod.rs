@@ -18,8 +18,10 @@ mod anytime;
 mod data;
 mod descriptive;
 mod error;
+mod fit_units;
 mod fitting;
 mod format;
+mod integrity;
 mod markdown;
 mod overlay;
 mod plots;
@@ -192,14 +194,14 @@ fn problems_table(ds: &data::Dataset) -> Table {
             .collect::<Vec<_>>()
             .join(" / ");
         t.md_rows.push(vec![
-            problem.function.clone(),
+            problem.short(),
             problem.dim.to_string(),
             budget.clone(),
             algorithms.to_string(),
             runs.to_string(),
         ]);
         t.csv_rows.push(vec![
-            problem.function.clone(),
+            problem.label(),
             problem.dim.to_string(),
             budget,
             algorithms.to_string(),
@@ -484,6 +486,7 @@ pub fn write_report(dir: &Path, options: &ReportOptions) -> Result<ReportSummary
     if !(options.alpha > 0.0 && options.alpha < 1.0) {
         return Err(ReportError::Alpha(options.alpha));
     }
+    integrity::check_finished(dir)?;
     let ds = data::load(dir, options.external.as_deref())?;
     let provenance = data::provenance(dir);
     let s = sections(dir, &ds, &provenance, options)?;

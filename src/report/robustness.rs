@@ -6,7 +6,8 @@
 //! A design point is one combination of the factors that vary in the
 //! results other than the algorithm, the function and the run: the
 //! dimension, the budget and the transform of benchmark problems, the
-//! budget per segment and the search space of fitting cases. The functions
+//! budget per segment, the search space, the technique's α_size and the
+//! problem mode (whole outline or per segment) of fitting cases. The functions
 //! at a design point (each benchmark instance and each fitting case counting
 //! as one) are its units. At a design point an algorithm is *better* than
 //! the reference when it has more "+" than "−" marks there, *worse* when it
@@ -14,6 +15,7 @@
 
 use std::collections::BTreeMap;
 
+use crate::functions::bbob::bbob_group;
 use crate::stats::Mark;
 
 use super::data::{Dataset, Problem};
@@ -45,6 +47,8 @@ fn phrase(factor: &str, level: &Level) -> String {
     match factor {
         "D" => format!("D = {level}"),
         "search space" => format!("the {level} search space"),
+        "α_size" => format!("α_size {level}"),
+        "mode" => format!("{level} problems"),
         _ => format!("{factor} {level}"),
     }
 }
@@ -62,19 +66,27 @@ impl DesignPoint {
     }
 }
 
-/// The candidate factors of a problem with their levels.
+/// The candidate factors of a problem with their levels: for a fitting
+/// case the budget per segment, the search space, the technique's α_size
+/// and the problem mode (read from its name, see
+/// [`super::fitting::split`]).
 fn factors(p: &Problem) -> Vec<(&'static str, Level)> {
     if p.is_fit() {
-        let space = if p.function.ends_with("/bounding-box") {
-            "bounding-box"
-        } else {
-            "technique"
-        };
+        let case = super::fitting::split(&p.function);
         let mut out = Vec::new();
         if let Some(b) = p.budget {
             out.push(("budget per segment", Level::Number(b / p.dim.max(1) as u64)));
         }
+        let space = case.and_then(|c| c.space).unwrap_or("technique");
         out.push(("search space", Level::Text(space.into())));
+        let alpha = case.and_then(|c| c.alpha).unwrap_or("0.5");
+        out.push(("α_size", Level::Text(alpha.into())));
+        let mode = if case.is_some_and(|c| c.per_segment) {
+            "per-segment"
+        } else {
+            "outline"
+        };
+        out.push(("mode", Level::Text(mode.into())));
         out
     } else {
         let mut out = vec![("D", Level::Number(p.dim as u64))];
@@ -82,8 +94,17 @@ fn factors(p: &Problem) -> Vec<(&'static str, Level)> {
             out.push(("budget", Level::Number(b)));
         }
         out.push(("transform", Level::Text(p.transform.name().into())));
+        if let Some(f) = bbob_function_of(&p.function) {
+            out.push(("bbob group", Level::Text(bbob_group(f).into())));
+        }
         out
     }
+}
+
+/// The bbob function index of a COCO problem id (`bbob_f008_i02_d05`, or
+/// pooled over instances `bbob_f008_d05`).
+fn bbob_function_of(id: &str) -> Option<usize> {
+    id.strip_prefix("bbob_f")?.get(..3)?.parse().ok()
 }
 
 /// The design point of every problem: its candidate factors restricted to

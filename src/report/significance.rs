@@ -281,7 +281,7 @@ pub(crate) fn comparison_table(
         marks.insert((row.problem, row.cell), row.mark);
     }
     for (p, problem) in ds.problems.iter().enumerate() {
-        let mut md = vec![problem.function.clone(), problem.dim.to_string()];
+        let mut md = vec![problem.short(), problem.dim.to_string()];
         for (c, cell) in ds.cells.iter().enumerate() {
             let st = stats.get(p).and_then(|r| r.get(c)).and_then(|x| x.as_ref());
             let mark = marks.get(&(p, c)).copied().flatten();
@@ -294,7 +294,7 @@ pub(crate) fn comparison_table(
             if let Some(st) = st {
                 let sm = st.summary.as_ref();
                 t.csv_rows.push(vec![
-                    problem.function.clone(),
+                    problem.label(),
                     problem.dim.to_string(),
                     cell.label.clone(),
                     cell.kind.clone(),
@@ -512,13 +512,9 @@ fn comparison_rows<R>(
     for row in rows {
         let problem = &ds.problems[row.problem];
         let cell = &ds.cells[row.cell];
-        let mut md_row = vec![
-            problem.function.clone(),
-            problem.dim.to_string(),
-            cell.name.clone(),
-        ];
+        let mut md_row = vec![problem.short(), problem.dim.to_string(), cell.name.clone()];
         let mut csv_row = vec![
-            problem.function.clone(),
+            problem.label(),
             problem.dim.to_string(),
             cell.label.clone(),
             cell.kind.clone(),

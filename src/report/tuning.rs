@@ -188,14 +188,14 @@ fn best_table(ds: &Dataset, grid: &Grid, stats: &[Vec<Option<CellStats>>]) -> Ta
         };
         let s = stats[p][c].as_ref().and_then(|x| x.summary.as_ref());
         best.md_rows.push(vec![
-            problem.function.clone(),
+            problem.short(),
             problem.dim.to_string(),
             grid.setting(ds, c),
             sci_opt(s.map(|x| x.mean)),
             sci_opt(s.map(|x| x.median)),
         ]);
         best.csv_rows.push(vec![
-            problem.function.clone(),
+            problem.label(),
             problem.dim.to_string(),
             grid.label.clone(),
             ds.cells[c].params.clone(),

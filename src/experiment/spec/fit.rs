@@ -7,32 +7,54 @@
 //! continuity = ["c1", "g1"]                # c0, c1, g1
 //! segments = 24                            # or "true-breaks" for glyphs
 //! search_space = "technique"               # or "bounding-box", or both in a list
-//! budget = 5000                            # evaluations per segment
+//! budget = 5000                            # evaluations per segment (or a list)
+//! # contour = "all"                        # or an index (default 0, the largest)
+//! # closing = "smooth"                     # or "c0" (the default in specs)
+//! # mode = "per-segment"                   # or "outline" (the default)
+//! # alpha_size = [0.1, 0.5]                # a list is a design factor
 //! ```
 //!
 //! Relative input paths are resolved against the spec file's directory.
-//! Every combination of input × function × continuity × search space is one
-//! problem, named `source/function/continuity` (with `/bounding-box`
-//! appended for the naive search space). Each input is loaded and each
-//! problem's segmentation is checked when the spec loads, so a missing
-//! image, a glyph absent from its font or a segment with too few points is
-//! reported before anything runs.
+//! Every combination of input × function × continuity × search space ×
+//! α_size × budget is one problem, named `source/function/continuity`, with
+//! `/bounding-box` for the naive search space, `/alpha=A` for a listed
+//! α_size other than the default 0.5, and `/per-segment` in the per-segment
+//! mode. Each input is loaded and each problem's segmentation is checked
+//! when the spec loads, so a missing image, a glyph absent from its font or
+//! an impossible segmentation is reported before anything runs.
+//!
+//! **Keys stay.** The keys and values that came with the smooth closing
+//! (`closing`, `mode`, `contour = "all"`, a list of `alpha_size`,
+//! `parameterisation = "auto"`) are the only ones that change what a
+//! campaign records: a spec with a section that uses one of them gets the
+//! current fitting records for all its fitting problems (a best-so-far
+//! trace in `convergence.csv`, `rms_distance` in `fits.csv`, `contour` and
+//! `rms_distance` in `segments.csv`); a spec that uses none of them gives,
+//! bit for bit, the files it gave before.
 
+use std::collections::HashMap;
 use std::ops::Range;
 use std::path::Path;
 use std::sync::Arc;
 
+use super::super::records::FitDetail;
+use super::Factor;
 use super::{choices_hint, Budget, Parser, ProblemEntry, ProblemKind, SpecError, Table, Value};
+use crate::files::fmt_real;
 use crate::fit::{
-    FitOptions, FunctionType, PiecewiseFit, SearchSpace, SegmentProblem, SegmentSolver, Solution,
+    Closing, FitError, FitOptions, FunctionType, SearchSpace, SearchSpaceOptions, SegmentProblem,
+    SegmentSolver, Solution,
 };
 use crate::functions::Transform;
 use crate::geometry::{Continuity, Parameterisation};
-use crate::outline::{CornerOptions, ImageOptions, Sampling};
+use crate::optim::Outcome;
+use crate::outline::{CornerOptions, Sampling};
 use crate::problem::Problem;
-use crate::reconstruction::{Reconstruction, Segmentation, Source};
+use crate::reconstruction::{
+    ContourChoice, FitMode, LoadOptions, Method, Reconstruction, Segmentation, ShapeFit, Source,
+};
 
-const FIT_KEYS: [&str; 15] = [
+const FIT_KEYS: [&str; 17] = [
     "input",
     "contour",
     "function",
@@ -48,56 +70,109 @@ const FIT_KEYS: [&str; 15] = [
     "parameterisation",
     "budget",
     "label",
+    "closing",
+    "mode",
 ];
 
-/// One outline-fitting problem of a spec, from a `[[fit]]` section.
+/// One outline-fitting problem of a spec, from a `[[fit]]` section (see
+/// the module docs for the keys).
 ///
-/// ```toml
-/// [[fit]]
-/// input = ["../data/outlines/horse.png", "font:../data/outlines/Cantarell-Regular.otf:g"]
-/// function = ["cubic", "rational-cubic"]   # quadratic, cubic, rational-quadratic, rational-cubic
-/// continuity = ["c1", "g1"]                # c0, c1, g1
-/// segments = 24                            # or "true-breaks" for glyphs
-/// search_space = "technique"               # or "bounding-box", or both in a list
-/// budget = 5000                            # evaluations per segment
-/// ```
-///
-/// Relative input paths are resolved against the spec file's directory.
-/// Every combination of input × function × continuity × search space is one
-/// problem, named `source/function/continuity` (with `/bounding-box`
-/// appended for the naive search space). Each input is loaded and each
-/// problem's segmentation is checked when the spec loads, so a missing
-/// image, a glyph absent from its font or a segment with too few points is
-/// reported before anything runs.
+/// Every combination of input × function × continuity × search space ×
+/// α_size × budget is one problem. Each input is loaded and each problem's
+/// segmentation is checked when the spec loads.
 #[derive(Clone, Debug)]
 pub struct FitCase {
-    /// The problem name in results, `source/function/continuity` (and
-    /// `/bounding-box` for the naive search space).
+    /// The problem name in results: `source/function/continuity`, then
+    /// `/bounding-box`, `/alpha=A`, `/per-segment` where they apply.
     pub name: String,
-    /// `source/function/continuity`: the name without the search space
-    /// (the seed key when `search_space` is paired).
-    pub base_name: String,
     /// The source's name, the first part of `name`.
     pub source_name: String,
-    /// The loaded outline, shared by the cases of one input.
+    /// The loaded contours, shared by the cases of one input.
     pub source: Arc<Source>,
-    /// How the outline is cut into segments.
+    /// How each contour is cut into segments.
     pub segmentation: Segmentation,
     /// The corner detector used by the segmentation.
     pub corners: Option<CornerOptions>,
-    /// Function, continuity, search space and budget per segment.
+    /// Function, continuity, closing, search space and budget per segment.
     pub options: FitOptions,
+    /// Whether α_size is a design factor of the section (listed), so that a
+    /// value other than the default is part of the name.
+    pub alpha_factor: bool,
+    /// The whole outline as one chain, or every segment on its own.
+    pub mode: FitMode,
+    /// In the per-segment mode, the exact fit whose segments give the joins.
+    pub reference: Option<Arc<ShapeFit>>,
+    /// Whether the campaign writes the current fitting records (some
+    /// section of its spec uses a key that came with them; see the module
+    /// docs).
+    pub extended: bool,
 }
 
 impl FitCase {
     /// The fitting task of this case.
     pub fn reconstruction(&self) -> Reconstruction<'_> {
         Reconstruction {
-            outline: &self.source.outline,
+            source: &self.source,
             segmentation: self.segmentation.clone(),
             corners: self.corners,
             options: self.options,
         }
+    }
+
+    /// The name without the `paired` factors (search space, α_size), which
+    /// the run seeds derive from; the full name when nothing is paired.
+    pub fn seed_name(&self, paired: &[Factor]) -> String {
+        let o = &self.options;
+        let mut name = format!(
+            "{}/{}/{}",
+            self.source_name,
+            o.function.name(),
+            o.continuity.name()
+        );
+        let technique = o.search.kind == SearchSpace::Technique;
+        if !technique && !paired.contains(&Factor::SearchSpace) {
+            name = format!("{name}/{}", o.search.kind.name());
+        }
+        let alpha = o.search.alpha_size;
+        let default_alpha = SearchSpaceOptions::default().alpha_size;
+        if self.alpha_factor
+            && technique
+            && alpha != default_alpha
+            && !paired.contains(&Factor::AlphaSize)
+        {
+            name = format!("{name}/alpha={}", fmt_real(alpha));
+        }
+        if self.mode == FitMode::PerSegment {
+            name.push_str("/per-segment");
+        }
+        name
+    }
+
+    /// Fits the case with `method` seeded with `seed`: the run's outcome
+    /// (`E`, evaluations, success at `threshold`, and with the current
+    /// records the best-so-far trace) and its fit detail.
+    pub fn run(&self, method: &Method, seed: u64, threshold: f64) -> (Outcome, FitDetail) {
+        let r = self.reconstruction();
+        let fit = match &self.reference {
+            Some(reference) => r.fit_per_segment(method, seed, reference),
+            None => r.fit(method, seed),
+        }
+        .expect("the segmentation was checked when the spec loaded");
+        let m = &fit.metrics;
+        let success = m.sse <= threshold;
+        let outcome = Outcome {
+            best_x: Vec::new(),
+            best_value: m.sse,
+            evaluations: m.evaluations,
+            evaluations_to_target: success.then_some(m.evaluations),
+            trace: if self.extended {
+                fit.trace()
+            } else {
+                Vec::new()
+            },
+            hits: Vec::new(),
+        };
+        (outcome, FitDetail::of(&fit, self.extended))
     }
 }
 
@@ -113,13 +188,18 @@ impl SegmentSolver for Dry {
             x,
             evaluations: 0,
             parts: Vec::new(),
+            trace: Vec::new(),
         }
     }
 }
 
 /// Checks a case by fitting it with [`Dry`]; returns the dry fit.
-fn dry_run(case: &FitCase) -> Result<PiecewiseFit, crate::fit::FitError> {
-    case.reconstruction().fit_with(&mut Dry)
+fn dry_run(case: &FitCase) -> Result<ShapeFit, FitError> {
+    let r = case.reconstruction();
+    match &case.reference {
+        Some(reference) => r.fit_per_segment_with(reference, |_, _| Dry),
+        None => r.fit_with(&mut Dry),
+    }
 }
 
 impl Parser<'_> {
@@ -240,11 +320,22 @@ impl Parser<'_> {
             let section = format!("fit[{}]", i + 1);
             self.fit_section(entry, &section, default_budget, &base, &mut out)?;
         }
+        // One record layout per campaign: the current one if any section
+        // asks for it.
+        let current = out
+            .iter()
+            .any(|p| matches!(&p.kind, ProblemKind::Fit(c) if c.extended));
+        for p in &mut out {
+            if let ProblemKind::Fit(c) = &mut p.kind {
+                c.extended = current;
+            }
+        }
         Ok(out)
     }
 
     /// Appends the problems of one `[[fit]]` section to `out`: every input
-    /// × function × continuity × search space, each dry-run.
+    /// × function × continuity × search space × α_size × budget, each
+    /// dry-run.
     fn fit_section(
         &self,
         entry: &Value<'_>,
@@ -263,27 +354,39 @@ impl Parser<'_> {
         let label = self.fit_label(table, section, inputs.len())?;
         for item in inputs {
             let text = self.string(item, &input_field)?;
-            let source = Source::load(
-                &text,
-                base,
-                settings.contour,
-                &ImageOptions::default(),
-                Sampling::default(),
-            )
-            .map_err(|e| self.error(item.span(), &input_field, e.to_string()))?;
+            let load = settings.load_options(&segments);
+            let source = Source::load(&text, base, &load)
+                .map_err(|e| self.error(item.span(), &input_field, e.to_string()))?;
             let segmentation = self.fit_segmentation(&segments, &source, &text)?;
             let source_name = label.clone().unwrap_or_else(|| source.label());
             let source = Arc::new(source);
-            for options in settings.options() {
-                let case = FitCase {
-                    name: case_name(&source_name, &options),
-                    base_name: base_name(&source_name, &options),
+            let mut references: HashMap<(FunctionType, Continuity), Arc<ShapeFit>> = HashMap::new();
+            for options in settings.options(&source, &segments) {
+                let mut case = FitCase {
+                    name: String::new(),
                     source_name: source_name.clone(),
                     source: Arc::clone(&source),
                     segmentation: segmentation.clone(),
                     corners: settings.corners,
                     options,
+                    alpha_factor: settings.alpha_grid,
+                    mode: settings.mode,
+                    reference: None,
+                    extended: settings.extended,
                 };
+                case.name = case.seed_name(&[]);
+                if case.mode == FitMode::PerSegment {
+                    let key = (options.function, options.continuity);
+                    let reference = match references.get(&key) {
+                        Some(r) => Arc::clone(r),
+                        None => {
+                            let r = Arc::new(self.reference_fit(&case, &segments)?);
+                            references.insert(key, Arc::clone(&r));
+                            r
+                        }
+                    };
+                    case.reference = Some(reference);
+                }
                 let mut p = self.fit_problem(case, &segments)?;
                 p.budget_factor = settings.budget_grid;
                 if out.iter().any(|q| q.key() == p.key()) {
@@ -299,8 +402,30 @@ impl Parser<'_> {
         Ok(())
     }
 
+    /// The exact (LM) fit of a per-segment case whose segments give the
+    /// joins: the case's segmentation and closing, the default search space
+    /// and 10 000 evaluations per segment, so that every search space,
+    /// α_size and budget of the case meets the same neighbours.
+    fn reference_fit(
+        &self,
+        case: &FitCase,
+        segments: &FitSegments<'_, '_>,
+    ) -> Result<ShapeFit, SpecError> {
+        let mut r = case.reconstruction();
+        r.options.search = SearchSpaceOptions::default();
+        r.options.budget_per_segment = FitOptions::default().budget_per_segment;
+        r.reference().map_err(|e| {
+            self.error(
+                segments.value.span(),
+                &segments.field,
+                format!("{}: the exact reference fit failed: {e}", case.name),
+            )
+        })
+    }
+
     /// The keys of a `[[fit]]` section shared by all its problems, read
-    /// in order: budget, contour, the choices, corners, search space.
+    /// in order: budget, contour, the choices, corners, search space,
+    /// closing and mode.
     fn fit_settings(
         &self,
         table: &Table<'_>,
@@ -309,13 +434,41 @@ impl Parser<'_> {
         default_budget: Option<&Budget>,
     ) -> Result<FitSettings, SpecError> {
         let (budgets, budget_grid) = self.fit_budget(table, section, entry, default_budget)?;
-        let contour = match self.get(table, "contour") {
-            Some(v) => self.integer(v, &format!("{section}.contour"), 0, 1_000_000)? as usize,
-            None => 0,
-        };
+        let contour = self.fit_contour(table, section)?;
         let choices = self.fit_choices(table, section, entry)?;
         let corners = self.fit_corners(table, section)?;
         let search = self.search_overrides(table, section)?;
+        let closing = self.names(
+            table,
+            "closing",
+            section,
+            Closing::C0,
+            &Closing::NAMES,
+            Closing::from_name,
+        )?;
+        let mode = self.names(
+            table,
+            "mode",
+            section,
+            FitMode::Outline,
+            &FitMode::NAMES,
+            FitMode::from_name,
+        )?;
+        for (key, n) in [("closing", closing.len()), ("mode", mode.len())] {
+            if n > 1 {
+                return Err(self.error(
+                    entry.span(),
+                    &format!("{section}.{key}"),
+                    format!("expected one {key}, not a list"),
+                ));
+            }
+        }
+        let alpha_grid = search.alpha_sizes.as_ref().is_some_and(|a| a.len() > 1);
+        let extended = self.get(table, "closing").is_some()
+            || self.get(table, "mode").is_some()
+            || contour == ContourChoice::All
+            || alpha_grid
+            || choices.parameterisation.is_none();
         Ok(FitSettings {
             budgets,
             budget_grid,
@@ -323,7 +476,32 @@ impl Parser<'_> {
             choices,
             corners,
             search,
+            alpha_grid,
+            closing: closing[0],
+            mode: mode[0],
+            extended,
         })
+    }
+
+    /// The optional `contour`: an index (default 0, the largest) or `"all"`.
+    fn fit_contour(&self, table: &Table<'_>, section: &str) -> Result<ContourChoice, SpecError> {
+        let Some(v) = self.get(table, "contour") else {
+            return Ok(ContourChoice::Index(0));
+        };
+        let field = format!("{section}.contour");
+        if let Some(s) = raw_string(v) {
+            if s == "all" {
+                return Ok(ContourChoice::All);
+            }
+            return Err(self.error(
+                v.span(),
+                &field,
+                format!("expected a contour number ≥ 0 or \"all\", found \"{s}\""),
+            ));
+        }
+        Ok(ContourChoice::Index(
+            self.integer(v, &field, 0, 1_000_000)? as usize
+        ))
     }
 
     /// Evaluations per segment: the section's `budget` (a value or a list),
@@ -390,13 +568,18 @@ impl Parser<'_> {
             &SearchSpace::NAMES,
             SearchSpace::from_name,
         )?;
+        let mut names: Vec<&str> = vec!["auto"];
+        names.extend(Parameterisation::NAMES);
         let parameterisation = self.names(
             table,
             "parameterisation",
             section,
-            Parameterisation::ChordLength,
-            &Parameterisation::NAMES,
-            Parameterisation::from_name,
+            Some(Parameterisation::ChordLength),
+            &names,
+            |n| match n {
+                "auto" => Some(None),
+                other => Parameterisation::from_name(other).map(Some),
+            },
         )?;
         let [parameterisation] = parameterisation[..] else {
             return Err(self.error(
@@ -440,7 +623,7 @@ impl Parser<'_> {
         section: &str,
     ) -> Result<SearchOverrides, SpecError> {
         Ok(SearchOverrides {
-            alpha_size: self.real_in(table, "alpha_size", section, (0.0, 1e6), true)?,
+            alpha_sizes: self.alpha_sizes(table, section)?,
             pt: self.real_in(table, "pt", section, (0.0, 1.0), false)?,
             weight_range: self.positive_range(
                 table,
@@ -450,6 +633,30 @@ impl Parser<'_> {
             )?,
             t_range: self.positive_range(table, "t_range", section, "the G1 ratio T")?,
         })
+    }
+
+    /// The optional `alpha_size`: a value or a list, each in `(0, 10⁶]`.
+    fn alpha_sizes(&self, table: &Table<'_>, section: &str) -> Result<Option<Vec<f64>>, SpecError> {
+        let Some(v) = self.get(table, "alpha_size") else {
+            return Ok(None);
+        };
+        let field = format!("{section}.alpha_size");
+        let mut out = Vec::new();
+        for item in self.one_or_many(v, &field)? {
+            let x = self.real(item, &field)?;
+            if !(x.is_finite() && x > 0.0 && x <= 1e6) {
+                return Err(self.error(
+                    item.span(),
+                    &field,
+                    format!("expected a real number in (0, 1000000], found {x}"),
+                ));
+            }
+            if out.contains(&x) {
+                return Err(self.error(item.span(), &field, format!("{x} is listed twice")));
+            }
+            out.push(x);
+        }
+        Ok(Some(out))
     }
 
     /// The required `segments`: a count or `"true-breaks"`.
@@ -527,7 +734,7 @@ impl Parser<'_> {
                 format!("{}: {e}", case.name),
             )
         })?;
-        let segments = dry.segments.len();
+        let segments = dry.metrics.segments;
         Ok(ProblemEntry {
             budget: case
                 .options
@@ -548,32 +755,83 @@ struct FitSettings {
     budgets: Vec<u64>,
     /// Whether the budgets were listed (a budget grid).
     budget_grid: bool,
-    /// Which outline of each input.
-    contour: usize,
+    /// Which outlines of each input.
+    contour: ContourChoice,
     /// What to combine.
     choices: FitChoices,
     /// The corner detector.
     corners: Option<CornerOptions>,
     /// Search-space settings given in the section.
     search: SearchOverrides,
+    /// Whether α_size is listed (a design factor).
+    alpha_grid: bool,
+    /// How closed outlines close (`c0` unless the section says otherwise).
+    closing: Closing,
+    /// Outline or per-segment problems.
+    mode: FitMode,
+    /// Whether the section uses the current fitting records.
+    extended: bool,
 }
 
 impl FitSettings {
+    /// How the inputs are read: the contours asked for, and for a fit at a
+    /// glyph's own breaks enough samples on every segment for every function
+    /// of the section (segments that had enough keep their samples).
+    fn load_options(&self, segments: &FitSegments<'_, '_>) -> LoadOptions {
+        let min = match segments.kind {
+            Segs::TrueBreaks => self
+                .choices
+                .functions
+                .iter()
+                .map(|f| f.min_points() - 1)
+                .max()
+                .unwrap_or(1),
+            Segs::Count(_) => 1,
+        };
+        LoadOptions {
+            contour: self.contour,
+            sampling: Sampling::default(),
+            min_samples_per_segment: min,
+            ..LoadOptions::default()
+        }
+    }
+
+    /// The α_size values of a search space: the listed ones for the
+    /// technique, one value for the bounding box (which does not use it).
+    fn alphas(&self, space: SearchSpace) -> Vec<Option<f64>> {
+        match &self.search.alpha_sizes {
+            Some(a) if space == SearchSpace::Technique => a.iter().copied().map(Some).collect(),
+            Some(a) if !self.alpha_grid => vec![a.first().copied()],
+            _ => vec![None],
+        }
+    }
+
     /// The fit options of every function × continuity × search space ×
-    /// budget, first function slowest.
-    fn options(&self) -> Vec<FitOptions> {
+    /// α_size × budget, first function slowest; `auto` parameterisation
+    /// resolved for `source`.
+    fn options(&self, source: &Source, segments: &FitSegments<'_, '_>) -> Vec<FitOptions> {
         let c = &self.choices;
+        let true_breaks = matches!(segments.kind, Segs::TrueBreaks);
+        let parameterisation = c
+            .parameterisation
+            .unwrap_or_else(|| source.auto_parameterisation(true_breaks));
         let mut out = Vec::new();
         for &function in &c.functions {
             for &continuity in &c.continuities {
                 for &space in &c.spaces {
-                    for &budget in &self.budgets {
-                        let mut options = FitOptions::new(function, continuity);
-                        options.parameterisation = c.parameterisation;
-                        options.budget_per_segment = budget;
-                        options.search.kind = space;
-                        self.search.apply(&mut options);
-                        out.push(options);
+                    for alpha in self.alphas(space) {
+                        for &budget in &self.budgets {
+                            let mut options = FitOptions::new(function, continuity);
+                            options.closing = self.closing;
+                            options.parameterisation = parameterisation;
+                            options.budget_per_segment = budget;
+                            options.search.kind = space;
+                            if let Some(a) = alpha {
+                                options.search.alpha_size = a;
+                            }
+                            self.search.apply(&mut options);
+                            out.push(options);
+                        }
                     }
                 }
             }
@@ -582,28 +840,26 @@ impl FitSettings {
     }
 }
 
-/// The lists a `[[fit]]` section combines, and its parameterisation.
+/// The lists a `[[fit]]` section combines, and its parameterisation
+/// (`None` for `auto`).
 struct FitChoices {
     functions: Vec<FunctionType>,
     continuities: Vec<Continuity>,
     spaces: Vec<SearchSpace>,
-    parameterisation: Parameterisation,
+    parameterisation: Option<Parameterisation>,
 }
 
 /// Search-space settings of a `[[fit]]` section; `None` keeps the default.
 struct SearchOverrides {
-    alpha_size: Option<f64>,
+    alpha_sizes: Option<Vec<f64>>,
     pt: Option<f64>,
     weight_range: Option<(f64, f64)>,
     t_range: Option<(f64, f64)>,
 }
 
 impl SearchOverrides {
-    /// Sets the given settings in `options`.
+    /// Sets the given settings other than α_size in `options`.
     fn apply(&self, options: &mut FitOptions) {
-        if let Some(a) = self.alpha_size {
-            options.search.alpha_size = a;
-        }
         if let Some(p) = self.pt {
             options.search.pt = p;
         }
@@ -631,25 +887,6 @@ struct FitSegments<'t, 'i> {
     kind: Segs,
     value: &'t Value<'i>,
     field: String,
-}
-
-/// A case's name without its search space: `source/function/continuity`.
-fn base_name(source_name: &str, options: &FitOptions) -> String {
-    format!(
-        "{source_name}/{}/{}",
-        options.function.name(),
-        options.continuity.name()
-    )
-}
-
-/// A case's problem name: `source/function/continuity`, and the search
-/// space unless it is the technique's.
-fn case_name(source_name: &str, options: &FitOptions) -> String {
-    let mut name = base_name(source_name, options);
-    if options.search.kind != SearchSpace::Technique {
-        name = format!("{name}/{}", options.search.kind.name());
-    }
-    name
 }
 
 fn raw_string(v: &Value<'_>) -> Option<String> {

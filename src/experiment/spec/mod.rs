@@ -36,6 +36,7 @@ use crate::functions::{Function, TestProblem, Transform};
 use crate::optim::{quoted_list, Algorithm, ParamDef, ParamSet, Raw, Setting};
 use crate::reconstruction::Method;
 
+mod bbob;
 mod fit;
 
 pub use fit::FitCase;
@@ -131,11 +132,19 @@ pub enum Factor {
     Instance,
     /// The search space of a fitting case.
     SearchSpace,
+    /// The technique's `α_size` of a fitting case, when listed.
+    AlphaSize,
 }
 
 impl Factor {
     /// The names accepted in `paired`.
-    pub const NAMES: [&'static str; 4] = ["budget", "transform", "instance", "search_space"];
+    pub const NAMES: [&'static str; 5] = [
+        "budget",
+        "transform",
+        "instance",
+        "search_space",
+        "alpha_size",
+    ];
 
     /// Parses a factor name.
     pub fn from_name(name: &str) -> Option<Factor> {
@@ -145,6 +154,7 @@ impl Factor {
                 Factor::Transform,
                 Factor::Instance,
                 Factor::SearchSpace,
+                Factor::AlphaSize,
             ][i]
         })
     }
@@ -160,6 +170,14 @@ impl Factor {
 pub enum ProblemKind {
     /// A benchmark function ([`crate::functions`]).
     Benchmark(Function),
+    /// Function `function` (1..=24) of COCO's bbob suite
+    /// ([`crate::functions::bbob`]), whose optimum is `fopt`.
+    Bbob {
+        /// The bbob function index.
+        function: usize,
+        /// f* of the instance, from COCO.
+        fopt: f64,
+    },
     /// A piecewise curve fit of an outline ([`crate::reconstruction`]).
     Fit(Box<FitCase>),
 }
@@ -170,6 +188,7 @@ impl ProblemEntry {
     pub fn name(&self) -> String {
         match &self.kind {
             ProblemKind::Benchmark(f) => f.name().to_owned(),
+            ProblemKind::Bbob { function, .. } => bbob::bbob_id(*function, self.instance, self.dim),
             ProblemKind::Fit(c) => c.name.clone(),
         }
     }
@@ -198,7 +217,10 @@ impl ProblemEntry {
 
     fn key_with(&self, paired: &[Factor], with_budget: bool) -> String {
         let name = match &self.kind {
-            ProblemKind::Fit(c) if paired.contains(&Factor::SearchSpace) => c.base_name.clone(),
+            ProblemKind::Fit(c) => c.seed_name(paired),
+            ProblemKind::Bbob { function, .. } if paired.contains(&Factor::Instance) => {
+                format!("bbob_f{function:03}_d{:02}", self.dim)
+            }
             _ => self.name(),
         };
         let mut key = format!("{name}-{}", self.dim);
@@ -223,7 +245,11 @@ impl ProblemEntry {
             Factor::Instance => Some(self.instance.to_string()),
             Factor::SearchSpace => match &self.kind {
                 ProblemKind::Fit(c) => Some(c.options.search.kind.name().to_owned()),
-                ProblemKind::Benchmark(_) => None,
+                ProblemKind::Benchmark(_) | ProblemKind::Bbob { .. } => None,
+            },
+            Factor::AlphaSize => match &self.kind {
+                ProblemKind::Fit(c) => Some(crate::files::fmt_real(c.options.search.alpha_size)),
+                ProblemKind::Benchmark(_) | ProblemKind::Bbob { .. } => None,
             },
         }
     }
@@ -233,6 +259,7 @@ impl ProblemEntry {
     pub fn optimum_value(&self) -> f64 {
         match &self.kind {
             ProblemKind::Benchmark(f) => f.optimum_value(),
+            ProblemKind::Bbob { fopt, .. } => *fopt,
             ProblemKind::Fit(_) => 0.0,
         }
     }
@@ -355,10 +382,15 @@ impl Spec {
         out
     }
 
+    /// The number of runs: problems × cells × runs (without listing them).
+    pub fn run_count(&self) -> u128 {
+        self.problems.len() as u128 * self.cells.len() as u128 * u128::from(self.runs)
+    }
+
     /// The total objective evaluations the campaign will spend.
-    pub fn total_evaluations(&self) -> u64 {
-        let per_cell: u64 = self.problems.iter().map(|p| p.budget).sum();
-        per_cell * self.cells.len() as u64 * u64::from(self.runs)
+    pub fn total_evaluations(&self) -> u128 {
+        let per_cell: u128 = self.problems.iter().map(|p| u128::from(p.budget)).sum();
+        per_cell * self.cells.len() as u128 * u128::from(self.runs)
     }
 }
 
@@ -385,7 +417,8 @@ const EXPERIMENT_KEYS: [&str; 9] = [
     "paired",
 ];
 const SECTIONS: [&str; 4] = ["experiment", "problem", "fit", "algorithm"];
-const PROBLEM_KEYS: [&str; 6] = [
+const PROBLEM_KEYS: [&str; 7] = [
+    "suite",
     "function",
     "dim",
     "budget",
@@ -482,7 +515,7 @@ impl<'a> Parser<'a> {
         let problems = self.all_problems(root, header.budget.as_ref(), doc.span())?;
         let benchmarks = problems
             .iter()
-            .any(|p| matches!(p.kind, ProblemKind::Benchmark(_)));
+            .any(|p| !matches!(p.kind, ProblemKind::Fit(_)));
         let cells = self.cells(root, doc.span(), benchmarks)?;
         let paired = self.paired(root, &problems)?;
         Ok(Spec {
@@ -666,8 +699,10 @@ impl<'a> Parser<'a> {
             problems = self.problems(root, budget, span.clone())?;
         }
         if self.get(root, "fit").is_some() {
+            let mut seen: std::collections::HashSet<String> =
+                problems.iter().map(ProblemEntry::key).collect();
             for p in self.fits(root, budget, span.clone())? {
-                if problems.iter().any(|q: &ProblemEntry| q.key() == p.key()) {
+                if !seen.insert(p.key()) {
                     return Err(self.error(
                         span,
                         "fit",
@@ -869,6 +904,10 @@ impl<'a> Parser<'a> {
                     "no budget: give \"budget\" or \"budget_per_dim\" in [experiment] or in this [[problem]]".into(),
                 )
             })?;
+            if self.problem_suite(table, &section)? {
+                self.bbob_problems(table, &section, entry, budget, &mut out, &mut seen)?;
+                continue;
+            }
             let functions = self.problem_functions(table, &section, entry)?;
             let dims = self.problem_dims(table, &section, entry)?;
             let transforms = self.problem_transforms(table, &section, entry)?;
@@ -913,6 +952,27 @@ impl<'a> Parser<'a> {
             }
         }
         Ok(out)
+    }
+
+    /// Whether a `[[problem]]` names the `bbob` suite (`suite = "bbob"`);
+    /// absent, the problem is one of the thesis's ten functions.
+    fn problem_suite(&self, table: &Table<'_>, section: &str) -> Result<bool, SpecError> {
+        let Some(v) = self.get(table, "suite") else {
+            return Ok(false);
+        };
+        let field = format!("{section}.suite");
+        let name = self.string(v, &field)?;
+        match name.as_str() {
+            "bbob" => Ok(true),
+            _ => Err(self.error(
+                v.span(),
+                &field,
+                format!(
+                    "unknown suite \"{name}\"; {}",
+                    choices_hint(&name, &["bbob"])
+                ),
+            )),
+        }
     }
 
     /// The optional `transform` of a `[[problem]]`: a name or a list.
@@ -1037,6 +1097,7 @@ impl<'a> Parser<'a> {
         benchmarks: bool,
     ) -> Result<Vec<Cell>, SpecError> {
         let mut out: Vec<Cell> = Vec::new();
+        let mut seen = std::collections::HashSet::new();
         for (i, entry) in self
             .array_of_tables(root, "algorithm", span)?
             .into_iter()
@@ -1047,7 +1108,7 @@ impl<'a> Parser<'a> {
             let algorithm = self.algorithm_entry(table, section, entry.span(), benchmarks)?;
             for combo in grid(&algorithm.axes) {
                 let cell = self.grid_cell(&algorithm, &combo)?;
-                if out.iter().any(|c| c.key() == cell.key()) {
+                if !seen.insert(cell.key()) {
                     return Err(self.error(
                         algorithm.span.clone(),
                         &algorithm.section,

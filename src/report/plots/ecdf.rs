@@ -225,23 +225,57 @@ pub(super) fn target_ecdfs(ds: &Dataset, targets: usize) -> Result<Vec<Plot>, No
     let mut functions: Vec<&str> = ds.problems.iter().map(|p| p.function.as_str()).collect();
     functions.sort_unstable();
     functions.dedup();
-    let mut plots = vec![target_ecdf(ds, targets, None)];
-    if functions.len() > 1 {
-        plots.extend(functions.iter().map(|f| target_ecdf(ds, targets, Some(f))));
+    let mut dims: Vec<usize> = ds.problems.iter().map(|p| p.dim).collect();
+    dims.sort_unstable();
+    dims.dedup();
+    let mut plots = vec![target_ecdf(ds, targets, Scope::All)];
+    if functions.len() > MAX_FUNCTION_PLOTS && dims.len() > 1 {
+        // Too many functions (a suite such as bbob): one figure per dimension.
+        plots.extend(
+            dims.iter()
+                .map(|&d| target_ecdf(ds, targets, Scope::Dim(d))),
+        );
+    } else if functions.len() > 1 && functions.len() <= MAX_FUNCTION_PLOTS {
+        plots.extend(
+            functions
+                .iter()
+                .map(|f| target_ecdf(ds, targets, Scope::Function(f))),
+        );
     }
     Ok(plots)
 }
 
+/// Above this many functions, the target ECDFs are drawn per dimension.
+const MAX_FUNCTION_PLOTS: usize = 12;
+
+/// Which problems a target ECDF covers.
+#[derive(Clone, Copy)]
+enum Scope<'a> {
+    All,
+    Function(&'a str),
+    Dim(usize),
+}
+
+impl Scope<'_> {
+    fn covers(self, p: &super::super::data::Problem) -> bool {
+        match self {
+            Scope::All => true,
+            Scope::Function(f) => p.function == f,
+            Scope::Dim(d) => p.dim == d,
+        }
+    }
+}
+
 /// One runtime ECDF over all targets, for the problems of `function` (all
 /// problems when `None`).
-fn target_ecdf(ds: &Dataset, targets: usize, function: Option<&str>) -> Plot {
+fn target_ecdf(ds: &Dataset, targets: usize, scope: Scope<'_>) -> Plot {
     let mut series: Vec<Line> = Vec::new();
     let mut xmax = 1.0f64;
     for c in 0..ds.cells.len() {
         let mut total = 0usize;
         let mut times: Vec<f64> = Vec::new();
         for (p, problem) in ds.problems.iter().enumerate() {
-            if function.is_some_and(|f| f != problem.function) {
+            if !scope.covers(problem) {
                 continue;
             }
             let d = problem.dim.max(1) as f64;
@@ -270,12 +304,16 @@ fn target_ecdf(ds: &Dataset, targets: usize, function: Option<&str>) -> Plot {
         .iter()
         .map(|(c, _)| (ds.cells[*c].name.clone(), colour(*c)))
         .collect();
-    let (stem, scope) = match function {
-        Some(f) => (
+    let (stem, scope) = match scope {
+        Scope::Function(f) => (
             format!("ecdf_targets_{}", f.replace('/', "_")),
             f.to_owned(),
         ),
-        None => ("ecdf_targets".to_owned(), "all problems".to_owned()),
+        Scope::Dim(d) => (
+            format!("ecdf_targets_d{d}"),
+            format!("all problems at D = {d}"),
+        ),
+        Scope::All => ("ecdf_targets".to_owned(), "all problems".to_owned()),
     };
     Plot {
         stem,

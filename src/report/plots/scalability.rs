@@ -182,20 +182,24 @@ fn dimension_ticks<DB: DrawingBackend>(
     Ok(())
 }
 
-/// The problems of every function, functions in order of first appearance.
-fn problems_by_function(ds: &Dataset) -> Vec<(&str, Vec<usize>)> {
-    let mut by_function: BTreeMap<&str, Vec<usize>> = BTreeMap::new();
-    let mut order: Vec<&str> = Vec::new();
+/// The problems of every function (with its transform, instance and
+/// budget, which D does not vary), in order of first appearance.
+fn problems_by_function(ds: &Dataset) -> Vec<(String, Vec<usize>)> {
+    let mut by_function: BTreeMap<String, Vec<usize>> = BTreeMap::new();
+    let mut order: Vec<String> = Vec::new();
     for (p, problem) in ds.problems.iter().enumerate() {
-        let e = by_function.entry(problem.function.as_str()).or_default();
+        let e = by_function.entry(problem.short()).or_default();
         if e.is_empty() {
-            order.push(problem.function.as_str());
+            order.push(problem.short());
         }
         e.push(p);
     }
     order
         .into_iter()
-        .map(|f| (f, by_function.get(f).cloned().unwrap_or_default()))
+        .map(|f| {
+            let ps = by_function.get(&f).cloned().unwrap_or_default();
+            (f, ps)
+        })
         .collect()
 }
 
@@ -350,7 +354,7 @@ pub(super) fn scalability(ds: &Dataset, stats: &[Vec<Option<CellStats>>]) -> Res
             continue;
         }
         probs.sort_by_key(|&p| ds.problems[p].dim);
-        rows.extend(row(ds, stats, f, &probs, &mut used));
+        rows.extend(row(ds, stats, &f, &probs, &mut used));
     }
     if rows.is_empty() {
         return Err(NoPlot::SingleDimension);

@@ -1,0 +1,109 @@
+//! COCO-format logs of a campaign's bbob runs (`metabezier run --coco-log
+//! DIR`), for COCO's post-processing `cocopp` (Hansen et al. 2021).
+//!
+//! COCO's observer keeps process-wide state and writes as the evaluations
+//! happen, so it cannot watch runs that execute in parallel threads. The
+//! log is therefore made by a deterministic replay once the campaign's runs
+//! are finished: every bbob run of the campaign (or of the shard) is run
+//! again, on one thread, with the same seed and so the same evaluations,
+//! on a problem observed by one COCO observer per algorithm cell. The
+//! replay costs the bbob runs' time once more and works the same after
+//! `--resume` and for each `--shard`.
+
+use std::path::{Path, PathBuf};
+
+use super::runner::{minimise_benchmark, run_seed, Shard};
+use super::spec::{ProblemKind, Spec};
+use super::ExperimentError;
+use crate::files::{create_dir, write_atomic, IoError};
+use crate::functions::{BbobProblem, CocoObserver};
+use crate::reconstruction::Method;
+
+/// Why a COCO log cannot be written.
+#[derive(Debug, thiserror::Error)]
+pub enum CocoLogError {
+    /// The campaign has no bbob problem to log.
+    #[error("--coco-log: {spec} has no bbob problems ([[problem]] suite = \"bbob\"), so there is nothing for COCO's logger", spec = .0.display())]
+    NoBbob(PathBuf),
+    /// COCO refused the folder or a problem.
+    #[error("--coco-log: {0}")]
+    Coco(#[from] crate::functions::BbobError),
+}
+
+/// An algorithm name COCO's option parser accepts: the label with every
+/// character other than letters, digits, `-`, `_` and `.` replaced by `_`.
+fn coco_name(label: &str) -> String {
+    label
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+/// Replays the bbob runs of `spec` (those of `shard` when given) with COCO's
+/// `bbob` observer into `dir`, one folder per algorithm cell; returns the
+/// folders COCO wrote.
+pub fn write_coco_log(
+    spec: &Spec,
+    shard: Option<Shard>,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, ExperimentError> {
+    check(spec, dir)?;
+    let outer = dir.to_string_lossy().into_owned();
+    let ids: Vec<_> = spec
+        .run_ids()
+        .into_iter()
+        .filter(|id| shard.is_none_or(|s| s.contains(id.index)))
+        .collect();
+    let mut folders = Vec::new();
+    for (c, cell) in spec.cells.iter().enumerate() {
+        let Method::Metaheuristic(algorithm) = &cell.method else {
+            continue;
+        };
+        let name = coco_name(&cell.label);
+        let observer = CocoObserver::new(&outer, &name, &name).map_err(CocoLogError::from)?;
+        for id in ids.iter().filter(|id| id.cell == c) {
+            let entry = &spec.problems[id.problem];
+            let ProblemKind::Bbob { function, fopt } = entry.kind else {
+                continue;
+            };
+            let problem =
+                BbobProblem::observed(function, entry.dim, entry.instance as usize, &observer)
+                    .map_err(CocoLogError::from)?;
+            minimise_benchmark(spec, entry, algorithm, &*problem, fopt, run_seed(spec, *id));
+        }
+        folders.push(PathBuf::from(observer.folder()));
+    }
+    Ok(folders)
+}
+
+/// Checks that `spec` has bbob problems and that `dir` can be created and
+/// written, before any run (and before COCO, which ends the process when it
+/// cannot create its folders).
+pub fn check(spec: &Spec, dir: &Path) -> Result<(), ExperimentError> {
+    if !spec
+        .problems
+        .iter()
+        .any(|p| matches!(p.kind, ProblemKind::Bbob { .. }))
+    {
+        return Err(CocoLogError::NoBbob(spec.path.clone()).into());
+    }
+    create_dir(dir)?;
+    let probe = dir.join(".metabezier-write-test");
+    write_atomic(&probe, b"")?;
+    std::fs::remove_file(&probe).map_err(|e| IoError::new("remove", &probe, e))?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn algorithm_names_lose_white_space() {
+        assert_eq!(super::coco_name("MHS (tuned), L=3"), "MHS__tuned___L_3");
+    }
+}

@@ -1,0 +1,176 @@
+//! Scoring curves made elsewhere against the data points `fit` would use:
+//! the orthogonal distance of every data point to the nearest of the
+//! curves, as the maximum and the RMS, per contour and overall.
+
+use super::Source;
+use crate::geometry::{nearest, Point};
+use crate::outline::Segment;
+
+/// The distances of one contour's data points (or of all of them).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Distances {
+    /// Data points.
+    pub points: usize,
+    /// The largest orthogonal distance of a data point to the curves.
+    pub max_distance: f64,
+    /// `√(Σ d²/N)` over the data points.
+    pub rms_distance: f64,
+}
+
+/// The score of a set of curves against a source.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Score {
+    /// The number of curve segments scored.
+    pub segments: usize,
+    /// Per contour of the source: its number and its distances.
+    pub contours: Vec<(usize, Distances)>,
+    /// Over all the source's data points.
+    pub total: Distances,
+}
+
+/// The orthogonal distance from `p` to a segment.
+pub fn segment_distance(s: &Segment, p: Point) -> f64 {
+    match s {
+        Segment::Line(a, b) => {
+            let d = *b - *a;
+            let l2 = d.hypot2();
+            let t = if l2 > 0.0 {
+                ((p - *a).dot(d) / l2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            a.lerp(*b, t).distance(p)
+        }
+        Segment::Quad(q) => nearest(q, p).1,
+        Segment::Cubic(c) => nearest(c, p).1,
+    }
+}
+
+/// A segment with the bounding box of its control points, whose distance
+/// from a point bounds the segment's from below.
+struct Boxed<'s> {
+    segment: &'s Segment,
+    lo: Point,
+    hi: Point,
+}
+
+impl Boxed<'_> {
+    fn lower_bound(&self, p: Point) -> f64 {
+        let dx = (self.lo.x - p.x).max(0.0).max(p.x - self.hi.x);
+        let dy = (self.lo.y - p.y).max(0.0).max(p.y - self.hi.y);
+        dx.hypot(dy)
+    }
+}
+
+fn boxed(s: &Segment) -> Boxed<'_> {
+    let pts: Vec<Point> = match *s {
+        Segment::Line(a, b) => vec![a, b],
+        Segment::Quad(q) => vec![q.p0, q.p1, q.p2],
+        Segment::Cubic(c) => vec![c.p0, c.p1, c.p2, c.p3],
+    };
+    let lo = pts.iter().fold(Point::new(f64::MAX, f64::MAX), |m, q| {
+        Point::new(m.x.min(q.x), m.y.min(q.y))
+    });
+    let hi = pts.iter().fold(Point::new(f64::MIN, f64::MIN), |m, q| {
+        Point::new(m.x.max(q.x), m.y.max(q.y))
+    });
+    Boxed { segment: s, lo, hi }
+}
+
+/// The distance from `p` to the nearest of `curves` (visited by increasing
+/// lower bound, stopping when no box can be nearer); `+∞` without curves.
+fn nearest_curve(curves: &[Boxed<'_>], p: Point, order: &mut Vec<(f64, usize)>) -> f64 {
+    order.clear();
+    order.extend(
+        curves
+            .iter()
+            .enumerate()
+            .map(|(i, b)| (b.lower_bound(p), i)),
+    );
+    order.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut best = f64::INFINITY;
+    for &(lb, i) in order.iter() {
+        if lb >= best {
+            break;
+        }
+        best = best.min(segment_distance(curves[i].segment, p));
+    }
+    best
+}
+
+/// The distances of `points` to the nearest of `curves`.
+fn distances(curves: &[Boxed<'_>], points: &[Point]) -> (Distances, f64) {
+    let mut order = Vec::with_capacity(curves.len());
+    let (mut max, mut sum_sq) = (0.0f64, 0.0);
+    for &p in points {
+        let d = nearest_curve(curves, p, &mut order);
+        max = max.max(d);
+        sum_sq += d * d;
+    }
+    let n = points.len();
+    let rms = if n == 0 {
+        0.0
+    } else {
+        (sum_sq / n as f64).sqrt()
+    };
+    (
+        Distances {
+            points: n,
+            max_distance: max,
+            rms_distance: rms,
+        },
+        sum_sq,
+    )
+}
+
+/// Scores `curves` (subpaths of segments, in the outline frame) against the
+/// data points of every contour of `source`: each point's distance is to
+/// the nearest segment of any subpath.
+pub fn score(source: &Source, curves: &[Vec<Segment>]) -> Score {
+    let boxes: Vec<Boxed<'_>> = curves.iter().flatten().map(boxed).collect();
+    let mut contours = Vec::new();
+    let (mut points, mut max, mut sum_sq) = (0usize, 0.0f64, 0.0);
+    for c in &source.contours {
+        let (d, sq) = distances(&boxes, &c.outline.points);
+        points += d.points;
+        max = max.max(d.max_distance);
+        sum_sq += sq;
+        contours.push((c.index, d));
+    }
+    let rms = if points == 0 {
+        0.0
+    } else {
+        (sum_sq / points as f64).sqrt()
+    };
+    Score {
+        segments: boxes.len(),
+        contours,
+        total: Distances {
+            points,
+            max_distance: max,
+            rms_distance: rms,
+        },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::QuadBez;
+
+    #[test]
+    fn distances_to_lines_and_curves() {
+        let l = Segment::Line(Point::ZERO, Point::new(10.0, 0.0));
+        assert_eq!(segment_distance(&l, Point::new(5.0, 3.0)), 3.0);
+        assert_eq!(segment_distance(&l, Point::new(13.0, 4.0)), 5.0);
+        let q = Segment::Quad(QuadBez::new(
+            Point::ZERO,
+            Point::new(5.0, 0.0),
+            Point::new(10.0, 0.0),
+        ));
+        assert!((segment_distance(&q, Point::new(5.0, 2.0)) - 2.0).abs() < 1e-12);
+        let b = boxed(&l);
+        assert_eq!(b.lower_bound(Point::new(5.0, -2.0)), 2.0);
+        assert_eq!(b.lower_bound(Point::new(5.0, 0.0)), 0.0);
+    }
+}

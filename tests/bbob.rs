@@ -1,0 +1,179 @@
+//! COCO's bbob suite through its own C code: ids, boxes, optima and values
+//! equal those of COCO's Python package (tests/data/bbob_reference.csv,
+//! made by tools/bbob_reference.py with coco-experiment 2.8.2), and
+//! COCO's evaluation counter equals ours.
+
+use std::path::Path;
+
+use metabezier::functions::BbobProblem;
+use metabezier::problem::Problem;
+
+/// `|a − b| ≤ 1e-12·max(1, |b|)`.
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-12 * b.abs().max(1.0)
+}
+
+#[test]
+fn values_equal_cocos_python_package() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/bbob_reference.csv");
+    let mut reader = csv::Reader::from_path(&path).unwrap();
+    let mut rows = 0;
+    for row in reader.records() {
+        let row = row.unwrap();
+        let num = |i: usize| -> usize { row[i].parse().unwrap() };
+        let real = |i: usize| -> f64 { row[i].parse().unwrap() };
+        let (f, d, k) = (num(0), num(1), num(2));
+        let p = BbobProblem::new(f, d, k).unwrap();
+        assert_eq!(p.id(), &row[3]);
+        assert_eq!(p.bounds()[0].lower, real(4));
+        assert_eq!(p.bounds()[d - 1].upper, real(5));
+        assert!(
+            close(p.fopt(), real(6)),
+            "{}: f* {} against COCO's f(x*) {}",
+            &row[3],
+            p.fopt(),
+            real(6)
+        );
+        let x: Vec<f64> = row[8].split(' ').map(|v| v.parse().unwrap()).collect();
+        let y = p.objective(&x);
+        assert!(
+            close(y, real(9)),
+            "{} at point {}: {y} against {}",
+            &row[3],
+            &row[7],
+            real(9)
+        );
+        assert_eq!(p.coco_evaluations(), 1);
+        rows += 1;
+    }
+    assert_eq!(rows, 24 * 3 * 3 * 3);
+}
+
+const SPEC: &str = r#"[experiment]
+name = "bbob_test"
+seed = 4
+runs = 2
+budget_per_dim = 500
+
+[[problem]]
+suite = "bbob"
+function = [1, "rastrigin-rotated"]
+dim = [2, 5]
+instances = [1, 7]
+
+[[algorithm]]
+name = "pso"
+
+[[algorithm]]
+name = "mhs"
+"#;
+
+fn spec_error(text: &str) -> String {
+    match metabezier::experiment::Spec::parse(Path::new("spec.toml"), text) {
+        Ok(_) => panic!("accepted:\n{text}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn bbob_specs_are_checked_before_anything_runs() {
+    assert_eq!(
+        spec_error(&SPEC.replace("suite = \"bbob\"", "suite = \"bbob-noisy\"")),
+        "spec.toml:8:9: problem[1].suite: unknown suite \"bbob-noisy\"; valid choices: \"bbob\""
+    );
+    let e = spec_error(&SPEC.replace("[1, \"rastrigin-rotated\"]", "[1, 25]"));
+    assert!(
+        e.starts_with("spec.toml:9:16: problem[1].function: unknown bbob function \"25\"; give an index 1 to 24 or a COCO name"),
+        "{e}"
+    );
+    assert_eq!(
+        spec_error(&SPEC.replace("dim = [2, 5]", "dim = [2, 4]")),
+        "spec.toml:10:11: problem[1].dim: bbob is defined for the dimensions 2, 3, 5, 10, 20 and 40, not 4"
+    );
+    assert_eq!(
+        spec_error(&SPEC.replace("instances = [1, 7]", "instances = 0")),
+        "spec.toml:11:13: problem[1].instances: expected an integer in 1..=10000, found 0"
+    );
+}
+
+#[test]
+fn bbob_campaigns_are_identical_with_one_and_two_threads_and_use_cocos_optimum() {
+    use metabezier::experiment::{run_campaign, RunOptions, Spec};
+    let spec = Spec::parse(Path::new("spec.toml"), SPEC).unwrap();
+    assert_eq!(spec.problems.len(), 8);
+    assert_eq!(spec.problems[0].name(), "bbob_f001_i01_d02");
+    assert_eq!(spec.problems[7].name(), "bbob_f015_i07_d05");
+    let tmp = tempfile::tempdir().unwrap();
+    let run = |threads: usize, out: &str| {
+        let opts = RunOptions {
+            out: Some(tmp.path().join(out)),
+            threads: Some(threads),
+            ..RunOptions::default()
+        };
+        run_campaign(&spec, &opts).unwrap();
+    };
+    run(1, "one");
+    run(2, "two");
+    for f in ["runs.csv", "convergence.csv", "hits.csv"] {
+        assert_eq!(
+            std::fs::read(tmp.path().join("one").join(f)).unwrap(),
+            std::fs::read(tmp.path().join("two").join(f)).unwrap(),
+            "{f}"
+        );
+    }
+    let records = metabezier::experiment::records::read_results(&tmp.path().join("one")).unwrap();
+    for r in &records {
+        let p = BbobProblem::new(
+            if r.problem.contains("f001") { 1 } else { 15 },
+            r.dim,
+            r.instance as usize,
+        )
+        .unwrap();
+        assert_eq!(r.best - r.error, p.fopt(), "{}", r.problem);
+        assert_eq!(r.evaluations, r.budget);
+    }
+}
+
+#[test]
+fn pso_reaches_cocos_final_target_on_f1_and_coco_counts_every_evaluation() {
+    use metabezier::optim::{Algorithm, Optimiser};
+    use metabezier::rng::run_rng;
+    let p = BbobProblem::new(1, 5, 2).unwrap();
+    let pso = Algorithm::default_for("pso").unwrap();
+    let out = pso.run(&p, 20_000, &mut run_rng(3));
+    assert!(
+        out.best_value - p.fopt() <= p.final_target_delta(),
+        "{out:?}"
+    );
+    assert!(p.final_target_hit());
+    assert_eq!(p.coco_evaluations(), out.evaluations);
+}
+
+#[test]
+fn coco_logs_are_written_for_cocopp_and_refused_without_bbob_problems() {
+    use metabezier::experiment::coco_log::write_coco_log;
+    use metabezier::experiment::Spec;
+    let spec = Spec::parse(
+        Path::new("spec.toml"),
+        &SPEC.replace("dim = [2, 5]", "dim = 2"),
+    )
+    .unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("coco");
+    let folders = write_coco_log(&spec, None, &dir).unwrap();
+    assert_eq!(folders.len(), 2);
+    for folder in &folders {
+        let names: Vec<String> = std::fs::read_dir(folder)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        assert!(names.iter().any(|n| n.ends_with(".info")), "{names:?}");
+    }
+    let plain = Spec::parse(
+        Path::new("plain.toml"),
+        "[experiment]\nname = \"p\"\nseed = 1\nruns = 1\nbudget = 10\n[[problem]]\nfunction = \"sphere\"\ndim = 2\n[[algorithm]]\nname = \"hs\"\n",
+    )
+    .unwrap();
+    let e = write_coco_log(&plain, None, &dir).unwrap_err().to_string();
+    assert!(e.contains("plain.toml has no bbob problems"), "{e}");
+}
