@@ -29,10 +29,12 @@ pub fn voxelise(
 
 /// A closed, outward-oriented mesh in voxel millimetres voxelised on the
 /// `nx × ny × nz` grid with `spacing`: slice `k` is the mesh's
-/// cross-section ([`slice_mesh`]) at `z = k·sz` moved by `10⁻⁶·sz` into the
+/// cross-section ([`slice_mesh`]) at `z = k·sz` moved by `10⁻³·sz` into the
 /// mesh's z range (so a section lofted exactly at a slice height is cut
-/// just inside it), filled by the even-odd rule over all its loops (holes
-/// stay empty). Slices outside the mesh's z range stay empty.
+/// just inside it, even after the single-precision round trip of an STL in
+/// a rotated patient frame, about 10⁻⁵ mm), filled by the even-odd rule
+/// over all its loops (holes stay empty). Slices outside the mesh's z range
+/// stay empty.
 pub fn voxelise_mesh(mesh: &Mesh, nx: usize, ny: usize, nz: usize, spacing: Spacing) -> Mask3 {
     let mut m = Mask3::new(nx, ny, nz, spacing);
     let (lo, hi) = mesh
@@ -41,7 +43,7 @@ pub fn voxelise_mesh(mesh: &Mesh, nx: usize, ny: usize, nz: usize, spacing: Spac
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
             (lo.min(v[2]), hi.max(v[2]))
         });
-    let eps = 1e-6 * spacing.z;
+    let eps = 1e-3 * spacing.z;
     for k in 0..nz {
         let z = k as f64 * spacing.z;
         if z < lo - eps || z > hi + eps {

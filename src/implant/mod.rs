@@ -22,18 +22,21 @@
 //! | [`validation`] | artificial defects on intact bone, one slice each, AutoImplant metrics |
 //! | [`validation3d`] | patches across slices through the whole pipeline, 3D metrics |
 //! | [`spec`], [`run`] | the TOML experiment and its driver (`metabezier implant`) |
+//! | [`checks`] | the spec checked against its volume before anything is computed or written |
 //! | [`tables`], [`tables3d`] | its tables: report sections and CSV files |
 //! | [`render`] | its pictures: slice overlays and the 3D preview |
 
+pub mod checks;
 pub mod pipeline;
 pub mod polar;
 pub mod smooth;
 pub mod wall;
 
 pub use pipeline::{
-    build_mesh, index_of, reconstruct_defect, reconstruct_defect_with, reconstruct_from,
-    resolve_midline, slice_context, slice_mask, DefectConfig, Ends, Implant, ImplantError,
-    MidlineSpec, SliceContext, SliceResult, SliceSpec, Smoothing, Templates, MIN_MIDLINE_DICE,
+    build_mesh, check_distinct_ends, index_of, reconstruct_defect, reconstruct_defect_with,
+    reconstruct_from, resolve_midline, slice_context, slice_index, slice_mask, DefectConfig, Ends,
+    Implant, ImplantError, MidlineSpec, SliceContext, SliceResult, SliceSpec, Smoothing, Templates,
+    MIN_MIDLINE_DICE,
 };
 pub use smooth::{choose_seats, lipschitz_envelope, roughness, smooth_outer_walls};
 pub use wall::{

@@ -154,6 +154,50 @@ pub enum ImplantError {
         /// The volume's last slice.
         last: usize,
     },
+    /// A defect end given as a pixel lies outside the image.
+    #[error("slice z = {z}: {what} = [{row}, {col}] (row, col) is outside the image ({rows} rows × {cols} columns)")]
+    EndOutside {
+        /// The slice (original numbering).
+        z: usize,
+        /// "A" or "B".
+        what: &'static str,
+        /// The row given.
+        row: f64,
+        /// The column given.
+        col: f64,
+        /// Rows of the image.
+        rows: usize,
+        /// Columns of the image.
+        cols: usize,
+    },
+    /// A and B are the same point: no defect between them.
+    #[error("slice z = {z}: A and B are the same point ({x:.2}, {y:.2}) mm (pixel row {row:.0}, col {col:.0}); a defect needs two distinct ends, one at each bone tip")]
+    EndsCoincide {
+        /// The slice (original numbering).
+        z: usize,
+        /// The point's x in mm.
+        x: f64,
+        /// The point's y in mm.
+        y: f64,
+        /// Its row.
+        row: f64,
+        /// Its column.
+        col: f64,
+    },
+    /// A given midline does not cross the image.
+    #[error("the midline x = {x_mm:.2} mm (tilt {tilt_deg:.2}°) does not cross the image (x = 0..={width_mm:.2} mm, {cols} columns of {sx} mm); `midline` is in mm, not pixels")]
+    MidlineOutside {
+        /// The line's x at the image's middle row (mm).
+        x_mm: f64,
+        /// Its tilt (degrees).
+        tilt_deg: f64,
+        /// The image's width, `(cols − 1)·s_x` (mm).
+        width_mm: f64,
+        /// Columns of the image.
+        cols: usize,
+        /// Pixel spacing along x (mm).
+        sx: f64,
+    },
     /// None of the slices of the midline estimate holds bone.
     #[error("cannot estimate the midline: no bone in its slices")]
     NoMidline,
@@ -266,10 +310,22 @@ impl Implant {
 
 /// The volume index of slice `z` (original numbering).
 pub fn index_of(cfg: &DefectConfig, volume: &Volume, z: usize) -> Result<usize, ImplantError> {
+    slice_index(cfg, volume, z, "slice")
+}
+
+/// The volume index of slice `z` (original numbering): `z − first_z`, or
+/// [`ImplantError::SliceOutside`] naming the slice as `what` ("defect
+/// slice", "validation slice", ...).
+pub fn slice_index(
+    cfg: &DefectConfig,
+    volume: &Volume,
+    z: usize,
+    what: &'static str,
+) -> Result<usize, ImplantError> {
     z.checked_sub(cfg.first_z)
         .filter(|&k| k < volume.nz)
         .ok_or_else(|| ImplantError::SliceOutside {
-            what: "slice",
+            what,
             z,
             first: cfg.first_z,
             last: cfg.first_z + volume.nz - 1,
@@ -362,6 +418,7 @@ pub fn slice_context(
             (d.a_mm, d.b_mm)
         }
     };
+    check_distinct_ends(z, (a, b), (sx, sy))?;
     let loops = bone_loops(&slice, &mask, cfg.threshold);
     let tables = crate::ct::table_contours(&loops, Some((a, b))).map_err(at)?;
     let centre = midline.at_y(tables.outer.vertex_mean().y);
@@ -373,6 +430,25 @@ pub fn slice_context(
         ends: (a, b),
         centre,
     })
+}
+
+/// Refuses defect ends `a`, `b` (mm) closer than half a pixel of the
+/// spacing `(sx, sy)`: [`ImplantError::EndsCoincide`] on slice `z`.
+pub fn check_distinct_ends(
+    z: usize,
+    (a, b): (Point, Point),
+    (sx, sy): (f64, f64),
+) -> Result<(), ImplantError> {
+    if a.distance(b) < 0.5 * sx.min(sy) {
+        return Err(ImplantError::EndsCoincide {
+            z,
+            x: a.x,
+            y: a.y,
+            row: a.y / sy,
+            col: a.x / sx,
+        });
+    }
+    Ok(())
 }
 
 /// Runs `f` with the wall input of a slice context.

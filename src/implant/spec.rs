@@ -254,10 +254,22 @@ impl Parser<'_> {
         if a.len() != 2 {
             return Err(self.error(v.span(), field, "expected [row, col] (two numbers)".into()));
         }
-        Ok((
-            self.finite_real(a[0], field)?,
-            self.finite_real(a[1], field)?,
-        ))
+        let mut rc = [0.0; 2];
+        for (i, x) in a.iter().enumerate() {
+            rc[i] = self.finite_real(x, field)?;
+            if rc[i] < 0.0 {
+                return Err(self.error(
+                    x.span(),
+                    field,
+                    format!(
+                        "expected a pixel {} ≥ 0 (rows and columns count from the image's top left), found {}",
+                        ["row", "column"][i],
+                        self.show(x)
+                    ),
+                ));
+            }
+        }
+        Ok((rc[0], rc[1]))
     }
 
     fn method(&self, v: &Value<'_>, field: &str) -> Result<Method, SpecError> {
@@ -513,30 +525,40 @@ impl Parser<'_> {
         };
         Ok(match self.get(imp, "midline") {
             None => MidlineSpec::Auto(midline_slices),
-            Some(v) => match v.get_ref() {
-                DeValue::String(s) if s.as_ref() == "auto" => MidlineSpec::Auto(midline_slices),
-                DeValue::Integer(_) | DeValue::Float(_) => {
-                    MidlineSpec::Given(MidLine::vertical(self.finite_real(v, "implant.midline")?))
+            Some(v) => {
+                match v.get_ref() {
+                    DeValue::String(s) if s.as_ref() == "auto" => MidlineSpec::Auto(midline_slices),
+                    DeValue::Integer(_) | DeValue::Float(_) => MidlineSpec::Given(
+                        MidLine::vertical(self.finite_real(v, "implant.midline")?),
+                    ),
+                    DeValue::Array(a) if a.len() == 3 => {
+                        let a = self.array(v, "implant.midline")?;
+                        let f = |i: usize| self.finite_real(a[i], &format!("implant.midline[{i}]"));
+                        let tilt = f(2)?;
+                        if tilt.abs() > 45.0 {
+                            return Err(self.error(
+                            a[2].span(),
+                            "implant.midline[2]",
+                            format!("expected a tilt from vertical in -45..=45 degrees, found {tilt}"),
+                        ));
+                        }
+                        MidlineSpec::Given(MidLine {
+                            point: Point::new(f(0)?, f(1)?),
+                            tilt: tilt.to_radians(),
+                        })
+                    }
+                    _ => {
+                        return Err(self.error(
+                            v.span(),
+                            "implant.midline",
+                            format!(
+                                "expected \"auto\", M_x in mm or [x_mm, y_mm, tilt_deg], found {}",
+                                self.show(v)
+                            ),
+                        ))
+                    }
                 }
-                DeValue::Array(a) if a.len() == 3 => {
-                    let a = self.array(v, "implant.midline")?;
-                    let f = |i: usize| self.finite_real(a[i], &format!("implant.midline[{i}]"));
-                    MidlineSpec::Given(MidLine {
-                        point: Point::new(f(0)?, f(1)?),
-                        tilt: f(2)?.to_radians(),
-                    })
-                }
-                _ => {
-                    return Err(self.error(
-                        v.span(),
-                        "implant.midline",
-                        format!(
-                            "expected \"auto\", M_x in mm or [x_mm, y_mm, tilt_deg], found {}",
-                            self.show(v)
-                        ),
-                    ))
-                }
-            },
+            }
         })
     }
 
