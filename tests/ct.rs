@@ -1,6 +1,9 @@
 //! Tests of the CT data layer (`metabezier::ct`) on synthetic data, on the
 //! vendored ProMED CT 0051 extract and on pydicom's CT_small.dcm.
 
+mod common;
+use common::oblique_axes;
+
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
@@ -976,27 +979,6 @@ fn overlay_and_mesh_previews_render() {
 }
 
 // ---------------------------------------------------------------- frames, midline, clipping
-
-/// A right-handed oblique frame: the voxel axes turned 15° about z, then
-/// 10° about x.
-fn oblique_axes() -> [[f64; 3]; 3] {
-    let (a, b) = (15f64.to_radians(), 10f64.to_radians());
-    let rz = |v: [f64; 3]| {
-        [
-            a.cos() * v[0] - a.sin() * v[1],
-            a.sin() * v[0] + a.cos() * v[1],
-            v[2],
-        ]
-    };
-    let rx = |v: [f64; 3]| {
-        [
-            v[0],
-            b.cos() * v[1] - b.sin() * v[2],
-            b.sin() * v[1] + b.cos() * v[2],
-        ]
-    };
-    IDENTITY_AXES.map(|v| rx(rz(v)))
-}
 
 #[test]
 fn frame_maps_voxel_millimetres_to_patient_and_back() {

@@ -2,6 +2,9 @@
 //! defect to a watertight STL, the validation against its baselines, the
 //! spec and CLI errors.
 
+mod common;
+use common::oblique_axes;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -419,27 +422,6 @@ fn intact_midline() -> metabezier::ct::MidLine {
     resolve_midline(&volume(), &cfg).unwrap().0
 }
 
-/// A right-handed oblique frame: the voxel axes turned 15° about z, then
-/// 10° about x.
-fn oblique_axes() -> [[f64; 3]; 3] {
-    let (a, b) = (15f64.to_radians(), 10f64.to_radians());
-    let rz = |v: [f64; 3]| {
-        [
-            a.cos() * v[0] - a.sin() * v[1],
-            a.sin() * v[0] + a.cos() * v[1],
-            v[2],
-        ]
-    };
-    let rx = |v: [f64; 3]| {
-        [
-            v[0],
-            b.cos() * v[1] - b.sin() * v[2],
-            b.sin() * v[1] + b.cos() * v[2],
-        ]
-    };
-    metabezier::ct::IDENTITY_AXES.map(|v| rx(rz(v)))
-}
-
 /// The defect slices 69–71 of a volume holding z = 68..=72, midline given.
 fn frame_config(midline: metabezier::ct::MidLine) -> DefectConfig {
     let mut cfg = real_config(69..=71);
@@ -723,63 +705,62 @@ fn a_failed_midline_estimate_and_a_one_slice_study_without_midline_stop_before_o
 fn bad_ends_midlines_and_slices_are_refused_before_anything_is_written() {
     let vol = crate_path(CT0051_PATH);
     let end = |a: &str, b: &str| {
-        format!("[defect]\nslices = [70, 72]\n[[defect.end]]\nz = 71\na = {a}\nb = {b}\n")
-    };
-    let err = fails(
-        "negative",
-        &small_spec(&vol, "", &end("[184, -86]", "[184, 86]")),
-    );
-    assert!(
-        err.contains("spec.toml:13:11")
-            && err.contains("defect.end[0].a")
-            && err.contains("expected a pixel column ≥ 0"),
-        "{err}"
-    );
-    let err = fails(
-        "same",
-        &small_spec(&vol, "", &end("[184, 86]", "[184, 86]")),
-    );
-    assert!(
-        err.contains("slice z = 71: A and B are the same point")
-            && err.contains("two distinct ends"),
-        "{err}"
-    );
-    let err = fails(
-        "outside",
-        &small_spec(&vol, "", &end("[184, 86]", "[300, 86]")),
-    );
-    assert!(
-        err.contains("B = [300, 86] (row, col) is outside the image (256 rows × 256 columns)"),
-        "{err}"
-    );
-    let err = fails("midline", &small_spec(&vol, "midline = 400.0", DEFECT));
-    assert!(
-        err.contains("the midline x = 400.00 mm")
-            && err.contains("does not cross the image (x = 0..=244.04 mm"),
-        "{err}"
-    );
-    // The real defect would succeed; the validation slice outside the
-    // volume stops the run before implant.stl is written.
-    let err = fails(
-        "valslice",
-        &small_spec(
+        small_spec(
             &vol,
             "",
-            &format!(
-                "{DEFECT}\n[validation]\nslices = [88, 120]\npositions = [200]\nwidths = [20]\n"
-            ),
+            &format!("[defect]\nslices = [70, 72]\n[[defect.end]]\nz = 71\na = {a}\nb = {b}\n"),
+        )
+    };
+    // With DEFECT the real defect would succeed: the later part's bad slice
+    // must stop the run before implant.stl is written.
+    let with = |part: &str| small_spec(&vol, "", &format!("{DEFECT}\n{part}"));
+    let cases: [(&str, String, &[&str]); 6] = [
+        (
+            "negative",
+            end("[184, -86]", "[184, 86]"),
+            &[
+                "spec.toml:13:11",
+                "defect.end[0].a",
+                "expected a pixel column ≥ 0",
+            ],
         ),
-    );
-    assert!(
-        err.contains("validation slice z = 120 is outside the volume (it holds z = 40..=100)"),
-        "{err}"
-    );
-    let err = fails(
-        "val3dslice",
-        &small_spec(&vol, "", &format!("{DEFECT}\n[validation_3d]\nranges = [[96, 104]]\npositions = [200]\nwidths = [20]\n")),
-    );
-    assert!(
-        err.contains("validation_3d slice z = 104 is outside the volume"),
-        "{err}"
-    );
+        (
+            "same",
+            end("[184, 86]", "[184, 86]"),
+            &[
+                "slice z = 71: A and B are the same point",
+                "two distinct ends",
+            ],
+        ),
+        (
+            "outside",
+            end("[184, 86]", "[300, 86]"),
+            &["B = [300, 86] (row, col) is outside the image (256 rows × 256 columns)"],
+        ),
+        (
+            "midline",
+            small_spec(&vol, "midline = 400.0", DEFECT),
+            &[
+                "the midline x = 400.00 mm",
+                "does not cross the image (x = 0..=244.04 mm",
+                "not pixels",
+            ],
+        ),
+        (
+            "valslice",
+            with("[validation]\nslices = [88, 120]\npositions = [200]\nwidths = [20]\n"),
+            &["validation slice z = 120 is outside the volume (it holds z = 40..=100)"],
+        ),
+        (
+            "val3dslice",
+            with("[validation_3d]\nranges = [[96, 104]]\npositions = [200]\nwidths = [20]\n"),
+            &["validation_3d slice z = 104 is outside the volume"],
+        ),
+    ];
+    for (name, spec, expect) in cases {
+        let err = fails(name, &spec);
+        for e in expect {
+            assert!(err.contains(e), "{name}: {err}");
+        }
+    }
 }

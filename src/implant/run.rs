@@ -26,7 +26,8 @@ use super::validation3d::{evaluate_3d, prepare_case_3d, Case3d, Prepared3d, Row3
 use super::wall::WallKind;
 use crate::ct::{read_dicom_dir, read_inv3, stl_bytes, Volume};
 use crate::files::{create_dir, write_atomic};
-use crate::fit::LmSolver;
+use crate::fit::{LmSolver, SegmentSolver};
+use crate::reconstruction::Method;
 
 /// Reads a volume: a directory is a DICOM series, anything else an `.inv3`
 /// project. Reader errors (truncated or corrupt files, mismatched slice
@@ -226,36 +227,47 @@ fn run_validation_3d(
     Ok(())
 }
 
-/// The rows of one prepared 3D case: both baselines, then every curve-fit
-/// method (`val.runs` seeded runs for a stochastic one).
+/// The rows of one prepared 3D case ([`method_runs`]).
 fn case_rows_3d(spec: &ImplantSpec, val: &Validation3dSpec, p: &Prepared3d, rows: &mut Vec<Row3d>) {
+    let runs = method_runs(spec.seed, &val.methods, val.runs, |kind, solver| {
+        evaluate_3d(p, kind, val.margin_mm, solver)
+    });
+    rows.extend(runs.into_iter().map(|(method, run, seed, metrics)| Row3d {
+        case: p.case,
+        method,
+        run,
+        seed,
+        metrics,
+    }));
+}
+
+/// Every reconstruction of one validation case, in table order: the two
+/// baselines (`template`, `straight`; deterministic, one run, seed 0),
+/// then each curve-fit method (`curve:<name>`), `runs` seeded runs with
+/// seeds `seed, seed + 1, …` for a stochastic one and one run otherwise.
+/// `eval` reconstructs and scores the case with a wall kind and a solver;
+/// returns (method, run, seed, its result) per reconstruction.
+fn method_runs<T>(
+    seed: u64,
+    methods: &[Method],
+    runs: usize,
+    mut eval: impl FnMut(WallKind, &mut dyn SegmentSolver) -> T,
+) -> Vec<(String, usize, u64, T)> {
+    let mut out = Vec::new();
     for kind in [WallKind::Template, WallKind::Straight] {
-        rows.push(Row3d {
-            case: p.case,
-            method: kind.name().to_string(),
-            run: 0,
-            seed: 0,
-            metrics: evaluate_3d(p, kind, val.margin_mm, &mut LmSolver::default()),
-        });
+        let res = eval(kind, &mut LmSolver::default());
+        out.push((kind.name().to_string(), 0, 0, res));
     }
-    for m in &val.methods {
-        let runs = if m.is_stochastic() { val.runs } else { 1 };
-        for run in 0..runs {
-            let seed = if m.is_stochastic() {
-                spec.seed + run as u64
-            } else {
-                0
-            };
+    for m in methods {
+        let stochastic = m.is_stochastic();
+        for run in 0..if stochastic { runs } else { 1 } {
+            let seed = if stochastic { seed + run as u64 } else { 0 };
             let mut solver = m.solver(seed);
-            rows.push(Row3d {
-                case: p.case,
-                method: format!("curve:{}", m.name()),
-                run,
-                seed,
-                metrics: evaluate_3d(p, WallKind::CurveFit, val.margin_mm, &mut *solver),
-            });
+            let res = eval(WallKind::CurveFit, &mut *solver);
+            out.push((format!("curve:{}", m.name()), run, seed, res));
         }
     }
+    out
 }
 
 /// Every validation row: for each slice × position × width, the case cut
@@ -286,8 +298,7 @@ fn validation_rows(
     Ok(rows)
 }
 
-/// The rows of one prepared case (slice `z`): the two baselines, then every
-/// curve-fit method, `val.runs` seeded runs for a stochastic one.
+/// The rows of one prepared case (slice `z`, [`method_runs`]).
 fn case_rows(
     spec: &ImplantSpec,
     val: &ValidationSpec,
@@ -296,45 +307,23 @@ fn case_rows(
     rows: &mut Vec<ValidationRow>,
 ) {
     let wall = &spec.defect_config.wall;
-    let row = |method: String, run, seed, (metrics, fit_error, join_deg)| ValidationRow {
-        case: prepared.case,
-        z,
-        method,
-        run,
-        seed,
-        metrics,
-        fit_error,
-        join_deg,
-    };
-    for kind in [WallKind::Template, WallKind::Straight] {
-        let res = evaluate(
-            prepared,
-            kind,
-            wall,
-            val.margin_mm,
-            &mut LmSolver::default(),
-        );
-        rows.push(row(kind.name().to_string(), 0, 0, res));
-    }
-    for m in &val.methods {
-        let runs = if m.is_stochastic() { val.runs } else { 1 };
-        for run in 0..runs {
-            let seed = if m.is_stochastic() {
-                spec.seed + run as u64
-            } else {
-                0
-            };
-            let mut solver = m.solver(seed);
-            let res = evaluate(
-                prepared,
-                WallKind::CurveFit,
-                wall,
-                val.margin_mm,
-                &mut *solver,
-            );
-            rows.push(row(format!("curve:{}", m.name()), run, seed, res));
-        }
-    }
+    let runs = method_runs(spec.seed, &val.methods, val.runs, |kind, solver| {
+        evaluate(prepared, kind, wall, val.margin_mm, solver)
+    });
+    rows.extend(
+        runs.into_iter().map(
+            |(method, run, seed, (metrics, fit_error, join_deg))| ValidationRow {
+                case: prepared.case,
+                z,
+                method,
+                run,
+                seed,
+                metrics,
+                fit_error,
+                join_deg,
+            },
+        ),
+    );
 }
 
 /// Queues a copy of the spec file for the output directory (skipped when

@@ -50,13 +50,16 @@ pub fn report_header(spec: &ImplantSpec, volume: &Volume) -> String {
         spec.defect_config.first_z
     );
     let f = volume.frame();
-    let _ = writeln!(
-        report,
-        "Frame of `implant.stl`: {} (origin {:.3?} mm, axes {:.4?}).\n",
-        f.stl_header(),
-        f.origin,
-        f.axes
-    );
+    if spec.run_defect {
+        let _ = writeln!(
+            report,
+            "Frame of `implant.stl`: {} (origin {:.3?} mm, axes {:.4?}).",
+            f.stl_header(),
+            f.origin,
+            f.axes
+        );
+    }
+    let _ = writeln!(report);
     report
 }
 
@@ -449,6 +452,29 @@ pub fn validation_report(
     Ok(())
 }
 
+/// Per width of `widths`, the median (three decimals) of the values of
+/// `method`'s rows of that width; `cell` reads a row's method, width and
+/// value (`None` for a failed row).
+pub(crate) fn medians_by_width<'r, R>(
+    rows: &'r [R],
+    method: &str,
+    widths: &[f64],
+    cell: impl Fn(&'r R) -> Option<(&'r str, f64, f64)>,
+) -> Vec<String> {
+    let cells: Vec<(&str, f64, f64)> = rows.iter().filter_map(cell).collect();
+    widths
+        .iter()
+        .map(|&w| {
+            let v: Vec<f64> = cells
+                .iter()
+                .filter(|(m, cw, _)| *m == method && *cw == w)
+                .map(|c| c.2)
+                .collect();
+            format!("{:.3}", median(&v))
+        })
+        .collect()
+}
+
 /// The median of one metric over cases and runs, by method × width.
 fn median_table(
     report: &mut String,
@@ -464,14 +490,10 @@ fn median_table(
         .iter()
         .map(|m| {
             let mut line = vec![m.clone()];
-            for &w in &val.widths {
-                let v: Vec<f64> = rows
-                    .iter()
-                    .filter(|r| &r.method == m && r.case.width_mm == w)
-                    .filter_map(|r| r.metrics.as_ref().ok().map(f))
-                    .collect();
-                line.push(format!("{:.3}", median(&v)));
-            }
+            line.extend(medians_by_width(rows, m, &val.widths, |r| {
+                let v = r.metrics.as_ref().ok().map(f)?;
+                Some((r.method.as_str(), r.case.width_mm, v))
+            }));
             line
         })
         .collect();

@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 
 use super::pipeline::ImplantError;
 use super::spec::Validation3dSpec;
-use super::tables::{paired_from, paired_table, r};
+use super::tables::{medians_by_width, paired_from, paired_table, r};
 use super::validation3d::{Metrics3d, Row3d};
 use crate::files::csv_bytes;
 use crate::markdown::{self, Alignment};
@@ -100,14 +100,10 @@ pub fn validation_3d_report(
         .map(|m| {
             let mut line = vec![m.clone()];
             for (_, f, _) in METRICS_3D {
-                for &w in &val.widths {
-                    let v: Vec<f64> = rows
-                        .iter()
-                        .filter(|r| &r.method == m && r.case.width_mm == w)
-                        .filter_map(|r| r.metrics.as_ref().ok().map(f))
-                        .collect();
-                    line.push(format!("{:.3}", median(&v)));
-                }
+                line.extend(medians_by_width(rows, m, &val.widths, |r| {
+                    let v = r.metrics.as_ref().ok().map(f)?;
+                    Some((r.method.as_str(), r.case.width_mm, v))
+                }));
             }
             line
         })

@@ -86,8 +86,29 @@ pub struct CaseMetrics {
     pub dev_max: f64,
 }
 
-fn in_wedge(theta: f64, lo: f64, width: f64) -> bool {
+/// Whether the polar angle `theta` lies in the wedge `[lo, lo + width]`
+/// (radians, modulo 2π).
+pub(crate) fn in_wedge(theta: f64, lo: f64, width: f64) -> bool {
     (theta - lo).rem_euclid(std::f64::consts::TAU) <= width
+}
+
+/// An intact slice's bone mask, its outer bone loop (the largest
+/// counter-clockwise loop) and the polar centre on `midline` at the loop's
+/// mean height.
+pub(crate) fn outer_loop(
+    slice: &Slice<'_>,
+    threshold: i16,
+    midline: &MidLine,
+) -> Result<(Mask2, Polyline, Point), CtError> {
+    let mask = bone_mask_slice(slice, threshold)?;
+    let loops = bone_loops(slice, &mask, threshold);
+    let outer = loops
+        .into_iter()
+        .filter(|l| l.signed_area() > 0.0)
+        .max_by(|a, b| a.signed_area().total_cmp(&b.signed_area()))
+        .ok_or(CtError::NoClosedContour)?;
+    let centre = midline.at_y(outer.vertex_mean().y);
+    Ok((mask, outer, centre))
 }
 
 /// Cuts the case's defect out of slice `case.index` of `volume`.
@@ -99,15 +120,7 @@ pub fn prepare_case(
 ) -> Result<PreparedCase, CtError> {
     let slice = volume.slice(case.index);
     let (sx, sy) = (slice.sx, slice.sy);
-    let mask = bone_mask_slice(&slice, threshold)?;
-    let loops = bone_loops(&slice, &mask, threshold);
-    let outer = loops
-        .iter()
-        .filter(|l| l.signed_area() > 0.0)
-        .max_by(|a, b| a.signed_area().total_cmp(&b.signed_area()))
-        .cloned()
-        .ok_or(CtError::NoClosedContour)?;
-    let centre = midline.at_y(outer.vertex_mean().y);
+    let (mask, outer, centre) = outer_loop(&slice, threshold, &midline)?;
     let polys = [&outer];
     let tc = case.position_deg.to_radians();
     let rc = envelope_radius(&polys, centre, tc).ok_or(CtError::NoContourAt {

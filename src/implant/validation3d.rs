@@ -20,11 +20,9 @@ use super::pipeline::{
     index_of, reconstruct_from, slice_context, DefectConfig, Ends, Implant, ImplantError,
     SliceContext, SliceSpec,
 };
-use super::validation::CUT_HU;
+use super::validation::{in_wedge, outer_loop, CUT_HU};
 use super::wall::{envelope_radius, WallKind};
-use crate::ct::{
-    bone_loops, bone_mask_slice, boundary_dice, dice, hd95, CtError, Mask3, MidLine, Volume,
-};
+use crate::ct::{boundary_dice, dice, hd95, CtError, Mask3, MidLine, Volume};
 use crate::fit::SegmentSolver;
 use crate::geometry::Point;
 
@@ -77,15 +75,8 @@ fn cut_slice(
 ) -> Result<(Point, Point), CtError> {
     let slice = volume.slice(k);
     let (sx, sy, nx) = (slice.sx, slice.sy, slice.nx);
-    let mask = bone_mask_slice(&slice, threshold)?;
-    let loops = bone_loops(&slice, &mask, threshold);
-    let outer = loops
-        .iter()
-        .filter(|l| l.signed_area() > 0.0)
-        .max_by(|a, b| a.signed_area().total_cmp(&b.signed_area()))
-        .ok_or(CtError::NoClosedContour)?;
-    let centre = midline.at_y(outer.vertex_mean().y);
-    let polys = [outer];
+    let (mask, outer, centre) = outer_loop(&slice, threshold, midline)?;
+    let polys = [&outer];
     let pt = |t: f64| {
         envelope_radius(&polys, centre, t)
             .map(|r| centre + Point::new(t.cos(), t.sin()) * r)
@@ -98,7 +89,7 @@ fn cut_slice(
     for (r, c) in mask.pixels() {
         let p = Point::new(c as f64 * sx, r as f64 * sy);
         let th = (p.y - centre.y).atan2(p.x - centre.x);
-        if (th - t1).rem_euclid(std::f64::consts::TAU) <= t2 - t1 {
+        if in_wedge(th, t1, t2 - t1) {
             truth.set(k, r, c, true);
             data[(k * slice.ny + r) * nx + c] = CUT_HU;
             removed += 1;
@@ -164,14 +155,19 @@ pub fn prepare_case_3d(
     })
 }
 
-/// The 3D metrics of one reconstruction.
+/// The 3D metrics of one reconstruction, as in the AutoImplant challenge
+/// (Li & Egger et al., IEEE TMI 40(9), 2021).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Metrics3d {
-    /// Dice of the implant's voxels and the removed bone.
+    /// Dice of the implant's voxels `R` and the removed bone `T`:
+    /// `DSC = 2|R ∩ T| / (|R| + |T|)` (Dice 1945).
     pub dice: f64,
-    /// Boundary Dice within the margin of the defective skull.
+    /// Boundary Dice (bDSC): the Dice restricted to the voxels within the
+    /// margin (10 mm) of the defective skull ([`crate::ct::boundary_dice`]).
     pub boundary_dice: f64,
-    /// HD95 in mm (3D surfaces).
+    /// HD95 in mm: the 95th percentile of the symmetric surface distances
+    /// of `R` and `T` in 3D, with the volume's anisotropic spacing
+    /// ([`crate::ct::hd95`]; infinite when `R` is empty).
     pub hd95: f64,
     /// Voxels of the removed bone.
     pub truth_voxels: usize,
