@@ -1009,8 +1009,8 @@ fn frame_maps_voxel_millimetres_to_patient_and_back() {
     ));
     let sub = v.sub_z(1, 3);
     let o = f.to_patient([0.0, 0.0, 2.0]);
-    for i in 0..3 {
-        assert!((sub.origin[i] - o[i]).abs() < 1e-12);
+    for (a, b) in sub.origin.iter().zip(&o) {
+        assert!((a - b).abs() < 1e-12);
     }
     // An .inv3 says in the STL header that it has no origin.
     assert!(ct0051()

@@ -134,9 +134,9 @@ pub enum ImplantError {
     Slice {
         /// The slice.
         z: usize,
-        /// What went wrong there.
+        /// What went wrong there (boxed: some CT errors are large).
         #[source]
-        source: CtError,
+        source: Box<CtError>,
     },
     /// A slice lies outside the volume.
     #[error(
@@ -245,6 +245,16 @@ pub enum ImplantError {
     Stats(#[from] StatsError),
 }
 
+impl ImplantError {
+    /// The error `source` on slice `z` (original numbering).
+    pub fn on_slice(z: usize, source: CtError) -> Self {
+        ImplantError::Slice {
+            z,
+            source: Box::new(source),
+        }
+    }
+}
+
 /// The message of an error on slice `z`.
 fn slice_message(z: usize, source: &CtError) -> String {
     match source {
@@ -336,7 +346,7 @@ pub fn slice_index(
 pub fn slice_mask(volume: &Volume, cfg: &DefectConfig, z: usize) -> Result<Mask2, ImplantError> {
     let k = index_of(cfg, volume, z)?;
     bone_mask_slice(&volume.slice(k), cfg.threshold)
-        .map_err(|source| ImplantError::Slice { z, source })
+        .map_err(|source| ImplantError::on_slice(z, source))
 }
 
 /// Resolves the mid-sagittal line: given, or estimated (tilted) from the
@@ -401,7 +411,7 @@ pub fn slice_context(
     midline: MidLine,
 ) -> Result<SliceContext, ImplantError> {
     let z = spec.z;
-    let at = |source: CtError| ImplantError::Slice { z, source };
+    let at = |source: CtError| ImplantError::on_slice(z, source);
     let k = index_of(cfg, volume, z)?;
     let slice = volume.slice(k);
     let mask = bone_mask_slice(&slice, cfg.threshold).map_err(at)?;
@@ -560,7 +570,7 @@ pub fn reconstruct_from<S: SegmentSolver + ?Sized>(
     for ((ctx, design), t) in contexts.iter().zip(designs).zip(thickness) {
         let slice = volume.slice(ctx.k);
         let wall = finish_wall(design, t, Some((&slice, cfg.threshold)), &cfg.wall)
-            .map_err(|source| ImplantError::Slice { z: ctx.z, source })?;
+            .map_err(|source| ImplantError::on_slice(ctx.z, source))?;
         slices.push(SliceResult {
             z: ctx.z,
             ends_mm: ctx.ends,
@@ -598,7 +608,7 @@ fn design_walls<S: SegmentSolver + ?Sized>(
     solver: &mut S,
 ) -> Result<Vec<OuterDesign>, ImplantError> {
     let zs: Vec<usize> = contexts.iter().map(|c| c.z).collect();
-    let at = |z: usize| move |source: CtError| ImplantError::Slice { z, source };
+    let at = |z: usize| move |source: CtError| ImplantError::on_slice(z, source);
     let bends = contexts
         .iter()
         .map(|ctx| {

@@ -4,7 +4,7 @@
 //! table next to each end (its direction for the G¹ joins and the kink
 //! metric) and the bone thickness along the table's normal.
 //!
-//! The reflection across the mid-sagittal line ([`MidLine`], tilted in
+//! The reflection across the mid-sagittal line ([`crate::ct::MidLine`], tilted in
 //! general) maps the ray at angle `θ` from its centre to the ray at
 //! `2α − θ` (`α` the line's direction angle), so the mirrored envelope is
 //! `R(θ) = reflect(E(2α − θ))`.

@@ -290,7 +290,7 @@ fn validation_rows(
                     width_mm: w,
                 };
                 let prepared = prepare_case(volume, case, midline, cfg.threshold)
-                    .map_err(|source| ImplantError::Slice { z, source })?;
+                    .map_err(|source| ImplantError::on_slice(z, source))?;
                 case_rows(spec, val, &prepared, z, &mut rows);
             }
         }

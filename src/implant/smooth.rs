@@ -149,7 +149,7 @@ pub fn roughness(walls: &[&Polyline], zs: &[usize], o: Point) -> Vec<Option<f64>
 /// (Viterbi) over the candidate seats `s_k = k·0.25` mm: they minimise
 /// `Σ_z [max(0, bend_z(s_z) − bend_deg) + 0.01·s_z] + λ·Σ |s_z − s_{z+1}|`
 /// (adjacent slices only), the table's excess bend at the seat (degrees;
-/// [`super::polar::Gap::bends`]), a slight preference for seats near the
+/// `Gap::bends` in [`super::polar`]), a slight preference for seats near the
 /// tips, and `λ` degrees per mm of seat change between slices, so the
 /// implant's edge follows the bone without jumping. One slice (or
 /// `λ = 0`) gets the first seat whose bend is at most `bend_deg`, else the

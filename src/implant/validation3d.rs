@@ -127,7 +127,7 @@ pub fn prepare_case_3d(
             &midline,
             cfg.threshold,
         )
-        .map_err(|source| ImplantError::Slice { z, source })?;
+        .map_err(|source| ImplantError::on_slice(z, source))?;
         slices.push(SliceSpec {
             z,
             ends: Ends::Mm { a, b },

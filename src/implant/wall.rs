@@ -438,7 +438,7 @@ fn tip_walks<'a>(
 }
 
 /// The bend of the outer table at the candidate seats behind A and behind
-/// B on one slice ([`Gap::bends`]: index `k` is `k·0.25` mm behind the tip).
+/// B on one slice (`Gap::bends` in [`super::polar`]: index `k` is `k·0.25` mm behind the tip).
 pub fn seat_bends(
     input: &WallInput<'_>,
     options: &WallOptions,
