@@ -12,7 +12,7 @@ use crate::experiment::fit_files::write_fit_records;
 use crate::experiment::runner::{self, RunOptions, Shard};
 use crate::experiment::slurm::{self, SlurmOptions};
 use crate::experiment::{coco_log, Spec};
-use crate::files::{read_text, IoError};
+use crate::files::{check_output_dir, read_text, IoError};
 use crate::fit::{Closing, FitOptions, FunctionType, SearchSpace};
 use crate::functions::{Function, Transform};
 use crate::geometry::{Continuity, Parameterisation, Point};
@@ -60,8 +60,8 @@ enum Command {
         #[arg(long, value_name = "K/N", value_parser = Shard::parse)]
         shard: Option<Shard>,
         /// Stop after this many new runs; continue later with --resume.
-        #[arg(long, value_name = "N")]
-        max_runs: Option<usize>,
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+        max_runs: Option<u32>,
         /// No progress bar.
         #[arg(long, short)]
         quiet: bool,
@@ -174,18 +174,23 @@ struct FitArgs {
     #[arg(long, conflicts_with_all = ["tolerance", "true_breaks"])]
     segments: Option<usize>,
     /// Split recursively until every data point is within PX of the curve.
-    #[arg(long, value_name = "PX", conflicts_with = "true_breaks")]
+    #[arg(
+        long,
+        value_name = "PX",
+        conflicts_with = "true_breaks",
+        allow_negative_numbers = true
+    )]
     tolerance: Option<f64>,
     /// For a glyph: break at the font's own segment ends.
     #[arg(long)]
     true_breaks: bool,
     /// Corner threshold: turning angle in degrees over --corner-k points
     /// (0 disables corner detection).
-    #[arg(long, default_value_t = 60.0)]
+    #[arg(long, default_value_t = 60.0, allow_negative_numbers = true, value_parser = corner_angle)]
     corner_angle: f64,
     /// Neighbourhood of the corner test, in points.
-    #[arg(long, default_value_t = 5)]
-    corner_k: usize,
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u16).range(1..=1000))]
+    corner_k: u16,
     /// Fit only this contour of the input (0 is the largest); default: every
     /// contour, outer boundaries and holes.
     #[arg(long, value_name = "N")]
@@ -203,7 +208,7 @@ struct FitArgs {
     parameterisation: String,
     /// Rounds of Newton parameter correction after each segment's solve
     /// (Schneider 1990); each round solves again with a fresh budget.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=100))]
     reparameterise: u32,
     /// Seed of the random generator (Xoshiro256++).
     #[arg(long, default_value_t = 1)]
@@ -214,6 +219,20 @@ struct FitArgs {
     /// Output directory.
     #[arg(long, default_value = "results/fit")]
     out: PathBuf,
+}
+
+/// Parses `--corner-angle`: a turning angle in degrees in [0, 180).
+fn corner_angle(text: &str) -> Result<f64, String> {
+    let angle: f64 = text
+        .parse()
+        .map_err(|_| format!("expected an angle in degrees, found \"{text}\""))?;
+    if (0.0..180.0).contains(&angle) {
+        Ok(angle)
+    } else {
+        Err(format!(
+            "expected an angle in degrees in [0, 180) (0 disables corner detection), found {text}"
+        ))
+    }
 }
 
 /// The `--parameterisation` choices: `auto` and the fixed rules.
@@ -300,7 +319,7 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
                 threads: threads.map(usize::from),
                 resume,
                 shard,
-                max_runs,
+                max_runs: max_runs.map(|n| n as usize),
                 progress: !quiet,
                 allow_large,
             };
@@ -395,6 +414,9 @@ fn check(spec: &Path, w: &mut String) -> Result<(), Error> {
         "estimated memory of the results before they are written: {:.1} MiB",
         runner::estimated_bytes(&spec) as f64 / f64::from(1u32 << 20)
     );
+    if let Err(e) = runner::check_limits(&spec, &RunOptions::default()) {
+        say!(w, "note: `run` refuses it as it stands: {e}");
+    }
     for p in &spec.problems {
         say!(w, "  problem {} (budget {})", p.key(), p.budget);
     }
@@ -534,6 +556,7 @@ fn implant(spec: &Path, out: Option<PathBuf>, w: &mut String) -> Result<(), Erro
             .map_or("implant".into(), |n| n.to_string_lossy().into_owned());
         PathBuf::from("results").join(stem)
     });
+    check_output_dir(&out)?;
     let r = crate::implant::run_implant(&s, &out)?;
     if let Some(t) = r.pipeline_seconds {
         say!(w, "real defect: load to STL in {t:.2} s");
@@ -565,6 +588,7 @@ fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
         ..LoadOptions::default()
     };
     let source = Source::load(&a.input, Path::new(""), &load)?;
+    check_output_dir(&a.out)?;
     let r = Reconstruction {
         source: &source,
         segmentation: a.segmentation(&source)?,
@@ -615,7 +639,7 @@ impl FitArgs {
     /// The corner detector (none for an angle of 0).
     fn corners(&self) -> Option<CornerOptions> {
         (self.corner_angle > 0.0).then_some(CornerOptions {
-            k: self.corner_k.max(1),
+            k: usize::from(self.corner_k),
             angle_deg: self.corner_angle,
         })
     }

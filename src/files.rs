@@ -36,6 +36,38 @@ pub fn create_dir(dir: &Path) -> Result<(), IoError> {
     std::fs::create_dir_all(dir).map_err(|e| IoError::new("create the directory", dir, e))
 }
 
+/// Checks, before any work, that `dir` can become an output directory: it is
+/// a directory or does not exist, and its nearest existing ancestor is a
+/// directory (no file in the way). Nothing is created.
+pub fn check_output_dir(dir: &Path) -> Result<(), IoError> {
+    let in_the_way = |path: &Path| {
+        IoError::new(
+            "use as the output directory",
+            dir,
+            io::Error::new(
+                io::ErrorKind::NotADirectory,
+                format!("{} is a file, not a directory", path.display()),
+            ),
+        )
+    };
+    for ancestor in dir.ancestors().filter(|a| !a.as_os_str().is_empty()) {
+        match std::fs::metadata(ancestor) {
+            Ok(m) if m.is_dir() => return Ok(()),
+            Ok(_) => return Err(in_the_way(ancestor)),
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    io::ErrorKind::NotFound | io::ErrorKind::NotADirectory
+                ) =>
+            {
+                continue
+            }
+            Err(e) => return Err(IoError::new("use as the output directory", dir, e)),
+        }
+    }
+    Ok(())
+}
+
 /// Reads the whole of `path` as UTF-8 text.
 pub fn read_text(path: &Path) -> Result<String, IoError> {
     std::fs::read_to_string(path).map_err(|e| IoError::new("read", path, e))

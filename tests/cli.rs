@@ -171,3 +171,81 @@ fn usage_errors_exit_with_two() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("expected a shard as K/N"));
 }
+
+#[test]
+fn check_of_a_campaign_over_the_limits_describes_it_and_says_run_refuses_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::write(
+        tmp.path().join("huge.toml"),
+        "[experiment]\nname = \"huge\"\nseed = 1\nruns = 4294967295\nbudget = 100\n\n[[problem]]\nfunction = \"sphere\"\ndim = 2\n\n[[algorithm]]\nname = \"hs\"\n",
+    )
+    .unwrap();
+    let out = metabezier()
+        .current_dir(tmp.path())
+        .args(["check", "huge.toml"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        stdout.contains("= 4294967295 runs, 429496729500 evaluations"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains(
+            "note: `run` refuses it as it stands: huge.toml: 4294967295 runs and an estimated"
+        ),
+        "{stdout}"
+    );
+    assert!(!tmp.path().join("results").exists());
+}
+
+#[test]
+fn a_failed_journal_write_stops_the_campaign_and_keeps_every_finished_run() {
+    // A file-size limit (ulimit -f, with SIGXFSZ ignored so that the write
+    // fails with EFBIG instead of killing the process) stands in for a full
+    // disk: the journal's appends fail once it passes 2 KiB.
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::write(
+        tmp.path().join("s.toml"),
+        "[experiment]\nname = \"s\"\nseed = 3\nruns = 60\nbudget = 200\n\n[[problem]]\nfunction = \"sphere\"\ndim = 3\n\n[[algorithm]]\nname = \"hs\"\n",
+    )
+    .unwrap();
+    let bin = env!("CARGO_BIN_EXE_metabezier");
+    let out = Command::new("sh")
+        .current_dir(tmp.path())
+        .arg("-c")
+        .arg(format!(
+            "trap '' XFSZ; ulimit -f 4; exec '{bin}' run s.toml --out limited --threads 1 -q"
+        ))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("limited/journal.csv: cannot append to"),
+        "{stderr}"
+    );
+    let journal = std::fs::read_to_string(tmp.path().join("limited/journal.csv")).unwrap();
+    let kept = journal.lines().count();
+    assert!(kept > 1 && kept < 60, "{kept} journal lines");
+    assert!(!tmp.path().join("limited/runs.csv").exists());
+    // Without the limit the campaign resumes from the kept runs and ends
+    // with the files of an uninterrupted run.
+    for (dir, resume) in [("limited", true), ("whole", false)] {
+        let mut cmd = metabezier();
+        cmd.current_dir(tmp.path())
+            .args(["run", "s.toml", "--out", dir, "-q"]);
+        if resume {
+            cmd.arg("--resume");
+        }
+        assert!(cmd.status().unwrap().success());
+    }
+    for f in ["runs.csv", "convergence.csv", "hits.csv"] {
+        assert_eq!(
+            std::fs::read(tmp.path().join("limited").join(f)).unwrap(),
+            std::fs::read(tmp.path().join("whole").join(f)).unwrap(),
+            "{f}"
+        );
+    }
+}

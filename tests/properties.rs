@@ -130,3 +130,82 @@ proptest! {
         }
     }
 }
+
+/// A small real `.inv3`: a 48×48×3 block of CT 0051 (columns 104–151, rows
+/// 200–247, extract slices 20–22), written as InVesalius writes it.
+fn small_inv3() -> (Vec<u8>, metabezier::ct::Volume) {
+    let full = metabezier::ct::read_inv3(&repo("data/ct0051/ct0051_z040-100.inv3")).unwrap();
+    let (x0, y0, z0, n) = (104, 200, 20, 48);
+    let mut data = Vec::with_capacity(n * n * 3);
+    for z in z0..z0 + 3 {
+        for y in y0..y0 + n {
+            for x in x0..x0 + n {
+                data.push(full.get(z, y, x));
+            }
+        }
+    }
+    let v = metabezier::ct::Volume::new(n, n, 3, full.spacing, [0.0; 3], data).unwrap();
+    (metabezier::ct::inv3::inv3_bytes(&v, "block"), v)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    /// A mutated `.inv3` is refused with its file named, or it reads back to
+    /// the very same voxels and spacing: the gzip CRC-32 and length are
+    /// checked, so a changed byte can never reach an implant.
+    #[test]
+    fn inv3_projects_are_read_exactly_or_refused(m in mutation()) {
+        static SMALL: std::sync::OnceLock<(Vec<u8>, metabezier::ct::Volume)> = std::sync::OnceLock::new();
+        let (bytes, original) = SMALL.get_or_init(small_inv3);
+        let (_dir, path) = temp_file("block.inv3", &apply(bytes, &m));
+        match metabezier::ct::read_inv3(&path) {
+            Ok(v) => {
+                prop_assert_eq!((v.nx, v.ny, v.nz), (original.nx, original.ny, original.nz));
+                prop_assert_eq!(v.spacing, original.spacing);
+                prop_assert!(v.data() == original.data());
+            }
+            Err(e) => prop_assert!(e.to_string().contains("block.inv3"), "{}", e),
+        }
+    }
+}
+
+/// Single-bit flips in the compressed body of the real CT extract are all
+/// refused (before the CRC-32 check some were read as a different volume
+/// and an implant was built from it).
+#[test]
+fn a_flipped_bit_in_the_real_ct_is_refused() {
+    let bytes = std::fs::read(repo("data/ct0051/ct0051_z040-100.inv3")).unwrap();
+    let body = 10..bytes.len();
+    for k in 1..=8 {
+        let at = body.start + (body.end - body.start) * k / 9 + k;
+        let mut flipped = bytes.clone();
+        flipped[at] ^= 1 << (k % 8);
+        let (_dir, path) = temp_file("flipped.inv3", &flipped);
+        let err = metabezier::ct::read_inv3(&path).expect_err("a flipped bit must be refused");
+        let text = err.to_string();
+        assert!(text.contains("flipped.inv3"), "{text}");
+    }
+}
+
+/// A tar header that declares a 1 TiB member is refused before anything is
+/// allocated, naming the member and the bound.
+#[test]
+fn a_member_declaring_a_tebibyte_is_refused() {
+    let mut header = tar::Header::new_ustar();
+    header.set_size(1 << 40);
+    header.set_mode(0o644);
+    header.set_entry_type(tar::EntryType::Regular);
+    header.set_path("matrix.dat").unwrap();
+    header.set_cksum();
+    let mut tar_bytes = header.as_bytes().to_vec();
+    tar_bytes.extend_from_slice(&[0u8; 2048]);
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    std::io::Write::write_all(&mut gz, &tar_bytes).unwrap();
+    let (_dir, path) = temp_file("huge.inv3", &gz.finish().unwrap());
+    let text = metabezier::ct::read_inv3(&path).unwrap_err().to_string();
+    assert!(
+        text.contains("huge.inv3") && text.contains("matrix.dat declares 1099511627776 bytes"),
+        "{text}"
+    );
+}

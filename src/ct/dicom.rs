@@ -111,9 +111,29 @@ impl PixelFormat {
     }
 
     /// The raw stored words of `pixel` (PixelData), independent of the
-    /// host's byte order; at least `rows·cols` of them.
+    /// host's byte order; at least `rows·cols` of them. The value's length
+    /// must be exactly `rows·cols·BitsAllocated/8` bytes, padded to even
+    /// length (PS3.5 §7.1.1): a longer or shorter value is refused.
     fn words(&self, pixel: &Value<InMemDicomObject>, path: &Path) -> Result<Vec<u16>, CtError> {
         let bad = |problem: DicomProblem| CtError::dicom(path, problem);
+        let found = match pixel {
+            Value::Primitive(PrimitiveValue::U16(v)) => 2 * v.len(),
+            Value::Primitive(PrimitiveValue::I16(v)) => 2 * v.len(),
+            Value::Primitive(PrimitiveValue::U8(v)) => v.len(),
+            _ => return Err(bad(DicomProblem::PixelDataType)),
+        };
+        let n = self.rows * self.cols;
+        let bytes = n * (self.bits as usize / 8);
+        let needed = bytes + bytes % 2;
+        if found != needed {
+            return Err(bad(DicomProblem::PixelDataLength {
+                found,
+                rows: self.rows,
+                cols: self.cols,
+                bits: self.bits,
+                needed,
+            }));
+        }
         let words: Vec<u16> = match pixel {
             Value::Primitive(PrimitiveValue::U16(v)) if self.bits == 16 => v.to_vec(),
             Value::Primitive(PrimitiveValue::I16(v)) if self.bits == 16 => {
@@ -131,15 +151,6 @@ impl PixelFormat {
                 .collect(),
             _ => return Err(bad(DicomProblem::PixelDataType)),
         };
-        let n = self.rows * self.cols;
-        if words.len() < n {
-            return Err(bad(DicomProblem::PixelDataLength {
-                found: words.len(),
-                rows: self.rows,
-                cols: self.cols,
-                needed: n,
-            }));
-        }
         Ok(words)
     }
 

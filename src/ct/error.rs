@@ -436,6 +436,25 @@ pub enum Inv3Problem {
     /// The voxel spacing is not three positive numbers.
     #[error("spacing {0:?} is not three positive numbers")]
     Spacing(Vec<f64>),
+    /// The gzip stream's end does not check out: its CRC-32 or its length
+    /// (RFC 1952 trailer) disagrees with the data, or it is truncated.
+    #[error("gzip stream fails its integrity check (CRC-32 or length, RFC 1952): {0}")]
+    Checksum(#[source] io::Error),
+    /// A tar member declares more bytes than a deflate stream of the file's
+    /// size can hold (at most 1,032 bytes out per byte in).
+    #[error(
+        "member {name} declares {declared} bytes, more than the {limit} a {file_len}-byte gzip file can hold"
+    )]
+    MemberTooLarge {
+        /// The member's file name.
+        name: String,
+        /// The size in its tar header.
+        declared: u64,
+        /// The most a deflate stream of the file's size can decompress to.
+        limit: u64,
+        /// The compressed file's size in bytes.
+        file_len: u64,
+    },
 }
 
 /// What is wrong with a DICOM file ([`CtError::Dicom`]).
@@ -491,16 +510,21 @@ pub enum DicomProblem {
     /// PixelData is compressed (encapsulated) or of an unexpected value type.
     #[error("PixelData is encapsulated or of an unexpected type")]
     PixelDataType,
-    /// PixelData holds fewer samples than the image needs.
-    #[error("PixelData holds {found} samples, {rows}x{cols} needs {needed}")]
+    /// PixelData's length is not `rows·cols·BitsAllocated/8` bytes (padded
+    /// to even length, PS3.5 §7.1.1).
+    #[error(
+        "PixelData holds {found} bytes, {rows}x{cols} at {bits} bits allocated needs {needed}"
+    )]
     PixelDataLength {
-        /// Samples found.
+        /// Bytes found.
         found: usize,
         /// Rows.
         rows: usize,
         /// Columns.
         cols: usize,
-        /// `rows·cols`.
+        /// BitsAllocated.
+        bits: i64,
+        /// `rows·cols·bits/8`, rounded up to even.
         needed: usize,
     },
 }

@@ -17,11 +17,37 @@ use super::plist::{parse_plist, PlistValue};
 use super::volume::{FrameSource, Spacing, Volume, IDENTITY_AXES};
 use crate::files::write_atomic;
 
+/// The most bytes deflate can produce per compressed byte: a maximal match
+/// of 258 bytes costs at least two bits, so the ratio is bounded by 1,032
+/// (RFC 1951; zlib's technical details give the same bound).
+const MAX_DEFLATE_RATIO: u64 = 1032;
+
 /// The members of the project's gzip-compressed tar by file name, except
 /// masks and surface meshes (which can be large and are not needed).
+///
+/// Every member's declared size is checked against what the file can hold
+/// before anything is allocated, and the gzip stream is read to its end so
+/// that its CRC-32 and length trailer (RFC 1952) are verified: a corrupt
+/// byte anywhere, in a skipped member or in the padding, is refused.
 fn read_members(path: &Path) -> Result<HashMap<String, Vec<u8>>, CtError> {
     let file = std::fs::File::open(path).map_err(|e| CtError::io(path, e))?;
+    let file_len = file.metadata().map_err(|e| CtError::io(path, e))?.len();
+    let limit = file_len.saturating_mul(MAX_DEFLATE_RATIO);
     let mut archive = tar::Archive::new(GzDecoder::new(std::io::BufReader::new(file)));
+    let members = read_entries(&mut archive, path, (file_len, limit))?;
+    let mut rest = archive.into_inner();
+    std::io::copy(&mut rest, &mut std::io::sink())
+        .map_err(|e| CtError::inv3(path, Inv3Problem::Checksum(e)))?;
+    Ok(members)
+}
+
+/// The wanted members of `archive` (see [`read_members`]), each declared
+/// size at most `limit` bytes (a `file_len`-byte gzip file holds no more).
+fn read_entries<R: Read>(
+    archive: &mut tar::Archive<R>,
+    path: &Path,
+    (file_len, limit): (u64, u64),
+) -> Result<HashMap<String, Vec<u8>>, CtError> {
     let mut members: HashMap<String, Vec<u8>> = HashMap::new();
     let entries = archive
         .entries()
@@ -34,10 +60,22 @@ fn read_members(path: &Path) -> Result<HashMap<String, Vec<u8>>, CtError> {
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default();
+        let declared = entry.size();
+        if declared > limit {
+            return Err(CtError::inv3(
+                path,
+                Inv3Problem::MemberTooLarge {
+                    name,
+                    declared,
+                    limit,
+                    file_len,
+                },
+            ));
+        }
         if name.starts_with("mask_") || name.ends_with(".vtp") {
             continue;
         }
-        let mut bytes = Vec::with_capacity(entry.size() as usize);
+        let mut bytes = Vec::with_capacity(declared as usize);
         entry.read_to_end(&mut bytes).map_err(|source| {
             CtError::inv3(
                 path,
@@ -111,7 +149,10 @@ pub fn read_inv3(path: &Path) -> Result<Volume, CtError> {
     let raw = members
         .get(filename)
         .ok_or_else(|| CtError::inv3(path, Inv3Problem::MissingMember(filename.into())))?;
-    let expected = 2 * (nx as u64) * (ny as u64) * (nz as u64);
+    let expected = [nx, ny, nz]
+        .iter()
+        .try_fold(2u64, |acc, &n| acc.checked_mul(n as u64))
+        .unwrap_or(u64::MAX);
     if raw.len() as u64 != expected {
         return Err(CtError::ByteCount {
             path: path.to_owned(),

@@ -5,7 +5,7 @@
 //! volume = "../data/ct0051/ct0051_z040-100.inv3"  # .inv3 file or DICOM directory, relative to this file
 //! first_z = 40              # original number of the volume's slice 0
 //! threshold = 300           # bone threshold, HU
-//! midline = "auto"          # or M_x in mm (vertical), or [x_mm, y_mm, tilt_deg]
+//! midline = "auto"          # or M_x in mm (vertical), or [x_mm, y_mm, tilt_deg], tilt within ±45°
 //! midline_slices = [88, 90] # slices (range) for "auto"; default: the defect slices
 //! max_tilt_deg = 20         # the largest midline tilt searched by "auto"
 //! function = "rational-cubic"  # quadratic, cubic, rational-quadratic, rational-cubic

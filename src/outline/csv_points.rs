@@ -160,6 +160,7 @@ pub fn csv_from_bytes(
         points.pop();
     }
     let closed = options.closed.unwrap_or(repeats);
+    check_extent(&points, path)?;
     if points.len() < options.min_points {
         return Err(OutlineError::TooFewPoints {
             path: path.to_owned(),
@@ -168,6 +169,42 @@ pub fn csv_from_bytes(
         });
     }
     Ok(Outline::new(points, closed))
+}
+
+/// The smallest span of an outline relative to its largest coordinate: with
+/// less, f64's 53-bit mantissa leaves fewer than about 20 bits for the shape.
+pub const MIN_RELATIVE_EXTENT: f64 = 1e-9;
+
+/// The smallest absolute span of an outline: below it squared distances
+/// (E = Σ|R_i − P_i|²) fall towards f64's subnormal range (≈ 1e-308).
+pub const MIN_EXTENT: f64 = 1e-100;
+
+/// Refuses points whose bounding box is too small for E to be resolved:
+/// its diagonal must be at least [`MIN_EXTENT`] and at least
+/// [`MIN_RELATIVE_EXTENT`] of the largest coordinate's magnitude. Fewer than
+/// two points are left to the point-count check.
+fn check_extent(points: &[Point], path: &Path) -> Result<(), OutlineError> {
+    if points.len() < 2 {
+        return Ok(());
+    }
+    let (mut lo, mut hi) = (points[0], points[0]);
+    let mut largest: f64 = 0.0;
+    for p in points {
+        lo = Point::new(lo.x.min(p.x), lo.y.min(p.y));
+        hi = Point::new(hi.x.max(p.x), hi.y.max(p.y));
+        largest = largest.max(p.x.abs()).max(p.y.abs());
+    }
+    let extent = (hi.x - lo.x).hypot(hi.y - lo.y);
+    let need = MIN_EXTENT.max(MIN_RELATIVE_EXTENT * largest);
+    if extent < need {
+        return Err(OutlineError::CsvExtent {
+            path: path.to_owned(),
+            extent,
+            largest,
+            need,
+        });
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -194,6 +231,25 @@ mod tests {
             e,
             "pts.csv:3002: column 2 (y): 1e300 is beyond ±1e15, the range of coordinates this tool fits (squared distances must not overflow)"
         );
+    }
+
+    #[test]
+    fn outlines_too_small_to_resolve_are_refused() {
+        let e = read("1e-300,0\n0,1e-300\n-1e-300,0\n")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("pts.csv: the points span 2.2360679774997897e-300 units"),
+            "{e}"
+        );
+        let e = read("1e6,1e6\n1e6,1.0000000000001e6\n1.0000000000001e6,1e6\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("at coordinates up to 1.0000000000001e6"), "{e}");
+        let e = read("2,2\n2,2\n2,2\n2,3\n2,2\n").unwrap();
+        assert_eq!(e.points.len(), 4);
+        assert!(read("1,1\n1,1\n1,1\n").is_err());
+        assert!(read("1e-20,0\n0,1e-20\n-1e-20,0\n").is_ok());
     }
 
     #[test]

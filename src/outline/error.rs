@@ -107,6 +107,18 @@ pub enum OutlineError {
         /// The value found.
         value: f64,
     },
+    /// The points of a CSV outline span too little for E to be resolved
+    /// ([`crate::outline::MIN_EXTENT`], [`crate::outline::MIN_RELATIVE_EXTENT`]).
+    CsvExtent {
+        /// The CSV file.
+        path: PathBuf,
+        /// The diagonal of the points' bounding box.
+        extent: f64,
+        /// The largest coordinate magnitude.
+        largest: f64,
+        /// The smallest diagonal accepted.
+        need: f64,
+    },
     /// A CSV line does not have exactly two cells `x,y`.
     CsvFields {
         /// The CSV file.
@@ -238,6 +250,16 @@ impl OutlineError {
                 "{}:{line}: column {column} ({}): {value:e} is beyond ±1e15, the range of coordinates this tool fits (squared distances must not overflow)",
                 path.display(),
                 if *column == 1 { "x" } else { "y" }
+            ),
+            Self::CsvExtent {
+                path,
+                extent,
+                largest,
+                need,
+            } => write!(
+                f,
+                "{}: the points span {extent:e} units (bounding-box diagonal) at coordinates up to {largest:e}; an outline must span at least {need:e} (1e-9 of its largest coordinate, and 1e-100) for its squared distances to be resolved: rescale the data",
+                path.display()
             ),
             Self::CsvNumber {
                 path,

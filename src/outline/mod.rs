@@ -40,7 +40,9 @@ pub use self::image::{
 pub use crate::geometry::Orientation;
 pub use border::{find_borders, BinaryImage, Border, BorderKind, Side};
 pub use corners::{find_corners, split_at, turning_angles, CornerOptions};
-pub use csv_points::{csv_from_bytes, load_csv, CsvOptions, MAX_COORDINATE};
+pub use csv_points::{
+    csv_from_bytes, load_csv, CsvOptions, MAX_COORDINATE, MIN_EXTENT, MIN_RELATIVE_EXTENT,
+};
 pub use error::OutlineError;
 pub use glyph::{
     glyph_from_bytes, load_glyph, Glyph, SampledContour, Sampling, Segment, CORNER_DEGREES,

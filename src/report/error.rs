@@ -16,7 +16,7 @@ pub enum ReportError {
     #[error(transparent)]
     Io(#[from] IoError),
     /// The significance level is not in (0, 1).
-    #[error("the significance level must lie strictly between 0 and 1, not {0}")]
+    #[error("--alpha: the significance level must lie strictly between 0 and 1, found {0}")]
     Alpha(f64),
     /// The requested reference algorithm is not in the results.
     #[error(
