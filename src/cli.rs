@@ -564,6 +564,9 @@ fn implant(spec: &Path, out: Option<PathBuf>, w: &mut String) -> Result<(), Erro
     if r.validation_rows > 0 {
         say!(w, "validation: {} rows", r.validation_rows);
     }
+    if r.validation_3d_rows > 0 {
+        say!(w, "3D validation: {} rows", r.validation_3d_rows);
+    }
     say!(w, "{} files written to {}", r.files.len(), out.display());
     Ok(())
 }

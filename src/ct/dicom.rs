@@ -18,7 +18,7 @@ use dicom_dictionary_std::{tags, uids};
 use dicom_object::{FileMetaTableBuilder, InMemDicomObject};
 
 use super::error::{CtError, DicomProblem};
-use super::volume::{Spacing, Volume};
+use super::volume::{FrameSource, Spacing, Volume};
 use crate::files::write_atomic;
 
 /// One decoded DICOM image: HU samples and its geometry.
@@ -36,6 +36,8 @@ pub struct DicomSlice {
     pub col_spacing: f64,
     /// ImagePositionPatient (x, y, z) of the first pixel in mm, if present.
     pub position: Option<[f64; 3]>,
+    /// ImageOrientationPatient (row then column direction cosines), if present.
+    pub orientation: Option<[f64; 6]>,
     /// Position along the slice normal in mm, used to sort a series.
     pub location: f64,
     /// SliceThickness in mm, if present.
@@ -199,18 +201,26 @@ fn first_f64(obj: &InMemDicomObject, tag: Tag) -> Option<f64> {
     get_f64s(obj, tag).and_then(|v| v.first().copied())
 }
 
+/// The slice normal `n = r × c` of ImageOrientationPatient `o`.
+fn normal(o: &[f64; 6]) -> [f64; 3] {
+    [
+        o[1] * o[5] - o[2] * o[4],
+        o[2] * o[3] - o[0] * o[5],
+        o[0] * o[4] - o[1] * o[3],
+    ]
+}
+
 /// The slice's position along its normal `n = r × c` (from
 /// ImagePositionPatient and ImageOrientationPatient), else the position's z,
 /// else SliceLocation, else InstanceNumber, else 0.
-fn slice_location(obj: &InMemDicomObject, position: Option<[f64; 3]>) -> f64 {
-    let orientation = get_f64s(obj, tags::IMAGE_ORIENTATION_PATIENT).filter(|v| v.len() == 6);
+fn slice_location(
+    obj: &InMemDicomObject,
+    position: Option<[f64; 3]>,
+    orientation: Option<[f64; 6]>,
+) -> f64 {
     match (position, orientation) {
         (Some(p), Some(o)) => {
-            let n = [
-                o[1] * o[5] - o[2] * o[4],
-                o[2] * o[3] - o[0] * o[5],
-                o[0] * o[4] - o[1] * o[3],
-            ];
+            let n = normal(&o);
             p[0] * n[0] + p[1] * n[1] + p[2] * n[2]
         }
         (Some(p), None) => p[2],
@@ -237,7 +247,10 @@ pub fn read_dicom_file(path: &Path) -> Result<DicomSlice, CtError> {
     let position = get_f64s(obj, tags::IMAGE_POSITION_PATIENT)
         .filter(|v| v.len() == 3)
         .map(|v| [v[0], v[1], v[2]]);
-    let location = slice_location(obj, position);
+    let orientation = get_f64s(obj, tags::IMAGE_ORIENTATION_PATIENT)
+        .filter(|v| v.len() == 6 && v.iter().all(|c| c.is_finite()))
+        .map(|v| [v[0], v[1], v[2], v[3], v[4], v[5]]);
+    let location = slice_location(obj, position, orientation);
     let thickness = first_f64(obj, tags::SLICE_THICKNESS);
     let pixel = obj
         .element_opt(tags::PIXEL_DATA)
@@ -251,6 +264,7 @@ pub fn read_dicom_file(path: &Path) -> Result<DicomSlice, CtError> {
         row_spacing: spacing[0],
         col_spacing: spacing[1],
         position,
+        orientation,
         location,
         thickness,
         hu: format.hu(&words, slope, intercept),
@@ -284,6 +298,15 @@ pub fn read_dicom_series(paths: &[PathBuf]) -> Result<Volume, CtError> {
                 found: (s.rows, s.cols),
             });
         }
+        if let (Some(e), Some(f)) = (first.orientation, s.orientation) {
+            if e.iter().zip(&f).any(|(a, b)| (a - b).abs() > 1e-4) {
+                return Err(CtError::OrientationMismatch {
+                    path: s.path.clone(),
+                    expected: e,
+                    found: f,
+                });
+            }
+        }
         for (axis, e, f) in [
             ("row", first.row_spacing, s.row_spacing),
             ("column", first.col_spacing, s.col_spacing),
@@ -298,7 +321,29 @@ pub fn read_dicom_series(paths: &[PathBuf]) -> Result<Volume, CtError> {
             }
         }
     }
-    let sz = if slices.len() > 1 {
+    let sz = slice_step(&slices)?;
+    let (origin, axes) = series_frame(&slices);
+    let first = &slices[0];
+    let (nx, ny, nz) = (first.cols, first.rows, slices.len());
+    let spacing = Spacing {
+        x: first.col_spacing,
+        y: first.row_spacing,
+        z: sz,
+    };
+    let mut data = Vec::with_capacity(nx * ny * nz);
+    for s in slices {
+        data.extend_from_slice(&s.hu);
+    }
+    Volume::new(nx, ny, nz, spacing, origin, data)?.with_frame(origin, axes, FrameSource::Dicom)
+}
+
+/// The slice spacing of a sorted series: the distance between the first
+/// and last ImagePositionPatient over `n − 1` (the locations along the
+/// normal when a position is missing), after checking that the gaps along
+/// the normal are even; a single slice gets its SliceThickness (or 1 mm).
+fn slice_step(slices: &[DicomSlice]) -> Result<f64, CtError> {
+    let first = &slices[0];
+    Ok(if slices.len() > 1 {
         let gap0 = slices[1].location - slices[0].location;
         for w in slices.windows(2) {
             let gap = w[1].location - w[0].location;
@@ -311,22 +356,44 @@ pub fn read_dicom_series(paths: &[PathBuf]) -> Result<Volume, CtError> {
                 });
             }
         }
-        (slices[slices.len() - 1].location - slices[0].location) / (slices.len() - 1) as f64
+        let last = &slices[slices.len() - 1];
+        match (first.position, last.position) {
+            (Some(p), Some(q)) => {
+                let d: f64 = (0..3).map(|i| (q[i] - p[i]).powi(2)).sum::<f64>().sqrt();
+                d / (slices.len() - 1) as f64
+            }
+            _ => (last.location - first.location) / (slices.len() - 1) as f64,
+        }
     } else {
         first.thickness.filter(|t| *t > 0.0).unwrap_or(1.0)
-    };
+    })
+}
+
+/// The origin and axes of a sorted series: ImagePositionPatient of the
+/// first slice (else `(0, 0, location)`), the row and column directions of
+/// ImageOrientationPatient (else the identity), and the slice axis along
+/// the positions from the first to the last slice (else the normal).
+fn series_frame(slices: &[DicomSlice]) -> ([f64; 3], [[f64; 3]; 3]) {
+    let first = &slices[0];
+    let last = &slices[slices.len() - 1];
     let origin = first.position.unwrap_or([0.0, 0.0, first.location]);
-    let (nx, ny, nz) = (first.cols, first.rows, slices.len());
-    let spacing = Spacing {
-        x: first.col_spacing,
-        y: first.row_spacing,
-        z: sz,
+    let Some(o) = first.orientation else {
+        return (origin, crate::ct::volume::IDENTITY_AXES);
     };
-    let mut data = Vec::with_capacity(nx * ny * nz);
-    for s in slices {
-        data.extend_from_slice(&s.hu);
-    }
-    Volume::new(nx, ny, nz, spacing, origin, data)
+    let n = normal(&o);
+    let z = match (first.position, last.position) {
+        (Some(p), Some(q)) if slices.len() > 1 => {
+            let d = [q[0] - p[0], q[1] - p[1], q[2] - p[2]];
+            // The positions run along +n (sorted by location).
+            if d.iter().map(|c| c * c).sum::<f64>() > 0.0 {
+                d
+            } else {
+                n
+            }
+        }
+        _ => n,
+    };
+    (origin, [[o[0], o[1], o[2]], [o[3], o[4], o[5]], z])
 }
 
 /// Reads every regular file of `dir` as one DICOM series (see
@@ -419,18 +486,20 @@ fn put_identity(obj: &mut InMemDicomObject, series: &str, z: usize) {
 
 /// The bytes of slice `z` of `volume` as a single-frame CT Image Storage
 /// DICOM file (explicit VR little endian; signed 16-bit samples
-/// `raw = HU + 1024`, RescaleSlope 1, RescaleIntercept −1024; axial
-/// orientation 1\0\0\0\1\0; ImagePositionPatient = origin + (0, 0, z·sz)).
+/// `raw = HU + 1024`, RescaleSlope 1, RescaleIntercept −1024;
+/// ImageOrientationPatient = the volume's column and row axes,
+/// ImagePositionPatient = the patient position of voxel (0, 0, z)).
 /// `series` keys the deterministic study/series/instance UIDs.
 pub fn dicom_slice_bytes(volume: &Volume, z: usize, series: &str) -> Result<Vec<u8>, CtError> {
     let sl = volume.slice(z);
     let words = stored_words(sl.data, z)?;
     let sp = volume.spacing;
-    let pos = [
-        volume.origin[0],
-        volume.origin[1],
-        volume.origin[2] + z as f64 * sp.z,
-    ];
+    let frame = volume.frame();
+    let pos = frame.to_patient([0.0, 0.0, z as f64 * sp.z]);
+    let [r, c, _] = frame.axes;
+    let iop: [f64; 6] = [r[0], r[1], r[2], c[0], c[1], c[2]];
+    let n = normal(&iop);
+    let location = pos[0] * n[0] + pos[1] * n[1] + pos[2] * n[2];
     let s = |t: Tag, vr: VR, v: String| DataElement::new(t, vr, PrimitiveValue::from(v));
     let u16e = |t: Tag, v: u16| DataElement::new(t, VR::US, PrimitiveValue::from(v));
     let mut obj = InMemDicomObject::new_empty();
@@ -444,9 +513,9 @@ pub fn dicom_slice_bytes(volume: &Volume, z: usize, series: &str) -> Result<Vec<
     obj.put(s(
         tags::IMAGE_ORIENTATION_PATIENT,
         VR::DS,
-        "1\\0\\0\\0\\1\\0".into(),
+        iop.map(ds).join("\\"),
     ));
-    obj.put(s(tags::SLICE_LOCATION, VR::DS, ds(pos[2])));
+    obj.put(s(tags::SLICE_LOCATION, VR::DS, ds(location)));
     obj.put(u16e(tags::SAMPLES_PER_PIXEL, 1));
     obj.put(s(
         tags::PHOTOMETRIC_INTERPRETATION,

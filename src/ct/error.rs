@@ -161,6 +161,24 @@ pub enum CtError {
         /// The spacing given, in mm.
         value: f64,
     },
+    /// The axes given for a volume's frame are zero, not finite or coplanar.
+    #[error(
+        "bad volume axes {axes:?}: expected three finite, non-zero, non-coplanar direction vectors"
+    )]
+    BadAxes {
+        /// The axes given.
+        axes: [[f64; 3]; 3],
+    },
+    /// The slices of a DICOM series have different orientations.
+    #[error("{}: ImageOrientationPatient {found:?} differs from the series' {expected:?}", path.display())]
+    OrientationMismatch {
+        /// The first slice with another orientation.
+        path: PathBuf,
+        /// The series' orientation (first slice).
+        expected: [f64; 6],
+        /// This slice's.
+        found: [f64; 6],
+    },
     /// A slice has no voxel at or above the bone threshold.
     #[error("slice {slice}: no bone: no voxel at or above {threshold} HU")]
     NoBone {
@@ -206,15 +224,15 @@ pub enum CtError {
     /// its template.
     #[error(
         "the defect crosses the mid-sagittal line (A at x = {a_x:.2} mm, B at x = {b_x:.2} mm, \
-         M_x at x = {midline_x:.2} mm): the mirror technique cannot supply a template; \
-         give an explicit template contour instead"
+         the midline at x = {midline_x:.2} mm): the mirror technique cannot supply a template; \
+         give an explicit template contour instead (`template = \"file.csv\"` in [defect])"
     )]
     DefectCrossesMidline {
         /// x of A in mm.
         a_x: f64,
         /// x of B in mm.
         b_x: f64,
-        /// x of the mid-sagittal line in mm.
+        /// x of the mid-sagittal line at the defect's height, in mm.
         midline_x: f64,
     },
     /// A point that must lie on a contour (A, B, or a mirrored end) is too far
@@ -278,6 +296,11 @@ pub enum CtError {
     /// The artificial defect's wedge holds no bone pixel.
     #[error("the cut removed no bone")]
     CutRemovedNoBone,
+
+    /// Clipping the implant section to the tissue left nothing: the section
+    /// lies entirely in bone.
+    #[error("the implant section lies entirely in bone (nothing left after clipping to the tissue below the threshold)")]
+    ClippedAway,
 
     // Meshes and pictures.
     /// Lofting was given fewer than two sections or a height count that

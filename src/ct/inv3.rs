@@ -14,7 +14,7 @@ use flate2::read::GzDecoder;
 
 use super::error::{CtError, Inv3Problem};
 use super::plist::{parse_plist, PlistValue};
-use super::volume::{Spacing, Volume};
+use super::volume::{FrameSource, Spacing, Volume, IDENTITY_AXES};
 use crate::files::write_atomic;
 
 /// The most bytes deflate can produce per compressed byte: a maximal match
@@ -122,7 +122,9 @@ fn matrix_shape(matrix: &PlistValue, path: &Path) -> Result<(usize, usize, usize
 }
 
 /// Reads the CT volume of an `.inv3` project. Masks and surfaces in the
-/// project are ignored. Errors name the file: a corrupt or truncated gzip/tar
+/// project are ignored. The project holds no origin or patient axes (only
+/// the spacing and an `orientation` flag, kept in
+/// [`FrameSource::Inv3`]), so the volume's frame is the identity at 0. Errors name the file: a corrupt or truncated gzip/tar
 /// stream, a missing `main.plist` or matrix, a malformed plist, a dtype other
 /// than int16, or a matrix whose byte count is not `2·nx·ny·nz`.
 pub fn read_inv3(path: &Path) -> Result<Volume, CtError> {
@@ -162,6 +164,8 @@ pub fn read_inv3(path: &Path) -> Result<Volume, CtError> {
         .chunks_exact(2)
         .map(|c| i16::from_le_bytes([c[0], c[1]]))
         .collect();
+    let orientation = plist.get("orientation").and_then(PlistValue::as_i64);
+    let source = FrameSource::Inv3 { orientation };
     Volume::new(
         nx,
         ny,
@@ -173,7 +177,8 @@ pub fn read_inv3(path: &Path) -> Result<Volume, CtError> {
         },
         [0.0; 3],
         data,
-    )
+    )?
+    .with_frame([0.0; 3], IDENTITY_AXES, source)
 }
 
 /// The `main.plist` text for `volume` (InVesalius 3 layout, no masks or

@@ -105,14 +105,11 @@ fn positive(p: &Polyline) -> Polyline {
     }
 }
 
-/// Lofts closed cross-sections `sections[k]` at heights `zs[k]` (mm,
-/// strictly increasing) into a closed triangle mesh: each section is
-/// oriented counter-clockwise, resampled by arc length to `n` points, its
-/// start rotated to best match the previous ring (least squares over the
-/// `n` cyclic shifts, which avoids twisting), consecutive rings are joined by
-/// two triangles per quad, and both ends are capped by ear clipping. The
-/// result is watertight and outward oriented.
-pub fn loft(sections: &[Polyline], zs: &[f64], n: usize) -> Result<Mesh, CtError> {
+/// The rings of a loft: each section oriented counter-clockwise,
+/// resampled by arc length to `n` points, and its start rotated to best
+/// match the previous ring (least squares over the `n` cyclic shifts, which
+/// avoids twisting). Errors as [`loft`].
+pub fn loft_rings(sections: &[Polyline], zs: &[f64], n: usize) -> Result<Vec<Polyline>, CtError> {
     if sections.len() < 2 || sections.len() != zs.len() {
         return Err(CtError::LoftSections {
             sections: sections.len(),
@@ -128,7 +125,7 @@ pub fn loft(sections: &[Polyline], zs: &[f64], n: usize) -> Result<Mesh, CtError
     {
         return Err(CtError::LoftHeights);
     }
-    let mut rings: Vec<Vec<Point>> = Vec::with_capacity(sections.len());
+    let mut rings: Vec<Polyline> = Vec::with_capacity(sections.len());
     for (k, s) in sections.iter().enumerate() {
         if s.points.len() < 3 || s.signed_area().abs() <= 0.0 {
             return Err(CtError::DegenerateSection { index: k });
@@ -141,7 +138,7 @@ pub fn loft(sections: &[Polyline], zs: &[f64], n: usize) -> Result<Mesh, CtError
             Some(prev) => {
                 let cost = |shift: usize| -> f64 {
                     (0..n)
-                        .map(|i| r[(i + shift) % n].distance_squared(prev[i]))
+                        .map(|i| r[(i + shift) % n].distance_squared(prev.points[i]))
                         .sum()
                 };
                 let best = (0..n)
@@ -150,11 +147,28 @@ pub fn loft(sections: &[Polyline], zs: &[f64], n: usize) -> Result<Mesh, CtError
                 (0..n).map(|i| r[(i + best) % n]).collect()
             }
         };
-        rings.push(r);
+        rings.push(Polyline::closed(r));
     }
+    Ok(rings)
+}
+
+/// Lofts closed cross-sections `sections[k]` at heights `zs[k]` (mm,
+/// strictly increasing) into a closed triangle mesh: the rings of
+/// [`loft_rings`] joined by two triangles per quad, both ends capped by ear
+/// clipping. The result is watertight and outward oriented.
+pub fn loft(sections: &[Polyline], zs: &[f64], n: usize) -> Result<Mesh, CtError> {
+    let rings = loft_rings(sections, zs, n)?;
+    Ok(mesh_of_rings(&rings, zs))
+}
+
+/// The closed mesh through closed rings of equal length at heights `zs`
+/// (as [`loft`] joins them: two triangles per quad, ear-clipped caps).
+pub fn mesh_of_rings(rings: &[Polyline], zs: &[f64]) -> Mesh {
+    let n = rings[0].points.len();
     let mut mesh = Mesh::default();
     for (ring, &z) in rings.iter().zip(zs) {
-        mesh.vertices.extend(ring.iter().map(|p| [p.x, p.y, z]));
+        mesh.vertices
+            .extend(ring.points.iter().map(|p| [p.x, p.y, z]));
     }
     let v = |k: usize, i: usize| k * n + i % n;
     for k in 0..rings.len() - 1 {
@@ -164,13 +178,65 @@ pub fn loft(sections: &[Polyline], zs: &[f64], n: usize) -> Result<Mesh, CtError
         }
     }
     let last = rings.len() - 1;
-    for t in ear_clip(&rings[0]) {
+    for t in ear_clip(&rings[0].points) {
         // Bottom cap faces −z: reverse the counter-clockwise triangles.
         mesh.triangles.push([v(0, t[0]), v(0, t[2]), v(0, t[1])]);
     }
-    for t in ear_clip(&rings[last]) {
+    for t in ear_clip(&rings[last].points) {
         mesh.triangles
             .push([v(last, t[0]), v(last, t[1]), v(last, t[2])]);
     }
-    Ok(mesh)
+    mesh
+}
+
+/// The cross-section of a closed, outward-oriented mesh by the plane
+/// `z = h`: closed loops, counter-clockwise around the solid (holes
+/// clockwise). A vertex with `z ≥ h` counts as above the plane (simulation
+/// of simplicity), so a plane through vertices gives no degenerate
+/// crossings; crossings are keyed by their mesh edge, so a watertight mesh
+/// gives closed loops.
+pub fn slice_mesh(mesh: &Mesh, h: f64) -> Vec<Polyline> {
+    let above = |i: usize| mesh.vertices[i][2] >= h;
+    let cross = |i: usize, j: usize| {
+        let (a, b) = (mesh.vertices[i], mesh.vertices[j]);
+        let t = (h - a[2]) / (b[2] - a[2]);
+        Point::new(a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]))
+    };
+    let key = |i: usize, j: usize| (i.min(j), i.max(j));
+    // next[edge] = (next edge, the crossing point on this edge).
+    let mut next: HashMap<(usize, usize), ((usize, usize), Point)> = HashMap::new();
+    for (t, tri) in mesh.triangles.iter().enumerate() {
+        let edges: Vec<(usize, usize)> = (0..3)
+            .map(|e| (tri[e], tri[(e + 1) % 3]))
+            .filter(|&(i, j)| above(i) != above(j))
+            .collect();
+        if edges.len() != 2 {
+            continue;
+        }
+        let (p, q) = (cross(edges[0].0, edges[0].1), cross(edges[1].0, edges[1].1));
+        let n = mesh.normal(t);
+        // Interior on the left seen from +z: direction ẑ × n.
+        let d = Point::new(-n[1], n[0]);
+        let (e0, e1) = (key(edges[0].0, edges[0].1), key(edges[1].0, edges[1].1));
+        if (q - p).dot(d) >= 0.0 {
+            next.insert(e0, (e1, p));
+        } else {
+            next.insert(e1, (e0, q));
+        }
+    }
+    let mut starts: Vec<(usize, usize)> = next.keys().copied().collect();
+    starts.sort_unstable();
+    let mut loops = Vec::new();
+    for s in starts {
+        let mut pts = Vec::new();
+        let mut k = s;
+        while let Some((e, p)) = next.remove(&k) {
+            pts.push(p);
+            k = e;
+        }
+        if pts.len() >= 3 {
+            loops.push(Polyline::closed(pts));
+        }
+    }
+    loops
 }

@@ -5,9 +5,13 @@
 //!
 //! Frames: voxel `(z, y, x)` = (slice, row, column). In a slice, points are
 //! in millimetres `x = col·sx`, `y = row·sy` (see [`volume`]); in 3D,
-//! `z = slice·sz`. The volume origin is never added.
+//! `z = slice·sz`: the *voxel millimetres* every computation uses. A
+//! volume's [`Frame`] maps them to the scanner's patient coordinates (from
+//! DICOM ImagePositionPatient / ImageOrientationPatient; the identity for an
+//! `.inv3`), the frame of written meshes.
 
 pub mod bone;
+pub mod clip;
 pub mod contour;
 pub mod defect;
 pub mod dicom;
@@ -30,6 +34,7 @@ pub use bone::{
     bone_mask_slice, bone_mask_volume, largest_component_2d, largest_component_3d, threshold_slice,
     BONE_THRESHOLD_HU,
 };
+pub use clip::{clip_to_tissue, Clipped};
 pub use contour::{bone_loops, marching_squares, table_contours, TableContours};
 pub use defect::{detect_defect, Defect, DefectParams};
 pub use dicom::{
@@ -39,17 +44,23 @@ pub use edt::edt_squared;
 pub use error::{CtError, DicomProblem, Inv3Problem};
 pub use inv3::{read_inv3, write_inv3};
 pub use mask::{Mask2, Mask3};
-pub use mesh::{loft, Mesh};
+pub use mesh::{loft, loft_rings, mesh_of_rings, slice_mesh, Mesh};
 pub use metrics::{
     boundary_dice, contour_deviation, dice, hd95, percentile, surface, surface_distances,
     ContourDeviation,
 };
-pub use mirror::{estimate_midline, mirror_template, reflect, Midline, MirrorTemplate};
-pub use render::{encode_png, mesh_view_rgb, slice_overlay_png, write_png, Overlay, View, Window};
+pub use mirror::{
+    estimate_midline, estimate_tilted_midline, mirror_template, reflect, MidLine, Midline,
+    MirrorTemplate, TiltedMidline,
+};
+pub use render::{
+    encode_png, mesh_view_rgb, slice_overlay_png, slice_view_rgb, write_png, Canvas, Overlay,
+    SliceView, View, Window,
+};
 pub use stl::{parse_stl, stl_bytes, write_stl};
 pub use triangulate::ear_clip;
-pub use volume::{Slice, Spacing, Volume};
-pub use voxelise::voxelise;
+pub use volume::{Frame, FrameSource, Slice, Spacing, Volume, IDENTITY_AXES};
+pub use voxelise::{voxelise, voxelise_mesh};
 
 /// Index in the original 108-slice ProMED CT 0051 volume of slice 0 of the
 /// vendored extract `data/ct0051/ct0051_z040-100.inv3` (see its PROVENANCE.md).

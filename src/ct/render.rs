@@ -51,6 +51,11 @@ pub struct Overlay {
     pub points: Vec<(String, Point, [u8; 3])>,
     /// Vertical lines `x = const` (such as M_x), with colour.
     pub vertical_lines: Vec<(f64, [u8; 3])>,
+    /// Straight segments (such as a tilted midline), with colour.
+    pub lines: Vec<(Point, Point, [u8; 3])>,
+    /// Pixels `(row, col)` filled with a colour (such as implant pixels on
+    /// bone).
+    pub pixels: Vec<((usize, usize), [u8; 3])>,
 }
 
 /// PNG-encodes an RGB8 buffer.
@@ -104,6 +109,21 @@ pub fn slice_overlay_png(
             ))
             .map_err(|e| fail(e.to_string()))?;
         }
+        for &((r, c), col) in &overlay.pixels {
+            let (x, y) = ((c as u32 * scale) as i32, (r as u32 * scale) as i32);
+            root.draw(&Rectangle::new(
+                [(x, y), (x + scale as i32 - 1, y + scale as i32 - 1)],
+                RGBColor(col[0], col[1], col[2]).filled(),
+            ))
+            .map_err(|e| fail(e.to_string()))?;
+        }
+        for &(a, b, c) in &overlay.lines {
+            root.draw(&PathElement::new(
+                vec![to_px(a), to_px(b)],
+                RGBColor(c[0], c[1], c[2]).stroke_width(1),
+            ))
+            .map_err(|e| fail(e.to_string()))?;
+        }
         for (poly, c) in &overlay.polylines {
             let mut pts: Vec<(i32, i32)> = poly.points.iter().map(|&p| to_px(p)).collect();
             if poly.closed {
@@ -134,6 +154,257 @@ pub fn slice_overlay_png(
         root.present().map_err(|e| fail(e.to_string()))?;
     }
     encode_png(&buf, w, h)
+}
+
+/// A rectangular view of a slice: the millimetre box `[min, max]` drawn
+/// into `width × height` pixels (the box is fitted, keeping the aspect
+/// ratio), with `+y` up (`y_up`, e.g. to put the face at the top) or down,
+/// a 10 mm scale bar, and labels at the top and bottom edges.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SliceView {
+    /// The box's corner with the smallest coordinates (mm).
+    pub min: Point,
+    /// The opposite corner (mm).
+    pub max: Point,
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// Whether the slice's +y points up in the image.
+    pub y_up: bool,
+    /// The label at the top edge (such as "anterior").
+    pub top_label: String,
+    /// The label at the bottom edge.
+    pub bottom_label: String,
+}
+
+impl SliceView {
+    /// Image pixels per millimetre.
+    pub fn scale(&self) -> f64 {
+        let (w, h) = (self.max.x - self.min.x, self.max.y - self.min.y);
+        (self.width as f64 / w.max(1e-9)).min(self.height as f64 / h.max(1e-9))
+    }
+
+    /// The image position of the millimetre point `p` (the box centred).
+    pub fn to_px(&self, p: Point) -> (f64, f64) {
+        let s = self.scale();
+        let c = (self.min + self.max) * 0.5;
+        let x = self.width as f64 / 2.0 + (p.x - c.x) * s;
+        let dy = (p.y - c.y) * s;
+        let y = self.height as f64 / 2.0 + if self.y_up { -dy } else { dy };
+        (x, y)
+    }
+
+    /// The millimetre point shown at image position `(x, y)`.
+    pub fn to_mm(&self, x: f64, y: f64) -> Point {
+        let s = self.scale();
+        let c = (self.min + self.max) * 0.5;
+        let dy = (y - self.height as f64 / 2.0) / s;
+        Point::new(
+            c.x + (x - self.width as f64 / 2.0) / s,
+            c.y + if self.y_up { -dy } else { dy },
+        )
+    }
+}
+
+/// An RGB8 image being composed: panels are copied in, text and boxes drawn
+/// on top, then it is PNG-encoded.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Canvas {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Row-major RGB8 samples.
+    pub rgb: Vec<u8>,
+}
+
+impl Canvas {
+    /// A canvas filled with `background`.
+    pub fn new(width: u32, height: u32, background: [u8; 3]) -> Canvas {
+        let mut rgb = Vec::with_capacity((width * height * 3) as usize);
+        for _ in 0..width * height {
+            rgb.extend_from_slice(&background);
+        }
+        Canvas { width, height, rgb }
+    }
+
+    /// Copies the `w × h` RGB8 image `src` with its top-left corner at
+    /// `(x, y)` (clipped to the canvas).
+    pub fn blit(&mut self, src: &[u8], w: u32, h: u32, x: u32, y: u32) {
+        for r in 0..h.min(self.height.saturating_sub(y)) {
+            let n = w.min(self.width.saturating_sub(x)) as usize * 3;
+            let s = (r * w) as usize * 3;
+            let d = (((y + r) * self.width + x) * 3) as usize;
+            self.rgb[d..d + n].copy_from_slice(&src[s..s + n]);
+        }
+    }
+
+    /// Draws `text` with its top-left corner at `(x, y)` (no-op when the
+    /// embedded font cannot be registered).
+    pub fn text(
+        &mut self,
+        text: &str,
+        x: i32,
+        y: i32,
+        size: u32,
+        colour: [u8; 3],
+    ) -> Result<(), CtError> {
+        if ensure_font().is_err() {
+            return Ok(());
+        }
+        let root = BitMapBackend::with_buffer(&mut self.rgb, (self.width, self.height))
+            .into_drawing_area();
+        let col = RGBColor(colour[0], colour[1], colour[2]);
+        root.draw(&Text::new(
+            text.to_string(),
+            (x, y),
+            (FAMILY, size as f64).into_font().color(&col),
+        ))
+        .map_err(draw_err)?;
+        root.present().map_err(draw_err)
+    }
+
+    /// Draws a rectangle outline (or a filled one) from `(x0, y0)` to
+    /// `(x1, y1)`.
+    pub fn rect(
+        &mut self,
+        (x0, y0): (i32, i32),
+        (x1, y1): (i32, i32),
+        colour: [u8; 3],
+        filled: bool,
+    ) -> Result<(), CtError> {
+        let root = BitMapBackend::with_buffer(&mut self.rgb, (self.width, self.height))
+            .into_drawing_area();
+        let col = RGBColor(colour[0], colour[1], colour[2]);
+        let style = if filled {
+            col.filled()
+        } else {
+            col.stroke_width(2)
+        };
+        root.draw(&Rectangle::new([(x0, y0), (x1, y1)], style))
+            .map_err(draw_err)?;
+        root.present().map_err(draw_err)
+    }
+
+    /// A colour key: one swatch and label per entry, in rows from `(x, y)`,
+    /// `columns` entries per row `column_width` pixels apart.
+    pub fn legend(
+        &mut self,
+        entries: &[(String, [u8; 3])],
+        (x, y): (i32, i32),
+        columns: usize,
+        column_width: i32,
+    ) -> Result<(), CtError> {
+        for (i, (label, c)) in entries.iter().enumerate() {
+            let (cx, cy) = (
+                x + (i % columns.max(1)) as i32 * column_width,
+                y + (i / columns.max(1)) as i32 * 22,
+            );
+            self.rect((cx, cy + 3), (cx + 22, cy + 15), *c, true)?;
+            self.text(label, cx + 28, cy, 15, [20, 20, 20])?;
+        }
+        Ok(())
+    }
+
+    /// The PNG bytes of the canvas.
+    pub fn png(&self) -> Result<Vec<u8>, CtError> {
+        encode_png(&self.rgb, self.width, self.height)
+    }
+}
+
+fn draw_err<E: std::fmt::Display>(e: E) -> CtError {
+    CtError::Draw {
+        message: e.to_string(),
+    }
+}
+
+/// The `view` of `slice` in `window` (nearest-neighbour samples) with
+/// `overlay` on top, a 10 mm scale bar (bottom left) and the view's edge
+/// labels, as a `width × height` RGB8 buffer.
+pub fn slice_view_rgb(
+    slice: &Slice,
+    window: Window,
+    view: &SliceView,
+    overlay: &Overlay,
+) -> Result<Vec<u8>, CtError> {
+    let (w, h) = (view.width, view.height);
+    let mut buf = vec![0u8; (w * h * 3) as usize];
+    let s = view.scale();
+    let pixel_of = |p: Point| ((p.y / slice.sy).round(), (p.x / slice.sx).round());
+    for y in 0..h {
+        for x in 0..w {
+            let (r, c) = pixel_of(view.to_mm(x as f64 + 0.5, y as f64 + 0.5));
+            let g = if r >= 0.0 && c >= 0.0 && (r as usize) < slice.ny && (c as usize) < slice.nx {
+                window.grey(slice.get(r as usize, c as usize) as f64)
+            } else {
+                0
+            };
+            let i = ((y * w + x) * 3) as usize;
+            buf[i..i + 3].copy_from_slice(&[g, g, g]);
+        }
+    }
+    let px = |p: Point| {
+        let (x, y) = view.to_px(p);
+        (x.round() as i32, y.round() as i32)
+    };
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+        for &((r, c), col) in &overlay.pixels {
+            let centre = Point::new(c as f64 * slice.sx, r as f64 * slice.sy);
+            let half = Point::new(0.5 * slice.sx, 0.5 * slice.sy);
+            let (a, b) = (px(centre - half), px(centre + half));
+            root.draw(&Rectangle::new(
+                [a, b],
+                RGBColor(col[0], col[1], col[2]).filled(),
+            ))
+            .map_err(draw_err)?;
+        }
+        for &(a, b, c) in &overlay.lines {
+            root.draw(&PathElement::new(
+                vec![px(a), px(b)],
+                RGBColor(c[0], c[1], c[2]).stroke_width(1),
+            ))
+            .map_err(draw_err)?;
+        }
+        for (poly, c) in &overlay.polylines {
+            let mut pts: Vec<(i32, i32)> = poly.points.iter().map(|&p| px(p)).collect();
+            if poly.closed {
+                if let Some(&f) = pts.first() {
+                    pts.push(f);
+                }
+            }
+            root.draw(&PathElement::new(
+                pts,
+                RGBColor(c[0], c[1], c[2]).stroke_width(2),
+            ))
+            .map_err(draw_err)?;
+        }
+        root.present().map_err(draw_err)?;
+    }
+    let mut canvas = Canvas {
+        width: w,
+        height: h,
+        rgb: buf,
+    };
+    for (label, p, c) in &overlay.points {
+        let (x, y) = px(*p);
+        canvas.rect((x - 3, y - 3), (x + 3, y + 3), *c, true)?;
+        canvas.text(label, x + 6, y - 16, 15, *c)?;
+    }
+    let bar = (10.0 * s).round() as i32;
+    let (bx, by) = (12, h as i32 - 18);
+    canvas.rect((bx, by), (bx + bar, by + 4), [255, 255, 255], true)?;
+    canvas.text("10 mm", bx, by - 18, 14, [255, 255, 255])?;
+    canvas.text(&view.top_label, (w as i32) / 2 - 30, 4, 14, [255, 255, 160])?;
+    canvas.text(
+        &view.bottom_label,
+        (w as i32) / 2 - 30,
+        h as i32 - 20,
+        14,
+        [255, 255, 160],
+    )?;
+    Ok(canvas.rgb)
 }
 
 /// A viewing direction for [`mesh_view_rgb`]: the camera looks along

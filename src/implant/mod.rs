@@ -15,28 +15,50 @@
 //!
 //! | module | concept |
 //! |---|---|
-//! | [`wall`] | one slice's outer and inner wall ([`reconstruct_wall`]) |
+//! | [`polar`] | the contours about the polar centre: envelope, mirror, local table, thickness |
+//! | [`wall`] | one slice's outer and inner wall ([`design_outer`], [`finish_wall`], [`reconstruct_wall`]) |
+//! | [`smooth`] | thickness and outer-wall smoothing across slices |
 //! | [`pipeline`] | the real defect: slices → mesh → voxels ([`reconstruct_defect`]) |
-//! | [`validation`] | artificial defects on intact bone, AutoImplant metrics |
+//! | [`validation`] | artificial defects on intact bone, one slice each, AutoImplant metrics |
+//! | [`validation3d`] | patches across slices through the whole pipeline, 3D metrics |
 //! | [`spec`], [`run`] | the TOML experiment and its driver (`metabezier implant`) |
-//! | [`render`] | its outputs: report sections, CSV tables, overlay and preview PNGs |
+//! | [`checks`] | the spec checked against its volume before anything is computed or written |
+//! | [`tables`], [`tables3d`] | its tables: report sections and CSV files |
+//! | [`render`] | its pictures: slice overlays and the 3D preview |
 
+pub mod checks;
 pub mod pipeline;
+pub mod polar;
+pub mod smooth;
 pub mod wall;
 
 pub use pipeline::{
-    build_mesh, reconstruct_defect, reconstruct_slice, resolve_midline, slice_mask, DefectConfig,
-    Ends, Implant, ImplantError, MidlineSpec, SliceResult, SliceSpec,
+    build_mesh, check_distinct_ends, index_of, reconstruct_defect, reconstruct_defect_with,
+    reconstruct_from, resolve_midline, slice_context, slice_index, slice_mask, DefectConfig, Ends,
+    Implant, ImplantError, MidlineSpec, SliceContext, SliceResult, SliceSpec, Smoothing, Templates,
+    MIN_MIDLINE_DICE,
 };
-pub use wall::{envelope_radius, reconstruct_wall, Wall, WallInput, WallKind, WallOptions};
+pub use smooth::{choose_seats, lipschitz_envelope, roughness, smooth_outer_walls};
+pub use wall::{
+    angle_deg, design_outer, envelope_radius, finish_wall, reconstruct_wall, refit_outer,
+    seat_bends, OuterDesign, Wall, WallInput, WallKind, WallOptions,
+};
 pub mod render;
 pub mod run;
 pub mod spec;
+pub mod tables;
+pub mod tables3d;
+pub mod template;
 pub mod validation;
+pub mod validation3d;
 
 pub use run::{load_volume, run_implant, RunSummary};
-pub use spec::{ImplantSpec, ValidationSpec};
+pub use spec::{ImplantSpec, Validation3dSpec, ValidationSpec};
+pub use template::{read_templates, templates_csv};
 pub use validation::{
     case_metrics, evaluate, prepare_case, reconstruct_case, Case, CaseError, CaseMetrics,
     PreparedCase, ValidationRow,
+};
+pub use validation3d::{
+    evaluate_3d, prepare_case_3d, score_3d, Case3d, Metrics3d, Prepared3d, Row3d,
 };

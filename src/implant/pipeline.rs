@@ -1,11 +1,18 @@
 //! The real-defect pipeline: per-slice contours and defect ends, the
-//! mid-sagittal line, one [`Wall`] per slice, the lofted mesh and its
-//! voxelisation (thesis chapter 6).
+//! mid-sagittal line, the outer walls, their smoothing across slices, the
+//! clipped sections, the lofted mesh and its voxelisation (thesis
+//! chapter 6).
 
-use super::wall::{reconstruct_wall, Wall, WallInput, WallKind, WallOptions};
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use super::smooth::{choose_seats, lipschitz_envelope, roughness, smooth_outer_walls};
+use super::wall::{
+    design_outer, finish_wall, seat_bends, OuterDesign, Wall, WallInput, WallKind, WallOptions,
+};
 use crate::ct::{
-    bone_loops, bone_mask_slice, detect_defect, estimate_midline, loft, table_contours, voxelise,
-    CtError, DefectParams, Mask2, Mask3, Mesh, Polyline, Volume,
+    bone_loops, bone_mask_slice, detect_defect, estimate_tilted_midline, loft_rings, voxelise,
+    CtError, DefectParams, Frame, Mask2, Mask3, Mesh, MidLine, Polyline, TableContours, Volume,
 };
 use crate::files::IoError;
 use crate::fit::SegmentSolver;
@@ -22,6 +29,13 @@ pub enum Ends {
         /// B as (row, col).
         b: (f64, f64),
     },
+    /// Given in the slice's millimetre frame (the artificial defects).
+    Mm {
+        /// A in mm.
+        a: Point,
+        /// B in mm.
+        b: Point,
+    },
     /// Detected by [`crate::ct::detect_defect`] on the slice's bone mask.
     Auto,
 }
@@ -29,11 +43,21 @@ pub enum Ends {
 /// The mid-sagittal line.
 #[derive(Clone, Debug, PartialEq)]
 pub enum MidlineSpec {
-    /// Given: `x = M_x` in mm.
-    Given(f64),
-    /// Estimated by [`crate::ct::estimate_midline`] from the bone masks of
-    /// these slices (volume numbering; empty = the defect slices).
+    /// Given (`midline = M_x` in a spec: the vertical line `x = M_x`).
+    Given(MidLine),
+    /// Estimated by [`crate::ct::estimate_tilted_midline`] from the bone
+    /// masks of these slices (volume numbering; empty = the defect slices).
     Auto(Vec<usize>),
+}
+
+/// Explicit templates: one outer-contour polyline per defect slice, in the
+/// slice's millimetre frame (`template = "file.csv"` in a spec).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Templates {
+    /// The file they were read from (for messages).
+    pub source: PathBuf,
+    /// The polyline of each slice (original numbering).
+    pub slices: BTreeMap<usize, Polyline>,
 }
 
 /// One slice to reconstruct.
@@ -43,6 +67,30 @@ pub struct SliceSpec {
     pub z: usize,
     /// Its defect ends.
     pub ends: Ends,
+}
+
+/// How the walls are smoothed across slices (see [`super::smooth`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Smoothing {
+    /// The largest thickness change between adjacent slices (mm, default
+    /// 0.5).
+    pub max_thickness_step_mm: f64,
+    /// The binomial half-width of the outer-wall smoothing (default 2; 0
+    /// turns it off).
+    pub wall_half_width: usize,
+    /// The cost of moving a seat between adjacent slices (degrees of table
+    /// bend per mm; default 2; 0 seats every slice on its own).
+    pub seat_change_deg_per_mm: f64,
+}
+
+impl Default for Smoothing {
+    fn default() -> Self {
+        Smoothing {
+            max_thickness_step_mm: 0.5,
+            wall_half_width: 2,
+            seat_change_deg_per_mm: 2.0,
+        }
+    }
 }
 
 /// Everything the real-defect pipeline needs besides the volume and solver.
@@ -55,13 +103,22 @@ pub struct DefectConfig {
     pub slices: Vec<SliceSpec>,
     /// The mid-sagittal line.
     pub midline: MidlineSpec,
+    /// The largest midline tilt searched (degrees, default 20).
+    pub max_tilt_deg: f64,
     /// The bone threshold in HU.
     pub threshold: i16,
     /// The wall options.
     pub wall: WallOptions,
+    /// The smoothing across slices.
+    pub smoothing: Smoothing,
+    /// Explicit templates, replacing the mirror image.
+    pub templates: Option<Templates>,
     /// Points per ring of the lofted mesh.
     pub ring_points: usize,
 }
+
+/// The smallest reflection Dice of an acceptable midline estimate.
+pub const MIN_MIDLINE_DICE: f64 = 0.5;
 
 /// An error of the implant pipeline, naming the slice it concerns.
 #[derive(Debug, thiserror::Error)]
@@ -77,9 +134,9 @@ pub enum ImplantError {
     Slice {
         /// The slice.
         z: usize,
-        /// What went wrong there.
+        /// What went wrong there (boxed: some CT errors are large).
         #[source]
-        source: CtError,
+        source: Box<CtError>,
     },
     /// A slice lies outside the volume.
     #[error(
@@ -97,15 +154,80 @@ pub enum ImplantError {
         /// The volume's last slice.
         last: usize,
     },
+    /// A defect end given as a pixel lies outside the image.
+    #[error("slice z = {z}: {what} = [{row}, {col}] (row, col) is outside the image ({rows} rows × {cols} columns)")]
+    EndOutside {
+        /// The slice (original numbering).
+        z: usize,
+        /// "A" or "B".
+        what: &'static str,
+        /// The row given.
+        row: f64,
+        /// The column given.
+        col: f64,
+        /// Rows of the image.
+        rows: usize,
+        /// Columns of the image.
+        cols: usize,
+    },
+    /// A and B are the same point: no defect between them.
+    #[error("slice z = {z}: A and B are the same point ({x:.2}, {y:.2}) mm (pixel row {row:.0}, col {col:.0}); a defect needs two distinct ends, one at each bone tip")]
+    EndsCoincide {
+        /// The slice (original numbering).
+        z: usize,
+        /// The point's x in mm.
+        x: f64,
+        /// The point's y in mm.
+        y: f64,
+        /// Its row.
+        row: f64,
+        /// Its column.
+        col: f64,
+    },
+    /// A given midline does not cross the image.
+    #[error("the midline x = {x_mm:.2} mm (tilt {tilt_deg:.2}°) does not cross the image (x = 0..={width_mm:.2} mm, {cols} columns of {sx} mm); `midline` is in mm, not pixels")]
+    MidlineOutside {
+        /// The line's x at the image's middle row (mm).
+        x_mm: f64,
+        /// Its tilt (degrees).
+        tilt_deg: f64,
+        /// The image's width, `(cols − 1)·s_x` (mm).
+        width_mm: f64,
+        /// Columns of the image.
+        cols: usize,
+        /// Pixel spacing along x (mm).
+        sx: f64,
+    },
     /// None of the slices of the midline estimate holds bone.
     #[error("cannot estimate the midline: no bone in its slices")]
     NoMidline,
-    /// Fewer than two defect slices.
-    #[error("an implant needs at least two defect slices")]
+    /// The best midline of the estimate is a poor mirror (the slices are
+    /// not intact or the head is not symmetric there).
+    #[error(
+        "cannot estimate the midline: the best reflection Dice on slices {first}..={last} is {dice:.3} < {MIN_MIDLINE_DICE}; give `midline` in mm or intact `midline_slices`"
+    )]
+    MidlineAsymmetric {
+        /// The best reflection Dice.
+        dice: f64,
+        /// The first slice used (original numbering).
+        first: usize,
+        /// The last slice used.
+        last: usize,
+    },
+    /// No defect slice.
+    #[error("an implant needs at least one defect slice")]
     TooFewSlices,
     /// The defect slices do not increase strictly.
     #[error("the defect slices must increase strictly in z")]
     SlicesNotIncreasing,
+    /// An explicit template has no polyline for a defect slice.
+    #[error("{}: no template polyline for slice z = {z}", file.display())]
+    TemplateMissing {
+        /// The template file.
+        file: PathBuf,
+        /// The slice.
+        z: usize,
+    },
     /// The lofted mesh failed its checks, so no STL is written.
     #[error("the lofted implant mesh is not watertight and consistently oriented; no STL written")]
     BadMesh {
@@ -121,6 +243,16 @@ pub enum ImplantError {
     /// A statistic of the validation could not be computed.
     #[error("statistics: {0}")]
     Stats(#[from] StatsError),
+}
+
+impl ImplantError {
+    /// The error `source` on slice `z` (original numbering).
+    pub fn on_slice(z: usize, source: CtError) -> Self {
+        ImplantError::Slice {
+            z,
+            source: Box::new(source),
+        }
+    }
 }
 
 /// The message of an error on slice `z`.
@@ -145,10 +277,20 @@ pub struct SliceResult {
     pub outer: Polyline,
     /// The inner table arc.
     pub inner: Polyline,
-    /// `M_x` in mm.
-    pub midline_x: f64,
+    /// The mid-sagittal line.
+    pub midline: MidLine,
     /// The reconstructed cross-section.
     pub wall: Wall,
+    /// The implant's pixels on this slice (voxelised mesh).
+    pub implant_pixels: usize,
+    /// Of those, the fraction at or above the bone threshold.
+    pub bone_overlap_fraction: f64,
+    /// The radial roughness of the outer wall across z (mm; `None` at the
+    /// ends of the stack), see [`super::smooth::roughness`].
+    pub roughness_mm: Option<f64>,
+    /// The same roughness of the templates (the mirrored bone): what the
+    /// bone itself has.
+    pub template_roughness_mm: Option<f64>,
 }
 
 /// The reconstructed implant.
@@ -156,22 +298,44 @@ pub struct SliceResult {
 pub struct Implant {
     /// Per slice, increasing `z`.
     pub slices: Vec<SliceResult>,
-    /// `M_x` in mm.
-    pub midline_x: f64,
+    /// The mid-sagittal line.
+    pub midline: MidLine,
     /// The reflection Dice of the midline estimate (`None` when given).
     pub midline_dice: Option<f64>,
-    /// The closed, outward-oriented implant mesh in mm (`z = index·s_z`,
-    /// volume indices).
+    /// The closed, outward-oriented implant mesh in voxel millimetres
+    /// (`z = index·s_z`); [`Implant::patient_mesh`] is the STL's.
     pub mesh: Mesh,
-    /// The implant voxelised on the volume grid.
+    /// The implant voxelised on the volume grid (the mesh's rings).
     pub mask: Mask3,
+    /// The volume's frame.
+    pub frame: Frame,
 }
 
-fn index_of(cfg: &DefectConfig, volume: &Volume, z: usize) -> Result<usize, ImplantError> {
+impl Implant {
+    /// The mesh in the volume's patient coordinates.
+    pub fn patient_mesh(&self) -> Mesh {
+        self.frame.mesh_to_patient(&self.mesh)
+    }
+}
+
+/// The volume index of slice `z` (original numbering).
+pub fn index_of(cfg: &DefectConfig, volume: &Volume, z: usize) -> Result<usize, ImplantError> {
+    slice_index(cfg, volume, z, "slice")
+}
+
+/// The volume index of slice `z` (original numbering): `z − first_z`, or
+/// [`ImplantError::SliceOutside`] naming the slice as `what` ("defect
+/// slice", "validation slice", ...).
+pub fn slice_index(
+    cfg: &DefectConfig,
+    volume: &Volume,
+    z: usize,
+    what: &'static str,
+) -> Result<usize, ImplantError> {
     z.checked_sub(cfg.first_z)
         .filter(|&k| k < volume.nz)
         .ok_or_else(|| ImplantError::SliceOutside {
-            what: "slice",
+            what,
             z,
             first: cfg.first_z,
             last: cfg.first_z + volume.nz - 1,
@@ -182,17 +346,19 @@ fn index_of(cfg: &DefectConfig, volume: &Volume, z: usize) -> Result<usize, Impl
 pub fn slice_mask(volume: &Volume, cfg: &DefectConfig, z: usize) -> Result<Mask2, ImplantError> {
     let k = index_of(cfg, volume, z)?;
     bone_mask_slice(&volume.slice(k), cfg.threshold)
-        .map_err(|source| ImplantError::Slice { z, source })
+        .map_err(|source| ImplantError::on_slice(z, source))
 }
 
-/// Resolves the mid-sagittal line: given, or estimated from the masks of the
-/// configured slices. Returns `(M_x, reflection Dice)`.
+/// Resolves the mid-sagittal line: given, or estimated (tilted) from the
+/// masks of the configured slices. Returns the line and the reflection
+/// Dice; errors when the slices hold no bone or the best Dice is below
+/// [`MIN_MIDLINE_DICE`].
 pub fn resolve_midline(
     volume: &Volume,
     cfg: &DefectConfig,
-) -> Result<(f64, Option<f64>), ImplantError> {
+) -> Result<(MidLine, Option<f64>), ImplantError> {
     match &cfg.midline {
-        MidlineSpec::Given(x) => Ok((*x, None)),
+        MidlineSpec::Given(line) => Ok((*line, None)),
         MidlineSpec::Auto(zs) => {
             let zs: Vec<usize> = if zs.is_empty() {
                 cfg.slices.iter().map(|s| s.z).collect()
@@ -203,23 +369,49 @@ pub fn resolve_midline(
                 .iter()
                 .map(|&z| slice_mask(volume, cfg, z))
                 .collect::<Result<Vec<_>, _>>()?;
-            let m = estimate_midline(&masks, volume.spacing.x).ok_or(ImplantError::NoMidline)?;
-            Ok((m.x, Some(m.dice)))
+            let (sx, sy) = (volume.spacing.x, volume.spacing.y);
+            let m = estimate_tilted_midline(&masks, sx, sy, cfg.max_tilt_deg)
+                .ok_or(ImplantError::NoMidline)?;
+            if m.dice < MIN_MIDLINE_DICE {
+                return Err(ImplantError::MidlineAsymmetric {
+                    dice: m.dice,
+                    first: zs.iter().copied().min().unwrap_or(0),
+                    last: zs.iter().copied().max().unwrap_or(0),
+                });
+            }
+            Ok((m.line, Some(m.dice)))
         }
     }
 }
 
-/// Reconstructs one defect slice with `kind` (see [`reconstruct_wall`]).
-pub fn reconstruct_slice<S: SegmentSolver + ?Sized>(
+/// What one slice's design reads: its bone mask and table contours, the
+/// defect ends and the polar centre.
+#[derive(Clone, Debug)]
+pub struct SliceContext {
+    /// The slice (original numbering).
+    pub z: usize,
+    /// Its volume index.
+    pub k: usize,
+    /// The bone mask.
+    pub mask: Mask2,
+    /// The outer and inner table arcs.
+    pub tables: TableContours,
+    /// A and B (mm).
+    pub ends: (Point, Point),
+    /// The polar centre: the midline at the outer table's mean height.
+    pub centre: Point,
+}
+
+/// The context of one defect slice: bone mask, ends (given or detected),
+/// tables and centre.
+pub fn slice_context(
     volume: &Volume,
     cfg: &DefectConfig,
     spec: &SliceSpec,
-    midline_x: f64,
-    kind: WallKind,
-    solver: &mut S,
-) -> Result<SliceResult, ImplantError> {
+    midline: MidLine,
+) -> Result<SliceContext, ImplantError> {
     let z = spec.z;
-    let at = |source: CtError| ImplantError::Slice { z, source };
+    let at = |source: CtError| ImplantError::on_slice(z, source);
     let k = index_of(cfg, volume, z)?;
     let slice = volume.slice(k);
     let mask = bone_mask_slice(&slice, cfg.threshold).map_err(at)?;
@@ -229,86 +421,292 @@ pub fn reconstruct_slice<S: SegmentSolver + ?Sized>(
             Point::new(a.1 * sx, a.0 * sy),
             Point::new(b.1 * sx, b.0 * sy),
         ),
+        Ends::Mm { a, b } => (a, b),
         Ends::Auto => {
             let d = detect_defect(&mask, sx, sy, &DefectParams::default())
                 .ok_or_else(|| at(CtError::NoDefectFound))?;
             (d.a_mm, d.b_mm)
         }
     };
+    check_distinct_ends(z, (a, b), (sx, sy))?;
     let loops = bone_loops(&slice, &mask, cfg.threshold);
-    let tables = table_contours(&loops, Some((a, b))).map_err(at)?;
-    let centre = Point::new(midline_x, tables.outer.vertex_mean().y);
-    let is_bone = |p: Point| {
-        let (r, c) = ((p.y / sy).round(), (p.x / sx).round());
-        r >= 0.0 && c >= 0.0 && mask.get_or_false(r as i64, c as i64)
-    };
-    let outer = [&tables.outer];
-    let input = WallInput {
-        outer: &outer,
-        is_bone: &is_bone,
-        centre,
-        midline_x,
-        a,
-        b,
-    };
-    let wall = reconstruct_wall(&input, kind, &cfg.wall, solver).map_err(at)?;
-    Ok(SliceResult {
+    let tables = crate::ct::table_contours(&loops, Some((a, b))).map_err(at)?;
+    let centre = midline.at_y(tables.outer.vertex_mean().y);
+    Ok(SliceContext {
         z,
-        ends_mm: (a, b),
-        outer: tables.outer,
-        inner: tables.inner,
-        midline_x,
-        wall,
+        k,
+        mask,
+        tables,
+        ends: (a, b),
+        centre,
     })
 }
 
-/// Lofts the slices' sections into a closed mesh (`z = index·s_z`) and
-/// voxelises them on the volume grid.
-pub fn build_mesh(
-    volume: &Volume,
-    cfg: &DefectConfig,
-    slices: &[SliceResult],
-) -> Result<(Mesh, Mask3), ImplantError> {
-    let mut sections = Vec::with_capacity(slices.len());
-    let mut zs = Vec::with_capacity(slices.len());
-    let mut vox = Vec::with_capacity(slices.len());
-    for s in slices {
-        let k = index_of(cfg, volume, s.z)?;
-        sections.push(s.wall.section.clone());
-        zs.push(k as f64 * volume.spacing.z);
-        vox.push((k, s.wall.section.clone()));
+/// Refuses defect ends `a`, `b` (mm) closer than half a pixel of the
+/// spacing `(sx, sy)`: [`ImplantError::EndsCoincide`] on slice `z`.
+pub fn check_distinct_ends(
+    z: usize,
+    (a, b): (Point, Point),
+    (sx, sy): (f64, f64),
+) -> Result<(), ImplantError> {
+    if a.distance(b) < 0.5 * sx.min(sy) {
+        return Err(ImplantError::EndsCoincide {
+            z,
+            x: a.x,
+            y: a.y,
+            row: a.y / sy,
+            col: a.x / sx,
+        });
     }
-    let mesh = loft(&sections, &zs, cfg.ring_points)?;
-    let mask = voxelise(&vox, volume.nx, volume.ny, volume.nz, volume.spacing);
-    Ok((mesh, mask))
+    Ok(())
 }
 
-/// The whole real-defect pipeline on a loaded volume: midline, every slice
-/// with the curve fit, mesh and voxels. The solver is shared by the slices
-/// in order (one random stream for a seeded metaheuristic).
-pub fn reconstruct_defect<S: SegmentSolver + ?Sized>(
+/// Runs `f` with the wall input of a slice context.
+fn with_input<R>(
     volume: &Volume,
     cfg: &DefectConfig,
-    solver: &mut S,
-) -> Result<Implant, ImplantError> {
-    if cfg.slices.len() < 2 {
+    ctx: &SliceContext,
+    midline: MidLine,
+    f: impl FnOnce(&WallInput<'_>) -> R,
+) -> R {
+    let slice = volume.slice(ctx.k);
+    let (sx, sy) = (slice.sx, slice.sy);
+    let is_bone = |p: Point| {
+        let (r, c) = ((p.y / sy).round(), (p.x / sx).round());
+        r >= 0.0 && c >= 0.0 && ctx.mask.get_or_false(r as i64, c as i64)
+    };
+    // The whole bone loop: its envelope is the outer table even where the
+    // cut puts part of the outer surface into the inner arc (a sinus opened
+    // by the defect, ProMED CT 0051 z = 56–57).
+    let outer = [&ctx.tables.outer, &ctx.tables.inner];
+    let template = cfg.templates.as_ref().and_then(|t| t.slices.get(&ctx.z));
+    let input = WallInput {
+        outer: &outer,
+        is_bone: &is_bone,
+        centre: ctx.centre,
+        midline,
+        a: ctx.ends.0,
+        b: ctx.ends.1,
+        template,
+        tissue: Some((&slice, cfg.threshold)),
+    };
+    f(&input)
+}
+
+/// Checks the slice list and that explicit templates cover every slice.
+fn check_slices(cfg: &DefectConfig) -> Result<(), ImplantError> {
+    if cfg.slices.is_empty() {
         return Err(ImplantError::TooFewSlices);
     }
     if cfg.slices.windows(2).any(|w| w[1].z <= w[0].z) {
         return Err(ImplantError::SlicesNotIncreasing);
     }
-    let (midline_x, midline_dice) = resolve_midline(volume, cfg)?;
-    let slices = cfg
+    if let Some(t) = &cfg.templates {
+        if let Some(s) = cfg.slices.iter().find(|s| !t.slices.contains_key(&s.z)) {
+            return Err(ImplantError::TemplateMissing {
+                file: t.source.clone(),
+                z: s.z,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The whole real-defect pipeline on a loaded volume with the curve fit:
+/// [`reconstruct_defect_with`] and [`WallKind::CurveFit`].
+pub fn reconstruct_defect<S: SegmentSolver + ?Sized>(
+    volume: &Volume,
+    cfg: &DefectConfig,
+    solver: &mut S,
+) -> Result<Implant, ImplantError> {
+    reconstruct_defect_with(volume, cfg, WallKind::CurveFit, solver)
+}
+
+/// The whole pipeline with walls of `kind`: the midline; per slice its
+/// context ([`slice_context`]); then [`reconstruct_from`].
+pub fn reconstruct_defect_with<S: SegmentSolver + ?Sized>(
+    volume: &Volume,
+    cfg: &DefectConfig,
+    kind: WallKind,
+    solver: &mut S,
+) -> Result<Implant, ImplantError> {
+    check_slices(cfg)?;
+    let (midline, midline_dice) = resolve_midline(volume, cfg)?;
+    let contexts = cfg
         .slices
         .iter()
-        .map(|s| reconstruct_slice(volume, cfg, s, midline_x, WallKind::CurveFit, solver))
+        .map(|s| slice_context(volume, cfg, s, midline))
         .collect::<Result<Vec<_>, _>>()?;
-    let (mesh, mask) = build_mesh(volume, cfg, &slices)?;
+    reconstruct_from(
+        volume,
+        cfg,
+        (midline, midline_dice),
+        &contexts,
+        kind,
+        solver,
+    )
+}
+
+/// The pipeline from the slice contexts on: the seats of A′ and B′
+/// ([`choose_seats`]) and the outer designs (the solver is shared by the
+/// slices in order, one random stream for a seeded metaheuristic); the
+/// thickness and outer-wall smoothing across slices ([`super::smooth`]);
+/// per slice the inner wall and the clipped section; the lofted mesh (a
+/// one-slice study is a slab one slice thick), its voxels and each slice's
+/// bone overlap and roughness.
+pub fn reconstruct_from<S: SegmentSolver + ?Sized>(
+    volume: &Volume,
+    cfg: &DefectConfig,
+    (midline, midline_dice): (MidLine, Option<f64>),
+    contexts: &[SliceContext],
+    kind: WallKind,
+    solver: &mut S,
+) -> Result<Implant, ImplantError> {
+    let zs: Vec<usize> = contexts.iter().map(|c| c.z).collect();
+    let mut designs = design_walls(volume, cfg, midline, contexts, kind, solver)?;
+    smooth_outer_walls(&mut designs, &zs, cfg.smoothing.wall_half_width, &cfg.wall)?;
+    let thickness = smoothed_thickness(&designs, &zs, cfg.smoothing.max_thickness_step_mm);
+    let mut slices = Vec::with_capacity(contexts.len());
+    for ((ctx, design), t) in contexts.iter().zip(designs).zip(thickness) {
+        let slice = volume.slice(ctx.k);
+        let wall = finish_wall(design, t, Some((&slice, cfg.threshold)), &cfg.wall)
+            .map_err(|source| ImplantError::on_slice(ctx.z, source))?;
+        slices.push(SliceResult {
+            z: ctx.z,
+            ends_mm: ctx.ends,
+            outer: ctx.tables.outer.clone(),
+            inner: ctx.tables.inner.clone(),
+            midline,
+            wall,
+            implant_pixels: 0,
+            bone_overlap_fraction: 0.0,
+            roughness_mm: None,
+            template_roughness_mm: None,
+        });
+    }
+    let indices: Vec<usize> = contexts.iter().map(|c| c.k).collect();
+    let sections: Vec<Polyline> = slices.iter().map(|s| s.wall.section.clone()).collect();
+    let (mesh, mask) = build_mesh(volume, &indices, &sections, cfg.ring_points)?;
+    measure_slices(volume, cfg, &mask, &mut slices);
     Ok(Implant {
         slices,
-        midline_x,
+        midline,
         midline_dice,
         mesh,
         mask,
+        frame: volume.frame(),
     })
+}
+
+/// The seats and the outer design of every slice.
+fn design_walls<S: SegmentSolver + ?Sized>(
+    volume: &Volume,
+    cfg: &DefectConfig,
+    midline: MidLine,
+    contexts: &[SliceContext],
+    kind: WallKind,
+    solver: &mut S,
+) -> Result<Vec<OuterDesign>, ImplantError> {
+    let zs: Vec<usize> = contexts.iter().map(|c| c.z).collect();
+    let at = |z: usize| move |source: CtError| ImplantError::on_slice(z, source);
+    let bends = contexts
+        .iter()
+        .map(|ctx| {
+            with_input(volume, cfg, ctx, midline, |input| {
+                seat_bends(input, &cfg.wall)
+            })
+            .map_err(at(ctx.z))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let seats = choose_seats(
+        &bends,
+        &zs,
+        cfg.wall.seat_bend_deg,
+        cfg.smoothing.seat_change_deg_per_mm,
+    );
+    contexts
+        .iter()
+        .zip(&seats)
+        .map(|(ctx, &seat)| {
+            with_input(volume, cfg, ctx, midline, |input| {
+                design_outer(input, kind, &cfg.wall, Some(seat), solver)
+            })
+            .map_err(at(ctx.z))
+        })
+        .collect()
+}
+
+/// The thickness at A′ and B′ of every slice after the Lipschitz envelope.
+fn smoothed_thickness(designs: &[OuterDesign], zs: &[usize], step: f64) -> Vec<(f64, f64)> {
+    let ta: Vec<f64> = designs.iter().map(|d| d.bone_thickness.0).collect();
+    let tb: Vec<f64> = designs.iter().map(|d| d.bone_thickness.1).collect();
+    let (ta, tb) = (
+        lipschitz_envelope(&ta, zs, step),
+        lipschitz_envelope(&tb, zs, step),
+    );
+    ta.into_iter().zip(tb).collect()
+}
+
+/// Each slice's implant pixels, bone overlap and outer-wall roughness.
+fn measure_slices(volume: &Volume, cfg: &DefectConfig, mask: &Mask3, slices: &mut [SliceResult]) {
+    let walls: Vec<&Polyline> = slices.iter().map(|s| &s.wall.design.outer).collect();
+    let zs: Vec<usize> = slices.iter().map(|s| s.z).collect();
+    let o = slices
+        .iter()
+        .fold(Point::ZERO, |a, s| a + s.wall.design.centre)
+        / slices.len().max(1) as f64;
+    let rough = roughness(&walls, &zs, o);
+    let templates: Vec<&Polyline> = slices.iter().map(|s| &s.wall.design.template).collect();
+    let bone = roughness(&templates, &zs, o);
+    for ((s, r), t) in slices.iter_mut().zip(rough).zip(bone) {
+        s.template_roughness_mm = t;
+        let k = s.z - cfg.first_z;
+        let sl = volume.slice(k);
+        let m = mask.slice(k);
+        let px = m.pixels();
+        let bone = px
+            .iter()
+            .filter(|&&(r, c)| sl.get(r, c) >= cfg.threshold)
+            .count();
+        s.implant_pixels = px.len();
+        s.bone_overlap_fraction = if px.is_empty() {
+            0.0
+        } else {
+            bone as f64 / px.len() as f64
+        };
+        s.roughness_mm = r;
+    }
+}
+
+/// Lofts the sections of the volume slices `indices` into a closed mesh
+/// (`z = index·s_z`; one section becomes a slab from `z − s_z/2` to
+/// `z + s_z/2`) and voxelises its rings on the volume grid.
+pub fn build_mesh(
+    volume: &Volume,
+    indices: &[usize],
+    sections: &[Polyline],
+    ring_points: usize,
+) -> Result<(Mesh, Mask3), ImplantError> {
+    let sz = volume.spacing.z;
+    let (secs, zs): (Vec<Polyline>, Vec<f64>) = if sections.len() == 1 {
+        let z = indices[0] as f64 * sz;
+        (
+            vec![sections[0].clone(), sections[0].clone()],
+            vec![z - 0.5 * sz, z + 0.5 * sz],
+        )
+    } else {
+        (
+            sections.to_vec(),
+            indices.iter().map(|&k| k as f64 * sz).collect(),
+        )
+    };
+    let rings = loft_rings(&secs, &zs, ring_points)?;
+    let mesh = crate::ct::mesh_of_rings(&rings, &zs);
+    let vox: Vec<(usize, Polyline)> = if sections.len() == 1 {
+        vec![(indices[0], rings[0].clone())]
+    } else {
+        indices.iter().copied().zip(rings).collect()
+    };
+    let mask = voxelise(&vox, volume.nx, volume.ny, volume.nz, volume.spacing);
+    Ok((mesh, mask))
 }

@@ -1,136 +1,215 @@
-//! The chapter-6 outputs as bytes: the sections of `report.md`, the CSV
-//! tables `metrics.csv` and `validation.csv`, the slice overlays and the 3D
-//! preview (see [`super::run`] for the driver that writes them).
-//!
-//! Markdown tables go through [`crate::markdown::table`]; CSV files hold no
-//! wall times, so they are byte-identical for the same spec and seed.
-
-use std::fmt::Write as _;
+//! The chapter-6 pictures: per-slice overlays a clinician can read (the
+//! whole slice and a zoom on the defect, anterior at the top, a colour key
+//! and 10 mm scale bars) and the labelled 3D preview of the implant on the
+//! skull (see [`super::run`] for the driver that writes them, and
+//! [`super::tables`] for the CSV tables and the report).
 
 use super::pipeline::{DefectConfig, Implant, ImplantError, SliceResult};
-use super::spec::{ImplantSpec, ValidationSpec};
-use super::validation::{CaseMetrics, ValidationRow};
 use super::wall::envelope_radius;
 use crate::ct::{
-    bone_loops, bone_mask_slice, encode_png, loft, mesh_view_rgb, slice_overlay_png, Mesh, Overlay,
-    Polyline, View, Volume, Window,
+    bone_loops, bone_mask_slice, loft, mesh_view_rgb, slice_view_rgb, Canvas, Frame, FrameSource,
+    Mesh, MidLine, Overlay, Polyline, SliceView, View, Volume, Window,
 };
-use crate::files::{csv_bytes, fmt_real};
 use crate::geometry::Point;
-use crate::markdown::{self, Alignment};
-use crate::stats::{holm_bonferroni, median, wilcoxon, Alternative};
 
-fn r(x: f64) -> String {
-    fmt_real(x)
+/// Colours of the overlays (RGB), with their legend labels.
+const OUTER_TABLE: [u8; 3] = [40, 200, 40];
+const INNER_TABLE: [u8; 3] = [60, 140, 255];
+const TEMPLATE: [u8; 3] = [255, 0, 255];
+const OUTER_WALL: [u8; 3] = [255, 40, 40];
+const INNER_WALL: [u8; 3] = [255, 170, 0];
+const SECTION: [u8; 3] = [255, 255, 80];
+const MIDLINE: [u8; 3] = [230, 230, 230];
+const OVERLAP: [u8; 3] = [255, 120, 200];
+const ENDS: [u8; 3] = [255, 255, 0];
+const MIRRORED: [u8; 3] = [0, 255, 255];
+
+/// Whether the slice's +y is anterior: DICOM says so through the row axis
+/// (patient −Y, LPS, is anterior); an `.inv3` carries no patient axes and
+/// InVesalius stores the image flipped, so its +y is the face (as in
+/// ProMED CT 0051).
+pub fn anterior_is_plus_y(frame: &Frame) -> bool {
+    match frame.source {
+        FrameSource::Dicom | FrameSource::Given => frame.axes[1][1] < 0.0,
+        FrameSource::Inv3 { .. } => true,
+    }
 }
 
-/// The title of `report.md` and the line naming the spec and the volume.
-pub fn report_header(spec: &ImplantSpec, volume: &Volume) -> String {
-    let mut report = String::new();
-    let _ = writeln!(report, "# Chapter 6: cranial implant\n");
-    let _ =
-        writeln!(
-        report,
-        "Spec: `{}`; volume `{}` ({}×{}×{} voxels, spacing {} × {} × {} mm; slice 0 is z = {}).\n",
-        spec.path.file_name().map_or(String::new(), |n| n.to_string_lossy().into()),
-        spec.volume_label,
-        volume.nx,
-        volume.ny,
-        volume.nz,
-        volume.spacing.x,
-        volume.spacing.y,
-        volume.spacing.z,
-        spec.defect_config.first_z
-    );
-    report
+/// The edge labels of a view with anterior up or down.
+fn edge_labels(anterior_up: bool) -> (String, String) {
+    if anterior_up {
+        ("anterior (face)".into(), "posterior".into())
+    } else {
+        ("posterior".into(), "anterior (face)".into())
+    }
 }
 
-/// `metrics.csv`: one row per reconstructed slice of the real defect.
-pub fn defect_csv(implant: &Implant) -> Vec<u8> {
-    let header = [
-        "z",
-        "a_x_mm",
-        "a_y_mm",
-        "b_x_mm",
-        "b_y_mm",
-        "c_x_mm",
-        "c_y_mm",
-        "d_x_mm",
-        "d_y_mm",
-        "midline_x_mm",
-        "width_mm",
-        "thickness_a_mm",
-        "thickness_b_mm",
-        "fit_error_mm2",
-        "fit_rms_mm",
-        "join_a_deg",
-        "join_b_deg",
-        "evaluations",
-        "outer_length_mm",
-        "section_area_mm2",
-        "template_dev_mean_mm",
-        "template_dev_max_mm",
-    ];
-    let rows = implant.slices.iter().map(|s| {
-        let w = &s.wall;
-        let (ja, jb) = w.join_angles_deg();
-        let n = w.template.points.len() as f64;
-        let dev = crate::ct::contour_deviation(&w.outer, &w.template, 0.25).ok();
-        vec![
-            s.z.to_string(),
-            r(w.a.x),
-            r(w.a.y),
-            r(w.b.x),
-            r(w.b.y),
-            r(w.c.x),
-            r(w.c.y),
-            r(w.d.x),
-            r(w.d.y),
-            r(s.midline_x),
-            r(w.a.distance(w.b)),
-            r(w.thickness.0),
-            r(w.thickness.1),
-            r(w.fit_error),
-            r((w.fit_error / n).sqrt()),
-            r(ja),
-            r(jb),
-            w.evaluations.to_string(),
-            r(w.outer.length()),
-            r(w.section.signed_area().abs()),
-            dev.map_or("NaN".into(), |d| r(d.mean)),
-            dev.map_or("NaN".into(), |d| r(d.max)),
-        ]
-    });
-    csv_bytes(&header, rows)
+/// The colour key of the overlays.
+fn legend() -> Vec<(String, [u8; 3])> {
+    [
+        ("outer table", OUTER_TABLE),
+        ("inner table", INNER_TABLE),
+        ("template", TEMPLATE),
+        ("outer wall (fit)", OUTER_WALL),
+        ("inner wall (offset)", INNER_WALL),
+        ("implant section", SECTION),
+        ("midline", MIDLINE),
+        ("implant on bone", OVERLAP),
+        ("A′, B′", ENDS),
+        ("C, D (mirrored)", MIRRORED),
+    ]
+    .iter()
+    .map(|(l, c)| (l.to_string(), *c))
+    .collect()
 }
 
-/// The bone-window overlay of one reconstructed slice: outer table (green),
-/// inner table (blue), mirrored template (magenta), outer wall (red), inner
-/// wall (orange), A, B, C, D and `M_x`.
+/// The midline as a segment across the box `[lo, hi]` (mm).
+fn midline_segment(line: &MidLine, lo: Point, hi: Point) -> (Point, Point) {
+    (line.at_y(lo.y), line.at_y(hi.y))
+}
+
+/// The overlay of one slice: tables, template, walls, section, ends,
+/// midline and the implant's pixels on bone.
+fn slice_overlay(s: &SliceResult, on_bone: Vec<(usize, usize)>, lo: Point, hi: Point) -> Overlay {
+    let w = &s.wall;
+    let d = &w.design;
+    let (m0, m1) = midline_segment(&s.midline, lo, hi);
+    Overlay {
+        polylines: vec![
+            (s.outer.clone(), OUTER_TABLE),
+            (s.inner.clone(), INNER_TABLE),
+            (d.template.clone(), TEMPLATE),
+            (w.inner.clone(), INNER_WALL),
+            (w.section.clone(), SECTION),
+            (d.outer.clone(), OUTER_WALL),
+        ],
+        points: vec![
+            ("A′".into(), d.a, ENDS),
+            ("B′".into(), d.b, ENDS),
+            ("C".into(), d.c, MIRRORED),
+            ("D".into(), d.d, MIRRORED),
+        ],
+        lines: vec![(m0, m1, MIDLINE)],
+        pixels: on_bone.into_iter().map(|p| (p, OVERLAP)).collect(),
+        ..Overlay::default()
+    }
+}
+
+/// The zoom box around a slice's section: square, centred on it, at least
+/// 30 mm wide and 12 mm wider than the section.
+fn zoom_box(s: &SliceResult) -> (Point, Point) {
+    let (lo, hi) = s
+        .wall
+        .raw_section
+        .bbox()
+        .unwrap_or((s.wall.design.a, s.wall.design.b));
+    let c = (lo + hi) * 0.5;
+    let half = 0.5 * ((hi.x - lo.x).max(hi.y - lo.y) + 12.0).max(30.0);
+    (c - Point::new(half, half), c + Point::new(half, half))
+}
+
+/// The picture of one reconstructed slice: a title with its figures, the
+/// whole slice (left, the zoom box marked) and a zoom on the defect
+/// (right), anterior at the top, each with a 10 mm scale bar, and the
+/// colour key below.
 pub fn overlay_png(
     volume: &Volume,
     cfg: &DefectConfig,
+    implant: &Implant,
     s: &SliceResult,
 ) -> Result<Vec<u8>, ImplantError> {
-    let slice = volume.slice(s.z - cfg.first_z);
-    let w = &s.wall;
-    let ov = Overlay {
-        polylines: vec![
-            (s.outer.clone(), [40, 200, 40]),
-            (s.inner.clone(), [60, 140, 255]),
-            (w.template.clone(), [255, 0, 255]),
-            (w.outer.clone(), [255, 30, 30]),
-            (w.inner.clone(), [255, 170, 0]),
-        ],
-        points: vec![
-            ("A".into(), w.a, [255, 255, 0]),
-            ("B".into(), w.b, [255, 255, 0]),
-            ("C".into(), w.c, [0, 255, 255]),
-            ("D".into(), w.d, [0, 255, 255]),
-        ],
-        vertical_lines: vec![(s.midline_x, [230, 230, 230])],
+    let k = s.z - cfg.first_z;
+    let slice = volume.slice(k);
+    let on_bone: Vec<(usize, usize)> = implant
+        .mask
+        .slice(k)
+        .pixels()
+        .into_iter()
+        .filter(|&(r, c)| slice.get(r, c) >= cfg.threshold)
+        .collect();
+    let up = anterior_is_plus_y(&implant.frame);
+    let (top, bottom) = edge_labels(up);
+    let full_lo = Point::new(-0.5 * slice.sx, -0.5 * slice.sy);
+    let full_hi = Point::new(
+        (slice.nx as f64 - 0.5) * slice.sx,
+        (slice.ny as f64 - 0.5) * slice.sy,
+    );
+    let (zlo, zhi) = zoom_box(s);
+    let panel = 512u32;
+    let view = |lo: Point, hi: Point| SliceView {
+        min: lo,
+        max: hi,
+        width: panel,
+        height: panel,
+        y_up: up,
+        top_label: top.clone(),
+        bottom_label: bottom.clone(),
     };
-    Ok(slice_overlay_png(&slice, Window::BONE, 3, &ov)?)
+    let (full, zoom) = (view(full_lo, full_hi), view(zlo, zhi));
+    let left = slice_view_rgb(
+        &slice,
+        Window::BONE,
+        &full,
+        &slice_overlay(s, on_bone.clone(), full_lo, full_hi),
+    )?;
+    let right = slice_view_rgb(
+        &slice,
+        Window::BONE,
+        &zoom,
+        &slice_overlay(s, on_bone.clone(), zlo, zhi),
+    )?;
+    let (x0, y0, gap) = (12u32, 40u32, 12u32);
+    let mut canvas = Canvas::new(2 * panel + 2 * x0 + gap, y0 + panel + 110, [255, 255, 255]);
+    canvas.blit(&left, panel, panel, x0, y0);
+    canvas.blit(&right, panel, panel, x0 + panel + gap, y0);
+    let (a, b) = (full.to_px(zlo), full.to_px(zhi));
+    let (ax, ay, bx, by) = (
+        a.0 as i32 + x0 as i32,
+        a.1 as i32 + y0 as i32,
+        b.0 as i32 + x0 as i32,
+        b.1 as i32 + y0 as i32,
+    );
+    canvas.rect(
+        (ax.min(bx), ay.min(by)),
+        (ax.max(bx), ay.max(by)),
+        [255, 255, 0],
+        false,
+    )?;
+    canvas.text(
+        &overlay_title(s, on_bone.len()),
+        x0 as i32,
+        10,
+        17,
+        [0, 0, 0],
+    )?;
+    canvas.legend(&legend(), (x0 as i32, (y0 + panel + 14) as i32), 5, 210)?;
+    canvas.text(
+        "left: whole slice (yellow box = zoom); right: zoom on the defect; bone window W 2000 / L 500",
+        x0 as i32,
+        (y0 + panel + 64) as i32,
+        14,
+        [60, 60, 60],
+    )?;
+    Ok(canvas.png()?)
+}
+
+/// The title of a slice picture: slice, width, thickness, kinks, overlap.
+fn overlay_title(s: &SliceResult, on_bone: usize) -> String {
+    let d = &s.wall.design;
+    let (ka, kb) = d.kinks_deg();
+    format!(
+        "z = {}   |A′B′| = {:.1} mm   thickness {:.1} / {:.1} mm   kinks {:.1}° / {:.1}°   implant on bone {} of {} px ({:.1} %)   midline tilt {:.2}°",
+        s.z,
+        d.width(),
+        s.wall.thickness.0,
+        s.wall.thickness.1,
+        ka,
+        kb,
+        on_bone,
+        s.implant_pixels,
+        100.0 * s.bone_overlap_fraction,
+        s.midline.tilt_deg()
+    )
 }
 
 /// Whether the ray at angle `t` on slice `k` lies in one of the `recess`
@@ -170,15 +249,15 @@ fn envelope_ring(outer: &Polyline, o: Point, k: usize, recess: &[(usize, f64, f6
 }
 
 /// A closed proxy of the skull surface: on every slice from `z0` to `z1`
-/// (volume indices), the outer envelope over 180 rays about `(M_x, ȳ)`
-/// (rays that miss keep the previous radius), lofted. On the slices listed
-/// in `recess` (volume index, first and last angle in radians), the rays
-/// between the two angles are pulled in to 80 % so that an implant there
-/// shows in the preview.
+/// (volume indices), the outer envelope over 180 rays about the midline
+/// point at the contour's mean height (rays that miss keep the previous
+/// radius), lofted. On the slices listed in `recess` (volume index, first
+/// and last angle in radians), the rays between the two angles are pulled
+/// in to 80 % so that an implant there shows in the preview.
 pub fn skull_proxy(
     volume: &Volume,
     threshold: i16,
-    midline_x: f64,
+    midline: &MidLine,
     z0: usize,
     z1: usize,
     recess: &[(usize, f64, f64)],
@@ -194,7 +273,7 @@ pub fn skull_proxy(
         let Some(outer) = loops.iter().find(|l| l.signed_area() > 0.0) else {
             continue;
         };
-        let o = Point::new(midline_x, outer.vertex_mean().y);
+        let o = midline.at_y(outer.vertex_mean().y);
         let ring = envelope_ring(outer, o, k, recess);
         if ring.len() >= 3 {
             sections.push(Polyline::closed(ring));
@@ -204,37 +283,24 @@ pub fn skull_proxy(
     Ok(loft(&sections, &zs, 180)?)
 }
 
-/// Per implant slice, its volume index and the polar angles of A and B
-/// about `(M_x, ȳ)`: where the skull proxy is recessed.
+/// Per implant slice, its volume index and the polar angles of A′ and B′
+/// about the slice's polar centre: where the skull proxy is recessed.
 fn implant_recess(cfg: &DefectConfig, implant: &Implant) -> Vec<(usize, f64, f64)> {
     implant
         .slices
         .iter()
         .map(|s| {
             let k = s.z - cfg.first_z;
-            let o = Point::new(implant.midline_x, s.outer.vertex_mean().y);
+            let o = s.wall.design.centre;
             let ang = |p: Point| (p.y - o.y).atan2(p.x - o.x);
-            (k, ang(s.wall.a), ang(s.wall.b))
+            (k, ang(s.wall.design.a), ang(s.wall.design.b))
         })
         .collect()
 }
 
-/// Square RGB images of side `size` placed side by side.
-fn side_by_side(imgs: &[Vec<u8>], size: usize) -> (Vec<u8>, usize) {
-    let w = size * imgs.len();
-    let mut rgb = vec![255u8; w * size * 3];
-    for (i, img) in imgs.iter().enumerate() {
-        for y in 0..size {
-            let src = &img[y * size * 3..(y + 1) * size * 3];
-            let dst = (y * w + i * size) * 3;
-            rgb[dst..dst + src.len()].copy_from_slice(src);
-        }
-    }
-    (rgb, w)
-}
-
-/// Three shaded orthographic views (from the defect side, from the front
-/// and from above) of the implant (red) on the skull-surface proxy (grey).
+/// Three shaded orthographic views of the implant (red) on the
+/// skull-surface proxy (grey), each labelled: from the defect's side, from
+/// the front and from above (anterior up), in voxel millimetres.
 pub fn preview_png(
     volume: &Volume,
     cfg: &DefectConfig,
@@ -245,423 +311,52 @@ pub fn preview_png(
     let skull = skull_proxy(
         volume,
         cfg.threshold,
-        implant.midline_x,
+        &implant.midline,
         k0.saturating_sub(8),
         k1 + 8,
         &implant_recess(cfg, implant),
     )?;
-    // The defect's side: the sign of its x relative to the midline; the
-    // image's y grows downwards, so +y is the face here (see overlays).
+    // The defect's side of the midline, and where the face is.
     let side = implant
         .slices
         .first()
-        .map_or(-1.0, |s| (s.wall.a.x - implant.midline_x).signum());
+        .map_or(-1.0, |s| s.midline.side(s.wall.design.a).signum());
+    let front = if anterior_is_plus_y(&implant.frame) {
+        1.0
+    } else {
+        -1.0
+    };
+    let sides = if side < 0.0 { "−x" } else { "+x" };
     let views = [
-        View {
-            direction: [-side, -0.6, 0.0],
-            up: [0.0, 0.0, 1.0],
-        },
-        View {
-            direction: [0.0, -1.0, 0.0],
-            up: [0.0, 0.0, 1.0],
-        },
-        View {
-            direction: [0.0, 0.0, -1.0],
-            up: [0.0, -1.0, 0.0],
-        },
+        (
+            format!("from the defect's side ({sides}), turned 30° to the face"),
+            [-side, -0.6 * front, 0.0],
+            [0.0, 0.0, 1.0],
+        ),
+        (
+            "from the front (face)".to_string(),
+            [0.0, -front, 0.0],
+            [0.0, 0.0, 1.0],
+        ),
+        (
+            "from above (anterior up)".to_string(),
+            [0.0, 0.0, -1.0],
+            [0.0, front, 0.0],
+        ),
     ];
     let size = 360u32;
-    let imgs: Vec<Vec<u8>> = views
-        .iter()
-        .map(|v| {
-            mesh_view_rgb(
-                &[(&skull, [200, 200, 200]), (&implant.mesh, [230, 40, 40])],
-                *v,
-                size,
-            )
-        })
-        .collect();
-    let (rgb, w) = side_by_side(&imgs, size as usize);
-    Ok(encode_png(&rgb, w as u32, size)?)
-}
-
-/// The "Real defect" section of `report.md`: the run's settings, the
-/// midline, the mesh checks and one table row per slice.
-pub fn defect_report(report: &mut String, spec: &ImplantSpec, implant: &Implant) {
-    let n = implant.slices.len();
-    let _ = writeln!(report, "## Real defect\n");
-    let _ = writeln!(
-        report,
-        "{n} slices z = {}..={}; method `{}`, function `{}`, continuity `{}`, budget {} evaluations per slice, seed {}.",
-        implant.slices[0].z,
-        implant.slices[n - 1].z,
-        spec.method.name(),
-        spec.defect_config.wall.function.name(),
-        spec.defect_config.wall.continuity.name(),
-        spec.defect_config.wall.budget,
-        spec.seed
-    );
-    let _ = writeln!(
-        report,
-        "M_x = {:.2} mm{}.\n",
-        implant.midline_x,
-        implant
-            .midline_dice
-            .map_or(" (given)".to_string(), |d| format!(
-                " (estimated, reflection Dice {d:.3})"
-            ))
-    );
-    let _ = writeln!(
-        report,
-        "Mesh: {} vertices, {} triangles, watertight {}, consistently oriented {}, volume {:.0} mm³; voxelised implant {} voxels.\n",
-        implant.mesh.vertices.len(),
-        implant.mesh.triangles.len(),
-        implant.mesh.is_watertight(),
-        implant.mesh.is_consistently_oriented(),
-        implant.mesh.signed_volume(),
-        implant.mask.count()
-    );
-    report.push_str(&slice_table(implant));
-    let _ = writeln!(report);
-}
-
-/// The per-slice table of the real defect: width, thickness, fit RMS and
-/// join angles.
-fn slice_table(implant: &Implant) -> String {
-    let header = [
-        "z",
-        "width mm",
-        "t_A mm",
-        "t_B mm",
-        "fit RMS mm",
-        "join A °",
-        "join B °",
-    ]
-    .map(String::from);
-    let rows: Vec<Vec<String>> = implant
-        .slices
-        .iter()
-        .map(|s| {
-            let w = &s.wall;
-            let (ja, jb) = w.join_angles_deg();
-            let rms = (w.fit_error / w.template.points.len() as f64).sqrt();
-            vec![
-                s.z.to_string(),
-                format!("{:.1}", w.a.distance(w.b)),
-                format!("{:.1}", w.thickness.0),
-                format!("{:.1}", w.thickness.1),
-                format!("{rms:.2}"),
-                format!("{ja:.1e}"),
-                format!("{jb:.1e}"),
-            ]
-        })
-        .collect();
-    markdown::table(&header, &rows, Alignment::Unmarked)
-}
-
-/// `validation.csv`: one row per case × method × run.
-pub fn validation_csv(rows: &[ValidationRow]) -> Vec<u8> {
-    let header = [
-        "z",
-        "position_deg",
-        "width_mm",
-        "method",
-        "run",
-        "seed",
-        "status",
-        "dice",
-        "boundary_dice",
-        "hd95_mm",
-        "dev_mean_mm",
-        "dev_max_mm",
-        "fit_error_mm2",
-        "join_a_deg",
-        "join_b_deg",
-        "error",
-    ];
-    let rows = rows.iter().map(|row| {
-        let mut v = vec![
-            row.z.to_string(),
-            r(row.case.position_deg),
-            r(row.case.width_mm),
-            row.method.clone(),
-            row.run.to_string(),
-            row.seed.to_string(),
-        ];
-        match &row.metrics {
-            Ok(m) => {
-                v.push("ok".into());
-                v.extend([m.dice, m.boundary_dice, m.hd95, m.dev_mean, m.dev_max].map(r));
-                v.extend([
-                    r(row.fit_error),
-                    r(row.join_deg.0),
-                    r(row.join_deg.1),
-                    String::new(),
-                ]);
-            }
-            Err(e) => {
-                v.push("error".into());
-                v.extend(std::iter::repeat_n(String::new(), 8));
-                v.push(e.to_string());
-            }
-        }
-        v
-    });
-    csv_bytes(&header, rows)
-}
-
-/// A metric's accessor.
-type MetricFn = fn(&CaseMetrics) -> f64;
-
-/// One validation metric: its name in tables, its accessor, and whether
-/// larger is better.
-type Metric = (&'static str, MetricFn, bool);
-
-/// The validation metrics, in table order.
-const METRICS: [Metric; 5] = [
-    ("Dice", |m| m.dice, true),
-    ("boundary Dice", |m| m.boundary_dice, true),
-    ("HD95 mm", |m| m.hd95, false),
-    ("mean deviation mm", |m| m.dev_mean, false),
-    ("max deviation mm", |m| m.dev_max, false),
-];
-
-/// The "Validation on perfect data" section of `report.md`: the cases, the
-/// median of every metric by method and width, the paired tests of the
-/// curve fit against the baselines, and the join quality of the fits.
-pub fn validation_report(
-    report: &mut String,
-    val: &ValidationSpec,
-    rows: &[ValidationRow],
-) -> Result<(), ImplantError> {
-    let mut methods: Vec<String> = vec!["template".into(), "straight".into()];
-    methods.extend(val.methods.iter().map(|m| format!("curve:{}", m.name())));
-    let failed = rows.iter().filter(|r| r.metrics.is_err()).count();
-    let _ = writeln!(
-        report,
-        "## Validation on perfect data (artificial defects)\n"
-    );
-    let _ = writeln!(
-        report,
-        "Slices {:?}, positions {:?}°, widths {:?} mm; {} runs per stochastic method; boundary Dice within {} mm. {} rows, {failed} failed (see `validation.csv`, column `error`).\n",
-        val.slices, val.positions, val.widths, val.runs, val.margin_mm, rows.len()
-    );
-    for metric in METRICS {
-        median_table(report, metric, val, &methods, rows);
-    }
-    paired_tests(report, val, rows)?;
-    join_summary(report, rows);
-    Ok(())
-}
-
-/// The median of one metric over cases and runs, by method × width.
-fn median_table(
-    report: &mut String,
-    (name, f, _): Metric,
-    val: &ValidationSpec,
-    methods: &[String],
-    rows: &[ValidationRow],
-) {
-    let _ = writeln!(report, "### {name} (median over cases and runs)\n");
-    let mut header = vec!["method".to_string()];
-    header.extend(val.widths.iter().map(|w| format!("{w} mm")));
-    let table: Vec<Vec<String>> = methods
-        .iter()
-        .map(|m| {
-            let mut line = vec![m.clone()];
-            for &w in &val.widths {
-                let v: Vec<f64> = rows
-                    .iter()
-                    .filter(|r| &r.method == m && r.case.width_mm == w)
-                    .filter_map(|r| r.metrics.as_ref().ok().map(f))
-                    .collect();
-                line.push(format!("{:.3}", median(&v)));
-            }
-            line
-        })
-        .collect();
-    report.push_str(&markdown::table(&header, &table, Alignment::Unmarked));
-    let _ = writeln!(report);
-}
-
-/// A validation case as a sortable key: slice, position and width bits.
-type CaseKey = (usize, u64, u64);
-
-/// The distinct cases of `rows`, sorted.
-fn case_keys(rows: &[ValidationRow]) -> Vec<CaseKey> {
-    let mut keys: Vec<CaseKey> = rows
-        .iter()
-        .map(|r| {
-            (
-                r.z,
-                r.case.position_deg.to_bits(),
-                r.case.width_mm.to_bits(),
-            )
-        })
-        .collect();
-    keys.sort();
-    keys.dedup();
-    keys
-}
-
-/// One row of the paired-test table: a curve method against a baseline on
-/// one metric.
-struct PairedTest {
-    /// `curve:<method>`.
-    curve: String,
-    /// `template` or `straight`.
-    baseline: &'static str,
-    /// The metric's name.
-    metric: &'static str,
-    /// Cases where both have a finite value.
-    cases: usize,
-    /// Median of the curve method's per-case medians.
-    median_curve: f64,
-    /// Median of the baseline's per-case medians.
-    median_baseline: f64,
-    /// Median of the per-case differences (curve − baseline).
-    median_difference: f64,
-    /// Cases where the curve method is strictly better.
-    better: usize,
-    /// Two-sided Wilcoxon signed-rank p-value (NaN when undefined).
-    p: f64,
-}
-
-/// Pairs, per case, the median over runs of `curve` and of `baseline` on
-/// `metric`, and tests the difference.
-fn paired_test(
-    rows: &[ValidationRow],
-    keys: &[CaseKey],
-    curve: &str,
-    baseline: &'static str,
-    (metric, f, larger_better): Metric,
-) -> PairedTest {
-    let (mut xs, mut ys) = (Vec::new(), Vec::new());
-    for &(z, p, w) in keys {
-        let of = |m: &str| -> Vec<f64> {
-            rows.iter()
-                .filter(|r| {
-                    r.method == m
-                        && r.z == z
-                        && r.case.position_deg.to_bits() == p
-                        && r.case.width_mm.to_bits() == w
-                })
-                .filter_map(|r| r.metrics.as_ref().ok().map(f))
-                .filter(|v| v.is_finite())
-                .collect()
-        };
-        let (c, b) = (of(curve), of(baseline));
-        if !c.is_empty() && !b.is_empty() {
-            xs.push(median(&c));
-            ys.push(median(&b));
-        }
-    }
-    let better = xs
-        .iter()
-        .zip(&ys)
-        .filter(|(x, y)| if larger_better { x > y } else { x < y })
-        .count();
-    let p = wilcoxon(&xs, &ys, Alternative::TwoSided)
-        .map(|t| t.p_value)
-        .unwrap_or(f64::NAN);
-    let diffs: Vec<f64> = xs.iter().zip(&ys).map(|(x, y)| x - y).collect();
-    PairedTest {
-        curve: curve.to_string(),
-        baseline,
-        metric,
-        cases: xs.len(),
-        median_curve: median(&xs),
-        median_baseline: median(&ys),
-        median_difference: median(&diffs),
-        better,
-        p,
-    }
-}
-
-/// The paired tests of every curve method against both baselines on every
-/// metric, Holm-corrected over the whole table.
-fn paired_tests(
-    report: &mut String,
-    val: &ValidationSpec,
-    rows: &[ValidationRow],
-) -> Result<(), ImplantError> {
-    let _ = writeln!(
-        report,
-        "### What the curve fit adds (Wilcoxon signed-rank, paired by case)\n"
-    );
-    let _ = writeln!(
-        report,
-        "Per case the curve fit's median over its runs is paired with the baseline; two-sided Wilcoxon signed-rank test (src/stats), Holm-corrected over all rows of this table. `better` counts cases where the curve fit is strictly better.\n"
-    );
-    let keys = case_keys(rows);
-    let mut tests = Vec::new();
-    for cm in val.methods.iter().map(|m| format!("curve:{}", m.name())) {
-        for base in ["template", "straight"] {
-            for metric in METRICS {
-                tests.push(paired_test(rows, &keys, &cm, base, metric));
-            }
-        }
-    }
-    let finite: Vec<f64> = tests
-        .iter()
-        .map(|t| if t.p.is_finite() { t.p } else { 1.0 })
-        .collect();
-    let holm = holm_bonferroni(&finite)?;
-    report.push_str(&paired_table(&tests, &holm));
-    let _ = writeln!(report);
-    Ok(())
-}
-
-/// The markdown table of the paired tests with their Holm-corrected p.
-fn paired_table(tests: &[PairedTest], holm: &[f64]) -> String {
-    let header = [
-        "curve method",
-        "baseline",
-        "metric",
-        "cases",
-        "median curve",
-        "median baseline",
-        "median difference",
-        "better",
-        "p",
-        "p (Holm)",
-    ]
-    .map(String::from);
-    let table: Vec<Vec<String>> = tests
-        .iter()
-        .zip(holm)
-        .map(|(t, ph)| {
-            vec![
-                t.curve.clone(),
-                t.baseline.to_string(),
-                t.metric.to_string(),
-                t.cases.to_string(),
-                format!("{:.3}", t.median_curve),
-                format!("{:.3}", t.median_baseline),
-                format!("{:+.3}", t.median_difference),
-                format!("{}/{}", t.better, t.cases),
-                format!("{:.2e}", t.p),
-                format!("{ph:.2e}"),
-            ]
-        })
-        .collect();
-    markdown::table(&header, &table, Alignment::Unmarked)
-}
-
-/// The join quality of the fitted walls: median and max join angle.
-fn join_summary(report: &mut String, rows: &[ValidationRow]) {
-    let joins: Vec<f64> = rows
-        .iter()
-        .filter(|r| r.method.starts_with("curve:") && r.metrics.is_ok())
-        .flat_map(|r| [r.join_deg.0, r.join_deg.1])
-        .collect();
-    if !joins.is_empty() {
-        let max = joins.iter().copied().fold(0.0, f64::max);
-        let _ = writeln!(
-            report,
-            "Fitted walls: join angle with the intact contour median {:.1e}°, max {:.1e}° (G¹ is built into the decision variables).\n",
-            median(&joins),
-            max
+    let mut canvas = Canvas::new(3 * size, size + 34, [255, 255, 255]);
+    for (i, (label, direction, up)) in views.iter().enumerate() {
+        let rgb = mesh_view_rgb(
+            &[(&skull, [200, 200, 200]), (&implant.mesh, [230, 40, 40])],
+            View {
+                direction: *direction,
+                up: *up,
+            },
+            size,
         );
+        canvas.blit(&rgb, size, size, i as u32 * size, 34);
+        canvas.text(label, i as i32 * size as i32 + 8, 8, 15, [0, 0, 0])?;
     }
+    Ok(canvas.png()?)
 }

@@ -13,17 +13,21 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use super::pipeline::{reconstruct_defect, resolve_midline, DefectConfig, ImplantError};
-use super::render::{
-    defect_csv, defect_report, overlay_png, preview_png, report_header, validation_csv,
-    validation_report,
+use super::checks::check_inputs;
+use super::pipeline::{reconstruct_defect, resolve_midline, slice_index, ImplantError};
+use super::render::{overlay_png, preview_png};
+use super::spec::{ImplantSpec, Validation3dSpec, ValidationSpec};
+use super::tables::{
+    defect_csv, defect_report, report_header, slices_off_target, validation_csv, validation_report,
 };
-use super::spec::{ImplantSpec, ValidationSpec};
+use super::tables3d::{validation_3d_csv, validation_3d_report};
 use super::validation::{evaluate, prepare_case, Case, PreparedCase, ValidationRow};
+use super::validation3d::{evaluate_3d, prepare_case_3d, Case3d, Prepared3d, Row3d};
 use super::wall::WallKind;
 use crate::ct::{read_dicom_dir, read_inv3, stl_bytes, Volume};
-use crate::files::{write_atomic, IoError};
-use crate::fit::LmSolver;
+use crate::files::{create_dir, write_atomic};
+use crate::fit::{LmSolver, SegmentSolver};
+use crate::reconstruction::Method;
 
 /// Reads a volume: a directory is a DICOM series, anything else an `.inv3`
 /// project. Reader errors (truncated or corrupt files, mismatched slice
@@ -42,70 +46,97 @@ pub fn load_volume(path: &Path) -> Result<Volume, ImplantError> {
 pub struct RunSummary {
     /// Files written.
     pub files: Vec<PathBuf>,
-    /// Seconds for the real-defect pipeline (load → STL).
+    /// Seconds for the real-defect pipeline (load → STL written).
     pub pipeline_seconds: Option<f64>,
-    /// Validation rows.
+    /// Rows of `validation.csv`.
     pub validation_rows: usize,
+    /// Rows of `validation_3d.csv`.
+    pub validation_3d_rows: usize,
 }
 
-/// A run in progress: its output directory, the files written so far, and
-/// the texts of `report.md` and `timing.txt`.
-struct Outputs<'a> {
-    dir: &'a Path,
+/// A run in progress: the files built so far (written only once every part
+/// has succeeded) and the texts of `report.md` and `timing.txt`.
+struct Outputs {
+    files: Vec<(String, Vec<u8>)>,
     summary: RunSummary,
     report: String,
     timing: String,
 }
 
-impl Outputs<'_> {
-    /// Writes `bytes` to `name` in the output directory and records it.
-    /// The directory is created with the first file, so that an input
-    /// refused before then leaves nothing behind.
-    fn write(&mut self, name: &str, bytes: &[u8]) -> Result<(), ImplantError> {
-        if self.summary.files.is_empty() {
-            std::fs::create_dir_all(self.dir)
-                .map_err(|e| IoError::new("create the output directory", self.dir, e))?;
+impl Outputs {
+    /// Queues `bytes` for the file `name` of the output directory.
+    fn add(&mut self, name: &str, bytes: Vec<u8>) {
+        self.files.push((name.to_string(), bytes));
+    }
+
+    /// Creates `dir` and writes every queued file into it atomically
+    /// (`implant.stl` first); returns the seconds spent writing the STL.
+    fn write_all(&mut self, dir: &Path) -> Result<f64, ImplantError> {
+        create_dir(dir)?;
+        self.files
+            .sort_by_key(|(name, _)| usize::from(name != "implant.stl"));
+        let mut stl_seconds = 0.0;
+        for (name, bytes) in &self.files {
+            let t = Instant::now();
+            let p = dir.join(name);
+            write_atomic(&p, bytes)?;
+            if name == "implant.stl" {
+                stl_seconds = t.elapsed().as_secs_f64();
+            }
+            self.summary.files.push(p);
         }
-        let p = self.dir.join(name);
-        write_atomic(&p, bytes)?;
-        self.summary.files.push(p);
-        Ok(())
+        Ok(stl_seconds)
     }
 }
 
 /// Runs the whole experiment of `spec` into `out` (created if needed).
+///
+/// Every input is checked against the volume first ([`check_inputs`]),
+/// then every part is computed in memory, and only then are the files
+/// written: an error anywhere leaves nothing written (no STL, no CSV).
 pub fn run_implant(spec: &ImplantSpec, out: &Path) -> Result<RunSummary, ImplantError> {
     let t0 = Instant::now();
     let volume = load_volume(&spec.volume)?;
+    check_inputs(spec, &volume)?;
     let mut outputs = Outputs {
-        dir: out,
+        files: Vec::new(),
         summary: RunSummary::default(),
         report: report_header(spec, &volume),
         timing: String::new(),
     };
+    let mut pipeline = None;
     if spec.run_defect {
-        run_defect(spec, &volume, t0, &mut outputs)?;
+        pipeline = Some(run_defect(spec, &volume, t0, &mut outputs)?);
     }
     if let Some(val) = &spec.validation {
         run_validation(spec, val, &volume, &mut outputs)?;
     }
+    if let Some(val) = &spec.validation_3d {
+        run_validation_3d(spec, val, &volume, &mut outputs)?;
+    }
     let report = std::mem::take(&mut outputs.report);
-    outputs.write("report.md", report.as_bytes())?;
+    outputs.add("report.md", report.into_bytes());
+    if let Some(t) = pipeline {
+        // The STL is written first; its write time completes load → STL.
+        let _ = writeln!(outputs.timing, "pipeline_seconds_load_to_stl {t:.3}");
+    }
     let timing = std::mem::take(&mut outputs.timing);
-    outputs.write("timing.txt", timing.as_bytes())?;
-    copy_spec(spec, &mut outputs)?;
+    outputs.add("timing.txt", timing.into_bytes());
+    copy_spec(spec, &mut outputs);
+    let stl_seconds = outputs.write_all(out)?;
+    outputs.summary.pipeline_seconds = pipeline.map(|t| t + stl_seconds);
     Ok(outputs.summary)
 }
 
-/// The real defect: `implant.stl` (once the mesh passes its checks; the
-/// time from `t0` to here is the pipeline's), `metrics.csv`, the overlays,
-/// the 3D preview and the report's section.
+/// The real defect: `implant.stl` (once the mesh passes its checks),
+/// `metrics.csv`, the overlays, the 3D preview and the report's section.
+/// Returns the seconds from `t0` (loading) to the STL's bytes.
 fn run_defect(
     spec: &ImplantSpec,
     volume: &Volume,
     t0: Instant,
-    outputs: &mut Outputs<'_>,
-) -> Result<(), ImplantError> {
+    outputs: &mut Outputs,
+) -> Result<f64, ImplantError> {
     let cfg = &spec.defect_config;
     let mut solver = spec.method.solver(spec.seed);
     let implant = reconstruct_defect(volume, cfg, &mut *solver)?;
@@ -121,22 +152,23 @@ fn run_defect(
             oriented,
         });
     }
-    let stl = stl_bytes(&implant.mesh, "metabezier chapter-6 implant, mm");
-    outputs.write("implant.stl", &stl)?;
+    let stl = stl_bytes(&implant.patient_mesh(), &implant.frame.stl_header());
+    outputs.add("implant.stl", stl);
     let secs = t0.elapsed().as_secs_f64();
-    outputs.summary.pipeline_seconds = Some(secs);
-    let _ = writeln!(outputs.timing, "pipeline_seconds_load_to_stl {secs:.3}");
-    outputs.write("metrics.csv", &defect_csv(&implant))?;
-    for &z in &spec.overlays {
+    outputs.add("metrics.csv", defect_csv(&implant));
+    let mut zs = spec.overlays.clone();
+    zs.extend(slices_off_target(&implant));
+    zs.sort_unstable();
+    zs.dedup();
+    for z in zs {
         if let Some(s) = implant.slices.iter().find(|s| s.z == z) {
-            let png = overlay_png(volume, cfg, s)?;
-            outputs.write(&format!("overlay_z{z:03}.png"), &png)?;
+            let png = overlay_png(volume, cfg, &implant, s)?;
+            outputs.add(&format!("overlay_z{z:03}.png"), png);
         }
     }
-    let preview = preview_png(volume, cfg, &implant)?;
-    outputs.write("preview_3d.png", &preview)?;
+    outputs.add("preview_3d.png", preview_png(volume, cfg, &implant)?);
     defect_report(&mut outputs.report, spec, &implant);
-    Ok(())
+    Ok(secs)
 }
 
 /// The artificial-defect validation: `validation.csv`, its time and the
@@ -145,7 +177,7 @@ fn run_validation(
     spec: &ImplantSpec,
     val: &ValidationSpec,
     volume: &Volume,
-    outputs: &mut Outputs<'_>,
+    outputs: &mut Outputs,
 ) -> Result<(), ImplantError> {
     let t1 = Instant::now();
     let rows = validation_rows(spec, val, volume)?;
@@ -154,22 +186,88 @@ fn run_validation(
         "validation_seconds {:.3}",
         t1.elapsed().as_secs_f64()
     );
-    outputs.write("validation.csv", &validation_csv(&rows))?;
+    outputs.add("validation.csv", validation_csv(&rows));
     validation_report(&mut outputs.report, val, &rows)?;
     outputs.summary.validation_rows = rows.len();
     Ok(())
 }
 
-/// The volume index of validation slice `z` (original numbering).
-fn validation_index(cfg: &DefectConfig, volume: &Volume, z: usize) -> Result<usize, ImplantError> {
-    z.checked_sub(cfg.first_z)
-        .filter(|&k| k < volume.nz)
-        .ok_or(ImplantError::SliceOutside {
-            what: "validation slice",
-            z,
-            first: cfg.first_z,
-            last: cfg.first_z + volume.nz - 1,
-        })
+/// The 3D validation: `validation_3d.csv`, its time and the report's
+/// section.
+fn run_validation_3d(
+    spec: &ImplantSpec,
+    val: &Validation3dSpec,
+    volume: &Volume,
+    outputs: &mut Outputs,
+) -> Result<(), ImplantError> {
+    let t1 = Instant::now();
+    let (midline, _) = resolve_midline(volume, &spec.defect_config)?;
+    let mut rows = Vec::new();
+    for &range in &val.ranges {
+        for &position_deg in &val.positions {
+            for &width_mm in &val.widths {
+                let case = Case3d {
+                    range,
+                    position_deg,
+                    width_mm,
+                };
+                let p = prepare_case_3d(volume, &spec.defect_config, case, midline)?;
+                case_rows_3d(spec, val, &p, &mut rows);
+            }
+        }
+    }
+    let _ = writeln!(
+        outputs.timing,
+        "validation_3d_seconds {:.3}",
+        t1.elapsed().as_secs_f64()
+    );
+    outputs.add("validation_3d.csv", validation_3d_csv(&rows));
+    validation_3d_report(&mut outputs.report, val, &rows)?;
+    outputs.summary.validation_3d_rows = rows.len();
+    Ok(())
+}
+
+/// The rows of one prepared 3D case ([`method_runs`]).
+fn case_rows_3d(spec: &ImplantSpec, val: &Validation3dSpec, p: &Prepared3d, rows: &mut Vec<Row3d>) {
+    let runs = method_runs(spec.seed, &val.methods, val.runs, |kind, solver| {
+        evaluate_3d(p, kind, val.margin_mm, solver)
+    });
+    rows.extend(runs.into_iter().map(|(method, run, seed, metrics)| Row3d {
+        case: p.case,
+        method,
+        run,
+        seed,
+        metrics,
+    }));
+}
+
+/// Every reconstruction of one validation case, in table order: the two
+/// baselines (`template`, `straight`; deterministic, one run, seed 0),
+/// then each curve-fit method (`curve:<name>`), `runs` seeded runs with
+/// seeds `seed, seed + 1, …` for a stochastic one and one run otherwise.
+/// `eval` reconstructs and scores the case with a wall kind and a solver;
+/// returns (method, run, seed, its result) per reconstruction.
+fn method_runs<T>(
+    seed: u64,
+    methods: &[Method],
+    runs: usize,
+    mut eval: impl FnMut(WallKind, &mut dyn SegmentSolver) -> T,
+) -> Vec<(String, usize, u64, T)> {
+    let mut out = Vec::new();
+    for kind in [WallKind::Template, WallKind::Straight] {
+        let res = eval(kind, &mut LmSolver::default());
+        out.push((kind.name().to_string(), 0, 0, res));
+    }
+    for m in methods {
+        let stochastic = m.is_stochastic();
+        for run in 0..if stochastic { runs } else { 1 } {
+            let seed = if stochastic { seed + run as u64 } else { 0 };
+            let mut solver = m.solver(seed);
+            let res = eval(WallKind::CurveFit, &mut *solver);
+            out.push((format!("curve:{}", m.name()), run, seed, res));
+        }
+    }
+    out
 }
 
 /// Every validation row: for each slice × position × width, the case cut
@@ -180,10 +278,10 @@ fn validation_rows(
     volume: &Volume,
 ) -> Result<Vec<ValidationRow>, ImplantError> {
     let cfg = &spec.defect_config;
-    let (mx, _) = resolve_midline(volume, cfg)?;
+    let (midline, _) = resolve_midline(volume, cfg)?;
     let mut rows = Vec::new();
     for &z in &val.slices {
-        let index = validation_index(cfg, volume, z)?;
+        let index = slice_index(cfg, volume, z, "validation slice")?;
         for &pos in &val.positions {
             for &w in &val.widths {
                 let case = Case {
@@ -191,8 +289,8 @@ fn validation_rows(
                     position_deg: pos,
                     width_mm: w,
                 };
-                let prepared = prepare_case(volume, case, mx, cfg.threshold)
-                    .map_err(|source| ImplantError::Slice { z, source })?;
+                let prepared = prepare_case(volume, case, midline, cfg.threshold)
+                    .map_err(|source| ImplantError::on_slice(z, source))?;
                 case_rows(spec, val, &prepared, z, &mut rows);
             }
         }
@@ -200,8 +298,7 @@ fn validation_rows(
     Ok(rows)
 }
 
-/// The rows of one prepared case (slice `z`): the two baselines, then every
-/// curve-fit method, `val.runs` seeded runs for a stochastic one.
+/// The rows of one prepared case (slice `z`, [`method_runs`]).
 fn case_rows(
     spec: &ImplantSpec,
     val: &ValidationSpec,
@@ -210,56 +307,33 @@ fn case_rows(
     rows: &mut Vec<ValidationRow>,
 ) {
     let wall = &spec.defect_config.wall;
-    let row = |method: String, run, seed, (metrics, fit_error, join_deg)| ValidationRow {
-        case: prepared.case,
-        z,
-        method,
-        run,
-        seed,
-        metrics,
-        fit_error,
-        join_deg,
-    };
-    for kind in [WallKind::Template, WallKind::Straight] {
-        let res = evaluate(
-            prepared,
-            kind,
-            wall,
-            val.margin_mm,
-            &mut LmSolver::default(),
-        );
-        rows.push(row(kind.name().to_string(), 0, 0, res));
-    }
-    for m in &val.methods {
-        let runs = if m.is_stochastic() { val.runs } else { 1 };
-        for run in 0..runs {
-            let seed = if m.is_stochastic() {
-                spec.seed + run as u64
-            } else {
-                0
-            };
-            let mut solver = m.solver(seed);
-            let res = evaluate(
-                prepared,
-                WallKind::CurveFit,
-                wall,
-                val.margin_mm,
-                &mut *solver,
-            );
-            rows.push(row(format!("curve:{}", m.name()), run, seed, res));
-        }
-    }
+    let runs = method_runs(spec.seed, &val.methods, val.runs, |kind, solver| {
+        evaluate(prepared, kind, wall, val.margin_mm, solver)
+    });
+    rows.extend(
+        runs.into_iter().map(
+            |(method, run, seed, (metrics, fit_error, join_deg))| ValidationRow {
+                case: prepared.case,
+                z,
+                method,
+                run,
+                seed,
+                metrics,
+                fit_error,
+                join_deg,
+            },
+        ),
+    );
 }
 
-/// Copies the spec file into the output directory (skipped when it cannot
-/// be read again).
-fn copy_spec(spec: &ImplantSpec, outputs: &mut Outputs<'_>) -> Result<(), ImplantError> {
+/// Queues a copy of the spec file for the output directory (skipped when
+/// it cannot be read again).
+fn copy_spec(spec: &ImplantSpec, outputs: &mut Outputs) {
     if let Ok(text) = std::fs::read(&spec.path) {
         let name = spec
             .path
             .file_name()
             .map_or("spec.toml".into(), |n| n.to_string_lossy().into_owned());
-        outputs.write(&name, &text)?;
+        outputs.add(&name, text);
     }
-    Ok(())
 }

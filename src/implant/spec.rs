@@ -5,17 +5,27 @@
 //! volume = "../data/ct0051/ct0051_z040-100.inv3"  # .inv3 file or DICOM directory, relative to this file
 //! first_z = 40              # original number of the volume's slice 0
 //! threshold = 300           # bone threshold, HU
-//! midline = "auto"          # or M_x in mm
+//! midline = "auto"          # or M_x in mm (vertical), or [x_mm, y_mm, tilt_deg], tilt within ±45°
 //! midline_slices = [88, 90] # slices (range) for "auto"; default: the defect slices
+//! max_tilt_deg = 20         # the largest midline tilt searched by "auto"
 //! function = "rational-cubic"  # quadratic, cubic, rational-quadratic, rational-cubic
 //! continuity = "g1"         # c0, c1, g1
 //! method = "mhs"            # any metaheuristic, "lm", or "<name>+lm"
 //! budget = 10000            # evaluations per slice
 //! seed = 2026
+//! tangent_mm = 6            # outer table fitted for the end tangents
+//! seat_bend_deg = 3         # A′, B′ seated where the table turns ≤ this per 3 mm
+//! seat_max_mm = 6           # ... at most this far back from the tips
+//! seat_change_deg_per_mm = 2    # cost of moving a seat between slices
+//! thickness_setback_mm = 4  # where the bone thickness is measured
+//! max_thickness_mm = 15     # cap on the implant thickness
+//! max_thickness_step_mm = 0.5   # thickness change between adjacent slices
+//! smooth_slices = 2         # outer-wall smoothing half-width (0: off)
 //!
 //! [defect]                  # the real defect (optional)
-//! slices = [56, 84]         # first and last slice (original numbering)
+//! slices = [56, 84]         # first and last slice (original numbering; [z, z]: one slice)
 //! ends = "auto"             # default for slices without an [[defect.end]]
+//! template = "tpl.csv"      # explicit template: columns z,x_mm,y_mm (optional)
 //! overlays = [64, 72, 80]   # slices rendered as overlay PNGs
 //! ring_points = 160
 //!
@@ -31,6 +41,14 @@
 //! methods = ["mhs", "lm"]            # default: [implant.method]
 //! runs = 30                          # per stochastic method
 //! margin_mm = 10                     # boundary Dice band
+//!
+//! [validation_3d]           # artificial defects across slices (optional)
+//! ranges = [[86, 94], [90, 98]]      # first and last slice of each patch
+//! positions = [210, 330]             # polar angles of the patch centres
+//! widths = [20, 30]                  # mm, at the patch's middle slice
+//! methods = ["mhs", "lm"]
+//! runs = 5
+//! margin_mm = 10
 //! ```
 //!
 //! Errors name the file, line, column and field, say what was expected and
@@ -40,11 +58,13 @@ use std::path::{Path, PathBuf};
 
 use toml::de::{DeTable, DeValue};
 
-use super::pipeline::{DefectConfig, Ends, MidlineSpec, SliceSpec};
+use super::pipeline::{DefectConfig, Ends, MidlineSpec, SliceSpec, Smoothing};
+use super::template::read_templates;
 use super::wall::WallOptions;
+use crate::ct::MidLine;
 use crate::experiment::spec::{type_name, Parser, SpecError, Table, Value};
 use crate::fit::FunctionType;
-use crate::geometry::Continuity;
+use crate::geometry::{Continuity, Point};
 use crate::reconstruction::Method;
 
 /// The artificial-defect validation part.
@@ -55,6 +75,23 @@ pub struct ValidationSpec {
     /// Polar angles of the defect centres (degrees).
     pub positions: Vec<f64>,
     /// Widths (mm).
+    pub widths: Vec<f64>,
+    /// Curve-fit methods.
+    pub methods: Vec<Method>,
+    /// Runs per stochastic method.
+    pub runs: usize,
+    /// Boundary-Dice band (mm).
+    pub margin_mm: f64,
+}
+
+/// The 3D validation part: patches cut out of intact bone across slices.
+#[derive(Clone, Debug)]
+pub struct Validation3dSpec {
+    /// First and last slice of each patch (original numbering).
+    pub ranges: Vec<(usize, usize)>,
+    /// Polar angles of the patch centres (degrees).
+    pub positions: Vec<f64>,
+    /// Widths at the patch's middle slice (mm).
     pub widths: Vec<f64>,
     /// Curve-fit methods.
     pub methods: Vec<Method>,
@@ -85,21 +122,47 @@ pub struct ImplantSpec {
     pub defect_config: DefectConfig,
     /// The validation part.
     pub validation: Option<ValidationSpec>,
+    /// The 3D validation part.
+    pub validation_3d: Option<Validation3dSpec>,
 }
 
-const IMPLANT_KEYS: [&str; 10] = [
+const IMPLANT_KEYS: [&str; 19] = [
     "volume",
     "first_z",
     "threshold",
     "midline",
     "midline_slices",
+    "max_tilt_deg",
     "function",
     "continuity",
     "method",
     "budget",
     "seed",
+    "tangent_mm",
+    "seat_bend_deg",
+    "seat_max_mm",
+    "seat_change_deg_per_mm",
+    "thickness_setback_mm",
+    "max_thickness_mm",
+    "max_thickness_step_mm",
+    "smooth_slices",
 ];
-const DEFECT_KEYS: [&str; 5] = ["slices", "ends", "overlays", "ring_points", "end"];
+const DEFECT_KEYS: [&str; 6] = [
+    "slices",
+    "ends",
+    "overlays",
+    "ring_points",
+    "end",
+    "template",
+];
+const VALIDATION_3D_KEYS: [&str; 6] = [
+    "ranges",
+    "positions",
+    "widths",
+    "methods",
+    "runs",
+    "margin_mm",
+];
 const END_KEYS: [&str; 3] = ["z", "a", "b"];
 const VALIDATION_KEYS: [&str; 6] = [
     "slices",
@@ -191,10 +254,22 @@ impl Parser<'_> {
         if a.len() != 2 {
             return Err(self.error(v.span(), field, "expected [row, col] (two numbers)".into()));
         }
-        Ok((
-            self.finite_real(a[0], field)?,
-            self.finite_real(a[1], field)?,
-        ))
+        let mut rc = [0.0; 2];
+        for (i, x) in a.iter().enumerate() {
+            rc[i] = self.finite_real(x, field)?;
+            if rc[i] < 0.0 {
+                return Err(self.error(
+                    x.span(),
+                    field,
+                    format!(
+                        "expected a pixel {} ≥ 0 (rows and columns count from the image's top left), found {}",
+                        ["row", "column"][i],
+                        self.show(x)
+                    ),
+                ));
+            }
+        }
+        Ok((rc[0], rc[1]))
     }
 
     fn method(&self, v: &Value<'_>, field: &str) -> Result<Method, SpecError> {
@@ -214,6 +289,7 @@ impl Parser<'_> {
         Method::from_name(&name).ok_or_else(bad)
     }
 
+    /// `[first, last]` slice numbers with `first ≤ last`.
     fn range(&self, v: &Value<'_>, field: &str) -> Result<(usize, usize), SpecError> {
         let a = self.array(v, field)?;
         if a.len() != 2 {
@@ -227,11 +303,11 @@ impl Parser<'_> {
             self.int(a[0], field, 0, 1 << 20)? as usize,
             self.int(a[1], field, 0, 1 << 20)? as usize,
         );
-        if z1 <= z0 {
+        if z1 < z0 {
             return Err(self.error(
                 v.span(),
                 field,
-                format!("expected first < last, found [{z0}, {z1}]"),
+                format!("expected first ≤ last, found [{z0}, {z1}]"),
             ));
         }
         Ok((z0, z1))
@@ -243,7 +319,11 @@ impl Parser<'_> {
             self.error(e.span().unwrap_or(0..0), "", format!("invalid TOML: {msg}"))
         })?;
         let root = doc.get_ref();
-        self.check_keys(root, "", &["implant", "defect", "validation"])?;
+        self.check_keys(
+            root,
+            "",
+            &["implant", "defect", "validation", "validation_3d"],
+        )?;
         let imp = self
             .get(root, "implant")
             .ok_or_else(|| self.error(0..0, "implant", "missing section [implant]".into()))?;
@@ -256,13 +336,18 @@ impl Parser<'_> {
             Some(v) => Some(self.validation_section(v, &implant.method)?),
             None => None,
         };
-        if defect.is_none() && validation.is_none() {
+        let validation_3d = match self.get(root, "validation_3d") {
+            Some(v) => Some(self.validation_3d_section(v, &implant.method)?),
+            None => None,
+        };
+        if defect.is_none() && validation.is_none() && validation_3d.is_none() {
             return Err(self.error(
                 0..0,
                 "",
-                "nothing to run: add a [defect] or a [validation] section".into(),
+                "nothing to run: add a [defect], [validation] or [validation_3d] section".into(),
             ));
         }
+        self.check_midline_source(&implant.config, imp)?;
         Ok(ImplantSpec {
             path: self.path.to_owned(),
             volume: implant.volume,
@@ -273,7 +358,33 @@ impl Parser<'_> {
             overlays: defect.unwrap_or_default(),
             defect_config: implant.config,
             validation,
+            validation_3d,
         })
+    }
+
+    /// An estimated midline needs slices: `midline_slices`, or defect
+    /// slices, several of them (one defect slice is no symmetric sample).
+    fn check_midline_source(&self, cfg: &DefectConfig, imp: &Value<'_>) -> Result<(), SpecError> {
+        if let MidlineSpec::Auto(zs) = &cfg.midline {
+            if zs.is_empty() && cfg.slices.len() < 2 {
+                let what = if cfg.slices.is_empty() {
+                    "without a [defect] section"
+                } else {
+                    "for a one-slice study"
+                };
+                let span = self
+                    .table(imp, "implant")
+                    .ok()
+                    .and_then(|t| self.get(t, "midline"))
+                    .map_or(imp.span(), |v| v.span());
+                return Err(self.error(
+                    span,
+                    "implant.midline",
+                    format!("`midline = \"auto\"` {what} needs `midline_slices` (intact slices to estimate it from); or give `midline` in mm"),
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// The `[implant]` section: the volume, the method and seed, and the
@@ -304,6 +415,48 @@ impl Parser<'_> {
             None => Method::from_name("mhs").expect("mhs exists"),
         };
         let midline = self.midline(imp)?;
+        let real_or = |k: &str, d: f64, min: f64| -> Result<f64, SpecError> {
+            match self.get(imp, k) {
+                None => Ok(d),
+                Some(v) => {
+                    let x = self.finite_real(v, &format!("implant.{k}"))?;
+                    if x < min {
+                        return Err(self.error(
+                            v.span(),
+                            &format!("implant.{k}"),
+                            format!("expected a number ≥ {min}, found {x}"),
+                        ));
+                    }
+                    Ok(x)
+                }
+            }
+        };
+        let mut wall = wall;
+        wall.tangent_mm = real_or("tangent_mm", wall.tangent_mm, 0.5)?;
+        wall.seat_bend_deg = real_or("seat_bend_deg", wall.seat_bend_deg, 0.0)?;
+        wall.seat_max_mm = real_or("seat_max_mm", wall.seat_max_mm, 0.0)?;
+        wall.thickness_setback_mm =
+            real_or("thickness_setback_mm", wall.thickness_setback_mm, 0.0)?;
+        wall.max_thickness_mm = real_or("max_thickness_mm", wall.max_thickness_mm, 0.1)?;
+        let smoothing = Smoothing {
+            max_thickness_step_mm: real_or(
+                "max_thickness_step_mm",
+                Smoothing::default().max_thickness_step_mm,
+                0.0,
+            )?,
+            wall_half_width: int_or(
+                "smooth_slices",
+                Smoothing::default().wall_half_width as i64,
+                0,
+                20,
+            )? as usize,
+            seat_change_deg_per_mm: real_or(
+                "seat_change_deg_per_mm",
+                Smoothing::default().seat_change_deg_per_mm,
+                0.0,
+            )?,
+        };
+        let max_tilt_deg = real_or("max_tilt_deg", 20.0, 0.0)?.min(45.0);
         Ok(ImplantSection {
             volume,
             volume_label,
@@ -313,8 +466,11 @@ impl Parser<'_> {
                 first_z,
                 slices: Vec::new(),
                 midline,
+                max_tilt_deg,
                 threshold,
                 wall,
+                smoothing,
+                templates: None,
                 ring_points: 160,
             },
         })
@@ -357,7 +513,8 @@ impl Parser<'_> {
         Ok(wall)
     }
 
-    /// `implant.midline` (`"auto"` or M_x in mm) and `implant.midline_slices`.
+    /// `implant.midline` (`"auto"`, M_x in mm for a vertical line, or
+    /// `[x_mm, y_mm, tilt_deg]`) and `implant.midline_slices`.
     fn midline(&self, imp: &Table<'_>) -> Result<MidlineSpec, SpecError> {
         let midline_slices = match self.get(imp, "midline_slices") {
             Some(v) => {
@@ -368,19 +525,40 @@ impl Parser<'_> {
         };
         Ok(match self.get(imp, "midline") {
             None => MidlineSpec::Auto(midline_slices),
-            Some(v) => match v.get_ref() {
-                DeValue::String(s) if s.as_ref() == "auto" => MidlineSpec::Auto(midline_slices),
-                DeValue::Integer(_) | DeValue::Float(_) => {
-                    MidlineSpec::Given(self.finite_real(v, "implant.midline")?)
+            Some(v) => {
+                match v.get_ref() {
+                    DeValue::String(s) if s.as_ref() == "auto" => MidlineSpec::Auto(midline_slices),
+                    DeValue::Integer(_) | DeValue::Float(_) => MidlineSpec::Given(
+                        MidLine::vertical(self.finite_real(v, "implant.midline")?),
+                    ),
+                    DeValue::Array(a) if a.len() == 3 => {
+                        let a = self.array(v, "implant.midline")?;
+                        let f = |i: usize| self.finite_real(a[i], &format!("implant.midline[{i}]"));
+                        let tilt = f(2)?;
+                        if tilt.abs() > 45.0 {
+                            return Err(self.error(
+                            a[2].span(),
+                            "implant.midline[2]",
+                            format!("expected a tilt from vertical in -45..=45 degrees, found {tilt}"),
+                        ));
+                        }
+                        MidlineSpec::Given(MidLine {
+                            point: Point::new(f(0)?, f(1)?),
+                            tilt: tilt.to_radians(),
+                        })
+                    }
+                    _ => {
+                        return Err(self.error(
+                            v.span(),
+                            "implant.midline",
+                            format!(
+                                "expected \"auto\", M_x in mm or [x_mm, y_mm, tilt_deg], found {}",
+                                self.show(v)
+                            ),
+                        ))
+                    }
                 }
-                _ => {
-                    return Err(self.error(
-                        v.span(),
-                        "implant.midline",
-                        format!("expected \"auto\" or M_x in mm, found {}", self.show(v)),
-                    ))
-                }
-            },
+            }
         })
     }
 
@@ -426,6 +604,11 @@ impl Parser<'_> {
             .collect();
         if let Some(v) = self.get(d, "end") {
             self.defect_ends(v, (z0, z1), &mut cfg.slices)?;
+        }
+        if let Some(v) = self.get(d, "template") {
+            let label = self.string(v, "defect.template")?;
+            let base = self.path.parent().unwrap_or(Path::new("."));
+            cfg.templates = Some(read_templates(&base.join(&label), (z0, z1))?);
         }
         Ok(overlays)
     }
@@ -538,6 +721,85 @@ impl Parser<'_> {
             methods,
             runs,
             margin_mm,
+        })
+    }
+}
+
+impl Parser<'_> {
+    /// The `[validation_3d]` section; its methods default to `[method]`.
+    fn validation_3d_section(
+        &self,
+        v: &Value<'_>,
+        method: &Method,
+    ) -> Result<Validation3dSpec, SpecError> {
+        let t = self.table(v, "validation_3d")?;
+        self.check_keys(t, "validation_3d", &VALIDATION_3D_KEYS)?;
+        let need = |k: &str| {
+            self.get(t, k).ok_or_else(|| {
+                self.error(
+                    v.span(),
+                    &format!("validation_3d.{k}"),
+                    format!("missing field `{k}`"),
+                )
+            })
+        };
+        let mut ranges = Vec::new();
+        for (i, r) in self
+            .array(need("ranges")?, "validation_3d.ranges")?
+            .iter()
+            .enumerate()
+        {
+            let f = format!("validation_3d.ranges[{i}]");
+            let (z0, z1) = self.range(r, &f)?;
+            if z1 - z0 < 2 {
+                return Err(self.error(
+                    r.span(),
+                    &f,
+                    format!("expected a patch of at least 3 slices, found [{z0}, {z1}]"),
+                ));
+            }
+            ranges.push((z0, z1));
+        }
+        let reals = |k: &str, positive: bool| -> Result<Vec<f64>, SpecError> {
+            let f = format!("validation_3d.{k}");
+            let a = self.array(need(k)?, &f)?;
+            a.iter()
+                .enumerate()
+                .map(|(i, x)| {
+                    let y = self.finite_real(x, &format!("{f}[{i}]"))?;
+                    if positive && y <= 0.0 {
+                        return Err(self.error(
+                            x.span(),
+                            &format!("{f}[{i}]"),
+                            "expected a width > 0 mm".into(),
+                        ));
+                    }
+                    Ok(y)
+                })
+                .collect()
+        };
+        let methods = match self.get(t, "methods") {
+            None => vec![method.clone()],
+            Some(m) => self
+                .array(m, "validation_3d.methods")?
+                .iter()
+                .enumerate()
+                .map(|(i, x)| self.method(x, &format!("validation_3d.methods[{i}]")))
+                .collect::<Result<Vec<_>, _>>()?,
+        };
+        Ok(Validation3dSpec {
+            ranges,
+            positions: reals("positions", false)?,
+            widths: reals("widths", true)?,
+            methods,
+            runs: match self.get(t, "runs") {
+                None => 5,
+                Some(x) => self.int(x, "validation_3d.runs", 1, 100_000)? as usize,
+            },
+            margin_mm: match self.get(t, "margin_mm") {
+                None => 10.0,
+                Some(x) => self.finite_real(x, "validation_3d.margin_mm")?,
+            },
         })
     }
 }

@@ -4,12 +4,15 @@
 //! compared with the bone that was removed.
 //!
 //! A case is one slice `z`, a position (polar angle `θ_c` in degrees about
-//! the polar centre `(M_x, ȳ)`, image frame: 0° = +x, 90° = +y = down) and
+//! the polar centre on the midline at the outer contour's mean height,
+//! image frame: 0° = +x, 90° = +y = the face in CT 0051) and
 //! a width `w` (mm, arc length on the outer envelope). The cut is the
 //! wedge of rays `θ_c ± w/(2 r_c)`, `r_c = E(θ_c)`: every bone pixel whose
 //! centre lies in it is removed (the ground truth), so the bone ends are
-//! radial. The reconstruction only reads the contour at rays outside the
-//! wedge (see [`super::wall::reconstruct_wall`]) and the defective bone mask.
+//! radial. The removed pixels are set to 40 HU (soft tissue) in the slice
+//! the section is clipped against. The reconstruction only reads the
+//! contour at rays outside the wedge (see [`super::wall::reconstruct_wall`]),
+//! the defective bone mask and the defective slice.
 //!
 //! Metrics (one-slice masks, so surfaces are the 2D boundaries):
 //! [`dice`], [`boundary_dice`] within `margin_mm` of the defective skull,
@@ -19,8 +22,12 @@
 use super::wall::{envelope_radius, reconstruct_wall, Wall, WallInput, WallKind, WallOptions};
 use crate::ct::{
     bone_loops, bone_mask_slice, boundary_dice, contour_deviation, dice, hd95, voxelise, CtError,
-    Mask2, Mask3, Polyline, Spacing, Volume,
+    Mask2, Mask3, MidLine, Polyline, Slice, Spacing, Volume,
 };
+
+/// The HU value given to the bone removed by an artificial cut (soft
+/// tissue).
+pub const CUT_HU: i16 = 40;
 use crate::fit::SegmentSolver;
 use crate::geometry::Point;
 
@@ -42,10 +49,10 @@ pub struct PreparedCase {
     pub case: Case,
     /// The slice's outer contour (largest outer loop, uncut).
     pub outer: Polyline,
-    /// The polar centre `(M_x, ȳ)`.
+    /// The polar centre: the midline at the outer contour's mean height.
     pub centre: Point,
-    /// `M_x` in mm.
-    pub midline_x: f64,
+    /// The mid-sagittal line.
+    pub midline: MidLine,
     /// A = E(θ₁) and B = E(θ₂), the cut's outer corners.
     pub a: Point,
     /// B.
@@ -54,10 +61,14 @@ pub struct PreparedCase {
     pub truth: Mask2,
     /// The bone left after the cut.
     pub defective: Mask2,
+    /// The slice's HU with the removed bone set to [`CUT_HU`] (row-major).
+    pub defective_hu: Vec<i16>,
     /// The removed outer envelope between A and B (reference contour).
     pub true_outer: Polyline,
     /// Pixel spacing (x, y) in mm.
     pub spacing: (f64, f64),
+    /// The bone threshold (HU).
+    pub threshold: i16,
 }
 
 /// Metrics of one reconstruction.
@@ -75,28 +86,41 @@ pub struct CaseMetrics {
     pub dev_max: f64,
 }
 
-fn in_wedge(theta: f64, lo: f64, width: f64) -> bool {
+/// Whether the polar angle `theta` lies in the wedge `[lo, lo + width]`
+/// (radians, modulo 2π).
+pub(crate) fn in_wedge(theta: f64, lo: f64, width: f64) -> bool {
     (theta - lo).rem_euclid(std::f64::consts::TAU) <= width
+}
+
+/// An intact slice's bone mask, its outer bone loop (the largest
+/// counter-clockwise loop) and the polar centre on `midline` at the loop's
+/// mean height.
+pub(crate) fn outer_loop(
+    slice: &Slice<'_>,
+    threshold: i16,
+    midline: &MidLine,
+) -> Result<(Mask2, Polyline, Point), CtError> {
+    let mask = bone_mask_slice(slice, threshold)?;
+    let loops = bone_loops(slice, &mask, threshold);
+    let outer = loops
+        .into_iter()
+        .filter(|l| l.signed_area() > 0.0)
+        .max_by(|a, b| a.signed_area().total_cmp(&b.signed_area()))
+        .ok_or(CtError::NoClosedContour)?;
+    let centre = midline.at_y(outer.vertex_mean().y);
+    Ok((mask, outer, centre))
 }
 
 /// Cuts the case's defect out of slice `case.index` of `volume`.
 pub fn prepare_case(
     volume: &Volume,
     case: Case,
-    midline_x: f64,
+    midline: MidLine,
     threshold: i16,
 ) -> Result<PreparedCase, CtError> {
     let slice = volume.slice(case.index);
     let (sx, sy) = (slice.sx, slice.sy);
-    let mask = bone_mask_slice(&slice, threshold)?;
-    let loops = bone_loops(&slice, &mask, threshold);
-    let outer = loops
-        .iter()
-        .filter(|l| l.signed_area() > 0.0)
-        .max_by(|a, b| a.signed_area().total_cmp(&b.signed_area()))
-        .cloned()
-        .ok_or(CtError::NoClosedContour)?;
-    let centre = Point::new(midline_x, outer.vertex_mean().y);
+    let (mask, outer, centre) = outer_loop(&slice, threshold, &midline)?;
     let polys = [&outer];
     let tc = case.position_deg.to_radians();
     let rc = envelope_radius(&polys, centre, tc).ok_or(CtError::NoContourAt {
@@ -117,12 +141,14 @@ pub fn prepare_case(
     );
     let mut truth = Mask2::new(mask.nx, mask.ny);
     let mut defective = mask.clone();
+    let mut defective_hu = slice.data.to_vec();
     for (r, c) in mask.pixels() {
         let p = Point::new(c as f64 * sx, r as f64 * sy);
         let th = (p.y - centre.y).atan2(p.x - centre.x);
         if in_wedge(th, t1, t2 - t1) {
             truth.set(r, c, true);
             defective.set(r, c, false);
+            defective_hu[r * mask.nx + c] = CUT_HU;
         }
     }
     if truth.count() == 0 {
@@ -132,13 +158,15 @@ pub fn prepare_case(
         case,
         outer,
         centre,
-        midline_x,
+        midline,
         a,
         b,
         truth,
         defective,
+        defective_hu,
         true_outer,
         spacing: (sx, sy),
+        threshold,
     })
 }
 
@@ -156,13 +184,23 @@ pub fn reconstruct_case<S: SegmentSolver + ?Sized>(
         r >= 0.0 && c >= 0.0 && p.defective.get_or_false(r as i64, c as i64)
     };
     let outer = [&p.outer];
+    let slice = Slice {
+        z: p.case.index,
+        nx: p.truth.nx,
+        ny: p.truth.ny,
+        sx,
+        sy,
+        data: &p.defective_hu,
+    };
     let input = WallInput {
         outer: &outer,
         is_bone: &is_bone,
         centre: p.centre,
-        midline_x: p.midline_x,
+        midline: p.midline,
         a: p.a,
         b: p.b,
+        template: None,
+        tissue: Some((&slice, p.threshold)),
     };
     reconstruct_wall(&input, kind, options, solver)
 }
@@ -183,7 +221,7 @@ pub fn case_metrics(p: &PreparedCase, wall: &Wall, margin_mm: f64) -> Result<Cas
     } else {
         hd95(&recon, &truth)?
     };
-    let dev = contour_deviation(&wall.outer, &p.true_outer, 0.25)?;
+    let dev = contour_deviation(&wall.design.outer, &p.true_outer, 0.25)?;
     Ok(CaseMetrics {
         dice: dice(&recon, &truth)?,
         boundary_dice: boundary_dice(&recon, &truth, &skull, margin_mm)?,
@@ -239,7 +277,7 @@ pub fn evaluate<S: SegmentSolver + ?Sized>(
     match reconstruct_case(p, kind, options, solver) {
         Ok(w) => (
             case_metrics(p, &w, margin_mm).map_err(CaseError::Measure),
-            w.fit_error,
+            w.design.fit_error,
             w.join_angles_deg(),
         ),
         Err(e) => (

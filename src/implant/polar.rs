@@ -1,0 +1,470 @@
+//! The contours around one defect in polar form about a centre on the
+//! mid-sagittal line, and what the wall design reads from them: the ends A′
+//! and B′ on the outer envelope, the mirrored template, the local outer
+//! table next to each end (its direction for the G¹ joins and the kink
+//! metric) and the bone thickness along the table's normal.
+//!
+//! The reflection across the mid-sagittal line ([`crate::ct::MidLine`], tilted in
+//! general) maps the ray at angle `θ` from its centre to the ray at
+//! `2α − θ` (`α` the line's direction angle), so the mirrored envelope is
+//! `R(θ) = reflect(E(2α − θ))`.
+
+use super::wall::{WallInput, WallOptions};
+use crate::ct::{CtError, Polyline};
+use crate::fit::{
+    FitError, FunctionType, LmSolver, SearchSpaceOptions, SegmentProblem, SegmentSolver, Start,
+};
+use crate::geometry::{Curve, Parameterisation, Point};
+use crate::linalg::cholesky_solve;
+
+/// The farthest crossing (mm from `o`) of the ray from `o` at angle `theta`
+/// with any of `polys`; `None` if the ray misses them all.
+pub fn envelope_radius(polys: &[&Polyline], o: Point, theta: f64) -> Option<f64> {
+    let d = Point::new(theta.cos(), theta.sin());
+    let mut best: Option<f64> = None;
+    for p in polys {
+        for i in 0..p.segment_count() {
+            let (u, v) = p.segment(i);
+            let e = v - u;
+            let den = d.cross(e);
+            if den.abs() < 1e-15 {
+                continue;
+            }
+            let w = u - o;
+            let r = w.cross(e) / den;
+            let t = w.cross(d) / den;
+            if r > 0.0 && (0.0..=1.0).contains(&t) && best.is_none_or(|b| r > b) {
+                best = Some(r);
+            }
+        }
+    }
+    best
+}
+
+/// The spacing of the candidate seats (mm of outer table).
+pub const SEAT_STEP_MM: f64 = 0.25;
+
+/// The polar angle of `p` about `o`.
+pub(crate) fn angle(p: Point, o: Point) -> f64 {
+    (p.y - o.y).atan2(p.x - o.x)
+}
+
+/// `d` wrapped into `(−π, π]`.
+pub(crate) fn wrap(d: f64) -> f64 {
+    let t = std::f64::consts::TAU;
+    let r = d.rem_euclid(t);
+    if r > std::f64::consts::PI {
+        r - t
+    } else {
+        r
+    }
+}
+
+/// The wall's ends on the envelope and their mirror images.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct WallEnds {
+    /// A′ = E(θ_A).
+    pub a: Point,
+    /// B′ = E(θ_B).
+    pub b: Point,
+    /// C: A′ reflected (or the explicit template's first point).
+    pub c: Point,
+    /// D: B′ reflected (or the explicit template's last point).
+    pub d: Point,
+}
+
+/// Which end of the defect.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Side {
+    /// A′, where the wall starts.
+    A,
+    /// B′, where the wall ends.
+    B,
+}
+
+/// The defect in polar form about `input.centre`: the outer envelope
+/// `E(θ)` and the gap's rays from A′ at `th_a` over the signed angular width
+/// `span`, each end moved 0.5 mm (arc) into the intact bone so that the ray
+/// meets the contour that the cut at A (B) ends.
+pub(crate) struct Gap<'a> {
+    pub input: WallInput<'a>,
+    /// The polar angle of A′ (radians).
+    pub th_a: f64,
+    /// The signed angular width from A′ to B′ (radians).
+    pub span: f64,
+}
+
+impl<'a> Gap<'a> {
+    /// The gap between `input.a` and `input.b`, each end's ray moved into
+    /// the bone: 0.5 mm of arc, then in 0.25 mm steps (up to 4 mm) until
+    /// the envelope point lies within 2.5 mm of the end (a ray grazing a
+    /// bone tip would otherwise meet the bone behind it).
+    pub fn new(input: WallInput<'a>) -> Self {
+        let o = input.centre;
+        let th_a0 = angle(input.a, o);
+        let span0 = wrap(angle(input.b, o) - th_a0);
+        let mut gap = Gap {
+            input,
+            th_a: th_a0,
+            span: span0,
+        };
+        let nudge = |gap: &Gap<'_>, p: Point, th: f64, dir: f64| {
+            let per_mm = 1.0 / p.distance(o).max(1e-9);
+            (0..=14)
+                .map(|k| th + dir * (0.5 + 0.25 * k as f64) * per_mm)
+                .find(|&t| gap.env(t).is_some_and(|q| q.distance(p) <= 2.5))
+                .unwrap_or(th + dir * 0.5 * per_mm)
+        };
+        let sign = span0.signum();
+        let th_a = nudge(&gap, input.a, th_a0, -sign);
+        let th_b = nudge(&gap, input.b, th_a0 + span0, sign);
+        gap.th_a = th_a;
+        gap.span = th_b - th_a;
+        gap
+    }
+
+    /// The envelope point `E(θ)`, or `None` where the ray misses.
+    pub fn env(&self, theta: f64) -> Option<Point> {
+        let o = self.input.centre;
+        envelope_radius(self.input.outer, o, theta)
+            .map(|r| o + Point::new(theta.cos(), theta.sin()) * r)
+    }
+
+    /// The mirrored envelope `R(θ) = reflect(E(2α − θ))`.
+    pub fn mirrored(&self, theta: f64) -> Option<Point> {
+        let line = self.input.midline;
+        self.env(2.0 * line.angle() - theta)
+            .map(|p| line.reflect(p))
+    }
+
+    /// A′, B′ on the envelope and C, D: the mirror images of A′, B′, each
+    /// within `tol` of the envelope at the mirrored angle, or, with an
+    /// explicit template, its first and last points, each within `tol` of
+    /// A′ and B′.
+    pub fn ends(&self, tol: f64) -> Result<WallEnds, CtError> {
+        let on = |what: &'static str, p: Option<Point>, target: Point| -> Result<Point, CtError> {
+            let d = p.map_or(f64::INFINITY, |q| q.distance(target));
+            match p {
+                Some(q) if d <= tol => Ok(q),
+                _ => Err(CtError::NotOnContour {
+                    what,
+                    distance_mm: d,
+                    tolerance_mm: tol,
+                }),
+            }
+        };
+        let (th_a, th_b) = (self.th_a, self.th_a + self.span);
+        let a = on("A", self.env(th_a), self.env(th_a).unwrap_or(self.input.a))?;
+        let b = on("B", self.env(th_b), self.env(th_b).unwrap_or(self.input.b))?;
+        if let Some(t) = self.input.template {
+            let (first, last) = template_ends(t, a);
+            on("the template's start (A′)", Some(first), a)?;
+            on("the template's end (B′)", Some(last), b)?;
+            return Ok(WallEnds {
+                a,
+                b,
+                c: first,
+                d: last,
+            });
+        }
+        let line = self.input.midline;
+        let (c, d) = (line.reflect(a), line.reflect(b));
+        on(
+            "C (A mirrored)",
+            self.mirrored(th_a).map(|p| line.reflect(p)),
+            c,
+        )?;
+        on(
+            "D (B mirrored)",
+            self.mirrored(th_b).map(|p| line.reflect(p)),
+            d,
+        )?;
+        Ok(WallEnds { a, b, c, d })
+    }
+
+    /// The fit data: the mirrored envelope `R(θ)` on `template_points` rays
+    /// from θ_A to θ_B, or the explicit template resampled by arc length to
+    /// as many points; the ends replaced by A′ and B′.
+    pub fn template(&self, ends: &WallEnds, options: &WallOptions) -> Result<Vec<Point>, CtError> {
+        let needed = options.function.min_points();
+        let n_t = options.template_points.max(needed + 2);
+        let mut data: Vec<Point> = match self.input.template {
+            Some(t) if t.points.len() >= 2 => {
+                let (first, _) = template_ends(t, ends.a);
+                let t = if first == t.points[0] {
+                    t.clone()
+                } else {
+                    t.reversed()
+                };
+                t.resample(n_t).points
+            }
+            Some(t) => t.points.clone(),
+            None => (0..n_t)
+                .filter_map(|k| self.mirrored(self.th_a + self.span * k as f64 / (n_t - 1) as f64))
+                .collect(),
+        };
+        if data.len() < needed {
+            return Err(CtError::TemplateNotCovered {
+                points: data.len(),
+                needed,
+            });
+        }
+        let last = data.len() - 1;
+        data[0] = ends.a;
+        data[last] = ends.b;
+        Ok(data)
+    }
+
+    /// The same gap with its ends moved to the points `a` and `b` (the
+    /// seats).
+    pub fn moved(&self, a: Point, b: Point) -> Gap<'a> {
+        let o = self.input.centre;
+        let th_a = angle(a, o);
+        let th_b = self.th_a + self.span + wrap(angle(b, o) - (self.th_a + self.span));
+        Gap {
+            input: self.input,
+            th_a,
+            span: th_b - th_a,
+        }
+    }
+
+    /// The bend of the outer table at the candidate seats `s = 0, 0.25, …,
+    /// max_mm` behind an end: the angle (degrees) between the 3 mm secant
+    /// after `s` and the next 3 mm secant. Bone ends are bevelled or rounded
+    /// over a few millimetres, and a wall joined tangentially to that bevel
+    /// would meet the table proper at a kink.
+    pub fn bends(walk: &TableWalk, max_mm: f64) -> Vec<f64> {
+        let steps = (max_mm / SEAT_STEP_MM).floor().max(0.0) as usize;
+        (0..=steps)
+            .map(|k| {
+                let s = k as f64 * SEAT_STEP_MM;
+                let d1 = walk.at(s + 3.0) - walk.at(s);
+                let d2 = walk.at(s + 6.0) - walk.at(s + 3.0);
+                d1.cross(d2).atan2(d1.dot(d2)).abs().to_degrees()
+            })
+            .collect()
+    }
+
+    /// The polar angle of an end.
+    fn theta(&self, side: Side) -> f64 {
+        match side {
+            Side::A => self.th_a,
+            Side::B => self.th_a + self.span,
+        }
+    }
+
+    /// The outer table next to an end: the envelope walked away from the
+    /// gap over `length_mm` of arc (rays every ≈ 0.2 mm), starting at the
+    /// end's ray. `None` when a ray misses the contour before.
+    pub fn table(&self, side: Side, length_mm: f64) -> Option<TableWalk> {
+        let o = self.input.centre;
+        let dir = match side {
+            Side::A => -self.span.signum(),
+            Side::B => self.span.signum(),
+        };
+        let mut theta = self.theta(side);
+        let mut pts = vec![self.env(theta)?];
+        let mut cum = vec![0.0];
+        while cum[cum.len() - 1] < length_mm {
+            let last = pts[pts.len() - 1];
+            theta += dir * 0.2 / last.distance(o).max(1.0);
+            let p = self.env(theta)?;
+            cum.push(cum[cum.len() - 1] + p.distance(last));
+            pts.push(p);
+        }
+        Some(TableWalk { pts, cum })
+    }
+
+    /// The unit direction of travel (A → B) of the outer table at an end:
+    /// the derivative at the end of a least-squares quadratic in arc length
+    /// through 9 points of the table over `window_mm` next to it.
+    pub fn local_tangent(&self, side: Side, walk: &TableWalk, window_mm: f64) -> Option<Point> {
+        // σ: arc length in the direction of travel, 0 at the end.
+        let sign = if side == Side::A { -1.0 } else { 1.0 };
+        let samples: Vec<(f64, Point)> = (0..=8)
+            .map(|k| {
+                let s = window_mm * k as f64 / 8.0;
+                (sign * s, walk.at(s))
+            })
+            .collect();
+        quadratic_slope(&samples)?.normalize()
+    }
+
+    /// The bone thickness next to an end: the median of the first bone
+    /// runs along the table's inward normal (from its secant over ±1 mm)
+    /// at the points ½, ¾, 1, 1¼ and 1½ × `setback_mm` back from the end
+    /// (runs of zero, where a ray misses the bone, are left out), capped at
+    /// `max_mm`; 0 when every ray misses.
+    pub fn thickness(&self, walk: &TableWalk, setback_mm: f64, max_mm: f64) -> f64 {
+        let mut runs: Vec<f64> = [0.5, 0.75, 1.0, 1.25, 1.5]
+            .iter()
+            .map(|f| {
+                let s = f * setback_mm;
+                let p = walk.at(s);
+                let t = walk.at(s + 1.0) - walk.at((s - 1.0).max(0.0));
+                let Some(n) = t.perp().normalize() else {
+                    return 0.0;
+                };
+                let inward = if n.dot(self.input.centre - p) >= 0.0 {
+                    n
+                } else {
+                    -n
+                };
+                thickness_along(p, inward, self.input.is_bone)
+            })
+            .filter(|&t| t > 0.0)
+            .collect();
+        if runs.is_empty() {
+            return 0.0;
+        }
+        runs.sort_by(f64::total_cmp);
+        let n = runs.len();
+        let m = if n % 2 == 1 {
+            runs[n / 2]
+        } else {
+            0.5 * (runs[n / 2 - 1] + runs[n / 2])
+        };
+        m.min(max_mm)
+    }
+
+    /// The derivatives of the intact envelope at A′ and B′ (direction of
+    /// travel), from neighbouring cubics over the same angular width as the
+    /// gap (≤ 30°): the magnitudes of C¹ joins.
+    pub fn neighbour_derivatives(&self) -> Result<(Point, Point), CtError> {
+        let span = self.span;
+        let w = span.abs().min(30f64.to_radians()) * span.signum();
+        let side = |from: f64, dir: f64| -> Vec<Point> {
+            (0..=24)
+                .filter_map(|k| self.env(from + dir * w * k as f64 / 24.0))
+                .collect()
+        };
+        let mut before = side(self.th_a, -1.0);
+        before.reverse(); // ends at A′
+        let after = side(self.th_a + span, 1.0); // starts at B′
+        if before.len() < 6 || after.len() < 6 {
+            return Err(CtError::TooLittleIntactContour {
+                before: before.len(),
+                after: after.len(),
+            });
+        }
+        let d_a = neighbour_derivative(before, true).map_err(fit_err)?;
+        let d_b = neighbour_derivative(after, false).map_err(fit_err)?;
+        Ok((d_a, d_b))
+    }
+}
+
+/// The explicit template's ends ordered so that the first is the one
+/// nearer `a`.
+fn template_ends(t: &Polyline, a: Point) -> (Point, Point) {
+    let (p, q) = (t.points[0], t.points[t.points.len() - 1]);
+    if p.distance(a) <= q.distance(a) {
+        (p, q)
+    } else {
+        (q, p)
+    }
+}
+
+/// The outer table walked from an end: envelope points by arc length.
+pub(crate) struct TableWalk {
+    /// The points, from the end outwards.
+    pts: Vec<Point>,
+    /// Their arc lengths from the end.
+    cum: Vec<f64>,
+}
+
+impl TableWalk {
+    /// The walk from the point `s` mm along it onwards.
+    pub fn from(&self, s: f64) -> TableWalk {
+        let mut pts = vec![self.at(s)];
+        let mut cum = vec![0.0];
+        for (p, c) in self.pts.iter().zip(&self.cum).filter(|(_, &c)| c > s) {
+            pts.push(*p);
+            cum.push(c - s);
+        }
+        TableWalk { pts, cum }
+    }
+
+    /// The point `s` mm (arc length) from the end (clamped to the walk).
+    pub fn at(&self, s: f64) -> Point {
+        let i = self.cum.partition_point(|&c| c < s);
+        if i == 0 {
+            return self.pts[0];
+        }
+        if i >= self.pts.len() {
+            return self.pts[self.pts.len() - 1];
+        }
+        let (c0, c1) = (self.cum[i - 1], self.cum[i]);
+        let t = if c1 > c0 { (s - c0) / (c1 - c0) } else { 0.0 };
+        self.pts[i - 1].lerp(self.pts[i], t)
+    }
+}
+
+/// The slope `b` of the least-squares quadratic `p(σ) = a + bσ + cσ²`
+/// through `(σ_k, p_k)`: the curve's derivative at σ = 0.
+fn quadratic_slope(samples: &[(f64, Point)]) -> Option<Point> {
+    let mut m = [0.0; 9];
+    let (mut bx, mut by) = ([0.0; 3], [0.0; 3]);
+    for &(s, p) in samples {
+        let f = [1.0, s, s * s];
+        for i in 0..3 {
+            for j in 0..3 {
+                m[3 * i + j] += f[i] * f[j];
+            }
+            bx[i] += f[i] * p.x;
+            by[i] += f[i] * p.y;
+        }
+    }
+    let mut m2 = m;
+    if !(cholesky_solve(&mut m, &mut bx, 3) && cholesky_solve(&mut m2, &mut by, 3)) {
+        return None;
+    }
+    Some(Point::new(bx[1], by[1]))
+}
+
+/// The bone thickness along the ray from the outer point `p` in the unit
+/// direction `dir`: the length of the first run of bone, stepping 0.1 mm,
+/// ending at the first 0.5 mm without bone (the first 2 mm may be free of
+/// bone: the contour lies half a pixel outside the bone's centres).
+pub(crate) fn thickness_along(p: Point, dir: Point, is_bone: &dyn Fn(Point) -> bool) -> f64 {
+    let (step, max_gap, limit) = (0.1, 0.5, 60.0);
+    let (mut last_bone, mut gap) = (0.0, 0.0);
+    let mut s = 0.0;
+    while s < limit {
+        s += step;
+        if is_bone(p + dir * s) {
+            last_bone = s;
+            gap = 0.0;
+        } else if last_bone > 0.0 || s > 2.0 {
+            gap += step;
+            if gap >= max_gap {
+                break;
+            }
+        }
+    }
+    last_bone
+}
+
+/// A cubic fitted by least squares (chord-length parameters) to `points`,
+/// as the neighbouring segment of a chapter-5 piecewise fit would be; its
+/// derivative at the last point (`at_end`) or the first.
+fn neighbour_derivative(points: Vec<Point>, at_end: bool) -> Result<Point, FitError> {
+    let p = SegmentProblem::with_parameterisation(
+        FunctionType::Cubic,
+        points,
+        Parameterisation::ChordLength,
+        Start::Free,
+        &SearchSpaceOptions::default(),
+    )?;
+    let sol = LmSolver::default().solve(&p, 2_000);
+    let seg = p.segment(&sol.x);
+    Ok(if at_end {
+        seg.deriv(1.0)
+    } else {
+        seg.deriv(0.0)
+    })
+}
+
+/// A fit error as the CT layer's error.
+pub(crate) fn fit_err(source: FitError) -> CtError {
+    CtError::OuterWallFit { source }
+}

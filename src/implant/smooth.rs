@@ -1,0 +1,221 @@
+//! Smoothness across slices (RECONSTRUCTION: the thesis designs each slice
+//! on its own). Two smoothers run between the per-slice design of the
+//! outer walls and the inner walls:
+//!
+//! - **Thickness**: the per-slice bone thickness next to A′ (and next to
+//!   B′) is replaced by its lower Lipschitz envelope
+//!   `t̃(z) = min_k (t(k) + L·|z − k|)`, the largest profile that never
+//!   exceeds the measured bone and changes by at most `L` mm per slice
+//!   ([`lipschitz_envelope`]). The implant therefore never gets thicker than
+//!   the bone next to it, and a step in the bone (the thin wall over the
+//!   frontal sinus next to full-thickness frontal bone) becomes a ramp.
+//! - **Outer wall**: each fitted wall is read in polar form `r_z(θ)` about
+//!   a centre common to the stack (the mean of the slices' polar centres);
+//!   at the wall's own rays the radius is averaged over the neighbouring
+//!   slices whose walls the ray meets, with binomial weights (half-width
+//!   `h`: `[1, 2, 1]/4` for 1, `[1, 4, 6, 4, 1]/16` for 2, renormalised over
+//!   the walls present), and the wall is refitted to these points by
+//!   Levenberg–Marquardt with the same ends and joins
+//!   ([`super::wall::refit_outer`]), so A′, B′ and the G¹ joins stay exact
+//!   while the surface varies smoothly in z ([`roughness`] measures it).
+
+use super::polar::{angle, envelope_radius, wrap, SEAT_STEP_MM};
+use super::wall::{refit_outer, OuterDesign, WallOptions};
+use crate::ct::CtError;
+use crate::geometry::{Point, Polyline};
+
+/// The lower Lipschitz envelope `t̃_i = min_j (t_j + step·|z_i − z_j|)` of
+/// `values` at the slice numbers `zs`.
+pub fn lipschitz_envelope(values: &[f64], zs: &[usize], step: f64) -> Vec<f64> {
+    values
+        .iter()
+        .zip(zs)
+        .map(|(_, &zi)| {
+            values
+                .iter()
+                .zip(zs)
+                .map(|(&t, &zj)| t + step * zi.abs_diff(zj) as f64)
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect()
+}
+
+/// Binomial weights `C(2h, h + k)` for `k = −h..=h`.
+fn binomial(h: usize) -> Vec<f64> {
+    let n = 2 * h;
+    let mut w = vec![1.0; n + 1];
+    for k in 1..n {
+        w[k] = w[k - 1] * (n + 1 - k) as f64 / k as f64;
+    }
+    w
+}
+
+/// The rays of a wall: `m` polar angles about `o` from its first to its
+/// last point.
+fn rays(wall: &Polyline, o: Point, m: usize) -> Vec<f64> {
+    let (a, b) = (wall.points[0], wall.points[wall.points.len() - 1]);
+    let ta = angle(a, o);
+    let span = wrap(angle(b, o) - ta);
+    (0..m)
+        .map(|j| ta + span * j as f64 / (m - 1) as f64)
+        .collect()
+}
+
+/// The radius of `wall` along the ray from `o` at `theta` (`None` where
+/// the ray misses it).
+fn radius(wall: &Polyline, o: Point, theta: f64) -> Option<f64> {
+    envelope_radius(&[wall], o, theta)
+}
+
+/// The common polar centre of a stack of designs: the mean of theirs.
+fn common_centre(designs: &[&OuterDesign]) -> Point {
+    designs.iter().fold(Point::ZERO, |s, d| s + d.centre) / designs.len().max(1) as f64
+}
+
+/// Smooths the fitted outer walls of consecutive slices (`zs`) across z
+/// with binomial half-width `half_width` (0: unchanged) and refits them
+/// (see the module documentation). Baseline designs are left unchanged.
+pub fn smooth_outer_walls(
+    designs: &mut [OuterDesign],
+    zs: &[usize],
+    half_width: usize,
+    options: &WallOptions,
+) -> Result<(), CtError> {
+    if half_width == 0 || designs.len() < 2 || designs.iter().any(|d| d.segment.is_none()) {
+        return Ok(());
+    }
+    let o = common_centre(&designs.iter().collect::<Vec<_>>());
+    let m = options.wall_points.max(8);
+    let walls: Vec<Polyline> = designs.iter().map(|d| d.outer.clone()).collect();
+    let w = binomial(half_width);
+    for (i, design) in designs.iter_mut().enumerate() {
+        let thetas = rays(&walls[i], o, m);
+        let mut points = Vec::with_capacity(m);
+        for (j, &t) in thetas.iter().enumerate() {
+            if j == 0 || j + 1 == m {
+                points.push(if j == 0 { design.a } else { design.b });
+                continue;
+            }
+            let (mut acc, mut total) = (0.0, 0.0);
+            for (k, &wk) in w.iter().enumerate() {
+                let n = i as i64 + k as i64 - half_width as i64;
+                if n < 0 || n as usize >= walls.len() || zs[i].abs_diff(zs[n as usize]) > half_width
+                {
+                    continue;
+                }
+                if let Some(r) = radius(&walls[n as usize], o, t) {
+                    acc += wk * r;
+                    total += wk;
+                }
+            }
+            if let Some(r) = (total > 0.0)
+                .then(|| acc / total)
+                .or_else(|| radius(&walls[i], o, t))
+            {
+                points.push(o + Point::new(t.cos(), t.sin()) * r);
+            }
+        }
+        refit_outer(design, points, options)?;
+    }
+    Ok(())
+}
+
+/// The radial roughness of a stack of outer walls across z: per slice with
+/// both neighbours (consecutive in `zs`), the mean over 24 rays from the
+/// common centre `o` (those that meet all three walls) of the second
+/// difference of the radius, `|r(z−1) − 2r(z) + r(z+1)|` (mm); `None` at
+/// the ends of the stack, next to a gap in `zs`, or with no common ray. A
+/// surface that is smooth in z gives a few hundredths of a millimetre;
+/// walls designed slice by slice give steps.
+pub fn roughness(walls: &[&Polyline], zs: &[usize], o: Point) -> Vec<Option<f64>> {
+    (0..walls.len())
+        .map(|i| {
+            if i == 0 || i + 1 >= walls.len() || zs[i + 1] - zs[i] != 1 || zs[i] - zs[i - 1] != 1 {
+                return None;
+            }
+            let d: Vec<f64> = rays(walls[i], o, 24)
+                .into_iter()
+                .filter_map(|t| {
+                    let r = |k: usize| radius(walls[k], o, t);
+                    Some((r(i - 1)? - 2.0 * r(i)? + r(i + 1)?).abs())
+                })
+                .collect();
+            (!d.is_empty()).then(|| d.iter().sum::<f64>() / d.len() as f64)
+        })
+        .collect()
+}
+
+/// The seats of a stack of slices (`zs`), per side, by dynamic programming
+/// (Viterbi) over the candidate seats `s_k = k·0.25` mm: they minimise
+/// `Σ_z [max(0, bend_z(s_z) − bend_deg) + 0.01·s_z] + λ·Σ |s_z − s_{z+1}|`
+/// (adjacent slices only), the table's excess bend at the seat (degrees;
+/// `Gap::bends` in [`super::polar`]), a slight preference for seats near the
+/// tips, and `λ` degrees per mm of seat change between slices, so the
+/// implant's edge follows the bone without jumping. One slice (or
+/// `λ = 0`) gets the first seat whose bend is at most `bend_deg`, else the
+/// least bent one.
+pub fn choose_seats(
+    bends: &[(Vec<f64>, Vec<f64>)],
+    zs: &[usize],
+    bend_deg: f64,
+    lambda: f64,
+) -> Vec<(f64, f64)> {
+    let a = viterbi(
+        &bends.iter().map(|b| b.0.as_slice()).collect::<Vec<_>>(),
+        zs,
+        bend_deg,
+        lambda,
+    );
+    let b = viterbi(
+        &bends.iter().map(|b| b.1.as_slice()).collect::<Vec<_>>(),
+        zs,
+        bend_deg,
+        lambda,
+    );
+    a.into_iter().zip(b).collect()
+}
+
+/// One side of [`choose_seats`].
+fn viterbi(bends: &[&[f64]], zs: &[usize], bend_deg: f64, lambda: f64) -> Vec<f64> {
+    let step = SEAT_STEP_MM;
+    let cost = |b: &[f64], k: usize| (b[k] - bend_deg).max(0.0) + 0.01 * k as f64 * step;
+    let n = bends.len();
+    let mut acc: Vec<Vec<f64>> = Vec::with_capacity(n);
+    let mut from: Vec<Vec<usize>> = Vec::with_capacity(n);
+    for i in 0..n {
+        let row: Vec<(f64, usize)> = (0..bends[i].len())
+            .map(|k| {
+                let here = cost(bends[i], k);
+                if i == 0 {
+                    return (here, 0);
+                }
+                let linked = zs[i].abs_diff(zs[i - 1]) == 1;
+                let (best, j) = acc[i - 1]
+                    .iter()
+                    .enumerate()
+                    .map(|(j, &c)| {
+                        let jump = if linked {
+                            lambda * (k.abs_diff(j) as f64 * step)
+                        } else {
+                            0.0
+                        };
+                        (c + jump, j)
+                    })
+                    .min_by(|x, y| x.0.total_cmp(&y.0))
+                    .unwrap_or((0.0, 0));
+                (here + best, j)
+            })
+            .collect();
+        acc.push(row.iter().map(|r| r.0).collect());
+        from.push(row.iter().map(|r| r.1).collect());
+    }
+    let mut k = (0..acc[n - 1].len())
+        .min_by(|&x, &y| acc[n - 1][x].total_cmp(&acc[n - 1][y]))
+        .unwrap_or(0);
+    let mut out = vec![0.0; n];
+    for i in (0..n).rev() {
+        out[i] = k as f64 * step;
+        k = from[i][k];
+    }
+    out
+}

@@ -1,0 +1,697 @@
+//! The chapter-6 tables: the sections of `report.md` and the CSV files
+//! `metrics.csv`, `validation.csv` and `validation_3d.csv` (see
+//! [`super::run`] for the driver that writes them, [`super::render`] for
+//! the pictures).
+//!
+//! Markdown tables go through [`crate::markdown::table`]; CSV files hold no
+//! wall times, so they are byte-identical for the same spec and seed.
+
+use std::fmt::Write as _;
+
+use super::pipeline::{Implant, ImplantError, SliceResult};
+use super::spec::{ImplantSpec, ValidationSpec};
+use super::validation::{CaseMetrics, ValidationRow};
+use crate::ct::{contour_deviation, Volume};
+use crate::files::{csv_bytes, fmt_real};
+use crate::markdown::{self, Alignment};
+use crate::stats::{holm_bonferroni, median, wilcoxon, Alternative};
+
+pub(crate) fn r(x: f64) -> String {
+    fmt_real(x)
+}
+
+/// The seatability targets of the real defect (issue 13): bone overlap per
+/// slice, and the median and largest kink against the outer table.
+pub const TARGET_OVERLAP: f64 = 0.02;
+/// The target for the median kink (degrees).
+pub const TARGET_KINK_MEDIAN_DEG: f64 = 5.0;
+/// The target for the largest kink (degrees).
+pub const TARGET_KINK_MAX_DEG: f64 = 10.0;
+/// The target for the thickness step between adjacent slices (mm).
+pub const TARGET_THICKNESS_STEP_MM: f64 = 1.0;
+
+/// The title of `report.md` and the lines naming the spec, the volume and
+/// its frame.
+pub fn report_header(spec: &ImplantSpec, volume: &Volume) -> String {
+    let mut report = String::new();
+    let _ = writeln!(report, "# Chapter 6: cranial implant\n");
+    let _ =
+        writeln!(
+        report,
+        "Spec: `{}`; volume `{}` ({}×{}×{} voxels, spacing {} × {} × {} mm; slice 0 is z = {}).",
+        spec.path.file_name().map_or(String::new(), |n| n.to_string_lossy().into()),
+        spec.volume_label,
+        volume.nx,
+        volume.ny,
+        volume.nz,
+        volume.spacing.x,
+        volume.spacing.y,
+        volume.spacing.z,
+        spec.defect_config.first_z
+    );
+    let f = volume.frame();
+    if spec.run_defect {
+        let _ = writeln!(
+            report,
+            "Frame of `implant.stl`: {} (origin {:.3?} mm, axes {:.4?}).",
+            f.stl_header(),
+            f.origin,
+            f.axes
+        );
+    }
+    let _ = writeln!(report);
+    report
+}
+
+/// The thickness steps of each slice from the previous one (mm, the larger
+/// of the two ends; `None` for the first slice or after a gap in z).
+pub fn thickness_steps(implant: &Implant) -> Vec<Option<f64>> {
+    let s = &implant.slices;
+    (0..s.len())
+        .map(|i| {
+            (i > 0 && s[i].z == s[i - 1].z + 1).then(|| {
+                let (a, b) = (s[i].wall.thickness, s[i - 1].wall.thickness);
+                (a.0 - b.0).abs().max((a.1 - b.1).abs())
+            })
+        })
+        .collect()
+}
+
+fn opt(x: Option<f64>) -> String {
+    x.map_or(String::new(), r)
+}
+
+/// One slice's `metrics.csv` row (see [`defect_csv`]).
+fn slice_row(s: &SliceResult, step: Option<f64>) -> Vec<String> {
+    let w = &s.wall;
+    let d = &w.design;
+    let (ja, jb) = d.join_angles_deg();
+    let (ka, kb) = d.kinks_deg();
+    let n = d.template.points.len() as f64;
+    let dev = contour_deviation(&d.outer, &d.template, 0.25).ok();
+    let centre_y = d.centre.y;
+    let mut row = vec![s.z.to_string()];
+    row.extend([d.a.x, d.a.y, d.b.x, d.b.y, d.c.x, d.c.y, d.d.x, d.d.y].map(r));
+    row.extend([s.midline.x_at(centre_y), s.midline.tilt_deg(), d.width()].map(r));
+    row.extend([d.seats.0, d.seats.1].map(r));
+    row.extend(
+        [
+            d.bone_thickness.0,
+            d.bone_thickness.1,
+            w.thickness.0,
+            w.thickness.1,
+        ]
+        .map(r),
+    );
+    row.push(opt(step));
+    row.extend([d.fit_error, (d.fit_error / n).sqrt(), ja, jb, ka, kb].map(r));
+    row.push(d.evaluations.to_string());
+    row.extend(
+        [
+            d.outer.length(),
+            w.section.signed_area().abs(),
+            w.clipped_fraction,
+        ]
+        .map(r),
+    );
+    row.push(s.implant_pixels.to_string());
+    row.push(r(s.bone_overlap_fraction));
+    row.push(opt(s.roughness_mm));
+    row.push(opt(s.template_roughness_mm));
+    row.push(r(d.smoothing_shift_mm));
+    row.push(dev.map_or("NaN".into(), |d| r(d.mean)));
+    row.push(dev.map_or("NaN".into(), |d| r(d.max)));
+    row
+}
+
+/// `metrics.csv`: one row per reconstructed slice of the real defect: the
+/// ends A′, B′, C, D (mm, voxel frame), the midline (x at the slice's polar
+/// centre, tilt), the width, how far A′ and B′ were seated back from the
+/// tips, the bone thickness measured next to the ends
+/// and the thickness used (after smoothing) with its step from the previous
+/// slice, the fit (E, RMS, evaluations), the join angles with the join
+/// tangents, the kinks against the outer table (3 mm secant), the outer
+/// wall's length, the section's area and the fraction clipped away, the
+/// implant's pixels on the slice and the fraction of them on bone, the
+/// outer wall's roughness across z (and the template's, the mirrored
+/// bone's) and how far its smoothing moved it, and
+/// the wall's deviation from the template.
+pub fn defect_csv(implant: &Implant) -> Vec<u8> {
+    let header = [
+        "z",
+        "a_x_mm",
+        "a_y_mm",
+        "b_x_mm",
+        "b_y_mm",
+        "c_x_mm",
+        "c_y_mm",
+        "d_x_mm",
+        "d_y_mm",
+        "midline_x_mm",
+        "midline_tilt_deg",
+        "width_mm",
+        "seat_a_mm",
+        "seat_b_mm",
+        "bone_thickness_a_mm",
+        "bone_thickness_b_mm",
+        "thickness_a_mm",
+        "thickness_b_mm",
+        "thickness_step_mm",
+        "fit_error_mm2",
+        "fit_rms_mm",
+        "join_a_deg",
+        "join_b_deg",
+        "kink_a_deg",
+        "kink_b_deg",
+        "evaluations",
+        "outer_length_mm",
+        "section_area_mm2",
+        "clipped_fraction",
+        "implant_pixels",
+        "bone_overlap_fraction",
+        "roughness_mm",
+        "template_roughness_mm",
+        "smoothing_shift_mm",
+        "template_dev_mean_mm",
+        "template_dev_max_mm",
+    ];
+    let steps = thickness_steps(implant);
+    let rows = implant
+        .slices
+        .iter()
+        .zip(steps)
+        .map(|(s, step)| slice_row(s, step));
+    csv_bytes(&header, rows)
+}
+
+/// The seatability figures of an implant: the largest bone overlap, the
+/// median and largest kink, the largest thickness step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Seatability {
+    /// The largest per-slice bone overlap fraction.
+    pub max_overlap: f64,
+    /// The median kink over both ends of every slice (degrees).
+    pub median_kink_deg: f64,
+    /// The largest kink (degrees).
+    pub max_kink_deg: f64,
+    /// The largest thickness step between adjacent slices (mm).
+    pub max_thickness_step_mm: f64,
+}
+
+/// The seatability figures of `implant`.
+pub fn seatability(implant: &Implant) -> Seatability {
+    let kinks: Vec<f64> = implant
+        .slices
+        .iter()
+        .flat_map(|s| {
+            let (a, b) = s.wall.kinks_deg();
+            [a, b]
+        })
+        .collect();
+    Seatability {
+        max_overlap: implant
+            .slices
+            .iter()
+            .map(|s| s.bone_overlap_fraction)
+            .fold(0.0, f64::max),
+        median_kink_deg: median(&kinks),
+        max_kink_deg: kinks.iter().copied().fold(0.0, f64::max),
+        max_thickness_step_mm: thickness_steps(implant)
+            .into_iter()
+            .flatten()
+            .fold(0.0, f64::max),
+    }
+}
+
+/// The slices that miss a per-slice target: bone overlap above
+/// [`TARGET_OVERLAP`] or a kink above [`TARGET_KINK_MAX_DEG`].
+pub fn slices_off_target(implant: &Implant) -> Vec<usize> {
+    implant
+        .slices
+        .iter()
+        .filter(|s| {
+            let (a, b) = s.wall.kinks_deg();
+            s.bone_overlap_fraction > TARGET_OVERLAP || a.max(b) > TARGET_KINK_MAX_DEG
+        })
+        .map(|s| s.z)
+        .collect()
+}
+
+/// The "Real defect" section of `report.md`: the run's settings, the
+/// midline, the mesh checks, the seatability figures against their targets
+/// and one table row per slice.
+pub fn defect_report(report: &mut String, spec: &ImplantSpec, implant: &Implant) {
+    let n = implant.slices.len();
+    let cfg = &spec.defect_config;
+    let _ = writeln!(report, "## Real defect\n");
+    let _ = writeln!(
+        report,
+        "{n} slices z = {}..={}; method `{}`, function `{}`, continuity `{}`, budget {} evaluations per slice, seed {}; join tangents from {} mm of outer table; thickness measured {} mm behind the ends along the table's normal, capped at {} mm, changing by at most {} mm per slice; outer walls smoothed over ±{} slices.",
+        implant.slices[0].z,
+        implant.slices[n - 1].z,
+        spec.method.name(),
+        cfg.wall.function.name(),
+        cfg.wall.continuity.name(),
+        cfg.wall.budget,
+        spec.seed,
+        cfg.wall.tangent_mm,
+        cfg.wall.thickness_setback_mm,
+        cfg.wall.max_thickness_mm,
+        cfg.smoothing.max_thickness_step_mm,
+        cfg.smoothing.wall_half_width
+    );
+    let m = &implant.midline;
+    let _ = writeln!(
+        report,
+        "Midline: x = {:.2} mm at y = {:.2} mm, tilt {:.2}°{}.\n",
+        m.point.x,
+        m.point.y,
+        m.tilt_deg(),
+        implant
+            .midline_dice
+            .map_or(" (given)".to_string(), |d| format!(
+                " (estimated, reflection Dice {d:.3})"
+            ))
+    );
+    let _ = writeln!(
+        report,
+        "Mesh: {} vertices, {} triangles, watertight {}, consistently oriented {}, volume {:.0} mm³; voxelised implant {} voxels.\n",
+        implant.mesh.vertices.len(),
+        implant.mesh.triangles.len(),
+        implant.mesh.is_watertight(),
+        implant.mesh.is_consistently_oriented(),
+        implant.mesh.signed_volume(),
+        implant.mask.count()
+    );
+    seatability_lines(report, implant);
+    report.push_str(&slice_table(implant));
+    let _ = writeln!(report);
+}
+
+/// The seatability figures against their targets, and the slices that
+/// miss one.
+fn seatability_lines(report: &mut String, implant: &Implant) {
+    let s = seatability(implant);
+    let ok = |b: bool| if b { "met" } else { "missed" };
+    let _ = writeln!(
+        report,
+        "Seatability: largest bone overlap {:.2} % (target ≤ {:.0} % per slice: {}); kinks against the outer table (3 mm) median {:.2}°, max {:.2}° (targets ≤ {}° and ≤ {}°: {}, {}); largest thickness step {:.2} mm (target ≤ {} mm: {}).\n",
+        100.0 * s.max_overlap,
+        100.0 * TARGET_OVERLAP,
+        ok(s.max_overlap <= TARGET_OVERLAP),
+        s.median_kink_deg,
+        s.max_kink_deg,
+        TARGET_KINK_MEDIAN_DEG,
+        TARGET_KINK_MAX_DEG,
+        ok(s.median_kink_deg <= TARGET_KINK_MEDIAN_DEG),
+        ok(s.max_kink_deg <= TARGET_KINK_MAX_DEG),
+        s.max_thickness_step_mm,
+        TARGET_THICKNESS_STEP_MM,
+        ok(s.max_thickness_step_mm <= TARGET_THICKNESS_STEP_MM)
+    );
+    let off = slices_off_target(implant);
+    if !off.is_empty() {
+        let _ = writeln!(
+            report,
+            "Slices that miss a per-slice target (each has its `overlay_zNNN.png`): {off:?}.\n"
+        );
+    }
+}
+
+/// The per-slice table of the real defect.
+fn slice_table(implant: &Implant) -> String {
+    let header = [
+        "z",
+        "width mm",
+        "bone t_A / t_B mm",
+        "t_A / t_B mm",
+        "fit RMS mm",
+        "join A / B °",
+        "kink A / B °",
+        "on bone %",
+        "clipped %",
+    ]
+    .map(String::from);
+    let rows: Vec<Vec<String>> = implant
+        .slices
+        .iter()
+        .map(|s| {
+            let w = &s.wall;
+            let d = &w.design;
+            let (ja, jb) = d.join_angles_deg();
+            let (ka, kb) = d.kinks_deg();
+            let rms = (d.fit_error / d.template.points.len() as f64).sqrt();
+            vec![
+                s.z.to_string(),
+                format!("{:.1}", d.width()),
+                format!("{:.1} / {:.1}", d.bone_thickness.0, d.bone_thickness.1),
+                format!("{:.1} / {:.1}", w.thickness.0, w.thickness.1),
+                format!("{rms:.2}"),
+                format!("{ja:.0e} / {jb:.0e}"),
+                format!("{ka:.1} / {kb:.1}"),
+                format!("{:.1}", 100.0 * s.bone_overlap_fraction),
+                format!("{:.0}", 100.0 * w.clipped_fraction),
+            ]
+        })
+        .collect();
+    markdown::table(&header, &rows, Alignment::Unmarked)
+}
+
+/// `validation.csv`: one row per case × method × run.
+pub fn validation_csv(rows: &[ValidationRow]) -> Vec<u8> {
+    let header = [
+        "z",
+        "position_deg",
+        "width_mm",
+        "method",
+        "run",
+        "seed",
+        "status",
+        "dice",
+        "boundary_dice",
+        "hd95_mm",
+        "dev_mean_mm",
+        "dev_max_mm",
+        "fit_error_mm2",
+        "join_a_deg",
+        "join_b_deg",
+        "error",
+    ];
+    let rows = rows.iter().map(|row| {
+        let mut v = vec![
+            row.z.to_string(),
+            r(row.case.position_deg),
+            r(row.case.width_mm),
+            row.method.clone(),
+            row.run.to_string(),
+            row.seed.to_string(),
+        ];
+        match &row.metrics {
+            Ok(m) => {
+                v.push("ok".into());
+                v.extend([m.dice, m.boundary_dice, m.hd95, m.dev_mean, m.dev_max].map(r));
+                v.extend([
+                    r(row.fit_error),
+                    r(row.join_deg.0),
+                    r(row.join_deg.1),
+                    String::new(),
+                ]);
+            }
+            Err(e) => {
+                v.push("error".into());
+                v.extend(std::iter::repeat_n(String::new(), 8));
+                v.push(e.to_string());
+            }
+        }
+        v
+    });
+    csv_bytes(&header, rows)
+}
+
+/// A metric's accessor.
+type MetricFn = fn(&CaseMetrics) -> f64;
+
+/// One validation metric: its name in tables, its accessor, and whether
+/// larger is better.
+type Metric = (&'static str, MetricFn, bool);
+
+/// The validation metrics, in table order.
+const METRICS: [Metric; 5] = [
+    ("Dice", |m| m.dice, true),
+    ("boundary Dice", |m| m.boundary_dice, true),
+    ("HD95 mm", |m| m.hd95, false),
+    ("mean deviation mm", |m| m.dev_mean, false),
+    ("max deviation mm", |m| m.dev_max, false),
+];
+
+/// The "Validation on perfect data" section of `report.md`: the cases, the
+/// median of every metric by method and width, the paired tests of the
+/// curve fit against the baselines, and the join quality of the fits.
+pub fn validation_report(
+    report: &mut String,
+    val: &ValidationSpec,
+    rows: &[ValidationRow],
+) -> Result<(), ImplantError> {
+    let mut methods: Vec<String> = vec!["template".into(), "straight".into()];
+    methods.extend(val.methods.iter().map(|m| format!("curve:{}", m.name())));
+    let failed = rows.iter().filter(|r| r.metrics.is_err()).count();
+    let _ = writeln!(
+        report,
+        "## Validation on perfect data (artificial defects)\n"
+    );
+    let _ = writeln!(
+        report,
+        "Slices {:?}, positions {:?}°, widths {:?} mm; {} runs per stochastic method; boundary Dice within {} mm. {} rows, {failed} failed (see `validation.csv`, column `error`).\n",
+        val.slices, val.positions, val.widths, val.runs, val.margin_mm, rows.len()
+    );
+    for metric in METRICS {
+        median_table(report, metric, val, &methods, rows);
+    }
+    paired_tests(report, val, rows)?;
+    join_summary(report, rows);
+    Ok(())
+}
+
+/// Per width of `widths`, the median (three decimals) of the values of
+/// `method`'s rows of that width; `cell` reads a row's method, width and
+/// value (`None` for a failed row).
+pub(crate) fn medians_by_width<'r, R>(
+    rows: &'r [R],
+    method: &str,
+    widths: &[f64],
+    cell: impl Fn(&'r R) -> Option<(&'r str, f64, f64)>,
+) -> Vec<String> {
+    let cells: Vec<(&str, f64, f64)> = rows.iter().filter_map(cell).collect();
+    widths
+        .iter()
+        .map(|&w| {
+            let v: Vec<f64> = cells
+                .iter()
+                .filter(|(m, cw, _)| *m == method && *cw == w)
+                .map(|c| c.2)
+                .collect();
+            format!("{:.3}", median(&v))
+        })
+        .collect()
+}
+
+/// The median of one metric over cases and runs, by method × width.
+fn median_table(
+    report: &mut String,
+    (name, f, _): Metric,
+    val: &ValidationSpec,
+    methods: &[String],
+    rows: &[ValidationRow],
+) {
+    let _ = writeln!(report, "### {name} (median over cases and runs)\n");
+    let mut header = vec!["method".to_string()];
+    header.extend(val.widths.iter().map(|w| format!("{w} mm")));
+    let table: Vec<Vec<String>> = methods
+        .iter()
+        .map(|m| {
+            let mut line = vec![m.clone()];
+            line.extend(medians_by_width(rows, m, &val.widths, |r| {
+                let v = r.metrics.as_ref().ok().map(f)?;
+                Some((r.method.as_str(), r.case.width_mm, v))
+            }));
+            line
+        })
+        .collect();
+    report.push_str(&markdown::table(&header, &table, Alignment::Unmarked));
+    let _ = writeln!(report);
+}
+
+/// A validation case as a sortable key: slice, position and width bits.
+type CaseKey = (usize, u64, u64);
+
+/// The distinct cases of `rows`, sorted.
+fn case_keys(rows: &[ValidationRow]) -> Vec<CaseKey> {
+    let mut keys: Vec<CaseKey> = rows
+        .iter()
+        .map(|r| {
+            (
+                r.z,
+                r.case.position_deg.to_bits(),
+                r.case.width_mm.to_bits(),
+            )
+        })
+        .collect();
+    keys.sort();
+    keys.dedup();
+    keys
+}
+
+/// One row of the paired-test table: a curve method against a baseline on
+/// one metric.
+pub(crate) struct PairedTest {
+    /// `curve:<method>`.
+    curve: String,
+    /// `template` or `straight`.
+    baseline: &'static str,
+    /// The metric's name.
+    metric: &'static str,
+    /// Cases where both have a finite value.
+    cases: usize,
+    /// Median of the curve method's per-case medians.
+    median_curve: f64,
+    /// Median of the baseline's per-case medians.
+    median_baseline: f64,
+    /// Median of the per-case differences (curve − baseline).
+    median_difference: f64,
+    /// Cases where the curve method is strictly better.
+    better: usize,
+    /// Two-sided Wilcoxon signed-rank p-value (NaN when undefined).
+    pub(crate) p: f64,
+}
+
+/// Pairs, per case, the median over runs of `curve` and of `baseline` on
+/// `metric`, and tests the difference.
+fn paired_test(
+    rows: &[ValidationRow],
+    keys: &[CaseKey],
+    curve: &str,
+    baseline: &'static str,
+    (metric, f, larger_better): Metric,
+) -> PairedTest {
+    let (mut xs, mut ys) = (Vec::new(), Vec::new());
+    for &(z, p, w) in keys {
+        let of = |m: &str| -> Vec<f64> {
+            rows.iter()
+                .filter(|r| {
+                    r.method == m
+                        && r.z == z
+                        && r.case.position_deg.to_bits() == p
+                        && r.case.width_mm.to_bits() == w
+                })
+                .filter_map(|r| r.metrics.as_ref().ok().map(f))
+                .filter(|v| v.is_finite())
+                .collect()
+        };
+        let (c, b) = (of(curve), of(baseline));
+        if !c.is_empty() && !b.is_empty() {
+            xs.push(median(&c));
+            ys.push(median(&b));
+        }
+    }
+    paired_from((curve, baseline, metric), &xs, &ys, larger_better)
+}
+
+/// The paired test of per-case values `xs` (the curve method) against `ys`
+/// (the baseline) on one metric: medians, the median difference, the cases
+/// where the curve is strictly better, and the two-sided Wilcoxon
+/// signed-rank p-value (NaN when undefined).
+pub(crate) fn paired_from(
+    (curve, baseline, metric): (&str, &'static str, &'static str),
+    xs: &[f64],
+    ys: &[f64],
+    larger_better: bool,
+) -> PairedTest {
+    let better = xs
+        .iter()
+        .zip(ys)
+        .filter(|(x, y)| if larger_better { x > y } else { x < y })
+        .count();
+    let p = wilcoxon(xs, ys, Alternative::TwoSided)
+        .map(|t| t.p_value)
+        .unwrap_or(f64::NAN);
+    let diffs: Vec<f64> = xs.iter().zip(ys).map(|(x, y)| x - y).collect();
+    PairedTest {
+        curve: curve.to_string(),
+        baseline,
+        metric,
+        cases: xs.len(),
+        median_curve: median(xs),
+        median_baseline: median(ys),
+        median_difference: median(&diffs),
+        better,
+        p,
+    }
+}
+
+/// The paired tests of every curve method against both baselines on every
+/// metric, Holm-corrected over the whole table.
+fn paired_tests(
+    report: &mut String,
+    val: &ValidationSpec,
+    rows: &[ValidationRow],
+) -> Result<(), ImplantError> {
+    let _ = writeln!(
+        report,
+        "### What the curve fit adds (Wilcoxon signed-rank, paired by case)\n"
+    );
+    let _ = writeln!(
+        report,
+        "Per case the curve fit's median over its runs is paired with the baseline; two-sided Wilcoxon signed-rank test (src/stats), Holm-corrected over all rows of this table. `better` counts cases where the curve fit is strictly better.\n"
+    );
+    let keys = case_keys(rows);
+    let mut tests = Vec::new();
+    for cm in val.methods.iter().map(|m| format!("curve:{}", m.name())) {
+        for base in ["template", "straight"] {
+            for metric in METRICS {
+                tests.push(paired_test(rows, &keys, &cm, base, metric));
+            }
+        }
+    }
+    let finite: Vec<f64> = tests
+        .iter()
+        .map(|t| if t.p.is_finite() { t.p } else { 1.0 })
+        .collect();
+    let holm = holm_bonferroni(&finite)?;
+    report.push_str(&paired_table(&tests, &holm));
+    let _ = writeln!(report);
+    Ok(())
+}
+
+/// The markdown table of the paired tests with their Holm-corrected p.
+pub(crate) fn paired_table(tests: &[PairedTest], holm: &[f64]) -> String {
+    let header = [
+        "curve method",
+        "baseline",
+        "metric",
+        "cases",
+        "median curve",
+        "median baseline",
+        "median difference",
+        "better",
+        "p",
+        "p (Holm)",
+    ]
+    .map(String::from);
+    let table: Vec<Vec<String>> = tests
+        .iter()
+        .zip(holm)
+        .map(|(t, ph)| {
+            vec![
+                t.curve.clone(),
+                t.baseline.to_string(),
+                t.metric.to_string(),
+                t.cases.to_string(),
+                format!("{:.3}", t.median_curve),
+                format!("{:.3}", t.median_baseline),
+                format!("{:+.3}", t.median_difference),
+                format!("{}/{}", t.better, t.cases),
+                format!("{:.2e}", t.p),
+                format!("{ph:.2e}"),
+            ]
+        })
+        .collect();
+    markdown::table(&header, &table, Alignment::Unmarked)
+}
+
+/// The join quality of the fitted walls: median and max join angle.
+fn join_summary(report: &mut String, rows: &[ValidationRow]) {
+    let joins: Vec<f64> = rows
+        .iter()
+        .filter(|r| r.method.starts_with("curve:") && r.metrics.is_ok())
+        .flat_map(|r| [r.join_deg.0, r.join_deg.1])
+        .collect();
+    if !joins.is_empty() {
+        let max = joins.iter().copied().fold(0.0, f64::max);
+        let _ = writeln!(
+            report,
+            "Fitted walls: join angle with the intact contour median {:.1e}°, max {:.1e}° (G¹ is built into the decision variables).\n",
+            median(&joins),
+            max
+        );
+    }
+}
