@@ -508,6 +508,52 @@ fn implant_cases() -> Vec<Case> {
             implant_spec("d", "").replace("first_z = 40\n", ""),
         )
         .with("d/slice.dcm", short_dicom()),
+        spec(
+            "implant negative pixel",
+            implant_spec(
+                ct,
+                "[[defect.end]]\nz = 65\na = [184, -86]\nb = [184, 86]\n",
+            ),
+            "defect.end[0].a: expected a pixel column ≥ 0",
+        )
+        .with(ct, real("data/ct0051/ct0051_z040-100.inv3")),
+        spec(
+            "implant A equal to B",
+            implant_spec(ct, "[[defect.end]]\nz = 65\na = [184, 86]\nb = [184, 86]\n")
+                .replace("ends = \"auto\"\n", ""),
+            "slice z = 65: A and B are the same point",
+        )
+        .with(ct, real("data/ct0051/ct0051_z040-100.inv3")),
+        spec(
+            "implant midline outside the image",
+            implant_spec(ct, "").replace("midline = \"auto\"", "midline = 400.0"),
+            "does not cross the image",
+        )
+        .with(ct, real("data/ct0051/ct0051_z040-100.inv3")),
+        spec(
+            "implant one slice without a midline",
+            implant_spec(ct, "")
+                .replace("midline_slices = [86, 92]\n", "")
+                .replace("slices = [64, 66]", "slices = [64, 64]"),
+            "one-slice study needs `midline_slices`",
+        )
+        .with(ct, "x"),
+        spec(
+            "implant template of other slices",
+            implant_spec(ct, "template = \"tpl.csv\"\n"),
+            "tpl.csv:2:1",
+        )
+        .with(ct, real("data/ct0051/ct0051_z040-100.inv3"))
+        .with("tpl.csv", "z,x_mm,y_mm\n69,80,180\n69,90,190\n"),
+        spec(
+            "implant validation slice outside the volume",
+            implant_spec(
+                ct,
+                "[validation]\nslices = [88, 120]\npositions = [200]\nwidths = [20]\n",
+            ),
+            "validation slice z = 120 is outside the volume",
+        )
+        .with(ct, real("data/ct0051/ct0051_z040-100.inv3")),
         case(
             "implant out is a file",
             "implant spec.toml --out out",
