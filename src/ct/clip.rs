@@ -18,7 +18,7 @@
 
 use super::contour::marching_squares;
 use super::volume::Slice;
-use crate::geometry::{Point, Polyline};
+use crate::geometry::{segment_foot, Point, Polyline};
 
 /// The slope factor `K` (HU per mm) of the distance term.
 const K_HU_PER_MM: f64 = 400.0;
@@ -38,14 +38,7 @@ pub struct Clipped {
 
 /// The distance from `p` to segment `ab`.
 fn segment_distance(p: Point, a: Point, b: Point) -> f64 {
-    let d = b - a;
-    let l2 = d.hypot2();
-    let t = if l2 > 0.0 {
-        ((p - a).dot(d) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    p.distance(a + d * t)
+    p.distance(segment_foot(p, a, b).1)
 }
 
 /// A grid of nodes `origin + (i·h.x, j·h.y)`, `nx × ny`, row-major.

@@ -43,8 +43,10 @@ pub struct Nearest {
     pub distance: f64,
 }
 
-/// The distance from `p` to segment `ab` and the parameter of the foot.
-fn segment_foot(p: Point, a: Point, b: Point) -> (f64, Point) {
+/// The foot of the perpendicular from `p` on segment `ab`: its parameter
+/// `t = clamp((p − a)·(b − a) / |b − a|², 0, 1)` and the point `a + t(b − a)`
+/// (`t = 0` for a degenerate segment).
+pub fn segment_foot(p: Point, a: Point, b: Point) -> (f64, Point) {
     let d = b - a;
     let l2 = d.hypot2();
     let t = if l2 > 0.0 {
