@@ -426,6 +426,7 @@ fn report_cases() -> Vec<Case> {
         case("report with a missing row", "report d", 1, "d/runs.csv: 1 of 2 runs are missing (the first is run 1 of").with("d/runs.csv", format!("{runs}{ROW}")).with("d/spec.toml", SPEC),
         case("report with a foreign row", "report d", 1, "on rastrigin-2 is not a run of spec.toml").with("d/runs.csv", format!("{runs}{}", ROW.replace("sphere", "rastrigin"))).with("d/spec.toml", SPEC),
         case("report with a spec but no runs", "report d", 1, "d/").with("d/spec.toml", SPEC),
+        case("report of an unfinished campaign", "report d", 1, "d: campaign unfinished (a journal.csv and no runs.csv): run `metabezier run SPEC --resume` to finish it").with("d/spec.toml", SPEC).with("d/journal.csv", "hs,hs,hms=5;hmcr=0.9;par=0.3;bw=0.01;bw_decay=none;bw_min=0.000001;bounds=clip,sphere,2,100,0,28524055920582096,395.05688038927065,395.05688038927065,100,,false,100:395.05688038927065,,2.3195e-5,none,1,,ok\n"),
         case("merge of nothing", "merge none", 1, "none"),
         case("merge of a directory without shards", "merge d", 1, "d").with("d/notes.txt", "x"),
         case("merge with a spec but no shards", "merge d --spec none.toml", 1, "d holds no shard directories").with("d/notes.txt", "x"),
