@@ -232,6 +232,20 @@ fn run_cases() -> Vec<Case> {
             1,
             "bbob",
         )),
+        case(
+            "coco log into a file",
+            "run b.toml --coco-log afile",
+            1,
+            "afile: cannot create the directory",
+        )
+        .with(
+            "b.toml",
+            spec_with(
+                "function = \"sphere\"\ndim = 2",
+                "suite = \"bbob\"\nfunction = 1\ndim = 2",
+            ),
+        )
+        .with("afile", "x"),
         case("no spec argument", "run", 2, "<SPEC>"),
         case("unknown subcommand", "fly", 2, "fly"),
         case("no subcommand", "", 2, "Usage"),
