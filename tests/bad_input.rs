@@ -658,6 +658,7 @@ fn every_bad_input_is_refused_with_its_message_and_leaves_nothing() {
     .flatten()
     .collect();
     assert!(cases.len() >= 100, "{} cases", cases.len());
+    println!("{} bad-input cases", cases.len());
     let failures: Vec<String> = cases.iter().filter_map(|c| check(c).err()).collect();
     assert!(
         failures.is_empty(),
