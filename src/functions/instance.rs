@@ -152,10 +152,12 @@ impl Instance {
     }
 
     /// Maps `x` to the argument of the untransformed function,
-    /// `y = M(x − o) + x*` (or `x − o + x*` without a rotation), into `y`.
-    /// Sums run left to right.
+    /// `y = M(x − o) + x*` (or `x − o + x*` without a rotation), into `y`;
+    /// with a rotation `scratch` (at least D long; unused otherwise) holds
+    /// `x − o`, computed once rather than once per row. Sums run left to
+    /// right.
     #[inline]
-    pub fn map_into(&self, x: &[f64], y: &mut [f64]) {
+    pub fn map_into(&self, x: &[f64], scratch: &mut [f64], y: &mut [f64]) {
         let d = self.shift.len();
         let (x, o, star) = (&x[..d], &self.shift[..], &self.x_star[..d]);
         if self.rotation.is_empty() {
@@ -163,10 +165,14 @@ impl Instance {
                 *yi = (xi - oi) + si;
             }
         } else {
+            let diff = &mut scratch[..d];
+            for ((dj, xj), oj) in diff.iter_mut().zip(x).zip(o) {
+                *dj = xj - oj;
+            }
             for ((yi, row), si) in y.iter_mut().zip(self.rotation.chunks_exact(d)).zip(star) {
                 let mut s = 0.0;
-                for ((m, xj), oj) in row.iter().zip(x).zip(o) {
-                    s += m * (xj - oj);
+                for (m, dj) in row.iter().zip(diff.iter()) {
+                    s += m * dj;
                 }
                 *yi = s + si;
             }

@@ -488,11 +488,16 @@ impl TestProblem {
         Ok(())
     }
 
-    /// The function at `inst`'s map of `x`, through a stack buffer of `N ≥ D`.
+    /// The function at `inst`'s map of `x`, through stack buffers of `N ≥ D`.
     #[inline]
     fn eval_mapped<const N: usize>(&self, inst: &Instance, x: &[f64]) -> f64 {
         let mut y = [0.0; N];
-        inst.map_into(x, &mut y[..self.dim]);
+        if inst.rotation().is_some() {
+            let mut scratch = [0.0; N];
+            inst.map_into(x, &mut scratch, &mut y[..self.dim]);
+        } else {
+            inst.map_into(x, &mut [], &mut y[..self.dim]);
+        }
         self.function.eval(&y[..self.dim])
     }
 
@@ -548,8 +553,8 @@ impl Problem for TestProblem {
             }
             Some(inst) if self.dim <= STACK_DIM => self.eval_mapped::<STACK_DIM>(inst, x),
             Some(inst) => {
-                let mut y = vec![0.0; self.dim];
-                inst.map_into(x, &mut y);
+                let (mut scratch, mut y) = (vec![0.0; self.dim], vec![0.0; self.dim]);
+                inst.map_into(x, &mut scratch, &mut y);
                 self.function.eval(&y)
             }
         }
