@@ -586,13 +586,13 @@ fn run_positions_and_keys_agree_with_the_listed_order() {
             spec.problems[id.problem].budget,
             id.run,
         );
-        assert_eq!(index.key(id.index), key);
+        assert_eq!(index.key(*id), key);
         assert_eq!(index.get(&key), Some(id.index));
     }
-    let mut foreign = index.key(0);
+    let mut foreign = index.key(spec.run_id(0));
     foreign.3 = spec.runs;
     assert_eq!(index.get(&foreign), None, "a run number beyond the spec's");
-    foreign = index.key(0);
+    foreign = index.key(spec.run_id(0));
     foreign.2 += 1;
     assert_eq!(index.get(&foreign), None, "another budget");
 }

@@ -475,17 +475,15 @@ impl RunIndex {
         self.len() == 0
     }
 
-    /// The key of the run at position `i < len()`.
-    pub fn key(&self, i: usize) -> RunKey {
-        let runs = self.runs as usize;
-        let (pc, run) = (i / runs, i % runs);
-        let (p, c) = (pc / self.cell_keys.len(), pc % self.cell_keys.len());
-        let (problem, budget) = &self.problem_keys[p];
+    /// The key of run `id` (of the spec this index was made from; see
+    /// [`Spec::run_id`]).
+    pub fn key(&self, id: RunId) -> RunKey {
+        let (problem, budget) = &self.problem_keys[id.problem];
         (
-            self.cell_keys[c].clone(),
+            self.cell_keys[id.cell].clone(),
             problem.clone(),
             *budget,
-            run as u32,
+            id.run,
         )
     }
 }

@@ -37,7 +37,7 @@
 
 use super::options::{GuessRule, SearchSpace, SearchSpaceOptions};
 use super::FunctionType;
-use crate::geometry::Point;
+use crate::geometry::{bounding_box, Point};
 
 /// The indices `(q1, mid, q3)` of `R_Q1, R_mid, R_Q3` among `len` points:
 /// with `n = len − 1` intervals, the points nearest to `n/4`, `n/2`, `3n/4`
@@ -213,21 +213,11 @@ impl PointBox {
     }
 }
 
-/// The bounding box `(min, max)` of `points` (which must be non-empty).
-pub fn bounding_box(points: &[Point]) -> (Point, Point) {
-    points.iter().fold((points[0], points[0]), |(lo, hi), p| {
-        (
-            Point::new(lo.x.min(p.x), lo.y.min(p.y)),
-            Point::new(hi.x.max(p.x), hi.y.max(p.y)),
-        )
-    })
-}
-
 /// The box of a control point guessed at `centre` on segment data `points`:
 /// `centre ± α_size·|C_m − C₀|` for the technique, the enlarged bounding box
 /// for [`SearchSpace::BoundingBox`] (see the module docs).
 pub fn point_box(centre: Point, points: &[Point], options: &SearchSpaceOptions) -> PointBox {
-    let (lo, hi) = bounding_box(points);
+    let (lo, hi) = bounding_box(points).expect("segment data are never empty");
     let size = hi - lo;
     let diag = size.hypot();
     match options.kind {

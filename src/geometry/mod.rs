@@ -53,7 +53,7 @@ pub use nearest::{nearest, nearest_with, DEFAULT_SAMPLES};
 pub use offset::{offset_into, offset_linear, offset_point, offset_points, LinearDistance};
 pub use param::{reparameterise, reparameterise_into, Parameterisation};
 pub use point::Point;
-pub use polyline::{segment_foot, Nearest, Orientation, Polyline};
+pub use polyline::{bounding_box, segment_foot, Nearest, Orientation, Polyline};
 pub use quadbez::QuadBez;
 pub use rational::RationalBezier;
 pub use rcubicbez::RationalCubicBez;

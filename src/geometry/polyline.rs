@@ -43,6 +43,18 @@ pub struct Nearest {
     pub distance: f64,
 }
 
+/// The axis-aligned bounding box `(min, max)` of `points`, or `None` when
+/// there are none.
+pub fn bounding_box(points: &[Point]) -> Option<(Point, Point)> {
+    let first = *points.first()?;
+    Some(points.iter().fold((first, first), |(lo, hi), p| {
+        (
+            Point::new(lo.x.min(p.x), lo.y.min(p.y)),
+            Point::new(hi.x.max(p.x), hi.y.max(p.y)),
+        )
+    }))
+}
+
 /// The foot of the perpendicular from `p` on segment `ab`: its parameter
 /// `t = clamp((p − a)·(b − a) / |b − a|², 0, 1)` and the point `a + t(b − a)`
 /// (`t = 0` for a degenerate segment).
@@ -139,13 +151,7 @@ impl Polyline {
 
     /// The axis-aligned bounding box `(min, max)`, or `None` when empty.
     pub fn bbox(&self) -> Option<(Point, Point)> {
-        let first = *self.points.first()?;
-        Some(self.points.iter().fold((first, first), |(lo, hi), p| {
-            (
-                Point::new(lo.x.min(p.x), lo.y.min(p.y)),
-                Point::new(hi.x.max(p.x), hi.y.max(p.y)),
-            )
-        }))
+        bounding_box(&self.points)
     }
 
     /// Removes consecutive duplicate points (and, when closed, a last point

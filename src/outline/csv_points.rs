@@ -10,7 +10,7 @@
 use std::path::Path;
 
 use super::{Outline, OutlineError};
-use crate::geometry::Point;
+use crate::geometry::{bounding_box, Point};
 
 /// Options for reading a CSV point list.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -187,13 +187,12 @@ fn check_extent(points: &[Point], path: &Path) -> Result<(), OutlineError> {
     if points.len() < 2 {
         return Ok(());
     }
-    let (mut lo, mut hi) = (points[0], points[0]);
-    let mut largest: f64 = 0.0;
-    for p in points {
-        lo = Point::new(lo.x.min(p.x), lo.y.min(p.y));
-        hi = Point::new(hi.x.max(p.x), hi.y.max(p.y));
-        largest = largest.max(p.x.abs()).max(p.y.abs());
-    }
+    let Some((lo, hi)) = bounding_box(points) else {
+        return Ok(());
+    };
+    let largest = [lo.x, lo.y, hi.x, hi.y]
+        .iter()
+        .fold(0.0f64, |m, v| m.max(v.abs()));
     let extent = (hi.x - lo.x).hypot(hi.y - lo.y);
     let need = MIN_EXTENT.max(MIN_RELATIVE_EXTENT * largest);
     if extent < need {

@@ -155,7 +155,7 @@ pub(crate) fn check_rows(dir: &Path, records: &[RunRecord]) -> Result<Option<Str
     }
     if records.len() < index.len() {
         let key = (0..index.len())
-            .map(|i| index.key(i))
+            .map(|i| index.key(spec.run_id(i)))
             .find(|k| !seen.contains(k))
             .expect("fewer rows than runs, none foreign or twice");
         return Err(rows(RowProblem::Missing {

@@ -365,21 +365,8 @@ impl Spec {
 
     /// All runs in the campaign's fixed order: problem, then cell, then run.
     pub fn run_ids(&self) -> Vec<RunId> {
-        let mut out =
-            Vec::with_capacity(self.problems.len() * self.cells.len() * self.runs as usize);
-        for problem in 0..self.problems.len() {
-            for cell in 0..self.cells.len() {
-                for run in 0..self.runs {
-                    out.push(RunId {
-                        index: out.len(),
-                        problem,
-                        cell,
-                        run,
-                    });
-                }
-            }
-        }
-        out
+        let n = self.problems.len() * self.cells.len() * self.runs as usize;
+        (0..n).map(|i| self.run_id(i)).collect()
     }
 
     /// The run at position `index` of the fixed order, as [`Spec::run_ids`]
