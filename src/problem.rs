@@ -142,6 +142,26 @@ pub trait Problem {
 
     /// The objective value `f(x)`; `x.len() == self.dim()`.
     fn objective(&self, x: &[f64]) -> f64;
+
+    /// The objective values of `out.len()` points stored row-major in `xs`
+    /// (`xs.len() == out.len() · dim`): `out[i] = f(xs[i·D..(i+1)·D])`.
+    ///
+    /// The default calls [`Problem::objective`] row by row; a problem may
+    /// override it to share work across the rows, but must return exactly the
+    /// values `objective` would.
+    fn objective_batch(&self, xs: &[f64], out: &mut [f64]) {
+        let dim = self.dim();
+        debug_assert_eq!(xs.len(), out.len() * dim);
+        if dim == 0 {
+            for o in out.iter_mut() {
+                *o = self.objective(&[]);
+            }
+            return;
+        }
+        for (o, x) in out.iter_mut().zip(xs.chunks_exact(dim)) {
+            *o = self.objective(x);
+        }
+    }
 }
 
 impl<P: Problem + ?Sized> Problem for &P {
@@ -153,6 +173,9 @@ impl<P: Problem + ?Sized> Problem for &P {
     }
     fn objective(&self, x: &[f64]) -> f64 {
         (**self).objective(x)
+    }
+    fn objective_batch(&self, xs: &[f64], out: &mut [f64]) {
+        (**self).objective_batch(xs, out)
     }
 }
 

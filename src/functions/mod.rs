@@ -229,6 +229,30 @@ impl Function {
             Function::SixHumpCamel => six_hump_camel(x),
         }
     }
+
+    /// `f` at each row of the row-major `xs` (rows of length `dim ≥ 1`),
+    /// into `out`: the values of [`Function::eval`], with the function
+    /// chosen once for the whole batch instead of once per row.
+    pub fn eval_rows(self, xs: &[f64], dim: usize, out: &mut [f64]) {
+        #[inline(always)]
+        fn each(xs: &[f64], dim: usize, out: &mut [f64], f: impl Fn(&[f64]) -> f64) {
+            for (o, x) in out.iter_mut().zip(xs.chunks_exact(dim)) {
+                *o = f(x);
+            }
+        }
+        match self {
+            Function::Sphere => each(xs, dim, out, sphere),
+            Function::Schwefel222 => each(xs, dim, out, schwefel_2_22),
+            Function::Rosenbrock => each(xs, dim, out, rosenbrock),
+            Function::Step => each(xs, dim, out, step),
+            Function::Schwefel12 => each(xs, dim, out, schwefel_1_2),
+            Function::Schwefel226 => each(xs, dim, out, schwefel_2_26),
+            Function::Rastrigin => each(xs, dim, out, rastrigin),
+            Function::Ackley => each(xs, dim, out, ackley),
+            Function::Griewank => each(xs, dim, out, griewank),
+            Function::SixHumpCamel => each(xs, dim, out, six_hump_camel),
+        }
+    }
 }
 
 impl fmt::Display for Function {
@@ -558,6 +582,20 @@ impl Problem for TestProblem {
                 self.function.eval(&y)
             }
         }
+    }
+
+    /// Untransformed rows are evaluated with the function chosen once per
+    /// batch; transformed rows go through [`Problem::objective`]. The values
+    /// are those of `objective`, row by row.
+    fn objective_batch(&self, xs: &[f64], out: &mut [f64]) {
+        debug_assert_eq!(xs.len(), out.len() * self.dim);
+        if self.instance.is_some() || self.dim == 0 {
+            for (i, o) in out.iter_mut().enumerate() {
+                *o = self.objective(&xs[i * self.dim..(i + 1) * self.dim]);
+            }
+            return;
+        }
+        self.function.eval_rows(xs, self.dim, out);
     }
 }
 

@@ -212,6 +212,36 @@ impl<'p, P: Problem + ?Sized> Evaluator<'p, P> {
             return f64::INFINITY;
         }
         let value = sanitise(self.problem.objective(x));
+        self.record(x, value)
+    }
+
+    /// Evaluates the rows of the row-major `xs` (`out.len()` points of
+    /// [`Evaluator::dim`] variables) with [`Problem::objective_batch`], as
+    /// many as the budget allows, and writes their values into `out` (`+∞`
+    /// for rows past the budget). The counts, best-so-far, trace and target
+    /// hits are exactly those of calling [`Evaluator::evaluate`] row by row.
+    /// Returns the number of rows evaluated.
+    pub fn evaluate_batch(&mut self, xs: &[f64], out: &mut [f64]) -> usize {
+        let dim = self.problem.dim();
+        debug_assert_eq!(xs.len(), out.len() * dim);
+        let n = out
+            .len()
+            .min(usize::try_from(self.remaining()).unwrap_or(usize::MAX));
+        self.problem.objective_batch(&xs[..n * dim], &mut out[..n]);
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = if i < n {
+                self.record(&xs[i * dim..(i + 1) * dim], sanitise(*o))
+            } else {
+                f64::INFINITY
+            };
+        }
+        n
+    }
+
+    /// Counts one evaluation of `x` with (sanitised) `value` and updates the
+    /// best-so-far, the target hits and the trace.
+    #[inline]
+    fn record(&mut self, x: &[f64], value: f64) -> f64 {
         self.used += 1;
         if value < self.best_value {
             self.best_value = value;

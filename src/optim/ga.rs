@@ -83,10 +83,11 @@ pub const SIGMA_FLOOR: f64 = 1e-3;
 /// in genetic algorithms", FOGA 1:69–93); with probability `pc` they are
 /// recombined by the [`Crossover`], otherwise copied; every gene of a child
 /// is then mutated with probability `pm` by the [`Mutation`], and genes that
-/// left the box are repaired with the bound policy. The children of a pair
-/// are evaluated one by one as soon as the pair is made, and the run stops
-/// exactly at the budget, possibly within a generation; when `pop − elite`
-/// is odd, the second child of the last pair is discarded unevaluated.
+/// left the box are repaired with the bound policy. The children of a
+/// generation are evaluated together, in order ([`Problem::objective_batch`]),
+/// and the run stops exactly at the budget, possibly within a generation;
+/// when `pop − elite` is odd, the second child of the last pair is discarded
+/// unevaluated.
 ///
 /// Mutation sites are drawn by geometric skipping: the number of unmutated
 /// genes before the next mutated one, counted across children, is
@@ -424,15 +425,13 @@ impl Optimiser for GeneticAlgorithm {
         let lower: Vec<f64> = bounds.iter().map(|b| b.lower).collect();
         let upper: Vec<f64> = bounds.iter().map(|b| b.upper).collect();
 
-        for (i, row) in cur.chunks_exact_mut(dim.max(1)).take(pop).enumerate() {
-            if eval.remaining() == 0 {
-                return;
-            }
-            let row = &mut row[..dim];
-            for (x, b) in row.iter_mut().zip(bounds) {
+        for row in cur.chunks_exact_mut(dim.max(1)).take(pop) {
+            for (x, b) in row[..dim].iter_mut().zip(bounds) {
                 *x = b.lerp(rng.unit());
             }
-            cur_val[i] = eval.evaluate(row);
+        }
+        if eval.evaluate_batch(&cur[..pop * dim], &mut cur_val) < pop {
+            return;
         }
         if dim == 0 {
             // Nothing to vary: spend the budget on the only point there is.
@@ -462,9 +461,6 @@ impl Optimiser for GeneticAlgorithm {
             }
             let mut i = elite;
             while i < pop {
-                if eval.remaining() == 0 {
-                    return;
-                }
                 let p1 = tournament(&cur_val, k, rng);
                 let p2 = tournament(&cur_val, k, rng);
                 let xa = &cur[p1 * dim..(p1 + 1) * dim];
@@ -503,14 +499,15 @@ impl Optimiser for GeneticAlgorithm {
                 if pair {
                     mutator.apply(c2, bounds, &sigma, rng);
                 }
-                next_val[i] = eval.evaluate(c1);
-                if pair {
-                    if eval.remaining() == 0 {
-                        return;
-                    }
-                    next_val[i + 1] = eval.evaluate(c2);
-                }
                 i += 2;
+            }
+            // The children depend only on the current generation, so they
+            // are evaluated together, in order (as one by one would).
+            if eval.evaluate_batch(&next[elite * dim..pop * dim], &mut next_val[elite..pop])
+                < pop - elite
+                || eval.remaining() == 0
+            {
+                return;
             }
             std::mem::swap(&mut cur, &mut next);
             std::mem::swap(&mut cur_val, &mut next_val);

@@ -116,8 +116,20 @@ impl HarmonyMemory {
         }
         let w = self.worst;
         self.harmonies[w * self.dim..(w + 1) * self.dim].copy_from_slice(x);
+        // The best moves only to the new harmony (first index on ties); the
+        // worst must be found again, among the values alone.
+        let best_value = self.values[self.best];
         self.values[w] = value;
-        self.rescan();
+        if value < best_value || (value == best_value && w < self.best) || w == self.best {
+            self.best = w;
+        }
+        let mut worst = 0;
+        for (i, &v) in self.values.iter().enumerate() {
+            if v > self.values[worst] {
+                worst = i;
+            }
+        }
+        self.worst = worst;
         true
     }
 }
