@@ -1,11 +1,13 @@
-//! Objective evaluations per second of each optimiser on Sphere-30 and
-//! Rastrigin-30, against the bare cost of the function alone.
+//! Objective evaluations per second of each optimiser on Sphere (D = 2, 10,
+//! 30 and 100) and Rastrigin-30, against the bare cost of the function alone.
 //!
 //! Every benchmark reports its throughput in evaluations (criterion's
 //! "elements"), so the optimiser's overhead ratio is
-//! `time per evaluation inside the optimiser / time per bare evaluation`;
-//! the target is ≤ 2 (the optimiser's own work per evaluation costs at most
-//! one Sphere-30 evaluation). `make bench` prints the ratio table at the end.
+//! `time per evaluation inside the optimiser / time per bare evaluation`,
+//! both measured in the same bench run. The target is a ratio ≤ 3 on
+//! Sphere-30 for every optimiser, with ≤ 2 as the stretch (the optimiser's
+//! own work per evaluation costs at most one Sphere-30 evaluation).
+//! `make bench` prints the ratio table at the end.
 
 mod common;
 
@@ -21,8 +23,8 @@ use metabezier::rng::{run_rng, Draw};
 const BUDGET: u64 = 20_000;
 const POINTS: usize = 1024;
 
-fn bench_function(c: &mut Criterion, f: Function) {
-    let problem = TestProblem::new(f, 30).unwrap();
+fn bench_function(c: &mut Criterion, f: Function, dim: usize) {
+    let problem = TestProblem::new(f, dim).unwrap();
     let mut rng = run_rng(1);
     let points: Vec<Vec<f64>> = (0..POINTS)
         .map(|_| {
@@ -33,7 +35,7 @@ fn bench_function(c: &mut Criterion, f: Function) {
                 .collect()
         })
         .collect();
-    let mut group = c.benchmark_group(format!("{}-30", f.name()));
+    let mut group = c.benchmark_group(format!("{}-{dim}", f.name()));
     group.throughput(Throughput::Elements(POINTS as u64));
     group.bench_function("bare", |b| {
         b.iter(|| {
@@ -60,8 +62,10 @@ fn bench_function(c: &mut Criterion, f: Function) {
 
 fn main() {
     let mut c = Criterion::default().configure_from_args();
-    bench_function(&mut c, Function::Sphere);
-    bench_function(&mut c, Function::Rastrigin);
+    for dim in [30, 2, 10, 100] {
+        bench_function(&mut c, Function::Sphere, dim);
+    }
+    bench_function(&mut c, Function::Rastrigin, 30);
     c.final_summary();
     println!("\nTime per evaluation inside each optimiser against the bare function:");
     println!("ratio = ns/eval ÷ bare ns; overhead = (ns/eval − bare ns) in units of one bare Sphere-30 evaluation");
@@ -70,7 +74,13 @@ fn main() {
         "function", "algo", "ns/eval", "bare ns", "ratio", "overhead"
     );
     let sphere_bare = mean_ns("sphere-30", "bare").map(|t| t / POINTS as f64);
-    for f in ["sphere-30", "rastrigin-30"] {
+    for f in [
+        "sphere-2",
+        "sphere-10",
+        "sphere-30",
+        "sphere-100",
+        "rastrigin-30",
+    ] {
         let bare = mean_ns(f, "bare").map(|t| t / POINTS as f64);
         for name in Algorithm::NAMES {
             if let (Some(run), Some(bare), Some(sphere)) = (mean_ns(f, name), bare, sphere_bare) {

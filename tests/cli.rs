@@ -83,7 +83,10 @@ fn run_writes_the_result_files_and_check_describes_the_plan() {
         .collect();
     assert!(leftovers.is_empty(), "{leftovers:?}");
     let meta = std::fs::read_to_string(dir.join("meta.toml")).unwrap();
-    assert!(meta.contains("rng = \"Xoshiro256PlusPlus"), "{meta}");
+    assert!(
+        meta.contains("rng = \"LaneRng: Xoshiro256++ in 4 lanes"),
+        "{meta}"
+    );
     assert!(meta.contains("master_seed = 7"), "{meta}");
 
     // A second run without --resume refuses to touch the finished campaign.

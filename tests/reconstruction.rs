@@ -321,10 +321,12 @@ fn a_fitting_campaign_is_reproducible_and_mergeable() {
     assert!(runs.contains("MHS+LM,mhs+lm,"), "{runs}");
     let segments = std::fs::read_to_string(one.join("segments.csv")).unwrap();
     assert_eq!(segments.lines().count(), 1 + 4 * 4 * 2 * 4);
-    // LM is the exact reference: no metaheuristic run has a lower E on the
-    // same case; the hybrid never does worse than LM on this small budget
-    // of evaluations.
+    // With C1 joins the polynomial fit is a linear least-squares problem, so
+    // LM is the exact reference there: no metaheuristic run has a lower E.
+    // (With G1 joins the magnitudes make it non-linear and LM is a local
+    // method, which a lucky HS run may beat.)
     let records = metabezier::experiment::records::read_results(&one).unwrap();
+    assert!(spec.problems.iter().any(|p| p.name() == "coin/cubic/c1"));
     for p in &spec.problems {
         let e = |label: &str| -> f64 {
             records
@@ -333,7 +335,9 @@ fn a_fitting_campaign_is_reproducible_and_mergeable() {
                 .map(|r| r.best)
                 .fold(f64::INFINITY, f64::min)
         };
-        assert!(e("LM") <= e("HS") * (1.0 + 1e-9), "{}", p.name());
+        if p.name() == "coin/cubic/c1" {
+            assert!(e("LM") <= e("HS") * (1.0 + 1e-9), "{}", p.name());
+        }
         assert!(records.iter().filter(|r| r.problem == p.name()).all(|r| r
             .fit
             .as_ref()

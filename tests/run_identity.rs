@@ -52,15 +52,18 @@ label = "MHS+LM"
 
 #[test]
 fn specs_without_new_factors_keep_their_files_bit_for_bit() {
-    // FNV-1a hashes of the files the same specs gave before transforms,
-    // instances, budget grids, pairing and the MHS readings existed
-    // (metabezier at commit dbab234).
+    // FNV-1a hashes of the files these specs give. They matched the files of
+    // metabezier at commit dbab234 (before transforms, instances, budget
+    // grids, pairing and the MHS readings existed) until the bulk generator
+    // (`LaneRng`) changed every run's random numbers; they were re-pinned
+    // then, with keys and seeds unchanged, and must not move again unless
+    // the generator or an operator changes on purpose.
     let tmp = tempfile::tempdir().unwrap();
     let quick = Spec::load(&repo("experiments/quick.toml")).unwrap();
     let out = tmp.path().join("quick");
     run(&quick, &out, 2);
-    assert_eq!(hash(&out.join("runs.csv")), 0x831819e679c9610f);
-    assert_eq!(hash(&out.join("convergence.csv")), 0xc31cd76ea5ed0b35);
+    assert_eq!(hash(&out.join("runs.csv")), 0xb35c229e15d59124);
+    assert_eq!(hash(&out.join("convergence.csv")), 0x2687a49b97c7a60a);
 
     std::fs::copy(repo("data/outlines/coin.png"), tmp.path().join("coin.png")).unwrap();
     let path = tmp.path().join("fit.toml");
@@ -69,10 +72,10 @@ fn specs_without_new_factors_keep_their_files_bit_for_bit() {
     let out = tmp.path().join("fit");
     run(&fit, &out, 2);
     for (file, want) in [
-        ("runs.csv", 0x2607d29ed6672851),
+        ("runs.csv", 0xbff898bb67d6132c),
         ("convergence.csv", 0x6e1f1111121036d7),
-        ("fits.csv", 0x76929c9ac1f8399d),
-        ("segments.csv", 0x5aef8022d0434910),
+        ("fits.csv", 0xd1d20913a559f416),
+        ("segments.csv", 0xc34066194ca0785c),
     ] {
         assert_eq!(hash(&out.join(file)), want, "{file} changed");
     }

@@ -4,7 +4,7 @@
 //! A [`SegmentSolver`] only sees a [`SegmentProblem`] and a budget; the
 //! piecewise fit does not know which algorithm it is driving.
 
-use rand::RngCore;
+use crate::rng::Words;
 
 use super::{linear_fit, SegmentProblem};
 use crate::optim::lm::{LevenbergMarquardt, Termination};
@@ -85,7 +85,7 @@ impl<S: SegmentSolver + ?Sized> SegmentSolver for Box<S> {
 /// (successive segments continue the same random stream, so a piecewise fit
 /// is reproducible from one seed).
 #[derive(Clone, Debug)]
-pub struct OptimiserSolver<O: Optimiser, R: RngCore> {
+pub struct OptimiserSolver<O: Optimiser, R: Words> {
     /// The optimiser.
     pub optimiser: O,
     /// Its random generator.
@@ -94,7 +94,7 @@ pub struct OptimiserSolver<O: Optimiser, R: RngCore> {
     pub label: String,
 }
 
-impl<O: Optimiser, R: RngCore> OptimiserSolver<O, R> {
+impl<O: Optimiser, R: Words> OptimiserSolver<O, R> {
     /// The solver running `optimiser` with `rng`.
     pub fn new(optimiser: O, rng: R) -> Self {
         Self {
@@ -111,7 +111,7 @@ impl<O: Optimiser, R: RngCore> OptimiserSolver<O, R> {
     }
 }
 
-impl<O: Optimiser, R: RngCore> SegmentSolver for OptimiserSolver<O, R> {
+impl<O: Optimiser, R: Words> SegmentSolver for OptimiserSolver<O, R> {
     fn solve(&mut self, problem: &SegmentProblem, budget: u64) -> Solution {
         if problem.dim() == 0 {
             return Solution::fixed(problem, budget);
@@ -188,7 +188,7 @@ impl SegmentSolver for LmSolver {
 /// A metaheuristic on a share of the budget, then Levenberg–Marquardt from
 /// its best point with the rest; both stages are reported.
 #[derive(Clone, Debug)]
-pub struct HybridSolver<O: Optimiser, R: RngCore> {
+pub struct HybridSolver<O: Optimiser, R: Words> {
     /// The global stage.
     pub global: OptimiserSolver<O, R>,
     /// The local polish.
@@ -197,7 +197,7 @@ pub struct HybridSolver<O: Optimiser, R: RngCore> {
     pub global_share: f64,
 }
 
-impl<O: Optimiser, R: RngCore> HybridSolver<O, R> {
+impl<O: Optimiser, R: Words> HybridSolver<O, R> {
     /// `optimiser` on 80% of the budget, then LM.
     pub fn new(optimiser: O, rng: R) -> Self {
         Self {
@@ -208,7 +208,7 @@ impl<O: Optimiser, R: RngCore> HybridSolver<O, R> {
     }
 }
 
-impl<O: Optimiser, R: RngCore> SegmentSolver for HybridSolver<O, R> {
+impl<O: Optimiser, R: Words> SegmentSolver for HybridSolver<O, R> {
     fn solve(&mut self, problem: &SegmentProblem, budget: u64) -> Solution {
         if problem.dim() == 0 {
             return Solution::fixed(problem, budget);

@@ -7,13 +7,11 @@
 
 use std::cmp::Ordering;
 
-use rand::RngCore;
-
 use super::params::{Kind, ParamDef, ParamSet, Setting};
 use super::{policy_param, Optimiser, ParamError, BOUNDS_PARAM};
 use crate::optim::evaluator::Evaluator;
 use crate::problem::{BoundPolicy, Bounds, Problem};
-use crate::rng::Draw;
+use crate::rng::{Draw, Words};
 
 /// The recombination operator applied to a pair of parents `x¹, x²`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -287,7 +285,7 @@ impl GeneticAlgorithm {
 /// The winner of a tournament of `k` indices drawn with replacement: the
 /// smallest value, the smallest index among equal values.
 #[inline]
-fn tournament<R: RngCore + ?Sized>(values: &[f64], k: usize, rng: &mut R) -> usize {
+fn tournament<R: Words + ?Sized>(values: &[f64], k: usize, rng: &mut R) -> usize {
     let n = values.len();
     let mut best = rng.index(n);
     for _ in 1..k {
@@ -311,7 +309,7 @@ struct Mutator {
 }
 
 impl Mutator {
-    fn new<R: RngCore + ?Sized>(ga: &GeneticAlgorithm, rng: &mut R) -> Self {
+    fn new<R: Words + ?Sized>(ga: &GeneticAlgorithm, rng: &mut R) -> Self {
         let mut m = Self {
             pm: ga.pm,
             ln_keep: (-ga.pm).ln_1p(),
@@ -326,7 +324,7 @@ impl Mutator {
     /// The number of unmutated genes before the next mutated one,
     /// `Geometric(pm)` on `{0, 1, …}`.
     #[inline]
-    fn gap<R: RngCore + ?Sized>(&self, rng: &mut R) -> usize {
+    fn gap<R: Words + ?Sized>(&self, rng: &mut R) -> usize {
         if self.pm >= 1.0 {
             0
         } else {
@@ -338,7 +336,7 @@ impl Mutator {
     /// Mutates the genes of `child` that fall on mutation sites; `sigma[j]`
     /// is the absolute Gaussian σ of variable `j`.
     #[inline]
-    fn apply<R: RngCore + ?Sized>(
+    fn apply<R: Words + ?Sized>(
         &mut self,
         child: &mut [f64],
         bounds: &[Bounds],
@@ -403,7 +401,7 @@ fn by_value(values: &[f64]) -> impl Fn(&usize, &usize) -> Ordering + '_ {
 }
 
 impl Optimiser for GeneticAlgorithm {
-    fn minimise<P: Problem + ?Sized, R: RngCore + ?Sized>(
+    fn minimise<P: Problem + ?Sized, R: Words + ?Sized>(
         &self,
         eval: &mut Evaluator<'_, P>,
         rng: &mut R,
@@ -426,8 +424,10 @@ impl Optimiser for GeneticAlgorithm {
         let upper: Vec<f64> = bounds.iter().map(|b| b.upper).collect();
 
         for row in cur.chunks_exact_mut(dim.max(1)).take(pop) {
-            for (x, b) in row[..dim].iter_mut().zip(bounds) {
-                *x = b.lerp(rng.unit());
+            let row = &mut row[..dim];
+            rng.units(row);
+            for (x, b) in row.iter_mut().zip(bounds) {
+                *x = b.lerp(*x);
             }
         }
         if eval.evaluate_batch(&cur[..pop * dim], &mut cur_val) < pop {
@@ -482,8 +482,9 @@ impl Optimiser for GeneticAlgorithm {
                         Crossover::Blend => {
                             // Draw all γ first, in a tight generator loop,
                             // then combine in a branch-free loop.
+                            rng.units(&mut gammas);
                             for g in gammas.iter_mut() {
-                                *g = lo + span * rng.unit();
+                                *g = lo + span * *g;
                             }
                             let (g1, g2) = gammas.split_at(dim);
                             blend(c1, xa, xb, g1, &lower, &upper, bounds, self.policy);

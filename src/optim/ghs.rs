@@ -1,14 +1,12 @@
 //! Global-best Harmony Search, GHS (Omran & Mahdavi 2008, "Global-best
 //! harmony search", Applied Mathematics and Computation 198:643–656).
 
-use rand::RngCore;
-
-use super::harmony::HarmonyMemory;
+use super::harmony::{HarmonyMemory, CHUNK};
 use super::params::{Kind, ParamDef, ParamSet, Setting};
-use super::{Optimiser, ParamError};
+use super::{clamp, select, Optimiser, ParamError};
 use crate::optim::evaluator::Evaluator;
 use crate::problem::Problem;
-use crate::rng::{Draw, Field21};
+use crate::rng::{unit_of, Field21, Words};
 
 /// GHS: HS without a bandwidth, whose pitch adjustment copies a random
 /// dimension of the best harmony.
@@ -20,8 +18,11 @@ use crate::rng::{Draw, Field21};
 /// the copy is made in normalised coordinates:
 /// `x′_j = L_j + (x^best_k − L_k)/(U_k − L_k)·(U_j − L_j)`; on a common box this
 /// is exactly the paper's `x′_j = x^best_k`. `t/NI` is the fraction of the
-/// evaluation budget used. The HMCR trial, memory index and PAR trial of a
-/// variable come from one generator call ([`crate::rng::Field21`]).
+/// evaluation budget used. Each variable reads two words of the stream: the
+/// first gives the HMCR trial, memory index and PAR trial
+/// ([`crate::rng::Field21`]), the second either the uniform draw or, when
+/// the value is adjusted, the dimension `k` (the two uses exclude each
+/// other); the outcome is chosen by masks, without branches.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GlobalBestHarmonySearch {
     /// Harmony memory size HMS.
@@ -110,7 +111,7 @@ impl GlobalBestHarmonySearch {
 }
 
 impl Optimiser for GlobalBestHarmonySearch {
-    fn minimise<P: Problem + ?Sized, R: RngCore + ?Sized>(
+    fn minimise<P: Problem + ?Sized, R: Words + ?Sized>(
         &self,
         eval: &mut Evaluator<'_, P>,
         rng: &mut R,
@@ -132,18 +133,25 @@ impl Optimiser for GlobalBestHarmonySearch {
         refresh(&hm, &mut best_unit);
         let hms = hm.len();
         let hmcr = Field21::threshold(self.hmcr);
+        let mut words = [0u64; 2 * CHUNK];
         while eval.remaining() > 0 {
             let par =
                 Field21::threshold(self.par_min + (self.par_max - self.par_min) * eval.progress());
-            for (j, (xj, b)) in x.iter_mut().zip(bounds).enumerate() {
-                let [consider, pick, adjust] = rng.fields21();
-                if consider < hmcr {
-                    *xj = hm.get(Field21::index(pick, hms), j);
-                    if adjust < par {
-                        *xj = b.lerp(best_unit[rng.index(dim)]);
-                    }
-                } else {
-                    *xj = b.lerp(rng.unit());
+            for start in (0..dim).step_by(CHUNK) {
+                let end = (start + CHUNK).min(dim);
+                let words = &mut words[..2 * (end - start)];
+                rng.words(words);
+                for ((w, xj), (j, b)) in words
+                    .chunks_exact(2)
+                    .zip(&mut x[start..end])
+                    .zip(bounds[start..end].iter().enumerate())
+                {
+                    let [consider, pick, adjust] = Field21::split(w[0]);
+                    let held = hm.get(Field21::index(pick, hms), start + j);
+                    let unit = best_unit[Field21::index(w[1] & Field21::MASK, dim)];
+                    let copied = clamp(*b, b.lower + unit * b.width());
+                    let fresh = clamp(*b, b.lower + unit_of(w[1]) * b.width());
+                    *xj = select(consider < hmcr, select(adjust < par, copied, held), fresh);
                 }
             }
             let v = eval.evaluate(&x);

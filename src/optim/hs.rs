@@ -1,10 +1,10 @@
 //! Harmony Search, HS (Geem, Kim & Loganathan 2001, "A new heuristic
 //! optimization algorithm: harmony search", Simulation 76(2):60–68).
 
-use rand::RngCore;
+use crate::rng::Words;
 
 use super::harmony::{
-    Bandwidth, HarmonyMemory, Improvisation, BW_DECAY_PARAM, BW_MIN_PARAM, BW_PARAM,
+    Bandwidth, BoundColumns, HarmonyMemory, Improvisation, BW_DECAY_PARAM, BW_MIN_PARAM, BW_PARAM,
 };
 use super::params::{Kind, ParamDef, ParamSet, Setting};
 use super::{policy_param, Optimiser, ParamError, BOUNDS_PARAM};
@@ -92,7 +92,7 @@ impl HarmonySearch {
 }
 
 impl Optimiser for HarmonySearch {
-    fn minimise<P: Problem + ?Sized, R: RngCore + ?Sized>(
+    fn minimise<P: Problem + ?Sized, R: Words + ?Sized>(
         &self,
         eval: &mut Evaluator<'_, P>,
         rng: &mut R,
@@ -105,6 +105,7 @@ impl Optimiser for HarmonySearch {
         let widths: Vec<f64> = bounds.iter().map(|b| b.width()).collect();
         let mut bw = vec![0.0; bounds.len()];
         self.bandwidth.scale(0.0, &widths, &mut bw);
+        let cols = BoundColumns::new(bounds);
         let imp = Improvisation {
             hmcr: self.hmcr,
             par: self.par,
@@ -115,7 +116,7 @@ impl Optimiser for HarmonySearch {
             if self.bandwidth.decay {
                 self.bandwidth.scale(eval.progress(), &widths, &mut bw);
             }
-            imp.improvise(&hm, bounds, &bw, rng, &mut x);
+            imp.improvise(&hm, &cols, &bw, rng, &mut x);
             let v = eval.evaluate(&x);
             hm.consider(&x, v);
         }

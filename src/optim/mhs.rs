@@ -27,16 +27,17 @@
 //!   harmony search algorithm with multi-parent crossover", IJAMC 4(3):1–14)
 //!   for the GA step, applied here per variable (our adaptation).
 
-use rand::RngCore;
+use crate::rng::Words;
 
 use super::harmony::{
-    Bandwidth, HarmonyMemory, Improvisation, BW_DECAY_PARAM, BW_MIN_PARAM, BW_PARAM,
+    Bandwidth, BoundColumns, HarmonyMemory, Improvisation, BW_DECAY_PARAM, BW_MIN_PARAM, BW_PARAM,
+    CHUNK,
 };
 use super::params::{Kind, ParamDef, ParamSet, Setting};
-use super::{policy_param, Optimiser, ParamError, BOUNDS_PARAM};
+use super::{clamp, policy_param, select, Optimiser, ParamError, BOUNDS_PARAM};
 use crate::optim::evaluator::Evaluator;
 use crate::problem::{BoundPolicy, Bounds, Problem};
-use crate::rng::{Draw, Field21};
+use crate::rng::{unit_of, Draw, Field21};
 
 /// One way of building a temporary harmony `D_l`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -309,7 +310,7 @@ impl ModifiedHarmonySearch {
 }
 
 impl Optimiser for ModifiedHarmonySearch {
-    fn minimise<P: Problem + ?Sized, R: RngCore + ?Sized>(
+    fn minimise<P: Problem + ?Sized, R: Words + ?Sized>(
         &self,
         eval: &mut Evaluator<'_, P>,
         rng: &mut R,
@@ -330,7 +331,7 @@ impl Optimiser for ModifiedHarmonySearch {
 
 impl ModifiedHarmonySearch {
     /// The candidate scheme: `L` whole vectors `D_l` per improvisation.
-    fn candidates<P: Problem + ?Sized, R: RngCore + ?Sized>(
+    fn candidates<P: Problem + ?Sized, R: Words + ?Sized>(
         &self,
         hm: &mut HarmonyMemory,
         eval: &mut Evaluator<'_, P>,
@@ -340,6 +341,7 @@ impl ModifiedHarmonySearch {
     ) {
         let bounds = eval.bounds();
         let dim = bounds.len();
+        let cols = BoundColumns::new(bounds);
         let imp = Improvisation {
             hmcr: self.hmcr,
             par: self.par,
@@ -363,7 +365,7 @@ impl ModifiedHarmonySearch {
                     break;
                 }
                 match ops[l % ops.len()] {
-                    Operator::Hs => imp.improvise(hm, bounds, bw, rng, &mut candidate),
+                    Operator::Hs => imp.improvise(hm, &cols, bw, rng, &mut candidate),
                     Operator::Ga => self.crossover(hm, bounds, widths, rng, &mut candidate),
                     Operator::Pso => self.pull_to_best(hm, bounds, rng, &mut candidate),
                 }
@@ -389,7 +391,7 @@ impl ModifiedHarmonySearch {
 
     /// The GA operator: arithmetic crossover `α·x^a + (1 − α)·x^b` of two
     /// distinct random harmonies, then per-variable mutation with rate `pm`.
-    fn crossover<R: RngCore + ?Sized>(
+    fn crossover<R: Words + ?Sized>(
         &self,
         hm: &HarmonyMemory,
         bounds: &[Bounds],
@@ -406,23 +408,30 @@ impl ModifiedHarmonySearch {
         };
         let alpha = rng.unit();
         let (xa, xb) = (hm.harmony(a), hm.harmony(b));
-        for j in 0..bounds.len() {
-            let bj = bounds[j];
-            let mut v = alpha * xa[j] + (1.0 - alpha) * xb[j];
-            if rng.unit() < self.pm {
-                v = if self.gaussian_mutation {
-                    bj.repair(v + self.sigma * widths[j] * rng.gaussian(), self.policy)
-                } else {
-                    bj.lerp(rng.unit())
-                };
+        // The mutation trials of a block of variables are drawn together;
+        // a mutation (rare) draws its own values after them.
+        let mut trials = [0.0; CHUNK];
+        for start in (0..bounds.len()).step_by(CHUNK) {
+            let end = (start + CHUNK).min(bounds.len());
+            rng.units(&mut trials[..end - start]);
+            for (j, &trial) in (start..end).zip(&trials) {
+                let bj = bounds[j];
+                let mut v = alpha * xa[j] + (1.0 - alpha) * xb[j];
+                if trial < self.pm {
+                    v = if self.gaussian_mutation {
+                        bj.repair(v + self.sigma * widths[j] * rng.gaussian(), self.policy)
+                    } else {
+                        bj.lerp(rng.unit())
+                    };
+                }
+                candidate[j] = bj.clip(v);
             }
-            candidate[j] = bj.clip(v);
         }
     }
 
     /// The PSO operator: a random harmony moved toward the best,
     /// `x + c·φ∘(x^best − x)`.
-    fn pull_to_best<R: RngCore + ?Sized>(
+    fn pull_to_best<R: Words + ?Sized>(
         &self,
         hm: &HarmonyMemory,
         bounds: &[Bounds],
@@ -431,9 +440,14 @@ impl ModifiedHarmonySearch {
     ) {
         let x = hm.harmony(rng.index(hm.len()));
         let best = hm.harmony(hm.best());
-        for j in 0..bounds.len() {
-            let v = x[j] + self.c * rng.unit() * (best[j] - x[j]);
-            candidate[j] = bounds[j].repair(v, self.policy);
+        let mut phi = [0.0; CHUNK];
+        for start in (0..bounds.len()).step_by(CHUNK) {
+            let end = (start + CHUNK).min(bounds.len());
+            rng.units(&mut phi[..end - start]);
+            for (j, &phi) in (start..end).zip(&phi) {
+                let v = x[j] + self.c * phi * (best[j] - x[j]);
+                candidate[j] = bounds[j].repair(v, self.policy);
+            }
         }
     }
 
@@ -446,7 +460,7 @@ impl ModifiedHarmonySearch {
     /// `u < PAR + p_ga + p_pso`, else the value is kept; otherwise the
     /// variable is uniform in its bounds. The candidate replaces the worst
     /// harmony if it is better.
-    fn per_variable<P: Problem + ?Sized, R: RngCore + ?Sized>(
+    fn per_variable<P: Problem + ?Sized, R: Words + ?Sized>(
         &self,
         hm: &mut HarmonyMemory,
         eval: &mut Evaluator<'_, P>,
@@ -455,38 +469,89 @@ impl ModifiedHarmonySearch {
         bw: &mut [f64],
     ) {
         let bounds = eval.bounds();
-        let mut candidate = vec![0.0; bounds.len()];
+        let dim = bounds.len();
+        let mut candidate = vec![0.0; dim];
         let hmcr = Field21::threshold(self.hmcr);
         let t_pa = Field21::threshold(self.par);
         let t_ga = Field21::threshold(self.par + self.p_ga);
         let t_pso = Field21::threshold(self.par + self.p_ga + self.p_pso);
+        let mut words = [0u64; 3 * CHUNK];
         while eval.remaining() > 0 {
             if self.bandwidth.decay {
                 self.bandwidth.scale(eval.progress(), widths, bw);
             }
-            let hms = hm.len();
-            let best = hm.best();
-            for (j, b) in bounds.iter().enumerate() {
-                let [consider, pick, choose] = rng.fields21();
-                if consider >= hmcr {
-                    candidate[j] = b.lerp(rng.unit());
-                    continue;
+            let best = hm.harmony(hm.best());
+            for start in (0..dim).step_by(CHUNK) {
+                let end = (start + CHUNK).min(dim);
+                let words = &mut words[..3 * (end - start)];
+                rng.words(words);
+                match self.policy {
+                    BoundPolicy::Clip => self.per_variable_block(
+                        hm,
+                        best,
+                        start,
+                        words,
+                        bounds,
+                        bw,
+                        &mut candidate,
+                        [hmcr, t_pa, t_ga, t_pso],
+                        clamp,
+                    ),
+                    BoundPolicy::Reflect => self.per_variable_block(
+                        hm,
+                        best,
+                        start,
+                        words,
+                        bounds,
+                        bw,
+                        &mut candidate,
+                        [hmcr, t_pa, t_ga, t_pso],
+                        Bounds::reflect,
+                    ),
                 }
-                let v = hm.get(Field21::index(pick, hms), j);
-                candidate[j] = if choose < t_pa {
-                    b.repair(v + bw[j] * (2.0 * rng.unit() - 1.0), self.policy)
-                } else if choose < t_ga {
-                    let other = hm.get(rng.index(hms), j);
-                    let alpha = rng.unit();
-                    b.clip(alpha * v + (1.0 - alpha) * other)
-                } else if choose < t_pso {
-                    b.repair(v + self.c * rng.unit() * (hm.get(best, j) - v), self.policy)
-                } else {
-                    v
-                };
             }
             let v = eval.evaluate(&candidate);
             hm.consider(&candidate, v);
+        }
+    }
+
+    /// The per-variable scheme on variables `start..start + words.len()/3`.
+    /// Each variable reads three words: the HMCR trial, memory index and
+    /// mechanism field `u`; the variate of the uniform draw, the pitch
+    /// adjustment, the crossover's α or the pull's φ (one of them is used);
+    /// and the index of the crossover's second harmony. Every mechanism is
+    /// computed and one is kept by masks.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn per_variable_block(
+        &self,
+        hm: &HarmonyMemory,
+        best: &[f64],
+        start: usize,
+        words: &[u64],
+        bounds: &[Bounds],
+        bw: &[f64],
+        candidate: &mut [f64],
+        [hmcr, t_pa, t_ga, t_pso]: [u64; 4],
+        repair: impl Fn(Bounds, f64) -> f64,
+    ) {
+        let hms = hm.len();
+        for (w, j) in words.chunks_exact(3).zip(start..) {
+            let [consider, pick, choose] = Field21::split(w[0]);
+            let u = unit_of(w[1]);
+            let b = bounds[j];
+            let v = hm.get(Field21::index(pick, hms), j);
+            let other = hm.get(Field21::index(w[2] & Field21::MASK, hms), j);
+            let adjusted = repair(b, v + bw[j] * (2.0 * u - 1.0));
+            let crossed = clamp(b, u * v + (1.0 - u) * other);
+            let pulled = repair(b, v + self.c * u * (best[j] - v));
+            let kept = select(
+                choose < t_pa,
+                adjusted,
+                select(choose < t_ga, crossed, select(choose < t_pso, pulled, v)),
+            );
+            let fresh = clamp(b, b.lower + u * b.width());
+            candidate[j] = select(consider < hmcr, kept, fresh);
         }
     }
 }

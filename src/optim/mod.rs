@@ -25,7 +25,7 @@ pub mod pso;
 
 use std::fmt;
 
-use rand::RngCore;
+use crate::rng::Words;
 
 pub use evaluator::{Evaluator, Outcome, TargetHit, TracePoint};
 pub use ga::GeneticAlgorithm;
@@ -36,20 +36,58 @@ pub use mhs::ModifiedHarmonySearch;
 pub use params::{quoted_list, Kind, ParamDef, ParamSet, Raw, Setting, SettingError};
 pub use pso::ParticleSwarm;
 
-use crate::problem::{BoundPolicy, Problem};
+use crate::problem::{BoundPolicy, Bounds, Problem};
+
+/// `if take_a { a } else { b }` through a bit mask instead of a branch, so
+/// that a loop of random choices neither mispredicts nor stops the compiler
+/// from vectorising it.
+#[inline(always)]
+pub fn select(take_a: bool, a: f64, b: f64) -> f64 {
+    let m = u64::from(take_a).wrapping_neg();
+    f64::from_bits((a.to_bits() & m) | (b.to_bits() & !m))
+}
+
+/// `if a > b { a } else { b }`: the rule of x86 `maxpd` (the second operand
+/// when either is NaN), so that scalar and vector code agree bit for bit.
+#[inline(always)]
+pub fn max_x86(a: f64, b: f64) -> f64 {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+/// `if a < b { a } else { b }`: the rule of x86 `minpd`.
+#[inline(always)]
+pub fn min_x86(a: f64, b: f64) -> f64 {
+    if a < b {
+        a
+    } else {
+        b
+    }
+}
+
+/// `x` clipped into `[b.lower, b.upper]` by [`max_x86`] and [`min_x86`],
+/// which compile to branch-free instructions: the value of
+/// [`Bounds::clip`] (a NaN goes to the lower bound).
+#[inline(always)]
+pub fn clamp(b: Bounds, x: f64) -> f64 {
+    min_x86(max_x86(x, b.lower), b.upper)
+}
 
 /// A minimiser of box-bounded problems under an evaluation budget.
 pub trait Optimiser {
     /// Minimises `eval`'s problem until its budget is spent, drawing all
     /// randomness from `rng`.
-    fn minimise<P: Problem + ?Sized, R: RngCore + ?Sized>(
+    fn minimise<P: Problem + ?Sized, R: Words + ?Sized>(
         &self,
         eval: &mut Evaluator<'_, P>,
         rng: &mut R,
     );
 
     /// Minimises `problem` with `budget` evaluations and returns the outcome.
-    fn run<P: Problem + ?Sized, R: RngCore + ?Sized>(
+    fn run<P: Problem + ?Sized, R: Words + ?Sized>(
         &self,
         problem: &P,
         budget: u64,
@@ -168,7 +206,7 @@ impl Algorithm {
 }
 
 impl Optimiser for Algorithm {
-    fn minimise<P: Problem + ?Sized, R: RngCore + ?Sized>(
+    fn minimise<P: Problem + ?Sized, R: Words + ?Sized>(
         &self,
         eval: &mut Evaluator<'_, P>,
         rng: &mut R,

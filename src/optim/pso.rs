@@ -3,13 +3,11 @@
 //! weight of Shi & Eberhart (1998, "A modified particle swarm optimizer",
 //! Proc. IEEE ICEC, 69–73).
 
-use rand::RngCore;
-
 use super::params::{Kind, ParamDef, ParamSet, Setting};
-use super::{policy_param, Optimiser, ParamError, BOUNDS_PARAM};
+use super::{max_x86, min_x86, policy_param, Optimiser, ParamError, BOUNDS_PARAM};
 use crate::optim::evaluator::Evaluator;
 use crate::problem::{BoundPolicy, Problem};
-use crate::rng::Draw;
+use crate::rng::Words;
 
 /// How the inertia weight `ω` evolves over the run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -215,7 +213,7 @@ impl ParticleSwarm {
 }
 
 impl Optimiser for ParticleSwarm {
-    fn minimise<P: Problem + ?Sized, R: RngCore + ?Sized>(
+    fn minimise<P: Problem + ?Sized, R: Words + ?Sized>(
         &self,
         eval: &mut Evaluator<'_, P>,
         rng: &mut R,
@@ -250,9 +248,16 @@ impl Optimiser for ParticleSwarm {
             if eval.remaining() == 0 {
                 return;
             }
-            for (((xj, vj), b), &vm) in xi.iter_mut().zip(vi.iter_mut()).zip(bounds).zip(&vmax) {
-                *xj = b.lerp(rng.unit());
-                *vj = rng.uniform(-vm, vm);
+            rng.units(&mut phis);
+            for ((((xj, vj), b), &vm), u) in xi
+                .iter_mut()
+                .zip(vi.iter_mut())
+                .zip(bounds)
+                .zip(&vmax)
+                .zip(phis.chunks_exact(2))
+            {
+                *xj = b.lerp(u[0]);
+                *vj = -vm + u[1] * (vm + vm);
             }
             let f = eval.evaluate(xi);
             pi.copy_from_slice(xi);
@@ -276,9 +281,7 @@ impl Optimiser for ParticleSwarm {
                 let gi = &pbest[g * dim..(g + 1) * dim];
                 // Draw all φ first, in a tight loop that keeps the generator
                 // in registers, then move the particle in a branch-free loop.
-                for phi in phis.iter_mut() {
-                    *phi = rng.unit();
-                }
+                rng.units(&mut phis);
                 let (phi1, phi2) = phis.split_at(dim);
                 match policy {
                     BoundPolicy::Clip => {
@@ -288,13 +291,17 @@ impl Optimiser for ParticleSwarm {
                         let (f1, f2) = (&phi1[..dim], &phi2[..dim]);
                         for j in 0..dim {
                             let here = xi[j];
-                            let vel = (w * vi[j]
-                                + c1 * f1[j] * (pi[j] - here)
-                                + c2 * f2[j] * (gi[j] - here))
-                                .max(-vm[j])
-                                .min(vm[j]);
+                            let vel = min_x86(
+                                max_x86(
+                                    w * vi[j]
+                                        + c1 * f1[j] * (pi[j] - here)
+                                        + c2 * f2[j] * (gi[j] - here),
+                                    -vm[j],
+                                ),
+                                vm[j],
+                            );
                             let pos = here + vel;
-                            let inside = pos.max(lo[j]).min(hi[j]);
+                            let inside = min_x86(max_x86(pos, lo[j]), hi[j]);
                             vi[j] = if inside == pos { vel } else { 0.0 };
                             xi[j] = inside;
                         }
