@@ -1,12 +1,12 @@
 //! Global-best Harmony Search, GHS (Omran & Mahdavi 2008, "Global-best
 //! harmony search", Applied Mathematics and Computation 198:643–656).
 
-use super::harmony::{HarmonyMemory, CHUNK};
+use super::harmony::{BoundColumns, HarmonyMemory, CHUNK};
 use super::params::{Kind, ParamDef, ParamSet, Setting};
-use super::{clamp, select, Optimiser, ParamError};
+use super::{max_x86, min_x86, select, Optimiser, ParamError};
 use crate::optim::evaluator::Evaluator;
 use crate::problem::Problem;
-use crate::rng::{unit_of, Field21, Words};
+use crate::rng::{unit52_of, Field21, Words};
 
 /// GHS: HS without a bandwidth, whose pitch adjustment copies a random
 /// dimension of the best harmony.
@@ -18,11 +18,11 @@ use crate::rng::{unit_of, Field21, Words};
 /// the copy is made in normalised coordinates:
 /// `x′_j = L_j + (x^best_k − L_k)/(U_k − L_k)·(U_j − L_j)`; on a common box this
 /// is exactly the paper's `x′_j = x^best_k`. `t/NI` is the fraction of the
-/// evaluation budget used. Each variable reads two words of the stream: the
-/// first gives the HMCR trial, memory index and PAR trial
-/// ([`crate::rng::Field21`]), the second either the uniform draw or, when
-/// the value is adjusted, the dimension `k` (the two uses exclude each
-/// other); the outcome is chosen by masks, without branches.
+/// evaluation budget used. Variables are improvised in blocks of up to 32;
+/// a block of `n` reads `2n` words, word `i` and word `n + i` for variable
+/// `i` (the HMCR, index and PAR fields, then the uniform draw or the copied
+/// dimension), and chooses by masks, without branches
+/// (four variables at a time on a CPU with AVX2, with the same values).
 #[derive(Clone, Debug, PartialEq)]
 pub struct GlobalBestHarmonySearch {
     /// Harmony memory size HMS.
@@ -122,6 +122,7 @@ impl Optimiser for GlobalBestHarmonySearch {
         }
         let bounds = eval.bounds();
         let dim = bounds.len();
+        let cols = BoundColumns::new(bounds);
         let mut x = vec![0.0; dim];
         // The best harmony in normalised coordinates, refreshed when it changes.
         let mut best_unit = vec![0.0; dim];
@@ -131,32 +132,222 @@ impl Optimiser for GlobalBestHarmonySearch {
             }
         };
         refresh(&hm, &mut best_unit);
-        let hms = hm.len();
-        let hmcr = Field21::threshold(self.hmcr);
+        let wide = crate::rng::has_avx2();
         let mut words = [0u64; 2 * CHUNK];
         while eval.remaining() > 0 {
-            let par =
-                Field21::threshold(self.par_min + (self.par_max - self.par_min) * eval.progress());
+            let rule = Rule {
+                hmcr: Field21::threshold(self.hmcr),
+                par: Field21::threshold(
+                    self.par_min + (self.par_max - self.par_min) * eval.progress(),
+                ),
+            };
             for start in (0..dim).step_by(CHUNK) {
-                let end = (start + CHUNK).min(dim);
-                let words = &mut words[..2 * (end - start)];
+                let n = (start + CHUNK).min(dim) - start;
+                let words = &mut words[..2 * n];
                 rng.words(words);
-                for ((w, xj), (j, b)) in words
-                    .chunks_exact(2)
-                    .zip(&mut x[start..end])
-                    .zip(bounds[start..end].iter().enumerate())
-                {
-                    let [consider, pick, adjust] = Field21::split(w[0]);
-                    let held = hm.get(Field21::index(pick, hms), start + j);
-                    let unit = best_unit[Field21::index(w[1] & Field21::MASK, dim)];
-                    let copied = clamp(*b, b.lower + unit * b.width());
-                    let fresh = clamp(*b, b.lower + unit_of(w[1]) * b.width());
-                    *xj = select(consider < hmcr, select(adjust < par, copied, held), fresh);
+                let (fields, units) = words.split_at(n);
+                #[allow(unused_mut)]
+                let mut done = 0;
+                #[cfg(target_arch = "x86_64")]
+                if wide && n >= 4 {
+                    // SAFETY: `wide` is true only where the CPU has AVX2.
+                    done = unsafe {
+                        rule.block_avx2(&hm, &best_unit, start, fields, units, &cols, &mut x)
+                    };
+                }
+                let _ = wide;
+                for i in done..n {
+                    x[start + i] =
+                        rule.variable(&hm, &best_unit, start + i, fields[i], units[i], &cols);
                 }
             }
             let v = eval.evaluate(&x);
             if hm.consider(&x, v) && v <= hm.value(hm.best()) {
                 refresh(&hm, &mut best_unit);
+            }
+        }
+    }
+}
+
+/// The GHS improvisation with the rates of one step: HMCR and `PAR(t)` as
+/// 21-bit thresholds ([`crate::rng::Field21`]).
+#[derive(Clone, Copy, Debug)]
+struct Rule {
+    hmcr: u64,
+    par: u64,
+}
+
+impl Rule {
+    /// Variable `j` from its two words: the first gives the HMCR trial, the
+    /// memory index and the PAR trial; the second either the uniform draw
+    /// ([`crate::rng::unit52_of`]) or, for an adjusted value, the dimension
+    /// `k` of the best harmony to copy (its low 21 bits); the two uses
+    /// exclude each other. The outcome is chosen by masks.
+    #[inline(always)]
+    fn variable(
+        self,
+        hm: &HarmonyMemory,
+        best_unit: &[f64],
+        j: usize,
+        field: u64,
+        unit: u64,
+        cols: &BoundColumns,
+    ) -> f64 {
+        let [consider, pick, adjust] = Field21::split(field);
+        let (lo, hi, width) = (cols.lower[j], cols.upper[j], cols.width[j]);
+        let held = hm.get(Field21::index(pick, hm.len()), j);
+        let copied = best_unit[Field21::index(unit & Field21::MASK, best_unit.len())];
+        let copied = min_x86(max_x86(lo + copied * width, lo), hi);
+        let fresh = min_x86(max_x86(lo + unit52_of(unit) * width, lo), hi);
+        select(
+            consider < self.hmcr,
+            select(adjust < self.par, copied, held),
+            fresh,
+        )
+    }
+
+    /// [`Rule::variable`] for four variables per AVX2 register, with the
+    /// same floating-point operations; returns how many of the block's
+    /// variables it did (a multiple of four).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    #[allow(clippy::too_many_arguments)]
+    fn block_avx2(
+        self,
+        hm: &HarmonyMemory,
+        best_unit: &[f64],
+        start: usize,
+        fields: &[u64],
+        units: &[u64],
+        cols: &BoundColumns,
+        x: &mut [f64],
+    ) -> usize {
+        use std::arch::x86_64::*;
+        let n = fields.len() / 4 * 4;
+        let dim = best_unit.len();
+        let rows = hm.rows();
+        assert!(units.len() >= n && start + n <= x.len() && start + n <= cols.len());
+        assert!(rows.len() == hm.len() * dim && start + n <= dim);
+        // SAFETY: the vector loads and stores cover variables `start + i ..
+        // start + i + 4` with `i + 4 ≤ n`, inside every slice by the asserts;
+        // the scalar loads read `index·dim + j` with `index < hms` and
+        // `j < dim`, and `best_unit[k]` with `k < dim` (a 21-bit field times
+        // the length, shifted down by 21); AVX2 is enabled on this function.
+        unsafe {
+            let mask = _mm256_set1_epi64x(Field21::MASK as i64);
+            let hmcr = _mm256_set1_epi64x(self.hmcr as i64);
+            let par = _mm256_set1_epi64x(self.par as i64);
+            let hms_v = _mm256_set1_epi64x(hm.len() as i64);
+            let dim_v = _mm256_set1_epi64x(dim as i64);
+            let one_bits = _mm256_set1_epi64x(0x3FF0_0000_0000_0000);
+            let one = _mm256_set1_pd(1.0);
+            let lanes = _mm256_set_epi64x(3, 2, 1, 0);
+            let (base, best) = (rows.as_ptr(), best_unit.as_ptr());
+            for i in (0..n).step_by(4) {
+                let j = start + i;
+                let f = _mm256_loadu_si256(fields.as_ptr().add(i).cast());
+                let consider = _mm256_cmpgt_epi64(hmcr, _mm256_and_si256(f, mask));
+                let adjust =
+                    _mm256_cmpgt_epi64(par, _mm256_and_si256(_mm256_srli_epi64::<42>(f), mask));
+                let pick = _mm256_and_si256(_mm256_srli_epi64::<21>(f), mask);
+                let index = _mm256_srli_epi64::<21>(_mm256_mul_epu32(pick, hms_v));
+                let at = _mm256_add_epi64(
+                    _mm256_mul_epu32(index, dim_v),
+                    _mm256_add_epi64(_mm256_set1_epi64x(j as i64), lanes),
+                );
+                let w = _mm256_loadu_si256(units.as_ptr().add(i).cast());
+                let k = _mm256_srli_epi64::<21>(_mm256_mul_epu32(_mm256_and_si256(w, mask), dim_v));
+                let (mut a, mut b) = ([0i64; 4], [0i64; 4]);
+                _mm256_storeu_si256(a.as_mut_ptr().cast(), at);
+                _mm256_storeu_si256(b.as_mut_ptr().cast(), k);
+                let held = _mm256_set_pd(
+                    *base.offset(a[3] as isize),
+                    *base.offset(a[2] as isize),
+                    *base.offset(a[1] as isize),
+                    *base.offset(a[0] as isize),
+                );
+                let copied = _mm256_set_pd(
+                    *best.offset(b[3] as isize),
+                    *best.offset(b[2] as isize),
+                    *best.offset(b[1] as isize),
+                    *best.offset(b[0] as isize),
+                );
+                let u = _mm256_sub_pd(
+                    _mm256_castsi256_pd(_mm256_or_si256(_mm256_srli_epi64::<12>(w), one_bits)),
+                    one,
+                );
+                let lo = _mm256_loadu_pd(cols.lower.as_ptr().add(j));
+                let hi = _mm256_loadu_pd(cols.upper.as_ptr().add(j));
+                let width = _mm256_loadu_pd(cols.width.as_ptr().add(j));
+                let copied = _mm256_min_pd(
+                    _mm256_max_pd(_mm256_add_pd(lo, _mm256_mul_pd(copied, width)), lo),
+                    hi,
+                );
+                let fresh = _mm256_min_pd(
+                    _mm256_max_pd(_mm256_add_pd(lo, _mm256_mul_pd(u, width)), lo),
+                    hi,
+                );
+                let kept = _mm256_blendv_pd(held, copied, _mm256_castsi256_pd(adjust));
+                let out = _mm256_blendv_pd(fresh, kept, _mm256_castsi256_pd(consider));
+                _mm256_storeu_pd(x.as_mut_ptr().add(j), out);
+            }
+        }
+        n
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::problem::Bounds;
+    use crate::rng::run_rng;
+
+    struct Abs(Vec<Bounds>);
+    impl Problem for Abs {
+        fn dim(&self) -> usize {
+            self.0.len()
+        }
+        fn bounds(&self) -> &[Bounds] {
+            &self.0
+        }
+        fn objective(&self, x: &[f64]) -> f64 {
+            x.iter().map(|v| v.abs()).sum()
+        }
+    }
+
+    #[test]
+    fn the_avx2_block_improvises_exactly_as_the_portable_rule() {
+        if !crate::rng::has_avx2() {
+            return;
+        }
+        let mut rng = run_rng(8);
+        for dim in [1, 4, 6, 30, 35] {
+            let bounds: Vec<Bounds> = (0..dim)
+                .map(|j| Bounds::new(-2.0 + j as f64, 3.0 + 2.0 * j as f64))
+                .collect();
+            let p = Abs(bounds.clone());
+            let mut ev = Evaluator::new(&p, 100);
+            let hm = HarmonyMemory::random(5, &mut ev, &mut rng);
+            let cols = BoundColumns::new(&bounds);
+            let best_unit: Vec<f64> = (0..dim).map(|j| (j as f64 * 0.37) % 1.0).collect();
+            for (hmcr, par) in [(0.9, 0.3), (0.5, 0.99), (1.0, 0.0), (0.0, 1.0)] {
+                let rule = Rule {
+                    hmcr: Field21::threshold(hmcr),
+                    par: Field21::threshold(par),
+                };
+                let n = dim.min(CHUNK);
+                let mut words = vec![0u64; 2 * n];
+                rng.words(&mut words);
+                let (fields, units) = words.split_at(n);
+                let mut wide = vec![f64::NAN; dim];
+                // SAFETY: the CPU has AVX2 (checked above).
+                let done =
+                    unsafe { rule.block_avx2(&hm, &best_unit, 0, fields, units, &cols, &mut wide) };
+                assert_eq!(done, n / 4 * 4);
+                for i in 0..done {
+                    let want = rule.variable(&hm, &best_unit, i, fields[i], units[i], &cols);
+                    assert_eq!(wide[i].to_bits(), want.to_bits(), "dim {dim}, variable {i}");
+                }
             }
         }
     }

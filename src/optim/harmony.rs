@@ -85,6 +85,12 @@ impl HarmonyMemory {
         &self.harmonies[i * self.dim..(i + 1) * self.dim]
     }
 
+    /// All harmonies, row-major (`len() × dim` values).
+    #[inline]
+    pub(crate) fn rows(&self) -> &[f64] {
+        &self.harmonies
+    }
+
     /// Variable `j` of harmony `i`.
     #[inline]
     pub fn get(&self, i: usize, j: usize) -> f64 {
@@ -161,9 +167,9 @@ pub(crate) const CHUNK: usize = 32;
 /// the layout the vectorised improvisation reads.
 #[derive(Clone, Debug)]
 pub struct BoundColumns {
-    lower: Vec<f64>,
-    upper: Vec<f64>,
-    width: Vec<f64>,
+    pub(crate) lower: Vec<f64>,
+    pub(crate) upper: Vec<f64>,
+    pub(crate) width: Vec<f64>,
 }
 
 impl BoundColumns {
@@ -189,7 +195,7 @@ impl BoundColumns {
 
 impl Improvisation {
     /// Writes a new harmony into `x`; `bw[j]` is the absolute bandwidth of
-    /// variable `j`.
+    /// variable `j`, and `words` is scratch space for the random words.
     ///
     /// Variables are improvised in blocks of up to 32. A block of `n`
     /// variables reads `2n` words of the stream: word `i` gives variable
@@ -208,10 +214,10 @@ impl Improvisation {
         cols: &BoundColumns,
         bw: &[f64],
         rng: &mut R,
+        words: &mut [u64; 2 * CHUNK],
         x: &mut [f64],
     ) {
         let wide = crate::rng::has_avx2();
-        let mut words = [0u64; 2 * CHUNK];
         let dim = x.len();
         for start in (0..dim).step_by(CHUNK) {
             let n = (start + CHUNK).min(dim) - start;
@@ -221,20 +227,21 @@ impl Improvisation {
             #[allow(unused_mut)]
             let mut done = 0;
             #[cfg(target_arch = "x86_64")]
-            if self.policy == BoundPolicy::Clip && wide {
-                {
-                    // SAFETY: `wide` is true only where the CPU has AVX2
-                    // (`crate::rng::has_avx2`).
-                    done = unsafe { self.clip_block_avx2(hm, start, fields, units, cols, bw, x) };
-                }
+            if self.policy == BoundPolicy::Clip && wide && n >= 4 {
+                // SAFETY: `wide` is true only where the CPU has AVX2
+                // (`crate::rng::has_avx2`).
+                done = unsafe { self.clip_block_avx2(hm, start, fields, units, cols, bw, x) };
             }
+            let rates = [Field21::threshold(self.hmcr), Field21::threshold(self.par)];
             for i in done..n {
-                x[start + i] = self.variable(hm, start + i, fields[i], units[i], cols, bw);
+                x[start + i] = self.variable(hm, start + i, fields[i], units[i], cols, bw, rates);
             }
         }
     }
 
-    /// Variable `j` improvised from its two words (the portable rule).
+    /// Variable `j` improvised from its two words (the portable rule);
+    /// `[hmcr, par]` are the rates as 21-bit thresholds.
+    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn variable(
         &self,
@@ -244,6 +251,7 @@ impl Improvisation {
         unit: u64,
         cols: &BoundColumns,
         bw: &[f64],
+        [hmcr, par]: [u64; 2],
     ) -> f64 {
         let [consider, pick, adjust] = Field21::split(field);
         let u = unit52_of(unit);
@@ -255,11 +263,7 @@ impl Improvisation {
             BoundPolicy::Reflect => Bounds::new(lo, hi).reflect(moved),
         };
         let fresh = min_x86(max_x86(lo + u * cols.width[j], lo), hi);
-        select(
-            consider < Field21::threshold(self.hmcr),
-            select(adjust < Field21::threshold(self.par), adjusted, held),
-            fresh,
-        )
+        select(consider < hmcr, select(adjust < par, adjusted, held), fresh)
     }
 
     /// [`Improvisation::variable`] for `bounds = "clip"`, four variables
@@ -430,7 +434,8 @@ mod tests {
                     unsafe { imp.clip_block_avx2(&hm, 0, fields, units, &cols, &bw, &mut wide) };
                 assert_eq!(done, n / 4 * 4);
                 for i in 0..done {
-                    let want = imp.variable(&hm, i, fields[i], units[i], &cols, &bw);
+                    let rates = [Field21::threshold(hmcr), Field21::threshold(par)];
+                    let want = imp.variable(&hm, i, fields[i], units[i], &cols, &bw, rates);
                     assert_eq!(wide[i].to_bits(), want.to_bits(), "dim {dim}, variable {i}");
                 }
             }
@@ -455,6 +460,7 @@ mod tests {
                 &BoundColumns::new(p.bounds()),
                 &[1.0; 3],
                 &mut rng,
+                &mut [0; 2 * CHUNK],
                 &mut x,
             );
             for (j, xj) in x.iter().enumerate() {

@@ -5,6 +5,7 @@ use crate::rng::Words;
 
 use super::harmony::{
     Bandwidth, BoundColumns, HarmonyMemory, Improvisation, BW_DECAY_PARAM, BW_MIN_PARAM, BW_PARAM,
+    CHUNK,
 };
 use super::params::{Kind, ParamDef, ParamSet, Setting};
 use super::{policy_param, Optimiser, ParamError, BOUNDS_PARAM};
@@ -112,11 +113,12 @@ impl Optimiser for HarmonySearch {
             policy: self.policy,
         };
         let mut x = vec![0.0; bounds.len()];
+        let mut words = [0; 2 * CHUNK];
         while eval.remaining() > 0 {
             if self.bandwidth.decay {
                 self.bandwidth.scale(eval.progress(), &widths, &mut bw);
             }
-            imp.improvise(&hm, &cols, &bw, rng, &mut x);
+            imp.improvise(&hm, &cols, &bw, rng, &mut words, &mut x);
             let v = eval.evaluate(&x);
             hm.consider(&x, v);
         }

@@ -348,6 +348,7 @@ impl ModifiedHarmonySearch {
             policy: self.policy,
         };
         let mut candidate = vec![0.0; dim];
+        let mut words = [0; 2 * CHUNK];
         let mut best_candidate = vec![0.0; dim];
         let ops = if self.operators.is_empty() {
             &[Operator::Hs][..]
@@ -365,7 +366,7 @@ impl ModifiedHarmonySearch {
                     break;
                 }
                 match ops[l % ops.len()] {
-                    Operator::Hs => imp.improvise(hm, &cols, bw, rng, &mut candidate),
+                    Operator::Hs => imp.improvise(hm, &cols, bw, rng, &mut words, &mut candidate),
                     Operator::Ga => self.crossover(hm, bounds, widths, rng, &mut candidate),
                     Operator::Pso => self.pull_to_best(hm, bounds, rng, &mut candidate),
                 }
