@@ -349,6 +349,8 @@ impl ModifiedHarmonySearch {
         };
         let mut candidate = vec![0.0; dim];
         let mut words = [0; 2 * CHUNK];
+        // Scratch for the GA and PSO steps' uniforms, one block at a time.
+        let mut units = vec![0.0; dim.min(CHUNK)];
         let mut best_candidate = vec![0.0; dim];
         let ops = if self.operators.is_empty() {
             &[Operator::Hs][..]
@@ -367,8 +369,10 @@ impl ModifiedHarmonySearch {
                 }
                 match ops[l % ops.len()] {
                     Operator::Hs => imp.improvise(hm, &cols, bw, rng, &mut words, &mut candidate),
-                    Operator::Ga => self.crossover(hm, bounds, widths, rng, &mut candidate),
-                    Operator::Pso => self.pull_to_best(hm, bounds, rng, &mut candidate),
+                    Operator::Ga => {
+                        self.crossover(hm, bounds, widths, rng, &mut units, &mut candidate)
+                    }
+                    Operator::Pso => self.pull_to_best(hm, bounds, rng, &mut units, &mut candidate),
                 }
                 let v = eval.evaluate(&candidate);
                 match self.update {
@@ -398,6 +402,7 @@ impl ModifiedHarmonySearch {
         bounds: &[Bounds],
         widths: &[f64],
         rng: &mut R,
+        trials: &mut [f64],
         candidate: &mut [f64],
     ) {
         let hms = hm.len();
@@ -411,11 +416,11 @@ impl ModifiedHarmonySearch {
         let (xa, xb) = (hm.harmony(a), hm.harmony(b));
         // The mutation trials of a block of variables are drawn together;
         // a mutation (rare) draws its own values after them.
-        let mut trials = [0.0; CHUNK];
         for start in (0..bounds.len()).step_by(CHUNK) {
             let end = (start + CHUNK).min(bounds.len());
-            rng.units(&mut trials[..end - start]);
-            for (j, &trial) in (start..end).zip(&trials) {
+            let trials = &mut trials[..end - start];
+            rng.units(trials);
+            for (j, &trial) in (start..end).zip(trials.iter()) {
                 let bj = bounds[j];
                 let mut v = alpha * xa[j] + (1.0 - alpha) * xb[j];
                 if trial < self.pm {
@@ -437,15 +442,16 @@ impl ModifiedHarmonySearch {
         hm: &HarmonyMemory,
         bounds: &[Bounds],
         rng: &mut R,
+        phi: &mut [f64],
         candidate: &mut [f64],
     ) {
         let x = hm.harmony(rng.index(hm.len()));
         let best = hm.harmony(hm.best());
-        let mut phi = [0.0; CHUNK];
         for start in (0..bounds.len()).step_by(CHUNK) {
             let end = (start + CHUNK).min(bounds.len());
-            rng.units(&mut phi[..end - start]);
-            for (j, &phi) in (start..end).zip(&phi) {
+            let phi = &mut phi[..end - start];
+            rng.units(phi);
+            for (j, &phi) in (start..end).zip(phi.iter()) {
                 let v = x[j] + self.c * phi * (best[j] - x[j]);
                 candidate[j] = bounds[j].repair(v, self.policy);
             }
