@@ -210,7 +210,7 @@ struct FitArgs {
     /// (Schneider 1990); each round solves again with a fresh budget.
     #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=100))]
     reparameterise: u32,
-    /// Seed of the random generator (Xoshiro256++).
+    /// Seed of the random generator (the multi-lane Xoshiro256++ of every run).
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Objective evaluations per segment.

@@ -423,13 +423,6 @@ pub trait Draw: RngCore {
         lo + self.unit() * (hi - lo)
     }
 
-    /// Three independent 21-bit fields of one 64-bit output, for hot loops
-    /// that make several discrete decisions per variable (see [`Field21`]).
-    #[inline]
-    fn fields21(&mut self) -> [u64; 3] {
-        Field21::split(self.next_u64())
-    }
-
     /// A standard normal variate by the Box–Muller transform (Box & Muller
     /// 1958): `√(−2 ln(1 − u₁)) · cos(2π u₂)`; the sine partner is discarded
     /// so the method keeps no state.
@@ -539,7 +532,7 @@ mod tests {
         let (mut hits, mut counts) = (0usize, [0usize; 5]);
         let n = 100_000;
         for _ in 0..n {
-            let [a, b, c] = rng.fields21();
+            let [a, b, c] = Field21::split(rng.next_u64());
             assert!(a <= MASK21 && b <= MASK21 && c <= MASK21);
             hits += usize::from(a < t);
             counts[Field21::index(b, 5)] += 1;

@@ -106,8 +106,8 @@ impl Method {
         }
     }
 
-    /// The segment solver of this method; a stochastic one draws from
-    /// Xoshiro256++ seeded with `seed` ([`run_rng`]), one stream for all
+    /// The segment solver of this method; a stochastic one draws from the
+    /// run generator seeded with `seed` ([`run_rng`]), one stream for all
     /// the segments it solves, in order.
     pub fn solver(&self, seed: u64) -> Box<dyn SegmentSolver> {
         match self {
