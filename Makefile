@@ -3,13 +3,14 @@ CARGO ?= cargo
 BIN := target/release/metabezier
 SPECS := experiments
 
-.PHONY: help build quick test test-cluster bench bbob reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all fmt lint clean-results
+.PHONY: help build quick test test-cluster bench speedup bbob reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all fmt lint clean-results
 
 help:
 	@echo "make quick          run experiments/quick.toml (seconds) into results/quick/"
 	@echo "make test           the whole test suite, rustfmt check and clippy -D warnings"
 	@echo "make test-cluster   a campaign as a Slurm array job on a private one-node Slurm (root; installs slurm-wlm, munge)"
 	@echo "make bench          criterion benchmarks: optimiser overhead per evaluation, cost of E per fitting function"
+	@echo "make speedup        1 -> 2 thread speed-up of a 60-run campaign (five alternating runs; run it idle)"
 	@echo "make reproduce-ch4  chapter 4: benchmarks, scalability, MHS tuning, with reports (results/ch4_*/)"
 	@echo "make reproduce-ch5  chapter 5: curve fitting of four real outlines, search-space and MHS studies (results/ch5_*/)"
 	@echo "make reproduce-ch6  chapter 6: cranial implant from CT 0051, artificial-defect validation (results/ch6_cranial/)"
@@ -65,6 +66,11 @@ CH6 := ch6_cranial
 # checked mesh; a rerun overwrites the results.
 reproduce-ch6: build
 	$(BIN) implant $(SPECS)/ch6_cranial.toml --out results/ch6_cranial
+
+# The 1 -> 2 thread speed-up of a 60-run campaign: five alternating runs,
+# identical runs.csv checked, median speed-up printed (run it idle).
+speedup: build
+	sh ci/thread-speedup.sh $(BIN)
 
 # COCO's bbob suite through COCO's own code, with its report and COCO-format
 # logs for cocopp in results/bbob/coco/ (see the README).
