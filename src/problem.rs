@@ -150,17 +150,17 @@ pub trait Problem {
     /// override it to share work across the rows, but must return exactly the
     /// values `objective` would.
     fn objective_batch(&self, xs: &[f64], out: &mut [f64]) {
-        let dim = self.dim();
-        debug_assert_eq!(xs.len(), out.len() * dim);
-        if dim == 0 {
-            for o in out.iter_mut() {
-                *o = self.objective(&[]);
-            }
-            return;
-        }
-        for (o, x) in out.iter_mut().zip(xs.chunks_exact(dim)) {
-            *o = self.objective(x);
-        }
+        objective_rows(self, xs, out)
+    }
+}
+
+/// [`Problem::objective`] of each row of the row-major `xs` into `out`: the
+/// default [`Problem::objective_batch`], for overrides that fall back to it.
+pub fn objective_rows<P: Problem + ?Sized>(problem: &P, xs: &[f64], out: &mut [f64]) {
+    let dim = problem.dim();
+    debug_assert_eq!(xs.len(), out.len() * dim);
+    for (i, o) in out.iter_mut().enumerate() {
+        *o = problem.objective(&xs[i * dim..(i + 1) * dim]);
     }
 }
 

@@ -28,7 +28,7 @@ use std::f64::consts::{E, TAU};
 use std::fmt;
 use std::sync::Arc;
 
-use crate::problem::{Bounds, Problem};
+use crate::problem::{objective_rows, Bounds, Problem};
 
 pub use bbob::{BbobError, BbobProblem, CocoObserver};
 pub use instance::{instance_seed, Instance, Transform, MAX_ROTATION_DIM};
@@ -85,6 +85,27 @@ pub enum Function {
     /// Six-hump camel-back (Yao f16): `4x² − 2.1x⁴ + x⁶/3 + xy − 4y² + 4y⁴` on
     /// `[−5, 5]²`, minimum −1.0316284534898774 at ±(0.08984201310031806, −0.7126564030207396).
     SixHumpCamel,
+}
+
+/// Evaluates `$body` with `$f` bound to the formula (a function item, so
+/// calls stay direct) of the benchmark function `$function`: the one place a
+/// [`Function`] is mapped to its evaluation.
+macro_rules! with_formula {
+    ($function:expr, $f:ident => $body:expr) => {
+        with_formula!(@each $function, $f, $body;
+            Sphere => sphere, Schwefel222 => schwefel_2_22, Rosenbrock => rosenbrock,
+            Step => step, Schwefel12 => schwefel_1_2, Schwefel226 => schwefel_2_26,
+            Rastrigin => rastrigin, Ackley => ackley, Griewank => griewank,
+            SixHumpCamel => six_hump_camel)
+    };
+    (@each $function:expr, $f:ident, $body:expr; $($variant:ident => $formula:ident),+) => {
+        match $function {
+            $(Function::$variant => {
+                let $f = $formula;
+                $body
+            })+
+        }
+    };
 }
 
 impl Function {
@@ -216,18 +237,7 @@ impl Function {
     /// camel-back, which panics otherwise), with the formulas of Yao et al. (1999).
     #[inline]
     pub fn eval(self, x: &[f64]) -> f64 {
-        match self {
-            Function::Sphere => sphere(x),
-            Function::Schwefel222 => schwefel_2_22(x),
-            Function::Rosenbrock => rosenbrock(x),
-            Function::Step => step(x),
-            Function::Schwefel12 => schwefel_1_2(x),
-            Function::Schwefel226 => schwefel_2_26(x),
-            Function::Rastrigin => rastrigin(x),
-            Function::Ackley => ackley(x),
-            Function::Griewank => griewank(x),
-            Function::SixHumpCamel => six_hump_camel(x),
-        }
+        with_formula!(self, f => f(x))
     }
 
     /// `f` at each row of the row-major `xs` (rows of length `dim ≥ 1`),
@@ -240,18 +250,7 @@ impl Function {
                 *o = f(x);
             }
         }
-        match self {
-            Function::Sphere => each(xs, dim, out, sphere),
-            Function::Schwefel222 => each(xs, dim, out, schwefel_2_22),
-            Function::Rosenbrock => each(xs, dim, out, rosenbrock),
-            Function::Step => each(xs, dim, out, step),
-            Function::Schwefel12 => each(xs, dim, out, schwefel_1_2),
-            Function::Schwefel226 => each(xs, dim, out, schwefel_2_26),
-            Function::Rastrigin => each(xs, dim, out, rastrigin),
-            Function::Ackley => each(xs, dim, out, ackley),
-            Function::Griewank => each(xs, dim, out, griewank),
-            Function::SixHumpCamel => each(xs, dim, out, six_hump_camel),
-        }
+        with_formula!(self, f => each(xs, dim, out, f))
     }
 }
 
@@ -590,10 +589,7 @@ impl Problem for TestProblem {
     fn objective_batch(&self, xs: &[f64], out: &mut [f64]) {
         debug_assert_eq!(xs.len(), out.len() * self.dim);
         if self.instance.is_some() || self.dim == 0 {
-            for (i, o) in out.iter_mut().enumerate() {
-                *o = self.objective(&xs[i * self.dim..(i + 1) * self.dim]);
-            }
-            return;
+            return objective_rows(self, xs, out);
         }
         self.function.eval_rows(xs, self.dim, out);
     }

@@ -1,12 +1,14 @@
 //! Global-best Harmony Search, GHS (Omran & Mahdavi 2008, "Global-best
 //! harmony search", Applied Mathematics and Computation 198:643–656).
 
-use super::harmony::{BoundColumns, HarmonyMemory, CHUNK};
+use super::harmony::{choose, BoundColumns, HarmonyMemory, CHUNK};
+#[cfg(target_arch = "x86_64")]
+use super::harmony::{choose_block_avx2, clamp4, Lanes};
 use super::params::{Kind, ParamDef, ParamSet, Setting};
-use super::{max_x86, min_x86, select, Optimiser, ParamError};
+use super::{clamp, Optimiser, ParamError};
 use crate::optim::evaluator::Evaluator;
-use crate::problem::Problem;
-use crate::rng::{unit52_of, Field21, Words};
+use crate::problem::{Bounds, Problem};
+use crate::rng::{Field21, Words};
 
 /// GHS: HS without a bandwidth, whose pitch adjustment copies a random
 /// dimension of the best harmony.
@@ -178,11 +180,10 @@ struct Rule {
 }
 
 impl Rule {
-    /// Variable `j` from its two words: the first gives the HMCR trial, the
-    /// memory index and the PAR trial; the second either the uniform draw
-    /// ([`crate::rng::unit52_of`]) or, for an adjusted value, the dimension
-    /// `k` of the best harmony to copy (its low 21 bits); the two uses
-    /// exclude each other. The outcome is chosen by masks.
+    /// Variable `j` from its two words ([`choose`]); an adjusted value is
+    /// the best harmony's variable `k`, mapped into `j`'s bounds, where `k`
+    /// comes from the low 21 bits of the second word (whose `u` is used only
+    /// by the uniform draw, so the two uses exclude each other).
     #[inline(always)]
     fn variable(
         self,
@@ -193,17 +194,11 @@ impl Rule {
         unit: u64,
         cols: &BoundColumns,
     ) -> f64 {
-        let [consider, pick, adjust] = Field21::split(field);
-        let (lo, hi, width) = (cols.lower[j], cols.upper[j], cols.width[j]);
-        let held = hm.get(Field21::index(pick, hm.len()), j);
-        let copied = best_unit[Field21::index(unit & Field21::MASK, best_unit.len())];
-        let copied = min_x86(max_x86(lo + copied * width, lo), hi);
-        let fresh = min_x86(max_x86(lo + unit52_of(unit) * width, lo), hi);
-        select(
-            consider < self.hmcr,
-            select(adjust < self.par, copied, held),
-            fresh,
-        )
+        choose(hm, j, field, unit, cols, [self.hmcr, self.par], |_, _| {
+            let copied = best_unit[Field21::index(unit & Field21::MASK, best_unit.len())];
+            let b = Bounds::new(cols.lower[j], cols.upper[j]);
+            clamp(b, b.lower + copied * cols.width[j])
+        })
     }
 
     /// [`Rule::variable`] for four variables per AVX2 register, with the
@@ -223,83 +218,42 @@ impl Rule {
         x: &mut [f64],
     ) -> usize {
         use std::arch::x86_64::*;
-        let n = fields.len() / 4 * 4;
         let dim = best_unit.len();
-        let rows = hm.rows();
-        assert!(units.len() >= n && start + n <= x.len() && start + n <= cols.len());
-        assert!(rows.len() == hm.len() * dim && start + n <= dim);
-        // SAFETY: the vector loads and stores cover variables `start + i ..
-        // start + i + 4` with `i + 4 ≤ n`, inside every slice by the asserts;
-        // the scalar loads read `index·dim + j` with `index < hms` and
-        // `j < dim`, and `best_unit[k]` with `k < dim` (a 21-bit field times
-        // the length, shifted down by 21); AVX2 is enabled on this function.
+        assert!(hm.rows().len() == hm.len() * dim);
+        // SAFETY: AVX2 is enabled on this function; the rule reads
+        // `best_unit[k]` with `k < dim` (a 21-bit field times the length,
+        // shifted down by 21).
         unsafe {
             let mask = _mm256_set1_epi64x(Field21::MASK as i64);
-            let hmcr = _mm256_set1_epi64x(self.hmcr as i64);
-            let par = _mm256_set1_epi64x(self.par as i64);
-            let hms_v = _mm256_set1_epi64x(hm.len() as i64);
             let dim_v = _mm256_set1_epi64x(dim as i64);
-            let one_bits = _mm256_set1_epi64x(0x3FF0_0000_0000_0000);
-            let one = _mm256_set1_pd(1.0);
-            let lanes = _mm256_set_epi64x(3, 2, 1, 0);
-            let (base, best) = (rows.as_ptr(), best_unit.as_ptr());
-            for i in (0..n).step_by(4) {
-                let j = start + i;
-                let f = _mm256_loadu_si256(fields.as_ptr().add(i).cast());
-                let consider = _mm256_cmpgt_epi64(hmcr, _mm256_and_si256(f, mask));
-                let adjust =
-                    _mm256_cmpgt_epi64(par, _mm256_and_si256(_mm256_srli_epi64::<42>(f), mask));
-                let pick = _mm256_and_si256(_mm256_srli_epi64::<21>(f), mask);
-                let index = _mm256_srli_epi64::<21>(_mm256_mul_epu32(pick, hms_v));
-                let at = _mm256_add_epi64(
-                    _mm256_mul_epu32(index, dim_v),
-                    _mm256_add_epi64(_mm256_set1_epi64x(j as i64), lanes),
-                );
-                let w = _mm256_loadu_si256(units.as_ptr().add(i).cast());
-                let k = _mm256_srli_epi64::<21>(_mm256_mul_epu32(_mm256_and_si256(w, mask), dim_v));
-                let (mut a, mut b) = ([0i64; 4], [0i64; 4]);
-                _mm256_storeu_si256(a.as_mut_ptr().cast(), at);
+            let best = best_unit.as_ptr();
+            let rates = [self.hmcr, self.par];
+            choose_block_avx2(hm, start, fields, units, cols, rates, x, |v: &Lanes| {
+                let k = _mm256_srli_epi64::<21>(_mm256_mul_epu32(
+                    _mm256_and_si256(v.words, mask),
+                    dim_v,
+                ));
+                let mut b = [0i64; 4];
                 _mm256_storeu_si256(b.as_mut_ptr().cast(), k);
-                let held = _mm256_set_pd(
-                    *base.offset(a[3] as isize),
-                    *base.offset(a[2] as isize),
-                    *base.offset(a[1] as isize),
-                    *base.offset(a[0] as isize),
-                );
                 let copied = _mm256_set_pd(
                     *best.offset(b[3] as isize),
                     *best.offset(b[2] as isize),
                     *best.offset(b[1] as isize),
                     *best.offset(b[0] as isize),
                 );
-                let u = _mm256_sub_pd(
-                    _mm256_castsi256_pd(_mm256_or_si256(_mm256_srli_epi64::<12>(w), one_bits)),
-                    one,
-                );
-                let lo = _mm256_loadu_pd(cols.lower.as_ptr().add(j));
-                let hi = _mm256_loadu_pd(cols.upper.as_ptr().add(j));
-                let width = _mm256_loadu_pd(cols.width.as_ptr().add(j));
-                let copied = _mm256_min_pd(
-                    _mm256_max_pd(_mm256_add_pd(lo, _mm256_mul_pd(copied, width)), lo),
-                    hi,
-                );
-                let fresh = _mm256_min_pd(
-                    _mm256_max_pd(_mm256_add_pd(lo, _mm256_mul_pd(u, width)), lo),
-                    hi,
-                );
-                let kept = _mm256_blendv_pd(held, copied, _mm256_castsi256_pd(adjust));
-                let out = _mm256_blendv_pd(fresh, kept, _mm256_castsi256_pd(consider));
-                _mm256_storeu_pd(x.as_mut_ptr().add(j), out);
-            }
+                clamp4(
+                    _mm256_add_pd(v.lo, _mm256_mul_pd(copied, v.width)),
+                    v.lo,
+                    v.hi,
+                )
+            })
         }
-        n
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::problem::Bounds;
     use crate::rng::run_rng;
 
     struct Abs(Vec<Bounds>);

@@ -7,7 +7,7 @@ use crate::rng::Words;
 use super::evaluator::Evaluator;
 use super::params::{Kind, ParamDef, ParamSet, Setting};
 use super::ParamError;
-use super::{max_x86, min_x86, select};
+use super::{clamp, select};
 use crate::problem::{BoundPolicy, Bounds, Problem};
 use crate::rng::{unit52_of, Field21};
 
@@ -251,19 +251,16 @@ impl Improvisation {
         unit: u64,
         cols: &BoundColumns,
         bw: &[f64],
-        [hmcr, par]: [u64; 2],
+        rates: [u64; 2],
     ) -> f64 {
-        let [consider, pick, adjust] = Field21::split(field);
-        let u = unit52_of(unit);
-        let (lo, hi) = (cols.lower[j], cols.upper[j]);
-        let held = hm.harmonies[Field21::index(pick, hm.len()) * hm.dim + j];
-        let moved = held + bw[j] * (2.0 * u - 1.0);
-        let adjusted = match self.policy {
-            BoundPolicy::Clip => min_x86(max_x86(moved, lo), hi),
-            BoundPolicy::Reflect => Bounds::new(lo, hi).reflect(moved),
-        };
-        let fresh = min_x86(max_x86(lo + u * cols.width[j], lo), hi);
-        select(consider < hmcr, select(adjust < par, adjusted, held), fresh)
+        choose(hm, j, field, unit, cols, rates, |held, u| {
+            let moved = held + bw[j] * (2.0 * u - 1.0);
+            let b = Bounds::new(cols.lower[j], cols.upper[j]);
+            match self.policy {
+                BoundPolicy::Clip => clamp(b, moved),
+                BoundPolicy::Reflect => b.reflect(moved),
+            }
+        })
     }
 
     /// [`Improvisation::variable`] for `bounds = "clip"`, four variables
@@ -283,74 +280,170 @@ impl Improvisation {
         x: &mut [f64],
     ) -> usize {
         use std::arch::x86_64::*;
-        let n = fields.len() / 4 * 4;
-        let (hms, dim) = (hm.len() as i64, hm.dim as i64);
-        assert!(units.len() >= n && start + n <= x.len() && start + n <= cols.len());
-        assert!(start + n <= bw.len() && hm.harmonies.len() == hm.len() * hm.dim);
-        // SAFETY: the loads and stores below read lanes `start + i ..
-        // start + i + 4` with `i + 4 ≤ n`, inside every slice by the asserts;
-        // the gather reads `index·dim + j` with `index < hms` (a 21-bit
-        // field times hms, shifted down by 21) and `j < dim`, inside the
-        // memory; AVX2 is enabled on this function.
+        let rates = [Field21::threshold(self.hmcr), Field21::threshold(self.par)];
+        assert!(start + fields.len() / 4 * 4 <= bw.len());
+        // SAFETY: AVX2 is enabled on this function; the rule reads
+        // `bw[j..j + 4]` for blocks inside `start..start + n`, inside `bw`
+        // by the assert.
         unsafe {
-            let mask = _mm256_set1_epi64x(Field21::MASK as i64);
-            let hmcr = _mm256_set1_epi64x(Field21::threshold(self.hmcr) as i64);
-            let par = _mm256_set1_epi64x(Field21::threshold(self.par) as i64);
-            let hms_v = _mm256_set1_epi64x(hms);
-            let dim_v = _mm256_set1_epi64x(dim);
-            let one_bits = _mm256_set1_epi64x(0x3FF0_0000_0000_0000);
-            let one = _mm256_set1_pd(1.0);
-            let two = _mm256_set1_pd(2.0);
-            let lanes = _mm256_set_epi64x(3, 2, 1, 0);
-            let base = hm.harmonies.as_ptr();
-            for i in (0..n).step_by(4) {
-                let j = start + i;
-                let f = _mm256_loadu_si256(fields.as_ptr().add(i).cast());
-                let consider = _mm256_cmpgt_epi64(hmcr, _mm256_and_si256(f, mask));
-                let adjust =
-                    _mm256_cmpgt_epi64(par, _mm256_and_si256(_mm256_srli_epi64::<42>(f), mask));
-                let pick = _mm256_and_si256(_mm256_srli_epi64::<21>(f), mask);
-                let index = _mm256_srli_epi64::<21>(_mm256_mul_epu32(pick, hms_v));
-                let at = _mm256_add_epi64(
-                    _mm256_mul_epu32(index, dim_v),
-                    _mm256_add_epi64(_mm256_set1_epi64x(j as i64), lanes),
-                );
-                // Four scalar loads: no slower than `vgatherqpd` on the AMD
-                // EPYC measured, and not subject to the slow microcoded
-                // gathers of Intel parts with the GDS mitigation.
-                let mut k = [0i64; 4];
-                _mm256_storeu_si256(k.as_mut_ptr().cast(), at);
-                let held = _mm256_set_pd(
-                    *base.offset(k[3] as isize),
-                    *base.offset(k[2] as isize),
-                    *base.offset(k[1] as isize),
-                    *base.offset(k[0] as isize),
-                );
-                let w = _mm256_loadu_si256(units.as_ptr().add(i).cast());
-                let u = _mm256_sub_pd(
-                    _mm256_castsi256_pd(_mm256_or_si256(_mm256_srli_epi64::<12>(w), one_bits)),
-                    one,
-                );
-                let lo = _mm256_loadu_pd(cols.lower.as_ptr().add(j));
-                let hi = _mm256_loadu_pd(cols.upper.as_ptr().add(j));
-                let width = _mm256_loadu_pd(cols.width.as_ptr().add(j));
-                let step = _mm256_loadu_pd(bw.as_ptr().add(j));
+            let (one, two) = (_mm256_set1_pd(1.0), _mm256_set1_pd(2.0));
+            choose_block_avx2(hm, start, fields, units, cols, rates, x, |v: &Lanes| {
+                let step = _mm256_loadu_pd(bw.as_ptr().add(v.j));
                 let moved = _mm256_add_pd(
-                    held,
-                    _mm256_mul_pd(step, _mm256_sub_pd(_mm256_mul_pd(two, u), one)),
+                    v.held,
+                    _mm256_mul_pd(step, _mm256_sub_pd(_mm256_mul_pd(two, v.u), one)),
                 );
-                let adjusted = _mm256_min_pd(_mm256_max_pd(moved, lo), hi);
-                let fresh = _mm256_min_pd(
-                    _mm256_max_pd(_mm256_add_pd(lo, _mm256_mul_pd(u, width)), lo),
-                    hi,
-                );
-                let kept = _mm256_blendv_pd(held, adjusted, _mm256_castsi256_pd(adjust));
-                let out = _mm256_blendv_pd(fresh, kept, _mm256_castsi256_pd(consider));
-                _mm256_storeu_pd(x.as_mut_ptr().add(j), out);
-            }
+                clamp4(moved, v.lo, v.hi)
+            })
         }
-        n
     }
+}
+
+/// The HS-family choice for variable `j` (HS, GHS and the HS step of MHS),
+/// from its two words: the first gives the HMCR trial, the memory index and
+/// the PAR trial ([`crate::rng::Field21`]), the second `u`
+/// ([`crate::rng::unit52_of`]). With probability HMCR the value of a random
+/// harmony is taken and, with probability PAR, replaced by
+/// `adjusted(held, u)`; otherwise the variable is `L + u·(U − L)`. All
+/// outcomes are computed and one is kept by masks.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(crate) fn choose(
+    hm: &HarmonyMemory,
+    j: usize,
+    field: u64,
+    unit: u64,
+    cols: &BoundColumns,
+    [hmcr, par]: [u64; 2],
+    adjusted: impl FnOnce(f64, f64) -> f64,
+) -> f64 {
+    let [consider, pick, adjust] = Field21::split(field);
+    let u = unit52_of(unit);
+    let b = Bounds::new(cols.lower[j], cols.upper[j]);
+    let held = hm.harmonies[Field21::index(pick, hm.len()) * hm.dim + j];
+    let adjusted = adjusted(held, u);
+    let fresh = clamp(b, b.lower + u * cols.width[j]);
+    select(consider < hmcr, select(adjust < par, adjusted, held), fresh)
+}
+
+/// Four variables `j..j + 4` of [`choose_block_avx2`], in AVX2 registers:
+/// the held values, the second words, their `u`, and the bounds.
+#[cfg(target_arch = "x86_64")]
+#[derive(Clone, Copy)]
+pub(crate) struct Lanes {
+    pub(crate) j: usize,
+    pub(crate) held: std::arch::x86_64::__m256d,
+    pub(crate) words: std::arch::x86_64::__m256i,
+    pub(crate) u: std::arch::x86_64::__m256d,
+    pub(crate) lo: std::arch::x86_64::__m256d,
+    pub(crate) hi: std::arch::x86_64::__m256d,
+    pub(crate) width: std::arch::x86_64::__m256d,
+}
+
+/// `v` clipped into `[lo, hi]` by `maxpd` and `minpd`: [`clamp`] on four lanes.
+///
+/// # Safety
+/// The caller runs with AVX2 enabled.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+pub(crate) unsafe fn clamp4(
+    v: std::arch::x86_64::__m256d,
+    lo: std::arch::x86_64::__m256d,
+    hi: std::arch::x86_64::__m256d,
+) -> std::arch::x86_64::__m256d {
+    use std::arch::x86_64::{_mm256_max_pd, _mm256_min_pd};
+    // SAFETY: AVX2 (and so AVX) is enabled in the caller.
+    unsafe { _mm256_min_pd(_mm256_max_pd(v, lo), hi) }
+}
+
+/// [`choose`] for the variables `start..start + n` of a block, four per
+/// AVX2 register with the same floating-point operations, where `n` is the
+/// block's length rounded down to a multiple of four; returns `n`.
+/// `adjusted` gives the adjusted values of four variables.
+///
+/// # Safety
+/// The caller runs with AVX2 enabled, and `adjusted` reads only memory it
+/// has checked.
+#[cfg(target_arch = "x86_64")]
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(crate) unsafe fn choose_block_avx2(
+    hm: &HarmonyMemory,
+    start: usize,
+    fields: &[u64],
+    units: &[u64],
+    cols: &BoundColumns,
+    [hmcr, par]: [u64; 2],
+    x: &mut [f64],
+    adjusted: impl Fn(&Lanes) -> std::arch::x86_64::__m256d,
+) -> usize {
+    use std::arch::x86_64::*;
+    let n = fields.len() / 4 * 4;
+    let (hms, dim) = (hm.len() as i64, hm.dim as i64);
+    assert!(units.len() >= n && start + n <= x.len() && start + n <= cols.len());
+    assert!(hm.harmonies.len() == hm.len() * hm.dim);
+    // SAFETY: the loads and stores below read lanes `start + i ..
+    // start + i + 4` with `i + 4 ≤ n`, inside every slice by the asserts;
+    // the scalar loads read `index·dim + j` with `index < hms` (a 21-bit
+    // field times hms, shifted down by 21) and `j < dim`, inside the
+    // memory; the caller has AVX2 enabled.
+    unsafe {
+        let mask = _mm256_set1_epi64x(Field21::MASK as i64);
+        let hmcr = _mm256_set1_epi64x(hmcr as i64);
+        let par = _mm256_set1_epi64x(par as i64);
+        let hms_v = _mm256_set1_epi64x(hms);
+        let dim_v = _mm256_set1_epi64x(dim);
+        let one_bits = _mm256_set1_epi64x(0x3FF0_0000_0000_0000);
+        let one = _mm256_set1_pd(1.0);
+        let lanes = _mm256_set_epi64x(3, 2, 1, 0);
+        let base = hm.harmonies.as_ptr();
+        for i in (0..n).step_by(4) {
+            let j = start + i;
+            let f = _mm256_loadu_si256(fields.as_ptr().add(i).cast());
+            let consider = _mm256_cmpgt_epi64(hmcr, _mm256_and_si256(f, mask));
+            let adjust =
+                _mm256_cmpgt_epi64(par, _mm256_and_si256(_mm256_srli_epi64::<42>(f), mask));
+            let pick = _mm256_and_si256(_mm256_srli_epi64::<21>(f), mask);
+            let index = _mm256_srli_epi64::<21>(_mm256_mul_epu32(pick, hms_v));
+            let at = _mm256_add_epi64(
+                _mm256_mul_epu32(index, dim_v),
+                _mm256_add_epi64(_mm256_set1_epi64x(j as i64), lanes),
+            );
+            // Four scalar loads: no slower than `vgatherqpd` on the AMD
+            // EPYC measured, and not subject to the slow microcoded
+            // gathers of Intel parts with the GDS mitigation.
+            let mut k = [0i64; 4];
+            _mm256_storeu_si256(k.as_mut_ptr().cast(), at);
+            let held = _mm256_set_pd(
+                *base.offset(k[3] as isize),
+                *base.offset(k[2] as isize),
+                *base.offset(k[1] as isize),
+                *base.offset(k[0] as isize),
+            );
+            let words = _mm256_loadu_si256(units.as_ptr().add(i).cast());
+            let u = _mm256_sub_pd(
+                _mm256_castsi256_pd(_mm256_or_si256(_mm256_srli_epi64::<12>(words), one_bits)),
+                one,
+            );
+            let lo = _mm256_loadu_pd(cols.lower.as_ptr().add(j));
+            let hi = _mm256_loadu_pd(cols.upper.as_ptr().add(j));
+            let width = _mm256_loadu_pd(cols.width.as_ptr().add(j));
+            let adjusted = adjusted(&Lanes {
+                j,
+                held,
+                words,
+                u,
+                lo,
+                hi,
+                width,
+            });
+            let fresh = clamp4(_mm256_add_pd(lo, _mm256_mul_pd(u, width)), lo, hi);
+            let kept = _mm256_blendv_pd(held, adjusted, _mm256_castsi256_pd(adjust));
+            let out = _mm256_blendv_pd(fresh, kept, _mm256_castsi256_pd(consider));
+            _mm256_storeu_pd(x.as_mut_ptr().add(j), out);
+        }
+    }
+    n
 }
 
 #[cfg(test)]

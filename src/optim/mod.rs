@@ -70,7 +70,8 @@ pub fn min_x86(a: f64, b: f64) -> f64 {
 
 /// `x` clipped into `[b.lower, b.upper]` by [`max_x86`] and [`min_x86`],
 /// which compile to branch-free instructions: the value of
-/// [`Bounds::clip`] (a NaN goes to the lower bound).
+/// [`Bounds::clip`] (a NaN goes to the lower bound) up to the sign of a
+/// zero (`clip` keeps an `x` equal to a bound, `clamp` returns the bound).
 #[inline(always)]
 pub fn clamp(b: Bounds, x: f64) -> f64 {
     min_x86(max_x86(x, b.lower), b.upper)

@@ -4,9 +4,9 @@
 //! Proc. IEEE ICEC, 69–73).
 
 use super::params::{Kind, ParamDef, ParamSet, Setting};
-use super::{max_x86, min_x86, policy_param, Optimiser, ParamError, BOUNDS_PARAM};
+use super::{clamp, max_x86, min_x86, policy_param, Optimiser, ParamError, BOUNDS_PARAM};
 use crate::optim::evaluator::Evaluator;
-use crate::problem::{BoundPolicy, Problem};
+use crate::problem::{BoundPolicy, Bounds, Problem};
 use crate::rng::Words;
 
 /// How the inertia weight `ω` evolves over the run.
@@ -301,7 +301,7 @@ impl Optimiser for ParticleSwarm {
                                 vm[j],
                             );
                             let pos = here + vel;
-                            let inside = min_x86(max_x86(pos, lo[j]), hi[j]);
+                            let inside = clamp(Bounds::new(lo[j], hi[j]), pos);
                             vi[j] = if inside == pos { vel } else { 0.0 };
                             xi[j] = inside;
                         }
