@@ -13,6 +13,8 @@
 //! numbers from memory instead of waiting on one generator's state chain.
 
 use rand::RngCore;
+
+use crate::simd::{simd, Simd};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
 /// The generator every run uses.
@@ -52,8 +54,8 @@ const JUMP: [u64; 4] = [
 /// Word `L·t + k` of the stream is lane `k`'s output number `t`. The stream
 /// is a pure function of the seed, whether it is read a word at a time
 /// ([`RngCore::next_u64`]) or in blocks ([`Words::words`]), and on every
-/// machine: the wide path used where the CPU has AVX2 computes the same
-/// integers as the portable one.
+/// machine: the wide paths used where the CPU has AVX2 or AVX-512 compute
+/// the same integers as the portable one.
 #[derive(Clone, Debug)]
 pub struct LaneRng {
     /// `state[i][k]`: state word `i` of lane `k` (structure of arrays, so the
@@ -62,7 +64,7 @@ pub struct LaneRng {
     buffer: [u64; BUFFERED],
     /// The next unread word of `buffer`; `BUFFERED` when it is empty.
     next: usize,
-    wide: bool,
+    simd: Simd,
 }
 
 /// One Xoshiro256++ output and state step, on a single lane's state.
@@ -124,13 +126,33 @@ fn lane_steps(state: &mut [[u64; LANES]; 4], out: &mut [u64]) {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn lane_steps_avx2(state: &mut [[u64; LANES]; 4], out: &mut [u64]) {
+    // SAFETY: AVX2 is enabled on this function.
+    unsafe { lane_steps_x86(state, out) }
+}
+
+/// [`lane_steps_avx2`] compiled for AVX-512VL, where each rotation is one
+/// `vprolq` instead of two shifts and an or; the same words.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,avx512f,avx512vl")]
+fn lane_steps_avx512(state: &mut [[u64; LANES]; 4], out: &mut [u64]) {
+    // SAFETY: AVX2 is enabled on this function.
+    unsafe { lane_steps_x86(state, out) }
+}
+
+/// The body of [`lane_steps_avx2`] and [`lane_steps_avx512`].
+///
+/// # Safety
+/// The caller runs with AVX2 enabled.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn lane_steps_x86(state: &mut [[u64; LANES]; 4], out: &mut [u64]) {
     use std::arch::x86_64::{
         __m256i, _mm256_add_epi64, _mm256_loadu_si256, _mm256_or_si256, _mm256_slli_epi64,
         _mm256_srli_epi64, _mm256_storeu_si256, _mm256_xor_si256,
     };
     const _: () = assert!(LANES == 4);
     // SAFETY: every load and store is of four u64 (32 bytes) inside an
-    // array or chunk of exactly four u64; AVX2 is enabled on this function.
+    // array or chunk of exactly four u64; the caller has AVX2 enabled.
     unsafe {
         let mut s0 = _mm256_loadu_si256(state[0].as_ptr().cast::<__m256i>());
         let mut s1 = _mm256_loadu_si256(state[1].as_ptr().cast::<__m256i>());
@@ -158,20 +180,6 @@ fn lane_steps_avx2(state: &mut [[u64; LANES]; 4], out: &mut [u64]) {
     }
 }
 
-/// Whether this CPU runs the AVX2 paths (the generator's steps and the
-/// harmony improvisation); they give the same numbers as the portable paths.
-#[inline]
-pub fn has_avx2() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::arch::is_x86_feature_detected!("avx2")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
-}
-
 impl LaneRng {
     /// The generator of a run with derived seed `seed`.
     pub fn new(seed: u64) -> Self {
@@ -190,32 +198,34 @@ impl LaneRng {
             state,
             buffer: [0; BUFFERED],
             next: BUFFERED,
-            wide: has_avx2(),
+            simd: simd(),
         }
     }
 
     /// Fills `out` (a multiple of [`LANES`] long) with the next steps.
     #[inline]
     fn steps(&mut self, out: &mut [u64]) {
-        Self::advance(&mut self.state, self.wide, out)
+        Self::advance(&mut self.state, self.simd, out)
     }
 
     #[inline]
-    fn advance(state: &mut [[u64; LANES]; 4], wide: bool, out: &mut [u64]) {
-        #[cfg(target_arch = "x86_64")]
-        if wide {
-            // SAFETY: `wide` is set only when the CPU reports AVX2.
-            unsafe { lane_steps_avx2(state, out) };
-            return;
+    fn advance(state: &mut [[u64; LANES]; 4], simd: Simd, out: &mut [u64]) {
+        match simd {
+            // SAFETY: `simd` is at most the CPU's level (`simd()`, or lower
+            // in tests).
+            #[cfg(target_arch = "x86_64")]
+            Simd::Avx512 => unsafe { lane_steps_avx512(state, out) },
+            // SAFETY: as above.
+            #[cfg(target_arch = "x86_64")]
+            Simd::Avx2 => unsafe { lane_steps_avx2(state, out) },
+            _ => lane_steps(state, out),
         }
-        let _ = wide;
-        lane_steps(state, out)
     }
 
     #[cold]
     #[inline(never)]
     fn refill(&mut self) {
-        Self::advance(&mut self.state, self.wide, &mut self.buffer);
+        Self::advance(&mut self.state, self.simd, &mut self.buffer);
         self.next = 0;
     }
 }
@@ -308,16 +318,37 @@ impl Words for LaneRng {
             }
             let take = (BUFFERED - self.next).min(out.len());
             let (head, rest) = out.split_at_mut(take);
-            for (u, &w) in head
-                .iter_mut()
-                .zip(&self.buffer[self.next..self.next + take])
-            {
-                *u = unit_of(w);
-            }
+            units_of(self.simd, &self.buffer[self.next..self.next + take], head);
             self.next += take;
             out = rest;
         }
     }
+}
+
+/// `out[i] = unit_of(words[i])`, eight at a time where the CPU has
+/// AVX-512DQ (an exact `vcvtuqq2pd` of the 53-bit integers, so the same
+/// values as the scalar conversion).
+#[inline]
+fn units_of(simd: Simd, words: &[u64], out: &mut [f64]) {
+    #[inline(always)]
+    fn each(words: &[u64], out: &mut [f64]) {
+        for (u, &w) in out.iter_mut().zip(words) {
+            *u = unit_of(w);
+        }
+    }
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,avx512f,avx512vl,avx512dq")]
+    fn each_avx512(words: &[u64], out: &mut [f64]) {
+        each(words, out)
+    }
+    #[cfg(target_arch = "x86_64")]
+    if simd == Simd::Avx512 {
+        // SAFETY: `simd` is at most the CPU's level.
+        unsafe { each_avx512(words, out) };
+        return;
+    }
+    let _ = simd;
+    each(words, out)
 }
 
 /// SplitMix64's output function (Steele, Lea & Flood 2014, "Fast splittable
@@ -494,13 +525,20 @@ mod tests {
 
     #[test]
     fn the_portable_and_wide_paths_agree() {
-        let mut a = LaneRng::new(11);
-        let mut b = a.clone();
-        a.wide = false;
-        let (mut wa, mut wb) = (vec![0; 4096], vec![0; 4096]);
-        a.words(&mut wa);
-        b.words(&mut wb);
-        assert_eq!(wa, wb);
+        let mut portable = LaneRng::new(11);
+        portable.simd = Simd::Portable;
+        let mut want = vec![0; 4096];
+        portable.words(&mut want);
+        for level in [Simd::Avx2, Simd::Avx512] {
+            if level > simd() {
+                continue;
+            }
+            let mut wide = LaneRng::new(11);
+            wide.simd = level;
+            let mut got = vec![0; 4096];
+            wide.words(&mut got);
+            assert_eq!(got, want, "{level:?}");
+        }
     }
 
     #[test]

@@ -12,6 +12,7 @@ use super::{policy_param, Optimiser, ParamError, BOUNDS_PARAM};
 use crate::optim::evaluator::Evaluator;
 use crate::problem::{BoundPolicy, Bounds, Problem};
 use crate::rng::{Draw, Words};
+use crate::simd::dispatch;
 
 /// The recombination operator applied to a pair of parents `x¹, x²`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -402,6 +403,22 @@ fn by_value(values: &[f64]) -> impl Fn(&usize, &usize) -> Ordering + '_ {
 
 impl Optimiser for GeneticAlgorithm {
     fn minimise<P: Problem + ?Sized, R: Words + ?Sized>(
+        &self,
+        eval: &mut Evaluator<'_, P>,
+        rng: &mut R,
+    ) {
+        dispatch(
+            #[inline(always)]
+            |_| self.evolve(eval, rng),
+        )
+    }
+}
+
+impl GeneticAlgorithm {
+    /// The generations of the GA until the budget is spent: the body of
+    /// [`Optimiser::minimise`], compiled for the CPU by [`dispatch`].
+    #[inline(always)]
+    fn evolve<P: Problem + ?Sized, R: Words + ?Sized>(
         &self,
         eval: &mut Evaluator<'_, P>,
         rng: &mut R,

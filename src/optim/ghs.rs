@@ -9,6 +9,7 @@ use super::{clamp, Optimiser, ParamError};
 use crate::optim::evaluator::Evaluator;
 use crate::problem::{Bounds, Problem};
 use crate::rng::{Field21, Words};
+use crate::simd::{dispatch, Simd};
 
 /// GHS: HS without a bandwidth, whose pitch adjustment copies a random
 /// dimension of the best harmony.
@@ -134,40 +135,54 @@ impl Optimiser for GlobalBestHarmonySearch {
             }
         };
         refresh(&hm, &mut best_unit);
-        let wide = crate::rng::has_avx2();
         let mut words = [0u64; 2 * CHUNK];
-        while eval.remaining() > 0 {
-            let rule = Rule {
-                hmcr: Field21::threshold(self.hmcr),
-                par: Field21::threshold(
-                    self.par_min + (self.par_max - self.par_min) * eval.progress(),
-                ),
-            };
-            for start in (0..dim).step_by(CHUNK) {
-                let n = (start + CHUNK).min(dim) - start;
-                let words = &mut words[..2 * n];
-                rng.words(words);
-                let (fields, units) = words.split_at(n);
-                #[allow(unused_mut)]
-                let mut done = 0;
-                #[cfg(target_arch = "x86_64")]
-                if wide && n >= 4 {
-                    // SAFETY: `wide` is true only where the CPU has AVX2.
-                    done = unsafe {
-                        rule.block_avx2(&hm, &best_unit, start, fields, units, &cols, &mut x)
+        dispatch(
+            #[inline(always)]
+            |simd| {
+                let wide = simd >= Simd::Avx2;
+                while eval.remaining() > 0 {
+                    let rule = Rule {
+                        hmcr: Field21::threshold(self.hmcr),
+                        par: Field21::threshold(
+                            self.par_min + (self.par_max - self.par_min) * eval.progress(),
+                        ),
                     };
+                    for start in (0..dim).step_by(CHUNK) {
+                        let n = (start + CHUNK).min(dim) - start;
+                        let words = &mut words[..2 * n];
+                        rng.words(words);
+                        let (fields, units) = words.split_at(n);
+                        #[allow(unused_mut)]
+                        let mut done = 0;
+                        #[cfg(target_arch = "x86_64")]
+                        if wide && n >= 4 {
+                            // SAFETY: `wide` is true only where the CPU has AVX2
+                            // (`simd` is at most the CPU's level).
+                            done = unsafe {
+                                rule.block_avx2(
+                                    &hm, &best_unit, start, fields, units, &cols, &mut x,
+                                )
+                            };
+                        }
+                        let _ = wide;
+                        for i in done..n {
+                            x[start + i] = rule.variable(
+                                &hm,
+                                &best_unit,
+                                start + i,
+                                fields[i],
+                                units[i],
+                                &cols,
+                            );
+                        }
+                    }
+                    let v = eval.evaluate(&x);
+                    if hm.consider(&x, v) && v <= hm.value(hm.best()) {
+                        refresh(&hm, &mut best_unit);
+                    }
                 }
-                let _ = wide;
-                for i in done..n {
-                    x[start + i] =
-                        rule.variable(&hm, &best_unit, start + i, fields[i], units[i], &cols);
-                }
-            }
-            let v = eval.evaluate(&x);
-            if hm.consider(&x, v) && v <= hm.value(hm.best()) {
-                refresh(&hm, &mut best_unit);
-            }
-        }
+            },
+        );
     }
 }
 
@@ -207,6 +222,7 @@ impl Rule {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     #[allow(clippy::too_many_arguments)]
+    #[inline]
     fn block_avx2(
         self,
         hm: &HarmonyMemory,
@@ -271,7 +287,7 @@ mod tests {
 
     #[test]
     fn the_avx2_block_improvises_exactly_as_the_portable_rule() {
-        if !crate::rng::has_avx2() {
+        if !crate::simd::has_avx2() {
             return;
         }
         let mut rng = run_rng(8);

@@ -10,6 +10,7 @@ use super::ParamError;
 use super::{clamp, select};
 use crate::problem::{BoundPolicy, Bounds, Problem};
 use crate::rng::{unit52_of, Field21};
+use crate::simd::Simd;
 
 /// The harmony memory HM: `HMS` harmony vectors and their objective values,
 /// stored row-major in one buffer, with the indices of the best and the worst.
@@ -207,7 +208,10 @@ impl Improvisation {
     /// there is no data-dependent branch; with `bounds = "clip"` on a CPU
     /// with AVX2 four variables are improvised at a time, with the same
     /// floating-point operations as the portable loop and so the same values.
-    #[inline]
+    /// `simd` is the level the caller runs with ([`crate::simd::dispatch`]);
+    /// below [`Simd::Avx2`] the portable rule does every variable.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
     pub fn improvise<R: Words + ?Sized>(
         &self,
         hm: &HarmonyMemory,
@@ -216,8 +220,9 @@ impl Improvisation {
         rng: &mut R,
         words: &mut [u64; 2 * CHUNK],
         x: &mut [f64],
+        simd: Simd,
     ) {
-        let wide = crate::rng::has_avx2();
+        let wide = simd >= Simd::Avx2;
         let dim = x.len();
         for start in (0..dim).step_by(CHUNK) {
             let n = (start + CHUNK).min(dim) - start;
@@ -229,7 +234,7 @@ impl Improvisation {
             #[cfg(target_arch = "x86_64")]
             if self.policy == BoundPolicy::Clip && wide && n >= 4 {
                 // SAFETY: `wide` is true only where the CPU has AVX2
-                // (`crate::rng::has_avx2`).
+                // (`simd` is at most the CPU's level).
                 done = unsafe { self.clip_block_avx2(hm, start, fields, units, cols, bw, x) };
             }
             let rates = [Field21::threshold(self.hmcr), Field21::threshold(self.par)];
@@ -269,6 +274,7 @@ impl Improvisation {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     #[allow(clippy::too_many_arguments)]
+    #[inline]
     fn clip_block_avx2(
         &self,
         hm: &HarmonyMemory,
@@ -325,6 +331,11 @@ pub(crate) fn choose(
     let fresh = clamp(b, b.lower + u * cols.width[j]);
     select(consider < hmcr, select(adjust < par, adjusted, held), fresh)
 }
+
+/// The largest memory whose values [`choose_block_avx2`] selects by
+/// comparing every harmony's four variables with the drawn indices, rather
+/// than by four scalar loads.
+const ROW_SELECT_MAX: i64 = 8;
 
 /// Four variables `j..j + 4` of [`choose_block_avx2`], in AVX2 registers:
 /// the held values, the second words, their `u`, and the bounds.
@@ -405,21 +416,33 @@ pub(crate) unsafe fn choose_block_avx2(
                 _mm256_cmpgt_epi64(par, _mm256_and_si256(_mm256_srli_epi64::<42>(f), mask));
             let pick = _mm256_and_si256(_mm256_srli_epi64::<21>(f), mask);
             let index = _mm256_srli_epi64::<21>(_mm256_mul_epu32(pick, hms_v));
-            let at = _mm256_add_epi64(
-                _mm256_mul_epu32(index, dim_v),
-                _mm256_add_epi64(_mm256_set1_epi64x(j as i64), lanes),
-            );
-            // Four scalar loads: no slower than `vgatherqpd` on the AMD
-            // EPYC measured, and not subject to the slow microcoded
-            // gathers of Intel parts with the GDS mitigation.
-            let mut k = [0i64; 4];
-            _mm256_storeu_si256(k.as_mut_ptr().cast(), at);
-            let held = _mm256_set_pd(
-                *base.offset(k[3] as isize),
-                *base.offset(k[2] as isize),
-                *base.offset(k[1] as isize),
-                *base.offset(k[0] as isize),
-            );
+            let held = if hms <= ROW_SELECT_MAX {
+                // A small memory: load the four variables of every harmony
+                // and keep, lane by lane, the one whose index was drawn.
+                let mut held = _mm256_loadu_pd(base.add(j));
+                for r in 1..hms {
+                    let row = _mm256_loadu_pd(base.add(r as usize * hm.dim + j));
+                    let hit = _mm256_cmpeq_epi64(index, _mm256_set1_epi64x(r));
+                    held = _mm256_blendv_pd(held, row, _mm256_castsi256_pd(hit));
+                }
+                held
+            } else {
+                let at = _mm256_add_epi64(
+                    _mm256_mul_epu32(index, dim_v),
+                    _mm256_add_epi64(_mm256_set1_epi64x(j as i64), lanes),
+                );
+                // Four scalar loads: no slower than `vgatherqpd` on the AMD
+                // EPYC measured, and not subject to the slow microcoded
+                // gathers of Intel parts with the GDS mitigation.
+                let mut k = [0i64; 4];
+                _mm256_storeu_si256(k.as_mut_ptr().cast(), at);
+                _mm256_set_pd(
+                    *base.offset(k[3] as isize),
+                    *base.offset(k[2] as isize),
+                    *base.offset(k[1] as isize),
+                    *base.offset(k[0] as isize),
+                )
+            };
             let words = _mm256_loadu_si256(units.as_ptr().add(i).cast());
             let u = _mm256_sub_pd(
                 _mm256_castsi256_pd(_mm256_or_si256(_mm256_srli_epi64::<12>(words), one_bits)),
@@ -498,7 +521,7 @@ mod tests {
 
     #[test]
     fn the_avx2_block_improvises_exactly_as_the_portable_rule() {
-        if !crate::rng::has_avx2() {
+        if !crate::simd::has_avx2() {
             return;
         }
         let mut rng = run_rng(5);
@@ -555,6 +578,7 @@ mod tests {
                 &mut rng,
                 &mut [0; 2 * CHUNK],
                 &mut x,
+                crate::simd::simd(),
             );
             for (j, xj) in x.iter().enumerate() {
                 assert!((0..3).any(|i| hm.harmony(i)[j] == *xj));

@@ -11,6 +11,7 @@ use super::params::{Kind, ParamDef, ParamSet, Setting};
 use super::{policy_param, Optimiser, ParamError, BOUNDS_PARAM};
 use crate::optim::evaluator::Evaluator;
 use crate::problem::{BoundPolicy, Problem};
+use crate::simd::dispatch;
 
 /// Classical Harmony Search: improvise one harmony per evaluation and let it
 /// replace the worst harmony in memory if it is better.
@@ -114,13 +115,18 @@ impl Optimiser for HarmonySearch {
         };
         let mut x = vec![0.0; bounds.len()];
         let mut words = [0; 2 * CHUNK];
-        while eval.remaining() > 0 {
-            if self.bandwidth.decay {
-                self.bandwidth.scale(eval.progress(), &widths, &mut bw);
-            }
-            imp.improvise(&hm, &cols, &bw, rng, &mut words, &mut x);
-            let v = eval.evaluate(&x);
-            hm.consider(&x, v);
-        }
+        dispatch(
+            #[inline(always)]
+            |simd| {
+                while eval.remaining() > 0 {
+                    if self.bandwidth.decay {
+                        self.bandwidth.scale(eval.progress(), &widths, &mut bw);
+                    }
+                    imp.improvise(&hm, &cols, &bw, rng, &mut words, &mut x, simd);
+                    let v = eval.evaluate(&x);
+                    hm.consider(&x, v);
+                }
+            },
+        );
     }
 }

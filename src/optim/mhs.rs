@@ -38,6 +38,7 @@ use super::{clamp, policy_param, select, Optimiser, ParamError, BOUNDS_PARAM};
 use crate::optim::evaluator::Evaluator;
 use crate::problem::{BoundPolicy, Bounds, Problem};
 use crate::rng::{unit_of, Draw, Field21};
+use crate::simd::{dispatch, Simd};
 
 /// One way of building a temporary harmony `D_l`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -322,15 +323,19 @@ impl Optimiser for ModifiedHarmonySearch {
         let widths: Vec<f64> = eval.bounds().iter().map(|b| b.width()).collect();
         let mut bw = vec![0.0; widths.len()];
         self.bandwidth.scale(0.0, &widths, &mut bw);
-        match self.scheme {
-            Scheme::Candidates => self.candidates(&mut hm, eval, rng, &widths, &mut bw),
-            Scheme::PerVariable => self.per_variable(&mut hm, eval, rng, &widths, &mut bw),
-        }
+        dispatch(
+            #[inline(always)]
+            |simd| match self.scheme {
+                Scheme::Candidates => self.candidates(&mut hm, eval, rng, &widths, &mut bw, simd),
+                Scheme::PerVariable => self.per_variable(&mut hm, eval, rng, &widths, &mut bw),
+            },
+        )
     }
 }
 
 impl ModifiedHarmonySearch {
     /// The candidate scheme: `L` whole vectors `D_l` per improvisation.
+    #[inline(always)]
     fn candidates<P: Problem + ?Sized, R: Words + ?Sized>(
         &self,
         hm: &mut HarmonyMemory,
@@ -338,6 +343,7 @@ impl ModifiedHarmonySearch {
         rng: &mut R,
         widths: &[f64],
         bw: &mut [f64],
+        simd: Simd,
     ) {
         let bounds = eval.bounds();
         let dim = bounds.len();
@@ -368,7 +374,9 @@ impl ModifiedHarmonySearch {
                     break;
                 }
                 match ops[l % ops.len()] {
-                    Operator::Hs => imp.improvise(hm, &cols, bw, rng, &mut words, &mut candidate),
+                    Operator::Hs => {
+                        imp.improvise(hm, &cols, bw, rng, &mut words, &mut candidate, simd)
+                    }
                     Operator::Ga => {
                         self.crossover(hm, bounds, widths, rng, &mut units, &mut candidate)
                     }
@@ -467,6 +475,7 @@ impl ModifiedHarmonySearch {
     /// `u < PAR + p_ga + p_pso`, else the value is kept; otherwise the
     /// variable is uniform in its bounds. The candidate replaces the worst
     /// harmony if it is better.
+    #[inline(always)]
     fn per_variable<P: Problem + ?Sized, R: Words + ?Sized>(
         &self,
         hm: &mut HarmonyMemory,

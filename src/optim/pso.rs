@@ -8,6 +8,7 @@ use super::{clamp, max_x86, min_x86, policy_param, Optimiser, ParamError, BOUNDS
 use crate::optim::evaluator::Evaluator;
 use crate::problem::{BoundPolicy, Bounds, Problem};
 use crate::rng::Words;
+use crate::simd::dispatch;
 
 /// How the inertia weight `ω` evolves over the run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -214,6 +215,22 @@ impl ParticleSwarm {
 
 impl Optimiser for ParticleSwarm {
     fn minimise<P: Problem + ?Sized, R: Words + ?Sized>(
+        &self,
+        eval: &mut Evaluator<'_, P>,
+        rng: &mut R,
+    ) {
+        dispatch(
+            #[inline(always)]
+            |_| self.fly(eval, rng),
+        )
+    }
+}
+
+impl ParticleSwarm {
+    /// The swarm's moves until the budget is spent: the body of
+    /// [`Optimiser::minimise`], compiled for the CPU by [`dispatch`].
+    #[inline(always)]
+    fn fly<P: Problem + ?Sized, R: Words + ?Sized>(
         &self,
         eval: &mut Evaluator<'_, P>,
         rng: &mut R,
