@@ -363,7 +363,7 @@ impl Mutator {
 
 /// One BLX child `x¹_j + γ_j(x²_j − x¹_j)`, repaired into the bounds.
 #[allow(clippy::too_many_arguments)]
-#[inline]
+#[inline(always)]
 fn blend(
     child: &mut [f64],
     xa: &[f64],
