@@ -3,6 +3,8 @@
 //! reassociation, no fused multiply-add), so results do not depend on the
 //! machine; only the speed does.
 
+use std::cell::Cell;
+
 /// The vector instruction set a wide path runs with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Simd {
@@ -14,10 +16,26 @@ pub enum Simd {
     Avx512,
 }
 
+thread_local! {
+    /// The cap set by [`with_level`] on this thread, if any.
+    static CAP: Cell<Option<Simd>> = const { Cell::new(None) };
+}
+
 /// The widest [`Simd`] level this CPU runs (detected once, then cached by
-/// the standard library).
+/// the standard library), lowered to the cap of [`with_level`] while one is
+/// set on this thread.
 #[inline]
 pub fn simd() -> Simd {
+    let cpu = detected();
+    match CAP.with(Cell::get) {
+        Some(cap) => cpu.min(cap),
+        None => cpu,
+    }
+}
+
+/// The CPU's widest level.
+#[inline]
+fn detected() -> Simd {
     #[cfg(target_arch = "x86_64")]
     {
         use std::arch::is_x86_feature_detected as has;
@@ -29,6 +47,20 @@ pub fn simd() -> Simd {
         }
     }
     Simd::Portable
+}
+
+/// Runs `f` on this thread with [`simd`] capped at `cap` (the CPU's own
+/// level if that is lower), then restores the previous cap: how the tests
+/// run one computation on every level and compare the results bit for bit.
+pub fn with_level<T>(cap: Simd, f: impl FnOnce() -> T) -> T {
+    struct Restore(Option<Simd>);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            CAP.with(|c| c.set(self.0));
+        }
+    }
+    let _restore = Restore(CAP.with(|c| c.replace(Some(cap))));
+    f()
 }
 
 /// Whether this CPU runs the AVX2 paths (the generator's steps and the
@@ -64,4 +96,29 @@ pub fn dispatch<T>(body: impl FnOnce(Simd) -> T) -> T {
         }
     }
     body(Simd::Portable)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_cap_lowers_the_level_and_is_restored() {
+        let cpu = simd();
+        assert_eq!(with_level(Simd::Portable, simd), Simd::Portable);
+        assert_eq!(with_level(Simd::Avx512, simd), cpu, "a cap never raises");
+        let nested = with_level(Simd::Avx2, || {
+            (simd(), with_level(Simd::Portable, simd), simd())
+        });
+        assert_eq!(
+            nested,
+            (cpu.min(Simd::Avx2), Simd::Portable, cpu.min(Simd::Avx2))
+        );
+        assert_eq!(simd(), cpu);
+        assert_eq!(dispatch(|level| level), cpu);
+        assert_eq!(
+            with_level(Simd::Portable, || dispatch(|level| level)),
+            Simd::Portable
+        );
+    }
 }

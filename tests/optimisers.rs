@@ -295,3 +295,58 @@ fn same_seed_same_outcome_different_seed_different_outcome() {
         assert_ne!(a.best_x, c.best_x, "{name} ignores its seed");
     }
 }
+
+/// The bits of everything a run reports, so that `-0.0` and `0.0` (or two
+/// NaNs) are told apart.
+fn outcome_bits(o: &metabezier::optim::Outcome) -> Vec<u64> {
+    let mut bits: Vec<u64> = o.best_x.iter().map(|v| v.to_bits()).collect();
+    bits.push(o.best_value.to_bits());
+    bits.push(o.evaluations);
+    for p in &o.trace {
+        bits.push(p.evaluations);
+        bits.push(p.best.to_bits());
+    }
+    bits
+}
+
+#[test]
+fn every_simd_level_gives_the_same_runs() {
+    use metabezier::simd::{simd, with_level, Simd};
+    let reflect = || Raw::Text("reflect".into());
+    let settings = [
+        ("hs", vec![]),
+        ("hs", vec![("bounds", reflect())]),
+        ("hs", vec![("hms", Raw::Int(12))]),
+        ("ghs", vec![]),
+        ("ghs", vec![("hms", Raw::Int(12))]),
+        ("ga", vec![]),
+        ("ga", vec![("bounds", reflect())]),
+        ("pso", vec![]),
+        ("pso", vec![("bounds", reflect())]),
+        ("mhs", vec![]),
+        ("mhs", vec![("bounds", reflect())]),
+        ("mhs", vec![("scheme", Raw::Text("per-variable".into()))]),
+    ];
+    let levels: Vec<Simd> = [Simd::Portable, Simd::Avx2, Simd::Avx512]
+        .into_iter()
+        .filter(|&l| l <= simd())
+        .collect();
+    // D = 7 and 33 leave a partial block of four; 33 also spans two blocks
+    // of 32 variables.
+    for (f, dim) in [(Function::Rastrigin, 7), (Function::Sphere, 33)] {
+        let p = TestProblem::new(f, dim).unwrap();
+        for (name, changes) in &settings {
+            let algo = configured(name, changes);
+            let runs: Vec<Vec<u64>> = levels
+                .iter()
+                .map(|&l| with_level(l, || outcome_bits(&algo.run(&p, 4000, &mut run_rng(9)))))
+                .collect();
+            for (l, run) in levels.iter().zip(&runs) {
+                assert_eq!(
+                    run, &runs[0],
+                    "{name} {changes:?} on {f:?}-{dim}: {l:?} differs"
+                );
+            }
+        }
+    }
+}
