@@ -4,6 +4,7 @@
 //! machine; only the speed does.
 
 use std::cell::Cell;
+use std::sync::atomic::{AtomicU8, Ordering};
 
 /// The vector instruction set a wide path runs with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -21,8 +22,8 @@ thread_local! {
     static CAP: Cell<Option<Simd>> = const { Cell::new(None) };
 }
 
-/// The widest [`Simd`] level this CPU runs (detected once, then cached by
-/// the standard library), lowered to the cap of [`with_level`] while one is
+/// The widest [`Simd`] level this CPU runs (detected once, then cached),
+/// lowered to the cap of [`with_level`] while one is
 /// set on this thread.
 #[inline]
 pub fn simd() -> Simd {
@@ -33,9 +34,26 @@ pub fn simd() -> Simd {
     }
 }
 
-/// The CPU's widest level.
+/// The CPU's widest level, detected on first use and then read with one
+/// relaxed load (0 means not yet detected).
 #[inline]
 fn detected() -> Simd {
+    static LEVEL: AtomicU8 = AtomicU8::new(0);
+    match LEVEL.load(Ordering::Relaxed) {
+        1 => Simd::Portable,
+        2 => Simd::Avx2,
+        3 => Simd::Avx512,
+        _ => {
+            let level = detect();
+            LEVEL.store(level as u8 + 1, Ordering::Relaxed);
+            level
+        }
+    }
+}
+
+/// Asks the CPU which level it runs.
+#[cold]
+fn detect() -> Simd {
     #[cfg(target_arch = "x86_64")]
     {
         use std::arch::is_x86_feature_detected as has;
@@ -63,13 +81,6 @@ pub fn with_level<T>(cap: Simd, f: impl FnOnce() -> T) -> T {
     f()
 }
 
-/// Whether this CPU runs the AVX2 paths (the generator's steps and the
-/// harmony improvisation); they give the same numbers as the portable paths.
-#[inline]
-pub fn has_avx2() -> bool {
-    simd() >= Simd::Avx2
-}
-
 /// Runs `body` compiled for this CPU's [`simd`] level, which it is given:
 /// `body` (a closure marked `#[inline(always)]`, with `#[inline(always)]`
 /// callees) is inlined into a function with that level's target features,
@@ -77,6 +88,14 @@ pub fn has_avx2() -> bool {
 /// inlined without a call per block.
 #[inline(always)]
 pub fn dispatch<T>(body: impl FnOnce(Simd) -> T) -> T {
+    dispatch_at(simd(), body)
+}
+
+/// [`dispatch`] at `level`, lowered to the CPU's own level if that is lower
+/// (so it is always safe): for code that keeps the level it was made with,
+/// such as a generator.
+#[inline(always)]
+pub fn dispatch_at<T>(level: Simd, body: impl FnOnce(Simd) -> T) -> T {
     #[cfg(target_arch = "x86_64")]
     {
         #[target_feature(enable = "avx2,avx512f,avx512vl,avx512dq")]
@@ -87,14 +106,16 @@ pub fn dispatch<T>(body: impl FnOnce(Simd) -> T) -> T {
         fn avx2<T>(body: impl FnOnce(Simd) -> T) -> T {
             body(Simd::Avx2)
         }
-        match simd() {
-            // SAFETY: the CPU has the features of the level `simd` reports.
+        match level.min(detected()) {
+            // SAFETY: the CPU has the features of every level up to
+            // `detected()`.
             Simd::Avx512 => return unsafe { avx512(body) },
             // SAFETY: as above.
             Simd::Avx2 => return unsafe { avx2(body) },
             Simd::Portable => {}
         }
     }
+    let _ = level;
     body(Simd::Portable)
 }
 

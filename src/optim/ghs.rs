@@ -270,24 +270,12 @@ impl Rule {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::optim::harmony::tests::Abs;
     use crate::rng::run_rng;
-
-    struct Abs(Vec<Bounds>);
-    impl Problem for Abs {
-        fn dim(&self) -> usize {
-            self.0.len()
-        }
-        fn bounds(&self) -> &[Bounds] {
-            &self.0
-        }
-        fn objective(&self, x: &[f64]) -> f64 {
-            x.iter().map(|v| v.abs()).sum()
-        }
-    }
 
     #[test]
     fn the_avx2_block_improvises_exactly_as_the_portable_rule() {
-        if !crate::simd::has_avx2() {
+        if crate::simd::simd() < crate::simd::Simd::Avx2 {
             return;
         }
         let mut rng = run_rng(8);
