@@ -270,7 +270,7 @@ impl Rule {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::optim::harmony::tests::Abs;
+    use crate::optim::harmony::tests::memory_in;
     use crate::rng::run_rng;
 
     #[test]
@@ -283,9 +283,7 @@ mod tests {
             let bounds: Vec<Bounds> = (0..dim)
                 .map(|j| Bounds::new(-2.0 + j as f64, 3.0 + 2.0 * j as f64))
                 .collect();
-            let p = Abs(bounds.clone());
-            let mut ev = Evaluator::new(&p, 100);
-            let hm = HarmonyMemory::random(5, &mut ev, &mut rng);
+            let hm = memory_in(&bounds, 5, &mut rng);
             let cols = BoundColumns::new(&bounds);
             let best_unit: Vec<f64> = (0..dim).map(|j| (j as f64 * 0.37) % 1.0).collect();
             for (hmcr, par) in [(0.9, 0.3), (0.5, 0.99), (1.0, 0.0), (0.0, 1.0)] {

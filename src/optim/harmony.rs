@@ -474,9 +474,8 @@ pub(crate) mod tests {
     use super::*;
     use crate::rng::{run_rng, Words};
 
-    /// `Σ|x_j|` in the given bounds: a memory filler for the tests here and
-    /// in GHS.
-    pub(crate) struct Abs(pub(crate) Vec<Bounds>);
+    /// `Σ|x_j|` in the given bounds: a memory filler for the tests.
+    struct Abs(Vec<Bounds>);
     impl Problem for Abs {
         fn dim(&self) -> usize {
             self.0.len()
@@ -487,6 +486,13 @@ pub(crate) mod tests {
         fn objective(&self, x: &[f64]) -> f64 {
             x.iter().map(|v| v.abs()).sum()
         }
+    }
+
+    /// A memory of `hms` random harmonies in `bounds`, for the tests here
+    /// and in GHS.
+    pub(crate) fn memory_in(bounds: &[Bounds], hms: usize, rng: &mut impl Words) -> HarmonyMemory {
+        let p = Abs(bounds.to_vec());
+        HarmonyMemory::random(hms, &mut Evaluator::new(&p, 100), rng)
     }
 
     #[test]
@@ -531,9 +537,7 @@ pub(crate) mod tests {
             let bounds: Vec<Bounds> = (0..dim)
                 .map(|j| Bounds::new(-1.0 - j as f64, 2.0 + 0.5 * j as f64))
                 .collect();
-            let p = Abs(bounds.clone());
-            let mut ev = Evaluator::new(&p, 100);
-            let hm = HarmonyMemory::random(7, &mut ev, &mut rng);
+            let hm = memory_in(&bounds, 7, &mut rng);
             let cols = BoundColumns::new(&bounds);
             let bw: Vec<f64> = (0..dim).map(|j| 0.3 + j as f64).collect();
             for (hmcr, par) in [(0.9, 0.3), (0.5, 0.9), (1.0, 0.0), (0.0, 1.0)] {
