@@ -15,6 +15,13 @@
 //! improvisations of 30 variables from a memory of 5, words included,
 //! compiled for the CPU as in a run); their throughputs are per word and
 //! per variable.
+//!
+//! Two more give the floor itself. `generator/ideal-16-lanes-512` steps
+//! sixteen independent Xoshiro256++ lanes held in registers with no buffer,
+//! the fastest this generator ran on the CPU measured (it is not the run's
+//! stream, only its speed).
+//! `improvise/hs-30-words-given` is `improvise/hs-30` with the words
+//! already in place, so it times the improvisation's own arithmetic.
 
 mod common;
 
@@ -27,11 +34,16 @@ use metabezier::optim::harmony::{BoundColumns, HarmonyMemory, Improvisation};
 use metabezier::optim::Evaluator;
 use metabezier::optim::{Algorithm, Optimiser};
 use metabezier::problem::{BoundPolicy, Problem};
-use metabezier::rng::{run_rng, Draw, Words};
+use metabezier::rng::{lane_steps, run_rng, Draw, Words};
 use metabezier::simd::dispatch;
+use rand::RngCore;
 
 const BUDGET: u64 = 20_000;
 const POINTS: usize = 1024;
+/// HS improvisations per iteration of the `improvise` benchmarks.
+const REPEAT: usize = 100;
+/// The dimension of the `generator` and `improvise` benchmarks.
+const DIM: usize = 30;
 
 fn bench_function(c: &mut Criterion, f: Function, dim: usize) {
     let problem = TestProblem::new(f, dim).unwrap();
@@ -73,7 +85,6 @@ fn bench_function(c: &mut Criterion, f: Function, dim: usize) {
 /// The parts of an HS evaluation's overhead at D = 30: the random words and
 /// the whole improvisation.
 fn bench_parts(c: &mut Criterion) {
-    const DIM: usize = 30;
     let mut group = c.benchmark_group("generator");
     group.throughput(Throughput::Elements(2 * DIM as u64));
     let mut rng = run_rng(1);
@@ -82,6 +93,23 @@ fn bench_parts(c: &mut Criterion) {
         b.iter(|| {
             rng.words(&mut words);
             black_box(words[0])
+        })
+    });
+    // Sixteen independent lanes (four AVX-512 registers per state word):
+    // only their throughput counts, not their stream.
+    let mut lanes = [[0u64; 16]; 4];
+    for (i, s) in lanes.iter_mut().flatten().enumerate() {
+        *s = rng.next_u64() | i as u64;
+    }
+    let mut ideal = [0u64; 512];
+    group.throughput(Throughput::Elements(512));
+    group.bench_function("ideal-16-lanes-512", |b| {
+        b.iter(|| {
+            dispatch(
+                #[inline(always)]
+                |_| lane_steps(&mut lanes, &mut ideal),
+            );
+            black_box(ideal[0])
         })
     });
     group.finish();
@@ -95,26 +123,61 @@ fn bench_parts(c: &mut Criterion) {
         par: 0.3,
         policy: BoundPolicy::Clip,
     };
-    // 100 improvisations per iteration, inside one dispatch as in a run.
-    const REPEAT: usize = 100;
     let mut group = c.benchmark_group("improvise");
     group.throughput(Throughput::Elements((REPEAT * DIM) as u64));
+    // `hs-30` draws its words as a run does; `hs-30-words-given` finds them
+    // already in the scratch buffer.
+    let parts = (&imp, &hm, &cols, &bw[..]);
+    let (mut x, mut scratch) = ([0.0; DIM], [0u64; 64]);
     group.bench_function("hs-30", |b| {
-        let (mut x, mut scratch) = ([0.0; DIM], [0u64; 64]);
-        b.iter(|| {
-            dispatch(
-                #[inline(always)]
-                |simd| {
-                    for _ in 0..REPEAT {
-                        imp.improvise(&hm, &cols, &bw, &mut rng, &mut scratch, &mut x, simd);
-                        black_box(&mut x);
-                    }
-                },
-            );
-            x[0]
-        })
+        b.iter(|| improvise_repeatedly(parts, &mut rng, &mut scratch, &mut x))
+    });
+    rng.words(&mut scratch);
+    group.bench_function("hs-30-words-given", |b| {
+        b.iter(|| improvise_repeatedly(parts, &mut Given, &mut scratch, &mut x))
     });
     group.finish();
+}
+
+/// [`REPEAT`] HS improvisations of `x` inside one dispatch, as in a run, with
+/// words from `words`; returns the last harmony's first value. (`x` is an
+/// array, as in the first version of this benchmark; with a slice, as in a
+/// run, the improvisation measured about 6 ns slower.)
+fn improvise_repeatedly<R: Words>(
+    (imp, hm, cols, bw): (&Improvisation, &HarmonyMemory, &BoundColumns, &[f64]),
+    words: &mut R,
+    scratch: &mut [u64; 64],
+    x: &mut [f64; DIM],
+) -> f64 {
+    dispatch(
+        #[inline(always)]
+        |simd| {
+            for _ in 0..REPEAT {
+                imp.improvise(hm, cols, bw, words, scratch, x, simd);
+                black_box(&mut *x);
+            }
+        },
+    );
+    x[0]
+}
+
+/// A word source that leaves the caller's words as they are, so that a
+/// benchmark times only what is done with them.
+struct Given;
+
+impl RngCore for Given {
+    fn next_u32(&mut self) -> u32 {
+        0
+    }
+    fn next_u64(&mut self) -> u64 {
+        0
+    }
+    fn fill_bytes(&mut self, _: &mut [u8]) {}
+}
+
+impl Words for Given {
+    #[inline(always)]
+    fn words(&mut self, _: &mut [u64]) {}
 }
 
 fn main() {

@@ -97,13 +97,15 @@ fn jump(s: &mut [u64; 4]) {
     *s = acc;
 }
 
-/// Writes `out.len() / LANES` steps of all lanes into `out` (whose length is
-/// a multiple of [`LANES`]), lane outputs interleaved.
+/// Writes `out.len() / L` Xoshiro256++ steps of `L` lanes into `out` (whose
+/// length is a multiple of `L`), lane outputs interleaved; `state[i][k]` is
+/// state word `i` of lane `k`. A run's stream is `L =` [`LANES`]; the
+/// benchmarks also time wider `L` to find the generator's ceiling.
 #[inline(always)]
-fn lane_steps(state: &mut [[u64; LANES]; 4], out: &mut [u64]) {
+pub fn lane_steps<const L: usize>(state: &mut [[u64; L]; 4], out: &mut [u64]) {
     let [mut s0, mut s1, mut s2, mut s3] = *state;
-    for chunk in out.chunks_exact_mut(LANES) {
-        for k in 0..LANES {
+    for chunk in out.chunks_exact_mut(L) {
+        for k in 0..L {
             chunk[k] = s0[k]
                 .wrapping_add(s3[k])
                 .rotate_left(23)
