@@ -1,7 +1,7 @@
 //! Global-best Harmony Search, GHS (Omran & Mahdavi 2008, "Global-best
 //! harmony search", Applied Mathematics and Computation 198:643–656).
 
-use super::harmony::{choose, BoundColumns, HarmonyMemory, CHUNK};
+use super::harmony::{choose, improvise_blocks, BoundColumns, HarmonyMemory, CHUNK};
 #[cfg(target_arch = "x86_64")]
 use super::harmony::{choose_block_avx2, clamp4, Lanes};
 use super::params::{Kind, ParamDef, ParamSet, Setting};
@@ -9,7 +9,7 @@ use super::{clamp, Optimiser, ParamError};
 use crate::optim::evaluator::Evaluator;
 use crate::problem::{Bounds, Problem};
 use crate::rng::{Field21, Words};
-use crate::simd::{dispatch, Simd};
+use crate::simd::dispatch;
 
 /// GHS: HS without a bandwidth, whose pitch adjustment copies a random
 /// dimension of the best harmony.
@@ -139,7 +139,6 @@ impl Optimiser for GlobalBestHarmonySearch {
         dispatch(
             #[inline(always)]
             |simd| {
-                let wide = simd >= Simd::Avx2;
                 while eval.remaining() > 0 {
                     let rule = Rule {
                         hmcr: Field21::threshold(self.hmcr),
@@ -147,35 +146,28 @@ impl Optimiser for GlobalBestHarmonySearch {
                             self.par_min + (self.par_max - self.par_min) * eval.progress(),
                         ),
                     };
-                    for start in (0..dim).step_by(CHUNK) {
-                        let n = (start + CHUNK).min(dim) - start;
-                        let words = &mut words[..2 * n];
-                        rng.words(words);
-                        let (fields, units) = words.split_at(n);
-                        #[allow(unused_mut)]
-                        let mut done = 0;
-                        #[cfg(target_arch = "x86_64")]
-                        if wide && n >= 4 {
-                            // SAFETY: `wide` is true only where the CPU has AVX2
-                            // (`simd` is at most the CPU's level).
-                            done = unsafe {
-                                rule.block_avx2(
-                                    &hm, &best_unit, start, fields, units, &cols, &mut x,
-                                )
+                    improvise_blocks(
+                        rng,
+                        &mut words,
+                        &mut x,
+                        simd,
+                        #[inline(always)]
+                        |start, fields, units, x| {
+                            // SAFETY: `improvise_blocks` calls this only at
+                            // `Simd::Avx2` or above, which the CPU has.
+                            #[cfg(target_arch = "x86_64")]
+                            return unsafe {
+                                rule.block_avx2(&hm, &best_unit, start, fields, units, &cols, x)
                             };
-                        }
-                        let _ = wide;
-                        for i in done..n {
-                            x[start + i] = rule.variable(
-                                &hm,
-                                &best_unit,
-                                start + i,
-                                fields[i],
-                                units[i],
-                                &cols,
-                            );
-                        }
-                    }
+                            #[cfg(not(target_arch = "x86_64"))]
+                            {
+                                let _ = (start, fields, units, x);
+                                0
+                            }
+                        },
+                        #[inline(always)]
+                        |j, field, unit| rule.variable(&hm, &best_unit, j, field, unit, &cols),
+                    );
                     let v = eval.evaluate(&x);
                     if hm.consider(&x, v) && v <= hm.value(hm.best()) {
                         refresh(&hm, &mut best_unit);

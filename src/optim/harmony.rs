@@ -222,26 +222,26 @@ impl Improvisation {
         x: &mut [f64],
         simd: Simd,
     ) {
-        let wide = simd >= Simd::Avx2;
-        let dim = x.len();
-        for start in (0..dim).step_by(CHUNK) {
-            let n = (start + CHUNK).min(dim) - start;
-            let words = &mut words[..2 * n];
-            rng.words(words);
-            let (fields, units) = words.split_at(n);
-            #[allow(unused_mut)]
-            let mut done = 0;
-            #[cfg(target_arch = "x86_64")]
-            if self.policy == BoundPolicy::Clip && wide && n >= 4 {
-                // SAFETY: `wide` is true only where the CPU has AVX2
-                // (`simd` is at most the CPU's level).
-                done = unsafe { self.clip_block_avx2(hm, start, fields, units, cols, bw, x) };
-            }
-            let rates = [Field21::threshold(self.hmcr), Field21::threshold(self.par)];
-            for i in done..n {
-                x[start + i] = self.variable(hm, start + i, fields[i], units[i], cols, bw, rates);
-            }
-        }
+        let rates = [Field21::threshold(self.hmcr), Field21::threshold(self.par)];
+        improvise_blocks(
+            rng,
+            words,
+            x,
+            simd,
+            #[inline(always)]
+            |start, fields, units, x| {
+                #[cfg(target_arch = "x86_64")]
+                if self.policy == BoundPolicy::Clip {
+                    // SAFETY: `improvise_blocks` calls this only at
+                    // `Simd::Avx2` or above, which the CPU has.
+                    return unsafe { self.clip_block_avx2(hm, start, fields, units, cols, bw, x) };
+                }
+                let _ = (start, fields, units, x);
+                0
+            },
+            #[inline(always)]
+            |j, field, unit| self.variable(hm, j, field, unit, cols, bw, rates),
+        );
     }
 
     /// Variable `j` improvised from its two words (the portable rule);
@@ -301,6 +301,41 @@ impl Improvisation {
                 );
                 clamp4(moved, v.lo, v.hi)
             })
+        }
+    }
+}
+
+/// Improvises `x` block by block from the stream, the layout HS, GHS and
+/// the HS step of MHS share: a block of `n ≤` [`CHUNK`] variables starting
+/// at `start` reads `2n` words, the first `n` (`fields`) giving each
+/// variable's HMCR trial, memory index and PAR trial and the next `n`
+/// (`units`) its second word. Where `simd` is at least [`Simd::Avx2`] (at
+/// most the CPU's level) and `n ≥ 4`, `block(start, fields, units, x)`
+/// improvises the leading variables of the block four at a time and
+/// returns how many it did; `variable(j, field, unit)` gives each of the
+/// rest.
+#[inline(always)]
+pub(crate) fn improvise_blocks<R: Words + ?Sized>(
+    rng: &mut R,
+    words: &mut [u64; 2 * CHUNK],
+    x: &mut [f64],
+    simd: Simd,
+    mut block: impl FnMut(usize, &[u64], &[u64], &mut [f64]) -> usize,
+    mut variable: impl FnMut(usize, u64, u64) -> f64,
+) {
+    let dim = x.len();
+    for start in (0..dim).step_by(CHUNK) {
+        let n = (start + CHUNK).min(dim) - start;
+        let words = &mut words[..2 * n];
+        rng.words(words);
+        let (fields, units) = words.split_at(n);
+        let done = if simd >= Simd::Avx2 && n >= 4 {
+            block(start, fields, units, x)
+        } else {
+            0
+        };
+        for i in done..n {
+            x[start + i] = variable(start + i, fields[i], units[i]);
         }
     }
 }
