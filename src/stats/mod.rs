@@ -9,6 +9,7 @@
 //! samples, NaN, ragged matrices) yields a [`StatsError`], never a panic.
 
 mod descriptive;
+mod effect;
 mod error;
 mod friedman;
 mod holm;
@@ -16,14 +17,19 @@ mod hypothesis;
 mod mannwhitney;
 mod mark;
 mod nemenyi;
+mod posthoc;
 mod ranks;
 mod success;
+mod verdict;
 mod wilcoxon;
 
 #[cfg(test)]
 mod reference_tests;
 
 pub use descriptive::{median, quantile, quantile_sorted, summarize, Summary};
+pub use effect::{
+    bootstrap_interval, median_in_place, ratio_of_medians, vargha_delaney_a12, Interval, Resampling,
+};
 pub use error::StatsError;
 pub use friedman::{friedman, FriedmanResult};
 pub use holm::holm_bonferroni;
@@ -31,11 +37,15 @@ pub use hypothesis::{Alternative, PValueMethod};
 pub use mannwhitney::{mann_whitney_u, MannWhitneyResult, MANN_WHITNEY_EXACT_MAX_MIN_N};
 pub use mark::{Mark, MarkTally, DEFAULT_ALPHA};
 pub use nemenyi::{nemenyi_critical_difference, nemenyi_q};
+pub use posthoc::{
+    finner, friedman_control_posthoc, smallest_friedman_control_p, ControlComparison,
+};
 pub use ranks::{average_ranks, tie_term, Ranks};
 pub use success::{
     average_runtime, mean_evaluations_to_success, success_rate, success_summary, RunOutcome,
     SuccessSummary,
 };
+pub use verdict::{across_units, smallest_signed_rank_p, AcrossUnits, Verdict};
 pub use wilcoxon::{
     wilcoxon, wilcoxon_signed_rank, wilcoxon_signed_rank_with, WilcoxonResult,
     WILCOXON_EXACT_MAX_N, WILCOXON_PERMUTATION_MAX_N,
