@@ -45,7 +45,10 @@ pub use success::{
     average_runtime, mean_evaluations_to_success, success_rate, success_summary, RunOutcome,
     SuccessSummary,
 };
-pub use verdict::{across_units, smallest_signed_rank_p, AcrossUnits, Verdict};
+pub use verdict::{
+    across_units, decide_family, smallest_signed_rank_p, AcrossUnits, Verdict, VerdictRow,
+    VerdictTest, VERDICT_COLUMNS,
+};
 pub use wilcoxon::{
     wilcoxon, wilcoxon_signed_rank, wilcoxon_signed_rank_with, WilcoxonResult,
     WILCOXON_EXACT_MAX_N, WILCOXON_PERMUTATION_MAX_N,

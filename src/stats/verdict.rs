@@ -19,6 +19,7 @@ use super::descriptive::median;
 use super::error::{check_no_nan, StatsError};
 use super::hypothesis::Alternative;
 use super::wilcoxon::wilcoxon_signed_rank;
+use crate::files::fmt_real;
 
 /// The verdict of a test across problems, from the compared algorithm's
 /// point of view.
@@ -133,6 +134,117 @@ pub fn across_units(d: &[f64], lower_is_better: bool) -> Result<AcrossUnits, Sta
         effect_size: median(d),
         improvement: if lower_is_better { -signed } else { signed },
     })
+}
+
+/// The columns of `verdicts.csv`, the one file every verdict across
+/// problems is written to (by `report` and by `implant`).
+pub const VERDICT_COLUMNS: [&str; 16] = [
+    "table",
+    "measure",
+    "algorithm",
+    "reference",
+    "scope",
+    "units",
+    "problems",
+    "better",
+    "equal",
+    "worse",
+    "test",
+    "p_value",
+    "p_adjusted",
+    "p_min",
+    "effect_size",
+    "verdict",
+];
+
+/// The test of a verdict row, with the fixed vocabulary of `verdicts.csv`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum VerdictTest {
+    /// The Wilcoxon signed-rank test of the per-unit summaries against zero,
+    /// Holm-corrected over the rows of its family ([`across_units`]).
+    WilcoxonSignedRank,
+    /// Friedman's test over the units with the z-test of average ranks
+    /// against the reference, Holm-corrected ([`crate::stats::friedman_control_posthoc`]).
+    FriedmanHolm,
+    /// As [`VerdictTest::FriedmanHolm`] with Finner's correction.
+    FriedmanFinner,
+}
+
+impl VerdictTest {
+    /// `wilcoxon-signed-rank`, `friedman-holm` or `friedman-finner`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            VerdictTest::WilcoxonSignedRank => "wilcoxon-signed-rank",
+            VerdictTest::FriedmanHolm => "friedman-holm",
+            VerdictTest::FriedmanFinner => "friedman-finner",
+        }
+    }
+}
+
+/// One verdict across problems: who is compared with whom, on which
+/// measure, over which scope, by which test, and the verdict.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VerdictRow {
+    /// The comparison set the row belongs to (its correction family is the
+    /// rows of one table, measure, test and scope).
+    pub table: String,
+    /// What is compared: `final-error`, `anytime-auc`, a metric name.
+    pub measure: String,
+    /// The compared algorithm (or treatment).
+    pub algorithm: String,
+    /// The reference it is compared with.
+    pub reference: String,
+    /// `all`, or `factor=level;factor=level`.
+    pub scope: String,
+    /// The first-level observations (problems, segments, cases) pooled
+    /// into the units.
+    pub problems: usize,
+    /// The test.
+    pub test: VerdictTest,
+    /// The units, their counts, the unadjusted p, p_min and the effect.
+    pub across: AcrossUnits,
+    /// The p-value after the family's correction.
+    pub p_adjusted: f64,
+    /// The verdict at α on `p_adjusted`.
+    pub verdict: Verdict,
+}
+
+impl VerdictRow {
+    /// The row's fields in the order of [`VERDICT_COLUMNS`], reals in their
+    /// shortest round-trip form.
+    pub fn csv_fields(&self) -> Vec<String> {
+        let a = &self.across;
+        vec![
+            self.table.clone(),
+            self.measure.clone(),
+            self.algorithm.clone(),
+            self.reference.clone(),
+            self.scope.clone(),
+            a.units.to_string(),
+            self.problems.to_string(),
+            a.better.to_string(),
+            a.equal.to_string(),
+            a.worse.to_string(),
+            self.test.as_str().to_owned(),
+            fmt_real(a.p_value),
+            fmt_real(self.p_adjusted),
+            fmt_real(a.p_min),
+            fmt_real(a.effect_size),
+            self.verdict.as_str().to_owned(),
+        ]
+    }
+}
+
+/// Holm-adjusts the p-values of a family of verdict rows (Holm 1979) and
+/// sets each verdict at level α. A family with a NaN p-value keeps it
+/// unadjusted and every verdict of the family undecided.
+pub fn decide_family(rows: &mut [VerdictRow], alpha: f64) {
+    let p: Vec<f64> = rows.iter().map(|r| r.across.p_value).collect();
+    let adjusted = super::holm::holm_bonferroni(&p).unwrap_or_else(|_| vec![f64::NAN; p.len()]);
+    for (r, pa) in rows.iter_mut().zip(adjusted) {
+        r.p_adjusted = pa;
+        r.verdict = Verdict::from_p(pa, alpha, r.across.improvement);
+    }
 }
 
 #[cfg(test)]
