@@ -111,6 +111,9 @@ enum Command {
         /// A runs.csv from elsewhere (same columns) to add to the comparison.
         #[arg(long, value_name = "CSV")]
         external: Option<PathBuf>,
+        /// The correction of the post-hoc tests after Friedman's test.
+        #[arg(long, default_value = "holm", value_parser = clap::builder::PossibleValuesParser::new(crate::report::PostHoc::NAMES))]
+        post_hoc: String,
     },
     /// Fit piecewise (rational) Bézier curves to an outline.
     Fit(FitArgs),
@@ -333,11 +336,13 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
             reference,
             alpha,
             external,
+            post_hoc,
         } => {
             let opts = ReportOptions {
                 reference,
                 alpha,
                 external,
+                post_hoc: crate::report::PostHoc::from_name(&post_hoc).unwrap_or_default(),
             };
             write_report(&dir, &opts, w)
         }

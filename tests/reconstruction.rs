@@ -624,7 +624,10 @@ fn a_campaign_with_the_current_fitting_records() {
     }
     let robustness = std::fs::read_to_string(one.join("tables/robustness.csv")).unwrap();
     assert!(
-        robustness.starts_with("budget_per_segment,search_space,α_size,mode,"),
+        robustness.starts_with(
+            "function,budget_per_segment,search_space,alpha_size,mode,algorithm,kind,params,\
+             measure,better,same,worse,both_solved\n"
+        ),
         "{robustness}"
     );
 

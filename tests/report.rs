@@ -135,8 +135,9 @@ fn report_of_a_small_campaign() {
         "problems",
         "descriptive",
         "comparison",
-        "wilcoxon",
-        "mann_whitney",
+        "tests",
+        "anytime_tests",
+        "verdicts",
         "marks_summary",
         "friedman",
     ] {
@@ -178,10 +179,26 @@ fn report_of_a_small_campaign() {
             );
         }
     }
-    // Two tests per non-reference algorithm and problem.
-    let wil = read(&dir.join("tables/wilcoxon.csv"));
-    assert_eq!(wil.lines().count(), 1 + 4 * 2);
-    assert!(wil.lines().skip(1).all(|l| l.contains(",MHS,")));
+    // One test per non-reference algorithm and problem, by design: every
+    // cell derives its own seeds, so none is paired.
+    let tests = read(&dir.join("tables/tests.csv"));
+    assert_eq!(tests.lines().count(), 1 + 4 * 2);
+    assert!(tests.lines().skip(1).all(|l| l.contains(",MHS,mann-whitney-u,")));
+    let anytime = read(&dir.join("tables/anytime_tests.csv"));
+    assert_eq!(anytime.lines().count(), 1 + 4 * 2);
+    let verdicts = read(&dir.join("tables/verdicts.csv"));
+    assert!(verdicts.starts_with(
+        "table,measure,algorithm,reference,scope,units,problems,better,equal,worse,test,\
+         p_value,p_adjusted,p_min,effect_size,verdict\n"
+    ));
+    // Two functions are the units (each at two dimensions): p_min = 0.5,
+    // so every verdict is "no detectable difference" by construction.
+    let all_hs = verdicts
+        .lines()
+        .find(|l| l.starts_with("reference,final-error,HS,MHS,all,2,4,"))
+        .unwrap_or_else(|| panic!("{verdicts}"));
+    assert!(all_hs.contains(",wilcoxon-signed-rank,") && all_hs.ends_with(",no detectable difference"), "{all_hs}");
+    assert!(verdicts.lines().any(|l| l.starts_with("reference,final-error,HS,MHS,dim=2,")));
     let marks = read(&dir.join("tables/marks_summary.csv"));
     assert_eq!(marks.lines().count(), 1 + 2 * 2);
     let friedman = read(&dir.join("tables/friedman.csv"));
@@ -200,8 +217,9 @@ fn report_of_a_small_campaign() {
         "![Final error distributions](plots/boxplots.png)",
         "![Scalability](plots/scalability.png)",
         "Holm's step-down correction is applied per problem",
-        "its mean final error over the runs",
-        "cannot be significant whatever the data",
+        "median over the function's problems",
+        "## Verdicts",
+        "units are independent functions",
         "| +/≈/− |",
     ] {
         assert!(md.contains(needle), "report.md lacks {needle:?}");
@@ -295,10 +313,11 @@ fn marks_on_hand_made_runs_with_a_known_outcome() {
         let x = f64::from(run);
         // A beats the reference R on every run, B loses on every run,
         // C equals R exactly.
-        rows.push(("R", "sphere", run, 1.0 + x, Some(500)));
+        // Only A reaches the threshold, so no pair is "both solved".
+        rows.push(("R", "sphere", run, 1.0 + x, None));
         rows.push(("A", "sphere", run, 0.5 + x, Some(100)));
         rows.push(("B", "sphere", run, 2.0 + 2.0 * x, None));
-        rows.push(("C", "sphere", run, 1.0 + x, Some(500)));
+        rows.push(("C", "sphere", run, 1.0 + x, None));
     }
     std::fs::write(dir.join("runs.csv"), hand_made(&rows)).unwrap();
     let s = write_report(
@@ -310,19 +329,23 @@ fn marks_on_hand_made_runs_with_a_known_outcome() {
     )
     .unwrap();
     assert_eq!(s.reference.as_deref(), Some("R"));
-    let wil = read(&dir.join("tables/wilcoxon.csv"));
-    let mark = |alg: &str| -> String {
-        let line = wil
+    // The hand-made runs share their seeds (seed = run): paired by design.
+    let tests = read(&dir.join("tables/tests.csv"));
+    let field = |alg: &str, i: usize| -> String {
+        let line = tests
             .lines()
             .find(|l| l.starts_with(&format!("sphere,2,{alg},")))
             .unwrap();
-        line.split(',').nth(15).unwrap().to_owned()
+        line.split(',').nth(i).unwrap().to_owned()
     };
-    assert_eq!(mark("A"), "+");
-    assert_eq!(mark("B"), "-");
-    assert_eq!(mark("C"), "=");
-    let mw = read(&dir.join("tables/mann_whitney.csv"));
-    assert!(mw.lines().count() == 4);
+    assert_eq!(field("A", 6), "wilcoxon-signed-rank");
+    assert_eq!(field("A", 14), "+");
+    assert_eq!(field("B", 14), "-");
+    assert_eq!(field("C", 14), "=");
+    // A12 and the ratio of medians: A is lower on every pair, C equal.
+    assert_eq!(field("C", 15), "0.5");
+    assert_eq!(field("C", 16), "1");
+    assert!(field("A", 15).parse::<f64>().unwrap() < 0.5);
     let comparison = read(&dir.join("report.md"));
     assert!(comparison.contains("1/0/0"), "{comparison}");
     assert!(comparison.contains("0/0/1"));
@@ -356,7 +379,8 @@ fn degenerate_inputs_do_not_fail() {
     let md = read(&dir.join("report.md"));
     assert!(md.contains("single algorithm configuration: no significance test"));
     assert!(md.contains("runtime ECDF skipped: no run reached the success threshold"));
-    assert!(!dir.join("tables/wilcoxon.csv").exists());
+    assert!(!dir.join("tables/tests.csv").exists());
+    assert!(!dir.join("tables/verdicts.csv").exists());
 
     // NaN and infinite errors, odd labels.
     let dir = tmp.path().join("odd");
@@ -459,9 +483,12 @@ fn external_runs_join_the_comparison() {
     let md = read(&dir.join("report.md"));
     assert!(md.contains("**External runs:**"));
     assert!(md.contains("shown as \"&lt;label&gt; (external)\""));
-    let wil = read(&dir.join("tables/wilcoxon.csv"));
-    let cma = wil.lines().find(|l| l.contains(",CMA-ES,")).unwrap();
-    assert!(cma.ends_with(",+,"), "{cma}");
+    let tests = read(&dir.join("tables/tests.csv"));
+    let cma = tests.lines().find(|l| l.contains(",CMA-ES,")).unwrap();
+    let f: Vec<&str> = cma.split(',').collect();
+    // Every run of both reached the threshold: "both solved", not a mark,
+    // although CMA-ES is lower on every run (A12 = 0).
+    assert_eq!((f[6], f[14], f[15]), ("wilcoxon-signed-rank", "both solved", "0"), "{cma}");
     keep(&dir, "external");
 }
 
@@ -504,4 +531,91 @@ fn a_report_refuses_rows_that_do_not_state_the_campaign() {
         .unwrap_err()
         .to_string();
     assert!(e.ends_with("campaign unfinished (a journal.csv and no runs.csv): run `metabezier run SPEC --resume` to finish it"), "{e}");
+}
+
+/// A runs.csv of `rows` (algorithm, problem, run, error) whose seeds are
+/// `seed_base + run`, at dimension 2 and budget 1000, none successful.
+fn seeded(rows: &[(&str, &str, u32, f64)], seed_base: u64) -> String {
+    let mut s = HEADER.to_owned();
+    for (alg, problem, run, error) in rows {
+        s.push_str(&format!(
+            "{alg},hs,hms=5,{problem},2,1000,{run},{},{error},{error},1000,,false\n",
+            seed_base + u64::from(*run)
+        ));
+    }
+    s
+}
+
+#[test]
+fn verdicts_across_functions_have_known_answers() {
+    // The reference R on eight functions. External X has exactly R's
+    // values on four functions and 1000× smaller errors on the other four;
+    // external Y is 1000× smaller on all eight; their seeds differ from R's.
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("known");
+    std::fs::create_dir_all(&dir).unwrap();
+    let functions = ["f1", "f2", "f3", "f4", "f5", "f6", "f7", "f8"];
+    let error = |f: usize, run: u32| (1.0 + f as f64) * (1.0 + 0.1 * f64::from(run));
+    let mut r = Vec::new();
+    let mut ext = Vec::new();
+    for (i, f) in functions.iter().enumerate() {
+        for run in 0..10u32 {
+            let e = error(i, run);
+            r.push(("R", *f, run, e));
+            ext.push(("X", *f, run, if i < 4 { e } else { e / 1000.0 }));
+            ext.push(("Y", *f, run, e / 1000.0));
+        }
+    }
+    std::fs::write(dir.join("runs.csv"), seeded(&r, 0)).unwrap();
+    let ext_path = tmp.path().join("external.csv");
+    std::fs::write(&ext_path, seeded(&ext, 5000)).unwrap();
+    write_report(
+        &dir,
+        &ReportOptions {
+            reference: Some("R".into()),
+            external: Some(ext_path),
+            ..ReportOptions::default()
+        },
+    )
+    .unwrap();
+    // Other seeds: the first level is unpaired.
+    let tests = read(&dir.join("tables/tests.csv"));
+    assert!(tests.lines().skip(1).all(|l| l.contains(",mann-whitney-u,")), "{tests}");
+    let verdicts = read(&dir.join("tables/verdicts.csv"));
+    let row = |alg: &str, test: &str| -> Vec<String> {
+        verdicts
+            .lines()
+            .map(|l| l.split(',').map(String::from).collect::<Vec<_>>())
+            .find(|f| {
+                f[0] == "reference" && f[1] == "final-error" && f[2] == alg && f[4] == "all" && f[10] == test
+            })
+            .unwrap_or_else(|| panic!("no {alg} {test} row in {verdicts}"))
+    };
+    // X: the four zero differences are dropped, n = 4, p = 0.125 = p_min
+    // (SciPy: wilcoxon([0, 0, 0, 0, -3, -3, -3, -3]).pvalue = 0.125).
+    let x = row("X", "wilcoxon-signed-rank");
+    assert_eq!(&x[5..10], ["8", "8", "4", "4", "0"], "{x:?}");
+    assert_eq!(x[11], "0.125");
+    assert_eq!(x[13], "0.125");
+    assert_eq!(x[14], "-1.5");
+    assert_eq!(x[15], "no detectable difference");
+    // Y: eight of eight better, p = 2/256 (SciPy: wilcoxon([-3] * 8)), Holm
+    // over the family of the two rows doubles it: 0.015625 < 0.05.
+    let y = row("Y", "wilcoxon-signed-rank");
+    assert_eq!(&y[7..10], ["8", "0", "0"], "{y:?}");
+    assert_eq!(y[11], "0.0078125");
+    assert_eq!(y[12], "0.015625");
+    assert_eq!(y[13], "0.0078125");
+    assert_eq!(y[14], "-3");
+    assert_eq!(y[15], "better");
+    // Friedman over the three, Holm post-hoc against R: average ranks R 2.75,
+    // X 2.0, Y 1.25 on 8 blocks, SE 0.5; z(Y) = 3, z(X) = 1.5.
+    let y = row("Y", "friedman-holm");
+    assert_eq!(y[15], "better");
+    let x = row("X", "friedman-holm");
+    assert_eq!(x[15], "no detectable difference");
+    // 2(1 − Φ(1.5)) = 0.13361440253771617 (scipy.stats.norm.sf(1.5) * 2)
+    assert!((x[11].parse::<f64>().unwrap() - 0.13361440253771617).abs() < 1e-9, "{x:?}");
+    let md = read(&dir.join("report.md"));
+    assert!(md.contains("| reference | final-error | X | R | all | wilcoxon-signed-rank | 4/4/0 |"), "{md}");
 }

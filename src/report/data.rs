@@ -14,8 +14,12 @@ use crate::functions::Transform;
 /// One run, reduced to what the report uses.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Run {
-    /// The run number, from 0 (the pairing key of the signed-rank test).
+    /// The run number, from 0 (for pooled bbob instances, see
+    /// [`BBOB_RUN_STRIDE`]).
     pub run: u32,
+    /// The run's derived seed: two runs share their random numbers (and so
+    /// are paired) only when their seeds are equal.
+    pub seed: u64,
     /// The run's evaluation budget.
     pub budget: u64,
     /// Final error `f − f*`.
@@ -118,7 +122,7 @@ impl Problem {
 /// Run numbers of pooled bbob instances: instance k's run r is
 /// `(k − 1)·BBOB_RUN_STRIDE + r`, the same for every algorithm, so paired
 /// tests pair the same instance and run.
-const BBOB_RUN_STRIDE: u32 = 100_000;
+pub(crate) const BBOB_RUN_STRIDE: u32 = 100_000;
 
 /// The pooled name of a COCO bbob id: `bbob_f008_i02_d05` → `bbob_f008_d05`.
 fn bbob_pooled(id: &str) -> Option<String> {
@@ -142,6 +146,9 @@ pub(crate) struct Dataset {
     pub has_convergence: bool,
     /// Whether `timing.csv` was read.
     pub has_timing: bool,
+    /// Whether `hits.csv` was read, so that the runs of the results (not
+    /// the external ones) carry every target they reached.
+    pub has_hits: bool,
     /// Number of runs read.
     pub total_runs: usize,
     /// Remarks about the input, shown in the report.
@@ -212,6 +219,7 @@ impl Dataset {
             has_convergence |= !trace.is_empty();
             let run = Run {
                 run: run_number,
+                seed: r.seed,
                 budget: r.budget,
                 error: r.error,
                 evaluations: r.evaluations,
@@ -250,6 +258,7 @@ impl Dataset {
             runs,
             has_convergence,
             has_timing: false,
+            has_hits: false,
             total_runs,
             notes,
         }
@@ -418,6 +427,7 @@ pub(crate) fn load(dir: &Path, external: Option<&Path>) -> Result<Dataset, Repor
     }
     let mut ds = Dataset::from_records(all);
     ds.has_timing = timing && conv;
+    ds.has_hits = ds.has_timing && dir.join("hits.csv").is_file();
     if !ds.has_timing {
         ds.clear_timing();
     }

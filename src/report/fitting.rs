@@ -24,7 +24,10 @@ use crate::files::fmt_real;
 use crate::fit::Segment;
 use crate::geometry::Point;
 use crate::reconstruction::{OverlayCurve, OverlayFigure, OverlayPanel};
-use crate::stats::{holm_bonferroni, mann_whitney_u, median, wilcoxon, Alternative, Mark};
+use super::verdicts::Observation;
+use crate::stats::{
+    holm_bonferroni, mann_whitney_u, median, wilcoxon, Alternative, Mark, VerdictRow,
+};
 
 /// What the fitting section adds to a report.
 pub(crate) struct FittingSection {
@@ -859,29 +862,118 @@ fn overlays(
     figures
 }
 
-/// The fitting section of the report in `dir`, or `None` if the campaign
-/// has no fitting runs.
-pub(crate) fn section(
-    dir: &Path,
-    ds: &Dataset,
-    alpha: f64,
-) -> Result<Option<FittingSection>, ReadError> {
+/// The observations of the comparisons between fitting functions and
+/// between continuities on whole outlines, outlines as units: every
+/// function against the rational cubic (table `fitting-function`) and G1
+/// against C1 (table `continuity`), each method's median E on one case
+/// against its median E on the twin case (same source, search space and
+/// budget), log10 of the ratio. With four outlines no such verdict can
+/// reject at α = 0.05 (p_min = 0.125): the claims they test stay
+/// descriptive, and the report says so.
+pub(crate) fn treatment_observations(fr: &FitRuns<'_>) -> Vec<Observation> {
+    use super::design::{Level, Levels};
+    use super::verdicts::Measure;
+    // Cases of whole outlines by (source, space level, budget).
+    let mut cases: BTreeMap<(String, String, Option<u64>), Vec<(usize, Case<'_>)>> =
+        BTreeMap::new();
+    for (p, problem) in fr.problems.iter().enumerate() {
+        let Some(c) = split(&problem.name).filter(|c| !c.per_segment) else {
+            continue;
+        };
+        cases
+            .entry((c.source.to_owned(), c.space_level(), problem.budget))
+            .or_default()
+            .push((p, c));
+    }
+    let mut obs = Vec::new();
+    let mut compare = |table: &'static str,
+                       (pa, a): (usize, &str),
+                       (pb, b): (usize, &str),
+                       source: &str,
+                       fixed: (&'static str, &str)| {
+        for (c, cell) in fr.cells.iter().enumerate() {
+            let (Some(ea), Some(eb)) = (fr.errors(pa, c), fr.errors(pb, c)) else {
+                continue;
+            };
+            let value = (median(&ea) / median(&eb)).log10();
+            if value.is_nan() {
+                continue;
+            }
+            obs.push(Observation {
+                table,
+                measure: Measure::FinalError,
+                algorithm: a.to_owned(),
+                reference: b.to_owned(),
+                unit: source.to_owned(),
+                levels: Levels(vec![
+                    (fixed.0, Level::Text(fixed.1.to_owned())),
+                    ("method", Level::Text(cell.clone())),
+                ]),
+                value,
+            });
+        }
+    };
+    for ((source, _, _), list) in &cases {
+        for &(p, c) in list {
+            // Every function against the rational cubic of the same continuity.
+            if c.function != "rational-cubic" {
+                if let Some(&(q, _)) = list
+                    .iter()
+                    .find(|(_, d)| d.function == "rational-cubic" && d.continuity == c.continuity)
+                {
+                    let a = (p, c.function);
+                    let b = (q, "rational-cubic");
+                    compare("fitting-function", a, b, source, ("continuity", c.continuity));
+                }
+            }
+            // G1 against C1 with the same function.
+            if c.continuity == "g1" {
+                if let Some(&(q, _)) = list
+                    .iter()
+                    .find(|(_, d)| d.function == c.function && d.continuity == "c1")
+                {
+                    compare("continuity", (p, "g1"), (q, "c1"), source, ("function", c.function));
+                }
+            }
+        }
+    }
+    obs
+}
+
+/// The records of a fitting campaign in `dir` (runs with their fit
+/// details), or `None` when it has no `fits.csv`.
+pub(crate) fn records(dir: &Path) -> Result<Option<Vec<RunRecord>>, ReadError> {
     if !dir.join("fits.csv").exists() {
         return Ok(None);
     }
-    let records = read_results(dir)?;
-    let fr = FitRuns::group(ds, &records);
+    read_results(dir).map(Some)
+}
+
+/// The fitting section of the report in `dir`, or `None` if the campaign
+/// has no fitting runs; `observations` and `verdicts` are those of the
+/// report, whose segment-level rows the per-segment tables show.
+pub(crate) fn section(
+    dir: &Path,
+    ds: &Dataset,
+    fits: Option<&FitRuns<'_>>,
+    observations: &[Observation],
+    verdicts: &[VerdictRow],
+    alpha: f64,
+) -> Result<Option<FittingSection>, ReadError> {
+    let Some(fr) = fits else {
+        return Ok(None);
+    };
     let best = fr.best();
     let mut notes = Vec::new();
-    let mut tables = vec![quality_table(&fr, &best), functions_table(&fr, &best)];
-    let space = search_space_table(&fr, alpha);
+    let mut tables = vec![quality_table(fr, &best), functions_table(fr, &best)];
+    let space = search_space_table(fr, alpha);
     if !space.md_rows.is_empty() {
         tables.push(space);
     }
-    let (units, unit_notes) = super::fit_units::tables(&fr, alpha);
+    let (units, unit_notes) = super::fit_units::tables(fr, observations, verdicts, alpha);
     tables.extend(units);
     notes.extend(unit_notes);
-    let hybrid = hybrid_table(&fr);
+    let hybrid = hybrid_table(fr);
     if hybrid.md_rows.is_empty() {
         notes.push(
             "no hybrid table: the campaign does not run a metaheuristic X, LM and X+lm together"
@@ -891,7 +983,7 @@ pub(crate) fn section(
         tables.push(hybrid);
     }
     let outlines = read_outlines(dir)?;
-    let figures = overlays(ds, &fr, &outlines, &mut notes);
+    let figures = overlays(ds, fr, &outlines, &mut notes);
     Ok(Some(FittingSection {
         tables,
         figures,

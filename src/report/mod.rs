@@ -17,6 +17,7 @@
 mod anytime;
 mod data;
 mod descriptive;
+mod design;
 mod error;
 mod fit_units;
 mod fitting;
@@ -29,6 +30,7 @@ pub(crate) mod render;
 mod robustness;
 mod significance;
 mod tuning;
+mod verdicts;
 
 use std::path::{Path, PathBuf};
 
@@ -38,6 +40,7 @@ use crate::files::{create_dir, write_atomic};
 pub use self::error::ReportError;
 use self::format::Table;
 pub use self::overlay::save_overlay;
+pub use self::verdicts::PostHoc;
 use self::plots::Plot;
 
 /// How to build a report.
@@ -54,6 +57,8 @@ pub struct ReportOptions {
     /// An extra `runs.csv` (for example from another tool) whose algorithms
     /// are added to the comparison; it has no convergence or timing data.
     pub external: Option<PathBuf>,
+    /// The correction of the post-hoc tests after Friedman's test.
+    pub post_hoc: PostHoc,
 }
 
 impl Default for ReportOptions {
@@ -62,6 +67,7 @@ impl Default for ReportOptions {
             reference: None,
             alpha: crate::stats::DEFAULT_ALPHA,
             external: None,
+            post_hoc: PostHoc::Holm,
         }
     }
 }
@@ -217,21 +223,29 @@ struct Tests {
     reference: Option<String>,
     /// Why the reference was chosen, when a label was ambiguous.
     reference_note: Option<String>,
-    /// The test tables (empty without tests).
+    /// The first-level test tables and the ranking (empty without tests).
     tables: Vec<Table>,
     /// The paragraph shown instead of the tables when there are none.
     text: Option<String>,
     /// Where the comparisons with the reference hold and where they flip.
     robustness: Vec<Table>,
+    /// Every verdict across problems, and its table.
+    verdicts: Vec<crate::stats::VerdictRow>,
+    /// The table of the verdicts (`tables/verdicts.csv`).
+    verdict_table: Option<Table>,
+    /// The observations the verdicts were made from.
+    observations: Vec<verdicts::Observation>,
 }
 
-/// The significance tests against the reference and the Friedman ranking,
-/// or, with a single algorithm, the reason there are none (also added to
-/// `notes`).
+/// The first-level tests against the reference, the verdicts across
+/// problems and the Friedman ranking, or, with a single algorithm, the
+/// reason there are none (also added to `notes`).
 fn tests(
     ds: &data::Dataset,
     stats: &[Vec<Option<descriptive::CellStats>>],
     options: &ReportOptions,
+    provenance: &data::Provenance,
+    fits: Option<&fitting::FitRuns<'_>>,
     notes: &mut Vec<String>,
 ) -> Result<Tests, ReportError> {
     let alpha = options.alpha;
@@ -250,10 +264,13 @@ fn tests(
             tables: Vec::new(),
             text: Some(text),
             robustness: Vec::new(),
+            verdicts: Vec::new(),
+            verdict_table: None,
+            observations: Vec::new(),
         });
     }
     let (reference, reference_note) = resolve_reference(ds, options.reference.as_deref())?;
-    let s = significance::significance(ds, reference, alpha);
+    let s = significance::significance(ds, reference, alpha, provenance.threshold);
     if !s.skipped_problems.is_empty() {
         let names: Vec<String> = s
             .skipped_problems
@@ -266,19 +283,49 @@ fn tests(
             names.join("; ")
         ));
     }
-    let f = significance::friedman_report(ds, stats, alpha);
+    let ref_name = ds.cells[reference].name.clone();
+    let (mut observations, mut standings) = significance::observations(ds, &s);
+    if let Some(fr) = fits {
+        let (o, st) = fit_units::observations(fr, Some(&ref_name), s.floor);
+        observations.extend(o);
+        observations.extend(fitting::treatment_observations(fr));
+        standings.extend(st);
+    }
+    let rows = verdicts::verdicts(
+        &observations,
+        &standings,
+        verdicts::Settings {
+            alpha,
+            post_hoc: options.post_hoc,
+            reference: Some(&ref_name),
+        },
+    );
+    let noun = design::unit_noun(ds);
+    let f = significance::friedman_report(ds, &standings, alpha, noun);
+    let mut tables = vec![
+        significance::comparison_table(ds, stats, &s, alpha),
+        significance::tests_table(ds, &s, verdicts::Measure::FinalError, alpha),
+    ];
+    if !s.anytime.is_empty() {
+        tables.push(significance::tests_table(
+            ds,
+            &s,
+            verdicts::Measure::AnytimeAuc,
+            alpha,
+        ));
+    }
+    tables.push(significance::marks_summary_table(ds, &s));
+    tables.push(significance::friedman_table(ds, &f, alpha));
+    let budget_note = robustness::budget_pairs_note(ds, &provenance.paired);
     Ok(Tests {
-        reference: Some(ds.cells[reference].name.clone()),
+        reference: Some(ref_name),
         reference_note,
-        tables: vec![
-            significance::comparison_table(ds, stats, &s, alpha),
-            significance::wilcoxon_table(ds, &s, alpha),
-            significance::mann_whitney_table(ds, &s, alpha),
-            significance::marks_summary_table(ds, &s),
-            significance::friedman_table(ds, &f, alpha),
-        ],
+        tables,
         text: None,
-        robustness: robustness::tables(ds, &s),
+        robustness: robustness::tables(ds, &s, &rows, noun, budget_note),
+        verdict_table: Some(verdicts::table(&rows, noun, alpha)),
+        verdicts: rows,
+        observations,
     })
 }
 
@@ -352,6 +399,7 @@ impl Sections {
         self.setup
             .iter()
             .chain(std::iter::once(&self.results))
+            .chain(&self.tests.verdict_table)
             .chain(&self.tests.tables)
             .chain(&self.tests.robustness)
             .chain(&self.anytime)
@@ -361,7 +409,14 @@ impl Sections {
 
     /// The body of `report.md` after its header.
     fn markdown(&self) -> String {
-        let mut md = String::from("## Setup\n\n");
+        let mut md = String::from("## Verdicts\n\n");
+        match &self.tests.verdict_table {
+            Some(t) => md.push_str(&verdicts_section(t)),
+            None => md.push_str(&markdown::paragraph(
+                "There is a single algorithm configuration: there is no verdict to state.",
+            )),
+        }
+        md.push_str("## Setup\n\n");
         for t in &self.setup {
             md.push_str(&markdown::table_section(t, 3));
         }
@@ -414,6 +469,33 @@ impl Sections {
     }
 }
 
+/// The Verdicts section: the table's introduction and its rows at scope
+/// `all` (every scope is in the CSV file and in the Robustness section).
+fn verdicts_section(t: &Table) -> String {
+    let scope = t.md_header.iter().position(|h| h == "Scope");
+    let all: Vec<Vec<String>> = t
+        .md_rows
+        .iter()
+        .filter(|r| scope.is_none_or(|i| r[i] == "all"))
+        .cloned()
+        .collect();
+    let shown = Table {
+        md_rows: all,
+        ..t.clone()
+    };
+    let mut md = markdown::table_section(&shown, 3);
+    if shown.md_rows.len() < t.md_rows.len() {
+        md.push_str(&markdown::paragraph(&format!(
+            "The table shows the {} verdicts over all problems; tables/verdicts.csv has all {} \
+             (every factor level and design point), and the Robustness section shows them \
+             per design point.",
+            shown.md_rows.len(),
+            t.md_rows.len()
+        )));
+    }
+    md
+}
+
 /// Computes every section of the report of `dir` from its dataset.
 fn sections(
     dir: &Path,
@@ -425,12 +507,23 @@ fn sections(
     let mut notes: Vec<String> = Vec::new();
     let setup = [algorithms_table(ds), problems_table(ds)];
     let results = descriptive::table(ds, &stats);
-    let tests = tests(ds, &stats, options, &mut notes)?;
+    let fit_records = fitting::records(dir)?;
+    let fits = fit_records
+        .as_deref()
+        .map(|r| fitting::FitRuns::group(ds, r));
+    let tests = tests(ds, &stats, options, provenance, fits.as_ref(), &mut notes)?;
     let (tuning, heat_maps) = tuning(ds, &stats, &mut notes);
     let (mut figures, plot_notes) = plots::figures(ds, &stats, heat_maps, provenance.threshold);
     notes.extend(plot_notes);
     let mut fitting = Vec::new();
-    if let Some(f) = fitting::section(dir, ds, options.alpha)? {
+    if let Some(f) = fitting::section(
+        dir,
+        ds,
+        fits.as_ref(),
+        &tests.observations,
+        &tests.verdicts,
+        options.alpha,
+    )? {
         figures.extend(f.figures);
         notes.extend(f.notes);
         fitting = f.tables;

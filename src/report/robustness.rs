@@ -1,184 +1,46 @@
-//! Where a verdict holds: the Wilcoxon + Holm marks of every algorithm
-//! against the reference, counted over the functions at each design point,
-//! summarised per level of each factor, with a one-line verdict per
-//! comparison.
+//! Where a verdict holds: the verdicts of every algorithm against the
+//! reference at each design point and at each level of each factor, read
+//! from [`super::verdicts`], beside the first-level marks they summarise.
 //!
-//! A design point is one combination of the factors that vary in the
-//! results other than the algorithm, the function and the run: the
-//! dimension, the budget and the transform of benchmark problems, the
-//! budget per segment, the search space, the technique's α_size and the
-//! problem mode (whole outline or per segment) of fitting cases. The functions
-//! at a design point (each benchmark instance and each fitting case counting
-//! as one) are its units. At a design point an algorithm is *better* than
-//! the reference when it has more "+" than "−" marks there, *worse* when it
-//! has more "−" than "+", and *tied* otherwise.
+//! The marks (+/≈/− per problem, Holm-corrected per problem) describe the
+//! problems of a design point; they are counts, not a test. Each verdict is
+//! the test across the independent units of that scope (see
+//! [`super::design`]): `better` or `worse` only where the Holm-corrected
+//! Wilcoxon signed-rank test of the per-unit summaries rejects.
 
 use std::collections::BTreeMap;
 
-use crate::functions::bbob::bbob_group;
-use crate::stats::Mark;
+use crate::stats::{Verdict, VerdictRow};
 
-use super::data::{Dataset, Problem};
-use super::format::Table;
-use super::significance::Significance;
+use super::data::Dataset;
+use super::data::Problem;
+use super::design::{design_points, factor_name, Levels};
+use super::format::{p_value, sci, Table};
+use super::significance::{Comparison, Significance, Tally};
+use super::verdicts::{find, short, Measure};
 
-/// The factor values of a design point, in a fixed order.
-#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
-struct DesignPoint(Vec<(&'static str, Level)>);
-
-/// A factor level, ordered numerically where it is a number.
-#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
-enum Level {
-    Number(u64),
-    Text(String),
-}
-
-impl std::fmt::Display for Level {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Level::Number(n) => write!(f, "{n}"),
-            Level::Text(t) => f.write_str(t),
-        }
-    }
-}
-
-/// How a factor and its level read in a verdict: `D = 30`, `budget 1000`.
-fn phrase(factor: &str, level: &Level) -> String {
-    match factor {
-        "D" => format!("D = {level}"),
-        "search space" => format!("the {level} search space"),
-        "α_size" => format!("α_size {level}"),
-        "mode" => format!("{level} problems"),
-        _ => format!("{factor} {level}"),
-    }
-}
-
-impl DesignPoint {
-    fn label(&self) -> String {
-        if self.0.is_empty() {
-            return "all problems".into();
-        }
-        self.0
-            .iter()
-            .map(|(f, l)| phrase(f, l))
-            .collect::<Vec<_>>()
-            .join(", ")
-    }
-}
-
-/// The candidate factors of a problem with their levels: for a fitting
-/// case the budget per segment, the search space, the technique's α_size
-/// and the problem mode (read from its name, see
-/// [`super::fitting::split`]).
-fn factors(p: &Problem) -> Vec<(&'static str, Level)> {
-    if p.is_fit() {
-        let case = super::fitting::split(&p.function);
-        let mut out = Vec::new();
-        if let Some(b) = p.budget {
-            out.push(("budget per segment", Level::Number(b / p.dim.max(1) as u64)));
-        }
-        let space = case.and_then(|c| c.space).unwrap_or("technique");
-        out.push(("search space", Level::Text(space.into())));
-        let alpha = case.and_then(|c| c.alpha).unwrap_or("0.5");
-        out.push(("α_size", Level::Text(alpha.into())));
-        let mode = if case.is_some_and(|c| c.per_segment) {
-            "per-segment"
-        } else {
-            "outline"
-        };
-        out.push(("mode", Level::Text(mode.into())));
-        out
-    } else {
-        let mut out = vec![("D", Level::Number(p.dim as u64))];
-        if let Some(b) = p.budget {
-            out.push(("budget", Level::Number(b)));
-        }
-        out.push(("transform", Level::Text(p.transform.name().into())));
-        if let Some(f) = bbob_function_of(&p.function) {
-            out.push(("bbob group", Level::Text(bbob_group(f).into())));
-        }
-        out
-    }
-}
-
-/// The bbob function index of a COCO problem id (`bbob_f008_i02_d05`, or
-/// pooled over instances `bbob_f008_d05`).
-fn bbob_function_of(id: &str) -> Option<usize> {
-    id.strip_prefix("bbob_f")?.get(..3)?.parse().ok()
-}
-
-/// The design point of every problem: its candidate factors restricted to
-/// those that vary among the problems.
-fn design_points(ds: &Dataset) -> Vec<DesignPoint> {
-    let all: Vec<Vec<(&'static str, Level)>> = ds.problems.iter().map(factors).collect();
-    let mut levels: BTreeMap<&'static str, std::collections::BTreeSet<Level>> = BTreeMap::new();
-    for fs in &all {
-        for (f, l) in fs {
-            levels.entry(f).or_default().insert(l.clone());
-        }
-    }
-    all.into_iter()
-        .map(|fs| {
-            DesignPoint(
-                fs.into_iter()
-                    .filter(|(f, _)| levels.get(f).is_some_and(|l| l.len() > 1))
-                    .collect(),
-            )
-        })
-        .collect()
-}
-
-/// The marks of one algorithm at one design point.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-struct Count {
-    better: usize,
-    same: usize,
-    worse: usize,
-}
-
-impl Count {
-    fn add(&mut self, m: Mark) {
-        match m {
-            Mark::Better => self.better += 1,
-            Mark::Same => self.same += 1,
-            Mark::Worse => self.worse += 1,
-        }
-    }
-
-    fn units(&self) -> usize {
-        self.better + self.same + self.worse
-    }
-
-    /// `better`, `worse` or `tied` by the majority of decided marks.
-    fn verdict(&self) -> &'static str {
-        use std::cmp::Ordering::*;
-        match self.better.cmp(&self.worse) {
-            Greater => "better",
-            Less => "worse",
-            Equal => "tied",
-        }
-    }
-
-    fn text(&self) -> String {
-        format!("{}/{}/{}", self.better, self.same, self.worse)
-    }
-}
-
-/// The counts per (design point, cell), the design points in order.
-fn counts(ds: &Dataset, s: &Significance) -> (Vec<DesignPoint>, BTreeMap<(usize, usize), Count>) {
+/// The first-level tallies per (design point, cell, measure), the design
+/// points in order.
+fn counts(
+    ds: &Dataset,
+    s: &Significance,
+) -> (Vec<Levels>, BTreeMap<(usize, usize, Measure), Tally>) {
     let points = design_points(ds);
-    let mut order: Vec<DesignPoint> = points.clone();
+    let mut order: Vec<Levels> = points.clone();
     order.sort();
     order.dedup();
-    let index: BTreeMap<&DesignPoint, usize> =
-        order.iter().enumerate().map(|(i, d)| (d, i)).collect();
-    let mut out: BTreeMap<(usize, usize), Count> = BTreeMap::new();
-    for row in &s.wilcoxon {
-        if let Some(m) = row.mark {
-            let d = index[&points[row.problem]];
-            out.entry((d, row.cell)).or_default().add(m);
+    let index: BTreeMap<&Levels, usize> = order.iter().enumerate().map(|(i, d)| (d, i)).collect();
+    let mut out: BTreeMap<(usize, usize, Measure), Tally> = BTreeMap::new();
+    let mut add = |rows: &[Comparison], measure: Measure| {
+        for row in rows {
+            if let Some(o) = row.outcome {
+                let d = index[&points[row.problem]];
+                out.entry((d, row.cell, measure)).or_default().add(o);
+            }
         }
-    }
+    };
+    add(&s.tests, Measure::FinalError);
+    add(&s.anytime, Measure::AnytimeAuc);
     (order, out)
 }
 
@@ -187,81 +49,124 @@ fn compared(ds: &Dataset, s: &Significance) -> Vec<usize> {
     (0..ds.cells.len()).filter(|&c| c != s.reference).collect()
 }
 
-/// One line per compared algorithm: at how many design points it is better
-/// than, worse than and tied with the reference, naming where it is worse
-/// (or, when it is mostly worse, where it is better).
-fn verdicts(
-    ds: &Dataset,
-    s: &Significance,
-    points: &[DesignPoint],
-    counts: &BTreeMap<(usize, usize), Count>,
-) -> Vec<String> {
-    let reference = &ds.cells[s.reference].name;
-    compared(ds, s)
-        .into_iter()
-        .filter_map(|c| {
-            let at: Vec<(usize, Count)> = (0..points.len())
-                .filter_map(|d| counts.get(&(d, c)).map(|k| (d, *k)))
-                .filter(|(_, k)| k.units() > 0)
-                .collect();
-            if at.is_empty() {
-                return None;
-            }
-            let n = at.len();
-            let of = |v: &str| at.iter().filter(|(_, k)| k.verdict() == v).count();
-            let (better, worse, tied) = (of("better"), of("worse"), of("tied"));
-            let named = |v: &str| -> String {
-                let list: Vec<String> = at
-                    .iter()
-                    .filter(|(_, k)| k.verdict() == v)
-                    .map(|(d, _)| points[*d].label())
-                    .collect();
-                if list.len() > 4 {
-                    format!("{} and {} more", list[..4].join("; "), list.len() - 4)
-                } else {
-                    list.join("; ")
-                }
-            };
-            let mut line = format!(
-                "{} against {reference}: better at {better} of {n} design point{}",
-                ds.cells[c].name,
-                if n == 1 { "" } else { "s" }
-            );
-            if worse > 0 {
-                line.push_str(&format!("; worse at {worse} ({})", named("worse")));
-            }
-            if tied > 0 {
-                line.push_str(&format!("; tied at {tied}"));
-            }
-            if better > 0 && better < n && better <= worse {
-                line.push_str(&format!("; better at {}", named("better")));
-            }
-            line.push('.');
-            Some(line)
-        })
-        .collect()
+/// A list of scope labels, at most four named.
+fn named(list: &[String]) -> String {
+    if list.len() > 4 {
+        format!("{} and {} more", list[..4].join("; "), list.len() - 4)
+    } else {
+        list.join("; ")
+    }
 }
 
-/// The robustness tables: the marks at each design point with the verdicts
-/// as the table's introduction, and the summary per factor level.
-pub(crate) fn tables(ds: &Dataset, s: &Significance) -> Vec<Table> {
+/// One line per compared algorithm and measure: its verdict over all
+/// units, and at how many design points it is better, worse and not
+/// detectably different, naming where.
+fn verdict_lines(
+    ds: &Dataset,
+    s: &Significance,
+    points: &[Levels],
+    rows: &[VerdictRow],
+    noun: &str,
+) -> Vec<String> {
+    let reference = &ds.cells[s.reference].name;
+    let mut out = Vec::new();
+    for measure in [Measure::FinalError, Measure::AnytimeAuc] {
+        for c in compared(ds, s) {
+            let name = &ds.cells[c].name;
+            let Some(all) = find(rows, "reference", measure, name, reference, "all") else {
+                continue;
+            };
+            let mut line = format!(
+                "{name} against {reference}, {}: {} over all {} {noun}s ({}/{}/{} {noun}s, \
+                 p_Holm = {}, p_min = {}; {} {})",
+                measure.name(),
+                all.verdict,
+                all.across.units,
+                all.across.better,
+                all.across.equal,
+                all.across.worse,
+                p_value(all.p_adjusted),
+                p_value(all.across.p_min),
+                measure.effect_text(),
+                sci(all.across.effect_size)
+            );
+            if points.len() > 1 {
+                let at: Vec<(String, Verdict)> = points
+                    .iter()
+                    .filter_map(|p| {
+                        find(rows, "reference", measure, name, reference, &p.scope())
+                            .map(|r| (p.label(), r.verdict))
+                    })
+                    .collect();
+                let of = |v: Verdict| -> Vec<String> {
+                    at.iter()
+                        .filter(|(_, x)| *x == v)
+                        .map(|(l, _)| l.clone())
+                        .collect()
+                };
+                let parts: Vec<String> = [
+                    Verdict::Better,
+                    Verdict::Worse,
+                    Verdict::NoDetectableDifference,
+                ]
+                .into_iter()
+                .filter_map(|v| {
+                    let l = of(v);
+                    (!l.is_empty()).then(|| format!("{v} at {} ({})", l.len(), named(&l)))
+                })
+                .collect();
+                line.push_str(&format!(
+                    "; of {} design points: {}",
+                    at.len(),
+                    parts.join("; ")
+                ));
+            }
+            line.push('.');
+            out.push(line);
+        }
+    }
+    out
+}
+
+/// A table cell: the marks and, when there is one, the verdict.
+fn cell_text(k: Option<&Tally>, v: Option<&VerdictRow>) -> String {
+    match (k, v) {
+        (None, None) => "\u{2014}".into(),
+        (Some(k), None) => format!("marks {}", k.text()),
+        (None, Some(v)) => short(v),
+        (Some(k), Some(v)) => format!("marks {}; {}", k.text(), short(v)),
+    }
+}
+
+/// The robustness tables: the marks and verdicts at each design point (the
+/// verdict lines as the table's introduction), and per factor level.
+pub(crate) fn tables(
+    ds: &Dataset,
+    s: &Significance,
+    rows: &[VerdictRow],
+    noun: &str,
+    budget_note: Option<String>,
+) -> Vec<Table> {
     let (points, counts) = counts(ds, s);
     let cells = compared(ds, s);
     let reference = &ds.cells[s.reference].name;
-    let factor_names: Vec<&'static str> = points
+    let factor_keys: Vec<&'static str> = points
         .first()
         .map(|d| d.0.iter().map(|(f, _)| *f).collect())
         .unwrap_or_default();
     let mut intro = vec![format!(
-        "Wilcoxon signed-rank marks (paired by run, Holm-corrected per problem) of each \
-         algorithm against {reference}, counted over the functions at each design point \
-         (each benchmark instance and each fitting case is one function) and written \
-         +/≈/−. A design point is one combination of the factors that vary in these \
-         results other than the algorithm, the function and the run. An algorithm is \
-         better at a design point when it has more + than − marks there, worse when it \
-         has more − than +."
+        "The verdict of each algorithm against {reference} at each design point (a \
+         combination of the factors that vary in these results other than the algorithm, \
+         the function and the run), from the test across the independent {noun}s there: \
+         better/worse only where the Holm-corrected Wilcoxon signed-rank test of the \
+         per-{noun} summaries rejects, with the {noun}s better/equal/worse and the adjusted \
+         p beside it. \"marks\" count the first-level marks of the problems at the design \
+         point (+/≈/−, each benchmark instance or fitting case one problem): they describe \
+         the problems, they are not a test. The final error is shown here; the anytime \
+         measure's verdicts are in tables/verdicts.csv."
     )];
-    intro.extend(verdicts(ds, s, &points, &counts));
+    intro.extend(verdict_lines(ds, s, &points, rows, noun));
+    intro.extend(budget_note);
     let mut by_point = Table {
         stem: "robustness".into(),
         title: format!("Design points against {reference}"),
@@ -269,70 +174,78 @@ pub(crate) fn tables(ds: &Dataset, s: &Significance) -> Vec<Table> {
         md_header: std::iter::once("Design point".to_string())
             .chain(cells.iter().map(|&c| ds.cells[c].name.clone()))
             .collect(),
-        csv_header: factor_names
+        csv_header: factor_keys
             .iter()
-            .map(|f| f.replace(' ', "_"))
+            .map(|f| f.to_string())
             .chain(
                 [
                     "algorithm",
                     "kind",
                     "params",
+                    "measure",
                     "better",
                     "same",
                     "worse",
-                    "verdict",
+                    "both_solved",
                 ]
                 .map(String::from),
             )
             .collect(),
         ..Table::default()
     };
+    let single = points.len() == 1;
     for (d, point) in points.iter().enumerate() {
+        let scope = if single {
+            "all".to_owned()
+        } else {
+            point.scope()
+        };
         let mut md = vec![point.label()];
         for &c in &cells {
-            let k = counts.get(&(d, c)).copied().unwrap_or_default();
-            md.push(if k.units() == 0 {
-                "—".into()
-            } else {
-                format!("{} ({})", k.text(), k.verdict())
-            });
-            let mut row: Vec<String> = point.0.iter().map(|(_, l)| l.to_string()).collect();
-            let cell = &ds.cells[c];
-            row.extend([
-                cell.label.clone(),
-                cell.kind.clone(),
-                cell.params.clone(),
-                k.better.to_string(),
-                k.same.to_string(),
-                k.worse.to_string(),
-                if k.units() == 0 {
-                    String::new()
-                } else {
-                    k.verdict().into()
-                },
-            ]);
-            by_point.csv_rows.push(row);
+            let name = &ds.cells[c].name;
+            let k = counts.get(&(d, c, Measure::FinalError));
+            let v = find(rows, "reference", Measure::FinalError, name, reference, &scope);
+            md.push(cell_text(k, v));
+            for measure in [Measure::FinalError, Measure::AnytimeAuc] {
+                let Some(k) = counts.get(&(d, c, measure)) else {
+                    continue;
+                };
+                let mut row: Vec<String> = point.0.iter().map(|(_, l)| l.to_string()).collect();
+                let cell = &ds.cells[c];
+                row.extend([
+                    cell.label.clone(),
+                    cell.kind.clone(),
+                    cell.params.clone(),
+                    measure.name().into(),
+                    k.better.to_string(),
+                    k.same.to_string(),
+                    k.worse.to_string(),
+                    k.both_solved.to_string(),
+                ]);
+                by_point.csv_rows.push(row);
+            }
         }
         by_point.md_rows.push(md);
     }
-    vec![by_point, by_level(ds, &cells, &points, &counts, reference)]
+    vec![by_point, by_level(ds, &cells, &points, &counts, rows, reference)]
 }
 
-/// The marks summed over the design points at each level of each factor.
+/// The marks summed over the design points at each level of each factor,
+/// with the verdict of that level.
 fn by_level(
     ds: &Dataset,
     cells: &[usize],
-    points: &[DesignPoint],
-    counts: &BTreeMap<(usize, usize), Count>,
+    points: &[Levels],
+    counts: &BTreeMap<(usize, usize, Measure), Tally>,
+    rows: &[VerdictRow],
     reference: &str,
 ) -> Table {
     let mut t = Table {
         stem: "robustness_levels".into(),
-        title: format!("Marks per factor level against {reference}"),
+        title: format!("Marks and verdicts per factor level against {reference}"),
         intro: vec![
-            "The marks of the design points that share a level of one factor, summed \
-             (+/≈/−), with the number of those design points at which the algorithm is \
-             better, tied and worse."
+            "The first-level marks of the problems that share a level of one factor, summed \
+             (+/≈/−), and the verdict of the test across the units at that level."
                 .into(),
         ],
         md_header: ["Factor", "Level"]
@@ -346,61 +259,57 @@ fn by_level(
             "algorithm",
             "kind",
             "params",
+            "measure",
             "better",
             "same",
             "worse",
-            "points_better",
-            "points_tied",
-            "points_worse",
+            "both_solved",
         ]
         .map(String::from)
         .to_vec(),
         ..Table::default()
     };
-    let mut levels: BTreeMap<(&'static str, Level), Vec<usize>> = BTreeMap::new();
+    let mut levels: BTreeMap<(&'static str, super::design::Level), Vec<usize>> = BTreeMap::new();
     for (d, p) in points.iter().enumerate() {
         for (f, l) in &p.0 {
             levels.entry((f, l.clone())).or_default().push(d);
         }
     }
-    for ((factor, level), ds_at) in &levels {
-        let mut md = vec![factor.to_string(), level.to_string()];
+    for ((factor, level), at) in &levels {
+        let scope = Levels(vec![(factor, level.clone())]).scope();
+        let mut md = vec![factor_name(factor).to_string(), level.to_string()];
         for &c in cells {
-            let mut sum = Count::default();
-            let mut verdicts = [0usize; 3];
-            for d in ds_at {
-                if let Some(k) = counts.get(&(*d, c)).filter(|k| k.units() > 0) {
-                    sum.better += k.better;
-                    sum.same += k.same;
-                    sum.worse += k.worse;
-                    verdicts[match k.verdict() {
-                        "better" => 0,
-                        "tied" => 1,
-                        _ => 2,
-                    }] += 1;
+            let name = &ds.cells[c].name;
+            for measure in [Measure::FinalError, Measure::AnytimeAuc] {
+                let mut sum = Tally::default();
+                let mut any = false;
+                for d in at {
+                    if let Some(k) = counts.get(&(*d, c, measure)) {
+                        sum.merge(k);
+                        any = true;
+                    }
                 }
+                if measure == Measure::FinalError {
+                    let v = find(rows, "reference", measure, name, reference, &scope);
+                    md.push(cell_text(any.then_some(&sum), v));
+                }
+                if !any {
+                    continue;
+                }
+                let cell = &ds.cells[c];
+                t.csv_rows.push(vec![
+                    factor.to_string(),
+                    level.to_string(),
+                    cell.label.clone(),
+                    cell.kind.clone(),
+                    cell.params.clone(),
+                    measure.name().into(),
+                    sum.better.to_string(),
+                    sum.same.to_string(),
+                    sum.worse.to_string(),
+                    sum.both_solved.to_string(),
+                ]);
             }
-            md.push(format!(
-                "{} ({} better, {} tied, {} worse)",
-                sum.text(),
-                verdicts[0],
-                verdicts[1],
-                verdicts[2]
-            ));
-            let cell = &ds.cells[c];
-            t.csv_rows.push(vec![
-                factor.replace(' ', "_"),
-                level.to_string(),
-                cell.label.clone(),
-                cell.kind.clone(),
-                cell.params.clone(),
-                sum.better.to_string(),
-                sum.same.to_string(),
-                sum.worse.to_string(),
-                verdicts[0].to_string(),
-                verdicts[1].to_string(),
-                verdicts[2].to_string(),
-            ]);
         }
         t.md_rows.push(md);
     }
@@ -411,13 +320,111 @@ fn by_level(
     t
 }
 
+/// Whether two reals agree to rounding (the trace stores best − f*, the
+/// run's row the error itself).
+fn same_value(a: f64, b: f64) -> bool {
+    a == b || (a - b).abs() <= 1e-12 * a.abs().max(b.abs())
+}
+
+/// Where budgets are paired (`paired = ["budget"]`), whether each
+/// algorithm's shorter run is the prefix of its longer twin: the longer
+/// run's best-so-far at the shorter budget (from its trace) equals the
+/// shorter run's final error. Algorithms whose schedules depend on the
+/// budget (GA, PSO and GHS rates, a bandwidth decay) are not prefixes, so a
+/// comparison of their budgets is not a prefix comparison; the note says
+/// so, with the pairs in which the longer run ends worse.
+pub(crate) fn budget_pairs_note(ds: &Dataset, paired: &[String]) -> Option<String> {
+    if !paired.iter().any(|p| p == "budget") || !ds.has_convergence {
+        return None;
+    }
+    // Problems that differ only in their budget.
+    let mut twins: BTreeMap<Problem, Vec<usize>> = BTreeMap::new();
+    for (p, problem) in ds.problems.iter().enumerate() {
+        if problem.budget.is_some() {
+            let key = Problem {
+                budget: None,
+                ..problem.clone()
+            };
+            twins.entry(key).or_default().push(p);
+        }
+    }
+    let mut prefix_cells = Vec::new();
+    let mut other = Vec::new();
+    for (c, cell) in ds.cells.iter().enumerate() {
+        let (mut pairs, mut prefixes, mut worse) = (0usize, 0usize, 0usize);
+        for ps in twins.values() {
+            for &p in ps {
+                for &q in ps {
+                    let (Some(bp), Some(bq)) = (ds.problems[p].budget, ds.problems[q].budget)
+                    else {
+                        continue;
+                    };
+                    if bp >= bq {
+                        continue;
+                    }
+                    for short in ds.runs(p, c) {
+                        let Some(long) = ds
+                            .runs(q, c)
+                            .iter()
+                            .find(|l| l.run == short.run && l.seed == short.seed)
+                        else {
+                            continue;
+                        };
+                        let Some(&(_, at)) = long.trace.iter().find(|(e, _)| *e == bp) else {
+                            continue;
+                        };
+                        pairs += 1;
+                        prefixes += usize::from(same_value(at, short.error));
+                        worse += usize::from(long.error > short.error && !same_value(long.error, short.error));
+                    }
+                }
+            }
+        }
+        if pairs == 0 {
+            continue;
+        }
+        if prefixes == pairs {
+            prefix_cells.push(cell.name.clone());
+        } else {
+            other.push(format!(
+                "{} ({} of {pairs} pairs are prefixes; in {worse} the longer run ends worse \
+                 than its shorter twin)",
+                cell.name, prefixes
+            ));
+        }
+    }
+    if prefix_cells.is_empty() && other.is_empty() {
+        return None;
+    }
+    let mut text = String::from(
+        "Budgets are paired in this campaign (common random numbers): a run at a smaller \
+         budget shares its seed with its twin at a larger one. ",
+    );
+    if !prefix_cells.is_empty() {
+        text.push_str(&format!(
+            "For {} the shorter run is the prefix of the longer in every pair, so budgets \
+             compare the same runs stopped earlier. ",
+            prefix_cells.join(", ")
+        ));
+    }
+    if !other.is_empty() {
+        text.push_str(&format!(
+            "For {} it is not: their schedules depend on the budget, so their runs at \
+             different budgets are different runs that share a seed, not prefixes.",
+            other.join("; ")
+        ));
+    }
+    Some(text.trim_end().to_owned())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::experiment::RunRecord;
     use crate::functions::Transform;
     use crate::report::data::Dataset;
-    use crate::report::significance::significance;
+    use crate::report::significance::{observations, significance};
+    use crate::report::verdicts::{verdicts, PostHoc, Settings};
 
     /// Runs of `alg` on `function` at (dim, budget) with errors `base + run`.
     fn runs(
@@ -441,7 +448,7 @@ mod tests {
                         transform: Transform::None,
                         instance: 1,
                         run,
-                        seed: 0,
+                        seed: u64::from(run) + if alg == "A" { 0 } else { 1000 },
                         best: error,
                         error,
                         evaluations: budget,
@@ -458,9 +465,28 @@ mod tests {
             .collect()
     }
 
+    fn report(records: Vec<(RunRecord, bool)>) -> (Dataset, Vec<Table>, Vec<VerdictRow>) {
+        let ds = Dataset::from_records(records);
+        let s = significance(&ds, 0, 0.05, None);
+        let (obs, standings) = observations(&ds, &s);
+        let rows = verdicts(
+            &obs,
+            &standings,
+            Settings {
+                alpha: 0.05,
+                post_hoc: PostHoc::Holm,
+                reference: Some("A"),
+            },
+        );
+        let t = tables(&ds, &s, &rows, "function", None);
+        (ds, t, rows)
+    }
+
     #[test]
-    fn a_verdict_that_flips_with_the_budget_is_reported_with_its_range() {
-        // B beats A on both functions at budget 1000, loses on both at 10000.
+    fn a_flip_with_the_budget_is_shown_with_marks_but_not_claimed_on_two_functions() {
+        // B beats A on both functions at budget 1000, loses on both at
+        // 10000: every mark is decided, but two functions cannot make a
+        // verdict (p_min = 0.5).
         let mut records = Vec::new();
         for f in ["sphere", "ackley"] {
             records.extend(runs("A", f, 10, 1000, 1.0));
@@ -468,36 +494,34 @@ mod tests {
             records.extend(runs("A", f, 10, 10000, 0.1));
             records.extend(runs("B", f, 10, 10000, 0.2));
         }
-        let ds = Dataset::from_records(records);
+        let (ds, t, rows) = report(records);
         assert_eq!(ds.problems.len(), 4, "{:?}", ds.problems);
-        let s = significance(&ds, 0, 0.05);
-        let t = tables(&ds, &s);
-        assert_eq!(
-            t[0].md_rows,
-            [
-                vec!["budget 1000".to_string(), "2/0/0 (better)".into()],
-                vec!["budget 10000".to_string(), "0/0/2 (worse)".into()],
-            ]
+        assert_eq!(t[0].md_rows[0][0], "budget 1000");
+        assert!(
+            t[0].md_rows[0][1].starts_with("marks 2/0/0; no detectable difference (2/0/0"),
+            "{}",
+            t[0].md_rows[0][1]
         );
-        assert_eq!(
-            t[0].intro[1],
-            "B against A: better at 1 of 2 design points; worse at 1 (budget 10000); better at budget 1000."
+        assert!(t[0].md_rows[1][1].starts_with("marks 0/0/2; no detectable difference (0/0/2"));
+        let scopes: Vec<&str> = rows.iter().map(|r| r.scope.as_str()).collect();
+        assert_eq!(scopes, ["all", "budget=1000", "budget=10000"]);
+        assert!(rows.iter().all(|r| r.across.p_min == 0.5));
+        assert!(
+            t[0].intro[1].starts_with("B against A, final-error: no detectable difference over all 2 functions"),
+            "{}",
+            t[0].intro[1]
         );
         assert_eq!(t[1].md_rows[0][0], "budget");
-        assert_eq!(t[1].md_rows[1][2], "0/0/2 (0 better, 0 tied, 1 worse)");
     }
 
     #[test]
     fn one_design_point_when_nothing_varies() {
         let mut records = runs("A", "sphere", 10, 1000, 1.0);
         records.extend(runs("B", "sphere", 10, 1000, 1.0));
-        let ds = Dataset::from_records(records);
-        let s = significance(&ds, 0, 0.05);
-        let t = tables(&ds, &s);
-        assert_eq!(
-            t[0].md_rows,
-            [vec!["all problems".to_string(), "0/1/0 (tied)".into()]]
-        );
+        let (_, t, _) = report(records);
+        assert_eq!(t[0].md_rows.len(), 1);
+        assert_eq!(t[0].md_rows[0][0], "all problems");
+        assert!(t[0].md_rows[0][1].starts_with("marks 0/1/0; no detectable difference"));
         assert!(t[1].md_rows.is_empty());
     }
 }

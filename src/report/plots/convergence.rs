@@ -271,6 +271,7 @@ mod tests {
     fn value_at_takes_the_last_checkpoint() {
         let r = Run {
             run: 0,
+            seed: 0,
             budget: 100,
             error: 0.1,
             evaluations: 100,
