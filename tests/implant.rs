@@ -269,11 +269,70 @@ fn cli_writes_byte_identical_csv_and_a_valid_stl() {
     assert_eq!(String::from_utf8_lossy(&csv1).lines().count(), 6);
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(report.contains("Wilcoxon") && report.contains("curve:mhs"));
+    assert!(
+        report.contains("**1 unit: the effective n**") && report.contains("p_min = 2/2ⁿ"),
+        "{report}"
+    );
+    // verdicts.csv: 2 methods × 2 baselines × 5 metrics × (all, one width),
+    // one unit each (slice 88 × position 200°).
+    let v1 = std::fs::read(out.join("verdicts.csv")).unwrap();
+    let rows = verdict_rows(&v1);
+    assert_eq!(rows.len(), 40);
+    for r in &rows {
+        assert_eq!(r["table"], "validation-2d");
+        assert!(
+            [
+                "dice",
+                "boundary-dice",
+                "hd95-mm",
+                "mean-deviation-mm",
+                "max-deviation-mm"
+            ]
+            .contains(&r["measure"].as_str()),
+            "{r:?}"
+        );
+        assert!(["curve:mhs", "curve:lm"].contains(&r["algorithm"].as_str()));
+        assert!(["template", "straight"].contains(&r["reference"].as_str()));
+        assert!(
+            ["all", "width_mm=20"].contains(&r["scope"].as_str()),
+            "{r:?}"
+        );
+        assert_eq!((r["units"].as_str(), r["problems"].as_str()), ("1", "1"));
+        // One unit: p_min = 1, so nothing can reject.
+        assert_eq!(r["p_min"], "1");
+        assert_eq!(r["verdict"], "no detectable difference");
+    }
     let (ok, err) = run_spec(&dir, &text);
     assert!(ok, "{err}");
     assert_eq!(csv1, std::fs::read(out.join("validation.csv")).unwrap());
     assert_eq!(m1, std::fs::read(out.join("metrics.csv")).unwrap());
+    assert_eq!(v1, std::fs::read(out.join("verdicts.csv")).unwrap());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The rows of a `verdicts.csv`, by column, after checking its header is
+/// [`VERDICT_COLUMNS`] and every test and verdict is in the vocabulary.
+fn verdict_rows(bytes: &[u8]) -> Vec<std::collections::BTreeMap<String, String>> {
+    use metabezier::stats::{Verdict, VERDICT_COLUMNS};
+    let text = String::from_utf8(bytes.to_vec()).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next().unwrap(), VERDICT_COLUMNS.join(","));
+    lines
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            assert_eq!(f.len(), VERDICT_COLUMNS.len(), "{l}");
+            let r: std::collections::BTreeMap<String, String> = VERDICT_COLUMNS
+                .iter()
+                .zip(f)
+                .map(|(k, v)| (k.to_string(), v.to_string()))
+                .collect();
+            assert_eq!(r["test"], "wilcoxon-signed-rank");
+            assert!(Verdict::NAMES.contains(&r["verdict"].as_str()), "{l}");
+            let n = |k: &str| r[k].parse::<usize>().unwrap();
+            assert_eq!(n("better") + n("equal") + n("worse"), n("units"), "{l}");
+            r
+        })
+        .collect()
 }
 
 #[test]
@@ -318,6 +377,34 @@ fn spec_errors_name_line_column_field_and_choices() {
     assert!(e.to_string().contains("nothing to run"), "{e}");
     let e = ImplantSpec::parse(p, "[implant]\nvolume = \"v.inv3\"\n[validation]\nslices = [88]\npositions = [1]\nwidths = [0]\n").unwrap_err();
     assert!(e.field == "validation.widths[0]", "{e}");
+    let val = "[implant]\nvolume = \"v.inv3\"\nmidline = 120.0\n[validation]\nslices = [88]\npositions = [1]\nwidths = [20]\n";
+    assert_eq!(
+        ImplantSpec::parse(p, val)
+            .unwrap()
+            .validation
+            .unwrap()
+            .alpha,
+        0.05
+    );
+    let with_alpha = |a: &str| ImplantSpec::parse(p, &format!("{val}alpha = {a}\n"));
+    assert_eq!(with_alpha("0.01").unwrap().validation.unwrap().alpha, 0.01);
+    for bad in ["0", "1", "-0.05", "\"x\""] {
+        let e = with_alpha(bad).unwrap_err();
+        assert!(
+            e.field == "validation.alpha" && e.line == 8 && e.to_string().contains("x.toml:8:9"),
+            "{e}"
+        );
+    }
+    assert!(with_alpha("1.5")
+        .unwrap_err()
+        .to_string()
+        .contains("expected a significance level strictly between 0 and 1, found 1.5"));
+    let e = ImplantSpec::parse(
+        p,
+        "[implant]\nvolume = \"v.inv3\"\nmidline = 120.0\n[validation_3d]\nranges = [[88, 92]]\npositions = [1]\nwidths = [20]\nalpha = 2\n",
+    )
+    .unwrap_err();
+    assert!(e.field == "validation_3d.alpha", "{e}");
     let ok = ImplantSpec::parse(
         Path::new("experiments/ch6_cranial.toml"),
         &std::fs::read_to_string(crate_path("experiments/ch6_cranial.toml")).unwrap(),
@@ -612,6 +699,20 @@ fn validation_3d_of_one_small_patch() {
     assert!(csv.lines().skip(1).all(|l| l.contains(",ok,")), "{csv}");
     let report = std::fs::read_to_string(dir.join("out/report.md")).unwrap();
     assert!(report.contains("## 3D validation") && report.contains("HD95"));
+    // One range × one position: one unit; 1 method × 2 baselines × 3
+    // metrics × (all, one width) verdict rows.
+    let rows = verdict_rows(&std::fs::read(dir.join("out/verdicts.csv")).unwrap());
+    assert_eq!(rows.len(), 12);
+    for r in &rows {
+        assert_eq!(r["table"], "validation-3d");
+        assert!(["dice", "boundary-dice", "hd95-mm"].contains(&r["measure"].as_str()));
+        assert_eq!(r["algorithm"], "curve:lm");
+        assert!(
+            ["all", "width_mm=30"].contains(&r["scope"].as_str()),
+            "{r:?}"
+        );
+        assert_eq!(r["units"], "1");
+    }
     assert!(!dir.join("out/implant.stl").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -23,6 +23,7 @@
 //! | [`validation3d`] | patches across slices through the whole pipeline, 3D metrics |
 //! | [`spec`], [`run`] | the TOML experiment and its driver (`metabezier implant`) |
 //! | [`checks`] | the spec checked against its volume before anything is computed or written |
+//! | [`units`] | the independent units of the validation verdicts (slice clusters × positions) |
 //! | [`tables`], [`tables3d`] | its tables: report sections and CSV files |
 //! | [`render`] | its pictures: slice overlays and the 3D preview |
 
@@ -49,6 +50,7 @@ pub mod spec;
 pub mod tables;
 pub mod tables3d;
 pub mod template;
+pub mod units;
 pub mod validation;
 pub mod validation3d;
 

@@ -1,6 +1,7 @@
 //! The chapter-6 experiment: the real defect to `implant.stl`, per-slice
 //! metrics and overlays, a 3D preview, and the artificial-defect validation
-//! with its statistics against the baselines (`metabezier implant`).
+//! with its verdicts against the baselines across independent units
+//! (`verdicts.csv`; `metabezier implant`).
 //!
 //! This module drives the steps; [`super::render`] turns their results into
 //! the report, the CSV tables and the pictures. Every output is built in
@@ -19,6 +20,7 @@ use super::render::{overlay_png, preview_png};
 use super::spec::{ImplantSpec, Validation3dSpec, ValidationSpec};
 use super::tables::{
     defect_csv, defect_report, report_header, slices_off_target, validation_csv, validation_report,
+    verdicts_csv,
 };
 use super::tables3d::{validation_3d_csv, validation_3d_report};
 use super::validation::{evaluate, prepare_case, Case, PreparedCase, ValidationRow};
@@ -28,6 +30,7 @@ use crate::ct::{read_dicom_dir, read_inv3, stl_bytes, Volume};
 use crate::files::{create_dir, write_atomic};
 use crate::fit::{LmSolver, SegmentSolver};
 use crate::reconstruction::Method;
+use crate::stats::VerdictRow;
 
 /// Reads a volume: a directory is a DICOM series, anything else an `.inv3`
 /// project. Reader errors (truncated or corrupt files, mismatched slice
@@ -61,6 +64,7 @@ struct Outputs {
     summary: RunSummary,
     report: String,
     timing: String,
+    verdicts: Vec<VerdictRow>,
 }
 
 impl Outputs {
@@ -103,6 +107,7 @@ pub fn run_implant(spec: &ImplantSpec, out: &Path) -> Result<RunSummary, Implant
         summary: RunSummary::default(),
         report: report_header(spec, &volume),
         timing: String::new(),
+        verdicts: Vec::new(),
     };
     let mut pipeline = None;
     if spec.run_defect {
@@ -113,6 +118,10 @@ pub fn run_implant(spec: &ImplantSpec, out: &Path) -> Result<RunSummary, Implant
     }
     if let Some(val) = &spec.validation_3d {
         run_validation_3d(spec, val, &volume, &mut outputs)?;
+    }
+    if !outputs.verdicts.is_empty() {
+        let verdicts = verdicts_csv(&outputs.verdicts);
+        outputs.add("verdicts.csv", verdicts);
     }
     let report = std::mem::take(&mut outputs.report);
     outputs.add("report.md", report.into_bytes());
@@ -187,7 +196,8 @@ fn run_validation(
         t1.elapsed().as_secs_f64()
     );
     outputs.add("validation.csv", validation_csv(&rows));
-    validation_report(&mut outputs.report, val, &rows)?;
+    let verdicts = validation_report(&mut outputs.report, val, &rows);
+    outputs.verdicts.extend(verdicts);
     outputs.summary.validation_rows = rows.len();
     Ok(())
 }
@@ -222,7 +232,8 @@ fn run_validation_3d(
         t1.elapsed().as_secs_f64()
     );
     outputs.add("validation_3d.csv", validation_3d_csv(&rows));
-    validation_3d_report(&mut outputs.report, val, &rows)?;
+    let verdicts = validation_3d_report(&mut outputs.report, val, &rows);
+    outputs.verdicts.extend(verdicts);
     outputs.summary.validation_3d_rows = rows.len();
     Ok(())
 }

@@ -41,6 +41,7 @@
 //! methods = ["mhs", "lm"]            # default: [implant.method]
 //! runs = 30                          # per stochastic method
 //! margin_mm = 10                     # boundary Dice band
+//! alpha = 0.05                       # significance level of the verdicts
 //!
 //! [validation_3d]           # artificial defects across slices (optional)
 //! ranges = [[86, 94], [90, 98]]      # first and last slice of each patch
@@ -49,6 +50,7 @@
 //! methods = ["mhs", "lm"]
 //! runs = 5
 //! margin_mm = 10
+//! alpha = 0.05
 //! ```
 //!
 //! Errors name the file, line, column and field, say what was expected and
@@ -66,6 +68,7 @@ use crate::experiment::spec::{type_name, Parser, SpecError, Table, Value};
 use crate::fit::FunctionType;
 use crate::geometry::{Continuity, Point};
 use crate::reconstruction::Method;
+use crate::stats::DEFAULT_ALPHA;
 
 /// The artificial-defect validation part.
 #[derive(Clone, Debug)]
@@ -82,6 +85,9 @@ pub struct ValidationSpec {
     pub runs: usize,
     /// Boundary-Dice band (mm).
     pub margin_mm: f64,
+    /// The significance level α of the verdicts against the baselines
+    /// (default [`crate::stats::DEFAULT_ALPHA`] = 0.05).
+    pub alpha: f64,
 }
 
 /// The 3D validation part: patches cut out of intact bone across slices.
@@ -99,6 +105,9 @@ pub struct Validation3dSpec {
     pub runs: usize,
     /// Boundary-Dice band (mm).
     pub margin_mm: f64,
+    /// The significance level α of the verdicts against the baselines
+    /// (default [`crate::stats::DEFAULT_ALPHA`] = 0.05).
+    pub alpha: f64,
 }
 
 /// A loaded chapter-6 spec.
@@ -155,22 +164,24 @@ const DEFECT_KEYS: [&str; 6] = [
     "end",
     "template",
 ];
-const VALIDATION_3D_KEYS: [&str; 6] = [
+const VALIDATION_3D_KEYS: [&str; 7] = [
     "ranges",
     "positions",
     "widths",
     "methods",
     "runs",
     "margin_mm",
+    "alpha",
 ];
 const END_KEYS: [&str; 3] = ["z", "a", "b"];
-const VALIDATION_KEYS: [&str; 6] = [
+const VALIDATION_KEYS: [&str; 7] = [
     "slices",
     "positions",
     "widths",
     "methods",
     "runs",
     "margin_mm",
+    "alpha",
 ];
 
 fn quoted(names: &[&str]) -> String {
@@ -216,6 +227,27 @@ impl Parser<'_> {
                 format!("expected a real number, found {}", self.show(v)),
             )
         })
+    }
+
+    /// The optional significance level `field` of table `t`: a real
+    /// strictly between 0 and 1, by default [`DEFAULT_ALPHA`].
+    fn alpha(&self, t: &Table<'_>, field: &str) -> Result<f64, SpecError> {
+        let Some(v) = self.get(t, "alpha") else {
+            return Ok(DEFAULT_ALPHA);
+        };
+        let a = self.finite_real(v, field)?;
+        if a > 0.0 && a < 1.0 {
+            Ok(a)
+        } else {
+            Err(self.error(
+                v.span(),
+                field,
+                format!(
+                    "expected a significance level strictly between 0 and 1, found {}",
+                    self.show(v)
+                ),
+            ))
+        }
     }
 
     fn show(&self, v: &Value<'_>) -> String {
@@ -721,6 +753,7 @@ impl Parser<'_> {
             methods,
             runs,
             margin_mm,
+            alpha: self.alpha(t, "validation.alpha")?,
         })
     }
 }
@@ -800,6 +833,7 @@ impl Parser<'_> {
                 None => 10.0,
                 Some(x) => self.finite_real(x, "validation_3d.margin_mm")?,
             },
+            alpha: self.alpha(t, "validation_3d.alpha")?,
         })
     }
 }

@@ -1,5 +1,5 @@
 //! The chapter-6 tables: the sections of `report.md` and the CSV files
-//! `metrics.csv`, `validation.csv` and `validation_3d.csv` (see
+//! `metrics.csv`, `validation.csv`, `validation_3d.csv` and `verdicts.csv` (see
 //! [`super::run`] for the driver that writes them, [`super::render`] for
 //! the pictures).
 //!
@@ -8,13 +8,17 @@
 
 use std::fmt::Write as _;
 
-use super::pipeline::{Implant, ImplantError, SliceResult};
+use super::pipeline::{Implant, SliceResult};
 use super::spec::{ImplantSpec, ValidationSpec};
+use super::units::{
+    case_differences, cluster_of, decide_families, scoped_rows, slice_clusters, CaseId, Comparison,
+    Observation, SliceCluster, UnitKey,
+};
 use super::validation::{CaseMetrics, ValidationRow};
 use crate::ct::{contour_deviation, Volume};
 use crate::files::{csv_bytes, fmt_real};
 use crate::markdown::{self, Alignment};
-use crate::stats::{holm_bonferroni, median, wilcoxon, Alternative};
+use crate::stats::{median, smallest_signed_rank_p, VerdictRow, VERDICT_COLUMNS};
 
 pub(crate) fn r(x: f64) -> String {
     fmt_real(x)
@@ -408,30 +412,45 @@ pub fn validation_csv(rows: &[ValidationRow]) -> Vec<u8> {
     csv_bytes(&header, rows)
 }
 
+/// `verdicts.csv`: every verdict row of the validations, in the columns
+/// [`VERDICT_COLUMNS`] shared with `metabezier report`.
+pub fn verdicts_csv(rows: &[VerdictRow]) -> Vec<u8> {
+    csv_bytes(&VERDICT_COLUMNS, rows.iter().map(VerdictRow::csv_fields))
+}
+
 /// A metric's accessor.
 type MetricFn = fn(&CaseMetrics) -> f64;
 
-/// One validation metric: its name in tables, its accessor, and whether
-/// larger is better.
-type Metric = (&'static str, MetricFn, bool);
+/// One validation metric: its name in tables, its name in `verdicts.csv`,
+/// its accessor, and whether larger is better.
+type Metric = (&'static str, &'static str, MetricFn, bool);
 
 /// The validation metrics, in table order.
 const METRICS: [Metric; 5] = [
-    ("Dice", |m| m.dice, true),
-    ("boundary Dice", |m| m.boundary_dice, true),
-    ("HD95 mm", |m| m.hd95, false),
-    ("mean deviation mm", |m| m.dev_mean, false),
-    ("max deviation mm", |m| m.dev_max, false),
+    ("Dice", "dice", |m| m.dice, true),
+    ("boundary Dice", "boundary-dice", |m| m.boundary_dice, true),
+    ("HD95 mm", "hd95-mm", |m| m.hd95, false),
+    (
+        "mean deviation mm",
+        "mean-deviation-mm",
+        |m| m.dev_mean,
+        false,
+    ),
+    ("max deviation mm", "max-deviation-mm", |m| m.dev_max, false),
 ];
 
+/// The `table` of the one-slice validation's rows in `verdicts.csv`.
+pub const VALIDATION_2D_TABLE: &str = "validation-2d";
+
 /// The "Validation on perfect data" section of `report.md`: the cases, the
-/// median of every metric by method and width, the paired tests of the
-/// curve fit against the baselines, and the join quality of the fits.
+/// median of every metric by method and width, the verdicts of the curve
+/// fit against the baselines across independent units, and the join
+/// quality of the fits. Returns the verdict rows (for `verdicts.csv`).
 pub fn validation_report(
     report: &mut String,
     val: &ValidationSpec,
     rows: &[ValidationRow],
-) -> Result<(), ImplantError> {
+) -> Vec<VerdictRow> {
     let mut methods: Vec<String> = vec!["template".into(), "straight".into()];
     methods.extend(val.methods.iter().map(|m| format!("curve:{}", m.name())));
     let failed = rows.iter().filter(|r| r.metrics.is_err()).count();
@@ -447,9 +466,9 @@ pub fn validation_report(
     for metric in METRICS {
         median_table(report, metric, val, &methods, rows);
     }
-    paired_tests(report, val, rows)?;
+    let verdicts = validation_verdicts(report, val, rows);
     join_summary(report, rows);
-    Ok(())
+    verdicts
 }
 
 /// Per width of `widths`, the median (three decimals) of the values of
@@ -478,7 +497,7 @@ pub(crate) fn medians_by_width<'r, R>(
 /// The median of one metric over cases and runs, by method × width.
 fn median_table(
     report: &mut String,
-    (name, f, _): Metric,
+    (name, _, f, _): Metric,
     val: &ValidationSpec,
     methods: &[String],
     rows: &[ValidationRow],
@@ -501,181 +520,218 @@ fn median_table(
     let _ = writeln!(report);
 }
 
-/// A validation case as a sortable key: slice, position and width bits.
-type CaseKey = (usize, u64, u64);
-
-/// The distinct cases of `rows`, sorted.
-fn case_keys(rows: &[ValidationRow]) -> Vec<CaseKey> {
-    let mut keys: Vec<CaseKey> = rows
-        .iter()
-        .map(|r| {
-            (
-                r.z,
-                r.case.position_deg.to_bits(),
-                r.case.width_mm.to_bits(),
-            )
+/// The observations of one metric: every successful row's value, with its
+/// case and unit (slice cluster × position).
+fn observations<'r>(
+    rows: &'r [ValidationRow],
+    clusters: &[SliceCluster],
+    f: MetricFn,
+) -> Vec<Observation<'r>> {
+    rows.iter()
+        .filter_map(|r| {
+            let value = r.metrics.as_ref().ok().map(f)?;
+            let cluster = cluster_of(clusters, (r.z, r.z)).unwrap_or(SliceCluster {
+                first: r.z,
+                last: r.z,
+            });
+            Some(Observation {
+                case: CaseId {
+                    slices: (r.z, r.z),
+                    position_deg: r.case.position_deg,
+                    width_mm: r.case.width_mm,
+                },
+                unit: UnitKey {
+                    cluster,
+                    position_deg: r.case.position_deg,
+                },
+                method: r.method.as_str(),
+                value,
+            })
         })
-        .collect();
-    keys.sort();
-    keys.dedup();
-    keys
+        .collect()
 }
 
-/// One row of the paired-test table: a curve method against a baseline on
-/// one metric.
-pub(crate) struct PairedTest {
-    /// `curve:<method>`.
-    curve: String,
-    /// `template` or `straight`.
-    baseline: &'static str,
-    /// The metric's name.
-    metric: &'static str,
-    /// Cases where both have a finite value.
-    cases: usize,
-    /// Median of the curve method's per-case medians.
-    median_curve: f64,
-    /// Median of the baseline's per-case medians.
-    median_baseline: f64,
-    /// Median of the per-case differences (curve − baseline).
-    median_difference: f64,
-    /// Cases where the curve method is strictly better.
-    better: usize,
-    /// Two-sided Wilcoxon signed-rank p-value (NaN when undefined).
-    pub(crate) p: f64,
-}
-
-/// Pairs, per case, the median over runs of `curve` and of `baseline` on
-/// `metric`, and tests the difference.
-fn paired_test(
-    rows: &[ValidationRow],
-    keys: &[CaseKey],
-    curve: &str,
-    baseline: &'static str,
-    (metric, f, larger_better): Metric,
-) -> PairedTest {
-    let (mut xs, mut ys) = (Vec::new(), Vec::new());
-    for &(z, p, w) in keys {
-        let of = |m: &str| -> Vec<f64> {
-            rows.iter()
-                .filter(|r| {
-                    r.method == m
-                        && r.z == z
-                        && r.case.position_deg.to_bits() == p
-                        && r.case.width_mm.to_bits() == w
-                })
-                .filter_map(|r| r.metrics.as_ref().ok().map(f))
-                .filter(|v| v.is_finite())
-                .collect()
-        };
-        let (c, b) = (of(curve), of(baseline));
-        if !c.is_empty() && !b.is_empty() {
-            xs.push(median(&c));
-            ys.push(median(&b));
-        }
-    }
-    paired_from((curve, baseline, metric), &xs, &ys, larger_better)
-}
-
-/// The paired test of per-case values `xs` (the curve method) against `ys`
-/// (the baseline) on one metric: medians, the median difference, the cases
-/// where the curve is strictly better, and the two-sided Wilcoxon
-/// signed-rank p-value (NaN when undefined).
-pub(crate) fn paired_from(
-    (curve, baseline, metric): (&str, &'static str, &'static str),
-    xs: &[f64],
-    ys: &[f64],
-    larger_better: bool,
-) -> PairedTest {
-    let better = xs
-        .iter()
-        .zip(ys)
-        .filter(|(x, y)| if larger_better { x > y } else { x < y })
-        .count();
-    let p = wilcoxon(xs, ys, Alternative::TwoSided)
-        .map(|t| t.p_value)
-        .unwrap_or(f64::NAN);
-    let diffs: Vec<f64> = xs.iter().zip(ys).map(|(x, y)| x - y).collect();
-    PairedTest {
-        curve: curve.to_string(),
-        baseline,
-        metric,
-        cases: xs.len(),
-        median_curve: median(xs),
-        median_baseline: median(ys),
-        median_difference: median(&diffs),
-        better,
-        p,
-    }
-}
-
-/// The paired tests of every curve method against both baselines on every
-/// metric, Holm-corrected over the whole table.
-fn paired_tests(
+/// The verdict rows of every curve method against both baselines on every
+/// metric, at scope `all` and per width, decided per family at the spec's
+/// α; and their part of `report.md`.
+fn validation_verdicts(
     report: &mut String,
     val: &ValidationSpec,
     rows: &[ValidationRow],
-) -> Result<(), ImplantError> {
-    let _ = writeln!(
-        report,
-        "### What the curve fit adds (Wilcoxon signed-rank, paired by case)\n"
-    );
-    let _ = writeln!(
-        report,
-        "Per case the curve fit's median over its runs is paired with the baseline; two-sided Wilcoxon signed-rank test (src/stats), Holm-corrected over all rows of this table. `better` counts cases where the curve fit is strictly better.\n"
-    );
-    let keys = case_keys(rows);
-    let mut tests = Vec::new();
+) -> Vec<VerdictRow> {
+    let clusters = slice_clusters(&val.slices);
+    let obs: Vec<Vec<Observation<'_>>> = METRICS
+        .iter()
+        .map(|m| observations(rows, &clusters, m.2))
+        .collect();
+    let mut verdicts = Vec::new();
     for cm in val.methods.iter().map(|m| format!("curve:{}", m.name())) {
         for base in ["template", "straight"] {
-            for metric in METRICS {
-                tests.push(paired_test(rows, &keys, &cm, base, metric));
+            for ((_, measure, _, larger_better), obs) in METRICS.iter().zip(&obs) {
+                let cmp = Comparison {
+                    table: VALIDATION_2D_TABLE,
+                    measure,
+                    algorithm: &cm,
+                    reference: base,
+                    lower_is_better: !larger_better,
+                };
+                let diffs = case_differences(obs, &cm, base);
+                verdicts.extend(scoped_rows(&cmp, &diffs, &val.widths));
             }
         }
     }
-    let finite: Vec<f64> = tests
-        .iter()
-        .map(|t| if t.p.is_finite() { t.p } else { 1.0 })
-        .collect();
-    let holm = holm_bonferroni(&finite)?;
-    report.push_str(&paired_table(&tests, &holm));
-    let _ = writeln!(report);
-    Ok(())
+    let mut verdicts = in_family_order(verdicts);
+    let mut decided: Vec<VerdictRow> = verdicts.iter().map(|v| v.0.clone()).collect();
+    decide_families(&mut decided, val.alpha);
+    for (v, d) in verdicts.iter_mut().zip(&decided) {
+        v.0 = d.clone();
+    }
+    let _ = writeln!(
+        report,
+        "### What the curve fit adds (verdicts across independent units)\n"
+    );
+    let cases = verdicts.first().map_or(0, |v| v.0.problems);
+    let _ = writeln!(
+        report,
+        "The validation cases are not independent: the widths of one position are nested cuts of the same bone, and adjacent slices cut the same region of the vault. A *unit* is one defect position on one slice cluster, a maximal run of consecutive validation slices ({}). {}\n",
+        cluster_list(&clusters),
+        design_text(
+            clusters.len(),
+            val.positions.len(),
+            cases,
+            "its widths and the slices of its cluster",
+            family_size(&verdicts),
+            val.alpha
+        )
+    );
+    verdict_tables(report, &verdicts);
+    decided
 }
 
-/// The markdown table of the paired tests with their Holm-corrected p.
-pub(crate) fn paired_table(tests: &[PairedTest], holm: &[f64]) -> String {
+/// `rows` ordered by scope (`all` first, then the widths in spec order),
+/// keeping their order within a scope: one family after another.
+pub(crate) fn in_family_order(rows: Vec<(VerdictRow, usize)>) -> Vec<(VerdictRow, usize)> {
+    let mut scopes: Vec<String> = Vec::new();
+    for r in &rows {
+        if !scopes.contains(&r.0.scope) {
+            scopes.push(r.0.scope.clone());
+        }
+    }
+    let mut rows: Vec<(usize, (VerdictRow, usize))> = rows
+        .into_iter()
+        .map(|r| (scopes.iter().position(|s| *s == r.0.scope).unwrap_or(0), r))
+        .collect();
+    rows.sort_by_key(|r| r.0);
+    rows.into_iter().map(|r| r.1).collect()
+}
+
+/// The rows of one family (the first scope's rows).
+pub(crate) fn family_size(rows: &[(VerdictRow, usize)]) -> usize {
+    rows.first().map_or(0, |f| {
+        rows.iter().filter(|r| r.0.scope == f.0.scope).count()
+    })
+}
+
+/// `z = 64; z = 72; z = 88–90`.
+pub(crate) fn cluster_list(clusters: &[SliceCluster]) -> String {
+    clusters
+        .iter()
+        .map(ToString::to_string)
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+/// The design sentences of a verdict section: the units and effective n,
+/// the summary within a unit, the test, the correction, p_min and the
+/// verdict rule.
+pub(crate) fn design_text(
+    clusters: usize,
+    positions: usize,
+    cases: usize,
+    within: &str,
+    family: usize,
+    alpha: f64,
+) -> String {
+    let n = clusters * positions;
+    let p_min = smallest_signed_rank_p(n);
+    let units = count(n, "unit");
+    let unreachable = if p_min >= alpha {
+        format!(" Here p_min = {p_min:.3} ≥ α = {alpha}: no row can reject, whatever the data; the verdicts are all `no detectable difference` by design, and the rows are descriptive.")
+    } else {
+        String::new()
+    };
+    format!(
+        "{} × {} = **{units}: the effective n** (the {cases} cases are pooled into them). Per case d = the curve fit's median over its runs − the baseline's value; a unit's summary is the median of d over its cases ({within}; in a `width_mm=…` scope only the cases of that width). Two-sided Wilcoxon signed-rank test of the unit summaries against zero (`stats::across_units`), Holm-corrected within each family: the {family} rows of one scope. With n non-zero units no p can fall below p_min = 2/2ⁿ ({units}: {p_min:.2e}), which bounds every p. A verdict is `better` or `worse` only where the Holm-corrected p is below α = {alpha}; otherwise it is `no detectable difference`.{unreachable} `better/equal/worse` count units; `cases better` counts cases where the curve fit is strictly better and is a description, not a test. Every row is in `verdicts.csv`.",
+        count(clusters, "slice cluster"),
+        count(positions, "position"),
+    )
+}
+
+/// `n` and `noun`, in the plural unless `n` is 1: `1 unit`, `18 units`.
+fn count(n: usize, noun: &str) -> String {
+    format!("{n} {noun}{}", if n == 1 { "" } else { "s" })
+}
+
+/// One markdown table of verdict rows per scope, with the cases favouring
+/// the compared method (descriptive).
+pub(crate) fn verdict_tables(report: &mut String, rows: &[(VerdictRow, usize)]) {
     let header = [
-        "curve method",
+        "method",
         "baseline",
         "metric",
+        "scope",
+        "units",
         "cases",
-        "median curve",
-        "median baseline",
-        "median difference",
-        "better",
+        "units better/equal/worse",
+        "median unit difference",
         "p",
         "p (Holm)",
+        "p_min",
+        "verdict",
+        "cases better (descriptive)",
     ]
     .map(String::from);
-    let table: Vec<Vec<String>> = tests
-        .iter()
-        .zip(holm)
-        .map(|(t, ph)| {
-            vec![
-                t.curve.clone(),
-                t.baseline.to_string(),
-                t.metric.to_string(),
-                t.cases.to_string(),
-                format!("{:.3}", t.median_curve),
-                format!("{:.3}", t.median_baseline),
-                format!("{:+.3}", t.median_difference),
-                format!("{}/{}", t.better, t.cases),
-                format!("{:.2e}", t.p),
-                format!("{ph:.2e}"),
-            ]
-        })
-        .collect();
-    markdown::table(&header, &table, Alignment::Unmarked)
+    let mut scopes: Vec<&str> = Vec::new();
+    for r in rows {
+        if !scopes.contains(&r.0.scope.as_str()) {
+            scopes.push(&r.0.scope);
+        }
+    }
+    for scope in scopes {
+        let table: Vec<Vec<String>> = rows
+            .iter()
+            .filter(|r| r.0.scope == scope)
+            .map(|(v, cases_better)| {
+                let a = &v.across;
+                vec![
+                    v.algorithm.clone(),
+                    v.reference.clone(),
+                    v.measure.clone(),
+                    v.scope.clone(),
+                    a.units.to_string(),
+                    v.problems.to_string(),
+                    format!("{}/{}/{}", a.better, a.equal, a.worse),
+                    // A difference that rounds to zero is shown as +0.0000.
+                    format!(
+                        "{:+.4}",
+                        if (a.effect_size * 1e4).round() == 0.0 {
+                            0.0
+                        } else {
+                            a.effect_size
+                        }
+                    ),
+                    format!("{:.2e}", a.p_value),
+                    format!("{:.2e}", v.p_adjusted),
+                    format!("{:.2e}", a.p_min),
+                    v.verdict.to_string(),
+                    format!("{cases_better}/{}", v.problems),
+                ]
+            })
+            .collect();
+        let _ = writeln!(report, "Scope `{scope}`:\n");
+        report.push_str(&markdown::table(&header, &table, Alignment::Unmarked));
+        let _ = writeln!(report);
+    }
 }
 
 /// The join quality of the fitted walls: median and max join angle.

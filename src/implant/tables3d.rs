@@ -1,16 +1,21 @@
 //! The 3D validation's table `validation_3d.csv` and its section of
-//! `report.md`: medians by method and width, and the paired tests of the
-//! curve fit against the baselines.
+//! `report.md`: medians by method and width, and the verdicts of the curve
+//! fit against the baselines across independent units ([`super::units`]).
 
 use std::fmt::Write as _;
 
-use super::pipeline::ImplantError;
 use super::spec::Validation3dSpec;
-use super::tables::{medians_by_width, paired_from, paired_table, r};
+use super::tables::{
+    cluster_list, design_text, family_size, in_family_order, medians_by_width, r, verdict_tables,
+};
+use super::units::{
+    case_differences, cluster_of, decide_families, range_clusters, scoped_rows, CaseId, Comparison,
+    Observation, SliceCluster, UnitKey,
+};
 use super::validation3d::{Metrics3d, Row3d};
 use crate::files::csv_bytes;
 use crate::markdown::{self, Alignment};
-use crate::stats::{holm_bonferroni, median};
+use crate::stats::VerdictRow;
 
 /// `validation_3d.csv`: one row per case × method × run.
 pub fn validation_3d_csv(rows: &[Row3d]) -> Vec<u8> {
@@ -58,15 +63,19 @@ pub fn validation_3d_csv(rows: &[Row3d]) -> Vec<u8> {
     csv_bytes(&header, rows)
 }
 
-/// A 3D metric: name, accessor, larger is better.
-type Metric3d = (&'static str, fn(&Metrics3d) -> f64, bool);
+/// A 3D metric: name in tables, name in `verdicts.csv`, accessor, larger
+/// is better.
+type Metric3d = (&'static str, &'static str, fn(&Metrics3d) -> f64, bool);
 
 /// The 3D metrics, in table order.
 const METRICS_3D: [Metric3d; 3] = [
-    ("DSC", |m| m.dice, true),
-    ("boundary DSC", |m| m.boundary_dice, true),
-    ("HD95 mm", |m| m.hd95, false),
+    ("DSC", "dice", |m| m.dice, true),
+    ("boundary DSC", "boundary-dice", |m| m.boundary_dice, true),
+    ("HD95 mm", "hd95-mm", |m| m.hd95, false),
 ];
+
+/// The `table` of the 3D validation's rows in `verdicts.csv`.
+pub const VALIDATION_3D_TABLE: &str = "validation-3d";
 
 /// The methods of the rows, baselines first.
 fn methods(val: &Validation3dSpec) -> Vec<String> {
@@ -75,12 +84,14 @@ fn methods(val: &Validation3dSpec) -> Vec<String> {
     m
 }
 
-/// The "3D validation" section of `report.md`.
+/// The "3D validation" section of `report.md`: medians by method and
+/// width, and the verdicts of the curve fit against the baselines across
+/// independent units. Returns the verdict rows (for `verdicts.csv`).
 pub fn validation_3d_report(
     report: &mut String,
     val: &Validation3dSpec,
     rows: &[Row3d],
-) -> Result<(), ImplantError> {
+) -> Vec<VerdictRow> {
     let failed = rows.iter().filter(|r| r.metrics.is_err()).count();
     let _ = writeln!(report, "## 3D validation (patches across slices)\n");
     let _ = writeln!(
@@ -88,18 +99,17 @@ pub fn validation_3d_report(
         "Slice ranges {:?}, positions {:?}°, widths {:?} mm (at the middle slice; elliptical patches), {} runs per stochastic method; the whole pipeline reconstructs each patch, its voxels are scored in 3D (boundary DSC within {} mm of the defective skull, HD95 on the voxel surfaces). {} rows, {failed} failed (see `validation_3d.csv`, column `error`).\n",
         val.ranges, val.positions, val.widths, val.runs, val.margin_mm, rows.len()
     );
-    let header: Vec<String> = std::iter::once("method".to_string())
-        .chain(
-            METRICS_3D
-                .iter()
-                .flat_map(|(name, _, _)| val.widths.iter().map(move |w| format!("{name} {w} mm"))),
-        )
-        .collect();
+    let header: Vec<String> =
+        std::iter::once("method".to_string())
+            .chain(METRICS_3D.iter().flat_map(|(name, _, _, _)| {
+                val.widths.iter().map(move |w| format!("{name} {w} mm"))
+            }))
+            .collect();
     let table: Vec<Vec<String>> = methods(val)
         .iter()
         .map(|m| {
             let mut line = vec![m.clone()];
-            for (_, f, _) in METRICS_3D {
+            for (_, _, f, _) in METRICS_3D {
                 line.extend(medians_by_width(rows, m, &val.widths, |r| {
                     let v = r.metrics.as_ref().ok().map(f)?;
                     Some((r.method.as_str(), r.case.width_mm, v))
@@ -111,63 +121,86 @@ pub fn validation_3d_report(
     let _ = writeln!(report, "Medians over cases and runs:\n");
     report.push_str(&markdown::table(&header, &table, Alignment::Unmarked));
     let _ = writeln!(report);
-    paired_tests_3d(report, val, rows)
+    verdicts_3d(report, val, rows)
 }
 
-/// Per case, the median of `method`'s finite values of a metric (cases in
-/// row order).
-fn per_case(rows: &[Row3d], method: &str, f: fn(&Metrics3d) -> f64) -> Vec<(String, f64)> {
-    let mut keys: Vec<String> = Vec::new();
-    for r in rows {
-        let k = format!("{:?}", r.case);
-        if !keys.contains(&k) {
-            keys.push(k);
-        }
-    }
-    keys.into_iter()
-        .filter_map(|k| {
-            let v: Vec<f64> = rows
-                .iter()
-                .filter(|r| r.method == method && format!("{:?}", r.case) == k)
-                .filter_map(|r| r.metrics.as_ref().ok().map(f))
-                .filter(|x| x.is_finite())
-                .collect();
-            (!v.is_empty()).then(|| (k, median(&v)))
+/// The observations of one 3D metric: every successful row's value, with
+/// its case and unit (cluster of overlapping ranges × position).
+fn observations_3d<'r>(
+    rows: &'r [Row3d],
+    clusters: &[SliceCluster],
+    f: fn(&Metrics3d) -> f64,
+) -> Vec<Observation<'r>> {
+    rows.iter()
+        .filter_map(|r| {
+            let value = r.metrics.as_ref().ok().map(f)?;
+            let (z0, z1) = r.case.range;
+            let cluster = cluster_of(clusters, (z0, z1)).unwrap_or(SliceCluster {
+                first: z0.min(z1),
+                last: z0.max(z1),
+            });
+            Some(Observation {
+                case: CaseId {
+                    slices: r.case.range,
+                    position_deg: r.case.position_deg,
+                    width_mm: r.case.width_mm,
+                },
+                unit: UnitKey {
+                    cluster,
+                    position_deg: r.case.position_deg,
+                },
+                method: r.method.as_str(),
+                value,
+            })
         })
         .collect()
 }
 
-/// The paired tests of every curve method against both baselines on every
-/// 3D metric, Holm-corrected over the table.
-fn paired_tests_3d(
-    report: &mut String,
-    val: &Validation3dSpec,
-    rows: &[Row3d],
-) -> Result<(), ImplantError> {
-    let mut tests = Vec::new();
+/// The verdict rows of every curve method against both baselines on every
+/// 3D metric, at scope `all` and per width, decided per family at the
+/// spec's α; and their part of `report.md`.
+fn verdicts_3d(report: &mut String, val: &Validation3dSpec, rows: &[Row3d]) -> Vec<VerdictRow> {
+    let clusters = range_clusters(&val.ranges);
+    let obs: Vec<Vec<Observation<'_>>> = METRICS_3D
+        .iter()
+        .map(|m| observations_3d(rows, &clusters, m.2))
+        .collect();
+    let mut verdicts = Vec::new();
     for cm in val.methods.iter().map(|m| format!("curve:{}", m.name())) {
         for base in ["template", "straight"] {
-            for (name, f, larger) in METRICS_3D {
-                let (c, b) = (per_case(rows, &cm, f), per_case(rows, base, f));
-                let pairs: Vec<(f64, f64)> = c
-                    .iter()
-                    .filter_map(|(k, x)| b.iter().find(|(kb, _)| kb == k).map(|(_, y)| (*x, *y)))
-                    .collect();
-                let (xs, ys): (Vec<f64>, Vec<f64>) = pairs.into_iter().unzip();
-                tests.push(paired_from((&cm, base, name), &xs, &ys, larger));
+            for ((_, measure, _, larger_better), obs) in METRICS_3D.iter().zip(&obs) {
+                let cmp = Comparison {
+                    table: VALIDATION_3D_TABLE,
+                    measure,
+                    algorithm: &cm,
+                    reference: base,
+                    lower_is_better: !larger_better,
+                };
+                let diffs = case_differences(obs, &cm, base);
+                verdicts.extend(scoped_rows(&cmp, &diffs, &val.widths));
             }
         }
     }
-    let p: Vec<f64> = tests
-        .iter()
-        .map(|t| if t.p.is_finite() { t.p } else { 1.0 })
-        .collect();
-    let holm = holm_bonferroni(&p)?;
+    let mut verdicts = in_family_order(verdicts);
+    let mut decided: Vec<VerdictRow> = verdicts.iter().map(|v| v.0.clone()).collect();
+    decide_families(&mut decided, val.alpha);
+    for (v, d) in verdicts.iter_mut().zip(&decided) {
+        v.0 = d.clone();
+    }
+    let cases = verdicts.first().map_or(0, |v| v.0.problems);
     let _ = writeln!(
         report,
-        "Paired by case (curve = median over its runs), two-sided Wilcoxon signed-rank, Holm over the table:\n"
+        "### What the curve fit adds in 3D (verdicts across independent units)\n\nThe patches are not independent: the widths of one position are nested, and overlapping slice ranges cut the same bone. A *unit* is one position on one slice cluster, a maximal set of slice ranges that overlap or touch ({}). {}\n",
+        cluster_list(&clusters),
+        design_text(
+            clusters.len(),
+            val.positions.len(),
+            cases,
+            "its widths and the ranges of its cluster",
+            family_size(&verdicts),
+            val.alpha
+        )
     );
-    report.push_str(&paired_table(&tests, &holm));
-    let _ = writeln!(report);
-    Ok(())
+    verdict_tables(report, &verdicts);
+    decided
 }

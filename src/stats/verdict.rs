@@ -42,7 +42,8 @@ impl Verdict {
     /// rejection needs `p_adjusted < alpha` and a non-zero improvement.
     /// NaN p-values never reject.
     pub fn from_p(p_adjusted: f64, alpha: f64, improvement: f64) -> Verdict {
-        if !(p_adjusted < alpha) || improvement == 0.0 || improvement.is_nan() {
+        let rejects = p_adjusted.partial_cmp(&alpha) == Some(std::cmp::Ordering::Less);
+        if !rejects || improvement == 0.0 || improvement.is_nan() {
             Verdict::NoDetectableDifference
         } else if improvement > 0.0 {
             Verdict::Better
