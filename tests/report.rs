@@ -183,7 +183,10 @@ fn report_of_a_small_campaign() {
     // cell derives its own seeds, so none is paired.
     let tests = read(&dir.join("tables/tests.csv"));
     assert_eq!(tests.lines().count(), 1 + 4 * 2);
-    assert!(tests.lines().skip(1).all(|l| l.contains(",MHS,mann-whitney-u,")));
+    assert!(tests
+        .lines()
+        .skip(1)
+        .all(|l| l.contains(",MHS,mann-whitney-u,")));
     let anytime = read(&dir.join("tables/anytime_tests.csv"));
     assert_eq!(anytime.lines().count(), 1 + 4 * 2);
     let verdicts = read(&dir.join("tables/verdicts.csv"));
@@ -197,8 +200,13 @@ fn report_of_a_small_campaign() {
         .lines()
         .find(|l| l.starts_with("reference,final-error,HS,MHS,all,2,4,"))
         .unwrap_or_else(|| panic!("{verdicts}"));
-    assert!(all_hs.contains(",wilcoxon-signed-rank,") && all_hs.ends_with(",no detectable difference"), "{all_hs}");
-    assert!(verdicts.lines().any(|l| l.starts_with("reference,final-error,HS,MHS,dim=2,")));
+    assert!(
+        all_hs.contains(",wilcoxon-signed-rank,") && all_hs.ends_with(",no detectable difference"),
+        "{all_hs}"
+    );
+    assert!(verdicts
+        .lines()
+        .any(|l| l.starts_with("reference,final-error,HS,MHS,dim=2,")));
     let marks = read(&dir.join("tables/marks_summary.csv"));
     assert_eq!(marks.lines().count(), 1 + 2 * 2);
     let friedman = read(&dir.join("tables/friedman.csv"));
@@ -488,7 +496,11 @@ fn external_runs_join_the_comparison() {
     let f: Vec<&str> = cma.split(',').collect();
     // Every run of both reached the threshold: "both solved", not a mark,
     // although CMA-ES is lower on every run (A12 = 0).
-    assert_eq!((f[6], f[14], f[15]), ("wilcoxon-signed-rank", "both solved", "0"), "{cma}");
+    assert_eq!(
+        (f[6], f[14], f[15]),
+        ("wilcoxon-signed-rank", "both solved", "0"),
+        "{cma}"
+    );
     keep(&dir, "external");
 }
 
@@ -580,14 +592,24 @@ fn verdicts_across_functions_have_known_answers() {
     .unwrap();
     // Other seeds: the first level is unpaired.
     let tests = read(&dir.join("tables/tests.csv"));
-    assert!(tests.lines().skip(1).all(|l| l.contains(",mann-whitney-u,")), "{tests}");
+    assert!(
+        tests
+            .lines()
+            .skip(1)
+            .all(|l| l.contains(",mann-whitney-u,")),
+        "{tests}"
+    );
     let verdicts = read(&dir.join("tables/verdicts.csv"));
     let row = |alg: &str, test: &str| -> Vec<String> {
         verdicts
             .lines()
             .map(|l| l.split(',').map(String::from).collect::<Vec<_>>())
             .find(|f| {
-                f[0] == "reference" && f[1] == "final-error" && f[2] == alg && f[4] == "all" && f[10] == test
+                f[0] == "reference"
+                    && f[1] == "final-error"
+                    && f[2] == alg
+                    && f[4] == "all"
+                    && f[10] == test
             })
             .unwrap_or_else(|| panic!("no {alg} {test} row in {verdicts}"))
     };
@@ -615,7 +637,13 @@ fn verdicts_across_functions_have_known_answers() {
     let x = row("X", "friedman-holm");
     assert_eq!(x[15], "no detectable difference");
     // 2(1 − Φ(1.5)) = 0.13361440253771617 (scipy.stats.norm.sf(1.5) * 2)
-    assert!((x[11].parse::<f64>().unwrap() - 0.13361440253771617).abs() < 1e-9, "{x:?}");
+    assert!(
+        (x[11].parse::<f64>().unwrap() - 0.13361440253771617).abs() < 1e-9,
+        "{x:?}"
+    );
     let md = read(&dir.join("report.md"));
-    assert!(md.contains("| reference | final-error | X | R | all | wilcoxon-signed-rank | 4/4/0 |"), "{md}");
+    assert!(
+        md.contains("| reference | final-error | X | R | all | wilcoxon-signed-rank | 4/4/0 |"),
+        "{md}"
+    );
 }

@@ -224,11 +224,7 @@ pub(crate) fn scopes(points: &[Levels]) -> Vec<Levels> {
             .iter()
             .flat_map(|p| p.0.iter().filter(|(f, _)| *f == key).map(|(_, l)| l))
             .collect();
-        out.extend(
-            levels
-                .into_iter()
-                .map(|l| Levels(vec![(key, l.clone())])),
-        );
+        out.extend(levels.into_iter().map(|l| Levels(vec![(key, l.clone())])));
     }
     if keep.len() > 1 {
         let distinct: BTreeSet<Levels> = points.iter().map(|p| restrict(p, &keep)).collect();

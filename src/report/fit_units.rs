@@ -227,9 +227,13 @@ pub(crate) fn observations(
         for ps in groups.values() {
             for &p in ps {
                 let levels = levels_of(fr, p);
-                let Some(rr) = unit_runs(fr, p, r) else { continue };
+                let Some(rr) = unit_runs(fr, p, r) else {
+                    continue;
+                };
                 for (c, cell) in fr.cells.iter().enumerate() {
-                    let Some(cr) = unit_runs(fr, p, c) else { continue };
+                    let Some(cr) = unit_runs(fr, p, c) else {
+                        continue;
+                    };
                     for (unit, e) in &cr {
                         standings.push(Standing {
                             table: "reference",
@@ -407,13 +411,16 @@ pub(crate) fn tables(
             "no segment-level method table: a single method ran the per-segment problems".into(),
         );
     } else {
-        methods
-            .intro
-            .extend(verdict_lines(&keys, |(pair, level)| format!("{pair} ({level})")));
+        methods.intro.extend(verdict_lines(&keys, |(pair, level)| {
+            format!("{pair} ({level})")
+        }));
         tables.push(methods);
     }
     (tables, notes)
 }
+
+/// The verdict of a row at its budget per segment.
+type BudgetVerdict = (Option<u64>, Option<Verdict>);
 
 /// A row's identity for the verdict lines: ((name, level), budget, verdict).
 type Keyed = ((String, String), Option<u64>, Option<Verdict>);
@@ -452,14 +459,25 @@ fn space_table(
                 continue;
             };
             let (name, reference) = space_names(cell, &alpha_size);
-            let v = find(rows, "search-space", Measure::FinalError, &name, &reference, &scope);
+            let v = find(
+                rows,
+                "search-space",
+                Measure::FinalError,
+                &name,
+                &reference,
+                &scope,
+            );
             let labels = vec![
                 format!("{function}/{continuity}"),
                 alpha_size.clone(),
                 budget.map_or("—".into(), |b| b.to_string()),
                 cell.clone(),
             ];
-            keys.push(((cell.clone(), alpha_size.clone()), *budget, v.map(|v| v.verdict)));
+            keys.push((
+                (cell.clone(), alpha_size.clone()),
+                *budget,
+                v.map(|v| v.verdict),
+            ));
             push_row(&mut table, labels, &r, v);
         }
     }
@@ -505,7 +523,11 @@ fn methods_table(
                     x.clone(),
                     y.clone(),
                 ];
-                keys.push(((format!("{x} against {y}"), level.clone()), *budget, v.map(|v| v.verdict)));
+                keys.push((
+                    (format!("{x} against {y}"), level.clone()),
+                    *budget,
+                    v.map(|v| v.verdict),
+                ));
                 push_row(&mut table, labels, &r, v);
             }
         }
@@ -518,7 +540,7 @@ fn methods_table(
 /// (technique): better at budgets 1000, 3000; no detectable difference at
 /// budget 10000 (of 3 budgets)."
 fn verdict_lines(keys: &[Keyed], name: impl Fn(&(String, String)) -> String) -> Vec<String> {
-    let mut by: BTreeMap<&(String, String), Vec<(Option<u64>, Option<Verdict>)>> = BTreeMap::new();
+    let mut by: BTreeMap<&(String, String), Vec<BudgetVerdict>> = BTreeMap::new();
     let mut order: Vec<&(String, String)> = Vec::new();
     for (id, b, v) in keys {
         if !order.contains(&id) {
@@ -549,7 +571,12 @@ fn verdict_lines(keys: &[Keyed], name: impl Fn(&(String, String)) -> String) -> 
                     ));
                 }
             }
-            format!("{}: {} (of {} budgets).", name(id), parts.join("; "), at.len())
+            format!(
+                "{}: {} (of {} budgets).",
+                name(id),
+                parts.join("; "),
+                at.len()
+            )
         })
         .collect()
 }

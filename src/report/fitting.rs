@@ -17,6 +17,7 @@ use std::path::Path;
 use super::data::Dataset;
 use super::format::{sci, Table};
 use super::plots::{Figure, Plot};
+use super::verdicts::Observation;
 use crate::experiment::records::{read_results, FitDetail, RunRecord};
 use crate::experiment::segments::segment_from_row;
 use crate::experiment::{DataError, DataProblem, ReadError};
@@ -24,7 +25,6 @@ use crate::files::fmt_real;
 use crate::fit::Segment;
 use crate::geometry::Point;
 use crate::reconstruction::{OverlayCurve, OverlayFigure, OverlayPanel};
-use super::verdicts::Observation;
 use crate::stats::{
     holm_bonferroni, mann_whitney_u, median, wilcoxon, Alternative, Mark, VerdictRow,
 };
@@ -874,8 +874,8 @@ pub(crate) fn treatment_observations(fr: &FitRuns<'_>) -> Vec<Observation> {
     use super::design::{Level, Levels};
     use super::verdicts::Measure;
     // Cases of whole outlines by (source, space level, budget).
-    let mut cases: BTreeMap<(String, String, Option<u64>), Vec<(usize, Case<'_>)>> =
-        BTreeMap::new();
+    type CaseKey = (String, String, Option<u64>);
+    let mut cases: BTreeMap<CaseKey, Vec<(usize, Case<'_>)>> = BTreeMap::new();
     for (p, problem) in fr.problems.iter().enumerate() {
         let Some(c) = split(&problem.name).filter(|c| !c.per_segment) else {
             continue;
@@ -923,7 +923,13 @@ pub(crate) fn treatment_observations(fr: &FitRuns<'_>) -> Vec<Observation> {
                 {
                     let a = (p, c.function);
                     let b = (q, "rational-cubic");
-                    compare("fitting-function", a, b, source, ("continuity", c.continuity));
+                    compare(
+                        "fitting-function",
+                        a,
+                        b,
+                        source,
+                        ("continuity", c.continuity),
+                    );
                 }
             }
             // G1 against C1 with the same function.
@@ -932,7 +938,13 @@ pub(crate) fn treatment_observations(fr: &FitRuns<'_>) -> Vec<Observation> {
                     .iter()
                     .find(|(_, d)| d.function == c.function && d.continuity == "c1")
                 {
-                    compare("continuity", (p, "g1"), (q, "c1"), source, ("function", c.function));
+                    compare(
+                        "continuity",
+                        (p, "g1"),
+                        (q, "c1"),
+                        source,
+                        ("function", c.function),
+                    );
                 }
             }
         }

@@ -40,8 +40,8 @@ use crate::files::{create_dir, write_atomic};
 pub use self::error::ReportError;
 use self::format::Table;
 pub use self::overlay::save_overlay;
-pub use self::verdicts::PostHoc;
 use self::plots::Plot;
+pub use self::verdicts::PostHoc;
 
 /// How to build a report.
 #[derive(Clone, Debug, PartialEq)]

@@ -19,18 +19,18 @@ use super::format::{p_value, sci, Table};
 use super::significance::{Comparison, Significance, Tally};
 use super::verdicts::{find, short, Measure};
 
+/// The first-level tallies per (design point, cell, measure).
+type Counts = BTreeMap<(usize, usize, Measure), Tally>;
+
 /// The first-level tallies per (design point, cell, measure), the design
 /// points in order.
-fn counts(
-    ds: &Dataset,
-    s: &Significance,
-) -> (Vec<Levels>, BTreeMap<(usize, usize, Measure), Tally>) {
+fn counts(ds: &Dataset, s: &Significance) -> (Vec<Levels>, Counts) {
     let points = design_points(ds);
     let mut order: Vec<Levels> = points.clone();
     order.sort();
     order.dedup();
     let index: BTreeMap<&Levels, usize> = order.iter().enumerate().map(|(i, d)| (d, i)).collect();
-    let mut out: BTreeMap<(usize, usize, Measure), Tally> = BTreeMap::new();
+    let mut out: Counts = BTreeMap::new();
     let mut add = |rows: &[Comparison], measure: Measure| {
         for row in rows {
             if let Some(o) = row.outcome {
@@ -204,7 +204,14 @@ pub(crate) fn tables(
         for &c in &cells {
             let name = &ds.cells[c].name;
             let k = counts.get(&(d, c, Measure::FinalError));
-            let v = find(rows, "reference", Measure::FinalError, name, reference, &scope);
+            let v = find(
+                rows,
+                "reference",
+                Measure::FinalError,
+                name,
+                reference,
+                &scope,
+            );
             md.push(cell_text(k, v));
             for measure in [Measure::FinalError, Measure::AnytimeAuc] {
                 let Some(k) = counts.get(&(d, c, measure)) else {
@@ -227,7 +234,10 @@ pub(crate) fn tables(
         }
         by_point.md_rows.push(md);
     }
-    vec![by_point, by_level(ds, &cells, &points, &counts, rows, reference)]
+    vec![
+        by_point,
+        by_level(ds, &cells, &points, &counts, rows, reference),
+    ]
 }
 
 /// The marks summed over the design points at each level of each factor,
@@ -236,7 +246,7 @@ fn by_level(
     ds: &Dataset,
     cells: &[usize],
     points: &[Levels],
-    counts: &BTreeMap<(usize, usize, Measure), Tally>,
+    counts: &Counts,
     rows: &[VerdictRow],
     reference: &str,
 ) -> Table {
@@ -375,7 +385,9 @@ pub(crate) fn budget_pairs_note(ds: &Dataset, paired: &[String]) -> Option<Strin
                         };
                         pairs += 1;
                         prefixes += usize::from(same_value(at, short.error));
-                        worse += usize::from(long.error > short.error && !same_value(long.error, short.error));
+                        worse += usize::from(
+                            long.error > short.error && !same_value(long.error, short.error),
+                        );
                     }
                 }
             }
@@ -507,7 +519,9 @@ mod tests {
         assert_eq!(scopes, ["all", "budget=1000", "budget=10000"]);
         assert!(rows.iter().all(|r| r.across.p_min == 0.5));
         assert!(
-            t[0].intro[1].starts_with("B against A, final-error: no detectable difference over all 2 functions"),
+            t[0].intro[1].starts_with(
+                "B against A, final-error: no detectable difference over all 2 functions"
+            ),
             "{}",
             t[0].intro[1]
         );

@@ -171,7 +171,10 @@ pub(crate) fn floor_of(threshold: Option<f64>) -> f64 {
 /// The runs of two cells on one problem, aligned by run number when they
 /// are paired by design: same run numbers, and equal seeds run by run.
 fn paired_by_design(a: &[Run], r: &[Run]) -> bool {
-    a.len() == r.len() && a.iter().zip(r).all(|(x, y)| x.run == y.run && x.seed == y.seed)
+    a.len() == r.len()
+        && a.iter()
+            .zip(r)
+            .all(|(x, y)| x.run == y.run && x.seed == y.seed)
 }
 
 /// The test of `a` against `r` that matches the design.
@@ -267,8 +270,8 @@ impl Context<'_> {
             |n| rng.index(n),
         )
         .ok();
-        let both_solved = measure == Measure::FinalError
-            && a_runs.iter().chain(r_runs).all(|x| x.success);
+        let both_solved =
+            measure == Measure::FinalError && a_runs.iter().chain(r_runs).all(|x| x.success);
         // Solved on both sides, the two are equal whatever the floor.
         let (effect, ci) = if both_solved {
             (1.0, None)
@@ -603,7 +606,15 @@ pub(crate) fn comparison_table(
         ],
         md_header,
         csv_header: [
-            "problem", "dim", "algorithm", "kind", "params", "mean", "sd", "test", "mark",
+            "problem",
+            "dim",
+            "algorithm",
+            "kind",
+            "params",
+            "mean",
+            "sd",
+            "test",
+            "mark",
         ]
         .map(String::from)
         .to_vec(),
@@ -1141,7 +1152,13 @@ mod tests {
         let mut v = Vec::new();
         for run in 0..10 {
             let x = f64::from(run);
-            let seed = |alg: u64| if shared_seeds { u64::from(run) } else { alg * 100 + u64::from(run) };
+            let seed = |alg: u64| {
+                if shared_seeds {
+                    u64::from(run)
+                } else {
+                    alg * 100 + u64::from(run)
+                }
+            };
             // On "a": A always better than R, B always worse, C equal.
             v.push(rec("R", "a", run, seed(0), 1.0 + x));
             v.push(rec("A", "a", run, seed(1), 0.5 + x * 0.9));

@@ -469,7 +469,10 @@ mod tests {
     #[test]
     fn four_equal_four_better_is_no_detectable_difference_eight_better_is_better() {
         let mut o = Vec::new();
-        for (i, f) in ["f1", "f2", "f3", "f4", "f5", "f6", "f7", "f8"].iter().enumerate() {
+        for (i, f) in ["f1", "f2", "f3", "f4", "f5", "f6", "f7", "f8"]
+            .iter()
+            .enumerate()
+        {
             o.push(obs("X", f, 1000, if i < 4 { 0.0 } else { -3.0 }));
             o.push(obs("Y", f, 1000, -3.0));
         }
@@ -517,6 +520,8 @@ mod tests {
         // The unit's summary at scope all is the median of its ten values.
         assert_eq!(rows[0].across.effect_size, 0.0);
         assert_eq!(rows[1].across.effect_size, -3.0);
-        assert!(rows.iter().all(|r| r.verdict == Verdict::NoDetectableDifference));
+        assert!(rows
+            .iter()
+            .all(|r| r.verdict == Verdict::NoDetectableDifference));
     }
 }

@@ -186,8 +186,10 @@ impl VerdictTest {
 /// measure, over which scope, by which test, and the verdict.
 #[derive(Clone, Debug, PartialEq)]
 pub struct VerdictRow {
-    /// The comparison set the row belongs to (its correction family is the
-    /// rows of one table, measure, test and scope).
+    /// The comparison set the row belongs to. The report's correction family
+    /// is the rows of one table, measure, test and scope (accuracy and
+    /// convergence are separate claims); the implant's is the rows of one
+    /// table and scope, its metrics together.
     pub table: String,
     /// What is compared: `final-error`, `anytime-auc`, a metric name.
     pub measure: String,
