@@ -11,13 +11,14 @@ use std::fmt::Write as _;
 use super::pipeline::{Implant, SliceResult};
 use super::spec::{ImplantSpec, ValidationSpec};
 use super::units::{
-    case_differences, cluster_of, decide_families, scoped_rows, slice_clusters, CaseId, Comparison,
-    Observation, SliceCluster, UnitKey,
+    case_differences, decide_families, scoped_rows, slice_clusters, Comparison, Observation,
+    SliceCluster,
 };
 use super::validation::{CaseMetrics, ValidationRow};
 use crate::ct::{contour_deviation, Volume};
 use crate::files::{csv_bytes, fmt_real};
 use crate::markdown::{self, Alignment};
+use crate::reconstruction::Method;
 use crate::stats::{median, smallest_signed_rank_p, VerdictRow, VERDICT_COLUMNS};
 
 pub(crate) fn r(x: f64) -> String {
@@ -530,23 +531,14 @@ fn observations<'r>(
     rows.iter()
         .filter_map(|r| {
             let value = r.metrics.as_ref().ok().map(f)?;
-            let cluster = cluster_of(clusters, (r.z, r.z)).unwrap_or(SliceCluster {
-                first: r.z,
-                last: r.z,
-            });
-            Some(Observation {
-                case: CaseId {
-                    slices: (r.z, r.z),
-                    position_deg: r.case.position_deg,
-                    width_mm: r.case.width_mm,
-                },
-                unit: UnitKey {
-                    cluster,
-                    position_deg: r.case.position_deg,
-                },
-                method: r.method.as_str(),
+            let case = (r.case.position_deg, r.case.width_mm);
+            Some(Observation::at(
+                clusters,
+                (r.z, r.z),
+                case,
+                &r.method,
                 value,
-            })
+            ))
         })
         .collect()
 }
@@ -564,28 +556,14 @@ fn validation_verdicts(
         .iter()
         .map(|m| observations(rows, &clusters, m.2))
         .collect();
-    let mut verdicts = Vec::new();
-    for cm in val.methods.iter().map(|m| format!("curve:{}", m.name())) {
-        for base in ["template", "straight"] {
-            for ((_, measure, _, larger_better), obs) in METRICS.iter().zip(&obs) {
-                let cmp = Comparison {
-                    table: VALIDATION_2D_TABLE,
-                    measure,
-                    algorithm: &cm,
-                    reference: base,
-                    lower_is_better: !larger_better,
-                };
-                let diffs = case_differences(obs, &cm, base);
-                verdicts.extend(scoped_rows(&cmp, &diffs, &val.widths));
-            }
-        }
-    }
-    let mut verdicts = in_family_order(verdicts);
-    let mut decided: Vec<VerdictRow> = verdicts.iter().map(|v| v.0.clone()).collect();
-    decide_families(&mut decided, val.alpha);
-    for (v, d) in verdicts.iter_mut().zip(&decided) {
-        v.0 = d.clone();
-    }
+    let verdicts = decided_rows(
+        VALIDATION_2D_TABLE,
+        &val.methods,
+        &METRICS,
+        &obs,
+        &val.widths,
+        val.alpha,
+    );
     let _ = writeln!(
         report,
         "### What the curve fit adds (verdicts across independent units)\n"
@@ -605,7 +583,46 @@ fn validation_verdicts(
         )
     );
     verdict_tables(report, &verdicts);
-    decided
+    verdicts.into_iter().map(|v| v.0).collect()
+}
+
+/// The verdict rows of every curve method in `methods` against both
+/// baselines on every metric (name, `verdicts.csv` name, accessor, whether
+/// larger is better; its observations in `obs`), at scope `all` and per
+/// width, in family order and decided per family at level `alpha`; each row
+/// with its count of cases where the curve fit is strictly better.
+pub(crate) fn decided_rows<F>(
+    table: &str,
+    methods: &[Method],
+    metrics: &[(&'static str, &'static str, F, bool)],
+    obs: &[Vec<Observation<'_>>],
+    widths: &[f64],
+    alpha: f64,
+) -> Vec<(VerdictRow, usize)> {
+    let mut verdicts = Vec::new();
+    for cm in methods.iter().map(|m| format!("curve:{}", m.name())) {
+        let cm = cm.as_str();
+        for base in ["template", "straight"] {
+            for ((_, measure, _, larger_better), obs) in metrics.iter().zip(obs) {
+                let cmp = Comparison {
+                    table,
+                    measure,
+                    algorithm: cm,
+                    reference: base,
+                    lower_is_better: !larger_better,
+                };
+                let diffs = case_differences(obs, cm, base);
+                verdicts.extend(scoped_rows(&cmp, &diffs, widths));
+            }
+        }
+    }
+    let mut verdicts = in_family_order(verdicts);
+    let mut decided: Vec<VerdictRow> = verdicts.iter().map(|v| v.0.clone()).collect();
+    decide_families(&mut decided, alpha);
+    for (v, d) in verdicts.iter_mut().zip(&decided) {
+        v.0 = d.clone();
+    }
+    verdicts
 }
 
 /// `rows` ordered by scope (`all` first, then the widths in spec order),

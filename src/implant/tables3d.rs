@@ -6,12 +6,9 @@ use std::fmt::Write as _;
 
 use super::spec::Validation3dSpec;
 use super::tables::{
-    cluster_list, design_text, family_size, in_family_order, medians_by_width, r, verdict_tables,
+    cluster_list, decided_rows, design_text, family_size, medians_by_width, r, verdict_tables,
 };
-use super::units::{
-    case_differences, cluster_of, decide_families, range_clusters, scoped_rows, CaseId, Comparison,
-    Observation, SliceCluster, UnitKey,
-};
+use super::units::{range_clusters, Observation, SliceCluster};
 use super::validation3d::{Metrics3d, Row3d};
 use crate::files::csv_bytes;
 use crate::markdown::{self, Alignment};
@@ -134,24 +131,14 @@ fn observations_3d<'r>(
     rows.iter()
         .filter_map(|r| {
             let value = r.metrics.as_ref().ok().map(f)?;
-            let (z0, z1) = r.case.range;
-            let cluster = cluster_of(clusters, (z0, z1)).unwrap_or(SliceCluster {
-                first: z0.min(z1),
-                last: z0.max(z1),
-            });
-            Some(Observation {
-                case: CaseId {
-                    slices: r.case.range,
-                    position_deg: r.case.position_deg,
-                    width_mm: r.case.width_mm,
-                },
-                unit: UnitKey {
-                    cluster,
-                    position_deg: r.case.position_deg,
-                },
-                method: r.method.as_str(),
+            let case = (r.case.position_deg, r.case.width_mm);
+            Some(Observation::at(
+                clusters,
+                r.case.range,
+                case,
+                &r.method,
                 value,
-            })
+            ))
         })
         .collect()
 }
@@ -165,28 +152,14 @@ fn verdicts_3d(report: &mut String, val: &Validation3dSpec, rows: &[Row3d]) -> V
         .iter()
         .map(|m| observations_3d(rows, &clusters, m.2))
         .collect();
-    let mut verdicts = Vec::new();
-    for cm in val.methods.iter().map(|m| format!("curve:{}", m.name())) {
-        for base in ["template", "straight"] {
-            for ((_, measure, _, larger_better), obs) in METRICS_3D.iter().zip(&obs) {
-                let cmp = Comparison {
-                    table: VALIDATION_3D_TABLE,
-                    measure,
-                    algorithm: &cm,
-                    reference: base,
-                    lower_is_better: !larger_better,
-                };
-                let diffs = case_differences(obs, &cm, base);
-                verdicts.extend(scoped_rows(&cmp, &diffs, &val.widths));
-            }
-        }
-    }
-    let mut verdicts = in_family_order(verdicts);
-    let mut decided: Vec<VerdictRow> = verdicts.iter().map(|v| v.0.clone()).collect();
-    decide_families(&mut decided, val.alpha);
-    for (v, d) in verdicts.iter_mut().zip(&decided) {
-        v.0 = d.clone();
-    }
+    let verdicts = decided_rows(
+        VALIDATION_3D_TABLE,
+        &val.methods,
+        &METRICS_3D,
+        &obs,
+        &val.widths,
+        val.alpha,
+    );
     let cases = verdicts.first().map_or(0, |v| v.0.problems);
     let _ = writeln!(
         report,
@@ -202,5 +175,5 @@ fn verdicts_3d(report: &mut String, val: &Validation3dSpec, rows: &[Row3d]) -> V
         )
     );
     verdict_tables(report, &verdicts);
-    decided
+    verdicts.into_iter().map(|v| v.0).collect()
 }

@@ -178,6 +178,37 @@ pub struct Observation<'r> {
     pub value: f64,
 }
 
+impl<'r> Observation<'r> {
+    /// The observation of a case through `slices` (first, last) at a
+    /// position and width: its unit is the cluster of `clusters` that holds
+    /// the slices (the slices themselves when none does) at that position.
+    pub fn at(
+        clusters: &[SliceCluster],
+        slices: (usize, usize),
+        (position_deg, width_mm): (f64, f64),
+        method: &'r str,
+        value: f64,
+    ) -> Self {
+        let cluster = cluster_of(clusters, slices).unwrap_or(SliceCluster {
+            first: slices.0.min(slices.1),
+            last: slices.0.max(slices.1),
+        });
+        Observation {
+            case: CaseId {
+                slices,
+                position_deg,
+                width_mm,
+            },
+            unit: UnitKey {
+                cluster,
+                position_deg,
+            },
+            method,
+            value,
+        }
+    }
+}
+
 /// One case's difference d = median over the compared method's runs −
 /// median over the reference's runs (one run for the deterministic
 /// baselines).

@@ -12,6 +12,7 @@
 use statrs::distribution::{ContinuousCDF, Normal};
 
 use super::error::StatsError;
+use super::holm::step_down;
 
 /// The comparison of one algorithm with the control after Friedman's test.
 #[derive(Clone, Debug, PartialEq)]
@@ -95,24 +96,6 @@ pub fn smallest_friedman_control_p(k: usize, n_blocks: usize) -> f64 {
     two_sided_normal_p((k - 1) as f64 / rank_se(k, n_blocks))
 }
 
-fn check_p_values(p_values: &[f64]) -> Result<(), StatsError> {
-    for (index, &p) in p_values.iter().enumerate() {
-        if p.is_nan() {
-            return Err(StatsError::NotANumber {
-                what: "p-values",
-                index,
-            });
-        }
-        if !(0.0..=1.0).contains(&p) {
-            return Err(StatsError::InvalidParameter {
-                name: "p_values",
-                reason: "every p-value must lie in [0, 1]",
-            });
-        }
-    }
-    Ok(())
-}
-
 /// Finner-adjusted p-values in the original order: with p₍₁₎ ≤ … ≤ p₍ₘ₎,
 /// p̃₍ᵢ₎ = min(1, maxⱼ≤ᵢ 1 − (1 − p₍ⱼ₎)^(m/j)) (Finner 1993, "On a
 /// monotonicity problem in step-down multiple test procedures", J. Amer.
@@ -123,19 +106,9 @@ fn check_p_values(p_values: &[f64]) -> Result<(), StatsError> {
 /// An empty slice gives an empty vector; NaN or a value outside [0, 1] is an
 /// error.
 pub fn finner(p_values: &[f64]) -> Result<Vec<f64>, StatsError> {
-    check_p_values(p_values)?;
-    let m = p_values.len();
-    let mut order: Vec<usize> = (0..m).collect();
-    order.sort_by(|&a, &b| p_values[a].total_cmp(&p_values[b]));
-    let mut adjusted = vec![0.0; m];
-    let mut running_max: f64 = 0.0;
-    for (rank, &idx) in order.iter().enumerate() {
-        let j = (rank + 1) as f64;
-        let candidate = 1.0 - (1.0 - p_values[idx]).powf(m as f64 / j);
-        running_max = running_max.max(candidate);
-        adjusted[idx] = running_max.min(1.0);
-    }
-    Ok(adjusted)
+    step_down(p_values, |p, j, m| {
+        1.0 - (1.0 - p).powf(m as f64 / j as f64)
+    })
 }
 
 #[cfg(test)]
