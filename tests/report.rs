@@ -283,6 +283,13 @@ fn report_of_a_parameter_grid() {
     assert!(best.lines().last().unwrap().starts_with("overall,,MHS,"));
     let ranks = read(&dir.join("tables/tuning_ranks_mhs.csv"));
     assert_eq!(ranks.lines().count(), 1 + 6);
+    // The pick, with its stability over bootstrap resamples and its edges.
+    let picks = read(&dir.join("tables/tuning_picks_mhs.csv"));
+    assert_eq!(picks.lines().count(), 1 + 1);
+    assert!(picks.starts_with(
+        "algorithm,params,setting,mean_rank,runner_up,runner_up_params,runner_up_mean_rank,stability,"
+    ));
+    assert!(picks.lines().nth(1).unwrap().starts_with("MHS,"));
     for ext in ["svg", "png"] {
         assert!(dir
             .join("plots")

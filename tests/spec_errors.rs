@@ -265,3 +265,73 @@ fn grids_of_transforms_instances_and_budgets_expand_with_keys() {
     let base = Spec::parse(Path::new("spec.toml"), BASE).unwrap();
     assert_eq!(base.problems[0].key(), "sphere-2");
 }
+
+#[test]
+fn instance_lists_name_fixed_instances_and_are_checked() {
+    let with = |extra: &str| BASE.replace("dim = 2\n", &format!("dim = 2\n{extra}\n"));
+    let keys = |text: &str| -> Vec<String> {
+        Spec::parse(Path::new("spec.toml"), text)
+            .unwrap()
+            .problems
+            .iter()
+            .map(|p| p.key())
+            .collect()
+    };
+    // A list names its instances, in its order; the published function
+    // keeps its one instance.
+    assert_eq!(
+        keys(&with(
+            "transform = [\"none\", \"shift-rotate\"]\ninstances = [8, 6, 7]"
+        )),
+        [
+            "sphere-2",
+            "sphere-2|transform=shift-rotate|instance=8",
+            "sphere-2|transform=shift-rotate|instance=6",
+            "sphere-2|transform=shift-rotate|instance=7",
+        ]
+    );
+    // The list 1..N is the count N, key for key.
+    assert_eq!(
+        keys(&with("transform = \"shift\"\ninstances = [1, 2, 3]")),
+        keys(&with("transform = \"shift\"\ninstances = 3"))
+    );
+    let problem =
+        |instances: &str| with(&format!("transform = \"shift\"\ninstances = {instances}"));
+    assert_eq!(
+        error_of(&problem("[]")),
+        "spec.toml:11:13: problem[1].instances: expected a value or a non-empty list, found an empty list"
+    );
+    assert_eq!(
+        error_of(&problem("[6, 7, 6]")),
+        "spec.toml:11:20: problem[1].instances: instance 6 is listed twice; give a count N (instances 1..N) or a list of distinct instance numbers"
+    );
+    assert_eq!(
+        error_of(&problem("[6, 0]")),
+        "spec.toml:11:17: problem[1].instances: expected an integer in 1..=10000, found 0"
+    );
+    assert_eq!(
+        error_of(&problem("[6, 7.5]")),
+        "spec.toml:11:17: problem[1].instances: expected an integer in 1..=10000, found 7.5"
+    );
+    assert_eq!(
+        error_of(&problem("[\"6\"]")),
+        "spec.toml:11:14: problem[1].instances: expected an integer in 1..=10000, found \"6\""
+    );
+    assert_eq!(
+        error_of(&problem("[6, 10001]")),
+        "spec.toml:11:17: problem[1].instances: expected an integer in 1..=10000, found 10001"
+    );
+    assert_eq!(
+        error_of(&problem("10001")),
+        "spec.toml:11:13: problem[1].instances: expected an integer in 1..=10000, found 10001"
+    );
+    // A bbob list is checked by the same code.
+    let bbob = BASE.replace(
+        "function = \"sphere\"\ndim = 2",
+        "suite = \"bbob\"\nfunction = 1\ndim = 2\ninstances = [2, 2]",
+    );
+    assert_eq!(
+        error_of(&bbob),
+        "spec.toml:11:17: problem[1].instances: instance 2 is listed twice; give a count N (instances 1..N) or a list of distinct instance numbers"
+    );
+}

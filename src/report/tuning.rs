@@ -4,11 +4,15 @@
 
 use std::collections::BTreeMap;
 
+use crate::rng::{fnv1a64, run_rng, Draw};
 use crate::stats::friedman;
 
 use super::data::{param_value, varying_params, Dataset};
 use super::descriptive::{mean_error, CellStats};
 use super::format::{csv_real, fixed2, sci_opt, Table};
+
+/// Bootstrap resamples of the runs behind the stability of a pick.
+const RESAMPLES: usize = 200;
 
 /// Cells with one label that differ in their parameters.
 #[derive(Clone, Debug, PartialEq)]
@@ -256,17 +260,25 @@ fn overall_row(ds: &Dataset, grid: &Grid, r: &[f64], i: usize, best: &mut Table)
     ]);
 }
 
-/// The tables of a grid: the best setting per problem and overall, and the
-/// mean rank of every setting.
+/// The tables of a grid: the best setting per problem and overall, the
+/// mean rank of every setting, and the pick with its stability, its edges
+/// and its cost.
 pub(crate) fn tables(ds: &Dataset, grid: &Grid, stats: &[Vec<Option<CellStats>>]) -> Vec<Table> {
     let mut best = best_table(ds, grid, stats);
     let mut ranks = ranks_frame(grid);
+    let mut picks = picks_frame(ds, grid);
     let Some((blocks, r)) = mean_ranks(ds, grid, stats) else {
         ranks.intro.push(
             "No problem was run by every setting with a defined mean error: no ranks.".into(),
         );
-        return vec![best, ranks];
+        picks.intro.insert(
+            0,
+            "No problem was run by every setting with a defined mean error: no pick.".into(),
+        );
+        return vec![best, ranks, picks];
     };
+    let pick = pick(ds, grid, &blocks, &r);
+    picks_rows(ds, grid, &blocks, &r, &pick, &mut picks);
     ranks.intro.push(format!(
         "Mean rank of the mean final error over the {} problem(s) run by every \
          setting (rank 1 = lowest error, ties share the average rank).",
@@ -292,7 +304,315 @@ pub(crate) fn tables(ds: &Dataset, grid: &Grid, stats: &[Vec<Option<CellStats>>]
     if let Some(&i) = order.first() {
         overall_row(ds, grid, &r, i, &mut best);
     }
-    vec![best, ranks]
+    vec![best, ranks, picks]
+}
+
+/// The pick of a grid and how far to trust it.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Pick {
+    /// Grid index of the pick: the lowest mean rank, the first among ties.
+    pub index: usize,
+    /// Grid index of the runner-up (the next lowest mean rank), if any.
+    pub runner_up: Option<usize>,
+    /// The fraction of the bootstrap resamples of the runs that pick the
+    /// same setting.
+    pub stability: f64,
+    /// The setting picked most often instead (the first among ties), with
+    /// its fraction of the resamples; `None` when every resample agrees.
+    pub instead: Option<(usize, f64)>,
+}
+
+/// The index of the smallest value, the first among ties.
+fn argmin(values: &[f64]) -> usize {
+    let mut best = 0;
+    for (i, v) in values.iter().enumerate() {
+        if v.total_cmp(&values[best]).is_lt() {
+            best = i;
+        }
+    }
+    best
+}
+
+/// Adds the mid-ranks of `row` (1 = lowest, ties share their average rank)
+/// to `sums`; `order` is scratch space.
+fn add_midranks(row: &[f64], order: &mut Vec<usize>, sums: &mut [f64]) {
+    order.clear();
+    order.extend(0..row.len());
+    order.sort_by(|&a, &b| row[a].total_cmp(&row[b]));
+    let mut i = 0;
+    while i < order.len() {
+        let mut j = i + 1;
+        while j < order.len() && row[order[j]] == row[order[i]] {
+            j += 1;
+        }
+        // Positions i..j (0-based) share the ranks i+1..=j.
+        let rank = (i + j + 1) as f64 / 2.0;
+        for &k in &order[i..j] {
+            sums[k] += rank;
+        }
+        i = j;
+    }
+}
+
+/// The pick of a grid from its mean ranks `r` over the problems `blocks`,
+/// with the runner-up and the stability over [`RESAMPLES`] bootstrap
+/// resamples of the runs: each draws, within every (setting, problem), as
+/// many runs as it has, with replacement, and recomputes the mean final
+/// errors, the ranks and the pick. The draws are seeded by the grid's
+/// label, so the same results give the same stability.
+fn pick(ds: &Dataset, grid: &Grid, blocks: &[usize], r: &[f64]) -> Pick {
+    let mut order: Vec<usize> = (0..r.len()).collect();
+    order.sort_by(|&a, &b| r[a].total_cmp(&r[b]).then(a.cmp(&b)));
+    let index = order[0];
+    let samples: Vec<Vec<Vec<f64>>> = blocks
+        .iter()
+        .map(|&p| grid.cells.iter().map(|&c| ds.errors(p, c)).collect())
+        .collect();
+    let mut rng = run_rng(fnv1a64(&format!("tuning-bootstrap/{}", grid.label)));
+    let mut counts = vec![0usize; r.len()];
+    let (mut row, mut sums) = (vec![0.0; r.len()], vec![0.0; r.len()]);
+    let mut scratch = Vec::with_capacity(r.len());
+    for _ in 0..RESAMPLES {
+        sums.fill(0.0);
+        for block in &samples {
+            for (m, errors) in row.iter_mut().zip(block) {
+                let n = errors.len();
+                let total: f64 = (0..n).map(|_| errors[rng.index(n)]).sum();
+                *m = total / n as f64;
+            }
+            add_midranks(&row, &mut scratch, &mut sums);
+        }
+        counts[argmin(&sums)] += 1;
+    }
+    let share = |k: usize| k as f64 / RESAMPLES as f64;
+    let instead = (0..counts.len())
+        .filter(|&i| i != index && counts[i] > 0)
+        .fold(None, |best: Option<usize>, i| match best {
+            Some(b) if counts[b] >= counts[i] => Some(b),
+            _ => Some(i),
+        })
+        .map(|i| (i, share(counts[i])));
+    Pick {
+        index,
+        runner_up: order.get(1).copied(),
+        stability: share(counts[index]),
+        instead,
+    }
+}
+
+/// For each varying parameter with three or more numeric values in the
+/// grid, whether `cell` takes its smallest or largest value:
+/// `hmcr=0.99 (largest of 0.7, 0.9, 0.99)`.
+fn edges(ds: &Dataset, grid: &Grid, cell: usize) -> Vec<String> {
+    let value = |c: usize, k: &str| param_value(&ds.cells[c], k).unwrap_or_default();
+    let mut out = Vec::new();
+    for k in &grid.varying {
+        let values = sorted_values(grid.cells.iter().map(|&c| value(c, k)).collect());
+        let numeric = values
+            .iter()
+            .all(|v| v.parse::<f64>().is_ok_and(f64::is_finite));
+        if values.len() < 3 || !numeric {
+            continue;
+        }
+        let v = value(cell, k);
+        let side = if values.first() == Some(&v) {
+            "smallest"
+        } else if values.last() == Some(&v) {
+            "largest"
+        } else {
+            continue;
+        };
+        out.push(format!("{k}={v} ({side} of {})", values.join(", ")));
+    }
+    out
+}
+
+/// What a grid's runs cost: (runs, evaluations, the sum of their wall
+/// times when every run's was recorded).
+fn cost(ds: &Dataset, grid: &Grid) -> (usize, u128, Option<f64>) {
+    let (mut runs, mut evaluations, mut wall) = (0, 0u128, Some(0.0));
+    for p in 0..ds.problems.len() {
+        for &c in &grid.cells {
+            for run in ds.runs(p, c) {
+                runs += 1;
+                evaluations += u128::from(run.evaluations);
+                wall = match (wall, run.wall_seconds) {
+                    (Some(w), Some(s)) if ds.has_timing => Some(w + s),
+                    _ => None,
+                };
+            }
+        }
+    }
+    (runs, evaluations, wall.filter(|_| runs > 0))
+}
+
+/// An integer with thousands separators: `108,000,000`.
+fn grouped(n: u128) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, d) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
+            out.push(',');
+        }
+        out.push(d);
+    }
+    out
+}
+
+/// A wall time in seconds, with minutes or hours when long: `754.2 s
+/// (12.6 min)`.
+fn duration(seconds: f64) -> String {
+    if seconds >= 3600.0 {
+        format!("{seconds:.1} s ({:.2} h)", seconds / 3600.0)
+    } else if seconds >= 60.0 {
+        format!("{seconds:.1} s ({:.1} min)", seconds / 60.0)
+    } else {
+        format!("{seconds:.1} s")
+    }
+}
+
+/// The picks table of a grid, with its headers and the paragraph on its
+/// cost; the rows come from [`picks_rows`].
+fn picks_frame(ds: &Dataset, grid: &Grid) -> Table {
+    let (runs, evaluations, wall) = cost(ds, grid);
+    let wall = match wall {
+        Some(w) => format!(
+            "{} of wall time (the sum of the runs' times, i.e. on one thread)",
+            duration(w)
+        ),
+        None => "wall time not recorded (no timing.csv)".to_owned(),
+    };
+    Table {
+        stem: format!("tuning_picks_{}", grid.slug),
+        title: format!(
+            "Parameter tuning of {}: the pick, its stability and its edges",
+            grid.label
+        ),
+        intro: vec![format!(
+            "Cost of the tuning: the {} runs of the {} settings of {} used {} \
+             evaluations and {wall}.",
+            grouped(runs as u128),
+            grid.cells.len(),
+            grid.label,
+            grouped(evaluations)
+        )],
+        md_header: [
+            "Pick",
+            "Mean rank",
+            "Runner-up",
+            "Its mean rank",
+            "Stability",
+            "Picked instead",
+            "On the edge of its grid",
+        ]
+        .map(String::from)
+        .to_vec(),
+        csv_header: [
+            "algorithm",
+            "params",
+            "setting",
+            "mean_rank",
+            "runner_up",
+            "runner_up_params",
+            "runner_up_mean_rank",
+            "stability",
+            "instead",
+            "instead_share",
+            "resamples",
+            "edge",
+            "problems",
+            "runs",
+            "evaluations",
+            "wall_seconds",
+        ]
+        .map(String::from)
+        .to_vec(),
+        ..Table::default()
+    }
+}
+
+/// Fills the picks table of a grid: the paragraphs on the pick and its
+/// stability, the warning of an edge, and the row.
+fn picks_rows(ds: &Dataset, grid: &Grid, blocks: &[usize], r: &[f64], pick: &Pick, t: &mut Table) {
+    let c = grid.cells[pick.index];
+    t.intro.insert(
+        0,
+        format!(
+            "The pick is the setting with the lowest mean rank over the {} problem(s) \
+             (ties: the first in spec order), the runner-up the next. Stability is the \
+             fraction of {RESAMPLES} bootstrap resamples of the runs that pick the same \
+             setting: each resample draws, within every setting and problem, as many runs \
+             as it has, with replacement, and recomputes the mean final errors, the ranks \
+             and the pick (seeded by the grid's label, so the same results give the same \
+             table). Well below 1, the runs do not single the pick out: \"picked instead\" \
+             names the setting the resamples chose most often in its place.",
+            blocks.len()
+        ),
+    );
+    if pick.stability < 0.5 {
+        let instead = pick.instead.map_or_else(String::new, |(i, share)| {
+            format!(
+                ", and {} is picked in {share:.3} of them",
+                grid.setting(ds, grid.cells[i])
+            )
+        });
+        t.intro.push(format!(
+            "Caution: only {:.3} of the resamples pick {}{instead}: these runs do not \
+             single out a best setting.",
+            pick.stability,
+            grid.setting(ds, c)
+        ));
+    }
+    let edge = edges(ds, grid, c);
+    if !edge.is_empty() {
+        t.intro.push(format!(
+            "Warning: the pick {} is on the edge of its grid ({}): the best setting \
+             may lie outside it.",
+            grid.setting(ds, c),
+            edge.join("; ")
+        ));
+    }
+    let (runs, evaluations, wall) = cost(ds, grid);
+    let runner = pick.runner_up;
+    let setting =
+        |i: Option<usize>| i.map_or_else(String::new, |i| grid.setting(ds, grid.cells[i]));
+    let rank = |i: Option<usize>| i.map(|i| r[i]);
+    let instead = match pick.instead {
+        Some((i, share)) => format!("{} ({share:.3})", grid.setting(ds, grid.cells[i])),
+        None => "none".into(),
+    };
+    t.md_rows.push(vec![
+        grid.setting(ds, c),
+        fixed2(r[pick.index]),
+        setting(runner),
+        rank(runner).map_or_else(String::new, fixed2),
+        format!("{:.3}", pick.stability),
+        instead,
+        if edge.is_empty() {
+            "no".into()
+        } else {
+            edge.join("; ")
+        },
+    ]);
+    t.csv_rows.push(vec![
+        grid.label.clone(),
+        ds.cells[c].params.clone(),
+        grid.setting(ds, c),
+        csv_real(r[pick.index]),
+        setting(runner),
+        runner.map_or_else(String::new, |i| ds.cells[grid.cells[i]].params.clone()),
+        rank(runner).map_or_else(String::new, csv_real),
+        csv_real(pick.stability),
+        pick.instead
+            .map_or_else(String::new, |(i, _)| grid.setting(ds, grid.cells[i])),
+        pick.instead.map_or_else(String::new, |(_, s)| csv_real(s)),
+        RESAMPLES.to_string(),
+        edge.join("; "),
+        blocks.len().to_string(),
+        runs.to_string(),
+        evaluations.to_string(),
+        wall.map_or_else(String::new, csv_real),
+    ]);
 }
 
 /// One problem's panel of a heat map.
@@ -550,5 +870,153 @@ mod tests {
             "(hmcr 0.7, bw 0.01) was not run"
         );
         assert_eq!(h.panels[0].best, Some((0, 1)));
+    }
+
+    /// A grid of HS over hmcr × bw on `problems`, with `runs` runs of final
+    /// error `error(hmcr, bw, problem, run)`, each run taking half a second.
+    fn hs_grid(
+        hmcr: &[&str],
+        bw: &[&str],
+        problems: &[&str],
+        runs: u32,
+        error: impl Fn(&str, &str, usize, u32) -> f64,
+    ) -> Dataset {
+        let mut v = Vec::new();
+        for run in 0..runs {
+            for h in hmcr {
+                for b in bw {
+                    for (p, problem) in problems.iter().enumerate() {
+                        let params = format!("hms=5;hmcr={h};bw={b}");
+                        let mut r = rec("HS", &params, problem, run, error(h, b, p, run));
+                        r.0.wall_seconds = 0.5;
+                        v.push(r);
+                    }
+                }
+            }
+        }
+        let mut ds = Dataset::from_records(v);
+        ds.has_timing = true;
+        ds
+    }
+
+    #[test]
+    fn a_pick_far_ahead_is_stable_and_its_edge_is_flagged() {
+        let ds = hs_grid(
+            &["0.7", "0.9", "0.99"],
+            &["0.01", "0.1"],
+            &["f", "g"],
+            5,
+            |h, b, p, run| {
+                let spread = 1.0 + f64::from(run) + p as f64;
+                if (h, b) == ("0.99", "0.01") {
+                    1e-3 * spread
+                } else {
+                    spread + h.parse::<f64>().unwrap()
+                }
+            },
+        );
+        let stats = compute(&ds);
+        let g = &grids(&ds)[0];
+        let t = tables(&ds, g, &stats);
+        let picks = &t[2];
+        assert_eq!(picks.stem, "tuning_picks_hs");
+        let row = &picks.csv_rows[0];
+        let col = |name: &str| {
+            let i = picks.csv_header.iter().position(|h| h == name).unwrap();
+            row[i].as_str()
+        };
+        assert_eq!(col("setting"), "hmcr=0.99, bw=0.01");
+        assert_eq!(col("params"), "hms=5;hmcr=0.99;bw=0.01");
+        assert_eq!(col("mean_rank"), "1");
+        assert_eq!(col("stability"), "1");
+        assert_eq!(col("instead"), "");
+        assert_eq!(col("resamples"), "200");
+        // bw has two values only: not an edge.
+        assert_eq!(col("edge"), "hmcr=0.99 (largest of 0.7, 0.9, 0.99)");
+        assert_eq!(col("runs"), "60");
+        assert_eq!(col("evaluations"), "6000");
+        assert_eq!(col("wall_seconds"), "30");
+        assert!(picks.intro[1].contains("the 60 runs of the 6 settings of HS used 6,000 evaluations and 30.0 s of wall time"), "{}", picks.intro[1]);
+        assert!(picks.intro[2]
+            .starts_with("Warning: the pick hmcr=0.99, bw=0.01 is on the edge of its grid"));
+        assert!(picks.intro[2].ends_with("the best setting may lie outside it."));
+        assert_eq!(picks.md_rows[0][4], "1.000");
+        assert_eq!(picks.md_rows[0][5], "none");
+    }
+
+    #[test]
+    fn a_pick_within_noise_of_another_is_unstable() {
+        // Two settings whose errors are the same numbers in another order
+        // (one a hair larger), on three problems: either may win a resample.
+        let ds = hs_grid(
+            &["0.7", "0.9"],
+            &["0.01"],
+            &["f", "g", "h"],
+            6,
+            |h, _, p, run| {
+                let k = (f64::from(run) + 2.0 * p as f64) % 6.0;
+                if h == "0.7" {
+                    1.0 + k
+                } else {
+                    1.0 + (5.0 - k) + 1e-9
+                }
+            },
+        );
+        let stats = compute(&ds);
+        let g = &grids(&ds)[0];
+        let picks = &tables(&ds, g, &stats)[2];
+        let header = |name: &str| picks.csv_header.iter().position(|h| h == name).unwrap();
+        let row = &picks.csv_rows[0];
+        let stability: f64 = row[header("stability")].parse().unwrap();
+        assert!((0.2..0.8).contains(&stability), "stability {stability}");
+        let instead = &row[header("instead")];
+        assert_ne!(instead, &row[header("setting")]);
+        assert!(!instead.is_empty());
+        let share: f64 = row[header("instead_share")].parse().unwrap();
+        assert_eq!(stability + share, 1.0);
+        assert_eq!(row[header("runner_up")], *instead);
+        // Two values of hmcr: no edge to flag.
+        assert_eq!(row[header("edge")], "");
+        assert_eq!(picks.md_rows[0][6], "no");
+        // A pick that fewer than half the resamples make gets a caution.
+        let caution = picks.intro.iter().any(|p| p.starts_with("Caution: only "));
+        assert_eq!(caution, stability < 0.5);
+        assert_eq!(picks.intro.len(), 2 + usize::from(caution));
+    }
+
+    #[test]
+    fn the_tuning_tables_are_the_same_on_repeat() {
+        let make = || {
+            let ds = hs_grid(
+                &["0.7", "0.9", "0.99"],
+                &["0.001", "0.01", "0.1"],
+                &["f", "g"],
+                4,
+                |h, b, p, run| {
+                    let x = h.parse::<f64>().unwrap() * 7.0 + b.parse::<f64>().unwrap() * 13.0;
+                    (x + f64::from(run) * 0.37 + p as f64).sin().abs()
+                },
+            );
+            let stats = compute(&ds);
+            let g = grids(&ds).remove(0);
+            tables(&ds, &g, &stats)
+                .iter()
+                .map(|t| (t.csv_bytes(), t.markdown(), t.intro.clone()))
+                .collect::<Vec<_>>()
+        };
+        let (a, b) = (make(), make());
+        assert_eq!(a.len(), 3);
+        assert_eq!(a, b);
+    }
+
+    #[test]
+    fn mid_ranks_share_ties_and_the_first_minimum_wins() {
+        let mut sums = vec![0.0; 4];
+        add_midranks(&[3.0, 1.0, 1.0, 2.0], &mut Vec::new(), &mut sums);
+        assert_eq!(sums, [4.0, 1.5, 1.5, 3.0]);
+        assert_eq!(argmin(&sums), 1);
+        assert_eq!(grouped(108_000_000), "108,000,000");
+        assert_eq!(grouped(999), "999");
+        assert_eq!(duration(754.2), "754.2 s (12.6 min)");
     }
 }

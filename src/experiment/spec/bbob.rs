@@ -50,7 +50,7 @@ impl Parser<'_> {
         self.check_keys(table, section, &BBOB_KEYS)?;
         let functions = self.bbob_functions(table, section, entry)?;
         let dims = self.bbob_dims(table, section, entry)?;
-        let instances = self.bbob_instances(table, section)?;
+        let instances = self.instances(table, section, 10_000, 1_000_000)?;
         for &(f, _) in &functions {
             for &(d, ref dspan) in &dims {
                 for &k in &instances {
@@ -137,21 +137,5 @@ impl Parser<'_> {
                 Ok((d, item.span()))
             })
             .collect()
-    }
-
-    /// `instances`: a count N (instances 1..N) or a list of instance numbers.
-    fn bbob_instances(&self, table: &Table<'_>, section: &str) -> Result<Vec<u32>, SpecError> {
-        let field = format!("{section}.instances");
-        let Some(v) = self.get(table, "instances") else {
-            return Ok(vec![1]);
-        };
-        match v.get_ref() {
-            toml::de::DeValue::Array(_) => self
-                .one_or_many(v, &field)?
-                .into_iter()
-                .map(|item| Ok(self.integer(item, &field, 1, 1_000_000)? as u32))
-                .collect(),
-            _ => Ok((1..=self.integer(v, &field, 1, 10_000)? as u32).collect()),
-        }
     }
 }

@@ -11,6 +11,8 @@
 //! [[problem]]
 //! function = ["sphere", "rastrigin"]   # a name or a list of names
 //! dim = [10, 30]                       # a dimension or a list
+//! # transform = "shift-rotate"         # optional: "none", "shift", "shift-rotate"
+//! # instances = [6, 7, 8]              # of a transform: a count N (1..N) or a list
 //!
 //! [[algorithm]]
 //! name = "mhs"
@@ -417,6 +419,9 @@ const EXPERIMENT_KEYS: [&str; 9] = [
     "paired",
 ];
 const SECTIONS: [&str; 4] = ["experiment", "problem", "fit", "algorithm"];
+/// The largest instance count, and instance number, of a `[[problem]]` of
+/// the thesis's functions.
+const MAX_INSTANCES: u64 = 10_000;
 const PROBLEM_KEYS: [&str; 7] = [
     "suite",
     "function",
@@ -911,10 +916,7 @@ impl<'a> Parser<'a> {
             let functions = self.problem_functions(table, &section, entry)?;
             let dims = self.problem_dims(table, &section, entry)?;
             let transforms = self.problem_transforms(table, &section, entry)?;
-            let instances = match self.get(table, "instances") {
-                Some(v) => self.integer(v, &format!("{section}.instances"), 1, 10_000)? as u32,
-                None => 1,
-            };
+            let instances = self.instances(table, &section, MAX_INSTANCES, MAX_INSTANCES)?;
             for (f, fspan) in &functions {
                 for (dim, dspan) in &dims {
                     let dim = self.problem_dim(*f, *dim, fspan, dspan, &section)?;
@@ -926,8 +928,14 @@ impl<'a> Parser<'a> {
                                 e.to_string(),
                             )
                         })?;
-                        let count = if *t == Transform::None { 1 } else { instances };
-                        for instance in 1..=count {
+                        // The published function has one instance, whatever
+                        // the list.
+                        let listed: &[u32] = if *t == Transform::None {
+                            &[1]
+                        } else {
+                            &instances
+                        };
+                        for &instance in listed {
                             for b in budget.for_dim(dim) {
                                 let p = ProblemEntry {
                                     kind: ProblemKind::Benchmark(*f),
@@ -950,6 +958,41 @@ impl<'a> Parser<'a> {
                     }
                 }
             }
+        }
+        Ok(out)
+    }
+
+    /// The optional `instances` of a `[[problem]]`: a count N (instances
+    /// 1..=N, N ≤ `max_count`) or a list of distinct instance numbers, each
+    /// in 1..=`max_instance`; absent, instance 1 alone. Shared by the
+    /// thesis's functions and the bbob suite.
+    fn instances(
+        &self,
+        table: &Table<'_>,
+        section: &str,
+        max_count: u64,
+        max_instance: u64,
+    ) -> Result<Vec<u32>, SpecError> {
+        let field = format!("{section}.instances");
+        let Some(v) = self.get(table, "instances") else {
+            return Ok(vec![1]);
+        };
+        let DeValue::Array(_) = v.get_ref() else {
+            return Ok((1..=self.integer(v, &field, 1, max_count)? as u32).collect());
+        };
+        let mut out: Vec<u32> = Vec::new();
+        for item in self.one_or_many(v, &field)? {
+            let k = self.integer(item, &field, 1, max_instance)? as u32;
+            if out.contains(&k) {
+                return Err(self.error(
+                    item.span(),
+                    &field,
+                    format!(
+                        "instance {k} is listed twice; give a count N (instances 1..N) or a list of distinct instance numbers"
+                    ),
+                ));
+            }
+            out.push(k);
         }
         Ok(out)
     }
