@@ -192,7 +192,7 @@ fn report_of_a_small_campaign() {
     let verdicts = read(&dir.join("tables/verdicts.csv"));
     assert!(verdicts.starts_with(
         "table,measure,algorithm,reference,scope,units,problems,better,equal,worse,test,\
-         p_value,p_adjusted,p_min,effect_size,verdict\n"
+         p_value,p_adjusted,p_min,family,effect_size,verdict\n"
     ));
     // Two functions are the units (each at two dimensions): p_min = 0.5,
     // so every verdict is "no detectable difference" by construction.
@@ -626,8 +626,9 @@ fn verdicts_across_functions_have_known_answers() {
     assert_eq!(&x[5..10], ["8", "8", "4", "4", "0"], "{x:?}");
     assert_eq!(x[11], "0.125");
     assert_eq!(x[13], "0.125");
-    assert_eq!(x[14], "-1.5");
-    assert_eq!(x[15], "no detectable difference");
+    assert_eq!(x[14], "2", "a family of two rows");
+    assert_eq!(x[15], "-1.5");
+    assert_eq!(x[16], "no detectable difference");
     // Y: eight of eight better, p = 2/256 (SciPy: wilcoxon([-3] * 8)), Holm
     // over the family of the two rows doubles it: 0.015625 < 0.05.
     let y = row("Y", "wilcoxon-signed-rank");
@@ -635,14 +636,14 @@ fn verdicts_across_functions_have_known_answers() {
     assert_eq!(y[11], "0.0078125");
     assert_eq!(y[12], "0.015625");
     assert_eq!(y[13], "0.0078125");
-    assert_eq!(y[14], "-3");
-    assert_eq!(y[15], "better");
+    assert_eq!(y[15], "-3");
+    assert_eq!(y[16], "better");
     // Friedman over the three, Holm post-hoc against R: average ranks R 2.75,
     // X 2.0, Y 1.25 on 8 blocks, SE 0.5; z(Y) = 3, z(X) = 1.5.
     let y = row("Y", "friedman-holm");
-    assert_eq!(y[15], "better");
+    assert_eq!(y[16], "better");
     let x = row("X", "friedman-holm");
-    assert_eq!(x[15], "no detectable difference");
+    assert_eq!(x[16], "no detectable difference");
     // 2(1 − Φ(1.5)) = 0.13361440253771617 (scipy.stats.norm.sf(1.5) * 2)
     assert!(
         (x[11].parse::<f64>().unwrap() - 0.13361440253771617).abs() < 1e-9,

@@ -332,6 +332,7 @@ pub fn verdict_row(cmp: &Comparison<'_>, scope: &str, diffs: &[CaseDifference]) 
         test: VerdictTest::WilcoxonSignedRank,
         across,
         p_adjusted: f64::NAN,
+        family: 0,
         verdict: Verdict::NoDetectableDifference,
     }
 }

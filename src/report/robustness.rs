@@ -78,14 +78,16 @@ fn verdict_lines(
             };
             let mut line = format!(
                 "{name} against {reference}, {}: {} over all {} {noun}s ({}/{}/{} {noun}s, \
-                 p_Holm = {}, p_min = {}; {} {})",
+                 p = {}, p_Holm = {} in a family of {}, p_min = {}; {} {})",
                 measure.name(),
                 all.verdict,
                 all.across.units,
                 all.across.better,
                 all.across.equal,
                 all.across.worse,
+                p_value(all.across.p_value),
                 p_value(all.p_adjusted),
+                all.family,
                 p_value(all.across.p_min),
                 measure.effect_text(),
                 sci(all.across.effect_size)

@@ -227,6 +227,7 @@ pub(crate) fn verdicts(
                     test: VerdictTest::WilcoxonSignedRank,
                     across,
                     p_adjusted: f64::NAN,
+                    family: 0,
                     verdict: Verdict::NoDetectableDifference,
                 });
             }
@@ -345,6 +346,7 @@ fn friedman_rows(
                     improvement: c.z,
                 },
                 p_adjusted: pa,
+                family: post.len(),
                 verdict: Verdict::from_p(pa, settings.alpha, c.z),
             }
         })
@@ -406,7 +408,9 @@ pub(crate) fn table(rows: &[VerdictRow], unit_noun: &str, alpha: f64) -> Table {
                  is exactly zero, or favours the reference; effect is the median summary. \
                  A verdict is better or worse only where the corrected p is below α = {alpha}; \
                  p_min is the smallest p the number of units allows (2/2ⁿ for the signed-rank \
-                 test with n non-zero units), so where p_min ≥ α no verdict can be better or \
+                 test with n non-zero units), and family is the number of rows corrected \
+                 together: no adjusted p can fall below family × the family's smallest p_min, \
+                 so where that product is at least α no verdict of the family can be better or \
                  worse by construction."
             ),
         ],
@@ -422,6 +426,7 @@ pub(crate) fn table(rows: &[VerdictRow], unit_noun: &str, alpha: f64) -> Table {
             "p",
             "p (adjusted)",
             "p_min",
+            "Family",
             "Verdict",
         ]
         .map(String::from)
@@ -443,6 +448,7 @@ pub(crate) fn table(rows: &[VerdictRow], unit_noun: &str, alpha: f64) -> Table {
             p_value(r.across.p_value),
             p_value(r.p_adjusted),
             p_value(r.across.p_min),
+            r.family.to_string(),
             r.verdict.to_string(),
         ]);
     }

@@ -139,7 +139,7 @@ pub fn across_units(d: &[f64], lower_is_better: bool) -> Result<AcrossUnits, Sta
 
 /// The columns of `verdicts.csv`, the one file every verdict across
 /// problems is written to (by `report` and by `implant`).
-pub const VERDICT_COLUMNS: [&str; 16] = [
+pub const VERDICT_COLUMNS: [&str; 17] = [
     "table",
     "measure",
     "algorithm",
@@ -154,6 +154,7 @@ pub const VERDICT_COLUMNS: [&str; 16] = [
     "p_value",
     "p_adjusted",
     "p_min",
+    "family",
     "effect_size",
     "verdict",
 ];
@@ -208,6 +209,9 @@ pub struct VerdictRow {
     pub across: AcrossUnits,
     /// The p-value after the family's correction.
     pub p_adjusted: f64,
+    /// The number of rows of the correction family: no adjusted p of the
+    /// family can be below `family` × the family's smallest `p_min`.
+    pub family: usize,
     /// The verdict at α on `p_adjusted`.
     pub verdict: Verdict,
 }
@@ -232,6 +236,7 @@ impl VerdictRow {
             fmt_real(a.p_value),
             fmt_real(self.p_adjusted),
             fmt_real(a.p_min),
+            self.family.to_string(),
             fmt_real(a.effect_size),
             self.verdict.as_str().to_owned(),
         ]
@@ -244,8 +249,10 @@ impl VerdictRow {
 pub fn decide_family(rows: &mut [VerdictRow], alpha: f64) {
     let p: Vec<f64> = rows.iter().map(|r| r.across.p_value).collect();
     let adjusted = super::holm::holm_bonferroni(&p).unwrap_or_else(|_| vec![f64::NAN; p.len()]);
+    let family = rows.len();
     for (r, pa) in rows.iter_mut().zip(adjusted) {
         r.p_adjusted = pa;
+        r.family = family;
         r.verdict = Verdict::from_p(pa, alpha, r.across.improvement);
     }
 }
