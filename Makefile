@@ -3,7 +3,7 @@ CARGO ?= cargo
 BIN := target/release/metabezier
 SPECS := experiments
 
-.PHONY: help build quick test test-cluster bench speedup bbob reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all fmt lint clean-results
+.PHONY: help build quick test test-cluster bench speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all fmt lint clean-results
 
 help:
 	@echo "make quick          run experiments/quick.toml (seconds) into results/quick/"
@@ -15,6 +15,7 @@ help:
 	@echo "make reproduce-ch5  chapter 5: curve fitting of four real outlines, search-space and MHS studies (results/ch5_*/)"
 	@echo "make reproduce-ch6  chapter 6: cranial implant from CT 0051, artificial-defect validation (results/ch6_cranial/)"
 	@echo "make bbob           COCO's bbob suite: 5 optimisers x 24 functions x D = 2, 5, 10, report and COCO logs (results/bbob/)"
+	@echo "make cocopp         COCO's own post-processing (cocopp, pinned in tools/cocopp-requirements.txt, in a venv) of results/bbob/coco/"
 	@echo "make reproduce-all  every chapter that exists so far"
 
 build:
@@ -88,6 +89,18 @@ speedup: build
 bbob: build
 	$(BIN) run $(SPECS)/bbob.toml --resume --coco-log results/bbob/coco
 	$(BIN) report results/bbob
+
+# COCO's own post-processing of the logs `make bbob` wrote: a virtual
+# environment under target/ with cocopp and every package it imports, pinned
+# (PyPI; python3 with venv), then cocopp's HTML report in results/bbob/cocopp/.
+# Not part of `make test`.
+COCOPP_VENV := target/cocopp-venv
+cocopp:
+	@test -d results/bbob/coco || { echo "make cocopp: results/bbob/coco/ does not exist; run make bbob first" >&2; exit 2; }
+	test -x $(COCOPP_VENV)/bin/python || python3 -m venv $(COCOPP_VENV)
+	$(COCOPP_VENV)/bin/python -m pip install --quiet --disable-pip-version-check -r tools/cocopp-requirements.txt
+	$(COCOPP_VENV)/bin/python -m cocopp -o results/bbob/cocopp results/bbob/coco/*
+	@echo "cocopp's report: results/bbob/cocopp/index.html"
 
 reproduce-all: reproduce-ch4 reproduce-ch5 reproduce-ch6
 

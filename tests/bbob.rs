@@ -177,3 +177,62 @@ fn coco_logs_are_written_for_cocopp_and_refused_without_bbob_problems() {
     let e = write_coco_log(&plain, None, &dir).unwrap_err().to_string();
     assert!(e.contains("plain.toml has no bbob problems"), "{e}");
 }
+
+#[test]
+fn bbob_reports_show_cocos_best_2009_beside_the_algorithms() {
+    use metabezier::experiment::{run_campaign, RunOptions, Spec};
+    use metabezier::report::{write_report, ReportOptions};
+    let spec = Spec::parse(Path::new("spec.toml"), SPEC).unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("bbob");
+    let opts = RunOptions {
+        out: Some(out.clone()),
+        threads: Some(2),
+        ..RunOptions::default()
+    };
+    run_campaign(&spec, &opts).unwrap();
+    write_report(&out, &ReportOptions::default()).unwrap();
+    let read = |name: &str| -> Vec<Vec<String>> {
+        let mut r = csv::Reader::from_path(out.join("tables").join(name)).unwrap();
+        r.records()
+            .map(|x| x.unwrap().iter().map(str::to_owned).collect())
+            .collect()
+    };
+    // cocopp 2.9.1's bbob-bestalg_f01_d02.dat: aRT 6 to 1e-8 on the sphere
+    // at D = 2 (NEWUOA), and 1 to Δf = 100.
+    let art = read("art_targets.csv");
+    let best = |function: &str, target: &str| {
+        art.iter()
+            .find(|r| r[0] == function && r[3] == "best 2009" && r[6] == target)
+            .unwrap_or_else(|| panic!("no best 2009 row for {function} at {target}"))
+            .clone()
+    };
+    let row = best("bbob_f001_d02", "1e-8");
+    assert_eq!((row[4].as_str(), row[9].as_str()), ("reference", "6"));
+    assert_eq!(best("bbob_f001_d02", "100")[9], "1");
+    // Targets reached: best 2009 over 2 functions × 51 targets per D, an
+    // algorithm over its (run, target) pairs, 2 functions × 2 instances × 2
+    // runs × 51; the runs' budget of 500·D leaves 10³·D and 10⁴·D out for
+    // the algorithms, not for best 2009.
+    let reached = read("targets_reached.csv");
+    for d in ["2", "5"] {
+        let rows: Vec<&Vec<String>> = reached.iter().filter(|r| r[0] == d).collect();
+        let per_dim = |label: &str| -> Vec<&str> {
+            rows.iter()
+                .filter(|r| r[1] == label)
+                .map(|r| r[4].as_str())
+                .collect()
+        };
+        assert_eq!(per_dim("pso"), ["100"], "D = {d}");
+        assert_eq!(per_dim("best 2009"), ["100", "1000", "10000"], "D = {d}");
+        for r in &rows {
+            let pairs = if r[1] == "best 2009" { "102" } else { "408" };
+            assert_eq!(r[5], pairs, "{r:?}");
+            let (hit, pairs): (f64, f64) = (r[6].parse().unwrap(), r[5].parse().unwrap());
+            assert_eq!(r[7].parse::<f64>().unwrap(), hit / pairs, "{r:?}");
+        }
+    }
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(md.contains("### Targets reached at 10²·D, 10³·D and 10⁴·D evaluations"));
+    assert!(md.contains("best 2009 is COCO's virtual best"));
+}

@@ -10,8 +10,9 @@
 
 use std::collections::BTreeMap;
 
+use super::best2009::{self, Best2009};
 use super::data::{Dataset, Run};
-use super::format::{csv_real, evaluations, Table};
+use super::format::{csv_real, evaluations, percent, pow_tick, Table};
 
 /// The targets shown in the Markdown table (all are in the CSV file).
 const SHOWN: [f64; 6] = [1e2, 1e0, 1e-2, 1e-4, 1e-6, 1e-8];
@@ -38,8 +39,10 @@ fn art(runs: &[&Run], target: f64) -> (usize, Option<f64>) {
 }
 
 /// The aRT to each of `targets` of every algorithm on every function,
-/// dimension and transform; `None` when no run has hits.
-pub(crate) fn art_table(ds: &Dataset, targets: &[f64]) -> Option<Table> {
+/// dimension and transform, with a row of COCO's best 2009 under every bbob
+/// function and dimension it covers when `best` is given; `None` when no run
+/// has hits.
+pub(crate) fn art_table(ds: &Dataset, targets: &[f64], best: Option<&Best2009>) -> Option<Table> {
     let any = (0..ds.problems.len())
         .any(|p| (0..ds.cells.len()).any(|c| ds.runs(p, c).iter().any(|r| !r.hits.is_empty())));
     if !any {
@@ -69,8 +72,21 @@ pub(crate) fn art_table(ds: &Dataset, targets: &[f64]) -> Option<Table> {
              target, or until they ended, divided by the number of runs that reached it; \
              — when none did) to the target precisions Δf above f*, per algorithm and \
              function, pooled over instances and budgets. The table shows six of the {} \
-             targets; tables/art_targets.csv has all of them.",
-            targets.len()
+             targets; tables/art_targets.csv has all of them.{}",
+            targets.len(),
+            if best.is_some() {
+                format!(
+                    " The row {} is COCO's virtual best of the 31 algorithms of \
+                     BBOB-2009, the smallest aRT any of them reached on the function \
+                     (instances 1–5, 15 runs; {}; beyond the thesis). In the CSV file its \
+                     `runs` and `reached` are those of the algorithm that was best for \
+                     the target.",
+                    best2009::LABEL,
+                    best2009::SOURCE
+                )
+            } else {
+                String::new()
+            }
         )],
         md_header: ["Function", "D", "Transform", "Algorithm"]
             .map(String::from)
@@ -121,6 +137,176 @@ pub(crate) fn art_table(ds: &Dataset, targets: &[f64]) -> Option<Table> {
                     runs.len().to_string(),
                     reached.to_string(),
                     art.map_or_else(|| "inf".into(), csv_real),
+                ]);
+            }
+        }
+        if let Some((b, (f, d))) = best.zip(best2009::bbob_key(function)) {
+            if b.covers(f, d) {
+                let steps: Vec<Option<best2009::Step>> =
+                    targets.iter().map(|&target| b.step(f, d, target)).collect();
+                let mut md = vec![
+                    function.clone(),
+                    dim.to_string(),
+                    transform.clone(),
+                    best2009::LABEL.to_owned(),
+                ];
+                md.extend(shown.iter().map(|&i| evaluations(steps[i].map(|s| s.art))));
+                t.md_rows.push(md);
+                for (target, step) in targets.iter().zip(&steps) {
+                    t.csv_rows.push(vec![
+                        function.clone(),
+                        dim.to_string(),
+                        transform.clone(),
+                        best2009::LABEL.to_owned(),
+                        "reference".to_owned(),
+                        best2009::SOURCE.to_owned(),
+                        csv_real(*target),
+                        step.map_or(15, |s| s.runs).to_string(),
+                        step.map_or(0, |s| s.successes).to_string(),
+                        step.map_or_else(|| "inf".into(), |s| csv_real(s.art)),
+                    ]);
+                }
+            }
+        }
+    }
+    Some(t)
+}
+
+/// The budgets, as multiples of D, at which [`reached_table`] reads the
+/// fraction of targets reached.
+const READ_AT: [u64; 3] = [100, 1_000, 10_000];
+
+/// The fraction of (function, target) pairs reached within 10²·D, 10³·D and
+/// 10⁴·D evaluations per dimension, for every algorithm and COCO's best 2009:
+/// the height of the runtime ECDF over the `targets` at those budgets.
+///
+/// For an algorithm it is the fraction of its (run, target) pairs whose
+/// target was first hit within the budget, over the runs of every function
+/// and instance at that dimension (every function has as many runs, so this
+/// is the mean over functions of the per-function fraction); it is left out
+/// (—) when a run's budget is smaller. For best 2009 it is the fraction of
+/// (function, target) pairs whose aRT is within the budget, as cocopp draws
+/// the reference algorithm's ECDF from its aRTs (Hansen et al. 2021,
+/// "COCO: a platform for comparing continuous optimizers in a black-box
+/// setting", Optim. Methods Softw. 36(1):114–144). `None` unless every
+/// problem is a bbob function that the reference covers and some run has
+/// hits.
+pub(crate) fn reached_table(ds: &Dataset, targets: &[f64], best: &Best2009) -> Option<Table> {
+    let keys: Vec<(usize, usize)> = ds
+        .problems
+        .iter()
+        .map(|p| best2009::bbob_key(&p.function))
+        .collect::<Option<_>>()?;
+    if keys.iter().any(|&(f, d)| !best.covers(f, d))
+        || !(0..ds.problems.len())
+            .any(|p| (0..ds.cells.len()).any(|c| ds.runs(p, c).iter().any(|r| !r.hits.is_empty())))
+    {
+        return None;
+    }
+    let mut dims: Vec<usize> = keys.iter().map(|k| k.1).collect();
+    dims.sort_unstable();
+    dims.dedup();
+    let mut t = Table {
+        stem: "targets_reached".into(),
+        title: "Targets reached at 10²·D, 10³·D and 10⁴·D evaluations".into(),
+        intro: vec![format!(
+            "The fraction of (function, target) pairs reached within 10²·D, 10³·D and \
+             10⁴·D evaluations, over the {n} targets Δf = 10² … 10⁻⁸ and the functions of \
+             the campaign at each D: for an algorithm, the fraction of its (run, target) \
+             pairs over all instances (the height of its runtime ECDF there); for {label}, \
+             the fraction of (function, target) pairs whose aRT is within the budget, as \
+             cocopp draws the reference's ECDF. — where the runs' budget is smaller. \
+             {label} is COCO's virtual best of the 31 algorithms of BBOB-2009 ({source}), \
+             beyond the thesis.",
+            n = targets.len(),
+            label = best2009::LABEL,
+            source = best2009::SOURCE,
+        )],
+        md_header: ["D", "Algorithm", "functions"]
+            .map(String::from)
+            .into_iter()
+            .chain(
+                READ_AT
+                    .iter()
+                    .map(|&m| format!("at {}·D", pow_tick((m as f64).log10()))),
+            )
+            .collect(),
+        csv_header: [
+            "dim",
+            "algorithm",
+            "kind",
+            "functions",
+            "evaluations_per_dim",
+            "pairs",
+            "reached",
+            "fraction",
+        ]
+        .map(String::from)
+        .to_vec(),
+        ..Table::default()
+    };
+    for &d in &dims {
+        let problems: Vec<usize> = (0..ds.problems.len()).filter(|&p| keys[p].1 == d).collect();
+        let mut functions: Vec<usize> = problems.iter().map(|&p| keys[p].0).collect();
+        functions.sort_unstable();
+        functions.dedup();
+        let mut rows: Vec<(String, String, Vec<Option<(usize, usize)>>)> = Vec::new();
+        for (c, cell) in ds.cells.iter().enumerate() {
+            let runs: Vec<&Run> = problems.iter().flat_map(|&p| ds.runs(p, c)).collect();
+            if runs.is_empty() {
+                continue;
+            }
+            let counts = READ_AT
+                .iter()
+                .map(|&m| {
+                    let budget = m * d as u64;
+                    runs.iter().all(|r| r.budget >= budget).then(|| {
+                        let reached = runs
+                            .iter()
+                            .map(|r| r.hits.iter().filter(|&&(_, e)| e <= budget).count())
+                            .sum();
+                        (reached, runs.len() * targets.len())
+                    })
+                })
+                .collect();
+            rows.push((cell.label.clone(), cell.kind.clone(), counts));
+        }
+        let counts = READ_AT
+            .iter()
+            .map(|&m| {
+                let budget = (m * d as u64) as f64;
+                let reached = functions
+                    .iter()
+                    .map(|&f| {
+                        targets
+                            .iter()
+                            .filter(|&&target| best.art(f, d, target).is_some_and(|a| a <= budget))
+                            .count()
+                    })
+                    .sum();
+                Some((reached, functions.len() * targets.len()))
+            })
+            .collect();
+        rows.push((best2009::LABEL.to_owned(), "reference".to_owned(), counts));
+        for (label, kind, counts) in rows {
+            let mut md = vec![d.to_string(), label.clone(), functions.len().to_string()];
+            md.extend(
+                counts.iter().map(|c| {
+                    c.map_or_else(|| "—".to_owned(), |(r, n)| percent(r as f64 / n as f64))
+                }),
+            );
+            t.md_rows.push(md);
+            for (&m, c) in READ_AT.iter().zip(&counts) {
+                let Some((reached, pairs)) = c else { continue };
+                t.csv_rows.push(vec![
+                    d.to_string(),
+                    label.clone(),
+                    kind.clone(),
+                    functions.len().to_string(),
+                    m.to_string(),
+                    pairs.to_string(),
+                    reached.to_string(),
+                    csv_real(*reached as f64 / *pairs as f64),
                 ]);
             }
         }

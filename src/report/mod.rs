@@ -15,6 +15,7 @@
 //! `MHS (hmcr=0.9, bw=0.01)`. A "problem" is a function at a dimension.
 
 mod anytime;
+mod best2009;
 mod data;
 mod descriptive;
 mod design;
@@ -513,7 +514,9 @@ fn sections(
         .map(|r| fitting::FitRuns::group(ds, r));
     let tests = tests(ds, &stats, options, provenance, fits.as_ref(), &mut notes)?;
     let (tuning, heat_maps) = tuning(ds, &stats, &mut notes);
-    let (mut figures, plot_notes) = plots::figures(ds, &stats, heat_maps, provenance.threshold);
+    let best = best2009_for(ds, &mut notes);
+    let (mut figures, plot_notes) =
+        plots::figures(ds, &stats, heat_maps, provenance.threshold, best.as_ref());
     notes.extend(plot_notes);
     let mut fitting = Vec::new();
     if let Some(f) = fitting::section(
@@ -528,8 +531,13 @@ fn sections(
         notes.extend(f.notes);
         fitting = f.tables;
     }
-    let anytime = anytime::art_table(ds, &default_targets())
+    let targets = default_targets();
+    let anytime = anytime::art_table(ds, &targets, best.as_ref())
         .into_iter()
+        .chain(
+            best.as_ref()
+                .and_then(|b| anytime::reached_table(ds, &targets, b)),
+        )
         .collect();
     Ok(Sections {
         setup,
@@ -541,6 +549,25 @@ fn sections(
         figures,
         notes,
     })
+}
+
+/// COCO's best-2009 reference when some problem is a bbob function; a note
+/// when the vendored reference cannot be read.
+fn best2009_for(ds: &data::Dataset, notes: &mut Vec<String>) -> Option<best2009::Best2009> {
+    if !ds
+        .problems
+        .iter()
+        .any(|p| best2009::bbob_key(&p.function).is_some())
+    {
+        return None;
+    }
+    match best2009::Best2009::load() {
+        Ok(b) => Some(b),
+        Err(e) => {
+            notes.push(format!("best 2009 left out: {e}"));
+            None
+        }
+    }
 }
 
 /// Writes the tables as CSV under `dir/tables/` and the figures as SVG and

@@ -7,6 +7,7 @@ use std::collections::BTreeSet;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use super::super::best2009::{self, Best2009};
 use super::super::data::Dataset;
 use super::super::format::{pow_tick, sci_digits};
 use super::super::render::{colour, draw_minor_decades, font, lg, Draw, DrawResult};
@@ -18,6 +19,8 @@ pub(crate) struct Ecdf {
     title: String,
     legend: Vec<(String, RGBColor)>,
     series: Vec<Line>,
+    /// A reference curve drawn under the others (COCO's best 2009).
+    reference: Option<Vec<(f64, f64)>>,
     x: (f64, f64),
     x_desc: &'static str,
     y_desc: &'static str,
@@ -51,6 +54,12 @@ impl Draw for Ecdf {
             .bold_line_style(RGBColor(215, 215, 215))
             .draw()?;
         draw_minor_decades(&mut chart, self.x, (-0.02, 1.02), true, false)?;
+        if let Some(pts) = &self.reference {
+            chart.draw_series(LineSeries::new(
+                pts.iter().copied(),
+                REFERENCE.stroke_width(6),
+            ))?;
+        }
         for (c, pts) in &self.series {
             chart.draw_series(LineSeries::new(
                 pts.iter().copied(),
@@ -60,6 +69,10 @@ impl Draw for Ecdf {
         Ok(())
     }
 }
+
+/// The colour of the reference curve: a wide light grey, as cocopp draws
+/// its reference algorithm behind the others.
+const REFERENCE: RGBColor = RGBColor(190, 190, 190);
 
 /// The steps of an ECDF over `total` pairs, from the sorted runtimes of
 /// the solved ones, starting at (1, 0).
@@ -192,6 +205,7 @@ pub(super) fn ecdf(ds: &Dataset, threshold: Option<f64>) -> Result<Plot, NoPlot>
             title: title(threshold),
             legend,
             series,
+            reference: None,
             x: (0.0, lg(xmax)),
             x_desc: "objective evaluations (log scale)",
             y_desc: "fraction of (run, problem) pairs solved",
@@ -216,7 +230,11 @@ fn real_steps(times: &[f64], total: usize, start: f64) -> Vec<(f64, f64)> {
 /// `Δf` (from `hits.csv`, `targets` in all) was reached within a number of
 /// evaluations divided by the dimension; one figure over all problems and,
 /// when there are several functions, one per function.
-pub(super) fn target_ecdfs(ds: &Dataset, targets: usize) -> Result<Vec<Plot>, NoPlot> {
+pub(super) fn target_ecdfs(
+    ds: &Dataset,
+    targets: &[f64],
+    best: Option<&Best2009>,
+) -> Result<Vec<Plot>, NoPlot> {
     if !(0..ds.problems.len())
         .any(|p| (0..ds.cells.len()).any(|c| ds.runs(p, c).iter().any(|r| !r.hits.is_empty())))
     {
@@ -228,18 +246,18 @@ pub(super) fn target_ecdfs(ds: &Dataset, targets: usize) -> Result<Vec<Plot>, No
     let mut dims: Vec<usize> = ds.problems.iter().map(|p| p.dim).collect();
     dims.sort_unstable();
     dims.dedup();
-    let mut plots = vec![target_ecdf(ds, targets, Scope::All)];
+    let mut plots = vec![target_ecdf(ds, targets, best, Scope::All)];
     if functions.len() > MAX_FUNCTION_PLOTS && dims.len() > 1 {
         // Too many functions (a suite such as bbob): one figure per dimension.
         plots.extend(
             dims.iter()
-                .map(|&d| target_ecdf(ds, targets, Scope::Dim(d))),
+                .map(|&d| target_ecdf(ds, targets, best, Scope::Dim(d))),
         );
     } else if functions.len() > 1 && functions.len() <= MAX_FUNCTION_PLOTS {
         plots.extend(
             functions
                 .iter()
-                .map(|f| target_ecdf(ds, targets, Scope::Function(f))),
+                .map(|f| target_ecdf(ds, targets, best, Scope::Function(f))),
         );
     }
     Ok(plots)
@@ -266,9 +284,51 @@ impl Scope<'_> {
     }
 }
 
-/// One runtime ECDF over all targets, for the problems of `function` (all
-/// problems when `None`).
-fn target_ecdf(ds: &Dataset, targets: usize, scope: Scope<'_>) -> Plot {
+/// The ECDF of COCO's best 2009 over the (function, target) pairs of the
+/// bbob problems in `scope`, a pair reached at its aRT / D (as cocopp draws
+/// its reference algorithm); `None` unless the reference covers every
+/// problem in scope.
+fn reference_steps(
+    ds: &Dataset,
+    targets: &[f64],
+    best: &Best2009,
+    scope: Scope<'_>,
+) -> Option<Vec<(f64, f64)>> {
+    let mut keys: Vec<(usize, usize)> = Vec::new();
+    for p in ds.problems.iter().filter(|p| scope.covers(p)) {
+        let key = best2009::bbob_key(&p.function)?;
+        if !best.covers(key.0, key.1) {
+            return None;
+        }
+        keys.push(key);
+    }
+    keys.sort_unstable();
+    keys.dedup();
+    if keys.is_empty() {
+        return None;
+    }
+    let mut times: Vec<f64> = keys
+        .iter()
+        .flat_map(|&(f, d)| {
+            targets
+                .iter()
+                .filter_map(move |&t| best.art(f, d, t).map(|a| a / d.max(1) as f64))
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    let start = times.first().copied().unwrap_or(1.0).min(1.0);
+    Some(real_steps(&times, keys.len() * targets.len(), start))
+}
+
+/// One runtime ECDF over all targets, for the problems of `scope`, with
+/// COCO's best 2009 beneath when `best` covers them.
+fn target_ecdf(
+    ds: &Dataset,
+    target_values: &[f64],
+    best: Option<&Best2009>,
+    scope: Scope<'_>,
+) -> Plot {
+    let targets = target_values.len();
     let mut series: Vec<Line> = Vec::new();
     let mut xmax = 1.0f64;
     for c in 0..ds.cells.len() {
@@ -295,15 +355,40 @@ fn target_ecdf(ds: &Dataset, targets: usize, scope: Scope<'_>) -> Plot {
         steps.push((xmax, last));
         series.push((c, steps.into_iter().map(|(x, y)| (lg(x), y)).collect()));
     }
+    let mut reference = best.and_then(|b| reference_steps(ds, target_values, b, scope));
+    if let Some(steps) = &mut reference {
+        let last = steps.last().map_or(0.0, |p| p.1);
+        steps.retain(|p| p.0 <= xmax);
+        steps.push((xmax, steps.last().map_or(last, |p| p.1)));
+        for p in steps.iter_mut() {
+            p.0 = lg(p.0);
+        }
+    }
     let x0 = series
         .iter()
-        .filter_map(|(_, pts)| pts.first().map(|p| p.0))
+        .map(|(_, pts)| pts)
+        .chain(reference.iter())
+        .filter_map(|pts| pts.first().map(|p| p.0))
         .fold(0.0f64, f64::min)
         .floor();
-    let legend = series
+    let mut legend: Vec<(String, RGBColor)> = series
         .iter()
         .map(|(c, _)| (ds.cells[*c].name.clone(), colour(*c)))
         .collect();
+    if reference.is_some() {
+        legend.push((best2009::LABEL.to_owned(), REFERENCE));
+    }
+    let reference_note = if reference.is_some() {
+        format!(
+            " The wide grey curve is {}, COCO's virtual best of the 31 algorithms of \
+             BBOB-2009, a (function, target) pair counted at its aRT / D as cocopp draws \
+             it ({}; beyond the thesis), cut at the campaign's largest budget.",
+            best2009::LABEL,
+            best2009::SOURCE
+        )
+    } else {
+        String::new()
+    };
     let (stem, scope) = match scope {
         Scope::Function(f) => (
             format!("ecdf_targets_{}", f.replace('/', "_")),
@@ -326,12 +411,13 @@ fn target_ecdf(ds: &Dataset, targets: usize, scope: Scope<'_>) -> Plot {
              the given number of objective evaluations divided by the dimension (log \
              scale). The curve ends at the largest budget; its height there is the \
              fraction of targets reached, so budget dependence is visible without \
-             rerunning."
+             rerunning.{reference_note}"
         ),
         figure: Figure::Ecdf(Ecdf {
             title: format!("Runtime to {targets} targets, {scope}"),
             legend,
             series,
+            reference,
             x: (x0, lg(xmax).max(x0 + 1.0)),
             x_desc: "objective evaluations / D (log scale)",
             y_desc: "fraction of (run, target) pairs reached",

@@ -17,6 +17,7 @@ mod scalability;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use super::best2009::Best2009;
 use super::data::Dataset;
 use super::descriptive::CellStats;
 use super::render::{Draw, DrawResult};
@@ -117,6 +118,7 @@ pub(crate) fn figures(
     stats: &[Vec<Option<CellStats>>],
     heat_maps: Vec<HeatMap>,
     threshold: Option<f64>,
+    best: Option<&Best2009>,
 ) -> (Vec<Plot>, Vec<String>) {
     let mut plots = Vec::new();
     let mut notes = Vec::new();
@@ -131,7 +133,7 @@ pub(crate) fn figures(
             Err(n) => notes.push(n.to_string()),
         }
     }
-    match ecdf::target_ecdfs(ds, default_targets().len()) {
+    match ecdf::target_ecdfs(ds, &default_targets(), best) {
         Ok(p) => plots.extend(p),
         Err(n) => notes.push(n.to_string()),
     }
