@@ -172,6 +172,10 @@ pub(crate) fn art_table(ds: &Dataset, targets: &[f64], best: Option<&Best2009>) 
     Some(t)
 }
 
+/// (targets reached, pairs) at one budget, `None` where the runs stopped
+/// before it.
+type Reached = Option<(usize, usize)>;
+
 /// The budgets, as multiples of D, at which [`reached_table`] reads the
 /// fraction of targets reached.
 const READ_AT: [u64; 3] = [100, 1_000, 10_000];
@@ -250,7 +254,7 @@ pub(crate) fn reached_table(ds: &Dataset, targets: &[f64], best: &Best2009) -> O
         let mut functions: Vec<usize> = problems.iter().map(|&p| keys[p].0).collect();
         functions.sort_unstable();
         functions.dedup();
-        let mut rows: Vec<(String, String, Vec<Option<(usize, usize)>>)> = Vec::new();
+        let mut rows: Vec<(String, String, Vec<Reached>)> = Vec::new();
         for (c, cell) in ds.cells.iter().enumerate() {
             let runs: Vec<&Run> = problems.iter().flat_map(|&p| ds.runs(p, c)).collect();
             if runs.is_empty() {
