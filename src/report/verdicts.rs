@@ -94,6 +94,33 @@ impl PostHoc {
     }
 }
 
+/// The comparison set of the algorithms beyond the thesis (CMA-ES, L-SHADE,
+/// random search) against the reference: a family of its own, so that
+/// adding the state of the art to a campaign leaves the Holm families and
+/// the Friedman post-hoc test of the thesis's comparisons (table
+/// `reference`) as they were; each question is corrected within its own
+/// family (Bender & Lange 2001, "Adjusting for multiple testing — when and
+/// how?", J. Clin. Epidemiol. 54(4):343–349).
+pub(crate) const STATE_OF_THE_ART: &str = "state-of-the-art";
+
+/// The spec names of the algorithms whose comparisons go to
+/// [`STATE_OF_THE_ART`] (a fitting method `cmaes+lm` by its optimiser).
+pub(crate) const STATE_OF_THE_ART_KINDS: [&str; 3] = ["cmaes", "lshade", "random"];
+
+/// The comparison set of a cell of kind `kind` against the reference:
+/// [`STATE_OF_THE_ART`] for the algorithms beyond the thesis, else
+/// `reference`.
+/// When the reference itself is beyond the thesis (`--reference CMA-ES`),
+/// every comparison is in `reference`.
+pub(crate) fn comparison_set(kind: &str, reference_kind: &str) -> &'static str {
+    let beyond = |k: &str| STATE_OF_THE_ART_KINDS.contains(&k.split('+').next().unwrap_or(k));
+    if beyond(kind) && !beyond(reference_kind) {
+        STATE_OF_THE_ART
+    } else {
+        "reference"
+    }
+}
+
 /// One problem's summary of a comparison, with the unit and the design
 /// levels it belongs to.
 #[derive(Clone, Debug, PartialEq)]
@@ -354,7 +381,9 @@ fn friedman_rows(
 }
 
 /// The verdict of the Wilcoxon row of `algorithm` against `reference` in
-/// `table` on `measure` at `scope`, if there is one.
+/// `table` on `measure` at `scope`, if there is one; `table` `reference`
+/// also finds the algorithm's row in [`STATE_OF_THE_ART`], where the
+/// algorithms beyond the thesis are compared with the same reference.
 pub(crate) fn find<'v>(
     rows: &'v [VerdictRow],
     table: &str,
@@ -365,7 +394,7 @@ pub(crate) fn find<'v>(
 ) -> Option<&'v VerdictRow> {
     rows.iter().find(|r| {
         r.test == VerdictTest::WilcoxonSignedRank
-            && r.table == table
+            && (r.table == table || (table == "reference" && r.table == STATE_OF_THE_ART))
             && r.measure == measure.name()
             && r.algorithm == algorithm
             && r.reference == reference
@@ -529,5 +558,17 @@ mod tests {
         assert!(rows
             .iter()
             .all(|r| r.verdict == Verdict::NoDetectableDifference));
+    }
+
+    #[test]
+    fn the_state_of_the_art_is_a_family_of_its_own_unless_it_is_the_reference() {
+        assert_eq!(comparison_set("cmaes", "mhs"), STATE_OF_THE_ART);
+        assert_eq!(comparison_set("lshade", "mhs"), STATE_OF_THE_ART);
+        assert_eq!(comparison_set("random", "hs"), STATE_OF_THE_ART);
+        assert_eq!(comparison_set("cmaes+lm", "mhs"), STATE_OF_THE_ART);
+        assert_eq!(comparison_set("hs", "mhs"), "reference");
+        assert_eq!(comparison_set("mhs+lm", "mhs"), "reference");
+        assert_eq!(comparison_set("hs", "cmaes"), "reference");
+        assert_eq!(comparison_set("lshade", "cmaes"), "reference");
     }
 }
