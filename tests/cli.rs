@@ -156,8 +156,11 @@ fn list_shows_every_algorithm_and_function() {
         "ga",
         "pso",
         "mhs",
+        "cmaes",
         "hmcr",
         "par_min",
+        "inc_popsize",
+        "sigma0",
         "sphere",
         "six_hump_camel",
     ] {

@@ -1,5 +1,6 @@
 //! Every optimiser, seeded, solves Sphere-10 to a stated target within a
-//! stated budget (1e-6; 1e-2 for GHS, which has no fine-tuning bandwidth),
+//! stated budget (1e-6; 1e-2 for GHS, which has no fine-tuning bandwidth;
+//! CMA-ES to 1e-10 in 10,000 evaluations),
 //! never evaluates outside the bounds, spends exactly its budget, and ranks
 //! NaN objectives last instead of crashing.
 
@@ -111,6 +112,17 @@ fn sphere_settings() -> Vec<(Algorithm, u64, f64)> {
             ),
             200_000,
             1e-6,
+        ),
+        (Algorithm::default_for("cmaes").unwrap(), 10_000, 1e-10),
+        (
+            configured("cmaes", &[("restarts", Raw::Text("bipop".into()))]),
+            10_000,
+            1e-10,
+        ),
+        (
+            configured("cmaes", &[("bounds", Raw::Text("reflect".into()))]),
+            10_000,
+            1e-10,
         ),
     ]
 }
@@ -274,7 +286,7 @@ fn nan_objectives_rank_last_and_never_crash() {
 fn budgets_smaller_than_a_population_are_respected() {
     for name in Algorithm::NAMES {
         let algo = Algorithm::default_for(name).unwrap();
-        for budget in [0, 1, 2, 7] {
+        for budget in [0, 1, 2, 7, 13, 1001] {
             let problem = Guarded::new(TestProblem::new(Function::Rastrigin, 4).unwrap());
             let out = algo.run(&problem, budget, &mut run_rng(1));
             assert_eq!(out.evaluations, budget, "{name}");
@@ -326,6 +338,10 @@ fn every_simd_level_gives_the_same_runs() {
         ("mhs", vec![]),
         ("mhs", vec![("bounds", reflect())]),
         ("mhs", vec![("scheme", Raw::Text("per-variable".into()))]),
+        ("cmaes", vec![]),
+        ("cmaes", vec![("bounds", reflect())]),
+        ("cmaes", vec![("restarts", Raw::Text("bipop".into()))]),
+        ("cmaes", vec![("lambda", Raw::Int(40))]),
     ];
     let levels: Vec<Simd> = [Simd::Portable, Simd::Avx2, Simd::Avx512]
         .into_iter()

@@ -75,12 +75,12 @@ fn unknown_names_list_the_valid_choices() {
     assert_eq!(
         error_of(&BASE.replace("name = \"hs\"", "name = \"hz\"")),
         "spec.toml:12:8: algorithm[1].name: unknown algorithm \"hz\"; did you mean \"hs\"? \
-         Valid choices: \"hs\", \"ghs\", \"ga\", \"pso\" or \"mhs\""
+         Valid choices: \"hs\", \"ghs\", \"ga\", \"pso\", \"mhs\" or \"cmaes\""
     );
     assert_eq!(
         error_of(&BASE.replace("name = \"hs\"", "name = \"simplex\"")),
         "spec.toml:12:8: algorithm[1].name: unknown algorithm \"simplex\"; \
-         valid choices: \"hs\", \"ghs\", \"ga\", \"pso\" or \"mhs\""
+         valid choices: \"hs\", \"ghs\", \"ga\", \"pso\", \"mhs\" or \"cmaes\""
     );
     assert_eq!(
         error_of(&with_line("hmc = 0.9")),
@@ -138,6 +138,22 @@ fn inconsistent_specs_are_refused() {
             "name = \"ghs\"\npar_min = 0.9\npar_max = 0.5"
         )),
         "spec.toml:13:11: algorithm[1].par_min: par_min (0.9) must not exceed par_max (0.5)"
+    );
+    assert_eq!(
+        error_of(&BASE.replace("name = \"hs\"", "name = \"cmaes\"\nlambda = 1")),
+        "spec.toml:13:10: algorithm[1].lambda: λ must be at least 2 (or 0 for 4 + ⌊3 ln D⌋), found 1"
+    );
+    assert_eq!(
+        error_of(&BASE.replace("name = \"hs\"", "name = \"cmaes\"\nsigma0 = 0")),
+        "spec.toml:13:10: algorithm[1].sigma0: expected a real number in (0, 1], found 0"
+    );
+    assert_eq!(
+        error_of(&BASE.replace("name = \"hs\"", "name = \"cmaes\"\nrestarts = \"foo\"")),
+        "spec.toml:13:12: algorithm[1].restarts: expected one of \"ipop\", \"bipop\" or \"none\", found \"foo\""
+    );
+    assert_eq!(
+        error_of(&BASE.replace("name = \"hs\"", "name = \"cmaes\"\ninc_popsize = 1")),
+        "spec.toml:13:15: algorithm[1].inc_popsize: expected a real number in (1, 10], found 1"
     );
     assert_eq!(
         error_of(&with_line("hmcr = []")),

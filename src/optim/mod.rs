@@ -12,7 +12,9 @@
 //! | `ga` | [`GeneticAlgorithm`] | real-coded GA (Goldberg 1989; Eshelman & Schaffer 1993) |
 //! | `pso` | [`ParticleSwarm`] | Kennedy & Eberhart 1995; Shi & Eberhart 1998 |
 //! | `mhs` | [`ModifiedHarmonySearch`] | the thesis (reconstructed) |
+//! | `cmaes` | [`CmaEs`] | CMA-ES (Hansen & Ostermeier 2001; Hansen 2016) with IPOP or BIPOP restarts (Auger & Hansen 2005; Hansen 2009) |
 
+pub mod cmaes;
 pub mod evaluator;
 pub mod ga;
 pub mod ghs;
@@ -27,6 +29,7 @@ use std::fmt;
 
 use crate::rng::Words;
 
+pub use cmaes::CmaEs;
 pub use evaluator::{Evaluator, Outcome, TargetHit, TracePoint};
 pub use ga::GeneticAlgorithm;
 pub use ghs::GlobalBestHarmonySearch;
@@ -139,7 +142,7 @@ pub fn policy_param(p: &ParamSet) -> BoundPolicy {
     BoundPolicy::from_name(p.choice("bounds")).unwrap_or_default()
 }
 
-/// One of the five optimisers, configured; the unit an experiment spec names.
+/// One of the optimisers, configured; the unit an experiment spec names.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Algorithm {
     /// Harmony Search.
@@ -152,11 +155,13 @@ pub enum Algorithm {
     Pso(ParticleSwarm),
     /// Modified Harmony Search (reconstruction).
     Mhs(ModifiedHarmonySearch),
+    /// CMA-ES with restarts.
+    CmaEs(CmaEs),
 }
 
 impl Algorithm {
     /// The spec names of the algorithms.
-    pub const NAMES: [&'static str; 5] = ["hs", "ghs", "ga", "pso", "mhs"];
+    pub const NAMES: [&'static str; 6] = ["hs", "ghs", "ga", "pso", "mhs", "cmaes"];
 
     /// The parameter declarations of the algorithm called `name`.
     pub fn params(name: &str) -> Option<&'static [ParamDef]> {
@@ -166,6 +171,7 @@ impl Algorithm {
             "ga" => &ga::PARAMS,
             "pso" => &pso::PARAMS,
             "mhs" => &mhs::PARAMS,
+            "cmaes" => &cmaes::PARAMS,
             _ => return None,
         })
     }
@@ -179,6 +185,7 @@ impl Algorithm {
             "ga" => Self::Ga(GeneticAlgorithm::from_params(p)?),
             "pso" => Self::Pso(ParticleSwarm::from_params(p)?),
             "mhs" => Self::Mhs(ModifiedHarmonySearch::from_params(p)?),
+            "cmaes" => Self::CmaEs(CmaEs::from_params(p)?),
             other => {
                 return Err(ParamError::new(
                     "algorithm",
@@ -202,6 +209,7 @@ impl Algorithm {
             Self::Ga(_) => "ga",
             Self::Pso(_) => "pso",
             Self::Mhs(_) => "mhs",
+            Self::CmaEs(_) => "cmaes",
         }
     }
 }
@@ -218,6 +226,7 @@ impl Optimiser for Algorithm {
             Self::Ga(a) => a.minimise(eval, rng),
             Self::Pso(a) => a.minimise(eval, rng),
             Self::Mhs(a) => a.minimise(eval, rng),
+            Self::CmaEs(a) => a.minimise(eval, rng),
         }
     }
 }
