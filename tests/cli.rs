@@ -156,8 +156,13 @@ fn list_shows_every_algorithm_and_function() {
         "ga",
         "pso",
         "mhs",
+        "lshade",
+        "random",
         "hmcr",
         "par_min",
+        "r_n_init",
+        "arc_rate",
+        "p_best",
         "sphere",
         "six_hump_camel",
     ] {

@@ -1,4 +1,5 @@
-//! The optimisers of the thesis's chapter 4 and the interface they share.
+//! The optimisers of the thesis's chapter 4, two reference algorithms from
+//! beyond the thesis (L-SHADE and random search), and the interface they share.
 //!
 //! Every optimiser minimises a [`Problem`] through an [`Evaluator`], which
 //! counts the objective evaluations against a budget, so that algorithms
@@ -12,6 +13,8 @@
 //! | `ga` | [`GeneticAlgorithm`] | real-coded GA (Goldberg 1989; Eshelman & Schaffer 1993) |
 //! | `pso` | [`ParticleSwarm`] | Kennedy & Eberhart 1995; Shi & Eberhart 1998 |
 //! | `mhs` | [`ModifiedHarmonySearch`] | the thesis (reconstructed) |
+//! | `lshade` | [`Lshade`] | Tanabe & Fukunaga 2014 (L-SHADE, after SHADE, Tanabe & Fukunaga 2013) |
+//! | `random` | [`RandomSearch`] | uniform random search (Brooks 1958; Rastrigin 1963): the floor every optimiser must beat |
 
 pub mod evaluator;
 pub mod ga;
@@ -19,9 +22,11 @@ pub mod ghs;
 pub mod harmony;
 pub mod hs;
 pub mod lm;
+pub mod lshade;
 pub mod mhs;
 pub mod params;
 pub mod pso;
+pub mod random;
 
 use std::fmt;
 
@@ -32,9 +37,11 @@ pub use ga::GeneticAlgorithm;
 pub use ghs::GlobalBestHarmonySearch;
 pub use hs::HarmonySearch;
 pub use lm::{LeastSquares, LevenbergMarquardt};
+pub use lshade::Lshade;
 pub use mhs::ModifiedHarmonySearch;
 pub use params::{quoted_list, Kind, ParamDef, ParamSet, Raw, Setting, SettingError};
 pub use pso::ParticleSwarm;
+pub use random::RandomSearch;
 
 use crate::problem::{BoundPolicy, Bounds, Problem};
 
@@ -139,7 +146,7 @@ pub fn policy_param(p: &ParamSet) -> BoundPolicy {
     BoundPolicy::from_name(p.choice("bounds")).unwrap_or_default()
 }
 
-/// One of the five optimisers, configured; the unit an experiment spec names.
+/// One of the optimisers, configured; the unit an experiment spec names.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Algorithm {
     /// Harmony Search.
@@ -152,11 +159,16 @@ pub enum Algorithm {
     Pso(ParticleSwarm),
     /// Modified Harmony Search (reconstruction).
     Mhs(ModifiedHarmonySearch),
+    /// L-SHADE: success-history adaptive DE with linear population size
+    /// reduction.
+    Lshade(Lshade),
+    /// Uniform random search.
+    Random(RandomSearch),
 }
 
 impl Algorithm {
     /// The spec names of the algorithms.
-    pub const NAMES: [&'static str; 5] = ["hs", "ghs", "ga", "pso", "mhs"];
+    pub const NAMES: [&'static str; 7] = ["hs", "ghs", "ga", "pso", "mhs", "lshade", "random"];
 
     /// The parameter declarations of the algorithm called `name`.
     pub fn params(name: &str) -> Option<&'static [ParamDef]> {
@@ -166,6 +178,8 @@ impl Algorithm {
             "ga" => &ga::PARAMS,
             "pso" => &pso::PARAMS,
             "mhs" => &mhs::PARAMS,
+            "lshade" => &lshade::PARAMS,
+            "random" => &random::PARAMS,
             _ => return None,
         })
     }
@@ -179,6 +193,8 @@ impl Algorithm {
             "ga" => Self::Ga(GeneticAlgorithm::from_params(p)?),
             "pso" => Self::Pso(ParticleSwarm::from_params(p)?),
             "mhs" => Self::Mhs(ModifiedHarmonySearch::from_params(p)?),
+            "lshade" => Self::Lshade(Lshade::from_params(p)?),
+            "random" => Self::Random(RandomSearch::from_params(p)?),
             other => {
                 return Err(ParamError::new(
                     "algorithm",
@@ -202,6 +218,8 @@ impl Algorithm {
             Self::Ga(_) => "ga",
             Self::Pso(_) => "pso",
             Self::Mhs(_) => "mhs",
+            Self::Lshade(_) => "lshade",
+            Self::Random(_) => "random",
         }
     }
 }
@@ -218,6 +236,8 @@ impl Optimiser for Algorithm {
             Self::Ga(a) => a.minimise(eval, rng),
             Self::Pso(a) => a.minimise(eval, rng),
             Self::Mhs(a) => a.minimise(eval, rng),
+            Self::Lshade(a) => a.minimise(eval, rng),
+            Self::Random(a) => a.minimise(eval, rng),
         }
     }
 }
