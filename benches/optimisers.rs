@@ -7,7 +7,10 @@
 //! both measured in the same bench run. The target is a ratio ≤ 3 on
 //! Sphere-30 for every optimiser, with ≤ 2 as the stretch (the optimiser's
 //! own work per evaluation costs at most one Sphere-30 evaluation).
-//! `make bench` prints the ratio table at the end.
+//! `make bench` prints the ratio table at the end. Every algorithm of
+//! `Algorithm::NAMES` is benched, L-SHADE and random search included
+//! (random search's ratio is the floor: drawing uniform points and the
+//! evaluator's bookkeeping).
 //!
 //! Two parts of that overhead are also measured alone, so that the floor
 //! of the ratio can be read off: `generator/words-60` (the 60 random words

@@ -510,7 +510,11 @@ fn list(w: &mut String) {
     );
     for name in Algorithm::NAMES {
         say!(w, "\n  {name}");
-        for d in Algorithm::params(name).unwrap_or(&[]) {
+        let defs = Algorithm::params(name).unwrap_or(&[]);
+        if defs.is_empty() {
+            say!(w, "    (no parameters)");
+        }
+        for d in defs {
             say!(
                 w,
                 "    {:<10} = {:<12} {} ({})",

@@ -16,7 +16,7 @@
 //! | 3 | [`rng`] | seed derivation and the random streams |
 //! | 4 | [`problem`] | the [`problem::Problem`] an optimiser minimises |
 //! | 5 | [`functions`] | the ten benchmark functions (thesis ch. 4) |
-//! | 6 | [`optim`] | HS, GHS, GA, PSO, MHS and Levenberg–Marquardt |
+//! | 6 | [`optim`] | HS, GHS, GA, PSO, MHS, L-SHADE, random search and Levenberg–Marquardt |
 //! | 7 | [`outline`] | data points from images, CSV files and glyphs |
 //! | 8 | [`fit`] | the fitting problem E = Σ‖R_i − P_i‖², search spaces, piecewise fits (ch. 5) |
 //! | 9 | [`reconstruction`] | sources, methods, the fitting pipeline, overlay figure data |

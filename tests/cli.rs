@@ -161,6 +161,11 @@ fn list_shows_every_algorithm_and_function() {
         "par_min",
         "inc_popsize",
         "sigma0",
+        "lshade",
+        "random",
+        "r_n_init",
+        "arc_rate",
+        "p_best",
         "sphere",
         "six_hump_camel",
     ] {

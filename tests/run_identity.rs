@@ -100,6 +100,12 @@ name = "pso"
 [[algorithm]]
 name = "mhs"
 scheme = "per-variable"
+
+[[algorithm]]
+name = "lshade"
+
+[[algorithm]]
+name = "random"
 "#;
 
 fn factors(paired: &str) -> Spec {
@@ -217,7 +223,7 @@ fn instances_are_identical_across_algorithms_and_thread_counts() {
     assert!(
         runs.starts_with("algorithm,kind,params,problem,dim,budget,transform,instance,run,seed,")
     );
-    assert_eq!(runs.lines().count(), 1 + 2 * 5 * 2 * 2 * 3);
+    assert_eq!(runs.lines().count(), 1 + 2 * 5 * 2 * 4 * 3);
     // The keyed files carry the budget, since runs of one problem differ in it.
     let hits = std::fs::read_to_string(one.join("hits.csv")).unwrap();
     assert!(hits.starts_with(

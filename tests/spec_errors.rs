@@ -63,6 +63,33 @@ fn out_of_range_parameters_are_refused_before_anything_runs() {
         error_of(&BASE.replace("runs = 2", "runs = 0")),
         "spec.toml:4:8: experiment.runs: expected an integer in 1..=4294967295, found 0"
     );
+    let lshade = |extra: &str| {
+        error_of(&BASE.replace("name = \"hs\"", &format!("name = \"lshade\"\n{extra}")))
+    };
+    assert_eq!(
+        lshade("p_best = 0"),
+        "spec.toml:13:10: algorithm[1].p_best: expected a real number in (0, 1], found 0"
+    );
+    assert_eq!(
+        lshade("r_n_init = -18"),
+        "spec.toml:13:12: algorithm[1].r_n_init: expected a real number in (0, 1000], found -18"
+    );
+    assert_eq!(
+        lshade("memory = 0"),
+        "spec.toml:13:10: algorithm[1].memory: expected an integer in 1..=1000, found 0"
+    );
+    assert_eq!(
+        lshade("arc_rate = -0.5"),
+        "spec.toml:13:12: algorithm[1].arc_rate: expected a real number in [0, 100], found -0.5"
+    );
+    assert_eq!(
+        lshade("bounds = \"wrap\""),
+        "spec.toml:13:10: algorithm[1].bounds: expected one of \"midpoint\", \"clip\" or \"reflect\", found \"wrap\""
+    );
+    assert_eq!(
+        error_of(&BASE.replace("name = \"hs\"", "name = \"random\"\nhms = 5")),
+        "spec.toml:13:1: algorithm[1].hms: unknown parameter for random (it has none); valid choices: \"name\" or \"label\""
+    );
     // A bad value inside a grid list is located at the element.
     assert_eq!(
         error_of(&with_line("hmcr = [0.7, 0.8, 1.9]")),
@@ -75,12 +102,12 @@ fn unknown_names_list_the_valid_choices() {
     assert_eq!(
         error_of(&BASE.replace("name = \"hs\"", "name = \"hz\"")),
         "spec.toml:12:8: algorithm[1].name: unknown algorithm \"hz\"; did you mean \"hs\"? \
-         Valid choices: \"hs\", \"ghs\", \"ga\", \"pso\", \"mhs\" or \"cmaes\""
+         Valid choices: \"hs\", \"ghs\", \"ga\", \"pso\", \"mhs\", \"cmaes\", \"lshade\" or \"random\""
     );
     assert_eq!(
         error_of(&BASE.replace("name = \"hs\"", "name = \"simplex\"")),
         "spec.toml:12:8: algorithm[1].name: unknown algorithm \"simplex\"; \
-         valid choices: \"hs\", \"ghs\", \"ga\", \"pso\", \"mhs\" or \"cmaes\""
+         valid choices: \"hs\", \"ghs\", \"ga\", \"pso\", \"mhs\", \"cmaes\", \"lshade\" or \"random\""
     );
     assert_eq!(
         error_of(&with_line("hmc = 0.9")),

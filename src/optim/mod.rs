@@ -1,4 +1,5 @@
-//! The optimisers of the thesis's chapter 4 and the interface they share.
+//! The optimisers of the thesis's chapter 4, two reference algorithms from
+//! beyond the thesis (L-SHADE and random search), and the interface they share.
 //!
 //! Every optimiser minimises a [`Problem`] through an [`Evaluator`], which
 //! counts the objective evaluations against a budget, so that algorithms
@@ -13,6 +14,8 @@
 //! | `pso` | [`ParticleSwarm`] | Kennedy & Eberhart 1995; Shi & Eberhart 1998 |
 //! | `mhs` | [`ModifiedHarmonySearch`] | the thesis (reconstructed) |
 //! | `cmaes` | [`CmaEs`] | CMA-ES (Hansen & Ostermeier 2001; Hansen 2016) with IPOP or BIPOP restarts (Auger & Hansen 2005; Hansen 2009) |
+//! | `lshade` | [`Lshade`] | Tanabe & Fukunaga 2014 (L-SHADE, after SHADE, Tanabe & Fukunaga 2013) |
+//! | `random` | [`RandomSearch`] | uniform random search (Brooks 1958; Rastrigin 1963): the floor every optimiser must beat |
 
 pub mod cmaes;
 pub mod evaluator;
@@ -21,9 +24,11 @@ pub mod ghs;
 pub mod harmony;
 pub mod hs;
 pub mod lm;
+pub mod lshade;
 pub mod mhs;
 pub mod params;
 pub mod pso;
+pub mod random;
 
 use std::fmt;
 
@@ -35,9 +40,11 @@ pub use ga::GeneticAlgorithm;
 pub use ghs::GlobalBestHarmonySearch;
 pub use hs::HarmonySearch;
 pub use lm::{LeastSquares, LevenbergMarquardt};
+pub use lshade::Lshade;
 pub use mhs::ModifiedHarmonySearch;
 pub use params::{quoted_list, Kind, ParamDef, ParamSet, Raw, Setting, SettingError};
 pub use pso::ParticleSwarm;
+pub use random::RandomSearch;
 
 use crate::problem::{BoundPolicy, Bounds, Problem};
 
@@ -157,11 +164,17 @@ pub enum Algorithm {
     Mhs(ModifiedHarmonySearch),
     /// CMA-ES with restarts.
     CmaEs(CmaEs),
+    /// L-SHADE: success-history adaptive DE with linear population size
+    /// reduction.
+    Lshade(Lshade),
+    /// Uniform random search.
+    Random(RandomSearch),
 }
 
 impl Algorithm {
     /// The spec names of the algorithms.
-    pub const NAMES: [&'static str; 6] = ["hs", "ghs", "ga", "pso", "mhs", "cmaes"];
+    pub const NAMES: [&'static str; 8] =
+        ["hs", "ghs", "ga", "pso", "mhs", "cmaes", "lshade", "random"];
 
     /// The parameter declarations of the algorithm called `name`.
     pub fn params(name: &str) -> Option<&'static [ParamDef]> {
@@ -172,6 +185,8 @@ impl Algorithm {
             "pso" => &pso::PARAMS,
             "mhs" => &mhs::PARAMS,
             "cmaes" => &cmaes::PARAMS,
+            "lshade" => &lshade::PARAMS,
+            "random" => &random::PARAMS,
             _ => return None,
         })
     }
@@ -186,6 +201,8 @@ impl Algorithm {
             "pso" => Self::Pso(ParticleSwarm::from_params(p)?),
             "mhs" => Self::Mhs(ModifiedHarmonySearch::from_params(p)?),
             "cmaes" => Self::CmaEs(CmaEs::from_params(p)?),
+            "lshade" => Self::Lshade(Lshade::from_params(p)?),
+            "random" => Self::Random(RandomSearch::from_params(p)?),
             other => {
                 return Err(ParamError::new(
                     "algorithm",
@@ -210,6 +227,8 @@ impl Algorithm {
             Self::Pso(_) => "pso",
             Self::Mhs(_) => "mhs",
             Self::CmaEs(_) => "cmaes",
+            Self::Lshade(_) => "lshade",
+            Self::Random(_) => "random",
         }
     }
 }
@@ -227,6 +246,8 @@ impl Optimiser for Algorithm {
             Self::Pso(a) => a.minimise(eval, rng),
             Self::Mhs(a) => a.minimise(eval, rng),
             Self::CmaEs(a) => a.minimise(eval, rng),
+            Self::Lshade(a) => a.minimise(eval, rng),
+            Self::Random(a) => a.minimise(eval, rng),
         }
     }
 }

@@ -40,7 +40,8 @@ pub use source::{ContourChoice, LoadOptions, Source, SourceContour, SourceError}
 /// How a segment problem is solved.
 #[derive(Clone, Debug)]
 pub enum Method {
-    /// One of the metaheuristics (HS, GHS, GA, PSO, MHS) with its settings.
+    /// One of the metaheuristics (HS, GHS, GA, PSO, MHS, L-SHADE, random
+    /// search) with its settings.
     Metaheuristic(Algorithm),
     /// The exact reference: Levenberg–Marquardt (Levenberg 1944; Marquardt
     /// 1963) from the linear least-squares fit with unit weights.

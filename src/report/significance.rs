@@ -940,13 +940,9 @@ pub(crate) fn friedman_report(
 ) -> FriedmanReport {
     let k = ds.cells.len();
     let mut by: BTreeMap<(&str, &str), Vec<f64>> = BTreeMap::new();
-    for s in standings
-        .iter()
-        .filter(|s| {
-            (s.table == "reference" || s.table == STATE_OF_THE_ART)
-                && s.measure == Measure::FinalError
-        })
-    {
+    for s in standings.iter().filter(|s| {
+        (s.table == "reference" || s.table == STATE_OF_THE_ART) && s.measure == Measure::FinalError
+    }) {
         by.entry((&s.unit, &s.algorithm)).or_default().push(s.value);
     }
     let mut units: Vec<&str> = by.keys().map(|(u, _)| *u).collect();
