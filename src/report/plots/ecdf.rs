@@ -70,9 +70,9 @@ impl Draw for Ecdf {
     }
 }
 
-/// The colour of the reference curve: a wide light grey, as cocopp draws
-/// its reference algorithm behind the others.
-const REFERENCE: RGBColor = RGBColor(190, 190, 190);
+/// The colour of the reference curve: a wide light gold, as cocopp draws
+/// its reference algorithm behind the others, apart from the palette's grey.
+const REFERENCE: RGBColor = RGBColor(238, 203, 110);
 
 /// The steps of an ECDF over `total` pairs, from the sorted runtimes of
 /// the solved ones, starting at (1, 0).
@@ -380,7 +380,7 @@ fn target_ecdf(
     }
     let reference_note = if reference.is_some() {
         format!(
-            " The wide grey curve is {}, COCO's virtual best of the 31 algorithms of \
+            " The wide gold curve is {}, COCO's virtual best of the 31 algorithms of \
              BBOB-2009, a (function, target) pair counted at its aRT / D as cocopp draws \
              it ({}; beyond the thesis), cut at the campaign's largest budget.",
             best2009::LABEL,
