@@ -979,58 +979,10 @@ impl Optimiser for CmaEs {
 
 #[cfg(test)]
 mod tests {
-    use std::cell::Cell;
-
     use super::*;
+    use crate::optim::bowl::Bowl;
     use crate::optim::params::Raw;
     use crate::rng::run_rng;
-
-    /// `Σ (x_i − c_i)²` on per-variable bounds, counting every evaluation
-    /// and those outside the box; NaN where `x_0 > nan_above`.
-    struct Quadratic {
-        bounds: Vec<Bounds>,
-        centre: Vec<f64>,
-        calls: Cell<u64>,
-        outside: Cell<u64>,
-        nan_above: f64,
-    }
-
-    impl Quadratic {
-        fn sphere(dim: usize) -> Self {
-            Self::new(vec![Bounds::new(-100.0, 100.0); dim], vec![0.0; dim])
-        }
-        fn new(bounds: Vec<Bounds>, centre: Vec<f64>) -> Self {
-            Self {
-                bounds,
-                centre,
-                calls: Cell::new(0),
-                outside: Cell::new(0),
-                nan_above: f64::INFINITY,
-            }
-        }
-    }
-
-    impl Problem for Quadratic {
-        fn dim(&self) -> usize {
-            self.bounds.len()
-        }
-        fn bounds(&self) -> &[Bounds] {
-            &self.bounds
-        }
-        fn objective(&self, x: &[f64]) -> f64 {
-            self.calls.set(self.calls.get() + 1);
-            if x.iter().zip(&self.bounds).any(|(v, b)| !b.contains(*v)) {
-                self.outside.set(self.outside.get() + 1);
-            }
-            if x[0] > self.nan_above {
-                return f64::NAN;
-            }
-            x.iter()
-                .zip(&self.centre)
-                .map(|(v, c)| (v - c) * (v - c))
-                .sum()
-        }
-    }
 
     fn build(settings: &[(&str, Raw)]) -> Result<CmaEs, ParamError> {
         let mut p = ParamSet::defaults(&PARAMS);
@@ -1055,7 +1007,7 @@ mod tests {
         out
     }
 
-    fn recorded(algo: &CmaEs, p: &Quadratic, budget: u64, seed: u64) -> Vec<RunRecord> {
+    fn recorded(algo: &CmaEs, p: &Bowl, budget: u64, seed: u64) -> Vec<RunRecord> {
         let mut eval = Evaluator::new(p, budget);
         algo.minimise_recorded(&mut eval, &mut run_rng(seed))
     }
@@ -1097,7 +1049,7 @@ mod tests {
     /// of the stream or the arithmetic).
     #[test]
     fn solves_sphere_10() {
-        let p = Quadratic::sphere(10);
+        let p = Bowl::sphere(10);
         let algo = CmaEs::default();
         for seed in 0..5 {
             let mut eval = Evaluator::new(&p, 10_000).with_targets(0.0, vec![1e-8, 1e-10]);
@@ -1125,7 +1077,7 @@ mod tests {
         let centre = vec![5e-3, 11.0, -600.0, 3.0];
         for algo in variants() {
             for budget in [0, 1, 2, 7, 13, 1001, 5003] {
-                let p = Quadratic::new(bounds.clone(), centre.clone());
+                let p = Bowl::new(bounds.clone(), centre.clone());
                 let out = algo.run(&p, budget, &mut run_rng(budget));
                 assert_eq!(out.evaluations, budget, "{algo:?}");
                 assert_eq!(p.calls.get(), budget, "{algo:?}");
@@ -1147,7 +1099,7 @@ mod tests {
 
     #[test]
     fn is_reproducible_by_seed() {
-        let p = Quadratic::sphere(5);
+        let p = Bowl::sphere(5);
         for algo in variants() {
             let a = algo.run(&p, 3000, &mut run_rng(11));
             let b = algo.run(&p, 3000, &mut run_rng(11));
@@ -1159,7 +1111,7 @@ mod tests {
 
     #[test]
     fn ipop_multiplies_lambda_at_each_restart() {
-        let p = Quadratic::sphere(2);
+        let p = Bowl::sphere(2);
         let runs = recorded(&CmaEs::default(), &p, 30_000, 3);
         assert!(runs.len() >= 4, "{runs:?}");
         for (k, r) in runs.iter().enumerate() {
@@ -1234,7 +1186,7 @@ mod tests {
     #[test]
     fn runs_end_on_the_tutorials_criteria() {
         // On Sphere-2 a run converges until the values no longer differ.
-        let p = Quadratic::sphere(2);
+        let p = Bowl::sphere(2);
         let runs = recorded(&CmaEs::default(), &p, 20_000, 1);
         let stops: Vec<Stop> = runs.iter().map(|r| r.stop).collect();
         assert!(
@@ -1292,7 +1244,7 @@ mod tests {
     #[test]
     fn survives_a_nan_region() {
         for algo in variants() {
-            let mut p = Quadratic::sphere(3);
+            let mut p = Bowl::sphere(3);
             p.nan_above = -50.0;
             let out = algo.run(&p, 3000, &mut run_rng(5));
             assert_eq!(out.evaluations, 3000);
@@ -1303,7 +1255,7 @@ mod tests {
 
     #[test]
     fn one_variable_and_none_at_all() {
-        let p = Quadratic::sphere(1);
+        let p = Bowl::sphere(1);
         let out = CmaEs::default().run(&p, 2000, &mut run_rng(1));
         // tolfun (an absolute 10⁻¹²) restarts a run once f is that small.
         assert!(out.best_value < 1e-12, "{}", out.best_value);

@@ -600,59 +600,10 @@ impl Lshade {
 
 #[cfg(test)]
 mod tests {
-    use std::cell::Cell;
-
     use super::*;
+    use crate::optim::bowl::Bowl;
     use crate::optim::params::Raw;
     use crate::rng::run_rng;
-
-    /// `Σ (x_i − c_i)²` on asymmetric per-variable bounds, counting calls and
-    /// evaluations outside the box, NaN where `x_0 > nan_above`.
-    struct Bowl {
-        bounds: Vec<Bounds>,
-        centre: Vec<f64>,
-        outside: Cell<u64>,
-        calls: Cell<u64>,
-        nan_above: f64,
-    }
-
-    impl Bowl {
-        fn sphere(dim: usize) -> Self {
-            Self::new(vec![Bounds::new(-100.0, 100.0); dim], vec![0.0; dim])
-        }
-
-        fn new(bounds: Vec<Bounds>, centre: Vec<f64>) -> Self {
-            Self {
-                bounds,
-                centre,
-                outside: Cell::new(0),
-                calls: Cell::new(0),
-                nan_above: f64::INFINITY,
-            }
-        }
-    }
-
-    impl Problem for Bowl {
-        fn dim(&self) -> usize {
-            self.bounds.len()
-        }
-        fn bounds(&self) -> &[Bounds] {
-            &self.bounds
-        }
-        fn objective(&self, x: &[f64]) -> f64 {
-            self.calls.set(self.calls.get() + 1);
-            if x.iter().zip(&self.bounds).any(|(v, b)| !b.contains(*v)) {
-                self.outside.set(self.outside.get() + 1);
-            }
-            if x.first().is_some_and(|&v| v > self.nan_above) {
-                return f64::NAN;
-            }
-            x.iter()
-                .zip(&self.centre)
-                .map(|(v, c)| (v - c) * (v - c))
-                .sum()
-        }
-    }
 
     fn build(settings: &[(&str, Raw)]) -> Lshade {
         let mut p = ParamSet::defaults(&PARAMS);

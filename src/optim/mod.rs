@@ -17,6 +17,8 @@
 //! | `lshade` | [`Lshade`] | Tanabe & Fukunaga 2014 (L-SHADE, after SHADE, Tanabe & Fukunaga 2013) |
 //! | `random` | [`RandomSearch`] | uniform random search (Brooks 1958; Rastrigin 1963): the floor every optimiser must beat |
 
+#[cfg(test)]
+mod bowl;
 pub mod cmaes;
 pub mod evaluator;
 pub mod ga;

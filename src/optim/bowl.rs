@@ -1,0 +1,53 @@
+//! A test problem the optimisers' unit tests share (test builds only).
+
+use std::cell::Cell;
+
+use crate::problem::{Bounds, Problem};
+
+/// `Σ (x_i − c_i)²` on asymmetric per-variable bounds, counting calls and
+/// evaluations outside the box, NaN where `x_0 > nan_above`.
+pub(crate) struct Bowl {
+    pub(crate) bounds: Vec<Bounds>,
+    pub(crate) centre: Vec<f64>,
+    pub(crate) outside: Cell<u64>,
+    pub(crate) calls: Cell<u64>,
+    pub(crate) nan_above: f64,
+}
+
+impl Bowl {
+    pub(crate) fn sphere(dim: usize) -> Self {
+        Self::new(vec![Bounds::new(-100.0, 100.0); dim], vec![0.0; dim])
+    }
+
+    pub(crate) fn new(bounds: Vec<Bounds>, centre: Vec<f64>) -> Self {
+        Self {
+            bounds,
+            centre,
+            outside: Cell::new(0),
+            calls: Cell::new(0),
+            nan_above: f64::INFINITY,
+        }
+    }
+}
+
+impl Problem for Bowl {
+    fn dim(&self) -> usize {
+        self.bounds.len()
+    }
+    fn bounds(&self) -> &[Bounds] {
+        &self.bounds
+    }
+    fn objective(&self, x: &[f64]) -> f64 {
+        self.calls.set(self.calls.get() + 1);
+        if x.iter().zip(&self.bounds).any(|(v, b)| !b.contains(*v)) {
+            self.outside.set(self.outside.get() + 1);
+        }
+        if x.first().is_some_and(|&v| v > self.nan_above) {
+            return f64::NAN;
+        }
+        x.iter()
+            .zip(&self.centre)
+            .map(|(v, c)| (v - c) * (v - c))
+            .sum()
+    }
+}
