@@ -217,7 +217,7 @@ fn bad_fit_input_gets_a_specific_error() {
     );
     let e = fit_error(&["horse.png", "--algorithm", "hz"]);
     assert!(
-        e.contains("unknown algorithm \"hz\"; valid choices: hs, ghs, ga, pso, mhs, lm"),
+        e.contains("unknown algorithm \"hz\"; valid choices: hs, ghs, ga, pso, mhs, cmaes, lm"),
         "{e}"
     );
     let e = fit_error(&["horse.png", "--segments", "5"]);
