@@ -25,6 +25,15 @@
 //! stream, only its speed).
 //! `improvise/hs-30-words-given` is `improvise/hs-30` with the words
 //! already in place, so it times the improvisation's own arithmetic.
+//!
+//! The `overhead-sphere-<D>` groups (D = 10, 30, 100) time a run of
+//! [`OVERHEAD_EVALS`] evaluations of HS and of CMA-ES, and as many bare
+//! evaluations of Sphere-D; the summary prints each optimiser's overhead
+//! per evaluation, `(run time − bare time)/evaluations`. CMA-ES's covers
+//! its sampling (`O(D²)` a point), its updates (`O(μD²)` a generation) and
+//! the eigendecomposition (`O(D³)` every `⌊1/(10D(c_1 + c_μ))⌋ + 1`
+//! generations, as the tutorial amortises it: every generation at
+//! D = 10 and 30, every second at D = 100).
 
 mod common;
 
@@ -33,6 +42,7 @@ use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion, Throughput};
 use metabezier::functions::{Function, TestProblem};
+use metabezier::linalg::symmetric_eigen;
 use metabezier::optim::harmony::{BoundColumns, HarmonyMemory, Improvisation};
 use metabezier::optim::Evaluator;
 use metabezier::optim::{Algorithm, Optimiser};
@@ -42,6 +52,10 @@ use metabezier::simd::dispatch;
 use rand::RngCore;
 
 const BUDGET: u64 = 20_000;
+/// The evaluations of each run (and bare loop) of the `overhead` groups.
+const OVERHEAD_EVALS: u64 = 20_000;
+/// The optimisers of the `overhead` groups.
+const OVERHEAD_ALGOS: [&str; 2] = ["hs", "cmaes"];
 const POINTS: usize = 1024;
 /// HS improvisations per iteration of the `improvise` benchmarks.
 const REPEAT: usize = 100;
@@ -79,6 +93,93 @@ fn bench_function(c: &mut Criterion, f: Function, dim: usize) {
             b.iter(|| {
                 seed += 1;
                 algo.run(&problem, BUDGET, &mut run_rng(seed)).best_value
+            })
+        });
+    }
+    group.finish();
+}
+
+/// A run of [`OVERHEAD_EVALS`] evaluations of each of [`OVERHEAD_ALGOS`]
+/// on Sphere-`dim`, and as many bare evaluations of it (cycling through
+/// [`POINTS`] uniform points).
+fn bench_overhead(c: &mut Criterion, dim: usize) {
+    let problem = TestProblem::new(Function::Sphere, dim).unwrap();
+    let mut rng = run_rng(1);
+    let points: Vec<Vec<f64>> = (0..POINTS)
+        .map(|_| {
+            problem
+                .bounds()
+                .iter()
+                .map(|b| b.lerp(rng.unit()))
+                .collect()
+        })
+        .collect();
+    let mut group = c.benchmark_group(format!("overhead-sphere-{dim}"));
+    group.throughput(Throughput::Elements(OVERHEAD_EVALS));
+    group.bench_function("bare", |b| {
+        b.iter(|| {
+            let mut s = 0.0;
+            for x in points.iter().cycle().take(OVERHEAD_EVALS as usize) {
+                s += problem.objective(black_box(x));
+            }
+            s
+        })
+    });
+    for name in OVERHEAD_ALGOS {
+        let algo = Algorithm::default_for(name).unwrap();
+        group.bench_with_input(BenchmarkId::from_parameter(name), &algo, |b, algo| {
+            let mut seed = 0;
+            b.iter(|| {
+                seed += 1;
+                algo.run(&problem, OVERHEAD_EVALS, &mut run_rng(seed))
+                    .best_value
+            })
+        });
+    }
+    group.finish();
+}
+
+/// [`symmetric_eigen`] of a covariance matrix as CMA-ES meets one (a
+/// rotated spectrum `10^{6k/(D−1)}`, compiled for the CPU as in a run) at
+/// D = 10, 30 and 100: the `O(D³)` part of CMA-ES's overhead.
+fn bench_eigen(c: &mut Criterion) {
+    let mut group = c.benchmark_group("eigen");
+    for dim in [10, 30, 100] {
+        let mut rng = run_rng(7);
+        // A random orthonormal basis (Gram–Schmidt) and the spectrum.
+        let mut q: Vec<f64> = (0..dim * dim).map(|_| rng.gaussian()).collect();
+        for i in 0..dim {
+            for j in 0..i {
+                let d: f64 = (0..dim).map(|k| q[i * dim + k] * q[j * dim + k]).sum();
+                for k in 0..dim {
+                    q[i * dim + k] -= d * q[j * dim + k];
+                }
+            }
+            let norm = (0..dim).map(|k| q[i * dim + k].powi(2)).sum::<f64>().sqrt();
+            for k in 0..dim {
+                q[i * dim + k] /= norm;
+            }
+        }
+        let a: Vec<f64> = (0..dim * dim)
+            .map(|ij| {
+                let (i, j) = (ij / dim, ij % dim);
+                (0..dim)
+                    .map(|k| {
+                        let e = 10f64.powf(6.0 * k as f64 / (dim - 1) as f64);
+                        q[k * dim + i] * e * q[k * dim + j]
+                    })
+                    .sum()
+            })
+            .collect();
+        let (mut w, mut values, mut e) = (a.clone(), vec![0.0; dim], vec![0.0; dim]);
+        group.bench_function(BenchmarkId::from_parameter(dim), |b| {
+            b.iter(|| {
+                w.copy_from_slice(&a);
+                dispatch(
+                    #[inline(always)]
+                    |_| symmetric_eigen(&mut w, dim, &mut values, &mut e),
+                );
+                values[0]
             })
         });
     }
@@ -190,6 +291,10 @@ fn main() {
         bench_function(&mut c, Function::Sphere, dim);
     }
     bench_function(&mut c, Function::Rastrigin, 30);
+    bench_eigen(&mut c);
+    for dim in [10, 30, 100] {
+        bench_overhead(&mut c, dim);
+    }
     c.final_summary();
     println!("\nTime per evaluation inside each optimiser against the bare function:");
     println!("ratio = ns/eval ÷ bare ns; overhead = (ns/eval − bare ns) in units of one bare Sphere-30 evaluation");
@@ -213,6 +318,35 @@ fn main() {
                 let overhead = (per_eval - bare) / sphere;
                 println!(
                     "{f:<14} {name:>6} {per_eval:>10.1} {bare:>10.1} {ratio:>8.2} {overhead:>9.2}"
+                );
+            }
+        }
+    }
+    println!("\nOverhead per evaluation, (run − bare)/evaluations, runs of {OVERHEAD_EVALS} evaluations:");
+    println!(
+        "{:<12} {:>8} {:>10} {:>12} {:>10}",
+        "function", "algo", "ns/eval", "overhead ns", "evals/s"
+    );
+    for dim in [10, 30, 100] {
+        let group = format!("overhead-sphere-{dim}");
+        let Some(bare) = mean_ns(&group, "bare").map(|t| t / OVERHEAD_EVALS as f64) else {
+            continue;
+        };
+        println!(
+            "{:<12} {:>8} {bare:>10.1} {:>12} {:>10}",
+            format!("sphere-{dim}"),
+            "bare",
+            "",
+            ""
+        );
+        for name in OVERHEAD_ALGOS {
+            if let Some(run) = mean_ns(&group, name) {
+                let per_eval = run / OVERHEAD_EVALS as f64;
+                let overhead = per_eval - bare;
+                println!(
+                    "{:<12} {name:>8} {per_eval:>10.1} {overhead:>12.1} {:>10.3e}",
+                    format!("sphere-{dim}"),
+                    1e9 / overhead
                 );
             }
         }

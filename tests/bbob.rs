@@ -246,7 +246,7 @@ fn bbob_reports_show_cocos_best_2009_beside_the_algorithms() {
 /// (rotated ellipsoid, condition 10⁶) and f8 (Rosenbrock) at D = 10, on
 /// instances 1, 2 and 3, one run each (seed = instance), within 10⁴·D
 /// evaluations; pycma needs about 1–2·10⁴. Every one of these runs gets
-/// there in its first run (λ = 10), in 5,699 to 7,082 evaluations. Those
+/// there in its first run (λ = 10), in 5,190 to 7,665 evaluations. Those
 /// runtimes are COCO's, exact to the evaluation, and pinned, so that any
 /// change of the algorithm, its arithmetic or its random stream shows here.
 #[test]
@@ -254,28 +254,39 @@ fn ipop_cmaes_reaches_1e_8_on_bbob_f10_and_f8_in_10_d() {
     use metabezier::optim::{CmaEs, Evaluator};
     use metabezier::rng::run_rng;
     let algo = CmaEs::default();
+    // (function, instance, evaluations to 1e-8, the run that got there).
     let pinned = [
-        (10, 1, 6158),
-        (10, 2, 5699),
-        (10, 3, 6210),
-        (8, 1, 6148),
-        (8, 2, 7082),
-        (8, 3, 6703),
+        (10, 1, 6236, 1),
+        (10, 2, 6387, 1),
+        (10, 3, 5871, 1),
+        (8, 1, 6008, 1),
+        (8, 2, 7665, 1),
+        (8, 3, 5190, 1),
     ];
-    for (f, instance, runtime) in pinned {
+    let mut found = Vec::new();
+    for (f, instance, _, _) in pinned {
         let p = BbobProblem::new(f, 10, instance).unwrap();
         let mut eval = Evaluator::new(&p, 100_000).with_targets(p.fopt(), vec![1e-8]);
         let runs = algo.minimise_recorded(&mut eval, &mut run_rng(instance as u64));
         let out = eval.finish();
         assert_eq!(out.evaluations, 100_000);
         assert_eq!(p.coco_evaluations(), 100_000);
-        let hit = out.hits.first().map(|h| h.evaluations);
         assert!(
-            hit.is_some_and(|e| e <= 100_000),
-            "f{f} instance {instance}: best f − f* = {:e}",
+            out.best_value - p.fopt() <= 1e-8,
+            "f{f} instance {instance}: best f − f* = {:e}; runs {runs:?}",
             out.best_value - p.fopt()
         );
-        assert_eq!(hit, Some(runtime), "f{f} instance {instance}: {runs:?}");
-        assert!(out.best_value - p.fopt() <= 1e-8);
+        let hit = out.hits.first().map_or(0, |h| h.evaluations);
+        assert!(hit > 0 && hit <= 100_000);
+        let mut used = 0;
+        let run = 1 + runs
+            .iter()
+            .take_while(|r| {
+                used += r.evaluations;
+                used < hit
+            })
+            .count();
+        found.push((f, instance, hit, run));
     }
+    assert_eq!(found, pinned);
 }

@@ -4,9 +4,12 @@
 use std::path::Path;
 
 /// Reads criterion's mean time per iteration (ns) of one benchmark from
-/// `target/criterion/<group>/<id>/new/estimates.json`.
+/// `target/criterion/<group>/<id>/new/estimates.json` (under
+/// `$CARGO_TARGET_DIR` when that is set, where criterion writes then).
 pub fn mean_ns(group: &str, id: &str) -> Option<f64> {
-    let path = Path::new("target/criterion")
+    let target = std::env::var_os("CARGO_TARGET_DIR").unwrap_or_else(|| "target".into());
+    let path = Path::new(&target)
+        .join("criterion")
         .join(group)
         .join(id)
         .join("new/estimates.json");
