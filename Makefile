@@ -14,7 +14,7 @@ help:
 	@echo "make reproduce-ch4  chapter 4: benchmarks, scalability, MHS tuning, with reports (results/ch4_*/)"
 	@echo "make reproduce-ch5  chapter 5: curve fitting of four real outlines, search-space and MHS studies (results/ch5_*/)"
 	@echo "make reproduce-ch6  chapter 6: cranial implant from CT 0051, artificial-defect validation (results/ch6_cranial/)"
-	@echo "make bbob           COCO's bbob suite: 5 optimisers x 24 functions x D = 2, 5, 10, report and COCO logs (results/bbob/)"
+	@echo "make bbob           COCO's bbob suite: 8 optimisers x 24 functions x D = 2, 5, 10, report and COCO logs (results/bbob/)"
 	@echo "make cocopp         COCO's own post-processing (cocopp, pinned in tools/cocopp-requirements.txt, in a venv) of results/bbob/coco/"
 	@echo "make reproduce-all  every chapter that exists so far"
 

@@ -27,7 +27,8 @@
 //! already in place, so it times the improvisation's own arithmetic.
 //!
 //! The `overhead-sphere-<D>` groups (D = 10, 30, 100) time a run of
-//! [`OVERHEAD_EVALS`] evaluations of HS and of CMA-ES, and as many bare
+//! [`OVERHEAD_EVALS`] evaluations of HS, CMA-ES (also with `eigen_gap =
+//! 4`) and L-SHADE, and as many bare
 //! evaluations of Sphere-D; the summary prints each optimiser's overhead
 //! per evaluation, `(run time − bare time)/evaluations`. CMA-ES's covers
 //! its sampling (`O(D²)` a point), its updates (`O(μD²)` a generation) and
@@ -44,6 +45,7 @@ use criterion::{BenchmarkId, Criterion, Throughput};
 use metabezier::functions::{Function, TestProblem};
 use metabezier::linalg::symmetric_eigen;
 use metabezier::optim::harmony::{BoundColumns, HarmonyMemory, Improvisation};
+use metabezier::optim::params::{ParamSet, Raw};
 use metabezier::optim::Evaluator;
 use metabezier::optim::{Algorithm, Optimiser};
 use metabezier::problem::{BoundPolicy, Problem};
@@ -54,8 +56,27 @@ use rand::RngCore;
 const BUDGET: u64 = 20_000;
 /// The evaluations of each run (and bare loop) of the `overhead` groups.
 const OVERHEAD_EVALS: u64 = 20_000;
-/// The optimisers of the `overhead` groups.
-const OVERHEAD_ALGOS: [&str; 2] = ["hs", "cmaes"];
+/// An entry of [`OVERHEAD_ALGOS`].
+type OverheadAlgo = (&'static str, &'static str, Option<(&'static str, f64)>);
+
+/// The optimisers of the `overhead` groups: (bench name, algorithm, a
+/// parameter set away from its default). `cmaes-gap4` decomposes `C` four
+/// times less often than the tutorial (`eigen_gap = 4`).
+const OVERHEAD_ALGOS: [OverheadAlgo; 4] = [
+    ("hs", "hs", None),
+    ("cmaes", "cmaes", None),
+    ("cmaes-gap4", "cmaes", Some(("eigen_gap", 4.0))),
+    ("lshade", "lshade", None),
+];
+
+/// The algorithm of an [`OVERHEAD_ALGOS`] entry.
+fn overhead_algo(name: &str, setting: Option<(&str, f64)>) -> Algorithm {
+    let mut p = ParamSet::defaults(Algorithm::params(name).unwrap());
+    if let Some((param, value)) = setting {
+        p.set(param, &Raw::Float(value)).unwrap();
+    }
+    Algorithm::from_params(name, &p).unwrap()
+}
 const POINTS: usize = 1024;
 /// HS improvisations per iteration of the `improvise` benchmarks.
 const REPEAT: usize = 100;
@@ -125,8 +146,8 @@ fn bench_overhead(c: &mut Criterion, dim: usize) {
             s
         })
     });
-    for name in OVERHEAD_ALGOS {
-        let algo = Algorithm::default_for(name).unwrap();
+    for (name, kind, setting) in OVERHEAD_ALGOS {
+        let algo = overhead_algo(kind, setting);
         group.bench_with_input(BenchmarkId::from_parameter(name), &algo, |b, algo| {
             let mut seed = 0;
             b.iter(|| {
@@ -339,7 +360,7 @@ fn main() {
             "",
             ""
         );
-        for name in OVERHEAD_ALGOS {
+        for (name, _, _) in OVERHEAD_ALGOS {
             if let Some(run) = mean_ns(&group, name) {
                 let per_eval = run / OVERHEAD_EVALS as f64;
                 let overhead = per_eval - bare;

@@ -514,10 +514,11 @@ fn list(w: &mut String) {
         if defs.is_empty() {
             say!(w, "    (no parameters)");
         }
+        let width = defs.iter().map(|d| d.name.len()).max().unwrap_or(0);
         for d in defs {
             say!(
                 w,
-                "    {:<10} = {:<12} {} ({})",
+                "    {:<width$} = {:<12} {} ({})",
                 d.name,
                 d.default.to_string(),
                 d.doc,

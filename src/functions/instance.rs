@@ -93,6 +93,9 @@ pub struct Instance {
     index: u32,
     shift: Vec<f64>,
     rotation: Vec<f64>,
+    /// `M_kᵀ` row-major (the columns of `M_k`), which [`Instance::map_into`]
+    /// runs through; empty without a rotation.
+    columns: Vec<f64>,
     x_star: Vec<f64>,
 }
 
@@ -122,11 +125,13 @@ impl Instance {
                 (shift, rotation)
             }
         };
+        let columns = transpose(&rotation, dim);
         Instance {
             transform,
             index: k,
             shift,
             rotation,
+            columns,
             x_star: function.optimum_location(dim),
         }
     }
@@ -154,8 +159,11 @@ impl Instance {
     /// Maps `x` to the argument of the untransformed function,
     /// `y = M(x − o) + x*` (or `x − o + x*` without a rotation), into `y`;
     /// with a rotation `scratch` (at least D long; unused otherwise) holds
-    /// `x − o`, computed once rather than once per row. Sums run left to
-    /// right.
+    /// `x − o`, computed once rather than once per row. Each sum
+    /// `Σ_j M_ij (x_j − o_j)` runs left to right, `j = 0, 1, …`; the `D` sums
+    /// advance together, one column of `M` at a time, so that they do not
+    /// wait on each other's additions (the same bits as one row after the
+    /// other, about twice as fast at D = 30).
     #[inline]
     pub fn map_into(&self, x: &[f64], scratch: &mut [f64], y: &mut [f64]) {
         let d = self.shift.len();
@@ -169,15 +177,29 @@ impl Instance {
             for ((dj, xj), oj) in diff.iter_mut().zip(x).zip(o) {
                 *dj = xj - oj;
             }
-            for ((yi, row), si) in y.iter_mut().zip(self.rotation.chunks_exact(d)).zip(star) {
-                let mut s = 0.0;
-                for (m, dj) in row.iter().zip(diff.iter()) {
-                    s += m * dj;
+            let y = &mut y[..d];
+            y.fill(0.0);
+            for (column, &dj) in self.columns.chunks_exact(d).zip(diff.iter()) {
+                for (yi, m) in y.iter_mut().zip(column) {
+                    *yi += m * dj;
                 }
-                *yi = s + si;
+            }
+            for (yi, si) in y.iter_mut().zip(star) {
+                *yi += si;
             }
         }
     }
+}
+
+/// The transpose of the row-major `d × d` matrix `m` (empty for empty).
+fn transpose(m: &[f64], d: usize) -> Vec<f64> {
+    let mut t = vec![0.0; m.len()];
+    for (i, row) in m.chunks_exact(d.max(1)).enumerate() {
+        for (j, &v) in row.iter().enumerate() {
+            t[j * d + i] = v;
+        }
+    }
+    t
 }
 
 /// A Haar-distributed orthogonal `d × d` matrix (row-major): the Q factor of
@@ -252,6 +274,38 @@ mod tests {
             a,
             Instance::new(Function::Rastrigin, 30, Transform::Shift, 1)
         );
+    }
+
+    /// The column-order map gives the bits of the sums row after row,
+    /// `y_i = ((0 + M_i0 d_0) + M_i1 d_1) + … + x*_i`, on awkward values.
+    #[test]
+    fn map_is_the_row_by_row_sum_bit_for_bit() {
+        for (f, d) in [
+            (Function::Rosenbrock, 1),
+            (Function::Rastrigin, 7),
+            (Function::Ackley, 30),
+        ] {
+            let inst = Instance::new(f, d, Transform::ShiftRotate, 2);
+            let m = inst.rotation().unwrap();
+            let x: Vec<f64> = (0..d)
+                .map(|j| (j as f64 * 0.7311).sin() * 3.3e-3 + 1.0 / 3.0)
+                .collect();
+            let star = f.optimum_location(d);
+            let want: Vec<f64> = (0..d)
+                .map(|i| {
+                    let mut s = 0.0;
+                    for j in 0..d {
+                        s += m[i * d + j] * (x[j] - inst.shift()[j]);
+                    }
+                    s + star[i]
+                })
+                .collect();
+            let mut scratch = vec![0.0; d];
+            let mut y = vec![f64::NAN; d];
+            inst.map_into(&x, &mut scratch, &mut y);
+            let bits = |v: &[f64]| v.iter().map(|a| a.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&y), bits(&want), "{f:?}-{d}");
+        }
     }
 
     #[test]

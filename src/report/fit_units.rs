@@ -18,7 +18,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use super::design::{fit_levels, restrict, varying, without, Levels};
 use super::fitting::{same_seeds, split, two_sample_test, FitRuns};
 use super::format::{p_value, sci, Table};
-use super::verdicts::{find, Measure, Observation, Standing};
+use super::verdicts::{comparison_set, find, pair_set, Measure, Observation, Standing};
 use crate::experiment::segments::FIT_SEGMENT_HEADER;
 use crate::files::fmt_real;
 use crate::stats::{holm_bonferroni, median, Mark, Verdict, VerdictRow};
@@ -199,6 +199,8 @@ pub(crate) fn observations(
     let mut obs = Vec::new();
     let mut standings = Vec::new();
     let groups = groups(fr);
+    let kinds = fr.kinds();
+    let kind = |c: usize| kinds[c].as_deref().unwrap_or("");
     let observe = |obs: &mut Vec<Observation>,
                    table: &'static str,
                    names: (String, String),
@@ -222,7 +224,8 @@ pub(crate) fn observations(
             }
         }
     };
-    // Against the reference.
+    // Against the reference: the methods beyond the thesis (CMA-ES,
+    // L-SHADE, random search, alone or before LM) in their own set.
     if let Some(r) = reference.and_then(|r| fr.cells.iter().position(|c| c == r)) {
         for ps in groups.values() {
             for &p in ps {
@@ -234,9 +237,10 @@ pub(crate) fn observations(
                     let Some(cr) = unit_runs(fr, p, c) else {
                         continue;
                     };
+                    let table = comparison_set(kind(c), kind(r));
                     for (unit, e) in &cr {
                         standings.push(Standing {
-                            table: "reference",
+                            table,
                             measure: Measure::FinalError,
                             algorithm: cell.clone(),
                             unit: unit_name(unit),
@@ -246,13 +250,14 @@ pub(crate) fn observations(
                     }
                     if c != r {
                         let names = (cell.clone(), fr.cells[r].clone());
-                        observe(&mut obs, "reference", names, &levels, &cr, &rr);
+                        observe(&mut obs, table, names, &levels, &cr, &rr);
                     }
                 }
             }
         }
     }
-    // Every pair of methods.
+    // Every pair of methods (those with a method beyond the thesis in
+    // their own set).
     for ps in groups.values() {
         for &p in ps {
             let levels = levels_of(fr, p);
@@ -262,7 +267,8 @@ pub(crate) fn observations(
                 for (j, b) in units.iter().enumerate().skip(i + 1) {
                     if let (Some(a), Some(b)) = (a, b) {
                         let names = (fr.cells[i].clone(), fr.cells[j].clone());
-                        observe(&mut obs, "method-pairs", names, &levels, a, b);
+                        let table = pair_set(kind(i), kind(j));
+                        observe(&mut obs, table, names, &levels, a, b);
                     }
                 }
             }
@@ -504,6 +510,8 @@ fn methods_table(
         &["Function", "Search space", "Budget", "Method", "Against"],
     );
     let mut keys = Vec::new();
+    let kinds = fr.kinds();
+    let kind = |c: usize| kinds[c].as_deref().unwrap_or("");
     for ((function, continuity, level, budget), ps) in groups {
         let Some(&first) = ps.first() else { continue };
         let scope = scope_within(obs, "method-pairs", &levels_of(fr, first));
@@ -515,7 +523,14 @@ fn methods_table(
                     continue;
                 };
                 let (x, y) = (&fr.cells[i], &fr.cells[j]);
-                let v = find(rows, "method-pairs", Measure::FinalError, x, y, &scope);
+                let v = find(
+                    rows,
+                    pair_set(kind(i), kind(j)),
+                    Measure::FinalError,
+                    x,
+                    y,
+                    &scope,
+                );
                 let labels = vec![
                     format!("{function}/{continuity}"),
                     level.clone(),

@@ -244,7 +244,7 @@ impl<'r> FitRuns<'r> {
     }
 
     /// The optimiser kind of every cell (from its first run).
-    fn kinds(&self) -> Vec<Option<String>> {
+    pub(crate) fn kinds(&self) -> Vec<Option<String>> {
         (0..self.cells.len())
             .map(|c| {
                 self.runs
@@ -869,10 +869,18 @@ fn overlays(
 /// against its median E on the twin case (same source, search space and
 /// budget), log10 of the ratio. With four outlines no such verdict can
 /// reject at α = 0.05 (p_min = 0.125): the claims they test stay
-/// descriptive, and the report says so.
+/// descriptive, and the report says so. Only the thesis's methods enter:
+/// the thesis's claims are about them, and the methods beyond it (CMA-ES,
+/// L-SHADE, random search, alone or before LM) are judged against the
+/// reference instead, so adding them leaves these verdicts as they were.
 pub(crate) fn treatment_observations(fr: &FitRuns<'_>) -> Vec<Observation> {
     use super::design::{Level, Levels};
-    use super::verdicts::Measure;
+    use super::verdicts::{beyond_the_thesis, Measure};
+    let thesis: Vec<bool> = fr
+        .kinds()
+        .iter()
+        .map(|k| !beyond_the_thesis(k.as_deref().unwrap_or("")))
+        .collect();
     // Cases of whole outlines by (source, space level, budget).
     type CaseKey = (String, String, Option<u64>);
     let mut cases: BTreeMap<CaseKey, Vec<(usize, Case<'_>)>> = BTreeMap::new();
@@ -892,6 +900,9 @@ pub(crate) fn treatment_observations(fr: &FitRuns<'_>) -> Vec<Observation> {
                        source: &str,
                        fixed: (&'static str, &str)| {
         for (c, cell) in fr.cells.iter().enumerate() {
+            if !thesis[c] {
+                continue;
+            }
             let (Some(ea), Some(eb)) = (fr.errors(pa, c), fr.errors(pb, c)) else {
                 continue;
             };

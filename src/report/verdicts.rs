@@ -113,11 +113,32 @@ pub(crate) const STATE_OF_THE_ART_KINDS: [&str; 3] = ["cmaes", "lshade", "random
 /// When the reference itself is beyond the thesis (`--reference CMA-ES`),
 /// every comparison is in `reference`.
 pub(crate) fn comparison_set(kind: &str, reference_kind: &str) -> &'static str {
-    let beyond = |k: &str| STATE_OF_THE_ART_KINDS.contains(&k.split('+').next().unwrap_or(k));
-    if beyond(kind) && !beyond(reference_kind) {
+    if beyond_the_thesis(kind) && !beyond_the_thesis(reference_kind) {
         STATE_OF_THE_ART
     } else {
         "reference"
+    }
+}
+
+/// The comparisons of two fitting methods of which at least one is beyond
+/// the thesis: a family of its own beside `method-pairs`, for the reason
+/// of [`STATE_OF_THE_ART`].
+pub(crate) const STATE_OF_THE_ART_PAIRS: &str = "state-of-the-art-pairs";
+
+/// Whether a cell of kind `kind` (`cmaes+lm` by its optimiser) is one of
+/// [`STATE_OF_THE_ART_KINDS`].
+pub(crate) fn beyond_the_thesis(kind: &str) -> bool {
+    STATE_OF_THE_ART_KINDS.contains(&kind.split('+').next().unwrap_or(kind))
+}
+
+/// The comparison set of the pair of methods of kinds `a` and `b`:
+/// [`STATE_OF_THE_ART_PAIRS`] when either is beyond the thesis, else
+/// `method-pairs`.
+pub(crate) fn pair_set(a: &str, b: &str) -> &'static str {
+    if beyond_the_thesis(a) || beyond_the_thesis(b) {
+        STATE_OF_THE_ART_PAIRS
+    } else {
+        "method-pairs"
     }
 }
 
@@ -568,6 +589,10 @@ mod tests {
         assert_eq!(comparison_set("cmaes+lm", "mhs"), STATE_OF_THE_ART);
         assert_eq!(comparison_set("hs", "mhs"), "reference");
         assert_eq!(comparison_set("mhs+lm", "mhs"), "reference");
+        assert_eq!(pair_set("hs", "mhs"), "method-pairs");
+        assert_eq!(pair_set("mhs+lm", "lm"), "method-pairs");
+        assert_eq!(pair_set("mhs", "cmaes+lm"), STATE_OF_THE_ART_PAIRS);
+        assert_eq!(pair_set("lshade", "cmaes"), STATE_OF_THE_ART_PAIRS);
         assert_eq!(comparison_set("hs", "cmaes"), "reference");
         assert_eq!(comparison_set("lshade", "cmaes"), "reference");
     }
