@@ -363,48 +363,11 @@ impl ParticleSwarm {
 
 #[cfg(test)]
 mod tests {
-    use std::cell::Cell;
+    use crate::optim::bowl::Bowl;
 
     use super::*;
     use crate::optim::params::Raw;
-    use crate::problem::Bounds;
     use crate::rng::run_rng;
-
-    /// `Σ x_i²` on `[−100, 100]^d` that counts evaluations outside the box,
-    /// and returns NaN where `x_0 > nan_above`.
-    struct Sphere {
-        bounds: Vec<Bounds>,
-        outside: Cell<u64>,
-        nan_above: f64,
-    }
-
-    impl Sphere {
-        fn new(dim: usize) -> Self {
-            Self {
-                bounds: vec![Bounds::new(-100.0, 100.0); dim],
-                outside: Cell::new(0),
-                nan_above: f64::INFINITY,
-            }
-        }
-    }
-
-    impl Problem for Sphere {
-        fn dim(&self) -> usize {
-            self.bounds.len()
-        }
-        fn bounds(&self) -> &[Bounds] {
-            &self.bounds
-        }
-        fn objective(&self, x: &[f64]) -> f64 {
-            if x.iter().zip(&self.bounds).any(|(v, b)| !b.contains(*v)) {
-                self.outside.set(self.outside.get() + 1);
-            }
-            if x[0] > self.nan_above {
-                return f64::NAN;
-            }
-            x.iter().map(|v| v * v).sum()
-        }
-    }
 
     fn build(settings: &[(&str, Raw)]) -> Result<ParticleSwarm, ParamError> {
         let mut p = ParamSet::defaults(&PARAMS);
@@ -438,7 +401,7 @@ mod tests {
     /// for each of five seeds.
     #[test]
     fn solves_sphere_10() {
-        let p = Sphere::new(10);
+        let p = Bowl::sphere(10);
         let algo = ParticleSwarm::default();
         for seed in 0..5 {
             let out = algo.run(&p, 100_000, &mut run_rng(seed));
@@ -455,7 +418,7 @@ mod tests {
     fn stays_in_bounds_and_uses_exactly_the_budget() {
         for algo in variants() {
             for budget in [0, 1, 2, 6, 7, 8, 13, 1000, 1001] {
-                let p = Sphere::new(4);
+                let p = Bowl::sphere(4);
                 let out = algo.run(&p, budget, &mut run_rng(budget));
                 assert_eq!(out.evaluations, budget, "{algo:?}");
                 assert_eq!(p.outside.get(), 0, "{algo:?}");
@@ -466,7 +429,7 @@ mod tests {
     #[test]
     fn survives_a_nan_region() {
         for algo in variants() {
-            let mut p = Sphere::new(3);
+            let mut p = Bowl::sphere(3);
             p.nan_above = -50.0;
             let out = algo.run(&p, 2000, &mut run_rng(5));
             assert_eq!(out.evaluations, 2000);
@@ -477,7 +440,7 @@ mod tests {
 
     #[test]
     fn is_reproducible_by_seed() {
-        let p = Sphere::new(5);
+        let p = Bowl::sphere(5);
         for algo in variants() {
             let a = algo.run(&p, 500, &mut run_rng(11));
             let b = algo.run(&p, 500, &mut run_rng(11));

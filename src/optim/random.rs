@@ -77,40 +77,15 @@ impl Optimiser for RandomSearch {
 
 #[cfg(test)]
 mod tests {
-    use std::cell::Cell;
+    use crate::optim::bowl::Bowl;
 
     use super::*;
     use crate::rng::{run_rng, Draw};
 
-    /// `Σ x_i²` that counts calls and evaluations outside its box.
-    struct Counted {
-        bounds: Vec<Bounds>,
-        outside: Cell<u64>,
-        calls: Cell<u64>,
-    }
-
-    impl Problem for Counted {
-        fn dim(&self) -> usize {
-            self.bounds.len()
-        }
-        fn bounds(&self) -> &[Bounds] {
-            &self.bounds
-        }
-        fn objective(&self, x: &[f64]) -> f64 {
-            self.calls.set(self.calls.get() + 1);
-            if x.iter().zip(&self.bounds).any(|(v, b)| !b.contains(*v)) {
-                self.outside.set(self.outside.get() + 1);
-            }
-            x.iter().map(|v| v * v).sum()
-        }
-    }
-
-    fn counted(bounds: Vec<Bounds>) -> Counted {
-        Counted {
-            bounds,
-            outside: Cell::new(0),
-            calls: Cell::new(0),
-        }
+    /// `Σ x_i²` on `bounds`, counting calls and evaluations outside them.
+    fn counted(bounds: Vec<Bounds>) -> Bowl {
+        let n = bounds.len();
+        Bowl::new(bounds, vec![0.0; n])
     }
 
     #[test]
