@@ -11,8 +11,8 @@ use crate::error::{Error, UsageError};
 use crate::experiment::fit_files::write_fit_records;
 use crate::experiment::runner::{self, RunOptions, Shard};
 use crate::experiment::slurm::{self, SlurmOptions};
-use crate::experiment::{coco_log, Spec};
-use crate::files::{check_output_dir, read_text, IoError};
+use crate::experiment::{coco_log, Spec, SpecError, SpecLimits};
+use crate::files::{check_output_dir, IoError, Staging};
 use crate::fit::{Closing, FitOptions, FunctionType, SearchSpace};
 use crate::functions::{Function, Transform};
 use crate::geometry::{Continuity, Parameterisation, Point};
@@ -69,15 +69,19 @@ enum Command {
         /// (for cocopp), by replaying them on one thread once they finish.
         #[arg(long, value_name = "DIR")]
         coco_log: Option<PathBuf>,
-        /// Run campaigns over 10 million runs or an estimated 4 GiB of
-        /// results in memory.
+        /// Run campaigns over 10 million runs, an estimated 4 GiB of results
+        /// in memory, or 10^10 evaluations per run.
         #[arg(long)]
         allow_large: bool,
     },
-    /// Check a spec and print what it would run, without running it.
+    /// Check a spec and print what it would run, without running it; exits
+    /// non-zero, with `run`'s message, where `run` would refuse it.
     Check {
         /// The experiment spec (TOML).
         spec: PathBuf,
+        /// Check under `run --allow-large`'s limits.
+        #[arg(long)]
+        allow_large: bool,
     },
     /// Join the shards of a campaign into files equal to a single run's.
     Merge {
@@ -156,6 +160,10 @@ struct SlurmArgs {
     /// "--partition=short --account=proj".
     #[arg(long, value_name = "ARGS", allow_hyphen_values = true)]
     sbatch: Option<String>,
+    /// Allow a campaign over 10 million runs, an estimated 4 GiB of results
+    /// or 10^10 evaluations per run (each task runs with --allow-large).
+    #[arg(long)]
+    allow_large: bool,
 }
 
 /// Arguments of `metabezier fit`.
@@ -219,6 +227,9 @@ struct FitArgs {
     /// Objective evaluations per segment.
     #[arg(long, value_name = "EVALS", default_value_t = 10_000, value_parser = clap::value_parser!(u64).range(1..))]
     budget: u64,
+    /// Allow a budget over 10^10 evaluations per segment.
+    #[arg(long)]
+    allow_large: bool,
     /// Output directory.
     #[arg(long, default_value = "results/fit")]
     out: PathBuf,
@@ -289,17 +300,35 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let mut text = String::new();
     let result = dispatch(cli, &mut text);
-    // A closed pipe (`metabezier list | head`) is not an error worth a panic.
-    let mut stdout = std::io::stdout().lock();
-    let _ = stdout
-        .write_all(text.as_bytes())
-        .and_then(|()| stdout.flush());
+    let written = write_stdout(text.as_bytes());
     match result {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(()) => match written {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                let _ = writeln!(
+                    std::io::stderr(),
+                    "metabezier: error: cannot write the output: {e}"
+                );
+                ExitCode::FAILURE
+            }
+        },
         Err(e) => {
-            eprintln!("metabezier: error: {e}");
+            // A closed or full stderr must not turn the error into a panic.
+            let _ = writeln!(std::io::stderr(), "metabezier: error: {e}");
             ExitCode::FAILURE
         }
+    }
+}
+
+/// Writes `bytes` to standard output and flushes it. A reader that closed
+/// the pipe early (`metabezier list | head`) is not an error; any other
+/// failure (a full disk behind `> job.sh`) is, so that no command exits 0
+/// after losing its output.
+fn write_stdout(bytes: &[u8]) -> std::io::Result<()> {
+    let mut stdout = std::io::stdout().lock();
+    match stdout.write_all(bytes).and_then(|()| stdout.flush()) {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        other => other,
     }
 }
 
@@ -328,7 +357,7 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
             };
             run(&spec, &opts, coco_log.as_deref(), w)
         }
-        Command::Check { spec } => check(&spec, w),
+        Command::Check { spec, allow_large } => check(&spec, allow_large, w),
         Command::Merge { dirs, out, spec } => merge(&dirs, out, spec.as_deref(), w),
         Command::Slurm(args) => slurm(args, w),
         Command::Report {
@@ -364,7 +393,7 @@ fn run(
     coco_log: Option<&Path>,
     w: &mut String,
 ) -> Result<(), Error> {
-    let spec = Spec::load(spec)?;
+    let spec = Spec::load_with(spec, SpecLimits::new(opts.allow_large))?;
     if let Some(dir) = coco_log {
         // Refuse a spec without bbob problems or an unwritable folder
         // before anything runs.
@@ -400,9 +429,15 @@ fn run(
     Ok(())
 }
 
-/// `metabezier check`: load the spec and list its problems and cells.
-fn check(spec: &Path, w: &mut String) -> Result<(), Error> {
-    let spec = Spec::load(spec)?;
+/// `metabezier check`: load the spec under `run`'s limits, refuse it as
+/// `run` would, and list its problems and cells.
+fn check(spec: &Path, allow_large: bool, w: &mut String) -> Result<(), Error> {
+    let spec = Spec::load_with(spec, SpecLimits::new(allow_large))?;
+    let opts = RunOptions {
+        allow_large,
+        ..RunOptions::default()
+    };
+    runner::check_limits(&spec, &opts).map_err(crate::experiment::ExperimentError::from)?;
     say!(w, "{}: valid", spec.path.display());
     say!(w,
         "experiment {} (seed {}): {} problems × {} algorithm cells × {} runs = {} runs, {} evaluations",
@@ -419,9 +454,6 @@ fn check(spec: &Path, w: &mut String) -> Result<(), Error> {
         "estimated memory of the results before they are written: {:.1} MiB",
         runner::estimated_bytes(&spec) as f64 / f64::from(1u32 << 20)
     );
-    if let Err(e) = runner::check_limits(&spec, &RunOptions::default()) {
-        say!(w, "note: `run` refuses it as it stands: {e}");
-    }
     for p in &spec.problems {
         say!(w, "  problem {} (budget {})", p.key(), p.budget);
     }
@@ -441,10 +473,11 @@ fn merge(
 ) -> Result<(), Error> {
     let inputs = crate::experiment::find_shards(dirs)?;
     let spec = match spec {
-        Some(path) => Spec::load(path)?,
+        // The shards ran already: merging is not refused for their size.
+        Some(path) => Spec::load_with(path, SpecLimits::LARGE)?,
         None => {
             let copy = inputs.dirs[0].join("spec.toml");
-            Spec::parse(&copy, &read_text(&copy)?)?
+            Spec::parse_with(&copy, &SpecError::read(&copy)?, SpecLimits::LARGE)?
         }
     };
     let s = crate::experiment::shards::merge_found(&spec, &inputs, out)?;
@@ -462,7 +495,12 @@ fn merge(
 /// `metabezier slurm`: print the sbatch array script of a campaign, with
 /// absolute paths so that it runs from any directory of the cluster.
 fn slurm(a: SlurmArgs, w: &mut String) -> Result<(), Error> {
-    let spec = Spec::load(&a.spec)?;
+    let spec = Spec::load_with(&a.spec, SpecLimits::new(a.allow_large))?;
+    let limits = RunOptions {
+        allow_large: a.allow_large,
+        ..RunOptions::default()
+    };
+    runner::check_limits(&spec, &limits).map_err(crate::experiment::ExperimentError::from)?;
     let absolute =
         |p: &Path| std::path::absolute(p).map_err(|e| IoError::new("resolve the path", p, e));
     let exe = std::env::current_exe()
@@ -474,6 +512,7 @@ fn slurm(a: SlurmArgs, w: &mut String) -> Result<(), Error> {
         time: a.time,
         cpus: a.cpus,
         sbatch: a.sbatch,
+        allow_large: a.allow_large,
     };
     let script = slurm::sbatch_script(&spec, &absolute(&a.spec)?, &exe, &opts)
         .map_err(crate::experiment::ExperimentError::from)?;
@@ -587,6 +626,9 @@ fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
         name: a.algorithm.clone(),
         choices: Method::names(),
     })?;
+    if !a.allow_large && a.budget > crate::experiment::spec::MAX_BUDGET {
+        return Err(UsageError::Budget(a.budget).into());
+    }
     let function = FunctionType::from_name(&a.function).expect("clap checked the name");
     let load = LoadOptions {
         contour: a.contour.map_or(ContourChoice::All, ContourChoice::Index),
@@ -618,11 +660,16 @@ fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
         r.options.continuity.name().to_uppercase(),
         method.name()
     );
-    let mut paths = write_fit_records(&a.out, &fit, &a.case(&r.options, &method), wall)?;
+    // Every file is staged and renamed into place once all are written.
+    let staging = Staging::new(&a.out)?;
+    let dir = staging.path();
+    let mut paths = write_fit_records(dir, &fit, &a.case(&r.options, &method), wall)?;
     let data = source.points();
-    paths.extend(save_shape(&fit, &data, &title, &a.out, "fit")?);
+    paths.extend(save_shape(&fit, &data, &title, dir, "fit")?);
     let figure = OverlayFigure::of_fit(&title, &data, &fit);
-    paths.extend(save_overlay(&figure, &a.out, "overlay")?);
+    paths.extend(save_overlay(&figure, dir, "overlay")?);
+    let paths: Vec<PathBuf> = paths.iter().map(|p| staging.final_path(p)).collect();
+    staging.publish()?;
     say_fit(w, &source.label(), &fit, wall, &paths);
     Ok(())
 }

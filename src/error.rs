@@ -60,6 +60,12 @@ pub enum UsageError {
         "--true-breaks: {0} is not a glyph, so it has no true break points; use --segments or --tolerance"
     )]
     NotAGlyph(String),
+    /// `--budget` above the limit without `--allow-large`.
+    #[error(
+        "--budget {0}: more than the limit of {max} evaluations per segment; pass --allow-large to run it",
+        max = crate::experiment::spec::MAX_BUDGET
+    )]
+    Budget(u64),
 }
 
 impl From<SpecError> for Error {

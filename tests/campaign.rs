@@ -518,9 +518,15 @@ fn a_second_writer_is_refused_and_the_lock_dies_with_its_holder() {
 #[test]
 fn oversized_campaigns_and_thread_counts_are_refused_before_anything_runs() {
     let tmp = tempfile::tempdir().unwrap();
-    let huge = Spec::parse(
+    let text = SPEC.replace("runs = 3", "runs = 4294967295");
+    // The default limits refuse it as it is read; read under the lifted
+    // limits, the runner still refuses it without allow_large.
+    let e = Spec::parse(&tmp.path().join("huge.toml"), &text).unwrap_err();
+    assert!(e.message.contains("over the limit of 10000000 runs"), "{e}");
+    let huge = Spec::parse_with(
         &tmp.path().join("huge.toml"),
-        &SPEC.replace("runs = 3", "runs = 4294967295"),
+        &text,
+        metabezier::experiment::SpecLimits::LARGE,
     )
     .unwrap();
     let out = tmp.path().join("huge");

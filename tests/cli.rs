@@ -184,7 +184,7 @@ fn usage_errors_exit_with_two() {
 }
 
 #[test]
-fn check_of_a_campaign_over_the_limits_describes_it_and_says_run_refuses_it() {
+fn check_of_a_campaign_over_the_limits_refuses_it_as_run_does() {
     let tmp = tempfile::tempdir().unwrap();
     std::fs::write(
         tmp.path().join("huge.toml"),
@@ -196,16 +196,22 @@ fn check_of_a_campaign_over_the_limits_describes_it_and_says_run_refuses_it() {
         .args(["check", "huge.toml"])
         .output()
         .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        stderr.contains("huge.toml:12:1: algorithm[1]: with its cell the campaign has 1 problems × 1 cells × 4294967295 runs = 4294967295 runs, over the limit of 10000000 runs"),
+        "{stderr}"
+    );
+    // Under --allow-large, check describes it.
+    let out = metabezier()
+        .current_dir(tmp.path())
+        .args(["check", "huge.toml", "--allow-large"])
+        .output()
+        .unwrap();
     assert_eq!(out.status.code(), Some(0));
     let stdout = String::from_utf8(out.stdout).unwrap();
     assert!(
         stdout.contains("= 4294967295 runs, 429496729500 evaluations"),
-        "{stdout}"
-    );
-    assert!(
-        stdout.contains(
-            "note: `run` refuses it as it stands: huge.toml: 4294967295 runs and an estimated"
-        ),
         "{stdout}"
     );
     assert!(!tmp.path().join("results").exists());

@@ -46,3 +46,62 @@ fn campaign_specs_survive_mutation() {
         "{tally:?}"
     );
 }
+
+/// A 30 KB spec with four lists of 1,000 values is refused with at most a
+/// few MiB of heap: the grid is counted, not expanded (before, it took
+/// 4.7 GB and aborted).
+#[test]
+fn a_huge_grid_is_refused_within_a_small_heap() {
+    let list = |from: f64| {
+        let v: Vec<String> = (0..1000)
+            .map(|i| format!("{}", from + i as f64 * 1e-4))
+            .collect();
+        format!("[{}]", v.join(", "))
+    };
+    let hms: Vec<String> = (1..=1000).map(|i| i.to_string()).collect();
+    let text = format!(
+        "[experiment]\nname = \"g\"\nseed = 1\nruns = 1\nbudget = 100\n[[problem]]\nfunction = \"sphere\"\ndim = 2\n[[algorithm]]\nname = \"hs\"\nhmcr = {}\npar = {}\nbw = {}\nhms = [{}]\n",
+        list(0.5),
+        list(0.2),
+        list(0.001),
+        hms.join(", ")
+    );
+    let (result, peak) = fuzz_common::with_limit(64 << 20, || {
+        metabezier::experiment::Spec::parse(Path::new("grid.toml"), &text)
+    });
+    let e = result.unwrap_err();
+    assert!(
+        e.message
+            .contains("pass the limit of 1000000 algorithm cells"),
+        "{e}"
+    );
+    assert!(peak < 16 << 20, "{peak} bytes");
+    // At the run limit without the cell limit: 10⁴ cells × 10³ runs.
+    let text = text
+        .replace("runs = 1\n", "runs = 1000\n")
+        .replace(&format!("par = {}\n", list(0.2)), "")
+        .replace(&format!("bw = {}\n", list(0.001)), "")
+        .replace(
+            &format!("hms = [{}]\n", hms.join(", ")),
+            "hms = [1, 2, 3, 4, 5, 6, 7, 8, 9, 10]\n",
+        );
+    let (result, peak) = fuzz_common::with_limit(64 << 20, || {
+        metabezier::experiment::Spec::parse(Path::new("grid.toml"), &text)
+    });
+    let spec = result.unwrap();
+    assert_eq!(spec.run_count(), 10_000_000);
+    assert!(peak < 48 << 20, "{peak} bytes for 10,000 cells");
+}
+
+#[test]
+fn implant_specs_survive_mutation() {
+    let inputs = specs(&["ch6_cranial.toml"]);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/mutant.toml");
+    let tally = fuzz_common::fuzz("implant-spec", &inputs, 64 << 20, |bytes| {
+        let Ok(text) = std::str::from_utf8(bytes) else {
+            return false;
+        };
+        metabezier::implant::ImplantSpec::parse(&path, text).is_ok()
+    });
+    assert!(tally.accepted > 0 && tally.accepted < tally.mutants, "{tally:?}");
+}

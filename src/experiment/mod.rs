@@ -29,7 +29,7 @@ pub use records::{DataError, DataProblem, ReadError, RunRecord};
 pub use runner::{run_campaign, RunOptions, Shard, ShardError, ShardProblem, Summary};
 pub use shards::{find_shards, merge, MergeInputs, ShardGap};
 pub use slurm::{SlurmError, SlurmOptions};
-pub use spec::{Spec, SpecError};
+pub use spec::{Spec, SpecError, SpecLimits};
 
 /// Why a campaign cannot proceed as asked: a resume or a merge that would
 /// mix runs of different campaigns, or a machine that cannot start it.

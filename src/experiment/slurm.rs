@@ -22,6 +22,8 @@ pub struct SlurmOptions {
     /// Further `sbatch` options (partition, account, ...), one `#SBATCH`
     /// line per option.
     pub sbatch: Option<String>,
+    /// Run each task with `--allow-large`.
+    pub allow_large: bool,
 }
 
 /// An array job that cannot be written as asked.
@@ -38,6 +40,20 @@ pub enum SlurmError {
         runs: usize,
         /// The campaign's name.
         name: String,
+    },
+    /// A path that cannot be written into a shell script as it is: not
+    /// UTF-8, or holding a control character (a newline would end the
+    /// comment or the `#SBATCH` block and run as a command).
+    #[error(
+        "{what} \"{path}\": the path holds {problem}, which a job script cannot carry safely; rename it or choose another path"
+    )]
+    PathText {
+        /// Which path (`--out`, the spec, the binary).
+        what: &'static str,
+        /// The path, with its control characters escaped.
+        path: String,
+        /// What is wrong, such as "a newline (U+000A) at character 12".
+        problem: String,
     },
     /// A time limit that is not `[D-]HH:MM:SS`.
     #[error(
@@ -73,8 +89,11 @@ pub fn sbatch_script(
     exe: &Path,
     opts: &SlurmOptions,
 ) -> Result<String, SlurmError> {
-    let runs = spec.run_ids().len();
+    let runs = usize::try_from(spec.run_count()).unwrap_or(usize::MAX);
     let n = opts.tasks;
+    check_path("the spec", spec_path)?;
+    check_path("--out", &opts.out)?;
+    check_path("the metabezier binary", exe)?;
     if n == 0 || n > runs {
         return Err(SlurmError::Tasks {
             tasks: n,
@@ -122,10 +141,32 @@ pub fn sbatch_script(
     // resubmitting a subset of the tasks (sbatch --array=3) keeps the shards.
     s.push_str(&format!("shard=\"$((SLURM_ARRAY_TASK_ID + 1))/{n}\"\n"));
     s.push_str(&format!(
-        "exec {exe} run {} --out {out} --shard \"$shard\" --threads \"${{SLURM_CPUS_PER_TASK:-1}}\" --resume --quiet\n",
-        quote(spec_path)
+        "exec {exe} run {} --out {out} --shard \"$shard\" --threads \"${{SLURM_CPUS_PER_TASK:-1}}\" --resume --quiet{}\n",
+        quote(spec_path),
+        if opts.allow_large { " --allow-large" } else { "" }
     ));
     Ok(s)
+}
+
+/// Refuses a path the script cannot hold verbatim in its comments and
+/// commands: one that is not UTF-8 or holds a control character.
+fn check_path(what: &'static str, path: &Path) -> Result<(), SlurmError> {
+    let refuse = |problem: String| SlurmError::PathText {
+        what,
+        path: path.to_string_lossy().escape_debug().to_string(),
+        problem,
+    };
+    let Some(text) = path.to_str() else {
+        return Err(refuse("bytes that are not UTF-8".into()));
+    };
+    match text.chars().enumerate().find(|(_, c)| c.is_control()) {
+        Some((i, c)) => Err(refuse(format!(
+            "a control character (U+{:04X}) at character {}",
+            u32::from(c),
+            i + 1
+        ))),
+        None => Ok(()),
+    }
 }
 
 /// `path` as one word of a POSIX shell, in single quotes.

@@ -27,7 +27,7 @@ use super::validation::{evaluate, prepare_case, Case, PreparedCase, ValidationRo
 use super::validation3d::{evaluate_3d, prepare_case_3d, Case3d, Prepared3d, Row3d};
 use super::wall::WallKind;
 use crate::ct::{read_dicom_dir, read_inv3, stl_bytes, Volume};
-use crate::files::{create_dir, write_atomic};
+use crate::files::{write_atomic, Staging};
 use crate::fit::{LmSolver, SegmentSolver};
 use crate::reconstruction::Method;
 use crate::stats::VerdictRow;
@@ -73,22 +73,24 @@ impl Outputs {
         self.files.push((name.to_string(), bytes));
     }
 
-    /// Creates `dir` and writes every queued file into it atomically
-    /// (`implant.stl` first); returns the seconds spent writing the STL.
+    /// Creates `dir` and writes every queued file into it: all into a
+    /// staging directory first (`implant.stl` first), then renamed into
+    /// place together ([`Staging`]); returns the seconds spent writing the
+    /// STL.
     fn write_all(&mut self, dir: &Path) -> Result<f64, ImplantError> {
-        create_dir(dir)?;
+        let staging = Staging::new(dir)?;
         self.files
             .sort_by_key(|(name, _)| usize::from(name != "implant.stl"));
         let mut stl_seconds = 0.0;
         for (name, bytes) in &self.files {
             let t = Instant::now();
-            let p = dir.join(name);
-            write_atomic(&p, bytes)?;
+            write_atomic(&staging.path().join(name), bytes)?;
             if name == "implant.stl" {
                 stl_seconds = t.elapsed().as_secs_f64();
             }
-            self.summary.files.push(p);
+            self.summary.files.push(dir.join(name));
         }
+        staging.publish()?;
         Ok(stl_seconds)
     }
 }

@@ -58,7 +58,7 @@
 
 use std::path::{Path, PathBuf};
 
-use toml::de::{DeTable, DeValue};
+use toml::de::DeValue;
 
 use super::pipeline::{DefectConfig, Ends, MidlineSpec, SliceSpec, Smoothing};
 use super::template::read_templates;
@@ -204,8 +204,13 @@ impl Parser<'_> {
                 v.span(),
                 field,
                 format!(
-                    "expected an integer in {min}..={max}, found {}",
-                    self.show(v)
+                    "expected an integer in {min}..={max}, found {}{}",
+                    self.show(v),
+                    if matches!(v.get_ref(), DeValue::Float(_)) {
+                        " (a float: write an integer without a decimal point or exponent)"
+                    } else {
+                        ""
+                    }
                 ),
             )),
         }
@@ -346,10 +351,7 @@ impl Parser<'_> {
     }
 
     fn implant_spec(&self) -> Result<ImplantSpec, SpecError> {
-        let doc = DeTable::parse(self.text).map_err(|e| {
-            let msg = e.message().trim().to_string();
-            self.error(e.span().unwrap_or(0..0), "", format!("invalid TOML: {msg}"))
-        })?;
+        let doc = self.toml()?;
         let root = doc.get_ref();
         self.check_keys(
             root,
@@ -856,12 +858,17 @@ impl ImplantSpec {
     /// Parses `text` as the spec at `path` (relative paths resolve against
     /// its directory).
     pub fn parse(path: &Path, text: &str) -> Result<ImplantSpec, SpecError> {
-        Parser { path, text }.implant_spec()
+        Parser {
+            path,
+            text,
+            limits: crate::experiment::spec::SpecLimits::DEFAULT,
+        }
+        .implant_spec()
     }
 
     /// Reads and parses the spec file.
     pub fn load(path: &Path) -> Result<ImplantSpec, SpecError> {
-        let text = std::fs::read_to_string(path).map_err(|e| SpecError::unreadable(path, &e))?;
+        let text = SpecError::read(path)?;
         Self::parse(path, &text)
     }
 }

@@ -65,7 +65,9 @@ fn row(path: &Path, line: usize, rec: &csv::StringRecord) -> Result<(usize, Poin
 /// Reads the explicit templates of the defect slices `z0..=z1` from the
 /// CSV file at `path` (see the module documentation).
 pub fn read_templates(path: &Path, (z0, z1): (usize, usize)) -> Result<Templates, SpecError> {
-    let text = std::fs::read_to_string(path).map_err(|e| SpecError::unreadable(path, &e))?;
+    let text =
+        crate::files::read_text_limited(path, crate::files::MAX_TEXT_BYTES, "a template file")
+            .map_err(|e| SpecError::unreadable(path, &e))?;
     let mut rdr = csv::ReaderBuilder::new()
         .has_headers(true)
         .flexible(true)

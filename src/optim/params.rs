@@ -70,6 +70,22 @@ pub enum Raw {
     Other(&'static str),
 }
 
+impl Raw {
+    /// The value as an error names it where an integer was expected: a
+    /// float is called a float (`1e3` reads as 1000.0, not 1000), with the
+    /// integer to write instead when it is one.
+    pub fn found_for_integer(&self) -> String {
+        match self {
+            Raw::Float(x) if x.is_finite() && x.fract() == 0.0 && x.abs() < 9.0e15 => format!(
+                "the float {x:?} (write an integer without a decimal point or exponent: {})",
+                *x as i64
+            ),
+            Raw::Float(x) => format!("the float {x:?}"),
+            other => other.to_string(),
+        }
+    }
+}
+
 impl fmt::Display for Raw {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
@@ -129,7 +145,10 @@ impl ParamDef {
     pub fn check(&self, raw: &Raw) -> Result<Setting, SettingError> {
         let bad = || SettingError::Inadmissible {
             expected: self.expected(),
-            found: raw.to_string(),
+            found: match self.kind {
+                Kind::Count { .. } => raw.found_for_integer(),
+                _ => raw.to_string(),
+            },
         };
         match (self.kind, raw) {
             (Kind::Count { min, max }, Raw::Int(n)) => {
@@ -354,7 +373,11 @@ mod tests {
         );
         assert_eq!(
             p.set("hms", &Raw::Float(2.5)).unwrap_err().to_string(),
-            "expected an integer ≥ 1, found 2.5"
+            "expected an integer ≥ 1, found the float 2.5"
+        );
+        assert_eq!(
+            p.set("hms", &Raw::Float(5.0)).unwrap_err().to_string(),
+            "expected an integer ≥ 1, found the float 5.0 (write an integer without a decimal point or exponent: 5)"
         );
         assert_eq!(
             p.set("bounds", &Raw::Text("wrap".into()))

@@ -51,6 +51,14 @@ impl Parser<'_> {
         let functions = self.bbob_functions(table, section, entry)?;
         let dims = self.bbob_dims(table, section, entry)?;
         let instances = self.instances(table, section, 10_000, 1_000_000)?;
+        let budgets = match budget {
+            Budget::Fixed(b) | Budget::PerDim(b) => b.len(),
+        };
+        let count = (functions.len() as u128)
+            .saturating_mul(dims.len() as u128)
+            .saturating_mul(instances.len() as u128)
+            .saturating_mul(budgets as u128);
+        self.check_problem_count(out.len(), count, &entry.span(), section)?;
         for &(f, _) in &functions {
             for &(d, ref dspan) in &dims {
                 for &k in &instances {
@@ -59,7 +67,7 @@ impl Parser<'_> {
                             self.error(dspan.clone(), &format!("{section}.dim"), e.to_string())
                         })?
                         .fopt();
-                    for b in budget.for_dim(d) {
+                    for b in self.dim_budgets(budget, d, dspan, section)? {
                         let p = ProblemEntry {
                             kind: ProblemKind::Bbob { function: f, fopt },
                             dim: d,

@@ -41,6 +41,11 @@ use super::super::records::FitDetail;
 use super::Factor;
 use super::{choices_hint, Budget, Parser, ProblemEntry, ProblemKind, SpecError, Table, Value};
 use crate::files::fmt_real;
+
+/// The most fitting problems one spec may have: 10⁴ (each is loaded and
+/// dry-run when the spec is read; the thesis's campaigns have a few
+/// hundred).
+pub const MAX_FIT_PROBLEMS: usize = 10_000;
 use crate::fit::{
     Closing, FitError, FitOptions, FunctionType, SearchSpace, SearchSpaceOptions, SegmentProblem,
     SegmentSolver, Solution,
@@ -352,6 +357,22 @@ impl Parser<'_> {
         let input_field = format!("{section}.input");
         let inputs = self.one_or_many(iv, &input_field)?;
         let label = self.fit_label(table, section, inputs.len())?;
+        let count = (inputs.len() as u128).saturating_mul(settings.count());
+        self.check_problem_count(out.len(), count, &entry.span(), section)?;
+        if out.len() as u128 + count > MAX_FIT_PROBLEMS as u128 {
+            return Err(self.error(
+                entry.span(),
+                section,
+                format!(
+                    "this section makes {count} fitting problems{}, over the limit of {MAX_FIT_PROBLEMS} fitting problems of a spec (each is loaded and dry-run when the spec is read); split the spec",
+                    if out.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" (after {} before it)", out.len())
+                    }
+                ),
+            ));
+        }
         for item in inputs {
             let text = self.string(item, &input_field)?;
             let load = settings.load_options(&segments);
@@ -520,7 +541,7 @@ impl Parser<'_> {
                 let values = self
                     .one_or_many(v, &field)?
                     .into_iter()
-                    .map(|item| self.integer(item, &field, 1, u64::MAX))
+                    .map(|item| self.budget_value(item, &field))
                     .collect::<Result<Vec<u64>, SpecError>>()?;
                 let grid = values.len() > 1;
                 Ok((values, grid))
@@ -721,7 +742,8 @@ impl Parser<'_> {
     }
 
     /// The problem of a case, checked by a dry run: its dimension is its
-    /// number of segments, its budget that of every segment.
+    /// number of segments, its budget that of every segment (at most the
+    /// limit of one run in all).
     fn fit_problem(
         &self,
         case: FitCase,
@@ -734,7 +756,22 @@ impl Parser<'_> {
                 format!("{}: {e}", case.name),
             )
         })?;
+        let (segments_span, budget_field) = (segments.value.span(), segments.field.clone());
         let segments = dry.metrics.segments;
+        let budget = case
+            .options
+            .budget_per_segment
+            .saturating_mul(segments as u64);
+        if budget > self.limits.max_budget {
+            return Err(self.error(
+                segments_span,
+                &budget_field,
+                format!(
+                    "{}: {} evaluations per segment × {segments} segments = {budget} evaluations per run pass the limit of {}; pass --allow-large to run budgets above it",
+                    case.name, case.options.budget_per_segment, self.limits.max_budget
+                ),
+            ));
+        }
         Ok(ProblemEntry {
             budget: case
                 .options
@@ -804,6 +841,16 @@ impl FitSettings {
             Some(a) if !self.alpha_grid => vec![a.first().copied()],
             _ => vec![None],
         }
+    }
+
+    /// The number of [`FitSettings::options`], counted without listing them.
+    fn count(&self) -> u128 {
+        let c = &self.choices;
+        let alphas: u128 = c.spaces.iter().map(|&s| self.alphas(s).len() as u128).sum();
+        (c.functions.len() as u128)
+            .saturating_mul(c.continuities.len() as u128)
+            .saturating_mul(alphas)
+            .saturating_mul(self.budgets.len() as u128)
     }
 
     /// The fit options of every function × continuity × search space ×

@@ -98,6 +98,13 @@ impl SpecError {
             message: format!("cannot read the spec: {e}"),
         }
     }
+
+    /// Reads the text of the spec (or template) at `path`, refusing a file
+    /// over [`crate::files::MAX_TEXT_BYTES`] before reading more of it.
+    pub fn read(path: &Path) -> Result<String, SpecError> {
+        crate::files::read_text_limited(path, crate::files::MAX_TEXT_BYTES, "a spec")
+            .map_err(|e| SpecError::unreadable(path, &e))
+    }
 }
 
 /// One problem of a spec, with its budget: a benchmark function at a
@@ -353,16 +360,86 @@ pub struct RunId {
     pub run: u32,
 }
 
+/// The most evaluations one run may have unless `--allow-large` lifts
+/// it: 10¹⁰ (about a day of the cheapest benchmark function on one core).
+pub const MAX_BUDGET: u64 = 10_000_000_000;
+
+/// The most algorithm cells a spec may expand into (every grid of every
+/// `[[algorithm]]` together): 10⁶. Not lifted by `--allow-large`: a cell
+/// takes about half a KiB before any run, so this bounds a spec's own
+/// memory at about 0.5 GiB.
+pub const MAX_CELLS: usize = 1_000_000;
+
+/// The most problems a spec may expand into (every function × dimension ×
+/// transform × instance × budget × fitting case together): 10⁶, not lifted
+/// by `--allow-large`.
+pub const MAX_PROBLEMS: usize = 1_000_000;
+
+/// The longest experiment name: 100 characters (it names the results
+/// directory and, with a suffix, its shards).
+pub const MAX_NAME_CHARS: usize = 100;
+
+/// The limits a spec is read under: the runs of the campaign and the
+/// evaluations of one run, both counted before anything is expanded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SpecLimits {
+    /// The most runs (problems × cells × runs).
+    pub max_runs: u128,
+    /// The most evaluations of one run.
+    pub max_budget: u64,
+}
+
+impl SpecLimits {
+    /// The limits of `run`, `check` and `slurm`: [`super::MAX_RUNS`] runs
+    /// and [`MAX_BUDGET`] evaluations per run.
+    pub const DEFAULT: SpecLimits = SpecLimits {
+        max_runs: super::MAX_RUNS,
+        max_budget: MAX_BUDGET,
+    };
+
+    /// No limit on runs or budgets (`--allow-large`; the cell and problem
+    /// limits stay).
+    pub const LARGE: SpecLimits = SpecLimits {
+        max_runs: u128::MAX,
+        max_budget: u64::MAX,
+    };
+
+    /// [`SpecLimits::LARGE`] with `allow_large`, else the default.
+    pub fn new(allow_large: bool) -> SpecLimits {
+        if allow_large {
+            SpecLimits::LARGE
+        } else {
+            SpecLimits::DEFAULT
+        }
+    }
+}
+
+impl Default for SpecLimits {
+    fn default() -> Self {
+        SpecLimits::DEFAULT
+    }
+}
+
 impl Spec {
-    /// Reads and validates a spec file.
+    /// Reads and validates a spec file under the default limits.
     pub fn load(path: &Path) -> Result<Spec, SpecError> {
-        let text = std::fs::read_to_string(path).map_err(|e| SpecError::unreadable(path, &e))?;
-        Spec::parse(path, &text)
+        Spec::load_with(path, SpecLimits::DEFAULT)
     }
 
-    /// Validates spec text; `path` is used in error messages.
+    /// Reads and validates a spec file under `limits`.
+    pub fn load_with(path: &Path, limits: SpecLimits) -> Result<Spec, SpecError> {
+        Spec::parse_with(path, &SpecError::read(path)?, limits)
+    }
+
+    /// Validates spec text under the default limits; `path` is used in
+    /// error messages.
     pub fn parse(path: &Path, text: &str) -> Result<Spec, SpecError> {
-        Parser { path, text }.spec()
+        Spec::parse_with(path, text, SpecLimits::DEFAULT)
+    }
+
+    /// Validates spec text under `limits`.
+    pub fn parse_with(path: &Path, text: &str, limits: SpecLimits) -> Result<Spec, SpecError> {
+        Parser { path, text, limits }.spec()
     }
 
     /// All runs in the campaign's fixed order: problem, then cell, then run.
@@ -402,6 +479,8 @@ impl Spec {
 pub(crate) struct Parser<'a> {
     pub(crate) path: &'a Path,
     pub(crate) text: &'a str,
+    /// The limits of runs and budgets (the implant spec has neither).
+    pub(crate) limits: SpecLimits,
 }
 
 pub(crate) type Table<'i> = DeTable<'i>;
@@ -508,12 +587,28 @@ impl<'a> Parser<'a> {
         }
     }
 
-    fn spec(&self) -> Result<Spec, SpecError> {
-        let doc = DeTable::parse(self.text).map_err(|e| {
+    /// The text as a TOML document, or the located TOML error; a
+    /// duplicate key is named (the span of the error is the second one).
+    pub(crate) fn toml(&self) -> Result<Spanned<DeTable<'a>>, SpecError> {
+        DeTable::parse(self.text).map_err(|e| {
             let span = e.span().unwrap_or(0..0);
-            let msg = e.message().trim().to_string();
+            let mut msg = e.message().trim().to_string();
+            if msg.starts_with("duplicate key") {
+                let key = self
+                    .text
+                    .get(span.clone())
+                    .map(|k| k.trim().trim_matches(['[', ']']).trim())
+                    .filter(|k| !k.is_empty() && k.chars().count() <= 80);
+                if let Some(key) = key {
+                    msg = format!("duplicate key {key}: a key is set once in its table");
+                }
+            }
             self.error(span, "", format!("invalid TOML: {msg}"))
-        })?;
+        })
+    }
+
+    fn spec(&self) -> Result<Spec, SpecError> {
+        let doc = self.toml()?;
         let root = doc.get_ref();
         self.check_sections(root)?;
         let header = self.experiment(root, doc.span())?;
@@ -521,7 +616,7 @@ impl<'a> Parser<'a> {
         let benchmarks = problems
             .iter()
             .any(|p| !matches!(p.kind, ProblemKind::Fit(_)));
-        let cells = self.cells(root, doc.span(), benchmarks)?;
+        let cells = self.cells(root, doc.span(), benchmarks, (problems.len(), header.runs))?;
         let paired = self.paired(root, &problems)?;
         Ok(Spec {
             path: self.path.to_owned(),
@@ -676,6 +771,16 @@ impl<'a> Parser<'a> {
     ) -> Result<String, SpecError> {
         let name_v = self.required(experiment, "experiment", "name", span)?;
         let name = self.string(name_v, "experiment.name")?;
+        if name.chars().count() > MAX_NAME_CHARS {
+            return Err(self.error(
+                name_v.span(),
+                "experiment.name",
+                format!(
+                    "expected a name of at most {MAX_NAME_CHARS} characters (it names the results directory), found {} characters",
+                    name.chars().count()
+                ),
+            ));
+        }
         if name.is_empty()
             || !name
                 .chars()
@@ -796,7 +901,11 @@ impl<'a> Parser<'a> {
         };
         match raw(v.get_ref()) {
             Raw::Int(n) if n >= 0 && (n as u64) >= min && (n as u64) <= max => Ok(n as u64),
-            r => Err(self.error(v.span(), field, format!("expected {expected}, found {r}"))),
+            r => Err(self.error(
+                v.span(),
+                field,
+                format!("expected {expected}, found {}", r.found_for_integer()),
+            )),
         }
     }
 
@@ -833,6 +942,71 @@ impl<'a> Parser<'a> {
         }
     }
 
+    /// One budget value: an integer in 1..=`limits.max_budget`, the limit
+    /// named when it is passed.
+    pub(crate) fn budget_value(&self, v: &Value<'_>, field: &str) -> Result<u64, SpecError> {
+        let max = self.limits.max_budget;
+        match raw(v.get_ref()) {
+            Raw::Int(n) if n >= 1 && (n as u64) > max => Err(self.error(
+                v.span(),
+                field,
+                format!(
+                    "{n} evaluations per run pass the limit of {max}; pass --allow-large to run budgets above it"
+                ),
+            )),
+            _ => self.integer(v, field, 1, u64::MAX),
+        }
+    }
+
+    /// The budgets of a problem of dimension `dim` (a per-dimension budget
+    /// times `dim`), each within `limits.max_budget`; errors at `span`.
+    fn dim_budgets(
+        &self,
+        budget: &Budget,
+        dim: usize,
+        span: &Range<usize>,
+        section: &str,
+    ) -> Result<Vec<u64>, SpecError> {
+        let max = self.limits.max_budget;
+        let budgets = budget.for_dim(dim);
+        if let Some(b) = budgets.iter().find(|&&b| b > max) {
+            return Err(self.error(
+                span.clone(),
+                &format!("{section}.budget_per_dim"),
+                format!(
+                    "budget_per_dim × dim = {b} evaluations per run at D = {dim} pass the limit of {max}; pass --allow-large to run budgets above it"
+                ),
+            ));
+        }
+        Ok(budgets)
+    }
+
+    /// Refuses a spec whose problems would pass [`MAX_PROBLEMS`] once
+    /// `more` are added to the `have` already expanded.
+    pub(crate) fn check_problem_count(
+        &self,
+        have: usize,
+        more: u128,
+        span: &Range<usize>,
+        section: &str,
+    ) -> Result<(), SpecError> {
+        if have as u128 + more > MAX_PROBLEMS as u128 {
+            return Err(self.error(
+                span.clone(),
+                section,
+                format!(
+                    "this section makes {more} problems{}, over the limit of {MAX_PROBLEMS} problems of a spec; split the spec",
+                    if have > 0 {
+                        format!(" (after {have} before it)")
+                    } else {
+                        String::new()
+                    }
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     /// `budget` or `budget_per_dim` of a table, if present (not both): a
     /// value or a list of values (a budget grid).
     fn budget(&self, table: &Table<'_>, section: &str) -> Result<Option<Budget>, SpecError> {
@@ -842,7 +1016,7 @@ impl<'a> Parser<'a> {
             let field = format!("{section}.{key}");
             self.one_or_many(v, &field)?
                 .into_iter()
-                .map(|item| self.integer(item, &field, 1, u64::MAX))
+                .map(|item| self.budget_value(item, &field))
                 .collect()
         };
         match (fixed, per_dim) {
@@ -917,6 +1091,19 @@ impl<'a> Parser<'a> {
             let dims = self.problem_dims(table, &section, entry)?;
             let transforms = self.problem_transforms(table, &section, entry)?;
             let instances = self.instances(table, &section, MAX_INSTANCES, MAX_INSTANCES)?;
+            let budgets = match budget {
+                Budget::Fixed(b) | Budget::PerDim(b) => b.len(),
+            };
+            let count = [
+                functions.len(),
+                dims.len(),
+                transforms.len(),
+                instances.len(),
+                budgets,
+            ]
+            .iter()
+            .fold(1u128, |n, &k| n.saturating_mul(k as u128));
+            self.check_problem_count(out.len(), count, &entry.span(), &section)?;
             for (f, fspan) in &functions {
                 for (dim, dspan) in &dims {
                     let dim = self.problem_dim(*f, *dim, fspan, dspan, &section)?;
@@ -936,7 +1123,7 @@ impl<'a> Parser<'a> {
                             &instances
                         };
                         for &instance in listed {
-                            for b in budget.for_dim(dim) {
+                            for b in self.dim_budgets(budget, dim, dspan, &section)? {
                                 let p = ProblemEntry {
                                     kind: ProblemKind::Benchmark(*f),
                                     dim,
@@ -1138,6 +1325,7 @@ impl<'a> Parser<'a> {
         root: &Table<'_>,
         span: Range<usize>,
         benchmarks: bool,
+        (problems, runs): (usize, u32),
     ) -> Result<Vec<Cell>, SpecError> {
         let mut out: Vec<Cell> = Vec::new();
         let mut seen = std::collections::HashSet::new();
@@ -1149,6 +1337,7 @@ impl<'a> Parser<'a> {
             let section = format!("algorithm[{}]", i + 1);
             let table = self.table(entry, &section)?;
             let algorithm = self.algorithm_entry(table, section, entry.span(), benchmarks)?;
+            self.check_grid_size(&algorithm, out.len(), problems, runs)?;
             for combo in grid(&algorithm.axes) {
                 let cell = self.grid_cell(&algorithm, &combo)?;
                 if !seen.insert(cell.key()) {
@@ -1166,6 +1355,61 @@ impl<'a> Parser<'a> {
             }
         }
         Ok(out)
+    }
+
+    /// Refuses, before it is expanded, a grid that takes the spec past
+    /// [`MAX_CELLS`] cells, or the campaign past `limits.max_runs` runs
+    /// (problems × cells × runs, counted with the `have` cells before it).
+    fn check_grid_size(
+        &self,
+        entry: &AlgorithmEntry,
+        have: usize,
+        problems: usize,
+        runs: u32,
+    ) -> Result<(), SpecError> {
+        let sizes: Vec<usize> = entry.axes.iter().map(|a| a.len().max(1)).collect();
+        let grid = sizes
+            .iter()
+            .fold(1u128, |n, &k| n.saturating_mul(k as u128));
+        let shape = if sizes.iter().any(|&k| k > 1) {
+            let listed: Vec<String> = sizes
+                .iter()
+                .filter(|&&k| k > 1)
+                .map(usize::to_string)
+                .collect();
+            format!("its grid of {} = {grid} cells", listed.join(" × "))
+        } else {
+            "its cell".to_owned()
+        };
+        let cells = have as u128 + grid;
+        if cells > MAX_CELLS as u128 {
+            return Err(self.error(
+                entry.span.clone(),
+                &entry.section,
+                format!(
+                    "{shape}{} pass the limit of {MAX_CELLS} algorithm cells of a spec; list fewer values, or split the spec",
+                    if have > 0 {
+                        format!(" after {have} cells before it")
+                    } else {
+                        String::new()
+                    }
+                ),
+            ));
+        }
+        let total = (problems as u128)
+            .saturating_mul(cells)
+            .saturating_mul(u128::from(runs));
+        if total > self.limits.max_runs {
+            return Err(self.error(
+                entry.span.clone(),
+                &entry.section,
+                format!(
+                    "with {shape} the campaign has {problems} problems × {cells} cells × {runs} runs = {total} runs, over the limit of {} runs; split the spec, or pass --allow-large",
+                    self.limits.max_runs
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// Reads one `[[algorithm]]` table: its method, label and parameter
