@@ -3,11 +3,12 @@ CARGO ?= cargo
 BIN := target/release/metabezier
 SPECS := experiments
 
-.PHONY: help build quick test test-cluster bench speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all fmt lint clean-results
+.PHONY: help build quick test fuzz test-cluster bench speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all fmt lint clean-results
 
 help:
 	@echo "make quick          run experiments/quick.toml (seconds) into results/quick/"
 	@echo "make test           the whole test suite, rustfmt check and clippy -D warnings"
+	@echo "make fuzz           the seeded fuzz loops of tests/fuzz_*.rs with 100,000 mutants per reader (minutes)"
 	@echo "make test-cluster   a campaign as a Slurm array job on a private one-node Slurm (root; installs slurm-wlm, munge)"
 	@echo "make bench          criterion benchmarks: optimiser overhead per evaluation, cost of E per fitting function"
 	@echo "make speedup        1 -> 2 thread speed-up of a 60-run campaign (five alternating runs; run it idle)"
@@ -32,6 +33,11 @@ test:
 	$(CARGO) test --release --locked
 	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --no-deps --locked
 	$(CARGO) clippy --release --locked --all-targets -- -D warnings
+
+# The fuzz loops of `make test` (a few thousand mutants per reader), longer.
+FUZZ_MUTANTS ?= 100000
+fuzz:
+	METABEZIER_FUZZ_MUTANTS=$(FUZZ_MUTANTS) $(CARGO) test --release --locked --test 'fuzz_*' -- --test-threads 1
 
 # Installs Debian's slurm-wlm and munge when missing, starts private daemons,
 # runs a campaign as an array job (one task requeued mid-run), merges it and
