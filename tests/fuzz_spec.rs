@@ -103,5 +103,47 @@ fn implant_specs_survive_mutation() {
         };
         metabezier::implant::ImplantSpec::parse(&path, text).is_ok()
     });
-    assert!(tally.accepted > 0 && tally.accepted < tally.mutants, "{tally:?}");
+    assert!(
+        tally.accepted > 0 && tally.accepted < tally.mutants,
+        "{tally:?}"
+    );
+}
+
+/// The loop itself: a reader's panic fails the test and names the mutant,
+/// and an allocation above the limit aborts the binary with the mutant
+/// named (checked in a child process of this test binary).
+#[test]
+fn the_loop_catches_panics_and_oversized_allocations() {
+    if std::env::var_os("METABEZIER_FUZZ_SELFTEST").is_some() {
+        fuzz_common::fuzz("selftest", &[b"abc".to_vec()], 1 << 20, |bytes| {
+            let v = vec![1u8; 64 << 20];
+            v.len() > bytes.len()
+        });
+        return;
+    }
+    let caught = std::panic::catch_unwind(|| {
+        fuzz_common::fuzz("panics", &[b"abcdef".to_vec()], 1 << 20, |bytes| {
+            assert!(bytes.len() < 6, "a long mutant");
+            true
+        })
+    });
+    let message = caught.unwrap_err();
+    let message = message.downcast_ref::<String>().unwrap();
+    assert!(message.starts_with("fuzz panics: mutant "), "{message}");
+    let child = std::process::Command::new(std::env::current_exe().unwrap())
+        .args([
+            "--exact",
+            "the_loop_catches_panics_and_oversized_allocations",
+            "--nocapture",
+        ])
+        .env("METABEZIER_FUZZ_SELFTEST", "1")
+        .output()
+        .unwrap();
+    assert!(!child.status.success());
+    let stderr = String::from_utf8_lossy(&child.stderr);
+    assert!(
+        stderr.contains("an allocation passed the reader's memory limit")
+            && stderr.contains("fuzz selftest: mutant 0 of METABEZIER_FUZZ_SEED="),
+        "{stderr}"
+    );
 }

@@ -312,6 +312,7 @@ pub fn fuzz(
 ) -> Tally {
     assert!(!inputs.is_empty(), "{name}: no inputs to mutate");
     let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    lift_ceiling_on_panic();
     let count = mutant_count();
     let seed = first_seed() ^ fnv(name.as_bytes());
     let mut stream = Stream::new(seed);
@@ -371,6 +372,20 @@ pub fn fuzz(
     done.store(true, Ordering::Relaxed);
     let _ = watchdog.join();
     tally
+}
+
+/// Installs (once) a panic hook that lifts the ceiling before the default
+/// hook runs: a reader's panic is reported with its message and backtrace
+/// (which allocate), not as an allocation failure.
+fn lift_ceiling_on_panic() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            CEILING.store(usize::MAX, Ordering::Relaxed);
+            previous(info);
+        }));
+    });
 }
 
 /// FNV-1a of `bytes`: a reader's name becomes its own seed offset.
