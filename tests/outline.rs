@@ -848,3 +848,51 @@ fn csv_points_and_lines_are_capped() {
         "p.csv:10000001: at least 10000001 points, beyond this reader's limit of 10000000 (expected one \"x,y\" pair per line)"
     );
 }
+
+/// DejaVu Sans with each glyph of `chain` but the last made a composite of
+/// `copies` copies of the next one (each offset by 10 units, so that no two
+/// copies coincide); the last keeps its own outline.
+fn composite_chain(chain: &[char], copies: usize) -> Vec<u8> {
+    let original = std::fs::read(data("DejaVuSans.ttf")).unwrap();
+    let face = ttf_parser::Face::parse(&original, 0).unwrap();
+    let mut font = original.clone();
+    for w in chain.windows(2) {
+        let (start, end) = glyph_slot(&original, w[0]);
+        let mut data = vec![0xff, 0xff, 0, 0, 0, 0, 0, 0, 0, 0];
+        for j in 0..copies {
+            // ARG_1_AND_2_ARE_WORDS | ARGS_ARE_XY_VALUES, MORE_COMPONENTS but on the last.
+            let flags: u16 = 0x0003 | if j + 1 < copies { 0x0020 } else { 0 };
+            data.extend_from_slice(&flags.to_be_bytes());
+            data.extend_from_slice(&face.glyph_index(w[1]).unwrap().0.to_be_bytes());
+            data.extend_from_slice(&(10 * j as i16).to_be_bytes());
+            data.extend_from_slice(&(10 * j as i16).to_be_bytes());
+        }
+        assert!(data.len() <= end - start, "{}: {} bytes", w[0], end - start);
+        font[start..start + data.len()].copy_from_slice(&data);
+    }
+    font
+}
+
+/// A composite that multiplies a drawing (within the reference limit) used
+/// to be drawn, stored and oriented in full: 1,728 copies of 'o' draw about
+/// 50,000 segments, and 1,728 copies of '.' make 1,728 contours, each
+/// tested against all the others.
+#[test]
+fn glyphs_that_draw_too_much_are_stopped() {
+    let font = composite_chain(&['m', 'w', 'M', 'o'], 12);
+    let e = glyph_from_bytes(&font, Path::new("o.ttf"), 'm').unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "o.ttf: the glyph for 'm' (U+006D) has at least 20001 segments, beyond this reader's limit of 20000 per glyph (the font is malformed, or far beyond any real glyph)"
+    );
+    // One level less (144 copies of 'o') is read.
+    let g = glyph_from_bytes(&font, Path::new("o.ttf"), 'w').unwrap();
+    assert_eq!(g.contours.len(), 288);
+    let font = composite_chain(&['m', 'w', 'M', '.'], 12);
+    let e = glyph_from_bytes(&font, Path::new("p.ttf"), 'm').unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("has at least 1728 contours, beyond this reader's limit of 1000 per glyph"),
+        "{e}"
+    );
+}

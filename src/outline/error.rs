@@ -115,6 +115,7 @@ pub enum OutlineError {
     },
     /// A glyph goes beyond a limit of this reader
     /// ([`crate::outline::MAX_GLYPH_SEGMENTS`],
+    /// [`crate::outline::MAX_GLYPH_CONTOURS`],
     /// [`crate::outline::MAX_GLYPH_COMPONENTS`],
     /// [`crate::outline::MAX_GLYPH_SAMPLES`]).
     GlyphLimit {
@@ -122,7 +123,8 @@ pub enum OutlineError {
         path: PathBuf,
         /// The character asked for.
         glyph: char,
-        /// What is counted (`segments`, `component references`, `sample points`).
+        /// What is counted (`segments`, `contours`, `component references`,
+        /// `sample points`).
         what: &'static str,
         /// How many were found (at least).
         found: u64,

@@ -15,7 +15,8 @@
 //!
 //! **Limits.** A glyph may draw at most [`MAX_GLYPH_SEGMENTS`] segments, a
 //! TrueType composite glyph may reference at most [`MAX_GLYPH_COMPONENTS`]
-//! components (counted through its nesting), every coordinate must be within
+//! components (counted through its nesting), it may have at most
+//! [`MAX_GLYPH_CONTOURS`] contours, every coordinate must be within
 //! ±[`MAX_COORDINATE`], and a sampling may place at most
 //! [`MAX_GLYPH_SAMPLES`] points on a glyph ([`Glyph::check_sample_count`]),
 //! so that a small font file cannot make the reader draw, store or sample an
@@ -32,10 +33,16 @@ use super::{Orientation, Outline, OutlineError};
 use crate::geometry::{CubicBez, Curve, Point, QuadBez};
 
 /// The most segments one glyph may draw. Real glyphs draw tens to a few
-/// hundred (DejaVu Sans `g`: 45; dense CJK glyphs: under 1,000); a
-/// TrueType composite or CFF subroutines can repeat a drawing
-/// exponentially, so the reader stops there.
-pub const MAX_GLYPH_SEGMENTS: usize = 100_000;
+/// hundred (dense CJK glyphs: under 1,000); a TrueType composite or CFF
+/// subroutines can repeat a drawing exponentially, so the reader stops
+/// there.
+pub const MAX_GLYPH_SEGMENTS: usize = 20_000;
+
+/// The most contours one glyph may have (real glyphs: a few, dense CJK
+/// glyphs under 100). Orienting the contours tests each against all the
+/// others, so the cost grows with contours × segments: at most about
+/// 1.6 · 10⁸ point-in-polygon steps within these two limits.
+pub const MAX_GLYPH_CONTOURS: usize = 1_000;
 
 /// The most component references a TrueType composite glyph may make,
 /// counted through its nesting (a component used twice counts twice):
@@ -698,8 +705,12 @@ pub fn glyph_from_bytes(data: &[u8], path: &Path, glyph: char) -> Result<Glyph, 
         s.control_points()
             .into_iter()
             .flat_map(|p| [p.x, p.y])
-            .find(|v| !(v.abs() <= MAX_COORDINATE))
+            .find(|v| v.is_nan() || v.abs() > MAX_COORDINATE)
     });
+    if contours.len() > MAX_GLYPH_CONTOURS {
+        let n = contours.len() as u64;
+        return Err(limit("contours", n, MAX_GLYPH_CONTOURS as u64));
+    }
     if let Some(value) = far {
         return Err(malformed(
             if face.tables().glyf.is_some() {

@@ -48,7 +48,7 @@ pub use csv_points::{
 pub use error::OutlineError;
 pub use glyph::{
     glyph_from_bytes, load_glyph, Glyph, SampledContour, Sampling, Segment, CORNER_DEGREES,
-    MAX_GLYPH_COMPONENTS, MAX_GLYPH_SAMPLES, MAX_GLYPH_SEGMENTS,
+    MAX_GLYPH_COMPONENTS, MAX_GLYPH_CONTOURS, MAX_GLYPH_SAMPLES, MAX_GLYPH_SEGMENTS,
 };
 pub use input::{load, parse_glyph, parse_input, Input, Options};
 pub use otsu::{histogram, otsu_threshold};
