@@ -208,7 +208,7 @@ fn horse_accuracy() {
         .flat_map(|(_, s)| cubic_pieces(&s.segment, 1e-6))
         .map(Segment::Cubic)
         .collect()];
-    let s = score(&source, &curves);
+    let s = score(&source, &curves).expect("finite curves to score");
     println!(
         "\nThe horse at 101 segments (rational cubic, G1, LM): max distance {:.3} px, RMS distance {:.3} px (each point to its segment); {:.3} px and {:.3} px to the whole curve",
         fit.metrics.max_distance, fit.metrics.rms_distance, s.total.max_distance, s.total.rms_distance

@@ -1,12 +1,16 @@
 //! Loaders stay near-linear: a 200,000-point CSV outline and a spec whose
 //! algorithm grid has 10,000 cells (the figures of the hardening work;
-//! both were quadratic once).
+//! both were quadratic once); and the outline readers on the vendored
+//! files (PNG, SVG, TrueType and CFF glyphs), whose limit checks must cost
+//! nothing measurable.
 
 use std::path::Path;
 
 use criterion::Criterion;
 use metabezier::experiment::Spec;
-use metabezier::outline::{csv_from_bytes, CsvOptions};
+use metabezier::outline::{
+    csv_from_bytes, load_glyph, load_image, load_svg, CsvOptions, ImageOptions, Sampling,
+};
 
 fn main() {
     let mut c = Criterion::default().configure_from_args().sample_size(10);
@@ -44,5 +48,36 @@ fn main() {
                 .len()
         })
     });
+    // The outline readers on the vendored files: PNG (decode, threshold,
+    // border following), SVG (potrace's horse), glyphs (TrueType and CFF,
+    // read and sampled as `fit` samples them).
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/outlines");
+    c.bench_function("load_png_horse", |b| {
+        b.iter(|| {
+            load_image(&data.join("horse.png"), &ImageOptions::default())
+                .unwrap()
+                .len()
+        })
+    });
+    c.bench_function("load_svg_horse_potrace", |b| {
+        b.iter(|| {
+            load_svg(&data.join("horse-potrace.svg"))
+                .unwrap()
+                .segment_count()
+        })
+    });
+    for (font, name) in [
+        ("DejaVuSans.ttf", "load_glyph_dejavu_g"),
+        ("Cantarell-Regular.otf", "load_glyph_cantarell_g"),
+    ] {
+        c.bench_function(name, |b| {
+            b.iter(|| {
+                load_glyph(&data.join(font), 'g')
+                    .unwrap()
+                    .sample(Sampling::default())
+                    .len()
+            })
+        });
+    }
     c.final_summary();
 }

@@ -793,11 +793,18 @@ fn score_curves(a: ScoreArgs, w: &mut String) -> Result<(), Error> {
     };
     let source = Source::load(&a.input, Path::new(""), &load)?;
     let svg = load_svg(&a.curves).map_err(|e| SourceError(OutlineError::Svg(e)))?;
-    let s = score(&source, &svg.to_frame(a.offset));
+    let s = score(&source, &svg.to_frame(a.offset)).map_err(|source| Error::Score {
+        curves: a.curves.clone(),
+        source,
+    })?;
     let curves = a.curves.display().to_string();
+    let skipped = match svg.skipped {
+        0 => String::new(),
+        n => format!(" ({n} path(s) in non-rendered containers skipped)"),
+    };
     say!(
         w,
-        "{} against {curves} (offset {},{}): {} segments",
+        "{} against {curves} (offset {},{}): {} segments{skipped}",
         a.input,
         a.offset.x,
         a.offset.y,

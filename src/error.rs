@@ -8,7 +8,7 @@ use crate::experiment::{ExperimentError, ReadError, SpecError};
 use crate::files::IoError;
 use crate::fit::FitError;
 use crate::implant::ImplantError;
-use crate::reconstruction::SourceError;
+use crate::reconstruction::{ScoreError, SourceError};
 use crate::report::ReportError;
 
 /// An error reported to the user; none of these is a panic.
@@ -34,6 +34,15 @@ pub enum Error {
         /// Why the fit failed.
         #[source]
         source: FitError,
+    },
+    /// Curves could not be scored against an outline.
+    #[error("{}: {source}", curves.display())]
+    Score {
+        /// The curves' file.
+        curves: std::path::PathBuf,
+        /// Why they could not be scored.
+        #[source]
+        source: ScoreError,
     },
     /// A command-line argument is invalid.
     #[error(transparent)]

@@ -919,3 +919,172 @@ fn bad_curves_and_contours_are_named_with_their_place() {
         "{err}"
     );
 }
+
+/// `score` used to panic (exit 101) on a transform "a)b(", print `inf`
+/// distances with exit 0 for an SVG that draws nothing or has 1e308
+/// coordinates, and score paths inside `<defs>`.
+#[test]
+fn score_refuses_what_it_cannot_measure_and_skips_what_is_not_drawn() {
+    let tmp = tempfile::tempdir().unwrap();
+    let square = square_csv(tmp.path(), 5);
+    let sq = square.to_str().unwrap();
+    let write = |name: &str, text: &str| {
+        let p = tmp.path().join(name);
+        std::fs::write(&p, text).unwrap();
+        p.to_str().unwrap().to_owned()
+    };
+    let cases = [
+        (
+            "paren.svg",
+            "<svg>\n<g transform=\"a)b(\"><path d=\"M0 0 L 1 1\"/></g>\n</svg>\n",
+            "paren.svg:2:15: unsupported transform \"a)b(\"",
+        ),
+        (
+            "empty.svg",
+            "<svg>\n<path d=\"M 3 3\"/>\n</svg>\n",
+            "empty.svg: no drawable segment: 1 rendered <path> element(s) draw no line or curve",
+        ),
+        (
+            "huge.svg",
+            "<svg>\n<path d=\"M 0 0 L 1e308 1e308\"/>\n</svg>\n",
+            "huge.svg:2:16: a coordinate (after the transforms) 1e308 is beyond ±1e15",
+        ),
+        (
+            "defs.svg",
+            "<svg>\n<defs><path d=\"M 0 0 L 10 10\"/></defs>\n</svg>\n",
+            "defs.svg: no drawable segment: 0 rendered <path> element(s) draw no line or curve, and 1 <path> element(s) inside non-rendered containers",
+        ),
+    ];
+    for (name, text, expected) in cases {
+        let path = write(name, text);
+        let out = metabezier()
+            .current_dir(data())
+            .args(["score", sq, &path])
+            .output()
+            .unwrap();
+        let (stdout, err) = (
+            String::from_utf8(out.stdout).unwrap(),
+            String::from_utf8(out.stderr).unwrap(),
+        );
+        assert_eq!(out.status.code(), Some(1), "{name}: {stdout}{err}");
+        assert!(
+            !stdout.contains("inf") && !stdout.contains("NaN"),
+            "{stdout}"
+        );
+        assert!(
+            err.starts_with("metabezier: error: ") && err.contains(expected),
+            "{name}: {err}"
+        );
+    }
+    // An offset that moves the curves out of range is refused by score.
+    let ok_svg = write("ok.svg", "<svg><path d=\"M0 0 L 10 0\"/></svg>");
+    let (ok, stdout, err) = cli(&["score", sq, &ok_svg, "--offset", "1e300,0"]);
+    assert!(!ok, "{stdout}");
+    assert!(
+        err.contains("ok.svg: segment 0 of subpath 0 has the control point (1e300, 0e0)"),
+        "{err}"
+    );
+    // A path in <defs> is skipped and the rest is scored as if it were not there.
+    let with_defs = write(
+        "with_defs.svg",
+        "<svg viewBox=\"0 0 10 10\"><defs><path d=\"M 0 10 L 5 5\"/></defs>\n\
+         <path d=\"M 0 10 H 10 V 0 H 0 Z\"/></svg>",
+    );
+    let (ok, stdout, err) = cli(&["score", sq, &with_defs]);
+    assert!(ok, "{err}");
+    assert!(
+        stdout.contains(": 4 segments (1 path(s) in non-rendered containers skipped)"),
+        "{stdout}"
+    );
+    let all: Vec<&str> = stdout.lines().last().unwrap().split_whitespace().collect();
+    assert_eq!(all[..2], ["all", "20"], "{stdout}");
+    assert!(all[2].parse::<f64>().unwrap() < 1e-12, "{stdout}");
+}
+
+/// The library's `score` refuses an empty set of curves (every distance
+/// would be infinite) and coordinates beyond its range.
+#[test]
+fn score_never_returns_an_infinite_distance() {
+    use metabezier::geometry::Point;
+    use metabezier::outline::{Outline, Segment};
+    use metabezier::reconstruction::{score, ScoreError};
+    let pts = vec![Point::ZERO, Point::new(1.0, 0.0), Point::new(0.0, 1.0)];
+    let source = Source::from_outline("tri", Outline::new(pts, true));
+    assert_eq!(score(&source, &[]), Err(ScoreError::NoSegment));
+    assert_eq!(score(&source, &[vec![]]), Err(ScoreError::NoSegment));
+    let line = |a: Point, b: Point| vec![vec![Segment::Line(a, b)]];
+    let e = score(&source, &line(Point::ZERO, Point::new(f64::NAN, 0.0))).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            ScoreError::CurveRange {
+                subpath: 0,
+                segment: 0,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    let far = Source::from_outline(
+        "far",
+        Outline::new(vec![Point::new(1e300, 0.0), Point::ZERO], false),
+    );
+    let e = score(&far, &line(Point::ZERO, Point::new(1.0, 0.0))).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "data point 0 of contour 0 is (1e300, 0e0), beyond ±1e16, the range of coordinates scored"
+    );
+    let s = score(&source, &line(Point::ZERO, Point::new(1.0, 0.0))).unwrap();
+    assert!(s.total.max_distance.is_finite() && s.total.rms_distance.is_finite());
+}
+
+/// `fit --segments 1000000` on 40 points used to fit 39 segments without a
+/// word; the same rule holds for the library (and so for campaigns).
+#[test]
+fn more_segments_than_the_outline_allows_are_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mut text = String::new();
+    for i in 0..40 {
+        let t = i as f64 * std::f64::consts::TAU / 40.0;
+        text.push_str(&format!("{},{}\n", 10.0 * t.cos(), 10.0 * t.sin()));
+    }
+    let open = tmp.path().join("open40.csv");
+    std::fs::write(&open, &text).unwrap();
+    let e = fit_error(&[open.to_str().unwrap(), "--segments", "1000000"]);
+    assert_eq!(
+        e,
+        format!(
+            "metabezier: error: {}: contour 0: 1000000 segment(s) requested, but an open outline of 40 points allows at most 39 (each segment spans at least one gap between consecutive points); ask for at most 39\n",
+            open.display()
+        )
+    );
+    // Closed (the first point repeated at the end): 40 gaps, so 40 segments.
+    text.push_str("10,0\n");
+    let closed = tmp.path().join("closed40.csv");
+    std::fs::write(&closed, &text).unwrap();
+    let e = fit_error(&[closed.to_str().unwrap(), "--segments", "41"]);
+    assert!(
+        e.contains("a closed outline of 40 points allows at most 40"),
+        "{e}"
+    );
+    let source = Source::load(
+        closed.to_str().unwrap(),
+        Path::new(""),
+        &LoadOptions::default(),
+    )
+    .unwrap();
+    let r = Reconstruction {
+        source: &source,
+        segmentation: Segmentation::Count(usize::MAX),
+        corners: Some(CornerOptions::default()),
+        options: FitOptions::new(FunctionType::Cubic, Continuity::G1),
+    };
+    let e = r.fit(&Method::Exact, 1).unwrap_err();
+    assert!(e.to_string().contains("allows at most 40"), "{e}");
+    let r = Reconstruction {
+        segmentation: Segmentation::Count(40),
+        ..r
+    };
+    let fit = r.fit(&Method::Exact, 1).unwrap();
+    assert_eq!(fit.segments().count(), 40);
+}

@@ -83,6 +83,19 @@ pub enum FitError {
         /// The least possible (one per span between corners).
         minimum: usize,
     },
+    /// More segments were requested than the outline has gaps between
+    /// consecutive points (each segment spans at least one).
+    TooManySegments {
+        /// Segments requested.
+        requested: usize,
+        /// The most possible: the points less one for an open outline, the
+        /// points for a closed one.
+        maximum: usize,
+        /// The outline's points.
+        points: usize,
+        /// Whether the outline is closed.
+        closed: bool,
+    },
     /// The decision vector has the wrong length.
     DimensionMismatch {
         /// The problem's dimension.
@@ -170,6 +183,18 @@ impl fmt::Display for FitError {
                 f,
                 "{requested} segment(s) requested, but the corners split the outline into \
                  {minimum} span(s); ask for at least {minimum}"
+            ),
+            FitError::TooManySegments {
+                requested,
+                maximum,
+                points,
+                closed,
+            } => write!(
+                f,
+                "{requested} segment(s) requested, but {} outline of {points} points allows at \
+                 most {maximum} (each segment spans at least one gap between consecutive \
+                 points); ask for at most {maximum}",
+                if *closed { "a closed" } else { "an open" }
             ),
             FitError::DimensionMismatch { expected, found } => write!(
                 f,

@@ -312,7 +312,9 @@ pub fn fit_breaks<S: SegmentSolver + ?Sized>(
 /// one at a time to the span with the largest length per segment), and each
 /// span is split at equal arc length (the data point nearest to each
 /// target). Returns the breaks (sorted, `< points.len()`) and which of them
-/// are corners.
+/// are corners. Fails with fewer segments than spans, or more than the
+/// outline's gaps between consecutive points ([`FitError::TooManySegments`]:
+/// `n − 1` for `n` open points, `n` closed).
 pub fn equal_arc_breaks(
     points: &[Point],
     closed: bool,
@@ -325,6 +327,18 @@ pub fn equal_arc_breaks(
         return Err(FitError::TooFewSegments {
             requested: count,
             minimum: spans.len(),
+        });
+    }
+    // Each segment spans at least one gap between consecutive points: the
+    // spans hold `n − 1` gaps in all (open) or `n` (closed), whatever the
+    // corners; asking for more used to be cut down to that silently.
+    let maximum = spans.iter().map(|&(a, b)| b - a).sum::<usize>();
+    if count > maximum {
+        return Err(FitError::TooManySegments {
+            requested: count,
+            maximum,
+            points: points.len(),
+            closed,
         });
     }
     let lengths: Vec<Vec<f64>> = spans

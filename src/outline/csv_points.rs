@@ -6,6 +6,14 @@
 //! when its last point repeats the first (the repeat is dropped) or when
 //! [`CsvOptions::closed`] says so. Coordinates are taken as given (a y-up
 //! frame is assumed).
+//!
+//! **Limits.** A file may hold at most [`MAX_CSV_POINTS`] points, and a
+//! record (a line of cells, after trimming) at most [`MAX_CSV_LINE_BYTES`]
+//! bytes; coordinates must be within ±[`MAX_COORDINATE`] and the points
+//! must span enough for E to be resolved ([`MIN_EXTENT`],
+//! [`MIN_RELATIVE_EXTENT`]). The reader's memory is proportional to the
+//! file: 16 bytes a point, from at least 4 bytes of text (`0,0` and a
+//! newline).
 
 use std::path::Path;
 
@@ -37,9 +45,19 @@ fn number(cell: &str) -> Option<f64> {
     cell.parse::<f64>().ok().filter(|v| v.is_finite())
 }
 
-/// The largest coordinate magnitude accepted: squared distances of points
-/// this far apart stay far from overflow, and no image or font comes near.
+/// The largest coordinate magnitude accepted, in CSV outlines, SVG curves
+/// (after their transforms) and glyphs: squared distances of points this far
+/// apart stay far from overflow, and no image or font comes near.
 pub const MAX_COORDINATE: f64 = 1e15;
+
+/// The most points a CSV outline may have (160 MB of coordinates); a curve
+/// fit of more points than this is beyond what this tool is for.
+pub const MAX_CSV_POINTS: usize = 10_000_000;
+
+/// The longest record (`x,y` after trimming the cells) a CSV outline may
+/// have, in bytes: two numbers in any notation take well under 100.
+/// Comment lines are not limited.
+pub const MAX_CSV_LINE_BYTES: usize = 1024;
 
 /// 1-based line numbers of byte offsets, counted forward from the last
 /// offset asked (records come in order), so a file is scanned once.
@@ -118,6 +136,16 @@ pub fn csv_from_bytes(
             },
         })?;
         let line = line_of(record.position());
+        let bytes = record.as_slice().len() + record.len().saturating_sub(1);
+        if bytes > MAX_CSV_LINE_BYTES {
+            return Err(OutlineError::CsvLimit {
+                path: path.to_owned(),
+                line,
+                what: "bytes on one line",
+                found: bytes,
+                limit: MAX_CSV_LINE_BYTES,
+            });
+        }
         // A line of only spaces is a record with one empty cell.
         if record.len() == 1 && record[0].is_empty() {
             continue;
@@ -152,6 +180,15 @@ pub fn csv_from_bytes(
                     value: v,
                 });
             }
+        }
+        if points.len() == MAX_CSV_POINTS {
+            return Err(OutlineError::CsvLimit {
+                path: path.to_owned(),
+                line,
+                what: "points",
+                found: MAX_CSV_POINTS + 1,
+                limit: MAX_CSV_POINTS,
+            });
         }
         points.push(Point::new(x, y));
     }

@@ -4,6 +4,8 @@ use std::fmt;
 use std::io;
 use std::path::PathBuf;
 
+use super::image::MAX_DEFLATE_RATIO;
+
 /// Why an outline could not be loaded; every message names the file and says
 /// what was expected. None of these is a panic.
 #[derive(Debug)]
@@ -38,6 +40,33 @@ pub enum OutlineError {
         /// Height in pixels.
         height: u32,
     },
+    /// An image is larger than [`crate::outline::MAX_IMAGE_SIDE`] a side or
+    /// [`crate::outline::MAX_IMAGE_PIXELS`] in all.
+    ImageTooLarge {
+        /// The file.
+        path: PathBuf,
+        /// Width in pixels, as the header declares it.
+        width: u32,
+        /// Height in pixels.
+        height: u32,
+    },
+    /// The pixel data a PNG header declares cannot fit in the rest of the
+    /// file, even at deflate's largest expansion
+    /// ([`crate::outline::MAX_DEFLATE_RATIO`]).
+    ImageData {
+        /// The file.
+        path: PathBuf,
+        /// Width in pixels, as the header declares it.
+        width: u32,
+        /// Height in pixels.
+        height: u32,
+        /// Bits per pixel.
+        bits: u64,
+        /// Bytes of pixel data declared.
+        need: u64,
+        /// Bytes in the file after the header.
+        after: u64,
+    },
     /// Every pixel has the same grey level, so no threshold separates a shape
     /// from the background.
     UniformImage {
@@ -61,6 +90,46 @@ pub enum OutlineError {
         path: PathBuf,
         /// The parser's explanation.
         message: String,
+    },
+    /// The font file is cut short or its tables cannot be used (the
+    /// message says which).
+    MalformedFont {
+        /// The font file.
+        path: PathBuf,
+        /// What is wrong, starting "the font file is truncated", "the font
+        /// file is malformed" or "the font has".
+        message: String,
+    },
+    /// The glyph's outline data cannot be read.
+    MalformedGlyph {
+        /// The font file.
+        path: PathBuf,
+        /// The character asked for.
+        glyph: char,
+        /// Its glyph id in the font.
+        id: u16,
+        /// The table holding its outline (`glyf` or `CFF `).
+        table: String,
+        /// What the font parser reports.
+        reported: String,
+    },
+    /// A glyph goes beyond a limit of this reader
+    /// ([`crate::outline::MAX_GLYPH_SEGMENTS`],
+    /// [`crate::outline::MAX_GLYPH_CONTOURS`],
+    /// [`crate::outline::MAX_GLYPH_COMPONENTS`],
+    /// [`crate::outline::MAX_GLYPH_SAMPLES`]).
+    GlyphLimit {
+        /// The font file.
+        path: PathBuf,
+        /// The character asked for.
+        glyph: char,
+        /// What is counted (`segments`, `contours`, `component references`,
+        /// `sample points`).
+        what: &'static str,
+        /// How many were found (at least).
+        found: u64,
+        /// The limit.
+        limit: u64,
     },
     /// The font has no glyph for the character.
     MissingGlyph {
@@ -118,6 +187,20 @@ pub enum OutlineError {
         largest: f64,
         /// The smallest diagonal accepted.
         need: f64,
+    },
+    /// A CSV file goes beyond a limit of the reader
+    /// ([`crate::outline::MAX_CSV_POINTS`], [`crate::outline::MAX_CSV_LINE_BYTES`]).
+    CsvLimit {
+        /// The CSV file.
+        path: PathBuf,
+        /// 1-based line where the limit was passed.
+        line: u64,
+        /// What is counted (`points`, `bytes on one line`).
+        what: &'static str,
+        /// How many were found (at least).
+        found: usize,
+        /// The limit.
+        limit: usize,
     },
     /// A CSV line does not have exactly two cells `x,y`.
     CsvFields {
@@ -179,6 +262,32 @@ impl fmt::Display for OutlineError {
                 "{}: the image is empty ({width}×{height} pixels); expected at least 1×1",
                 path.display()
             ),
+            Self::ImageTooLarge {
+                path,
+                width,
+                height,
+            } => write!(
+                f,
+                "{}: the PNG header declares {width}×{height} pixels, beyond this reader's limits \
+                 of 65536 pixels a side and 16777216 (4096×4096) in all",
+                path.display()
+            ),
+            Self::ImageData {
+                path,
+                width,
+                height,
+                bits,
+                need,
+                after,
+            } => write!(
+                f,
+                "{}: the PNG header declares {width}×{height} pixels at {bits} bits each, \
+                 {need} bytes of pixel data, but the {after} bytes after the header decompress \
+                 to at most {} (deflate expands at most 1032:1): the file is truncated or its \
+                 header is corrupt",
+                path.display(),
+                MAX_DEFLATE_RATIO * (after + 1)
+            ),
             Self::UniformImage { path, level } => write!(
                 f,
                 "{}: every pixel has grey level {level}, so no threshold separates a shape \
@@ -200,6 +309,33 @@ impl fmt::Display for OutlineError {
                 f,
                 "{}: cannot read the font (expected a TrueType or OpenType file): {message}",
                 path.display()
+            ),
+            Self::MalformedFont { path, message } => write!(f, "{}: {message}", path.display()),
+            Self::MalformedGlyph {
+                path,
+                glyph,
+                id,
+                table,
+                reported,
+            } => write!(
+                f,
+                "{}: the font file is malformed: the outline of the glyph for {}, glyph id {id} \
+                 in table '{table}', cannot be read: {reported}",
+                path.display(),
+                describe_char(*glyph)
+            ),
+            Self::GlyphLimit {
+                path,
+                glyph,
+                what,
+                found,
+                limit,
+            } => write!(
+                f,
+                "{}: the glyph for {} has at least {found} {what}, beyond this reader's limit of \
+                 {limit} per glyph (the font is malformed, or far beyond any real glyph)",
+                path.display(),
+                describe_char(*glyph)
             ),
             Self::MissingGlyph { path, glyph } => write!(
                 f,
@@ -274,6 +410,18 @@ impl OutlineError {
                     path.display()
                 )
             }
+            Self::CsvLimit {
+                path,
+                line,
+                what,
+                found,
+                limit,
+            } => write!(
+                f,
+                "{}:{line}: at least {found} {what}, beyond this reader's limit of {limit} \
+                 (expected one \"x,y\" pair per line)",
+                path.display()
+            ),
             Self::CsvFields { path, line, found } => write!(
                 f,
                 "{}:{line}: expected 2 cells \"x,y\", found {found}",

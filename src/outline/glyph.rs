@@ -6,13 +6,54 @@
 //! re-oriented to this module's convention: outer contours counter-clockwise,
 //! holes clockwise (TrueType stores outer contours clockwise, CFF
 //! counter-clockwise).
+//!
+//! **Malformed fonts.** A table that the font's table directory places
+//! beyond the end of the file is refused as a truncated file, naming the
+//! table; a glyph whose outline data `ttf-parser` cannot read is refused as
+//! malformed, with what the parser reports; only a glyph that draws nothing
+//! (such as a space) "has no outline".
+//!
+//! **Limits.** A glyph may draw at most [`MAX_GLYPH_SEGMENTS`] segments, a
+//! TrueType composite glyph may reference at most [`MAX_GLYPH_COMPONENTS`]
+//! components (counted through its nesting), it may have at most
+//! [`MAX_GLYPH_CONTOURS`] contours, every coordinate must be within
+//! ±[`MAX_COORDINATE`], and a sampling may place at most
+//! [`MAX_GLYPH_SAMPLES`] points on a glyph ([`Glyph::check_sample_count`]),
+//! so that a small font file cannot make the reader draw, store or sample an
+//! outline of unbounded size.
 
+use std::collections::HashMap;
+use std::panic::{catch_unwind, resume_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 
-use ttf_parser::{Face, OutlineBuilder};
+use ttf_parser::{Face, GlyphId, OutlineBuilder, RawFace, Tag};
 
+use super::csv_points::MAX_COORDINATE;
 use super::{Orientation, Outline, OutlineError};
 use crate::geometry::{CubicBez, Curve, Point, QuadBez};
+
+/// The most segments one glyph may draw. Real glyphs draw tens to a few
+/// hundred (dense CJK glyphs: under 1,000); a TrueType composite or CFF
+/// subroutines can repeat a drawing exponentially, so the reader stops
+/// there.
+pub const MAX_GLYPH_SEGMENTS: usize = 20_000;
+
+/// The most contours one glyph may have (real glyphs: a few, dense CJK
+/// glyphs under 100). Orienting the contours tests each against all the
+/// others, so the cost grows with contours × segments: at most about
+/// 1.6 · 10⁸ point-in-polygon steps within these two limits.
+pub const MAX_GLYPH_CONTOURS: usize = 1_000;
+
+/// The most component references a TrueType composite glyph may make,
+/// counted through its nesting (a component used twice counts twice):
+/// `ttf-parser` walks every reference, drawn or not, so nested composites
+/// could otherwise make it work exponentially long. Real accented letters
+/// use 2–4.
+pub const MAX_GLYPH_COMPONENTS: u64 = 10_000;
+
+/// The most points a sampling may place on one glyph (all contours):
+/// real glyphs take a few thousand at the default spacing of 1/200 em.
+pub const MAX_GLYPH_SAMPLES: usize = 1_000_000;
 
 /// One segment of a glyph contour, exactly as the font defines it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -201,6 +242,31 @@ impl Glyph {
         }
     }
 
+    /// The number of points [`Glyph::sample_at_least`] would place on all
+    /// contours (saturating).
+    pub fn sample_count(&self, sampling: Sampling, min: usize) -> usize {
+        self.contours.iter().flatten().fold(0usize, |n, seg| {
+            n.saturating_add(self.samples_on(seg, sampling).max(min))
+        })
+    }
+
+    /// Refuses a sampling that would place more than [`MAX_GLYPH_SAMPLES`]
+    /// points on the glyph (call it before [`Glyph::sample_at_least`] on a
+    /// glyph from a file).
+    pub fn check_sample_count(&self, sampling: Sampling, min: usize) -> Result<(), OutlineError> {
+        let samples = self.sample_count(sampling, min);
+        if samples > MAX_GLYPH_SAMPLES {
+            return Err(OutlineError::GlyphLimit {
+                path: self.font.clone(),
+                glyph: self.glyph,
+                what: "sample points",
+                found: samples as u64,
+                limit: MAX_GLYPH_SAMPLES as u64,
+            });
+        }
+        Ok(())
+    }
+
     /// Every contour sampled at `t = k/n` on each segment, with the indices
     /// where segments start (see [`SampledContour`]).
     pub fn sample(&self, sampling: Sampling) -> Vec<SampledContour> {
@@ -262,22 +328,39 @@ impl Glyph {
 /// Collects `ttf-parser`'s drawing commands into closed segment chains,
 /// skipping zero-length lines and closing every contour with a line if its
 /// last point is not its first.
+///
+/// Past [`MAX_GLYPH_SEGMENTS`] segments it unwinds with [`SegmentCap`]
+/// (`ttf-parser` gives a builder no way to stop it), which
+/// [`glyph_from_bytes`] catches.
 #[derive(Default)]
 struct Collector {
     contours: Vec<Vec<Segment>>,
     current: Vec<Segment>,
     start: Point,
     pen: Point,
+    segments: usize,
 }
+
+/// The unwinding payload of a [`Collector`] past [`MAX_GLYPH_SEGMENTS`].
+struct SegmentCap;
 
 fn pt(x: f32, y: f32) -> Point {
     Point::new(x as f64, y as f64)
 }
 
 impl Collector {
+    /// Adds a segment to the current contour, or unwinds past the limit.
+    fn push(&mut self, s: Segment) {
+        self.segments += 1;
+        if self.segments > MAX_GLYPH_SEGMENTS {
+            resume_unwind(Box::new(SegmentCap));
+        }
+        self.current.push(s);
+    }
+
     fn finish(&mut self) {
         if self.pen != self.start && !self.current.is_empty() {
-            self.current.push(Segment::Line(self.pen, self.start));
+            self.push(Segment::Line(self.pen, self.start));
         }
         if !self.current.is_empty() {
             self.contours.push(std::mem::take(&mut self.current));
@@ -296,21 +379,20 @@ impl OutlineBuilder for Collector {
     fn line_to(&mut self, x: f32, y: f32) {
         let p = pt(x, y);
         if p != self.pen {
-            self.current.push(Segment::Line(self.pen, p));
+            self.push(Segment::Line(self.pen, p));
             self.pen = p;
         }
     }
 
     fn quad_to(&mut self, x1: f32, y1: f32, x: f32, y: f32) {
         let p = pt(x, y);
-        self.current
-            .push(Segment::Quad(QuadBez::new(self.pen, pt(x1, y1), p)));
+        self.push(Segment::Quad(QuadBez::new(self.pen, pt(x1, y1), p)));
         self.pen = p;
     }
 
     fn curve_to(&mut self, x1: f32, y1: f32, x2: f32, y2: f32, x: f32, y: f32) {
         let p = pt(x, y);
-        self.current.push(Segment::Cubic(CubicBez::new(
+        self.push(Segment::Cubic(CubicBez::new(
             self.pen,
             pt(x1, y1),
             pt(x2, y2),
@@ -386,9 +468,143 @@ pub fn load_glyph(path: &Path, glyph: char) -> Result<Glyph, OutlineError> {
     glyph_from_bytes(&data, path, glyph)
 }
 
+/// A 4-byte table tag as text, such as `CFF ` or `glyf`.
+fn tag_name(tag: Tag) -> String {
+    tag.to_bytes().iter().map(|&b| b as char).collect()
+}
+
+/// Refuses a font file cut short: a table directory longer than the file,
+/// or a table the directory places beyond its end. `ttf-parser` would
+/// quietly treat such a table as absent, so that a truncated font seems to
+/// lack glyphs or outlines.
+fn check_tables(data: &[u8], path: &Path) -> Result<(), OutlineError> {
+    let malformed = |message: String| OutlineError::MalformedFont {
+        path: path.to_owned(),
+        message,
+    };
+    let magic = data.get(..4).unwrap_or(&[]);
+    let single =
+        data.len() >= 12 && [&[0, 1, 0, 0][..], b"OTTO", b"true", b"typ1"].contains(&magic);
+    if single {
+        let tables = usize::from(u16::from_be_bytes([data[4], data[5]]));
+        let need = 12 + 16 * tables;
+        if data.len() < need {
+            return Err(malformed(format!(
+                "the font file is truncated: its table directory lists {tables} tables, which need \
+                 {need} bytes, but the file has {} bytes",
+                data.len()
+            )));
+        }
+    }
+    let Ok(raw) = RawFace::parse(data, 0) else {
+        return Ok(()); // Face::parse reports it
+    };
+    for record in raw.table_records {
+        let end = u64::from(record.offset) + u64::from(record.length);
+        if end > data.len() as u64 {
+            return Err(malformed(format!(
+                "the font file is truncated: its table directory puts table '{}' at bytes {}..{end}, \
+                 but the file has {} bytes",
+                tag_name(record.tag),
+                record.offset,
+                data.len()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The component references of TrueType glyphs, counted through their
+/// nesting with every glyph counted once (memoised), and whether they draw
+/// anything: the work `ttf-parser` does for a composite, bounded before it
+/// starts.
+struct Composites<'a> {
+    loca: ttf_parser::loca::Table<'a>,
+    glyf: &'a [u8],
+    /// Per glyph: (glyph visits including itself, draws anything); `None`
+    /// while being counted.
+    memo: HashMap<u16, Option<(u64, bool)>>,
+}
+
+/// A composite glyph that contains itself. `ttf-parser` follows such a
+/// cycle to its nesting limit of 32 (each level repeating every
+/// component, so exponentially long) and then gives up on the glyph.
+struct Cycle;
+
+impl Composites<'_> {
+    /// The visits and whether glyph `id` draws, stopping past the limit.
+    fn visit(&mut self, id: u16, depth: u32) -> Result<(u64, bool), Cycle> {
+        match self.memo.get(&id) {
+            Some(Some(known)) => return Ok(*known),
+            Some(None) => return Err(Cycle),
+            None => {}
+        }
+        let data = self
+            .loca
+            .glyph_range(GlyphId(id))
+            .and_then(|r| self.glyf.get(r))
+            .unwrap_or(&[]);
+        let contours = match data {
+            [a, b, ..] => i16::from_be_bytes([*a, *b]),
+            _ => 0,
+        };
+        if contours >= 0 || depth >= 32 {
+            return Ok((1, contours > 0));
+        }
+        self.memo.insert(id, None);
+        let (mut visits, mut draws) = (1u64, false);
+        let mut s = data.get(10..).unwrap_or(&[]);
+        // Composite records (OpenType `glyf`): flags, glyph index, the
+        // arguments (2 or 4 bytes) and a scale (0, 2, 4 or 8 bytes).
+        while let [f0, f1, g0, g1, rest @ ..] = s {
+            let flags = u16::from_be_bytes([*f0, *f1]);
+            let child = u16::from_be_bytes([*g0, *g1]);
+            let (c, d) = self.visit(child, depth + 1)?;
+            visits = visits.saturating_add(c);
+            draws |= d;
+            if visits > MAX_GLYPH_COMPONENTS || flags & 0x0020 == 0 {
+                break;
+            }
+            let args = if flags & 0x0001 != 0 { 4 } else { 2 };
+            let scale = if flags & 0x0080 != 0 {
+                8
+            } else if flags & 0x0040 != 0 {
+                4
+            } else if flags & 0x0008 != 0 {
+                2
+            } else {
+                0
+            };
+            s = rest.get(args + scale..).unwrap_or(&[]);
+        }
+        self.memo.insert(id, Some((visits, draws)));
+        Ok((visits, draws))
+    }
+}
+
+/// For a TrueType glyph, the component references through its nesting and
+/// whether it draws anything; `None` without a usable `glyf` table.
+fn glyf_structure(face: &Face<'_>, id: GlyphId) -> Option<Result<(u64, bool), Cycle>> {
+    face.tables().glyf?;
+    let raw = face.raw_face();
+    let glyf = raw.table(Tag::from_bytes(b"glyf"))?;
+    let loca = ttf_parser::loca::Table::parse(
+        std::num::NonZeroU16::new(face.number_of_glyphs())?,
+        face.tables().head.index_to_location_format,
+        raw.table(Tag::from_bytes(b"loca"))?,
+    )?;
+    let mut c = Composites {
+        loca,
+        glyf,
+        memo: HashMap::new(),
+    };
+    Some(c.visit(id.0, 0))
+}
+
 /// Reads the outline of `glyph` from font data; `path` only names the font
 /// in the result and in errors.
 pub fn glyph_from_bytes(data: &[u8], path: &Path, glyph: char) -> Result<Glyph, OutlineError> {
+    check_tables(data, path)?;
     let face = Face::parse(data, 0).map_err(|e| OutlineError::Font {
         path: path.to_owned(),
         message: e.to_string(),
@@ -404,27 +620,135 @@ pub fn glyph_from_bytes(data: &[u8], path: &Path, glyph: char) -> Result<Glyph, 
         path: path.to_owned(),
         glyph,
     };
+    let malformed = |table: &str, reported: String| OutlineError::MalformedGlyph {
+        path: path.to_owned(),
+        glyph,
+        id: id.0,
+        table: table.to_owned(),
+        reported,
+    };
+    let limit = |what: &'static str, found: u64, limit: u64| OutlineError::GlyphLimit {
+        path: path.to_owned(),
+        glyph,
+        what,
+        found,
+        limit,
+    };
     let mut collector = Collector::default();
-    let rect = face
-        .outline_glyph(id, &mut collector)
-        .ok_or_else(no_outline)?;
+    // The outline, as `Face::outline_glyph` draws it (glyf first, then CFF),
+    // but telling a glyph that draws nothing from one that cannot be read.
+    let drawn = if face.tables().glyf.is_some() {
+        let (visits, draws) = match glyf_structure(&face, id) {
+            Some(Ok(structure)) => structure,
+            Some(Err(Cycle)) => {
+                return Err(malformed(
+                    "glyf",
+                    "its components refer back to one another (a cycle)".into(),
+                ))
+            }
+            None => (1, true),
+        };
+        if visits > MAX_GLYPH_COMPONENTS {
+            return Err(limit("component references", visits, MAX_GLYPH_COMPONENTS));
+        }
+        let outlined = catch_unwind(AssertUnwindSafe(|| face.outline_glyph(id, &mut collector)));
+        match outlined {
+            Ok(Some(rect)) => rect,
+            Ok(None) if !draws => return Err(no_outline()),
+            Ok(None) => {
+                return Err(malformed(
+                    "glyf",
+                    "ttf-parser cannot read its outline data (it gives no reason for 'glyf' \
+                     glyphs: a contour, point or component record is cut short or out of range)"
+                        .into(),
+                ))
+            }
+            Err(payload) => return Err(cap_or_resume(payload, limit)),
+        }
+    } else if let Some(cff) = face.tables().cff.as_ref() {
+        let outlined = catch_unwind(AssertUnwindSafe(|| cff.outline(id, &mut collector)));
+        match outlined {
+            Ok(Ok(rect)) => rect,
+            Ok(Err(ttf_parser::CFFError::ZeroBBox)) => return Err(no_outline()),
+            Ok(Err(e)) => {
+                return Err(malformed(
+                    "CFF ",
+                    format!("ttf-parser reports {e:?} in its charstring"),
+                ))
+            }
+            Err(payload) => return Err(cap_or_resume(payload, limit)),
+        }
+    } else {
+        let raw = face.raw_face();
+        let has = |t: &[u8; 4]| raw.table(Tag::from_bytes(t)).is_some();
+        let message = if has(b"glyf") {
+            "the font file is malformed: its 'glyf' outlines cannot be used, because its \
+             'loca' index is missing or malformed"
+        } else if has(b"CFF ") {
+            "the font file is malformed: ttf-parser cannot read its 'CFF ' table"
+        } else if has(b"CFF2") {
+            "the font has only 'CFF2' (variable) outlines, which this reader does not support"
+        } else {
+            "the font has no glyph outlines (neither a 'glyf' nor a 'CFF ' table)"
+        };
+        return Err(OutlineError::MalformedFont {
+            path: path.to_owned(),
+            message: message.into(),
+        });
+    };
     collector.finish();
     let mut contours = collector.contours;
     if contours.is_empty() {
         return Err(no_outline());
     }
+    let far = contours.iter().flatten().find_map(|s| {
+        s.control_points()
+            .into_iter()
+            .flat_map(|p| [p.x, p.y])
+            .find(|v| v.is_nan() || v.abs() > MAX_COORDINATE)
+    });
+    if contours.len() > MAX_GLYPH_CONTOURS {
+        let n = contours.len() as u64;
+        return Err(limit("contours", n, MAX_GLYPH_CONTOURS as u64));
+    }
+    if let Some(value) = far {
+        return Err(malformed(
+            if face.tables().glyf.is_some() {
+                "glyf"
+            } else {
+                "CFF "
+            },
+            format!("a coordinate is {value:e}, beyond ±1e15"),
+        ));
+    }
     orient_contours(&mut contours);
-    let bbox = face.glyph_bounding_box(id).unwrap_or(rect);
     Ok(Glyph {
         font: path.to_owned(),
         glyph,
         units_per_em: face.units_per_em(),
         bbox: (
-            Point::new(bbox.x_min as f64, bbox.y_min as f64),
-            Point::new(bbox.x_max as f64, bbox.y_max as f64),
+            Point::new(drawn.x_min as f64, drawn.y_min as f64),
+            Point::new(drawn.x_max as f64, drawn.y_max as f64),
         ),
         contours,
     })
+}
+
+/// The error of a [`Collector`] that stopped at [`MAX_GLYPH_SEGMENTS`];
+/// any other panic goes on unwinding.
+fn cap_or_resume(
+    payload: Box<dyn std::any::Any + Send>,
+    limit: impl Fn(&'static str, u64, u64) -> OutlineError,
+) -> OutlineError {
+    if payload.is::<SegmentCap>() {
+        limit(
+            "segments",
+            MAX_GLYPH_SEGMENTS as u64 + 1,
+            MAX_GLYPH_SEGMENTS as u64,
+        )
+    } else {
+        resume_unwind(payload)
+    }
 }
 
 #[cfg(test)]

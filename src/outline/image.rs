@@ -16,9 +16,21 @@
 //! shape. [`BoundaryPoints::PixelCentres`] gives the border pixels' centres
 //! instead, as OpenCV's `findContours`; that polygon loses about half a pixel
 //! all around the perimeter.
+//!
+//! **Limits.** The PNG header is checked before anything is decoded: an
+//! image may have at most [`MAX_IMAGE_SIDE`] pixels a side and
+//! [`MAX_IMAGE_PIXELS`] in all, and the pixel data its header declares must
+//! fit in what the rest of the file can hold once decompressed (deflate
+//! expands at most [`MAX_DEFLATE_RATIO`]:1), so that a small or truncated
+//! file cannot make the decoder allocate a large image. The decoder's own
+//! buffers for ancillary chunks (an ICC profile, for one) are capped at
+//! [`MAX_PNG_METADATA_BYTES`].
 
+use std::io::Cursor;
 use std::path::Path;
 
+use ::image::codecs::png::PngDecoder;
+use ::image::io::Limits;
 use ::image::{DynamicImage, ImageError};
 
 use super::border::{find_borders, BinaryImage, BorderKind};
@@ -133,19 +145,117 @@ pub fn luminance(image: &DynamicImage) -> GreyImage {
     }
 }
 
+/// [`luminance`] of an owned image, without the RGBA copy for the two
+/// common PNG layouts (8-bit grey keeps its levels; 8-bit RGBA is read in
+/// place); the same levels as [`luminance`].
+fn into_luminance(image: DynamicImage) -> GreyImage {
+    let (width, height) = (image.width() as usize, image.height() as usize);
+    let pixels = match image {
+        DynamicImage::ImageLuma8(g) => g.into_raw(),
+        DynamicImage::ImageRgba8(rgba) => rgba
+            .pixels()
+            .map(|p| {
+                let [r, g, b, a] = p.0.map(u32::from);
+                let y = (2126 * r + 7152 * g + 722 * b + 5000) / 10000;
+                ((y * a + 255 * (255 - a) + 127) / 255) as u8
+            })
+            .collect(),
+        other => return luminance(&other),
+    };
+    GreyImage {
+        width,
+        height,
+        pixels,
+    }
+}
+
+/// The most pixels a side of an image may have (PNG allows 2³¹ − 1).
+pub const MAX_IMAGE_SIDE: u32 = 1 << 16;
+
+/// The most pixels an image may have: 16,777,216 (4096 × 4096). Reading
+/// takes about 20 bytes per pixel for an image of a few shapes (decoded
+/// pixels, grey levels, the binary image and the border labels), and up to
+/// about 200 for an adversarial one whose every pixel is a border (a
+/// checkerboard), so at most about 3.4 GB.
+pub const MAX_IMAGE_PIXELS: u64 = 1 << 24;
+
+/// The largest expansion of deflate (RFC 1951), PNG's compression: a
+/// length-258 match coded in 2 bits, 258 · 8 / 2 = 1032 bytes out per byte
+/// in. The pixel data a header declares must fit in this many times the
+/// bytes after the header.
+pub const MAX_DEFLATE_RATIO: u64 = 1032;
+
+/// The most the PNG decoder may allocate for ancillary chunks (such as a
+/// compressed ICC profile, which could otherwise inflate a tiny file).
+pub const MAX_PNG_METADATA_BYTES: u64 = 16 << 20;
+
+/// The 8-byte PNG signature.
+const PNG_SIGNATURE: [u8; 8] = [0x89, b'P', b'N', b'G', b'\r', b'\n', 0x1a, b'\n'];
+
+/// Checks the image header (`IHDR`, which must follow the signature)
+/// against the limits and the file's size, before anything is decoded;
+/// a header the decoder cannot read is left to it to report.
+fn check_png_header(bytes: &[u8], path: &Path) -> Result<(), OutlineError> {
+    if bytes.len() < 33 || bytes[..8] != PNG_SIGNATURE || &bytes[12..16] != b"IHDR" {
+        return Ok(());
+    }
+    let be = |i: usize| u32::from_be_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
+    let (width, height) = (be(16), be(20));
+    let (depth, colour) = (bytes[24], bytes[25]);
+    if width == 0 || height == 0 {
+        return Err(OutlineError::EmptyImage {
+            path: path.to_owned(),
+            width,
+            height,
+        });
+    }
+    let pixels = u64::from(width) * u64::from(height);
+    if width > MAX_IMAGE_SIDE || height > MAX_IMAGE_SIDE || pixels > MAX_IMAGE_PIXELS {
+        return Err(OutlineError::ImageTooLarge {
+            path: path.to_owned(),
+            width,
+            height,
+        });
+    }
+    let channels = match colour {
+        0 | 3 => 1,
+        2 => 3,
+        4 => 2,
+        6 => 4,
+        _ => return Ok(()), // the decoder names the bad colour type
+    };
+    let bits = u64::from(depth) * channels;
+    let need = (pixels * bits).div_ceil(8);
+    let after = bytes.len() as u64 - 33;
+    // A little slack for the shortest streams (a header and one literal).
+    let most = MAX_DEFLATE_RATIO * (after + 1);
+    if need > most {
+        return Err(OutlineError::ImageData {
+            path: path.to_owned(),
+            width,
+            height,
+            bits,
+            need,
+            after,
+        });
+    }
+    Ok(())
+}
+
 /// Decodes the PNG file at `path` into luminance (see [`luminance`]).
 pub fn load_grey(path: &Path) -> Result<GreyImage, OutlineError> {
-    let reader = ::image::io::Reader::open(path).map_err(|source| OutlineError::Io {
+    let bytes = std::fs::read(path).map_err(|source| OutlineError::Io {
         path: path.to_owned(),
         source,
     })?;
-    let reader = reader
-        .with_guessed_format()
-        .map_err(|source| OutlineError::Io {
-            path: path.to_owned(),
-            source,
-        })?;
-    let decoded = reader.decode().map_err(|e| match e {
+    grey_from_bytes(&bytes, path)
+}
+
+/// Decodes PNG data into luminance (see [`luminance`]) after checking its
+/// header against the limits (see the module documentation); `path` only
+/// names the source in errors.
+pub fn grey_from_bytes(bytes: &[u8], path: &Path) -> Result<GreyImage, OutlineError> {
+    let image_error = |e: ImageError| match e {
         ImageError::IoError(source) => OutlineError::Io {
             path: path.to_owned(),
             source,
@@ -158,8 +268,21 @@ pub fn load_grey(path: &Path) -> Result<GreyImage, OutlineError> {
             path: path.to_owned(),
             message: other.to_string(),
         },
-    })?;
-    Ok(luminance(&decoded))
+    };
+    if !bytes.starts_with(&PNG_SIGNATURE) {
+        return Err(OutlineError::Image {
+            path: path.to_owned(),
+            message: "it does not start with the PNG signature (89 50 4E 47 0D 0A 1A 0A)".into(),
+        });
+    }
+    check_png_header(bytes, path)?;
+    let mut limits = Limits::default();
+    limits.max_image_width = Some(MAX_IMAGE_SIDE);
+    limits.max_image_height = Some(MAX_IMAGE_SIDE);
+    limits.max_alloc = Some(MAX_PNG_METADATA_BYTES);
+    let decoder = PngDecoder::with_limits(Cursor::new(bytes), limits).map_err(image_error)?;
+    let decoded = DynamicImage::from_decoder(decoder).map_err(image_error)?;
+    Ok(into_luminance(decoded))
 }
 
 /// The binary image of the shape, with the threshold used: Otsu's or the

@@ -99,7 +99,11 @@ pub fn load(input: &Input, options: &Options) -> Result<Vec<Outline>, OutlineErr
     match input {
         Input::Image(path) => load_image(path, &options.image),
         Input::Csv(path) => Ok(vec![load_csv(path, &options.csv)?]),
-        Input::Glyph { font, glyph } => Ok(load_glyph(font, *glyph)?.outlines(options.glyph)),
+        Input::Glyph { font, glyph } => {
+            let g = load_glyph(font, *glyph)?;
+            g.check_sample_count(options.glyph, 1)?;
+            Ok(g.outlines(options.glyph))
+        }
     }
 }
 

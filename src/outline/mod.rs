@@ -34,22 +34,25 @@ mod otsu;
 mod svg;
 
 pub use self::image::{
-    binarize, boundaries, grey_outlines, load_grey, load_image, luminance, select_outlines,
-    Boundary, BoundaryPoints, Foreground, GreyImage, ImageOptions, Threshold,
+    binarize, boundaries, grey_from_bytes, grey_outlines, load_grey, load_image, luminance,
+    select_outlines, Boundary, BoundaryPoints, Foreground, GreyImage, ImageOptions, Threshold,
+    MAX_DEFLATE_RATIO, MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE, MAX_PNG_METADATA_BYTES,
 };
 pub use crate::geometry::Orientation;
 pub use border::{find_borders, BinaryImage, Border, BorderKind, Side};
 pub use corners::{find_corners, split_at, turning_angles, CornerOptions};
 pub use csv_points::{
-    csv_from_bytes, load_csv, CsvOptions, MAX_COORDINATE, MIN_EXTENT, MIN_RELATIVE_EXTENT,
+    csv_from_bytes, load_csv, CsvOptions, MAX_COORDINATE, MAX_CSV_LINE_BYTES, MAX_CSV_POINTS,
+    MIN_EXTENT, MIN_RELATIVE_EXTENT,
 };
 pub use error::OutlineError;
 pub use glyph::{
     glyph_from_bytes, load_glyph, Glyph, SampledContour, Sampling, Segment, CORNER_DEGREES,
+    MAX_GLYPH_COMPONENTS, MAX_GLYPH_CONTOURS, MAX_GLYPH_SAMPLES, MAX_GLYPH_SEGMENTS,
 };
 pub use input::{load, parse_glyph, parse_input, Input, Options};
 pub use otsu::{histogram, otsu_threshold};
-pub use svg::{load_svg, svg_from_str, SvgError, SvgPaths, SvgProblem};
+pub use svg::{load_svg, svg_from_str, SvgError, SvgPaths, SvgProblem, NON_RENDERED};
 
 /// An outline: the ordered boundary points of a shape in an image or a
 /// glyph, a [`Polyline`](crate::geometry::Polyline) (outer boundaries run

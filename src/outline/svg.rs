@@ -1,12 +1,27 @@
 //! The paths of an SVG file as Bézier segments, for scoring curves that
 //! other tools (potrace, FontForge, Inkscape) produced.
 //!
-//! Read: every `<path d="…">` element; the path commands `M L H V C S Q T Z`,
-//! absolute and relative, with implicit repetition (SVG 1.1, §8.3); the
-//! `transform` attributes `translate`, `scale` and `matrix` on `<g>` and
-//! `<path>` elements (composed down the element tree, as potrace writes
-//! them); and the `viewBox` (or `height`) of the root `<svg>`. Elliptical
-//! arcs (`A`) and other transforms are refused with their place.
+//! Read: every rendered `<path d="…">` element; the path commands
+//! `M L H V C S Q T Z`, absolute and relative, with implicit repetition
+//! (SVG 1.1, §8.3); the `transform` attributes `translate`, `scale` and
+//! `matrix` on `<g>` and `<path>` elements (composed down the element tree,
+//! as potrace writes them); and the `viewBox` (or `height`) of the root
+//! `<svg>`. Elliptical arcs (`A`), other transforms and `<use>` elements
+//! (which draw other elements by reference) are refused with their place.
+//!
+//! **Skipped.** Paths that are not rendered are not read: everything
+//! inside `<defs>`, `<symbol>`, `<clipPath>`, `<mask>`, `<pattern>` and
+//! `<marker>` (with or without a namespace prefix such as `svg:`), and
+//! every element with `display="none"` (as an attribute or as
+//! `display:none` in its `style`) with its descendants. [`SvgPaths::skipped`]
+//! counts the skipped paths.
+//!
+//! **Limits.** Every coordinate, after the transforms, and the root's
+//! `viewBox` and `height` must be within ±[`MAX_COORDINATE`] (1e15, as for
+//! CSV outlines), so that distances and their squares stay finite; a file
+//! must draw at least one segment (a line or curve; a lone move-to draws
+//! none). Both are refused with the file and, for a coordinate, its line and
+//! column.
 //!
 //! **Frame.** SVG user space has y pointing down. [`SvgPaths::to_frame`]
 //! reflects it about the horizontal mid-line of the `viewBox` (so a point at
@@ -21,8 +36,26 @@
 
 use std::path::{Path, PathBuf};
 
+use super::csv_points::MAX_COORDINATE;
 use super::glyph::Segment;
 use crate::geometry::{CubicBez, Point, QuadBez};
+
+/// The container elements whose content is never rendered directly (SVG
+/// 1.1: §5.3.1 `defs`, §5.5 `symbol`, §14.3.5 `clipPath`, §14.4 `mask`,
+/// §13.3 `pattern`, §11.6.2 `marker`); their paths are skipped.
+pub const NON_RENDERED: [&str; 6] = ["defs", "symbol", "clipPath", "mask", "pattern", "marker"];
+
+/// The longest excerpt of the file an error message quotes, in characters.
+const EXCERPT: usize = 40;
+
+/// At most [`EXCERPT`] characters of `s`, with `…` when cut.
+fn excerpt(s: &str) -> String {
+    let mut out: String = s.chars().take(EXCERPT).collect();
+    if out.len() < s.len() {
+        out.push('…');
+    }
+    out
+}
 
 /// Why the paths of an SVG file could not be read.
 #[derive(Debug, thiserror::Error)]
@@ -41,6 +74,17 @@ pub enum SvgError {
         /// The file.
         path: PathBuf,
     },
+    /// Paths were found, but none draws a segment: every rendered path is
+    /// empty or a lone move-to, or every path is in a non-rendered container.
+    #[error("{}: no drawable segment: {rendered} rendered <path> element(s) draw no line or curve{}; expected at least one segment to score", path.display(), skipped_note(*skipped))]
+    NoSegment {
+        /// The file.
+        path: PathBuf,
+        /// The rendered `<path>` elements found.
+        rendered: usize,
+        /// The `<path>` elements skipped as not rendered.
+        skipped: usize,
+    },
     /// Something unreadable at a place in the file.
     #[error("{}:{line}:{column}: {problem}", path.display())]
     At {
@@ -53,6 +97,17 @@ pub enum SvgError {
         /// What is wrong there.
         problem: SvgProblem,
     },
+}
+
+/// `, and N path(s) … were skipped` for [`SvgError::NoSegment`].
+fn skipped_note(skipped: usize) -> String {
+    if skipped == 0 {
+        String::new()
+    } else {
+        format!(
+            ", and {skipped} <path> element(s) inside non-rendered containers (<defs>, <symbol>, <clipPath>, <mask>, <pattern>, <marker>) or with display=\"none\" were skipped"
+        )
+    }
 }
 
 /// What is wrong at a place in an SVG file.
@@ -76,6 +131,18 @@ pub enum SvgProblem {
     /// A tag or attribute is not closed.
     #[error("unterminated {0}")]
     Unterminated(&'static str),
+    /// A coordinate (after the transforms) or a `viewBox` or `height` value
+    /// beyond ±[`MAX_COORDINATE`].
+    #[error("{what} {value:e} is beyond ±1e15, the range of coordinates this tool scores (distances and their squares must stay finite)")]
+    Range {
+        /// What the value is (`a coordinate after the transforms`, `the viewBox value`, …).
+        what: &'static str,
+        /// The value (possibly infinite or NaN after an overflowing transform).
+        value: f64,
+    },
+    /// A rendered element this reader cannot draw.
+    #[error("unsupported element <{0}> (it draws other elements by reference); expected the paths drawn directly")]
+    Element(String),
 }
 
 /// An affine map `(x, y) ↦ (a x + c y + e, b x + d y + f)` (SVG's matrix).
@@ -116,6 +183,8 @@ pub struct SvgPaths {
     pub view_box: Option<[f64; 4]>,
     /// The root `height` in user units (units such as `pt` dropped), if any.
     pub height: Option<f64>,
+    /// The `<path>` elements skipped as not rendered (see the module docs).
+    pub skipped: usize,
 }
 
 impl SvgPaths {
@@ -169,6 +238,32 @@ struct Tag<'t> {
     self_closing: bool,
 }
 
+/// One open element: the transform its content is drawn with, and whether
+/// its content is rendered.
+#[derive(Clone, Copy)]
+struct Frame {
+    m: Affine,
+    hidden: bool,
+}
+
+/// The element's name without a namespace prefix (`svg:defs` → `defs`).
+fn local_name(name: &str) -> &str {
+    name.rsplit_once(':').map_or(name, |(_, local)| local)
+}
+
+/// Whether the element's own attributes say it is not displayed:
+/// `display="none"` or `display:none` in its `style`.
+fn display_none(tag: &Tag<'_>) -> bool {
+    tag.attributes.iter().any(|(k, v, _)| match *k {
+        "display" => v.trim() == "none",
+        "style" => v.split(';').any(|decl| {
+            decl.split_once(':')
+                .is_some_and(|(p, v)| p.trim() == "display" && v.trim() == "none")
+        }),
+        _ => false,
+    })
+}
+
 /// Reads the paths of SVG `text`; `path` names the file in errors.
 pub fn svg_from_str(text: &str, path: &Path) -> Result<SvgPaths, SvgError> {
     let at = |offset: usize, problem: SvgProblem| {
@@ -187,53 +282,86 @@ pub fn svg_from_str(text: &str, path: &Path) -> Result<SvgPaths, SvgError> {
         subpaths: Vec::new(),
         view_box: None,
         height: None,
+        skipped: 0,
     };
-    let mut stack: Vec<Affine> = vec![Affine::IDENTITY];
-    let mut found = false;
+    let top = Frame {
+        m: Affine::IDENTITY,
+        hidden: false,
+    };
+    let mut stack: Vec<Frame> = vec![top];
+    let mut rendered = 0usize;
     let mut pos = 0;
     while let Some(rel) = text[pos..].find('<') {
         let start = pos + rel;
         let (tag, end) = next_tag(text, start).map_err(|(o, p)| at(o, p))?;
         pos = end;
         let Some(tag) = tag else { continue };
-        let current = *stack.last().unwrap_or(&Affine::IDENTITY);
+        if tag.name.starts_with('/') {
+            if stack.len() > 1 {
+                stack.pop();
+            }
+            continue;
+        }
+        let current = *stack.last().unwrap_or(&top);
+        let name = local_name(tag.name);
+        let hidden = current.hidden || NON_RENDERED.contains(&name) || display_none(&tag);
         let local = match tag.attributes.iter().find(|(k, _, _)| *k == "transform") {
-            Some((_, v, o)) => parse_transform(v).map_err(|(i, p)| at(o + i, p))?,
-            None => Affine::IDENTITY,
+            Some((_, v, o)) if !hidden => parse_transform(v).map_err(|(i, p)| at(o + i, p))?,
+            _ => Affine::IDENTITY,
         };
-        match tag.name {
+        let inner = Frame {
+            m: current.m.then(local),
+            hidden,
+        };
+        match name {
             "svg" if out.view_box.is_none() && out.height.is_none() => {
                 root_view(&tag, &mut out).map_err(|(o, p)| at(o, p))?;
-                stack.push(current.then(local));
             }
             "path" => {
                 if let Some((_, d, o)) = tag.attributes.iter().find(|(k, _, _)| *k == "d") {
-                    let m = current.then(local);
-                    let subs = parse_path(d).map_err(|(i, p)| at(o + i, p))?;
-                    for sub in subs {
-                        out.subpaths
-                            .push(sub.iter().map(|s| map_segment(s, |p| m.apply(p))).collect());
+                    if hidden {
+                        out.skipped += 1;
+                    } else {
+                        rendered += 1;
+                        let subs = parse_path(d, inner.m).map_err(|(i, p)| at(o + i, p))?;
+                        out.subpaths.extend(subs);
                     }
-                    found = true;
-                }
-                if !tag.self_closing {
-                    stack.push(current);
                 }
             }
-            name if name.starts_with('/') && stack.len() > 1 => {
-                stack.pop();
+            "use" if !hidden => {
+                return Err(at(start, SvgProblem::Element(excerpt(tag.name))));
             }
-            name if name.starts_with('/') => {}
-            _ if !tag.self_closing => stack.push(current.then(local)),
             _ => {}
         }
+        if !tag.self_closing {
+            // A path's children (such as <title>) are drawn without its
+            // transform, as before; other elements pass theirs on.
+            let pushed = if name == "path" {
+                Frame { hidden, ..current }
+            } else {
+                inner
+            };
+            stack.push(pushed);
+        }
     }
-    if !found {
+    if rendered + out.skipped == 0 {
         return Err(SvgError::NoPath {
             path: path.to_owned(),
         });
     }
+    if out.segment_count() == 0 {
+        return Err(SvgError::NoSegment {
+            path: path.to_owned(),
+            rendered,
+            skipped: out.skipped,
+        });
+    }
     Ok(out)
+}
+
+/// Whether `v` is within ±[`MAX_COORDINATE`] (false for NaN).
+fn in_range(v: f64) -> bool {
+    v.abs() <= MAX_COORDINATE
 }
 
 /// The root's `viewBox` and `height`.
@@ -243,13 +371,21 @@ fn root_view(tag: &Tag<'_>, out: &mut SvgPaths) -> Result<(), (usize, SvgProblem
             "viewBox" => {
                 let nums = numbers(v).map_err(|(i, p)| (o + i, p))?;
                 if nums.len() != 4 {
-                    return Err((*o, SvgProblem::Number((*v).to_owned())));
+                    return Err((*o, SvgProblem::Number(excerpt(v))));
+                }
+                if let Some(&value) = nums.iter().find(|x| !in_range(**x)) {
+                    let what = "the viewBox value";
+                    return Err((*o, SvgProblem::Range { what, value }));
                 }
                 out.view_box = Some([nums[0], nums[1], nums[2], nums[3]]);
             }
             "height" => {
                 let digits = v.trim_end_matches(|c: char| c.is_ascii_alphabetic() || c == '%');
                 out.height = digits.trim().parse().ok().filter(|h: &f64| h.is_finite());
+                if let Some(value) = out.height.filter(|h| !in_range(*h)) {
+                    let what = "the height";
+                    return Err((*o, SvgProblem::Range { what, value }));
+                }
             }
             _ => {}
         }
@@ -359,10 +495,12 @@ fn parse_transform(text: &str) -> Result<Affine, (usize, SvgProblem)> {
         if rest.is_empty() {
             return Ok(m);
         }
+        // The closing parenthesis after the opening one (a ')' before the
+        // '(' is not a transform, such as "a)b(").
         let open = rest.find('(');
-        let close = rest.find(')');
+        let close = open.and_then(|open| rest[open..].find(')').map(|k| open + k));
         let (Some(open), Some(close)) = (open, close) else {
-            return Err((offset, SvgProblem::Transform(rest.to_owned())));
+            return Err((offset, SvgProblem::Transform(excerpt(rest))));
         };
         let name = rest[..open].trim();
         let args = numbers(&rest[open + 1..close]).map_err(|(i, p)| (offset + open + 1 + i, p))?;
@@ -372,7 +510,7 @@ fn parse_transform(text: &str) -> Result<Affine, (usize, SvgProblem)> {
             ("scale", [s]) => Affine([*s, 0.0, 0.0, *s, 0.0, 0.0]),
             ("scale", [x, y]) => Affine([*x, 0.0, 0.0, *y, 0.0, 0.0]),
             ("matrix", [a, b, c, d, e, f]) => Affine([*a, *b, *c, *d, *e, *f]),
-            _ => return Err((offset, SvgProblem::Transform(rest[..=close].to_owned()))),
+            _ => return Err((offset, SvgProblem::Transform(excerpt(&rest[..=close])))),
         };
         m = m.then(t);
         offset += close + 1;
@@ -444,20 +582,21 @@ impl Lexer<'_> {
                 }
             }
         }
-        let word_end = self.text[start..]
-            .find(|c: char| c.is_whitespace() || c == ',')
-            .map_or(self.text.len(), |k| start + k);
         let token = &self.text[start..i];
         let value: f64 = token.parse().map_err(|_| {
-            (
-                start,
-                SvgProblem::Number(
-                    self.text[start..word_end.max(start + 1).min(self.text.len())].to_owned(),
-                ),
-            )
+            // The word quoted: up to the next separator, and at least the
+            // character found (whole, even when it is a multi-byte space
+            // such as U+2003, which the separators do not include).
+            let rest = &self.text[start..];
+            let len = match rest.find(|c: char| c.is_whitespace() || c == ',') {
+                None => rest.len(),
+                Some(0) => rest.chars().next().map_or(0, char::len_utf8),
+                Some(k) => k,
+            };
+            (start, SvgProblem::Number(excerpt(&rest[..len])))
         })?;
         if !value.is_finite() {
-            return Err((start, SvgProblem::NonFinite(token.to_owned())));
+            return Err((start, SvgProblem::NonFinite(excerpt(token))));
         }
         self.at = i;
         Ok(value)
@@ -479,11 +618,55 @@ struct Pen {
     quad_ctrl: Option<Point>,
 }
 
-/// The subpaths of path data `d`; errors carry the byte offset within `d`.
-fn parse_path(d: &str) -> Result<Vec<Vec<Segment>>, (usize, SvgProblem)> {
+/// Where the segments of a path go: mapped by the path's transform,
+/// checked against [`MAX_COORDINATE`], and gathered into subpaths.
+struct Sink {
+    m: Affine,
+    current: Vec<Segment>,
+    subpaths: Vec<Vec<Segment>>,
+}
+
+impl Sink {
+    /// Adds `s` (in the path's own coordinates) to the current subpath.
+    fn push(&mut self, s: Segment) -> Result<(), SvgProblem> {
+        let m = self.m;
+        let s = map_segment(&s, |p| m.apply(p));
+        let points: &[Point] = match &s {
+            Segment::Line(a, b) => &[*a, *b],
+            Segment::Quad(q) => &[q.p0, q.p1, q.p2],
+            Segment::Cubic(c) => &[c.p0, c.p1, c.p2, c.p3],
+        };
+        if let Some(value) = points
+            .iter()
+            .flat_map(|p| [p.x, p.y])
+            .find(|v| !in_range(*v))
+        {
+            let what = "a coordinate (after the transforms)";
+            return Err(SvgProblem::Range { what, value });
+        }
+        self.current.push(s);
+        Ok(())
+    }
+
+    /// Ends the current subpath, if it has segments.
+    fn finish(&mut self) {
+        if !self.current.is_empty() {
+            let mut done = std::mem::take(&mut self.current);
+            done.shrink_to_fit();
+            self.subpaths.push(done);
+        }
+    }
+}
+
+/// The subpaths of path data `d`, mapped by `m`; errors carry the byte
+/// offset within `d`.
+fn parse_path(d: &str, m: Affine) -> Result<Vec<Vec<Segment>>, (usize, SvgProblem)> {
     let mut lexer = Lexer { text: d, at: 0 };
-    let mut subpaths: Vec<Vec<Segment>> = Vec::new();
-    let mut current: Vec<Segment> = Vec::new();
+    let mut sink = Sink {
+        m,
+        current: Vec::new(),
+        subpaths: Vec::new(),
+    };
     let mut pen = Pen {
         at: Point::ZERO,
         start: Point::ZERO,
@@ -492,6 +675,8 @@ fn parse_path(d: &str) -> Result<Vec<Vec<Segment>>, (usize, SvgProblem)> {
     };
     let mut command: Option<u8> = None;
     while let Some(c) = lexer.peek() {
+        // The command letter, or the first argument of a repeated command.
+        let here = lexer.at;
         let cmd = if c.is_ascii_alphabetic() {
             lexer.at += 1;
             c
@@ -510,14 +695,10 @@ fn parse_path(d: &str) -> Result<Vec<Vec<Segment>>, (usize, SvgProblem)> {
             }
         };
         if command.is_none() && cmd != b'M' && cmd != b'm' {
-            return Err((
-                lexer.at - 1,
-                SvgProblem::NoMoveTo((cmd as char).to_string()),
-            ));
+            return Err((here, SvgProblem::NoMoveTo((cmd as char).to_string())));
         }
-        let at = lexer.at.saturating_sub(1);
-        step(&mut lexer, cmd, &mut pen, &mut current, &mut subpaths).map_err(|e| match e.1 {
-            SvgProblem::Command(_) => (at, e.1),
+        step(&mut lexer, cmd, &mut pen, &mut sink).map_err(|e| match e.1 {
+            SvgProblem::Command(_) | SvgProblem::Range { .. } => (here, e.1),
             _ => e,
         })?;
         command = Some(cmd);
@@ -528,10 +709,8 @@ fn parse_path(d: &str) -> Result<Vec<Vec<Segment>>, (usize, SvgProblem)> {
             ));
         }
     }
-    if !current.is_empty() {
-        subpaths.push(current);
-    }
-    Ok(subpaths)
+    sink.finish();
+    Ok(sink.subpaths)
 }
 
 /// Executes one path command at the lexer (its arguments follow).
@@ -539,35 +718,33 @@ fn step(
     lexer: &mut Lexer<'_>,
     cmd: u8,
     pen: &mut Pen,
-    current: &mut Vec<Segment>,
-    subpaths: &mut Vec<Vec<Segment>>,
+    sink: &mut Sink,
 ) -> Result<(), (usize, SvgProblem)> {
     let rel = cmd.is_ascii_lowercase();
     let here = pen.at;
     let (mut cubic_ctrl, mut quad_ctrl) = (None, None);
+    let mut push = |s: Segment| sink.push(s).map_err(|p| (0, p));
     match cmd.to_ascii_uppercase() {
         b'M' => {
-            if !current.is_empty() {
-                subpaths.push(std::mem::take(current));
-            }
+            sink.finish();
             pen.at = lexer.point(rel, here)?;
             pen.start = pen.at;
         }
         b'L' => {
             let p = lexer.point(rel, here)?;
-            current.push(Segment::Line(here, p));
+            push(Segment::Line(here, p))?;
             pen.at = p;
         }
         b'H' => {
             let x = lexer.number()?;
             let p = Point::new(if rel { here.x + x } else { x }, here.y);
-            current.push(Segment::Line(here, p));
+            push(Segment::Line(here, p))?;
             pen.at = p;
         }
         b'V' => {
             let y = lexer.number()?;
             let p = Point::new(here.x, if rel { here.y + y } else { y });
-            current.push(Segment::Line(here, p));
+            push(Segment::Line(here, p))?;
             pen.at = p;
         }
         b'C' | b'S' => {
@@ -578,7 +755,7 @@ fn step(
             };
             let c2 = lexer.point(rel, here)?;
             let p = lexer.point(rel, here)?;
-            current.push(Segment::Cubic(CubicBez::new(here, c1, c2, p)));
+            push(Segment::Cubic(CubicBez::new(here, c1, c2, p)))?;
             cubic_ctrl = Some(c2);
             pen.at = p;
         }
@@ -589,18 +766,16 @@ fn step(
                 pen.quad_ctrl.map_or(here, |c| here * 2.0 - c)
             };
             let p = lexer.point(rel, here)?;
-            current.push(Segment::Quad(QuadBez::new(here, c1, p)));
+            push(Segment::Quad(QuadBez::new(here, c1, p)))?;
             quad_ctrl = Some(c1);
             pen.at = p;
         }
         b'Z' => {
             if here != pen.start {
-                current.push(Segment::Line(here, pen.start));
+                push(Segment::Line(here, pen.start))?;
             }
             pen.at = pen.start;
-            if !current.is_empty() {
-                subpaths.push(std::mem::take(current));
-            }
+            sink.finish();
         }
         _ => return Err((lexer.at, SvgProblem::Command(cmd as char))),
     }
@@ -614,7 +789,7 @@ mod tests {
     use super::*;
 
     fn parse(d: &str) -> Vec<Vec<Segment>> {
-        parse_path(d).unwrap()
+        parse_path(d, Affine::IDENTITY).unwrap()
     }
 
     #[test]

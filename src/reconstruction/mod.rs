@@ -33,7 +33,7 @@ use crate::rng::{run_rng, splitmix64};
 
 pub use drawing::{cubic_pieces, save_shape, shape_raster, shape_svg};
 pub use overlay::{OverlayCurve, OverlayFigure, OverlayPanel};
-pub use score::{score, segment_distance, Distances, Score};
+pub use score::{score, segment_distance, Distances, Score, ScoreError, MAX_SCORE_COORDINATE};
 pub use shape::{ContourFit, ShapeFit};
 pub use source::{ContourChoice, LoadOptions, Source, SourceContour, SourceError};
 

@@ -1,10 +1,59 @@
 //! Scoring curves made elsewhere against the data points `fit` would use:
 //! the orthogonal distance of every data point to the nearest of the
 //! curves, as the maximum and the RMS, per contour and overall.
+//!
+//! The distances are always finite: [`score`] refuses an empty set of
+//! curves and any curve control point or data point beyond
+//! ±[`MAX_SCORE_COORDINATE`].
 
 use super::Source;
 use crate::geometry::{nearest, Point};
 use crate::outline::Segment;
+
+/// The largest coordinate magnitude [`score`] accepts, for curves (in the
+/// outline frame, after any offset) and data points alike: distances of
+/// points this far apart, their squares and the sum of squares over any
+/// number of points stay finite. The readers keep their own coordinates
+/// within ±[`crate::outline::MAX_COORDINATE`] (1e15), and reflecting an
+/// SVG about its `viewBox` and adding an offset can at most quadruple that.
+pub const MAX_SCORE_COORDINATE: f64 = 1e16;
+
+/// Why curves could not be scored.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ScoreError {
+    /// No curve segment at all: every data point would be infinitely far.
+    #[error("no curve segment to score against; expected at least one line or curve")]
+    NoSegment,
+    /// A curve control point is not finite or beyond ±[`MAX_SCORE_COORDINATE`].
+    #[error("segment {segment} of subpath {subpath} has the control point ({x:e}, {y:e}) (after the offset), beyond ±1e16, the range of coordinates scored; check the offset and the file's coordinates")]
+    CurveRange {
+        /// The subpath (0-based, in file order).
+        subpath: usize,
+        /// The segment within it (0-based).
+        segment: usize,
+        /// Its x.
+        x: f64,
+        /// Its y.
+        y: f64,
+    },
+    /// A data point is not finite or beyond ±[`MAX_SCORE_COORDINATE`].
+    #[error("data point {point} of contour {contour} is ({x:e}, {y:e}), beyond ±1e16, the range of coordinates scored")]
+    DataRange {
+        /// The contour's number in its input.
+        contour: usize,
+        /// The point's index in the contour.
+        point: usize,
+        /// Its x.
+        x: f64,
+        /// Its y.
+        y: f64,
+    },
+}
+
+/// Whether both coordinates are within ±[`MAX_SCORE_COORDINATE`] (false for NaN).
+fn in_range(p: Point) -> bool {
+    p.x.abs() <= MAX_SCORE_COORDINATE && p.y.abs() <= MAX_SCORE_COORDINATE
+}
 
 /// The distances of one contour's data points (or of all of them).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -62,12 +111,17 @@ impl Boxed<'_> {
     }
 }
 
-fn boxed(s: &Segment) -> Boxed<'_> {
-    let pts: Vec<Point> = match *s {
+/// The control points of a segment.
+fn control_points(s: &Segment) -> Vec<Point> {
+    match *s {
         Segment::Line(a, b) => vec![a, b],
         Segment::Quad(q) => vec![q.p0, q.p1, q.p2],
         Segment::Cubic(c) => vec![c.p0, c.p1, c.p2, c.p3],
-    };
+    }
+}
+
+fn boxed(s: &Segment) -> Boxed<'_> {
+    let pts = control_points(s);
     let lo = pts.iter().fold(Point::new(f64::MAX, f64::MAX), |m, q| {
         Point::new(m.x.min(q.x), m.y.min(q.y))
     });
@@ -125,9 +179,41 @@ fn distances(curves: &[Boxed<'_>], points: &[Point]) -> (Distances, f64) {
 
 /// Scores `curves` (subpaths of segments, in the outline frame) against the
 /// data points of every contour of `source`: each point's distance is to
-/// the nearest segment of any subpath.
-pub fn score(source: &Source, curves: &[Vec<Segment>]) -> Score {
+/// the nearest segment of any subpath. Fails when there is no segment or a
+/// coordinate is beyond ±[`MAX_SCORE_COORDINATE`] (see [`ScoreError`]).
+pub fn score(source: &Source, curves: &[Vec<Segment>]) -> Result<Score, ScoreError> {
+    for (subpath, sub) in curves.iter().enumerate() {
+        for (segment, s) in sub.iter().enumerate() {
+            if let Some(p) = control_points(s).into_iter().find(|p| !in_range(*p)) {
+                return Err(ScoreError::CurveRange {
+                    subpath,
+                    segment,
+                    x: p.x,
+                    y: p.y,
+                });
+            }
+        }
+    }
+    for c in &source.contours {
+        if let Some((point, p)) = c
+            .outline
+            .points
+            .iter()
+            .enumerate()
+            .find(|(_, p)| !in_range(**p))
+        {
+            return Err(ScoreError::DataRange {
+                contour: c.index,
+                point,
+                x: p.x,
+                y: p.y,
+            });
+        }
+    }
     let boxes: Vec<Boxed<'_>> = curves.iter().flatten().map(boxed).collect();
+    if boxes.is_empty() {
+        return Err(ScoreError::NoSegment);
+    }
     let mut contours = Vec::new();
     let (mut points, mut max, mut sum_sq) = (0usize, 0.0f64, 0.0);
     for c in &source.contours {
@@ -142,7 +228,7 @@ pub fn score(source: &Source, curves: &[Vec<Segment>]) -> Score {
     } else {
         (sum_sq / points as f64).sqrt()
     };
-    Score {
+    Ok(Score {
         segments: boxes.len(),
         contours,
         total: Distances {
@@ -150,7 +236,7 @@ pub fn score(source: &Source, curves: &[Vec<Segment>]) -> Score {
             max_distance: max,
             rms_distance: rms,
         },
-    }
+    })
 }
 
 #[cfg(test)]

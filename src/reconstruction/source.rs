@@ -132,6 +132,7 @@ fn all_contours(parsed: &Input, options: &LoadOptions) -> Result<Contours, Outli
         ),
         Input::Glyph { font, glyph } => {
             let g = load_glyph(font, *glyph)?;
+            g.check_sample_count(options.sampling, options.min_samples_per_segment)?;
             let mut sampled = g.sample_at_least(options.sampling, options.min_samples_per_segment);
             sampled.sort_by(|a, b| b.outline.area().total_cmp(&a.outline.area()));
             let contours = sampled
