@@ -579,8 +579,10 @@ impl PixelFormat {
                 vr: e.vr.to_string().into(),
             });
         }
-        let bytes = (self.rows as u64) * (self.cols as u64) * (self.bits as u64 / 8);
-        let needed = bytes + bytes % 2;
+        let bytes = (self.rows as u64)
+            .saturating_mul(self.cols as u64)
+            .saturating_mul(self.bits as u64 / 8);
+        let needed = bytes.saturating_add(bytes % 2);
         if e.value.len() as u64 != needed {
             return Err(DicomProblem::PixelDataLength {
                 offset: e.offset,
@@ -595,7 +597,8 @@ impl PixelFormat {
         Ok(e.value)
     }
 
-    /// The first `rows·cols` stored samples of `pixels` (little endian) as
+    /// The first `rows·cols` stored samples of `pixels` (little endian, at
+    /// least `rows·cols` of them: see [`PixelFormat::pixels`]) as
     /// HU: masked to BitsStored, sign-extended when signed,
     /// `raw·slope + intercept`, rounded and clamped to i16.
     fn hu(&self, pixels: &[u8], slope: f64, intercept: f64) -> Vec<i16> {

@@ -434,19 +434,6 @@ pub enum Inv3Problem {
         /// The file's length.
         len: u64,
     },
-    /// The gzip trailer declares more bytes than deflate can produce from
-    /// the file.
-    #[error(
-        "the gzip trailer declares {total} uncompressed bytes (ISIZE), more than the {limit} a {file_len}-byte deflate stream can produce"
-    )]
-    Inflated {
-        /// The tar length the trailer declares.
-        total: u64,
-        /// At most 1,032 bytes out per byte in.
-        limit: u64,
-        /// The compressed file's size in bytes.
-        file_len: u64,
-    },
     /// The gzip stream cannot be decompressed before its declared end.
     #[error(
         "the gzip stream is corrupt or truncated at uncompressed byte {at} of the {total} its trailer declares: {source}"
