@@ -4,6 +4,8 @@
 use std::io;
 use std::path::{Path, PathBuf};
 
+use dicom_core::Tag;
+
 use super::plist::PlistError;
 use crate::files::IoError;
 use crate::fit::FitError;
@@ -89,6 +91,33 @@ pub enum CtError {
         expected: f64,
         /// The value of this file, in mm.
         found: f64,
+    },
+    /// A slice of a multi-slice DICOM series does not say where it lies.
+    #[error(
+        "{}: no {tags}: the position of every slice is needed to order and space the {slices} slices of the series",
+        path.display()
+    )]
+    MissingPosition {
+        /// The first slice without it.
+        path: PathBuf,
+        /// The attributes that would have given its position.
+        tags: &'static str,
+        /// The number of slices in the series.
+        slices: usize,
+    },
+    /// Two slices of a DICOM series lie at the same position.
+    #[error(
+        "{}: same slice position as {} ({location} mm along the slice normal): a series needs one slice per position",
+        path.display(),
+        other.display()
+    )]
+    DuplicatePosition {
+        /// One of the slices.
+        path: PathBuf,
+        /// The other.
+        other: PathBuf,
+        /// Their position along the normal, in mm.
+        location: f64,
     },
     /// A HU value does not fit the DICOM writer's encoding
     /// (`raw = HU + 1024` as a signed 16-bit sample).
@@ -395,25 +424,114 @@ impl CtError {
     }
 }
 
-/// What is wrong with an `.inv3` project ([`CtError::Inv3`]).
+/// What is wrong with an `.inv3` project ([`CtError::Inv3`]). Offsets
+/// are bytes of the decompressed tar stream.
 #[derive(Debug, thiserror::Error)]
 pub enum Inv3Problem {
-    /// The gzip or tar stream cannot be read.
-    #[error("bad tar stream: {0}")]
-    TarStream(#[source] io::Error),
-    /// A tar entry cannot be read.
-    #[error("bad tar entry: {0}")]
-    TarEntry(#[source] io::Error),
-    /// A tar entry's name cannot be read.
-    #[error("bad member name: {0}")]
-    MemberName(#[source] io::Error),
-    /// A member's bytes cannot be read.
-    #[error("member {name}: {source}")]
-    Member {
-        /// The member's file name.
-        name: String,
-        /// The read error.
+    /// The file is too short to be a gzip stream.
+    #[error("{len} bytes is too short for a gzip stream (at least 18)")]
+    TooShort {
+        /// The file's length.
+        len: u64,
+    },
+    /// The gzip stream cannot be decompressed before its declared end.
+    #[error(
+        "the gzip stream is corrupt or truncated at uncompressed byte {at} of the {total} its trailer declares: {source}"
+    )]
+    Gzip {
+        /// Bytes decompressed so far.
+        at: u64,
+        /// The length the trailer declares.
+        total: u64,
+        /// The decompressor's error.
         source: io::Error,
+    },
+    /// The tar stream ends in the middle of a header or member.
+    #[error("the tar stream ends at byte {at}, inside a header or member (the gzip trailer declares {total} bytes)")]
+    Truncated {
+        /// Where it ends.
+        at: u64,
+        /// The length the gzip trailer declares.
+        total: u64,
+    },
+    /// The gzip stream's end does not check out: its CRC-32 or its length
+    /// (RFC 1952 trailer) disagrees with the data.
+    #[error("gzip stream fails its integrity check (CRC-32 or length, RFC 1952): {0}")]
+    Checksum(#[source] io::Error),
+    /// Bytes follow the gzip stream (whose trailer must end the file).
+    #[error("data follows the end of the gzip stream (the file must hold one gzip member)")]
+    TrailingData,
+    /// A tar header's checksum disagrees with its bytes.
+    #[error(
+        "tar header at byte {offset} fails its checksum (stored {stored:?}, computed {computed})"
+    )]
+    HeaderChecksum {
+        /// The header's offset.
+        offset: u64,
+        /// The checksum field's text.
+        stored: String,
+        /// The sum of the header's bytes.
+        computed: u64,
+    },
+    /// A numeric tar header field (or pax record) that does not parse.
+    #[error("tar header at byte {offset}: bad {field} {text:?}")]
+    HeaderField {
+        /// The header's offset.
+        offset: u64,
+        /// The field.
+        field: &'static str,
+        /// Its text.
+        text: String,
+    },
+    /// A tar member declares more bytes than the stream holds after its header.
+    #[error(
+        "member {name} declares {declared} bytes (tar header at byte {offset}), but only {remaining} of the tar's {total} bytes (the gzip trailer's ISIZE) remain"
+    )]
+    MemberTooLarge {
+        /// The member's name.
+        name: String,
+        /// Its header's offset.
+        offset: u64,
+        /// The size in its tar header.
+        declared: u64,
+        /// Bytes after its header.
+        remaining: u64,
+        /// The tar's length by the gzip trailer.
+        total: u64,
+    },
+    /// A pax header or GNU long name above [`crate::ct::inv3::MAX_TAR_EXTENSION_BYTES`].
+    #[error(
+        "{kind} at byte {offset} declares {declared} bytes, more than the {limit}-byte limit (MAX_TAR_EXTENSION_BYTES)"
+    )]
+    Extension {
+        /// "pax extended header" or "GNU long name".
+        kind: &'static str,
+        /// Its header's offset.
+        offset: u64,
+        /// The size it declares.
+        declared: u64,
+        /// The limit.
+        limit: u64,
+    },
+    /// `main.plist` above [`crate::ct::inv3::MAX_PLIST_BYTES`].
+    #[error(
+        "main.plist declares {declared} bytes, more than the {limit}-byte limit (MAX_PLIST_BYTES)"
+    )]
+    PlistTooLarge {
+        /// The size in its tar header.
+        declared: u64,
+        /// The limit.
+        limit: u64,
+    },
+    /// Two members the reader uses have the same name.
+    #[error("two {name} members (tar headers at bytes {first} and {second})")]
+    DuplicateMember {
+        /// The name.
+        name: String,
+        /// The first one's header offset.
+        first: u64,
+        /// The second one's.
+        second: u64,
     },
     /// A member the project needs is missing.
     #[error("no {0} member")]
@@ -436,36 +554,56 @@ pub enum Inv3Problem {
     /// The voxel spacing is not three positive numbers.
     #[error("spacing {0:?} is not three positive numbers")]
     Spacing(Vec<f64>),
-    /// The gzip stream's end does not check out: its CRC-32 or its length
-    /// (RFC 1952 trailer) disagrees with the data, or it is truncated.
-    #[error("gzip stream fails its integrity check (CRC-32 or length, RFC 1952): {0}")]
-    Checksum(#[source] io::Error),
-    /// A tar member declares more bytes than a deflate stream of the file's
-    /// size can hold (at most 1,032 bytes out per byte in).
-    #[error(
-        "member {name} declares {declared} bytes, more than the {limit} a {file_len}-byte gzip file can hold"
-    )]
-    MemberTooLarge {
-        /// The member's file name.
-        name: String,
-        /// The size in its tar header.
-        declared: u64,
-        /// The most a deflate stream of the file's size can decompress to.
-        limit: u64,
-        /// The compressed file's size in bytes.
-        file_len: u64,
-    },
 }
 
-/// What is wrong with a DICOM file ([`CtError::Dicom`]).
+/// What is wrong with a DICOM file ([`CtError::Dicom`]). Offsets are
+/// bytes from the start of the file; tags are written `(gggg,eeee)` with
+/// the attribute's keyword when the dictionary knows it.
 #[derive(Debug, thiserror::Error)]
 pub enum DicomProblem {
-    /// The file cannot be opened or parsed as DICOM.
-    #[error("{0}")]
-    Open(#[source] Box<dicom_object::ReadError>),
-    /// The transfer syntax is compressed or big endian.
+    /// The file is larger than [`crate::ct::dicom::MAX_DICOM_FILE_BYTES`].
     #[error(
-        "transfer syntax {syntax} is not supported (only uncompressed little endian: {} or {})",
+        "the file is {len} bytes, more than the {limit}-byte limit for one slice (MAX_DICOM_FILE_BYTES)"
+    )]
+    TooLarge {
+        /// The file's length.
+        len: u64,
+        /// The limit.
+        limit: u64,
+    },
+    /// No "DICM" magic after the 128-byte preamble (nor at the start).
+    #[error("not a DICOM file: no \"DICM\" at byte 128 (nor at byte 0) of its {len} bytes")]
+    NotDicom {
+        /// The file's length.
+        len: usize,
+    },
+    /// The file meta information does not start with its group length.
+    #[error(
+        "the file meta information at byte {offset} does not start with its group length (0002,0000), UL, 4 bytes"
+    )]
+    MetaGroupLength {
+        /// Where the group length was expected.
+        offset: usize,
+    },
+    /// An element of another group inside the file meta information's
+    /// declared length.
+    #[error(
+        "element {} at byte {offset} lies within the file meta information's group length but is not of group 0002",
+        tag_label(*.tag)
+    )]
+    MetaElement {
+        /// The element's tag.
+        tag: Tag,
+        /// Its header's offset.
+        offset: usize,
+    },
+    /// The file meta information has no transfer syntax.
+    #[error("the file meta information has no TransferSyntaxUID (0002,0010)")]
+    NoTransferSyntax,
+    /// The transfer syntax is compressed, big endian or unknown.
+    #[error(
+        "transfer syntax {} is not supported (only uncompressed little endian: {} Implicit VR Little Endian or {} Explicit VR Little Endian)",
+        syntax_label(.syntax),
         dicom_dictionary_std::uids::IMPLICIT_VR_LITTLE_ENDIAN,
         dicom_dictionary_std::uids::EXPLICIT_VR_LITTLE_ENDIAN
     )]
@@ -473,9 +611,120 @@ pub enum DicomProblem {
         /// The file's transfer syntax UID.
         syntax: String,
     },
+    /// An element or item header runs past the end of the file (or of its
+    /// sequence or item).
+    #[error(
+        "truncated element header at byte {offset}: it needs {needed} bytes, {remaining} remain"
+    )]
+    TruncatedHeader {
+        /// The header's offset.
+        offset: usize,
+        /// Bytes the header needs.
+        needed: usize,
+        /// Bytes left in the file or the enclosing sequence or item.
+        remaining: usize,
+    },
+    /// An element or item declares more bytes than remain.
+    #[error(
+        "element {} at byte {offset} declares {declared} bytes, but only {remaining} remain in the {within}",
+        tag_label(*.tag)
+    )]
+    ElementLength {
+        /// The element's (or item's) tag.
+        tag: Tag,
+        /// Its header's offset.
+        offset: usize,
+        /// The length its header declares.
+        declared: u64,
+        /// The bytes left after its header in the enclosing range.
+        remaining: u64,
+        /// The enclosing range: "file", "file meta information",
+        /// "sequence" or "sequence item".
+        within: &'static str,
+    },
+    /// An explicit VR that DICOM does not define.
+    #[error("element {} at byte {offset} has an unknown VR {vr:?}", tag_label(*.tag))]
+    UnknownVr {
+        /// The element's tag.
+        tag: Tag,
+        /// Its header's offset.
+        offset: usize,
+        /// The two VR characters found.
+        vr: String,
+    },
+    /// An undefined length on an element that is not a sequence.
+    #[error(
+        "element {} ({vr}) at byte {offset} has an undefined length, which only a sequence (SQ) may have",
+        tag_label(*.tag)
+    )]
+    UndefinedLength {
+        /// The element's tag.
+        tag: Tag,
+        /// Its header's offset.
+        offset: usize,
+        /// Its VR.
+        vr: String,
+    },
+    /// An item or delimiter tag outside a sequence.
+    #[error("unexpected {} at byte {offset}, outside a sequence", tag_label(*.tag))]
+    Delimiter {
+        /// The tag found.
+        tag: Tag,
+        /// Its offset.
+        offset: usize,
+    },
+    /// Something other than an item or the sequence delimiter in a sequence.
+    #[error(
+        "sequence {}: expected an item (FFFE,E000) or the sequence delimiter at byte {offset}, found {}",
+        tag_label(*.sequence),
+        tag_label(*.found)
+    )]
+    ExpectedItem {
+        /// The sequence's tag.
+        sequence: Tag,
+        /// The tag found.
+        found: Tag,
+        /// Its offset.
+        offset: usize,
+    },
+    /// An undefined-length sequence or item without its delimiter.
+    #[error(
+        "{what} {} at byte {offset} has an undefined length and no delimiter before its end",
+        tag_label(*.tag)
+    )]
+    Unterminated {
+        /// "sequence" or "item".
+        what: &'static str,
+        /// The sequence's tag ((FFFE,E000) for an item).
+        tag: Tag,
+        /// Its header's offset.
+        offset: usize,
+    },
+    /// Sequences nested deeper than [`crate::ct::dicom::MAX_DICOM_NESTING`].
+    #[error("sequence at byte {offset} is nested more than {limit} deep (MAX_DICOM_NESTING)")]
+    Nesting {
+        /// The sequence's header offset.
+        offset: usize,
+        /// The limit.
+        limit: usize,
+    },
     /// A required attribute is missing or unreadable.
     #[error("missing or bad {0}")]
     Missing(&'static str),
+    /// An attribute is present with a value the reader cannot use.
+    #[error("{name} {tag} at byte {offset} is {found:?}: expected {expected}")]
+    BadValue {
+        /// The attribute's keyword.
+        name: &'static str,
+        /// Its tag.
+        tag: Tag,
+        /// Its header's offset.
+        offset: usize,
+        /// The value's text (at most 64 bytes).
+        found: String,
+        /// What it must be.
+        expected: &'static str,
+    },
     /// Rows or Columns is not positive.
     #[error("image size {rows}x{cols} is empty")]
     EmptyImage {
@@ -501,32 +750,84 @@ pub enum DicomProblem {
     /// More than one frame.
     #[error("multi-frame images are not supported")]
     MultiFrame,
-    /// PixelData cannot be accessed.
-    #[error("{0}")]
-    PixelDataAccess(#[source] Box<dicom_object::AccessError>),
     /// No PixelData element.
     #[error("no PixelData")]
     NoPixelData,
-    /// PixelData is compressed (encapsulated) or of an unexpected value type.
-    #[error("PixelData is encapsulated or of an unexpected type")]
-    PixelDataType,
-    /// PixelData's length is not `rows·cols·BitsAllocated/8` bytes (padded
-    /// to even length, PS3.5 §7.1.1).
+    /// PixelData is encapsulated (compressed fragments of undefined length),
+    /// which a native transfer syntax does not allow.
     #[error(
-        "PixelData holds {found} bytes, {rows}x{cols} at {bits} bits allocated needs {needed}"
+        "PixelData (7FE0,0010) at byte {offset} is encapsulated (undefined length), which an uncompressed transfer syntax does not allow"
+    )]
+    EncapsulatedPixelData {
+        /// Its header's offset.
+        offset: usize,
+    },
+    /// PixelData has a VR other than OB, OW or UN.
+    #[error("PixelData (7FE0,0010) at byte {offset} has VR {vr}: expected OB or OW")]
+    PixelDataType {
+        /// Its header's offset.
+        offset: usize,
+        /// Its VR.
+        vr: String,
+    },
+    /// PixelData's length is not `rows·cols·BitsAllocated/8·samples` bytes
+    /// (padded to even length, PS3.5 §7.1.1).
+    #[error(
+        "PixelData (7FE0,0010) at byte {offset} declares {found} bytes, but {rows}x{cols} pixels at {bits} bits allocated and {samples} sample(s) per pixel need {needed}"
     )]
     PixelDataLength {
-        /// Bytes found.
-        found: usize,
+        /// Its header's offset.
+        offset: usize,
+        /// The length it declares.
+        found: u64,
         /// Rows.
         rows: usize,
         /// Columns.
         cols: usize,
         /// BitsAllocated.
         bits: i64,
-        /// `rows·cols·bits/8`, rounded up to even.
-        needed: usize,
+        /// SamplesPerPixel.
+        samples: u64,
+        /// `rows·cols·bits/8·samples`, rounded up to even.
+        needed: u64,
     },
+}
+
+/// `(gggg,eeee)` and, when the standard dictionary knows the tag, its keyword.
+pub fn tag_label(tag: Tag) -> String {
+    use dicom_core::dictionary::{DataDictionary, DataDictionaryEntry};
+    match dicom_dictionary_std::StandardDataDictionary.by_tag(tag) {
+        Some(e) => format!("{tag} {}", e.alias()),
+        None => format!("{tag}"),
+    }
+}
+
+/// A transfer syntax UID with its name when it is a common one.
+fn syntax_label(uid: &str) -> String {
+    const NAMES: [(&str, &str); 12] = [
+        ("1.2.840.10008.1.2", "Implicit VR Little Endian"),
+        ("1.2.840.10008.1.2.1", "Explicit VR Little Endian"),
+        (
+            "1.2.840.10008.1.2.1.99",
+            "Deflated Explicit VR Little Endian",
+        ),
+        ("1.2.840.10008.1.2.2", "Explicit VR Big Endian"),
+        ("1.2.840.10008.1.2.4.50", "JPEG Baseline"),
+        ("1.2.840.10008.1.2.4.51", "JPEG Extended"),
+        ("1.2.840.10008.1.2.4.57", "JPEG Lossless"),
+        (
+            "1.2.840.10008.1.2.4.70",
+            "JPEG Lossless, first-order prediction",
+        ),
+        ("1.2.840.10008.1.2.4.80", "JPEG-LS Lossless"),
+        ("1.2.840.10008.1.2.4.90", "JPEG 2000 Lossless"),
+        ("1.2.840.10008.1.2.4.91", "JPEG 2000"),
+        ("1.2.840.10008.1.2.5", "RLE Lossless"),
+    ];
+    match NAMES.iter().find(|(u, _)| *u == uid) {
+        Some((_, name)) => format!("{uid} ({name})"),
+        None => format!("{uid:?}"),
+    }
 }
 
 #[cfg(test)]
@@ -588,8 +889,9 @@ mod tests {
         );
         assert_eq!(
             e.to_string(),
-            "a.dcm: corrupt or unsupported DICOM: transfer syntax 1.2.840.10008.1.2.2 is not supported \
-             (only uncompressed little endian: 1.2.840.10008.1.2 or 1.2.840.10008.1.2.1)"
+            "a.dcm: corrupt or unsupported DICOM: transfer syntax 1.2.840.10008.1.2.2 (Explicit VR Big Endian) \
+             is not supported (only uncompressed little endian: 1.2.840.10008.1.2 Implicit VR Little Endian \
+             or 1.2.840.10008.1.2.1 Explicit VR Little Endian)"
         );
     }
 

@@ -4,6 +4,11 @@
 //! DOCTYPE are skipped; the entities `&amp; &lt; &gt; &quot; &apos;` are
 //! decoded). Format: Apple, "Property List Programming Guide", XML plist DTD 1.0.
 
+/// The deepest nesting of `<dict>` and `<array>` elements the parser
+/// accepts: 64. InVesalius writes two levels (`matrix`, `masks`, ...); the
+/// limit keeps the recursive parser's stack bounded on any input.
+pub const MAX_PLIST_DEPTH: usize = 64;
+
 /// A property-list value.
 #[derive(Clone, Debug, PartialEq)]
 pub enum PlistValue {
@@ -111,6 +116,12 @@ pub enum PlistErrorKind {
         /// The element's name.
         name: String,
     },
+    /// `<dict>` and `<array>` nested deeper than [`MAX_PLIST_DEPTH`].
+    #[error("<dict> and <array> nested more than {limit} deep (MAX_PLIST_DEPTH)")]
+    TooDeep {
+        /// The limit.
+        limit: usize,
+    },
 }
 
 /// A malformed property list: what is wrong and where.
@@ -132,7 +143,11 @@ impl PlistError {
 /// Parses an XML property list; the error says what is malformed and where
 /// (byte offset).
 pub fn parse_plist(text: &str) -> Result<PlistValue, PlistError> {
-    let mut p = Parser { s: text, pos: 0 };
+    let mut p = Parser {
+        s: text,
+        pos: 0,
+        depth: 0,
+    };
     p.skip_misc()?;
     let (name, empty) = p.open_tag()?;
     if name != "plist" || empty {
@@ -148,6 +163,8 @@ pub fn parse_plist(text: &str) -> Result<PlistValue, PlistError> {
 struct Parser<'a> {
     s: &'a str,
     pos: usize,
+    /// Open `<dict>` and `<array>` elements.
+    depth: usize,
 }
 
 impl<'a> Parser<'a> {
@@ -243,6 +260,17 @@ impl<'a> Parser<'a> {
                 )),
             };
         }
+        if matches!(name.as_str(), "dict" | "array") {
+            if self.depth >= MAX_PLIST_DEPTH {
+                return Err(PlistError::new(
+                    at,
+                    PlistErrorKind::TooDeep {
+                        limit: MAX_PLIST_DEPTH,
+                    },
+                ));
+            }
+            self.depth += 1;
+        }
         let v = match name.as_str() {
             "dict" => PlistValue::Dict(self.dict_entries()?),
             "array" => PlistValue::Array(self.array_items()?),
@@ -252,6 +280,9 @@ impl<'a> Parser<'a> {
             _ => return Err(PlistError::new(at, PlistErrorKind::UnknownElement { name })),
         };
         self.close_tag(&name)?;
+        if matches!(v, PlistValue::Dict(_) | PlistValue::Array(_)) {
+            self.depth -= 1;
+        }
         Ok(v)
     }
 
@@ -329,6 +360,28 @@ mod tests {
         );
         assert!(parse_plist("<plist><dict><key>a</key>").is_err());
         assert!(parse_plist("<dict></dict>").is_err());
+    }
+
+    #[test]
+    fn deep_nesting_is_refused_at_the_limit() {
+        let nest = |n: usize| {
+            format!(
+                "<plist>{}{}</plist>",
+                "<array>".repeat(n),
+                "</array>".repeat(n)
+            )
+        };
+        assert!(parse_plist(&nest(MAX_PLIST_DEPTH)).is_ok());
+        let e = parse_plist(&nest(MAX_PLIST_DEPTH + 1)).unwrap_err();
+        assert_eq!(
+            e.kind,
+            PlistErrorKind::TooDeep {
+                limit: MAX_PLIST_DEPTH
+            }
+        );
+        assert_eq!(e.position, 7 + 7 * MAX_PLIST_DEPTH);
+        // Without the limit, a deep enough file overflowed the stack.
+        assert!(parse_plist(&nest(1_000_000)).is_err());
     }
 
     #[test]
