@@ -319,7 +319,7 @@ fn dicom_lengths_past_the_end_name_the_tag_offset_and_bytes() {
     let e = dicom_error(&short);
     assert!(
         e.contains(&format!(
-            "PixelData (7FE0,0010) at byte {} declares 32766 bytes, but 128x128 pixels at 16 bits allocated and 1 sample(s) per pixel need 32768",
+            "PixelData holds 32766 bytes, 128x128 at 16 bits allocated needs 32768 (1 sample per pixel; element (7FE0,0010) at byte {})",
             px.at
         )),
         "{e}"

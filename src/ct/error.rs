@@ -773,7 +773,7 @@ pub enum DicomProblem {
     /// PixelData's length is not `rows·cols·BitsAllocated/8·samples` bytes
     /// (padded to even length, PS3.5 §7.1.1).
     #[error(
-        "PixelData (7FE0,0010) at byte {offset} declares {found} bytes, but {rows}x{cols} pixels at {bits} bits allocated and {samples} sample(s) per pixel need {needed}"
+        "PixelData holds {found} bytes, {rows}x{cols} at {bits} bits allocated needs {needed} ({samples} sample per pixel; element (7FE0,0010) at byte {offset})"
     )]
     PixelDataLength {
         /// Its header's offset.
