@@ -118,3 +118,10 @@ lint:
 
 clean-results:
 	rm -rf results/quick $(addprefix results/,$(CH4) $(CH5) $(CH6))
+
+# The memory guard's estimate against the peak resident set size of three
+# campaign shapes at 1 and 2 threads (ci/measure-memory.sh; GNU time; about
+# two minutes, run it idle). Not part of `make test`.
+.PHONY: memory
+memory: build
+	sh ci/measure-memory.sh $(BIN)

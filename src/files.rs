@@ -274,9 +274,19 @@ pub fn read_text_limited(path: &Path, limit: u64, what: &str) -> io::Result<Stri
 /// the same id on different nodes of a cluster.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
     use std::io::Write;
+    write_atomic_with(path, |file| file.write_all(bytes))
+}
+
+/// Writes `path` atomically as [`write_atomic`] does, with the bytes that
+/// `write` streams into the temporary file (buffer them: the file is not),
+/// so that a large file never has to be held in memory whole.
+pub fn write_atomic_with(
+    path: &Path,
+    write: impl FnOnce(&mut std::fs::File) -> io::Result<()>,
+) -> Result<(), IoError> {
     let (mut file, tmp) = create_temporary(path).map_err(|e| IoError::new("write", path, e))?;
     let result = (|| {
-        file.write_all(bytes)?;
+        write(&mut file)?;
         file.sync_all()?;
         drop(file);
         std::fs::rename(&tmp, path)

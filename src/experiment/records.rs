@@ -17,11 +17,12 @@
 //! back gives bit-identical values.
 
 use std::collections::HashMap;
+use std::io::{self, Write};
 use std::path::Path;
 
 use super::segments::{segment_rows, FIT_SEGMENT_HEADER, SEGMENT_HEADER};
-use super::spec::factor_suffix;
-use crate::files::{csv_bytes, fmt_real, IoError};
+use super::spec::{factor_suffix, Spec};
+use crate::files::{fmt_real, write_atomic_with, IoError};
 use crate::functions::Transform;
 use crate::optim::{TargetHit, TracePoint};
 use crate::reconstruction::ShapeFit;
@@ -249,6 +250,60 @@ impl FitDetail {
     }
 }
 
+/// The bytes the system allocator takes for a block of `n` requested
+/// bytes: glibc's chunk, `n` plus its 8-byte header rounded up to 16, at
+/// least 32; nothing for an empty block (an empty `String` or `Vec`
+/// allocates nothing).
+pub const fn heap_block(n: u64) -> u64 {
+    if n == 0 {
+        return 0;
+    }
+    let chunk = (n + 8 + 15) & !15;
+    if chunk < 32 {
+        32
+    } else {
+        chunk
+    }
+}
+
+/// The heap one segment row of a fitting run's record takes (its vector of
+/// [`FIT_SEGMENT_HEADER`] strings and each string's block), measured by
+/// `tests/memory.rs` over the four fitting functions: the one figure of
+/// [`record_heap`] that depends on the values (the length of each real's
+/// shortest round-trip form), so the test fails when it drifts.
+pub const SEGMENT_ROW_HEAP: u64 = 1336;
+
+/// What a run's record holds beyond its fixed fields, for [`record_heap`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RecordShape {
+    /// The lengths of the label, the optimiser's name, the canonical
+    /// parameters and the problem's name.
+    pub strings: [usize; 4],
+    /// Convergence checkpoints in the trace.
+    pub trace_points: usize,
+    /// Target hits.
+    pub hits: usize,
+    /// Segments of a fitting run (0 for a benchmark run).
+    pub segments: usize,
+}
+
+/// The heap one record of `shape` takes beyond `size_of::<RunRecord>()`:
+/// its four strings, its trace and hits (16 bytes a point, vectors at
+/// their exact length, as the runner keeps them) and a fitting run's
+/// segment rows ([`SEGMENT_ROW_HEAP`] each, in a vector of 24-byte rows).
+pub fn record_heap(shape: &RecordShape) -> u64 {
+    let strings: u64 = shape.strings.iter().map(|&n| heap_block(n as u64)).sum();
+    let point = std::mem::size_of::<TracePoint>() as u64;
+    let hit = std::mem::size_of::<TargetHit>() as u64;
+    let rows = std::mem::size_of::<Vec<String>>() as u64;
+    let segments = shape.segments as u64;
+    strings
+        + heap_block(point * shape.trace_points as u64)
+        + heap_block(hit * shape.hits as u64)
+        + heap_block(rows * segments)
+        + segments * SEGMENT_ROW_HEAP
+}
+
 /// The run-level columns of a legacy `fits.csv` after the run key.
 pub(super) const FIT_FIELDS: [&str; 4] = [
     "rms",
@@ -300,6 +355,26 @@ impl Schema {
                 .entry((r.cell_key(), r.match_key(), r.run))
                 .or_insert(r.budget);
             keyed_budget |= *b != r.budget;
+        }
+        Schema {
+            instances,
+            keyed_budget,
+        }
+    }
+
+    /// The schema of the complete records of `spec`, from the spec alone
+    /// (equal to [`Schema::of`] of them, without a map over every run):
+    /// instances when a problem is a transformed instance, a keyed budget
+    /// when two problems differ in budget only.
+    pub fn of_spec(spec: &Spec) -> Schema {
+        let instances = spec
+            .problems
+            .iter()
+            .any(|p| p.transform != Transform::None || p.instance != 1);
+        let mut budgets: HashMap<String, u64> = HashMap::new();
+        let mut keyed_budget = false;
+        for p in &spec.problems {
+            keyed_budget |= *budgets.entry(p.match_key()).or_insert(p.budget) != p.budget;
         }
         Schema {
             instances,
@@ -390,7 +465,11 @@ pub fn default_targets() -> Vec<f64> {
 /// The bytes of `hits.csv`: one row per run and target reached, with the
 /// first evaluation at which it was reached.
 pub fn hits_csv(records: &[RunRecord]) -> Vec<u8> {
-    let schema = Schema::of(records);
+    in_memory(|w| write_hits(w, Schema::of(records), records))
+}
+
+/// Streams `hits.csv` of `records` under `schema` into `w`.
+pub fn write_hits(w: impl Write, schema: Schema, records: &[RunRecord]) -> io::Result<()> {
     let rows = records.iter().flat_map(|r| {
         let key = schema.key_fields(r);
         r.hits.iter().map(move |h| {
@@ -399,7 +478,7 @@ pub fn hits_csv(records: &[RunRecord]) -> Vec<u8> {
             row
         })
     });
-    csv_bytes(&schema.keyed_header(&HITS_FIELDS), rows)
+    write_csv(w, &schema.keyed_header(&HITS_FIELDS), rows)
 }
 
 /// The columns of `hits.csv` after the run key.
@@ -409,7 +488,11 @@ const HITS_FIELDS: [&str; 2] = ["target", "evaluations"];
 /// orthogonal distance and closing-joint mismatch (`E` and evaluations are
 /// in `runs.csv`).
 pub fn fits_csv(records: &[RunRecord]) -> Vec<u8> {
-    let schema = Schema::of(records);
+    in_memory(|w| write_fits(w, Schema::of(records), records))
+}
+
+/// Streams `fits.csv` of `records` under `schema` into `w`.
+pub fn write_fits(w: impl Write, schema: Schema, records: &[RunRecord]) -> io::Result<()> {
     let rest: &[&'static str] = if current_fit_records(records) {
         &FIT_FIELDS_CURRENT
     } else {
@@ -422,14 +505,18 @@ pub fn fits_csv(records: &[RunRecord]) -> Vec<u8> {
             row
         })
     });
-    csv_bytes(&schema.keyed_header(rest), rows)
+    write_csv(w, &schema.keyed_header(rest), rows)
 }
 
 /// The bytes of `segments.csv`: one row per segment of every fitting run,
 /// with its control points, weights and metrics (and its contour and
 /// orthogonal RMS with the current fitting records).
 pub fn segments_csv(records: &[RunRecord]) -> Vec<u8> {
-    let schema = Schema::of(records);
+    in_memory(|w| write_segments(w, Schema::of(records), records))
+}
+
+/// Streams `segments.csv` of `records` under `schema` into `w`.
+pub fn write_segments(w: impl Write, schema: Schema, records: &[RunRecord]) -> io::Result<()> {
     let rest: &[&'static str] = if current_fit_records(records) {
         &FIT_SEGMENT_HEADER
     } else {
@@ -446,7 +533,7 @@ pub fn segments_csv(records: &[RunRecord]) -> Vec<u8> {
             })
         })
     });
-    csv_bytes(&schema.keyed_header(rest), rows)
+    write_csv(w, &schema.keyed_header(rest), rows)
 }
 
 /// Identifies a run within a campaign: (cell key, problem match key,
@@ -536,8 +623,14 @@ fn runs_row(schema: Schema, r: &RunRecord) -> Vec<String> {
 
 /// The bytes of `runs.csv` for records in their final order.
 pub fn runs_csv(records: &[RunRecord]) -> Vec<u8> {
-    let schema = Schema::of(records);
-    csv_bytes(
+    in_memory(|w| write_runs(w, Schema::of(records), records))
+}
+
+/// Streams `runs.csv` of `records` (in their final order) under `schema`
+/// into `w`.
+pub fn write_runs(w: impl Write, schema: Schema, records: &[RunRecord]) -> io::Result<()> {
+    write_csv(
+        w,
         &schema.runs_header(),
         records.iter().map(|r| runs_row(schema, r)),
     )
@@ -546,7 +639,17 @@ pub fn runs_csv(records: &[RunRecord]) -> Vec<u8> {
 /// The bytes of `convergence.csv` for records in their final order;
 /// `optimum` gives `f*` of a record so the error column can be filled.
 pub fn convergence_csv(records: &[RunRecord], optimum: impl Fn(&RunRecord) -> f64) -> Vec<u8> {
-    let schema = Schema::of(records);
+    in_memory(|w| write_convergence(w, Schema::of(records), records, &optimum))
+}
+
+/// Streams `convergence.csv` of `records` under `schema` into `w`;
+/// `optimum` gives `f*` of a record.
+pub fn write_convergence(
+    w: impl Write,
+    schema: Schema,
+    records: &[RunRecord],
+    optimum: impl Fn(&RunRecord) -> f64,
+) -> io::Result<()> {
     let rows = records.iter().flat_map(|r| {
         let f_star = optimum(r);
         let key = schema.key_fields(r);
@@ -560,18 +663,80 @@ pub fn convergence_csv(records: &[RunRecord], optimum: impl Fn(&RunRecord) -> f6
             row
         })
     });
-    csv_bytes(&schema.keyed_header(&CONVERGENCE_FIELDS), rows)
+    write_csv(w, &schema.keyed_header(&CONVERGENCE_FIELDS), rows)
 }
 
 /// The bytes of `timing.csv`.
 pub fn timing_csv(records: &[RunRecord]) -> Vec<u8> {
-    let schema = Schema::of(records);
+    in_memory(|w| write_timing(w, Schema::of(records), records))
+}
+
+/// Streams `timing.csv` of `records` under `schema` into `w`.
+pub fn write_timing(w: impl Write, schema: Schema, records: &[RunRecord]) -> io::Result<()> {
     let rows = records.iter().map(|r| {
         let mut row = schema.key_fields(r);
         row.push(fmt_real(r.wall_seconds));
         row
     });
-    csv_bytes(&schema.keyed_header(&TIMING_FIELDS), rows)
+    write_csv(w, &schema.keyed_header(&TIMING_FIELDS), rows)
+}
+
+/// Streams a CSV file, a header then rows, into `w` exactly as
+/// [`crate::files::csv_bytes`] writes it to memory.
+fn write_csv<W, H, R, I>(w: W, header: &[H], rows: I) -> io::Result<()>
+where
+    W: Write,
+    H: AsRef<[u8]>,
+    R: IntoIterator,
+    R::Item: AsRef<[u8]>,
+    I: IntoIterator<Item = R>,
+{
+    let mut w = csv::WriterBuilder::new().flexible(true).from_writer(w);
+    w.write_record(header)?;
+    for row in rows {
+        w.write_record(row)?;
+    }
+    w.flush()
+}
+
+/// The bytes that `write` streams, in memory.
+fn in_memory(write: impl FnOnce(&mut Vec<u8>) -> io::Result<()>) -> Vec<u8> {
+    let mut bytes = Vec::new();
+    write(&mut bytes).expect("writing to memory cannot fail");
+    bytes
+}
+
+/// Writes the result files of `records`, complete and in their final order,
+/// into `out`: `runs.csv`, `convergence.csv`, `timing.csv`, `hits.csv` when
+/// `hits` (the campaign has benchmark problems) and, when some run is a fit,
+/// `fits.csv` and `segments.csv`. Each file is streamed to its temporary
+/// file and renamed into place, so no file's text is ever held in memory
+/// whole; `optimum` gives `f*` of a record.
+pub(super) fn write_files(
+    spec: &Spec,
+    out: &Path,
+    records: &[RunRecord],
+    optimum: impl Fn(&RunRecord) -> f64,
+    hits: bool,
+) -> Result<(), IoError> {
+    let schema = Schema::of_spec(spec);
+    debug_assert_eq!(schema, Schema::of(records));
+    let stream = |name: &str, write: &dyn Fn(&mut std::fs::File) -> io::Result<()>| {
+        write_atomic_with(&out.join(name), |f| write(f))
+    };
+    stream("runs.csv", &|f| write_runs(f, schema, records))?;
+    stream("convergence.csv", &|f| {
+        write_convergence(f, schema, records, &optimum)
+    })?;
+    stream("timing.csv", &|f| write_timing(f, schema, records))?;
+    if hits {
+        stream("hits.csv", &|f| write_hits(f, schema, records))?;
+    }
+    if records.iter().any(|r| r.fit.is_some()) {
+        stream("fits.csv", &|f| write_fits(f, schema, records))?;
+        stream("segments.csv", &|f| write_segments(f, schema, records))?;
+    }
+    Ok(())
 }
 
 pub(super) fn parse<T: std::str::FromStr>(

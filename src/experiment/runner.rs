@@ -139,33 +139,118 @@ pub struct RunOptions {
     pub allow_large: bool,
 }
 
-/// An estimate of the memory the records of `spec`'s runs take before
-/// they are written: per run its fixed fields, its convergence checkpoints
-/// and its target hits (24 bytes each), and for a fitting run its segment
-/// rows (22 short strings each).
+/// An estimate of the memory a campaign of `spec` takes at its peak, once
+/// every run is finished and before the result files are streamed out;
+/// see [`estimated_shard_bytes`].
 pub fn estimated_bytes(spec: &Spec) -> u128 {
-    let per_cell: u128 = spec
-        .problems
-        .iter()
-        .map(|p| {
-            let checkpoints = log_checkpoints(p.budget, spec.checkpoints_per_decade).len() as u128;
-            let segments = match p.kind {
-                ProblemKind::Fit(_) => p.dim as u128 * 22 * 40,
-                _ => 0,
-            };
-            400 + 24 * checkpoints + 24 * default_targets().len() as u128 + segments
-        })
-        .sum();
-    per_cell * spec.cells.len() as u128 * u128::from(spec.runs)
+    estimated_shard_bytes(spec, None)
 }
 
-/// Refuses, before anything is allocated, a campaign over
-/// [`super::MAX_RUNS`] runs or an estimated 4 GiB of records, unless
-/// `allow_large`; and more worker threads than 4 × the cores.
+/// The memory the runs of `shard` (all runs if `None`) take at their peak.
+///
+/// Each run's record takes `size_of::<RunRecord>()` bytes and the heap of
+/// [`records::record_heap`]: its four strings, its trace (the spec's
+/// checkpoints), its target hits (counted as every target reached: the
+/// number of targets a run reaches is known only once it ran, so this is an
+/// upper bound, exact for runs that converge) and a fitting run's segment
+/// rows. The campaign holds the records twice at its peak: in the vector
+/// the runs fill and in the table they are moved into, at the moment that
+/// table doubles (both tables then live); plus two positions per run. Tests
+/// (`tests/memory.rs`) hold the model to the heap measured by a counting
+/// allocator, and `make memory` to the peak resident set size.
+pub fn estimated_shard_bytes(spec: &Spec, shard: Option<Shard>) -> u128 {
+    let cells: Vec<[usize; 3]> = spec
+        .cells
+        .iter()
+        .map(|c| {
+            [
+                c.label.len(),
+                c.method.name().len(),
+                c.params.canonical().len(),
+            ]
+        })
+        .collect();
+    let runs = u128::from(spec.runs);
+    let mut heap = 0u128;
+    let mut count = 0u128;
+    for (p, entry) in spec.problems.iter().enumerate() {
+        let (trace_points, hits, segments) = match &entry.kind {
+            ProblemKind::Fit(case) => {
+                let per_segment = entry.budget / entry.dim.max(1) as u64;
+                let points = if case.extended {
+                    // The union of the segments' checkpoints, and the
+                    // evaluation each segment stopped at.
+                    log_checkpoints(per_segment, spec.checkpoints_per_decade).len() + entry.dim
+                } else {
+                    0
+                };
+                (points, 0, entry.dim)
+            }
+            _ => (
+                log_checkpoints(entry.budget, spec.checkpoints_per_decade).len(),
+                default_targets().len(),
+                0,
+            ),
+        };
+        let problem = entry.name().len();
+        for (c, [label, kind, params]) in cells.iter().enumerate() {
+            let first = (p as u128 * cells.len() as u128 + c as u128) * runs;
+            let n = runs_in(first, runs, shard);
+            let shape = records::RecordShape {
+                strings: [*label, *kind, *params, problem],
+                trace_points,
+                hits,
+                segments,
+            };
+            heap += n * u128::from(records::record_heap(&shape));
+            count += n;
+        }
+    }
+    heap + held_twice(count)
+}
+
+/// The runs among positions `first..first + n` that `shard` holds.
+fn runs_in(first: u128, n: u128, shard: Option<Shard>) -> u128 {
+    let Some(s) = shard else {
+        return n;
+    };
+    let (k, big_n) = (s.k as u128 - 1, s.n as u128);
+    let below = |x: u128| x / big_n + u128::from(x % big_n > k);
+    below(first + n) - below(first)
+}
+
+/// The containers of `n` finished runs at the campaign's peak: the vector
+/// the runs fill (one record each), the table they move into while it
+/// doubles to its final size (its old half and its new whole, a record, a
+/// position and a control byte per bucket; buckets a power of two at most
+/// 7/8 full), and the positions of the runs to do and done.
+fn held_twice(n: u128) -> u128 {
+    let record = std::mem::size_of::<RunRecord>() as u128;
+    let bucket = record + 8 + 1;
+    let buckets = if n == 0 {
+        0
+    } else {
+        ((n * 8).div_ceil(7)).next_power_of_two().max(4)
+    };
+    n * (record + 16) + buckets * bucket + buckets / 2 * bucket
+}
+
+/// The most memory a campaign's results may take, by
+/// [`estimated_shard_bytes`], without `--allow-large`: 4 GiB.
+pub const MAX_RESULT_BYTES: u128 = 4 << 30;
+
+/// Refuses, before anything is allocated, a campaign (or shard) over
+/// [`super::MAX_RUNS`] runs or [`MAX_RESULT_BYTES`] of estimated memory,
+/// unless `allow_large`; and more worker threads than 4 × the cores. A
+/// shard is held to the limits by its own runs, so a campaign too large
+/// for one machine runs as shards.
 pub fn check_limits(spec: &Spec, opts: &RunOptions) -> Result<(), CampaignError> {
-    let runs = spec.run_count();
-    let bytes = estimated_bytes(spec);
-    if !opts.allow_large && (runs > super::MAX_RUNS || bytes > 4 << 30) {
+    let runs = match opts.shard {
+        Some(s) => runs_in(0, spec.run_count(), Some(s)),
+        None => spec.run_count(),
+    };
+    let bytes = estimated_shard_bytes(spec, opts.shard);
+    if !opts.allow_large && (runs > super::MAX_RUNS || bytes > MAX_RESULT_BYTES) {
         return Err(CampaignError::TooLarge {
             spec: spec.path.clone(),
             runs,
@@ -495,22 +580,18 @@ pub(super) fn write_results(spec: &Spec, out: &Path, records: &[RunRecord]) -> R
         .iter()
         .map(|p| (p.name(), p.optimum_value()))
         .collect();
-    write_atomic(&out.join("runs.csv"), &records::runs_csv(records))?;
-    write_atomic(
-        &out.join("convergence.csv"),
-        &records::convergence_csv(records, |r| optimum.get(&r.problem).copied().unwrap_or(0.0)),
-    )?;
-    write_atomic(&out.join("timing.csv"), &records::timing_csv(records))?;
-    if spec
+    let hits = spec
         .problems
         .iter()
-        .any(|p| !matches!(p.kind, ProblemKind::Fit(_)))
-    {
-        write_atomic(&out.join("hits.csv"), &records::hits_csv(records))?;
-    }
+        .any(|p| !matches!(p.kind, ProblemKind::Fit(_)));
+    records::write_files(
+        spec,
+        out,
+        records,
+        |r| optimum.get(&r.problem).copied().unwrap_or(0.0),
+        hits,
+    )?;
     if records.iter().any(|r| r.fit.is_some()) {
-        write_atomic(&out.join("fits.csv"), &records::fits_csv(records))?;
-        write_atomic(&out.join("segments.csv"), &records::segments_csv(records))?;
         write_atomic(&out.join("outlines.csv"), &outlines_csv(spec))?;
     }
     Ok(())
@@ -719,24 +800,43 @@ fn execute_journalled(
         .num_threads(opts.threads.unwrap_or(0))
         .build()
         .map_err(CampaignError::Threads)?;
-    let new: Result<Vec<RunRecord>, IoError> = pool.install(|| {
+    // An indexed collect writes each record straight into its slot of one
+    // vector (`None` = not run, once a journal line failed): no per-task
+    // vectors, so the records' memory is what `estimated_bytes` counts.
+    let failed: Mutex<Option<IoError>> = Mutex::new(None);
+    let stop = std::sync::atomic::AtomicBool::new(false);
+    let new: Vec<Option<RunRecord>> = pool.install(|| {
         todo.par_iter()
             .with_max_len(1)
             .map(|&i| {
-                let rec = execute_on(spec, &instances, spec.run_id(i));
+                if stop.load(std::sync::atomic::Ordering::Relaxed) {
+                    return None;
+                }
+                let mut rec = execute_on(spec, &instances, spec.run_id(i));
+                // Held until the end: no spare capacity.
+                rec.trace.shrink_to_fit();
+                rec.hits.shrink_to_fit();
                 let line = journal::journal_line(&rec);
                 let mut j = journal.lock().unwrap_or_else(|p| p.into_inner());
-                j.write_all(&line)
-                    .and_then(|_| j.flush())
-                    .map_err(|e| IoError::new("append to", journal_path, e))?;
+                if let Err(e) = j.write_all(&line).and_then(|_| j.flush()) {
+                    drop(j);
+                    stop.store(true, std::sync::atomic::Ordering::Relaxed);
+                    let mut first = failed.lock().unwrap_or_else(|p| p.into_inner());
+                    first.get_or_insert(IoError::new("append to", journal_path, e));
+                    return None;
+                }
                 drop(j);
                 bar.inc(1);
-                Ok(rec)
+                Some(rec)
             })
             .collect()
     });
     bar.finish_and_clear();
-    Ok(new?)
+    if let Some(e) = failed.into_inner().unwrap_or_else(|p| p.into_inner()) {
+        return Err(e.into());
+    }
+    // Every slot is filled when no line failed; the vector is reused in place.
+    Ok(new.into_iter().map(|r| r.expect("every run ran")).collect())
 }
 
 /// A progress bar over `runs` runs, drawn only if asked and stderr is a
