@@ -1088,3 +1088,21 @@ fn more_segments_than_the_outline_allows_are_refused() {
     let fit = r.fit(&Method::Exact, 1).unwrap();
     assert_eq!(fit.segments().count(), 40);
 }
+
+/// A campaign's fit problems share the rule: a spec asking for more
+/// segments than the outline has gaps is refused at the `segments` field
+/// when it is checked (before, its cells silently fitted fewer).
+#[test]
+fn a_spec_asking_for_more_segments_than_the_outline_allows_is_refused() {
+    let head = "[experiment]\nname = \"x\"\nseed = 1\nruns = 1\nbudget = 100\n\n";
+    let e = spec_error(&format!(
+        "{head}[[fit]]\ninput = \"coin.png\"\nsegments = 1000\n\n[[algorithm]]\nname = \"hs\"\n"
+    ));
+    let points = source("coin.png").contours[0].outline.len();
+    assert_eq!(
+        e,
+        format!(
+            "9:12: fit[1].segments: coin/rational-cubic/g1: contour 0: 1000 segment(s) requested, but a closed outline of {points} points allows at most {points} (each segment spans at least one gap between consecutive points); ask for at most {points}"
+        )
+    );
+}

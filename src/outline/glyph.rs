@@ -339,6 +339,8 @@ struct Collector {
     start: Point,
     pen: Point,
     segments: usize,
+    /// The first coordinate beyond ±[`MAX_COORDINATE`] (or NaN), if any.
+    far: Option<f64>,
 }
 
 /// The unwinding payload of a [`Collector`] past [`MAX_GLYPH_SEGMENTS`].
@@ -354,6 +356,18 @@ impl Collector {
         self.segments += 1;
         if self.segments > MAX_GLYPH_SEGMENTS {
             resume_unwind(Box::new(SegmentCap));
+        }
+        let end = s.end();
+        let ctrl = match s {
+            Segment::Line(a, _) => [a, a],
+            Segment::Quad(q) => [q.p1, q.p1],
+            Segment::Cubic(c) => [c.p1, c.p2],
+        };
+        if self.far.is_none() {
+            self.far = [end, ctrl[0], ctrl[1], s.start()]
+                .iter()
+                .flat_map(|p| [p.x, p.y])
+                .find(|v| v.is_nan() || v.abs() > MAX_COORDINATE);
         }
         self.current.push(s);
     }
@@ -651,7 +665,13 @@ pub fn glyph_from_bytes(data: &[u8], path: &Path, glyph: char) -> Result<Glyph, 
         if visits > MAX_GLYPH_COMPONENTS {
             return Err(limit("component references", visits, MAX_GLYPH_COMPONENTS));
         }
-        let outlined = catch_unwind(AssertUnwindSafe(|| face.outline_glyph(id, &mut collector)));
+        // The closing line of the last contour counts towards the limit too,
+        // so `finish` runs inside the catch.
+        let outlined = catch_unwind(AssertUnwindSafe(|| {
+            let rect = face.outline_glyph(id, &mut collector);
+            collector.finish();
+            rect
+        }));
         match outlined {
             Ok(Some(rect)) => rect,
             Ok(None) if !draws => return Err(no_outline()),
@@ -666,7 +686,11 @@ pub fn glyph_from_bytes(data: &[u8], path: &Path, glyph: char) -> Result<Glyph, 
             Err(payload) => return Err(cap_or_resume(payload, limit)),
         }
     } else if let Some(cff) = face.tables().cff.as_ref() {
-        let outlined = catch_unwind(AssertUnwindSafe(|| cff.outline(id, &mut collector)));
+        let outlined = catch_unwind(AssertUnwindSafe(|| {
+            let rect = cff.outline(id, &mut collector);
+            collector.finish();
+            rect
+        }));
         match outlined {
             Ok(Ok(rect)) => rect,
             Ok(Err(ttf_parser::CFFError::ZeroBBox)) => return Err(no_outline()),
@@ -696,17 +720,11 @@ pub fn glyph_from_bytes(data: &[u8], path: &Path, glyph: char) -> Result<Glyph, 
             message: message.into(),
         });
     };
-    collector.finish();
-    let mut contours = collector.contours;
+    let mut contours = std::mem::take(&mut collector.contours);
     if contours.is_empty() {
         return Err(no_outline());
     }
-    let far = contours.iter().flatten().find_map(|s| {
-        s.control_points()
-            .into_iter()
-            .flat_map(|p| [p.x, p.y])
-            .find(|v| v.is_nan() || v.abs() > MAX_COORDINATE)
-    });
+    let far = collector.far;
     if contours.len() > MAX_GLYPH_CONTOURS {
         let n = contours.len() as u64;
         return Err(limit("contours", n, MAX_GLYPH_CONTOURS as u64));
