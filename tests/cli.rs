@@ -199,7 +199,7 @@ fn check_of_a_campaign_over_the_limits_refuses_it_as_run_does() {
     assert_eq!(out.status.code(), Some(1));
     let stderr = String::from_utf8(out.stderr).unwrap();
     assert!(
-        stderr.contains("huge.toml:12:1: algorithm[1]: with its cell the campaign has 1 problems × 1 cells × 4294967295 runs = 4294967295 runs, over the limit of 10000000 runs"),
+        stderr.contains("huge.toml:11:1: algorithm[1]: with its cell the campaign has 1 problems × 1 cells × 4294967295 runs = 4294967295 runs, over the limit of 10000000 runs"),
         "{stderr}"
     );
     // Under --allow-large, check describes it.

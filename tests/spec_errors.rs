@@ -149,7 +149,7 @@ fn wrong_types_say_what_was_expected() {
     );
     assert_eq!(
         error_of(&with_line("hms = 2.5")),
-        "spec.toml:13:7: algorithm[1].hms: expected an integer in 1..=100000, found 2.5"
+        "spec.toml:13:7: algorithm[1].hms: expected an integer in 1..=100000, found the float 2.5"
     );
 }
 
@@ -354,7 +354,7 @@ fn instance_lists_name_fixed_instances_and_are_checked() {
     );
     assert_eq!(
         error_of(&problem("[6, 7.5]")),
-        "spec.toml:11:17: problem[1].instances: expected an integer in 1..=10000, found 7.5"
+        "spec.toml:11:17: problem[1].instances: expected an integer in 1..=10000, found the float 7.5"
     );
     assert_eq!(
         error_of(&problem("[\"6\"]")),
