@@ -602,3 +602,86 @@ fn run_positions_and_keys_agree_with_the_listed_order() {
     foreign.2 += 1;
     assert_eq!(index.get(&foreign), None, "another budget");
 }
+
+#[test]
+fn a_merge_into_one_of_its_own_shards_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = spec(tmp.path());
+    let parent = tmp.path().join("cluster");
+    let first = run_shard(&spec, &parent, 1, 2, None);
+    let second = run_shard(&spec, &parent, 2, 2, None);
+    let before = std::fs::read(second.join("runs.csv")).unwrap();
+    let one = std::slice::from_ref(&parent);
+    // Named as merged, and spelled another way.
+    let other_spelling = parent.join("..").join("cluster").join("shard-2-of-2");
+    for (out, dir, shard) in [
+        (first.clone(), &first, "1/2"),
+        (other_spelling.clone(), &second, "2/2"),
+    ] {
+        let e = merge(&spec, one, Some(out.clone()))
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            format!(
+                "cannot merge into {}: it is shard {shard} ({}), one of the directories merged, whose own files the merged ones would overwrite; merge into their parent directory (the default when it is given) or another --out",
+                out.display(),
+                dir.display()
+            )
+        );
+    }
+    assert_eq!(std::fs::read(second.join("runs.csv")).unwrap(), before);
+    assert_eq!(
+        std::fs::read_to_string(second.join("meta.toml"))
+            .unwrap()
+            .matches("shard = \"2/2\"")
+            .count(),
+        1
+    );
+    // Into the parent (the default) it merges.
+    assert!(merge(&spec, one, None).unwrap().complete);
+}
+
+#[test]
+fn a_shard_given_without_meta_toml_is_named_as_given() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = spec(tmp.path());
+    let parent = tmp.path().join("cluster");
+    let first = run_shard(&spec, &parent, 1, 2, None);
+    let second = run_shard(&spec, &parent, 2, 2, None);
+    std::fs::remove_file(second.join("meta.toml")).unwrap();
+    let err = |dirs: &[PathBuf]| merge(&spec, dirs, None).unwrap_err().to_string();
+    let tail = "but has no meta.toml (not a campaign directory, or an unfinished one?)";
+    let e = err(&[first.clone(), second.clone()]);
+    assert!(
+        e.contains(&format!(
+            "shard 2/2 ({}) was given {tail}",
+            second.display()
+        )),
+        "{e}"
+    );
+    assert!(!e.contains("missing"), "{e}");
+    // Found in the parent given.
+    let e = err(std::slice::from_ref(&parent));
+    assert!(
+        e.contains(&format!("shard 2/2 ({}) is there {tail}", second.display())),
+        "{e}"
+    );
+    // Under another name.
+    let copy = tmp.path().join("copy");
+    std::fs::create_dir(&copy).unwrap();
+    for f in [
+        "spec.toml",
+        "runs.csv",
+        "convergence.csv",
+        "timing.csv",
+        "hits.csv",
+    ] {
+        std::fs::copy(second.join(f), copy.join(f)).unwrap();
+    }
+    let e = err(&[first, copy.clone()]);
+    assert!(
+        e.contains(&format!("{} was given {tail}", copy.display())),
+        "{e}"
+    );
+}

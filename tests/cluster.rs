@@ -227,3 +227,35 @@ fn a_fitting_campaign_merges_with_its_spec() {
         );
     }
 }
+
+#[test]
+fn merge_out_into_a_shard_and_a_shard_without_meta_toml_are_named() {
+    let (tmp, _) = setup();
+    let dir = tmp.path();
+    for k in ["1/2", "2/2"] {
+        ok(metabezier(
+            dir,
+            &["run", "array.toml", "--out", "o", "--shard", k, "-q"],
+        ));
+    }
+    let runs = std::fs::read(dir.join("o/shard-1-of-2/runs.csv")).unwrap();
+    let e = error(metabezier(dir, &["merge", "o", "--out", "o/shard-1-of-2"]));
+    assert_eq!(
+        e,
+        "metabezier: error: cannot merge into o/shard-1-of-2: it is shard 1/2 (o/shard-1-of-2), one of the directories merged, whose own files the merged ones would overwrite; merge into their parent directory (the default when it is given) or another --out\n"
+    );
+    assert_eq!(
+        std::fs::read(dir.join("o/shard-1-of-2/runs.csv")).unwrap(),
+        runs
+    );
+    std::fs::remove_file(dir.join("o/shard-2-of-2/meta.toml")).unwrap();
+    let e = error(metabezier(
+        dir,
+        &["merge", "o/shard-1-of-2", "o/shard-2-of-2", "--out", "m"],
+    ));
+    assert!(
+        e.contains("shard 2/2 (o/shard-2-of-2) was given but has no meta.toml (not a campaign directory, or an unfinished one?)"),
+        "{e}"
+    );
+    assert!(!dir.join("m/runs.csv").exists());
+}

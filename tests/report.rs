@@ -515,7 +515,10 @@ fn external_runs_join_the_comparison() {
 fn a_report_refuses_rows_that_do_not_state_the_campaign() {
     let tmp = tempfile::tempdir().unwrap();
     let out = campaign(tmp.path(), "honest", SPEC);
-    for f in ["convergence.csv", "timing.csv", "hits.csv"] {
+    // runs.csv and spec.toml alone (no meta.toml: not a campaign directory,
+    // which would have to hold every result file), so that only the rows
+    // of runs.csv are at stake.
+    for f in ["convergence.csv", "timing.csv", "hits.csv", "meta.toml"] {
         std::fs::remove_file(out.join(f)).unwrap();
     }
     let runs = read(&out.join("runs.csv"));
@@ -654,4 +657,66 @@ fn verdicts_across_functions_have_known_answers() {
         md.contains("| reference | final-error | X | R | all | wilcoxon-signed-rank | 4/4/0 |"),
         "{md}"
     );
+}
+
+/// The error of `write_report` on `dir`, or "" when it reports.
+fn report_error(dir: &Path) -> String {
+    write_report(dir, &ReportOptions::default())
+        .map(|_| String::new())
+        .unwrap_or_else(|e| e.to_string())
+}
+
+#[test]
+fn a_campaign_directory_without_one_of_its_result_files_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = campaign(tmp.path(), "whole", SPEC);
+    let pristine: Vec<(String, Vec<u8>)> = ["convergence.csv", "timing.csv", "hits.csv"]
+        .iter()
+        .map(|f| (f.to_string(), std::fs::read(out.join(f)).unwrap()))
+        .collect();
+    for (f, bytes) in &pristine {
+        std::fs::remove_file(out.join(f)).unwrap();
+        let e = report_error(&out);
+        assert!(
+            e.ends_with(&format!(
+                "{f}: not found, but the directory holds a campaign (it has meta.toml), whose finished runs always write it; was it deleted, or the directory copied in part?"
+            )),
+            "{f}: {e}"
+        );
+        assert!(e.contains(&out.join(f).display().to_string()), "{e}");
+        std::fs::write(out.join(f), bytes).unwrap();
+    }
+    assert_eq!(report_error(&out), "");
+}
+
+#[test]
+fn a_nan_in_a_result_file_is_refused_with_its_line_and_column() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = campaign(tmp.path(), "nan", SPEC);
+    // Replace one field of data line `line` (1-based over the file) of `file`.
+    let with = |file: &str, line: usize, column: usize, value: &str| {
+        let text = read(&out.join(file));
+        let mut lines: Vec<String> = text.lines().map(str::to_owned).collect();
+        let mut fields: Vec<&str> = lines[line - 1].split(',').collect();
+        fields[column] = value;
+        lines[line - 1] = fields.join(",");
+        std::fs::write(out.join(file), lines.join("\n") + "\n").unwrap();
+        text
+    };
+    // convergence.csv: algorithm,kind,params,problem,dim,run,evaluations,best,error
+    let cases: [(&str, usize, usize, &str, &str); 6] = [
+        ("convergence.csv", 3, 7, "NaN", "convergence.csv:3: column best: expected a number (not NaN), found \"NaN\""),
+        ("convergence.csv", 4, 8, "NaN", "convergence.csv:4: column error: expected a number (not NaN), found \"NaN\""),
+        ("runs.csv", 2, 8, "NaN", "runs.csv:2: column best: expected a number (not NaN), found \"NaN\""),
+        ("timing.csv", 5, 6, "inf", "timing.csv:5: column wall_seconds: expected a finite number of at least 0, found \"inf\""),
+        ("hits.csv", 2, 6, "NaN", "hits.csv:2: column target: expected a finite number above 0, found \"NaN\""),
+        ("convergence.csv", 3, 6, "1", "convergence.csv:3: column evaluations: must rise strictly from one row of a run to the next, but does not here (a row repeated or out of order)"),
+    ];
+    for (file, line, column, value, expected) in cases {
+        let original = with(file, line, column, value);
+        let e = report_error(&out);
+        assert!(e.ends_with(expected), "{file}: {e}");
+        std::fs::write(out.join(file), original).unwrap();
+    }
+    assert_eq!(report_error(&out), "");
 }

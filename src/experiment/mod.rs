@@ -180,6 +180,23 @@ pub enum CampaignError {
         /// What it holds.
         found: &'static str,
     },
+    /// A merge's output directory is one of the directories it merges.
+    #[error(
+        "cannot merge into {}: it is {}, one of the directories merged, whose own files the merged ones would overwrite; merge into their parent directory (the default when it is given) or another --out",
+        out.display(),
+        match shard {
+            Some(s) => format!("shard {s} ({})", dir.display()),
+            None => dir.display().to_string(),
+        }
+    )]
+    MergeIntoShard {
+        /// The output directory asked for.
+        out: PathBuf,
+        /// The directory merged that it is.
+        dir: PathBuf,
+        /// The shard that directory holds, by its meta.toml.
+        shard: Option<Shard>,
+    },
     /// Another process holds the campaign directory.
     #[error(
         "{} is in use by another metabezier process (it holds {}); wait for it to finish, or choose another --out",

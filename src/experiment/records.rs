@@ -78,6 +78,77 @@ pub enum DataProblem {
     /// The file holds no run.
     #[error("no runs to report")]
     NoRuns,
+    /// A real is not of the kind its column needs (a NaN, say, where the
+    /// tool never writes one).
+    #[error("column {column}: expected {expected}, found \"{text}\"")]
+    NotFinite {
+        /// The column.
+        column: String,
+        /// What the column holds.
+        expected: &'static str,
+        /// The text found.
+        text: String,
+    },
+    /// A run's rows are out of order: the column must rise (or fall)
+    /// strictly from one row of the run to the next.
+    #[error("column {0}: must {1} strictly from one row of a run to the next, but does not here (a row repeated or out of order)")]
+    Order(&'static str, &'static str),
+    /// A file that a campaign directory must hold is absent.
+    #[error("not found, but {0}")]
+    Missing(&'static str),
+}
+
+/// What a column of reals admits, beyond being a number.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Real {
+    /// Any number but NaN (an objective value may be infinite).
+    NotNan,
+    /// A finite number of at least 0.
+    NonNegative,
+    /// A finite number above 0.
+    Positive,
+}
+
+impl Real {
+    fn admits(self, x: f64) -> bool {
+        match self {
+            Real::NotNan => !x.is_nan(),
+            Real::NonNegative => x.is_finite() && x >= 0.0,
+            Real::Positive => x.is_finite() && x > 0.0,
+        }
+    }
+
+    fn expected(self) -> &'static str {
+        match self {
+            Real::NotNan => "a number (not NaN)",
+            Real::NonNegative => "a finite number of at least 0",
+            Real::Positive => "a finite number above 0",
+        }
+    }
+}
+
+/// Parses a real of `column` that must be of kind `kind`.
+pub(super) fn parse_real(
+    path: &Path,
+    line: u64,
+    column: &str,
+    text: &str,
+    kind: Real,
+) -> Result<f64, ReadError> {
+    let x: f64 = parse(path, line, column, text)?;
+    if kind.admits(x) {
+        Ok(x)
+    } else {
+        Err(data(
+            path,
+            line,
+            DataProblem::NotFinite {
+                column: column.to_owned(),
+                expected: kind.expected(),
+                text: text.to_owned(),
+            },
+        ))
+    }
 }
 
 /// A results file is malformed: the file, the line and what is wrong.
@@ -860,12 +931,24 @@ fn read_header(
 /// Reads `runs.csv` alone (traces empty, wall time 0): the input of reports,
 /// which may also come from outside this tool.
 pub fn read_runs(path: &Path) -> Result<Vec<RunRecord>, ReadError> {
+    read_runs_with(path, false)
+}
+
+/// Reads `runs.csv`; `strict` (the file of a campaign of this tool, which
+/// never writes a NaN objective) refuses a NaN `best` or `error`.
+fn read_runs_with(path: &Path, strict: bool) -> Result<Vec<RunRecord>, ReadError> {
     let mut reader = open_csv(path)?;
     let schema = read_header(path, &mut reader, &RUNS_HEADER, Schema::from_runs_header)?;
     let mut out = Vec::new();
-    for (i, row) in reader.records().enumerate() {
-        let line = i as u64 + 2;
-        let row = row.map_err(|e| data(path, line, DataProblem::Csv(e)))?;
+    let mut row = csv::StringRecord::new();
+    loop {
+        let line = reader.position().line();
+        match reader.read_record(&mut row) {
+            Ok(true) => {}
+            Ok(false) => break,
+            Err(e) => return Err(data(path, line, DataProblem::Csv(e))),
+        }
+        let line = row.position().map_or(line, |p| p.line());
         let mut fields: Vec<&str> = row.iter().collect();
         let factors = if schema.instances && fields.len() >= RUNS_HEADER.len() + 2 {
             let f: Vec<&str> = fields.drain(6..8).collect();
@@ -874,6 +957,10 @@ pub fn read_runs(path: &Path) -> Result<Vec<RunRecord>, ReadError> {
             None
         };
         let mut rec = record_from(path, line, &fields)?;
+        if strict {
+            parse_real(path, line, "best", fields[8], Real::NotNan)?;
+            parse_real(path, line, "error", fields[9], Real::NotNan)?;
+        }
         if let Some((t, k)) = factors {
             rec.transform = parse_transform(path, line, t)?;
             rec.instance = parse(path, line, "instance", k)?;
@@ -955,9 +1042,15 @@ fn read_keyed(
     })?;
     let index = KeyIndex::new(schema, records);
     let width = schema.key_len() + rest.len();
-    for (i, r) in reader.records().enumerate() {
-        let line = i as u64 + 2;
-        let r = r.map_err(|e| data(path, line, DataProblem::Csv(e)))?;
+    let mut r = csv::StringRecord::new();
+    loop {
+        let line = reader.position().line();
+        match reader.read_record(&mut r) {
+            Ok(true) => {}
+            Ok(false) => break,
+            Err(e) => return Err(data(path, line, DataProblem::Csv(e))),
+        }
+        let line = r.position().map_or(line, |p| p.line());
         if r.len() != width {
             return Err(data(path, line, DataProblem::WrongColumnCount));
         }
@@ -981,30 +1074,45 @@ fn header_has(path: &Path, name: &str) -> Result<bool, ReadError> {
 /// `timing.csv` and, when present, `hits.csv`, `fits.csv` and
 /// `segments.csv` back into complete records.
 pub fn read_results(dir: &Path) -> Result<Vec<RunRecord>, ReadError> {
-    let mut records = read_runs(&dir.join("runs.csv"))?;
+    let mut records = read_runs_with(&dir.join("runs.csv"), true)?;
     let mut traces: Vec<Vec<TracePoint>> = vec![Vec::new(); records.len()];
     let path = dir.join("convergence.csv");
     read_keyed(&path, &CONVERGENCE_FIELDS, &records, |k, f, line| {
-        traces[k].push(TracePoint {
+        let point = TracePoint {
             evaluations: parse(&path, line, "evaluations", f[0])?,
-            best: parse(&path, line, "best", f[1])?,
-        });
+            best: parse_real(&path, line, "best", f[1], Real::NotNan)?,
+        };
+        parse_real(&path, line, "error", f[2], Real::NotNan)?;
+        // Each run's checkpoints rise strictly: a row repeated or out of
+        // order is not a trace this tool wrote.
+        if traces[k]
+            .last()
+            .is_some_and(|p| p.evaluations >= point.evaluations)
+        {
+            return Err(data(&path, line, DataProblem::Order("evaluations", "rise")));
+        }
+        traces[k].push(point);
         Ok(())
     })?;
     let mut walls = vec![0.0; records.len()];
     let path = dir.join("timing.csv");
     read_keyed(&path, &TIMING_FIELDS, &records, |k, f, line| {
-        walls[k] = parse(&path, line, "wall_seconds", f[0])?;
+        walls[k] = parse_real(&path, line, "wall_seconds", f[0], Real::NonNegative)?;
         Ok(())
     })?;
     let mut hits: Vec<Vec<TargetHit>> = vec![Vec::new(); records.len()];
     let path = dir.join("hits.csv");
     if path.exists() {
         read_keyed(&path, &HITS_FIELDS, &records, |k, f, line| {
-            hits[k].push(TargetHit {
-                precision: parse(&path, line, "target", f[0])?,
+            let hit = TargetHit {
+                precision: parse_real(&path, line, "target", f[0], Real::Positive)?,
                 evaluations: parse(&path, line, "evaluations", f[1])?,
-            });
+            };
+            // Each run reaches its targets from the largest down.
+            if hits[k].last().is_some_and(|h| h.precision <= hit.precision) {
+                return Err(data(&path, line, DataProblem::Order("target", "fall")));
+            }
+            hits[k].push(hit);
             Ok(())
         })?;
     }

@@ -40,6 +40,17 @@ pub enum ShardGap {
         /// Where it was looked for, when one parent directory was given.
         expected: Option<PathBuf>,
     },
+    /// A directory was given (or found) as a shard but has no `meta.toml`,
+    /// which `run` writes as a campaign starts: not a campaign directory,
+    /// or one whose start was cut short or whose files were removed.
+    NoMeta {
+        /// The shard its name says it holds, if it is so named.
+        shard: Option<Shard>,
+        /// The directory.
+        dir: PathBuf,
+        /// Whether it was given itself (else found in a parent given).
+        given: bool,
+    },
     /// A directory has no `runs.csv` yet.
     Unfinished {
         /// The shard it holds, if it is one.
@@ -62,6 +73,17 @@ impl fmt::Display for ShardGap {
                 shard,
                 expected: None,
             } => write!(f, "shard {shard} is missing (no directory given holds it)"),
+            ShardGap::NoMeta { shard, dir, given } => {
+                let how = if *given { "was given" } else { "is there" };
+                match shard {
+                    Some(s) => write!(f, "shard {s} ({}) {how}", dir.display())?,
+                    None => write!(f, "{} {how}", dir.display())?,
+                }
+                write!(
+                    f,
+                    " but has no meta.toml (not a campaign directory, or an unfinished one?)"
+                )
+            }
             ShardGap::Unfinished {
                 shard,
                 dir,
@@ -118,7 +140,13 @@ pub fn find_shards(given: &[PathBuf]) -> Result<MergeInputs, ExperimentError> {
             if !dir.join("spec.toml").exists() {
                 return Err(CampaignError::NoShards { dir: dir.clone() }.into());
             }
-            found.push((shard_of(dir), dir.clone()));
+            // Without meta.toml, the directory's name tells which shard it
+            // was meant to be (the gap is named below).
+            let named = dir
+                .file_name()
+                .and_then(|n| n.to_str())
+                .and_then(Shard::from_dir_name);
+            found.push((shard_of(dir).or(named), dir.clone()));
         } else {
             if given.len() == 1 {
                 parent = Some(dir.clone());
@@ -132,7 +160,7 @@ pub fn find_shards(given: &[PathBuf]) -> Result<MergeInputs, ExperimentError> {
     }
     let mut seen = std::collections::HashSet::new();
     found.retain(|(_, d)| seen.insert(d.clone()));
-    let gaps = gaps(&found, parent.as_deref())?;
+    let gaps = gaps(&found, given, parent.as_deref())?;
     if !gaps.is_empty() {
         return Err(CampaignError::IncompleteShards { gaps }.into());
     }
@@ -147,6 +175,7 @@ pub fn find_shards(given: &[PathBuf]) -> Result<MergeInputs, ExperimentError> {
 /// split in different counts.
 fn gaps(
     found: &[(Option<Shard>, PathBuf)],
+    given: &[PathBuf],
     parent: Option<&Path>,
 ) -> Result<Vec<ShardGap>, CampaignError> {
     let mut by_count: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
@@ -168,7 +197,13 @@ fn gaps(
         }
     }
     for (shard, dir) in found {
-        if !dir.join("runs.csv").exists() {
+        if !dir.join("meta.toml").is_file() {
+            gaps.push(ShardGap::NoMeta {
+                shard: *shard,
+                dir: dir.clone(),
+                given: given.contains(dir),
+            });
+        } else if !dir.join("runs.csv").exists() {
             let journal = dir.join("journal.csv");
             gaps.push(ShardGap::Unfinished {
                 shard: *shard,
@@ -218,6 +253,7 @@ pub fn merge_found(
         }
         .into());
     }
+    refuse_own_shard(&out, &inputs.dirs)?;
     let _lock = DirLock::take(&out)?;
     refuse_other_campaign(spec, &out)?;
     let ordered: Vec<RunRecord> = ids
@@ -237,6 +273,23 @@ pub fn merge_found(
         executed: 0,
         complete: true,
     })
+}
+
+/// Refuses to merge into one of the directories merged (the merged files
+/// would overwrite that shard's own), however the two paths are spelled.
+fn refuse_own_shard(out: &Path, dirs: &[PathBuf]) -> Result<(), CampaignError> {
+    let same = |a: &Path, b: &Path| match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => std::path::absolute(a).ok() == std::path::absolute(b).ok(),
+    };
+    match dirs.iter().find(|d| same(out, d)) {
+        Some(dir) => Err(CampaignError::MergeIntoShard {
+            out: out.to_owned(),
+            shard: shard_of(dir),
+            dir: dir.clone(),
+        }),
+        None => Ok(()),
+    }
 }
 
 /// Refuses to merge into a directory that holds another campaign's files:

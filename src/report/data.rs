@@ -381,6 +381,10 @@ fn name_cells(cells: &mut [Cell]) {
 /// `runs.csv`.
 pub(crate) fn load(dir: &Path, external: Option<&Path>) -> Result<Dataset, ReportError> {
     let runs_path = dir.join("runs.csv");
+    let campaign = is_campaign(dir);
+    if campaign {
+        require(dir, &["runs.csv", "convergence.csv", "timing.csv"])?;
+    }
     let conv = dir.join("convergence.csv").is_file();
     let timing = dir.join("timing.csv").is_file();
     let mut notes = Vec::new();
@@ -401,6 +405,16 @@ pub(crate) fn load(dir: &Path, external: Option<&Path>) -> Result<Dataset, Repor
     };
     if records.is_empty() {
         return Err(DataError::new(&runs_path, 0, DataProblem::NoRuns).into());
+    }
+    if campaign {
+        // What a finished campaign writes beside runs.csv for its kinds of
+        // problem (fitting cases are named source/function/continuity).
+        if records.iter().any(|r| !r.problem.contains('/')) {
+            require(dir, &["hits.csv"])?;
+        }
+        if records.iter().any(|r| r.problem.contains('/')) {
+            require(dir, &["fits.csv", "segments.csv", "outlines.csv"])?;
+        }
     }
     notes.extend(super::integrity::check_rows(dir, &records)?);
     let internal_labels: std::collections::BTreeSet<String> =
@@ -435,6 +449,32 @@ pub(crate) fn load(dir: &Path, external: Option<&Path>) -> Result<Dataset, Repor
     notes.append(&mut ds.notes);
     ds.notes = notes;
     Ok(ds)
+}
+
+/// Whether `dir` is the directory of a campaign of this tool (`run` and
+/// `merge` write its `meta.toml`), which must then hold every result file
+/// of its campaign; a directory with a `runs.csv` alone (another tool's,
+/// or made by hand) is reported from what it has.
+pub(crate) fn is_campaign(dir: &Path) -> bool {
+    dir.join("meta.toml").is_file()
+}
+
+/// Refuses a campaign directory without one of `files`.
+fn require(dir: &Path, files: &[&str]) -> Result<(), ReportError> {
+    for f in files {
+        let path = dir.join(f);
+        if !path.is_file() {
+            return Err(DataError::new(
+                &path,
+                0,
+                DataProblem::Missing(
+                    "the directory holds a campaign (it has meta.toml), whose finished runs always write it; was it deleted, or the directory copied in part?",
+                ),
+            )
+            .into());
+        }
+    }
+    Ok(())
 }
 
 /// What the report says about where the results come from.
