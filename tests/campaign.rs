@@ -685,3 +685,52 @@ fn a_shard_given_without_meta_toml_is_named_as_given() {
         "{e}"
     );
 }
+
+#[test]
+fn a_resume_refuses_a_timing_file_without_a_row_of_each_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = spec(tmp.path());
+    let out = run(&spec, tmp.path().join("whole"), 1);
+    let timing = std::fs::read_to_string(out.join("timing.csv")).unwrap();
+    let lines: Vec<&str> = timing.lines().collect();
+    let resume = || {
+        let opts = RunOptions {
+            out: Some(out.clone()),
+            threads: Some(1),
+            resume: true,
+            ..RunOptions::default()
+        };
+        run_campaign(&spec, &opts)
+            .map(|_| String::new())
+            .unwrap_or_else(|e| e.to_string())
+    };
+    // The last row cut off: that run's wall time would read as 0.
+    std::fs::write(
+        out.join("timing.csv"),
+        lines[..lines.len() - 1].join("\n") + "\n",
+    )
+    .unwrap();
+    let last = lines[lines.len() - 1];
+    let e = resume();
+    assert!(
+        e.starts_with(&format!(
+            "{}: no row for run 2 of mhs:mhs[",
+            out.join("timing.csv").display()
+        )),
+        "{e}"
+    );
+    assert!(e.ends_with("on six_hump_camel-2 of runs.csv"), "{e}");
+    // A row repeated.
+    std::fs::write(out.join("timing.csv"), format!("{timing}{last}\n")).unwrap();
+    let e = resume();
+    assert_eq!(
+        e,
+        format!(
+            "{}:{}: a second row for the run of an earlier row",
+            out.join("timing.csv").display(),
+            lines.len() + 1
+        )
+    );
+    std::fs::write(out.join("timing.csv"), &timing).unwrap();
+    assert_eq!(resume(), "");
+}

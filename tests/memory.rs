@@ -382,3 +382,32 @@ fn a_campaign_whose_records_exceed_the_limit_is_refused() {
     }
     assert!(matches!(spec.problems[0].kind, ProblemKind::Benchmark(_)));
 }
+
+#[test]
+fn a_resume_reads_its_journal_a_line_at_a_time() {
+    let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = parse(tmp.path(), &benchmark_spec(200, 2000));
+    let out = tmp.path().join("out");
+    let opts = RunOptions {
+        out: Some(out.clone()),
+        threads: Some(2),
+        max_runs: Some(2999),
+        ..RunOptions::default()
+    };
+    assert!(!runner::run_campaign(&spec, &opts).unwrap().complete);
+    let journal = out.join("journal.csv");
+    let size = std::fs::metadata(&journal).unwrap().len() as usize;
+    let start = live();
+    let (records, peak) =
+        peak_of(|| metabezier::experiment::journal::read_journal(&journal).unwrap());
+    let kept = live() - start;
+    assert_eq!(records.len(), 2999);
+    // Beyond the records it returns, a line and the reader's buffers: the
+    // journal's text is never held whole.
+    assert!(
+        peak - kept < size / 20,
+        "reading a {size}-byte journal took {} bytes beyond its {kept} bytes of records",
+        peak - kept
+    );
+}

@@ -14,8 +14,8 @@
 use std::path::Path;
 
 use super::records::{
-    data, parse, parse_transform, record_from_fields, run_fields, DataProblem, FitDetail,
-    ReadError, RunRecord, FIT_FIELDS, FIT_FIELDS_CURRENT, RUNS_HEADER,
+    data, parse, parse_real, parse_transform, record_from_fields, run_fields, DataProblem,
+    FitDetail, ReadError, Real, RunRecord, FIT_FIELDS, FIT_FIELDS_CURRENT, RUNS_HEADER,
 };
 use super::segments::{FIT_SEGMENT_HEADER, SEGMENT_HEADER};
 use crate::files::{fmt_real, IoError};
@@ -57,19 +57,21 @@ pub fn journal_line(r: &RunRecord) -> Vec<u8> {
 }
 
 /// Reads the records of a journal, ignoring an incomplete last line (the
-/// trace of an interruption); a malformed line elsewhere is an error.
+/// trace of an interruption); a malformed line elsewhere is an error. The
+/// file is read a line at a time (one line ahead, to know the last), so a
+/// resume holds the records, not the journal's text.
 pub fn read_journal(path: &Path) -> Result<Vec<RunRecord>, ReadError> {
-    let text = std::fs::read(path).map_err(|e| IoError::new("read", path, e))?;
+    let file = std::fs::File::open(path).map_err(|e| IoError::new("read", path, e))?;
     let mut reader = csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)
-        .from_reader(&text[..]);
-    let rows: Vec<_> = reader.records().collect();
+        .from_reader(std::io::BufReader::new(file));
+    let mut rows = reader.records().peekable();
     let mut out = Vec::new();
-    let n = rows.len();
-    for (i, row) in rows.into_iter().enumerate() {
-        let line = i as u64 + 1;
-        let last = i + 1 == n;
+    let mut line = 0u64;
+    while let Some(row) = rows.next() {
+        line += 1;
+        let last = rows.peek().is_none();
         let complete = match &row {
             Ok(r) => [EXTRA, EXTRA_BEFORE_INSTANCES].iter().any(|extra| {
                 r.len() == RUNS_HEADER.len() + extra + 1
@@ -81,10 +83,19 @@ pub fn read_journal(path: &Path) -> Result<Vec<RunRecord>, ReadError> {
             if last {
                 break;
             }
-            return Err(data(path, line, DataProblem::Malformed("journal line")));
+            let at = row
+                .as_ref()
+                .ok()
+                .and_then(|r| r.position())
+                .map_or(line, |p| p.line());
+            return Err(data(path, at, DataProblem::Malformed("journal line")));
         }
         let r = row.expect("checked above");
+        let line = r.position().map_or(line, |p| p.line());
         let mut rec = record_from_fields(path, line, &r)?;
+        for (column, at) in [("best", 8), ("error", 9)] {
+            parse_real(path, line, column, &r[at], Real::NotNan)?;
+        }
         let trace_text = r.get(RUNS_HEADER.len()).unwrap_or("");
         if !trace_text.is_empty() {
             for part in trace_text.split('|') {
@@ -93,7 +104,7 @@ pub fn read_journal(path: &Path) -> Result<Vec<RunRecord>, ReadError> {
                     .ok_or_else(|| data(path, line, DataProblem::Malformed("trace")))?;
                 rec.trace.push(TracePoint {
                     evaluations: parse(path, line, "trace", e)?,
-                    best: parse(path, line, "trace", b)?,
+                    best: parse_real(path, line, "trace", b, Real::NotNan)?,
                 });
             }
         }
@@ -101,11 +112,12 @@ pub fn read_journal(path: &Path) -> Result<Vec<RunRecord>, ReadError> {
         if !fit_text.is_empty() {
             rec.fit = Some(fit_from_field(path, line, fit_text)?);
         }
-        rec.wall_seconds = parse(
+        rec.wall_seconds = parse_real(
             path,
             line,
             "wall_seconds",
             r.get(RUNS_HEADER.len() + 2).unwrap_or(""),
+            Real::NonNegative,
         )?;
         if r.len() == RUNS_HEADER.len() + EXTRA + 1 {
             let at = |k: usize| r.get(RUNS_HEADER.len() + k).unwrap_or("");
@@ -129,7 +141,7 @@ fn hits_from_field(path: &Path, line: u64, text: &str) -> Result<Vec<TargetHit>,
                 .split_once(':')
                 .ok_or_else(|| data(path, line, DataProblem::Malformed("hits")))?;
             Ok(TargetHit {
-                precision: parse(path, line, "hits", p)?,
+                precision: parse_real(path, line, "hits", p, Real::Positive)?,
                 evaluations: parse(path, line, "hits", e)?,
             })
         })

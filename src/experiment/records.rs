@@ -93,6 +93,12 @@ pub enum DataProblem {
     /// strictly from one row of the run to the next.
     #[error("column {0}: must {1} strictly from one row of a run to the next, but does not here (a row repeated or out of order)")]
     Order(&'static str, &'static str),
+    /// A keyed file has a second row for a run that has one.
+    #[error("a second row for the run of an earlier row")]
+    RepeatedRun,
+    /// A keyed file has no row for a run of `runs.csv`.
+    #[error("no row for {0} of runs.csv")]
+    NoRowFor(String),
     /// A file that a campaign directory must hold is absent.
     #[error("not found, but {0}")]
     Missing(&'static str),
@@ -629,6 +635,16 @@ impl RunRecord {
         )
     }
 
+    /// `run R of CELL on PROBLEM`, for messages.
+    pub fn describe(&self) -> String {
+        format!(
+            "run {} of {} on {}",
+            self.run,
+            self.cell_key(),
+            self.match_key()
+        )
+    }
+
     /// The run's key.
     pub fn key(&self) -> RunKey {
         (self.cell_key(), self.match_key(), self.budget, self.run)
@@ -1094,12 +1110,19 @@ pub fn read_results(dir: &Path) -> Result<Vec<RunRecord>, ReadError> {
         traces[k].push(point);
         Ok(())
     })?;
-    let mut walls = vec![0.0; records.len()];
+    let mut walls: Vec<Option<f64>> = vec![None; records.len()];
     let path = dir.join("timing.csv");
     read_keyed(&path, &TIMING_FIELDS, &records, |k, f, line| {
-        walls[k] = parse_real(&path, line, "wall_seconds", f[0], Real::NonNegative)?;
+        let wall = parse_real(&path, line, "wall_seconds", f[0], Real::NonNegative)?;
+        if walls[k].replace(wall).is_some() {
+            return Err(data(&path, line, DataProblem::RepeatedRun));
+        }
         Ok(())
     })?;
+    if let Some(k) = walls.iter().position(Option::is_none) {
+        return Err(data(&path, 0, DataProblem::NoRowFor(records[k].describe())));
+    }
+    let walls = walls.into_iter().map(|w| w.unwrap_or(0.0));
     let mut hits: Vec<Vec<TargetHit>> = vec![Vec::new(); records.len()];
     let path = dir.join("hits.csv");
     if path.exists() {
@@ -1126,9 +1149,21 @@ pub fn read_results(dir: &Path) -> Result<Vec<RunRecord>, ReadError> {
             (&FIT_FIELDS, &SEGMENT_HEADER)
         };
         read_keyed(&path, fit_rest, &records, |k, f, line| {
-            fits[k] = Some(FitDetail::from_fields(&path, line, f)?);
+            if fits[k]
+                .replace(FitDetail::from_fields(&path, line, f)?)
+                .is_some()
+            {
+                return Err(data(&path, line, DataProblem::RepeatedRun));
+            }
             Ok(())
         })?;
+        // Every fitting run (its problem is source/function/continuity)
+        // has its row.
+        if let Some(k) =
+            (0..records.len()).find(|&k| fits[k].is_none() && records[k].problem.contains('/'))
+        {
+            return Err(data(&path, 0, DataProblem::NoRowFor(records[k].describe())));
+        }
         let path = dir.join("segments.csv");
         read_keyed(&path, segment_rest, &records, |k, f, line| {
             let fit = fits[k]

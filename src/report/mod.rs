@@ -3,9 +3,10 @@
 //! summaries and plots, written next to the results as `report.md`,
 //! `tables/*.csv` and `plots/*.{svg,png}`.
 //!
-//! The input is a results directory of `metabezier run` (`runs.csv`, and
-//! when present `convergence.csv`, `timing.csv`, `spec.toml`, `meta.toml`),
-//! optionally with an external `runs.csv` whose algorithms are added to the
+//! The input is a results directory of `metabezier run` (`runs.csv`,
+//! `convergence.csv`, `timing.csv`, `hits.csv` or the fitting files,
+//! `spec.toml`, `meta.toml`: a directory with `meta.toml` must hold every
+//! result file of its campaign), or a `runs.csv` alone, optionally with an external `runs.csv` whose algorithms are added to the
 //! comparison. All statistics come from [`crate::stats`]. The output is
 //! deterministic: the same input gives byte-identical `report.md` and CSV
 //! files (and plots). Every file is written atomically.
@@ -593,15 +594,28 @@ fn write_tables_and_plots(
     Ok((table_paths, plot_paths))
 }
 
+/// Reads and checks the results directory `dir` (and an `external` runs
+/// file) as [`write_report`] does before it computes anything: a finished
+/// campaign, every result file a campaign directory must hold, well-formed
+/// rows stating the campaign. Returns the number of runs read; writes
+/// nothing.
+pub fn load_results(dir: &Path, external: Option<&Path>) -> Result<usize, ReportError> {
+    integrity::check_finished(dir)?;
+    let ds = data::load(dir, external)?;
+    fitting::records(dir)?;
+    Ok(ds.total_runs)
+}
+
 /// Writes the report of the results directory `dir`: `report.md`, the
 /// tables as CSV under `dir/tables/` and the plots as SVG and PNG under
 /// `dir/plots/`.
 ///
 /// Errors when `runs.csv` (or the external file) is missing or malformed,
-/// when `options` are invalid, or when a file cannot be written. Missing
-/// convergence or timing data, a single algorithm, a single run or no
-/// successful run are not errors: the parts that need them are skipped and
-/// the report says so.
+/// when a campaign directory (one with `meta.toml`) lacks one of its result
+/// files or a result file is malformed, when `options` are invalid, or when
+/// a file cannot be written. A `runs.csv` alone (another tool's), a single
+/// algorithm, a single run or no successful run are not errors: the parts
+/// that need more are skipped and the report says so.
 pub fn write_report(dir: &Path, options: &ReportOptions) -> Result<ReportSummary, ReportError> {
     if !(options.alpha > 0.0 && options.alpha < 1.0) {
         return Err(ReportError::Alpha(options.alpha));
