@@ -90,7 +90,7 @@ fn fuzz_file(dir: &Path, file: &str, read: impl Fn(&Path) -> bool) {
     let original = std::fs::read(&path).unwrap();
     let limit = 4 * size_of_files(dir) + (1 << 20);
     let name = format!("{}/{file}", dir.file_name().unwrap().to_string_lossy());
-    let tally = fuzz_common::fuzz(&name, &[original.clone()], limit, |bytes| {
+    let tally = fuzz_common::fuzz(&name, std::slice::from_ref(&original), limit, |bytes| {
         std::fs::write(&path, bytes).unwrap();
         read(dir)
     });
