@@ -48,29 +48,11 @@ fn vendored_inv3_has_the_documented_shape_spacing_and_values() {
     assert_eq!(v.slice(vz(89)).get(128, 128), 40);
 }
 
-fn small_volume() -> Volume {
-    let (nx, ny, nz) = (7, 5, 3);
-    let data = (0..nx * ny * nz).map(|i| (i as i16) * 37 - 1024).collect();
-    Volume::new(
-        nx,
-        ny,
-        nz,
-        Spacing {
-            x: 0.5,
-            y: 0.75,
-            z: 2.0,
-        },
-        [0.0; 3],
-        data,
-    )
-    .unwrap()
-}
-
 #[test]
 fn inv3_round_trip_and_errors() {
     let dir = tempfile::tempdir().unwrap();
     let p = dir.path().join("a.inv3");
-    let v = small_volume();
+    let v = ct_inputs::small_volume();
     write_inv3(&p, &v, "test & <name>").unwrap();
     // An .inv3 holds no origin or axes: it reads back at the identity frame
     // and says where the frame came from.
@@ -188,7 +170,7 @@ fn dicom_round_trip_of_ct_slices_is_bit_exact() {
 
 #[test]
 fn dicom_errors_name_the_file() {
-    let v = small_volume();
+    let v = ct_inputs::small_volume();
     let dir = tempfile::tempdir().unwrap();
     let paths = write_dicom_series(dir.path(), &v, 0..3, "s").unwrap();
 
@@ -1536,7 +1518,7 @@ fn overlay_and_mesh_previews_render() {
 
 #[test]
 fn frame_maps_voxel_millimetres_to_patient_and_back() {
-    let v = small_volume()
+    let v = ct_inputs::small_volume()
         .with_frame([-120.5, 33.25, -47.0], oblique_axes(), FrameSource::Given)
         .unwrap();
     let f = v.frame();
@@ -1558,7 +1540,7 @@ fn frame_maps_voxel_millimetres_to_patient_and_back() {
     // Coplanar axes are refused; sub_z moves the origin along the slice axis.
     let flat = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0]];
     assert!(matches!(
-        small_volume().with_frame([0.0; 3], flat, FrameSource::Given),
+        ct_inputs::small_volume().with_frame([0.0; 3], flat, FrameSource::Given),
         Err(CtError::BadAxes { .. })
     ));
     let sub = v.sub_z(1, 3);

@@ -3,6 +3,7 @@
 //! sampled) and CSV point lists. No panic, no hang, and no mutant may
 //! allocate beyond its reader's limit (each justified at its call). See
 //! `tests/fuzz_common` for the loop.
+mod common;
 mod fuzz_common;
 
 use std::path::{Path, PathBuf};
@@ -143,23 +144,6 @@ fn png(width: u32, height: u32, bits: u8, colour: u8, rows: &[Vec<u8>], plte: bo
     out
 }
 
-/// `png` with every complete chunk's CRC recomputed, so that a mutation of
-/// a header or a length reaches the code behind the CRC check.
-fn fix_crcs(mut png: Vec<u8>) -> Vec<u8> {
-    let mut at = 8;
-    while at + 12 <= png.len() {
-        let len = u32::from_be_bytes(png[at..at + 4].try_into().unwrap()) as usize;
-        let Some(end) = (at + 8).checked_add(len).filter(|e| e + 4 <= png.len()) else {
-            break;
-        };
-        let mut crc = flate2::Crc::new();
-        crc.update(&png[at + 4..end]);
-        png[end..end + 4].copy_from_slice(&crc.sum().to_be_bytes());
-        at = end + 4;
-    }
-    png
-}
-
 #[test]
 fn png_images_survive_mutation() {
     let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
@@ -232,7 +216,7 @@ fn png_images_survive_mutation() {
         n += 1;
         let repaired;
         let bytes = if n.is_multiple_of(2) {
-            repaired = fix_crcs(bytes.to_vec());
+            repaired = common::fix_png_crcs(bytes.to_vec());
             &repaired[..]
         } else {
             bytes

@@ -2,6 +2,7 @@
 //! no hang, and no allocation beyond the limit on any mutant of the shipped
 //! specs. See `tests/fuzz_common` for the loop and `make fuzz` for a longer
 //! run.
+mod common;
 mod fuzz_common;
 
 use std::path::Path;
@@ -52,19 +53,9 @@ fn campaign_specs_survive_mutation() {
 /// 4.7 GB and aborted).
 #[test]
 fn a_huge_grid_is_refused_within_a_small_heap() {
-    let list = |from: f64| {
-        let v: Vec<String> = (0..1000)
-            .map(|i| format!("{}", from + i as f64 * 1e-4))
-            .collect();
-        format!("[{}]", v.join(", "))
-    };
-    let hms: Vec<String> = (1..=1000).map(|i| i.to_string()).collect();
     let text = format!(
-        "[experiment]\nname = \"g\"\nseed = 1\nruns = 1\nbudget = 100\n[[problem]]\nfunction = \"sphere\"\ndim = 2\n[[algorithm]]\nname = \"hs\"\nhmcr = {}\npar = {}\nbw = {}\nhms = [{}]\n",
-        list(0.5),
-        list(0.2),
-        list(0.001),
-        hms.join(", ")
+        "[experiment]\nname = \"g\"\nseed = 1\nruns = 1\nbudget = 100\n[[problem]]\nfunction = \"sphere\"\ndim = 2\n[[algorithm]]\nname = \"hs\"\n{}",
+        common::thousand_value_hs_grid()
     );
     let (result, peak) = fuzz_common::with_limit(64 << 20, || {
         metabezier::experiment::Spec::parse(Path::new("grid.toml"), &text)
@@ -79,10 +70,10 @@ fn a_huge_grid_is_refused_within_a_small_heap() {
     // At the run limit without the cell limit: 10⁴ cells × 10³ runs.
     let text = text
         .replace("runs = 1\n", "runs = 1000\n")
-        .replace(&format!("par = {}\n", list(0.2)), "")
-        .replace(&format!("bw = {}\n", list(0.001)), "")
+        .replace(&format!("par = {}\n", common::thousand_reals(0.2)), "")
+        .replace(&format!("bw = {}\n", common::thousand_reals(0.001)), "")
         .replace(
-            &format!("hms = [{}]\n", hms.join(", ")),
+            &format!("hms = {}\n", common::thousand_counts()),
             "hms = [1, 2, 3, 4, 5, 6, 7, 8, 9, 10]\n",
         );
     let (result, peak) = fuzz_common::with_limit(64 << 20, || {

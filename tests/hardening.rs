@@ -3,6 +3,8 @@
 //! path safely, lost writes that fail the command, and results that appear
 //! whole or not at all.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -148,20 +150,7 @@ fn check_refuses_what_run_refuses_with_the_same_message() {
 #[test]
 fn grids_are_counted_before_they_are_expanded() {
     let dir = tempfile::tempdir().unwrap();
-    let list = |from: f64| {
-        let v: Vec<String> = (0..1000)
-            .map(|i| format!("{}", from + i as f64 * 1e-4))
-            .collect();
-        format!("[{}]", v.join(", "))
-    };
-    let hms: Vec<String> = (1..=1000).map(|i| i.to_string()).collect();
-    let grid = format!(
-        "hmcr = {}\npar = {}\nbw = {}\nhms = [{}]\n",
-        list(0.5),
-        list(0.2),
-        list(0.001),
-        hms.join(", ")
-    );
+    let grid = common::thousand_value_hs_grid();
     let p = write(dir.path(), "grid.toml", &small_spec("", &grid));
     let e = refused_alike(&p, &dir.path().join("o"));
     assert!(

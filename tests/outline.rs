@@ -1,6 +1,8 @@
 //! Outline input on the vendored real data (data/outlines/, see PROVENANCE.md)
 //! and the user-facing errors.
 
+mod common;
+
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
@@ -758,29 +760,13 @@ fn glyph_sampling_is_bounded() {
     );
 }
 
-/// `data` with every complete chunk's CRC recomputed.
-fn fix_png_crcs(mut png: Vec<u8>) -> Vec<u8> {
-    let mut at = 8;
-    while at + 12 <= png.len() {
-        let len = u32::from_be_bytes(png[at..at + 4].try_into().unwrap()) as usize;
-        let Some(end) = (at + 8).checked_add(len).filter(|e| e + 4 <= png.len()) else {
-            break;
-        };
-        let mut crc = flate2::Crc::new();
-        crc.update(&png[at + 4..end]);
-        png[end..end + 4].copy_from_slice(&crc.sum().to_be_bytes());
-        at = end + 4;
-    }
-    png
-}
-
 /// `png` with its header's width, height and bit depth replaced (CRC fixed).
 fn with_header(png: &[u8], width: u32, height: u32, depth: u8) -> Vec<u8> {
     let mut p = png.to_vec();
     p[16..20].copy_from_slice(&width.to_be_bytes());
     p[20..24].copy_from_slice(&height.to_be_bytes());
     p[24] = depth;
-    fix_png_crcs(p)
+    common::fix_png_crcs(p)
 }
 
 /// A PNG header declaring more pixels than the file can hold used to make

@@ -1,4 +1,5 @@
 //! Helpers shared by the integration tests that include this module.
+#![allow(dead_code)]
 
 /// A right-handed oblique frame: the voxel axes turned 15° about z, then
 /// 10° about x.
@@ -19,4 +20,47 @@ pub fn oblique_axes() -> [[f64; 3]; 3] {
         ]
     };
     metabezier::ct::IDENTITY_AXES.map(|v| rx(rz(v)))
+}
+
+/// `png` with every complete chunk's CRC recomputed, so that a mutation of
+/// a header or a length reaches the code behind the CRC check.
+pub fn fix_png_crcs(mut png: Vec<u8>) -> Vec<u8> {
+    let mut at = 8;
+    while at + 12 <= png.len() {
+        let len = u32::from_be_bytes(png[at..at + 4].try_into().unwrap()) as usize;
+        let Some(end) = (at + 8).checked_add(len).filter(|e| e + 4 <= png.len()) else {
+            break;
+        };
+        let mut crc = flate2::Crc::new();
+        crc.update(&png[at + 4..end]);
+        png[end..end + 4].copy_from_slice(&crc.sum().to_be_bytes());
+        at = end + 4;
+    }
+    png
+}
+
+/// A TOML list of 1,000 reals from `from` in steps of 10⁻⁴.
+pub fn thousand_reals(from: f64) -> String {
+    let v: Vec<String> = (0..1000)
+        .map(|i| format!("{}", from + i as f64 * 1e-4))
+        .collect();
+    format!("[{}]", v.join(", "))
+}
+
+/// The TOML list 1, 2, …, 1000.
+pub fn thousand_counts() -> String {
+    let v: Vec<String> = (1..=1000).map(|i| i.to_string()).collect();
+    format!("[{}]", v.join(", "))
+}
+
+/// HS's `hmcr`, `par`, `bw` and `hms`, each a list of 1,000 values: a grid
+/// of 10¹² cells in about 30 KB of spec.
+pub fn thousand_value_hs_grid() -> String {
+    format!(
+        "hmcr = {}\npar = {}\nbw = {}\nhms = {}\n",
+        thousand_reals(0.5),
+        thousand_reals(0.2),
+        thousand_reals(0.001),
+        thousand_counts()
+    )
 }
