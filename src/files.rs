@@ -221,11 +221,6 @@ fn remove_stale_staging(dir: &Path) {
     }
 }
 
-/// Reads the whole of `path` as UTF-8 text.
-pub fn read_text(path: &Path) -> Result<String, IoError> {
-    std::fs::read_to_string(path).map_err(|e| IoError::new("read", path, e))
-}
-
 /// The largest text file (spec, template) the readers take: 16 MiB.
 ///
 /// A spec of the thesis's campaigns is a few KiB; a generated one with

@@ -18,7 +18,7 @@ use super::runner::{
 };
 use super::spec::Spec;
 use super::{CampaignAction, CampaignError, ExperimentError};
-use crate::files::{read_text, write_atomic, IoError};
+use crate::files::{read_text_limited, write_atomic, IoError, MAX_TEXT_BYTES};
 
 /// The result directories a merge joins, found from the directories given.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -326,7 +326,10 @@ fn read_shards(
     let mut done: HashMap<usize, RunRecord> = HashMap::new();
     for dir in dirs {
         let copy = dir.join("spec.toml");
-        if read_text(&copy)? != spec.text {
+        // A copy over the spec size limit cannot be the spec: read no more.
+        let text = read_text_limited(&copy, MAX_TEXT_BYTES, "a spec")
+            .map_err(|e| IoError::new("read", &copy, e))?;
+        if text != spec.text {
             return Err(CampaignError::DifferentSpec {
                 copy,
                 spec: spec.path.clone(),
