@@ -8,7 +8,7 @@
 //! Sphere-30 for every optimiser, with ≤ 2 as the stretch (the optimiser's
 //! own work per evaluation costs at most one Sphere-30 evaluation).
 //! `make bench` prints the ratio table at the end. Every algorithm of
-//! `Algorithm::NAMES` is benched, L-SHADE and random search included
+//! `Algorithm::names()` is benched, L-SHADE and random search included
 //! (random search's ratio is the floor: drawing uniform points and the
 //! evaluator's bookkeeping).
 //!
@@ -46,8 +46,8 @@ use metabezier::functions::{Function, TestProblem};
 use metabezier::linalg::symmetric_eigen;
 use metabezier::optim::harmony::{BoundColumns, HarmonyMemory, Improvisation};
 use metabezier::optim::params::{ParamSet, Raw};
+use metabezier::optim::Algorithm;
 use metabezier::optim::Evaluator;
-use metabezier::optim::{Algorithm, Optimiser};
 use metabezier::problem::{BoundPolicy, Problem};
 use metabezier::rng::{lane_steps, run_rng, Draw, Words};
 use metabezier::simd::dispatch;
@@ -107,7 +107,7 @@ fn bench_function(c: &mut Criterion, f: Function, dim: usize) {
         })
     });
     group.throughput(Throughput::Elements(BUDGET));
-    for name in Algorithm::NAMES {
+    for name in Algorithm::names() {
         let algo = Algorithm::default_for(name).unwrap();
         group.bench_with_input(BenchmarkId::from_parameter(name), &algo, |b, algo| {
             let mut seed = 0;
@@ -332,7 +332,7 @@ fn main() {
         "rastrigin-30",
     ] {
         let bare = mean_ns(f, "bare").map(|t| t / POINTS as f64);
-        for name in Algorithm::NAMES {
+        for name in Algorithm::names() {
             if let (Some(run), Some(bare), Some(sphere)) = (mean_ns(f, name), bare, sphere_bare) {
                 let per_eval = run / BUDGET as f64;
                 let ratio = per_eval / bare;

@@ -11,12 +11,12 @@ use crate::error::{Error, UsageError};
 use crate::experiment::fit_files::write_fit_records;
 use crate::experiment::runner::{self, RunOptions, Shard};
 use crate::experiment::slurm::{self, SlurmOptions};
+use crate::experiment::Registry;
 use crate::experiment::{coco_log, Spec, SpecError, SpecLimits};
 use crate::files::{check_output_dir, IoError, Staging};
 use crate::fit::{Closing, FitOptions, FunctionType, SearchSpace};
 use crate::functions::{Function, Transform};
 use crate::geometry::{Continuity, Parameterisation, Point};
-use crate::optim::Algorithm;
 use crate::outline::{load_svg, CornerOptions, OutlineError};
 use crate::reconstruction::{
     save_shape, score, ContourChoice, LoadOptions, Method, OverlayFigure, Reconstruction,
@@ -547,9 +547,9 @@ fn list(w: &mut String) {
         w,
         "Algorithms (parameters with defaults and admissible values):"
     );
-    for name in Algorithm::NAMES {
-        say!(w, "\n  {name}");
-        let defs = Algorithm::params(name).unwrap_or(&[]);
+    for def in Registry::builtin().optimisers.iter() {
+        say!(w, "\n  {}  ({})", def.name, def.source);
+        let defs = def.params;
         if defs.is_empty() {
             say!(w, "    (no parameters)");
         }

@@ -140,7 +140,7 @@ fn bbob_campaigns_are_identical_with_one_and_two_threads_and_use_cocos_optimum()
 
 #[test]
 fn pso_reaches_cocos_final_target_on_f1_and_coco_counts_every_evaluation() {
-    use metabezier::optim::{Algorithm, Optimiser};
+    use metabezier::optim::Algorithm;
     use metabezier::rng::run_rng;
     let p = BbobProblem::new(1, 5, 2).unwrap();
     let pso = Algorithm::default_for("pso").unwrap();

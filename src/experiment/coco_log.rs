@@ -12,7 +12,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::runner::{minimise_benchmark, run_seed, Shard};
+use super::runner::{minimise_problem, run_seed, Shard};
 use super::spec::{ProblemKind, Spec};
 use super::ExperimentError;
 use crate::files::{create_dir, write_atomic, IoError};
@@ -75,7 +75,7 @@ pub fn write_coco_log(
             let problem =
                 BbobProblem::observed(function, entry.dim, entry.instance as usize, &observer)
                     .map_err(CocoLogError::from)?;
-            minimise_benchmark(spec, entry, algorithm, &*problem, fopt, run_seed(spec, *id));
+            minimise_problem(spec, entry, algorithm, &*problem, fopt, run_seed(spec, *id));
         }
         folders.push(PathBuf::from(observer.folder()));
     }

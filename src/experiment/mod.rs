@@ -14,6 +14,7 @@ pub mod coco_log;
 pub mod fit_files;
 pub mod journal;
 pub mod records;
+pub mod registry;
 pub mod runner;
 pub mod segments;
 pub mod shards;
@@ -26,6 +27,7 @@ use std::path::PathBuf;
 use crate::files::IoError;
 
 pub use records::{DataError, DataProblem, ReadError, RunRecord};
+pub use registry::{ProblemDef, ProblemRegistryError, Registry, SharedProblem};
 pub use runner::{run_campaign, RunOptions, Shard, ShardError, ShardProblem, Summary};
 pub use shards::{find_shards, merge, MergeInputs, ShardGap};
 pub use slurm::{SlurmError, SlurmOptions};

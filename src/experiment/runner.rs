@@ -27,7 +27,7 @@ use crate::files::{create_dir, csv_bytes, fmt_real, write_atomic, IoError};
 use crate::functions::{BbobProblem, TestProblem};
 use crate::optim::evaluator::log_checkpoints;
 use crate::optim::Algorithm;
-use crate::optim::{Evaluator, Optimiser, Outcome};
+use crate::optim::{Evaluator, Outcome};
 use crate::problem::Problem;
 use crate::reconstruction::Method;
 use crate::rng::{derive_seed, fnv1a64, run_rng, RNG_NAME};
@@ -344,27 +344,54 @@ impl Instances {
                         TestProblem::instance(*f, entry.dim, entry.transform, entry.instance)
                             .expect("instance checked when the spec loaded"),
                     ),
-                    ProblemKind::Fit(_) | ProblemKind::Bbob { .. } => None,
+                    _ => None,
                 })
                 .collect(),
         )
     }
 }
 
-/// Minimises a benchmark problem with optimum `f_star` under the run's
+/// The evaluator of a benchmark run with optimum `f_star`: the run's
 /// budget, target, target precisions and checkpoints.
-pub fn minimise_benchmark<P: Problem + ?Sized>(
+fn benchmark_evaluator<'p, P: Problem + ?Sized>(
+    spec: &Spec,
+    entry: &ProblemEntry,
+    problem: &'p P,
+    f_star: f64,
+) -> Evaluator<'p, P> {
+    Evaluator::new(problem, entry.budget)
+        .with_target(f_star + spec.threshold)
+        .with_targets(f_star, default_targets())
+        .with_checkpoints(log_checkpoints(entry.budget, spec.checkpoints_per_decade))
+}
+
+/// Minimises a built-in benchmark function with optimum `f_star` under the
+/// run's budget, target, target precisions and checkpoints, the problem's
+/// type known to the optimiser's loop.
+pub fn minimise_benchmark(
     spec: &Spec,
     entry: &ProblemEntry,
     algorithm: &Algorithm,
-    problem: &P,
+    problem: &TestProblem,
     f_star: f64,
     seed: u64,
 ) -> Outcome {
-    let mut eval = Evaluator::new(problem, entry.budget)
-        .with_target(f_star + spec.threshold)
-        .with_targets(f_star, default_targets())
-        .with_checkpoints(log_checkpoints(entry.budget, spec.checkpoints_per_decade));
+    let mut eval = benchmark_evaluator(spec, entry, problem, f_star);
+    algorithm.minimise_benchmark(&mut eval, &mut run_rng(seed));
+    eval.finish()
+}
+
+/// [`minimise_benchmark`] of any other problem (COCO's bbob, a registered
+/// one), reached through `dyn Problem`.
+pub fn minimise_problem(
+    spec: &Spec,
+    entry: &ProblemEntry,
+    algorithm: &Algorithm,
+    problem: &dyn Problem,
+    f_star: f64,
+    seed: u64,
+) -> Outcome {
+    let mut eval = benchmark_evaluator(spec, entry, problem, f_star);
     algorithm.minimise(&mut eval, &mut run_rng(seed));
     eval.finish()
 }
@@ -393,11 +420,15 @@ pub fn execute_on(spec: &Spec, instances: &Instances, id: RunId) -> RunRecord {
             // Each run owns its COCO problem: threads never share COCO state.
             let problem = BbobProblem::new(*function, entry.dim, entry.instance as usize)
                 .expect("the bbob problem was built when the spec loaded");
-            let out = minimise_benchmark(spec, entry, algorithm, &problem, *fopt, seed);
+            let out = minimise_problem(spec, entry, algorithm, &problem, *fopt, seed);
             debug_assert_eq!(problem.coco_evaluations(), out.evaluations);
             (out, None)
         }
-        (ProblemKind::Benchmark(_) | ProblemKind::Bbob { .. }, _) => {
+        (ProblemKind::Registered(r), Method::Metaheuristic(algorithm)) => {
+            let out = minimise_problem(spec, entry, algorithm, &*r.problem, r.optimum, seed);
+            (out, None)
+        }
+        (ProblemKind::Benchmark(_) | ProblemKind::Bbob { .. } | ProblemKind::Registered(_), _) => {
             unreachable!("the spec refuses least-squares methods on benchmark functions")
         }
         (ProblemKind::Fit(case), method) => {

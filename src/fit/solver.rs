@@ -4,11 +4,9 @@
 //! A [`SegmentSolver`] only sees a [`SegmentProblem`] and a budget; the
 //! piecewise fit does not know which algorithm it is driving.
 
-use crate::rng::Words;
-
 use super::{linear_fit, SegmentProblem};
 use crate::optim::lm::{LevenbergMarquardt, Termination};
-use crate::optim::{Optimiser, TracePoint};
+use crate::optim::{Runs, TracePoint};
 use crate::problem::Problem;
 
 /// One stage of a solve (a hybrid has two).
@@ -85,7 +83,7 @@ impl<S: SegmentSolver + ?Sized> SegmentSolver for Box<S> {
 /// (successive segments continue the same random stream, so a piecewise fit
 /// is reproducible from one seed).
 #[derive(Clone, Debug)]
-pub struct OptimiserSolver<O: Optimiser, R: Words> {
+pub struct OptimiserSolver<O, R> {
     /// The optimiser.
     pub optimiser: O,
     /// Its random generator.
@@ -94,7 +92,7 @@ pub struct OptimiserSolver<O: Optimiser, R: Words> {
     pub label: String,
 }
 
-impl<O: Optimiser, R: Words> OptimiserSolver<O, R> {
+impl<O, R> OptimiserSolver<O, R> {
     /// The solver running `optimiser` with `rng`.
     pub fn new(optimiser: O, rng: R) -> Self {
         Self {
@@ -111,12 +109,12 @@ impl<O: Optimiser, R: Words> OptimiserSolver<O, R> {
     }
 }
 
-impl<O: Optimiser, R: Words> SegmentSolver for OptimiserSolver<O, R> {
+impl<O: Runs<SegmentProblem, R>, R> SegmentSolver for OptimiserSolver<O, R> {
     fn solve(&mut self, problem: &SegmentProblem, budget: u64) -> Solution {
         if problem.dim() == 0 {
             return Solution::fixed(problem, budget);
         }
-        let out = self.optimiser.run(problem, budget, &mut self.rng);
+        let out = self.optimiser.run_on(problem, budget, &mut self.rng);
         Solution {
             value: out.best_value,
             evaluations: out.evaluations,
@@ -188,7 +186,7 @@ impl SegmentSolver for LmSolver {
 /// A metaheuristic on a share of the budget, then Levenberg–Marquardt from
 /// its best point with the rest; both stages are reported.
 #[derive(Clone, Debug)]
-pub struct HybridSolver<O: Optimiser, R: Words> {
+pub struct HybridSolver<O, R> {
     /// The global stage.
     pub global: OptimiserSolver<O, R>,
     /// The local polish.
@@ -197,7 +195,7 @@ pub struct HybridSolver<O: Optimiser, R: Words> {
     pub global_share: f64,
 }
 
-impl<O: Optimiser, R: Words> HybridSolver<O, R> {
+impl<O, R> HybridSolver<O, R> {
     /// `optimiser` on 80% of the budget, then LM.
     pub fn new(optimiser: O, rng: R) -> Self {
         Self {
@@ -208,7 +206,7 @@ impl<O: Optimiser, R: Words> HybridSolver<O, R> {
     }
 }
 
-impl<O: Optimiser, R: Words> SegmentSolver for HybridSolver<O, R> {
+impl<O: Runs<SegmentProblem, R>, R> SegmentSolver for HybridSolver<O, R> {
     fn solve(&mut self, problem: &SegmentProblem, budget: u64) -> Solution {
         if problem.dim() == 0 {
             return Solution::fixed(problem, budget);

@@ -862,6 +862,7 @@ impl ImplantSpec {
             path,
             text,
             limits: crate::experiment::spec::SpecLimits::DEFAULT,
+            registry: crate::experiment::Registry::builtin(),
         }
         .implant_spec()
     }

@@ -31,6 +31,7 @@ pub mod mhs;
 pub mod params;
 pub mod pso;
 pub mod random;
+pub mod registry;
 
 use std::fmt;
 
@@ -47,6 +48,9 @@ pub use mhs::ModifiedHarmonySearch;
 pub use params::{quoted_list, Kind, ParamDef, ParamSet, Raw, Setting, SettingError};
 pub use pso::ParticleSwarm;
 pub use random::RandomSearch;
+pub use registry::{
+    Algorithm, DynOptimiser, Factory, OptimiserDef, Optimisers, RegistryError, Runs,
+};
 
 use crate::problem::{BoundPolicy, Bounds, Problem};
 
@@ -151,105 +155,18 @@ pub fn policy_param(p: &ParamSet) -> BoundPolicy {
     BoundPolicy::from_name(p.choice("bounds")).unwrap_or_default()
 }
 
-/// One of the optimisers, configured; the unit an experiment spec names.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Algorithm {
-    /// Harmony Search.
-    Hs(HarmonySearch),
-    /// Global-best Harmony Search.
-    Ghs(GlobalBestHarmonySearch),
-    /// Real-coded Genetic Algorithm.
-    Ga(GeneticAlgorithm),
-    /// Particle Swarm Optimisation.
-    Pso(ParticleSwarm),
-    /// Modified Harmony Search (reconstruction).
-    Mhs(ModifiedHarmonySearch),
-    /// CMA-ES with restarts.
-    CmaEs(CmaEs),
-    /// L-SHADE: success-history adaptive DE with linear population size
-    /// reduction.
-    Lshade(Lshade),
-    /// Uniform random search.
-    Random(RandomSearch),
-}
-
-impl Algorithm {
-    /// The spec names of the algorithms.
-    pub const NAMES: [&'static str; 8] =
-        ["hs", "ghs", "ga", "pso", "mhs", "cmaes", "lshade", "random"];
-
-    /// The parameter declarations of the algorithm called `name`.
-    pub fn params(name: &str) -> Option<&'static [ParamDef]> {
-        Some(match name {
-            "hs" => &hs::PARAMS,
-            "ghs" => &ghs::PARAMS,
-            "ga" => &ga::PARAMS,
-            "pso" => &pso::PARAMS,
-            "mhs" => &mhs::PARAMS,
-            "cmaes" => &cmaes::PARAMS,
-            "lshade" => &lshade::PARAMS,
-            "random" => &random::PARAMS,
-            _ => return None,
-        })
-    }
-
-    /// Builds the algorithm called `name` from a parameter set made from
-    /// [`Algorithm::params`]`(name)`.
-    pub fn from_params(name: &str, p: &ParamSet) -> Result<Self, ParamError> {
-        Ok(match name {
-            "hs" => Self::Hs(HarmonySearch::from_params(p)?),
-            "ghs" => Self::Ghs(GlobalBestHarmonySearch::from_params(p)?),
-            "ga" => Self::Ga(GeneticAlgorithm::from_params(p)?),
-            "pso" => Self::Pso(ParticleSwarm::from_params(p)?),
-            "mhs" => Self::Mhs(ModifiedHarmonySearch::from_params(p)?),
-            "cmaes" => Self::CmaEs(CmaEs::from_params(p)?),
-            "lshade" => Self::Lshade(Lshade::from_params(p)?),
-            "random" => Self::Random(RandomSearch::from_params(p)?),
-            other => {
-                return Err(ParamError::new(
-                    "algorithm",
-                    format!("unknown algorithm \"{other}\""),
-                ))
-            }
-        })
-    }
-
-    /// The algorithm with its default parameters.
-    pub fn default_for(name: &str) -> Option<Self> {
-        let defs = Self::params(name)?;
-        Self::from_params(name, &ParamSet::defaults(defs)).ok()
-    }
-
-    /// The spec name of this algorithm.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Self::Hs(_) => "hs",
-            Self::Ghs(_) => "ghs",
-            Self::Ga(_) => "ga",
-            Self::Pso(_) => "pso",
-            Self::Mhs(_) => "mhs",
-            Self::CmaEs(_) => "cmaes",
-            Self::Lshade(_) => "lshade",
-            Self::Random(_) => "random",
-        }
-    }
-}
-
-impl Optimiser for Algorithm {
-    fn minimise<P: Problem + ?Sized, R: Words + ?Sized>(
-        &self,
-        eval: &mut Evaluator<'_, P>,
-        rng: &mut R,
-    ) {
-        match self {
-            Self::Hs(a) => a.minimise(eval, rng),
-            Self::Ghs(a) => a.minimise(eval, rng),
-            Self::Ga(a) => a.minimise(eval, rng),
-            Self::Pso(a) => a.minimise(eval, rng),
-            Self::Mhs(a) => a.minimise(eval, rng),
-            Self::CmaEs(a) => a.minimise(eval, rng),
-            Self::Lshade(a) => a.minimise(eval, rng),
-            Self::Random(a) => a.minimise(eval, rng),
-        }
-    }
+/// The built-in optimisers, one registration each, in the order
+/// `metabezier list` shows them. A new built-in optimiser is one module and
+/// one line here.
+fn builtin_optimisers() -> Vec<OptimiserDef> {
+    vec![
+        OptimiserDef::new("hs", &hs::PARAMS, "Geem, Kim & Loganathan 2001", HarmonySearch::from_params),
+        OptimiserDef::new("ghs", &ghs::PARAMS, "Omran & Mahdavi 2008", GlobalBestHarmonySearch::from_params),
+        OptimiserDef::new("ga", &ga::PARAMS, "real-coded GA (Goldberg 1989; Eshelman & Schaffer 1993)", GeneticAlgorithm::from_params),
+        OptimiserDef::new("pso", &pso::PARAMS, "Kennedy & Eberhart 1995; Shi & Eberhart 1998", ParticleSwarm::from_params),
+        OptimiserDef::new("mhs", &mhs::PARAMS, "the thesis's Modified HS (reconstructed)", ModifiedHarmonySearch::from_params),
+        OptimiserDef::new("cmaes", &cmaes::PARAMS, "Hansen & Ostermeier 2001; Hansen 2016; IPOP/BIPOP restarts (Auger & Hansen 2005; Hansen 2009)", CmaEs::from_params),
+        OptimiserDef::new("lshade", &lshade::PARAMS, "Tanabe & Fukunaga 2014", Lshade::from_params),
+        OptimiserDef::new("random", &random::PARAMS, "uniform random search (Brooks 1958)", RandomSearch::from_params),
+    ]
 }

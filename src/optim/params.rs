@@ -57,6 +57,19 @@ impl fmt::Display for Setting {
     }
 }
 
+impl Setting {
+    /// The value as a spec would write it, so that it can be checked
+    /// against a declaration again (a registered default, say).
+    pub fn to_raw(&self) -> Raw {
+        match self {
+            Setting::Count(n) => i64::try_from(*n).map_or(Raw::Float(*n as f64), Raw::Int),
+            Setting::Real(x) => Raw::Float(*x),
+            Setting::Choice(s) => Raw::Text((*s).to_owned()),
+            Setting::Sequence(v) => Raw::Text(v.join("+")),
+        }
+    }
+}
+
 /// A raw value from a spec, before validation.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Raw {

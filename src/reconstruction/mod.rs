@@ -27,7 +27,7 @@ use crate::fit::{
     fit_adaptive, fit_breaks, fit_independent, fit_segment_count, FitError, FitOptions,
     HybridSolver, LmSolver, OptimiserSolver, PiecewiseFit, SegmentSolver, SplitOptions,
 };
-use crate::optim::Algorithm;
+use crate::optim::{Algorithm, Optimisers};
 use crate::outline::{find_corners, CornerOptions};
 use crate::rng::{run_rng, splitmix64};
 
@@ -57,22 +57,31 @@ impl Method {
     /// The suffix that turns a metaheuristic into a hybrid (`mhs+lm`).
     pub const POLISH_SUFFIX: &'static str = "+lm";
 
-    /// Every method name: the metaheuristics, `lm`, and each `<name>+lm`.
+    /// Every method name of the built-in optimisers
+    /// ([`Method::names_in`] of [`Optimisers::builtin`]).
     pub fn names() -> Vec<String> {
-        let mut out: Vec<String> = Algorithm::NAMES.iter().map(|s| s.to_string()).collect();
+        Self::names_in(Optimisers::builtin())
+    }
+
+    /// Every method name over the optimisers of `reg`: each optimiser,
+    /// `lm`, and each `<name>+lm`.
+    pub fn names_in(reg: &Optimisers) -> Vec<String> {
+        let names = reg.names();
+        let mut out: Vec<String> = names.iter().map(|s| s.to_string()).collect();
         out.push(Self::EXACT.into());
-        out.extend(
-            Algorithm::NAMES
-                .iter()
-                .map(|n| format!("{n}{}", Self::POLISH_SUFFIX)),
-        );
+        out.extend(names.iter().map(|n| format!("{n}{}", Self::POLISH_SUFFIX)));
         out
     }
 
-    /// Splits a method name into the metaheuristic whose parameters it
+    /// [`Method::parse_name_in`] over the built-in optimisers.
+    pub fn parse_name(name: &str) -> Option<(Option<&str>, bool)> {
+        Self::parse_name_in(name, Optimisers::builtin())
+    }
+
+    /// Splits a method name into the optimiser of `reg` whose parameters it
     /// takes (`None` for `lm`) and whether it is polished by LM; `None` if
     /// the name is unknown.
-    pub fn parse_name(name: &str) -> Option<(Option<&str>, bool)> {
+    pub fn parse_name_in<'n>(name: &'n str, reg: &Optimisers) -> Option<(Option<&'n str>, bool)> {
         if name == Self::EXACT {
             return Some((None, false));
         }
@@ -80,17 +89,21 @@ impl Method {
             Some(base) => (base, true),
             None => (name, false),
         };
-        Algorithm::NAMES
-            .contains(&base)
-            .then_some((Some(base), polish))
+        reg.get(base).is_some().then_some((Some(base), polish))
     }
 
     /// The method named `name` (see [`Method::names`]) with its
-    /// metaheuristic's default parameters; `None` if the name is unknown.
+    /// optimiser's default parameters; `None` if the name is unknown.
     pub fn from_name(name: &str) -> Option<Method> {
-        let (base, polish) = Self::parse_name(name)?;
+        Self::from_name_in(name, Optimisers::builtin())
+    }
+
+    /// The method named `name` over the optimisers of `reg`, with default
+    /// parameters; `None` if the name is unknown.
+    pub fn from_name_in(name: &str, reg: &Optimisers) -> Option<Method> {
+        let (base, polish) = Self::parse_name_in(name, reg)?;
         let algorithm = match base {
-            Some(b) => Some(Algorithm::default_for(b)?),
+            Some(b) => Some(reg.default_for(b)?),
             None => None,
         };
         Some(Self::build(algorithm, polish))

@@ -30,12 +30,14 @@
 use std::fmt;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use toml::de::{DeTable, DeValue};
 use toml::Spanned;
 
+use super::registry::{ProblemDef, Registry, SharedProblem};
 use crate::functions::{Function, TestProblem, Transform};
-use crate::optim::{quoted_list, Algorithm, ParamDef, ParamSet, Raw, Setting};
+use crate::optim::{quoted_list, ParamDef, ParamSet, Raw, Setting};
 use crate::reconstruction::Method;
 
 mod bbob;
@@ -189,6 +191,29 @@ pub enum ProblemKind {
     },
     /// A piecewise curve fit of an outline ([`crate::reconstruction`]).
     Fit(Box<FitCase>),
+    /// A problem registered by a library user ([`Registry::register_problem`]),
+    /// built at the entry's dimension when the spec loaded.
+    Registered(RegisteredProblem),
+}
+
+/// A registered problem at one dimension, built once and shared by its runs.
+#[derive(Clone)]
+pub struct RegisteredProblem {
+    /// Its registered name.
+    pub name: String,
+    /// Its optimum value `f*` at this dimension.
+    pub optimum: f64,
+    /// The problem.
+    pub problem: SharedProblem,
+}
+
+impl fmt::Debug for RegisteredProblem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("RegisteredProblem")
+            .field("name", &self.name)
+            .field("optimum", &self.optimum)
+            .finish()
+    }
 }
 
 impl ProblemEntry {
@@ -199,6 +224,7 @@ impl ProblemEntry {
             ProblemKind::Benchmark(f) => f.name().to_owned(),
             ProblemKind::Bbob { function, .. } => bbob::bbob_id(*function, self.instance, self.dim),
             ProblemKind::Fit(c) => c.name.clone(),
+            ProblemKind::Registered(r) => r.name.clone(),
         }
     }
 
@@ -254,11 +280,11 @@ impl ProblemEntry {
             Factor::Instance => Some(self.instance.to_string()),
             Factor::SearchSpace => match &self.kind {
                 ProblemKind::Fit(c) => Some(c.options.search.kind.name().to_owned()),
-                ProblemKind::Benchmark(_) | ProblemKind::Bbob { .. } => None,
+                _ => None,
             },
             Factor::AlphaSize => match &self.kind {
                 ProblemKind::Fit(c) => Some(crate::files::fmt_real(c.options.search.alpha_size)),
-                ProblemKind::Benchmark(_) | ProblemKind::Bbob { .. } => None,
+                _ => None,
             },
         }
     }
@@ -270,6 +296,7 @@ impl ProblemEntry {
             ProblemKind::Benchmark(f) => f.optimum_value(),
             ProblemKind::Bbob { fopt, .. } => *fopt,
             ProblemKind::Fit(_) => 0.0,
+            ProblemKind::Registered(r) => r.optimum,
         }
     }
 }
@@ -439,7 +466,49 @@ impl Spec {
 
     /// Validates spec text under `limits`.
     pub fn parse_with(path: &Path, text: &str, limits: SpecLimits) -> Result<Spec, SpecError> {
-        Parser { path, text, limits }.spec()
+        Spec::parse_in(path, text, limits, Registry::builtin())
+    }
+
+    /// Reads and validates a spec file under `limits`, its algorithm and
+    /// function names resolved in `registry`.
+    pub fn load_in(
+        path: &Path,
+        limits: SpecLimits,
+        registry: &Registry,
+    ) -> Result<Spec, SpecError> {
+        Spec::parse_in(path, &SpecError::read(path)?, limits, registry)
+    }
+
+    /// Validates spec text under `limits`, its algorithm and function
+    /// names resolved in `registry`.
+    ///
+    /// ```
+    /// use std::path::Path;
+    /// use metabezier::experiment::{Registry, Spec, SpecLimits};
+    ///
+    /// let text = "[experiment]\nname = \"tiny\"\nseed = 1\nruns = 2\nbudget = 500\n\n\
+    ///             [[problem]]\nfunction = \"sphere\"\ndim = 3\n\n\
+    ///             [[algorithm]]\nname = \"hs\"\n";
+    /// let spec = Spec::parse_in(Path::new("tiny.toml"), text, SpecLimits::DEFAULT, Registry::builtin())
+    ///     .unwrap();
+    /// assert_eq!(spec.run_count(), 2);
+    /// // An unknown name is refused with the valid choices.
+    /// let bad = Spec::parse(Path::new("tiny.toml"), &text.replace("\"hs\"", "\"hz\"")).unwrap_err();
+    /// assert!(bad.to_string().contains("unknown algorithm \"hz\""));
+    /// ```
+    pub fn parse_in(
+        path: &Path,
+        text: &str,
+        limits: SpecLimits,
+        registry: &Registry,
+    ) -> Result<Spec, SpecError> {
+        Parser {
+            path,
+            text,
+            limits,
+            registry,
+        }
+        .spec()
     }
 
     /// All runs in the campaign's fixed order: problem, then cell, then run.
@@ -481,6 +550,8 @@ pub(crate) struct Parser<'a> {
     pub(crate) text: &'a str,
     /// The limits of runs and budgets (the implant spec has neither).
     pub(crate) limits: SpecLimits,
+    /// The optimisers and problems names resolve in.
+    pub(crate) registry: &'a Registry,
 }
 
 pub(crate) type Table<'i> = DeTable<'i>;
@@ -1105,6 +1176,14 @@ impl<'a> Parser<'a> {
             .fold(1u128, |n, &k| n.saturating_mul(k as u128));
             self.check_problem_count(out.len(), count, &entry.span(), &section)?;
             for (f, fspan) in &functions {
+                let f = match f {
+                    FunctionRef::Builtin(f) => f,
+                    FunctionRef::Registered(def) => {
+                        let at = (fspan, section.as_str(), budget);
+                        self.registered_problems(def, at, &dims, &transforms, &mut out, &mut seen)?;
+                        continue;
+                    }
+                };
                 for (dim, dspan) in &dims {
                     let dim = self.problem_dim(*f, *dim, fspan, dspan, &section)?;
                     for (t, tspan) in &transforms {
@@ -1235,21 +1314,90 @@ impl<'a> Parser<'a> {
             .collect()
     }
 
+    /// The problems of a registered function `def` at each of `dims` (one
+    /// budget each, as for the built-ins); a registered problem has no
+    /// transform and no instances, and is built here, so that a builder's
+    /// refusal is an error of the spec, located at the dimension.
+    fn registered_problems(
+        &self,
+        def: &ProblemDef,
+        (fspan, section, budget): (&Range<usize>, &str, &Budget),
+        dims: &[WithSpan<Option<usize>>],
+        transforms: &[WithSpan<Transform>],
+        out: &mut Vec<ProblemEntry>,
+        seen: &mut std::collections::HashSet<String>,
+    ) -> Result<(), SpecError> {
+        if let Some((_, tspan)) = transforms.iter().find(|(t, _)| *t != Transform::None) {
+            return Err(self.error(
+                tspan.clone(),
+                &format!("{section}.transform"),
+                format!(
+                    "{} is a registered problem, which has no transforms; give it in a [[problem]] of its own without \"transform\"",
+                    def.name
+                ),
+            ));
+        }
+        for (dim, dspan) in dims {
+            let Some(dim) = *dim else {
+                return Err(self.error(
+                    fspan.clone(),
+                    &format!("{section}.dim"),
+                    format!(
+                        "missing \"dim\": {} is a registered problem and needs a dimension",
+                        def.name
+                    ),
+                ));
+            };
+            let problem = def
+                .instance(dim)
+                .map_err(|e| self.error(dspan.clone(), &format!("{section}.dim"), e))?;
+            for b in self.dim_budgets(budget, dim, dspan, section)? {
+                let p = ProblemEntry {
+                    kind: ProblemKind::Registered(RegisteredProblem {
+                        name: def.name.clone(),
+                        optimum: def.optimum(dim),
+                        problem: problem.clone(),
+                    }),
+                    dim,
+                    budget: b,
+                    budget_factor: budget.is_grid(),
+                    transform: Transform::None,
+                    instance: 1,
+                };
+                if !seen.insert(p.key()) {
+                    return Err(self.error(
+                        fspan.clone(),
+                        section,
+                        format!("problem {} is listed twice", p.key()),
+                    ));
+                }
+                out.push(p);
+            }
+        }
+        Ok(())
+    }
+
     /// The required `function` of a `[[problem]]`: the benchmark functions
-    /// with their spans.
+    /// (built-in or registered) with their spans.
     fn problem_functions(
         &self,
         table: &Table<'_>,
         section: &str,
         entry: &Value<'_>,
-    ) -> Result<Vec<WithSpan<Function>>, SpecError> {
+    ) -> Result<Vec<WithSpan<FunctionRef>>, SpecError> {
         let fv = self.required(table, section, "function", entry.span())?;
         let field = format!("{section}.function");
         let mut functions = Vec::new();
         for v in self.one_or_many(fv, &field)? {
             let name = self.string(v, &field)?;
-            let f = Function::from_name(&name).ok_or_else(|| {
-                let names: Vec<&str> = Function::ALL.iter().map(|f| f.name()).collect();
+            let builtin = Function::from_name(&name).map(FunctionRef::Builtin);
+            let registered = || {
+                self.registry
+                    .problem(&name)
+                    .map(|d| FunctionRef::Registered(d.clone()))
+            };
+            let f = builtin.or_else(registered).ok_or_else(|| {
+                let names = self.registry.function_names();
                 self.error(
                     v.span(),
                     &field,
@@ -1423,7 +1571,13 @@ impl<'a> Parser<'a> {
     ) -> Result<AlgorithmEntry, SpecError> {
         let (name, base, polish) = self.method_name(table, &section, span.clone(), benchmarks)?;
         let defs: &'static [ParamDef] = match &base {
-            Some(b) => Algorithm::params(b).expect("a known algorithm"),
+            Some(b) => {
+                self.registry
+                    .optimisers
+                    .get(b)
+                    .expect("a known algorithm")
+                    .params
+            }
             None => &[],
         };
         let label = self.cell_label(table, &section, &name)?;
@@ -1452,12 +1606,13 @@ impl<'a> Parser<'a> {
         let nv = self.required(table, section, "name", span)?;
         let field = format!("{section}.name");
         let name = self.string(nv, &field)?;
-        let (base, polish) = Method::parse_name(&name).ok_or_else(|| {
+        let optimisers = &self.registry.optimisers;
+        let (base, polish) = Method::parse_name_in(&name, optimisers).ok_or_else(|| {
             // Only the methods that can solve this spec's problems.
             let names = if benchmarks {
-                Algorithm::NAMES.iter().map(|s| s.to_string()).collect()
+                optimisers.names().iter().map(|s| s.to_string()).collect()
             } else {
-                Method::names()
+                Method::names_in(optimisers)
             };
             let names: Vec<&str> = names.iter().map(String::as_str).collect();
             self.error(
@@ -1475,7 +1630,7 @@ impl<'a> Parser<'a> {
                 &field,
                 format!(
                     "\"{name}\" uses Levenberg–Marquardt, which solves least-squares fitting problems only, but this spec has [[problem]] benchmark functions; use it with [[fit]] problems, or choose one of {}",
-                    quoted_list(&Algorithm::NAMES)
+                    quoted_list(&optimisers.names())
                 ),
             ));
         }
@@ -1578,7 +1733,7 @@ impl<'a> Parser<'a> {
         }
         let algorithm = match &entry.base {
             None => None,
-            Some(b) => Some(Algorithm::from_params(b, &params).map_err(|e| {
+            Some(b) => Some(self.registry.optimisers.build(b, &params).map_err(|e| {
                 let sp = spans
                     .iter()
                     .find(|(n, _)| *n == e.param)
@@ -1614,6 +1769,14 @@ struct AlgorithmEntry {
     defs: &'static [ParamDef],
     /// The listed values of each parameter, in `defs` order.
     axes: Vec<Axis>,
+}
+
+/// A `[[problem]] function` name, resolved.
+enum FunctionRef {
+    /// One of the thesis's functions.
+    Builtin(Function),
+    /// A registered problem.
+    Registered(Arc<ProblemDef>),
 }
 
 /// The values listed for one parameter, each with its span; empty when the
