@@ -3,11 +3,12 @@ CARGO ?= cargo
 BIN := target/release/metabezier
 SPECS := experiments
 
-.PHONY: help build quick test fuzz test-cluster bench speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all fmt lint clean-results
+.PHONY: help build quick test examples fuzz test-cluster bench speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all fmt lint clean-results
 
 help:
 	@echo "make quick          run experiments/quick.toml (seconds) into results/quick/"
 	@echo "make test           the whole test suite, rustfmt check and clippy -D warnings"
+	@echo "make examples       the library examples (examples/*.rs): your own optimiser and problem in a campaign"
 	@echo "make fuzz           the seeded fuzz loops of tests/fuzz_*.rs with 100,000 mutants per reader (minutes)"
 	@echo "make test-cluster   a campaign as a Slurm array job on a private one-node Slurm (root; installs slurm-wlm, munge)"
 	@echo "make bench          criterion benchmarks: optimiser overhead per evaluation, cost of E per fitting function"
@@ -31,8 +32,20 @@ quick: build
 test:
 	$(CARGO) fmt --all -- --check
 	$(CARGO) test --release --locked
+	$(MAKE) examples
 	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --no-deps --locked
 	$(CARGO) clippy --release --locked --all-targets -- -D warnings
+
+# The library examples, each a campaign through the library into a fresh
+# directory (tests/registry.rs checks their results on 1 and 2 threads).
+EXAMPLES := custom_optimiser custom_problem
+examples:
+	@set -e; for e in $(EXAMPLES); do \
+	  out=$$(mktemp -d); \
+	  $(CARGO) run --release --locked --example $$e -- $$out/$$e; \
+	  test -s $$out/$$e/runs.csv && test -s $$out/$$e/report.md; \
+	  rm -rf $$out; \
+	done
 
 # The fuzz loops of `make test` (a few thousand mutants per reader), longer.
 FUZZ_MUTANTS ?= 100000

@@ -160,6 +160,56 @@ fn bench_overhead(c: &mut Criterion, dim: usize) {
     group.finish();
 }
 
+/// The cost of the registry, side by side in one process: a run of
+/// [`OVERHEAD_EVALS`] evaluations of HS and of PSO on Sphere-`dim`, called
+/// as its own type (`direct`), through the registry's [`Algorithm`] on the
+/// built-in function (`registry`, the runner's path for the thesis's
+/// functions) and through `dyn Problem` (`registry-dyn`, the path of bbob,
+/// fitting and registered problems).
+fn bench_registry(c: &mut Criterion, dim: usize) {
+    use metabezier::optim::{HarmonySearch, Optimiser, ParticleSwarm};
+    let problem = TestProblem::new(Function::Sphere, dim).unwrap();
+    let mut group = c.benchmark_group(format!("registry-sphere-{dim}"));
+    group.throughput(Throughput::Elements(OVERHEAD_EVALS));
+    fn direct<O: Optimiser>(
+        group: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+        name: &str,
+        o: &O,
+        p: &TestProblem,
+    ) {
+        group.bench_function(format!("{name}-direct"), |b| {
+            let mut seed = 0;
+            b.iter(|| {
+                seed += 1;
+                o.run(p, OVERHEAD_EVALS, &mut run_rng(seed)).best_value
+            })
+        });
+    }
+    direct(&mut group, "hs", &HarmonySearch::default(), &problem);
+    direct(&mut group, "pso", &ParticleSwarm::default(), &problem);
+    for name in ["hs", "pso"] {
+        let algo = Algorithm::default_for(name).unwrap();
+        group.bench_function(format!("{name}-registry"), |b| {
+            let mut seed = 0;
+            b.iter(|| {
+                seed += 1;
+                algo.run(&problem, OVERHEAD_EVALS, &mut run_rng(seed))
+                    .best_value
+            })
+        });
+        group.bench_function(format!("{name}-registry-dyn"), |b| {
+            let mut seed = 0;
+            b.iter(|| {
+                seed += 1;
+                let mut eval = Evaluator::new(&problem as &dyn Problem, OVERHEAD_EVALS);
+                algo.minimise(&mut eval, &mut run_rng(seed));
+                eval.finish().best_value
+            })
+        });
+    }
+    group.finish();
+}
+
 /// [`symmetric_eigen`] of a covariance matrix as CMA-ES meets one (a
 /// rotated spectrum `10^{6k/(D−1)}`, compiled for the CPU as in a run) at
 /// D = 10, 30 and 100: the `O(D³)` part of CMA-ES's overhead.
@@ -315,6 +365,9 @@ fn main() {
     bench_eigen(&mut c);
     for dim in [10, 30, 100] {
         bench_overhead(&mut c, dim);
+    }
+    for dim in [2, 30] {
+        bench_registry(&mut c, dim);
     }
     c.final_summary();
     println!("\nTime per evaluation inside each optimiser against the bare function:");

@@ -7,6 +7,15 @@
 
 /// Closed bounds `[lower, upper]` on one decision variable `x_i`
 /// (the thesis's `Lx_i ≤ x_i ≤ Ux_i`).
+///
+/// ```
+/// use metabezier::problem::{BoundPolicy, Bounds};
+///
+/// let b = Bounds::new(-1.0, 3.0);
+/// assert_eq!(b.width(), 4.0);
+/// assert_eq!(b.repair(5.0, BoundPolicy::Clip), 3.0);
+/// assert_eq!(b.repair(3.5, BoundPolicy::Reflect), 2.5);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Bounds {
     /// Lower bound `Lx_i`.
@@ -133,6 +142,24 @@ impl Bounds {
 /// Implementations must return the same value for the same `x` (they are
 /// pure functions of `x`); a NaN or infinite value is allowed and is ranked
 /// worse than every finite value by the optimisers.
+///
+/// ```
+/// use metabezier::problem::{Bounds, Problem};
+///
+/// /// f(x) = Σ |x_i| on [−1, 1]^D.
+/// struct Abs(Vec<Bounds>);
+/// impl Problem for Abs {
+///     fn dim(&self) -> usize { self.0.len() }
+///     fn bounds(&self) -> &[Bounds] { &self.0 }
+///     fn objective(&self, x: &[f64]) -> f64 { x.iter().map(|v| v.abs()).sum() }
+/// }
+///
+/// let p = Abs(vec![Bounds::new(-1.0, 1.0); 3]);
+/// let mut out = [0.0; 2];
+/// // The default batch evaluation is the objective row by row.
+/// p.objective_batch(&[0.5, -0.5, 0.0, 1.0, 1.0, 1.0], &mut out);
+/// assert_eq!(out, [1.0, 3.0]);
+/// ```
 pub trait Problem {
     /// The number of decision variables `N_DV`.
     fn dim(&self) -> usize;

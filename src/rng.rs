@@ -369,6 +369,15 @@ pub fn fnv1a64(text: &str) -> u64 {
 /// Keys are the canonical texts of the cell and the problem (for example
 /// `hs[hms=5;hmcr=0.9;...]` and `sphere-30`), so adding a cell or problem to a
 /// spec never changes the seeds of the others.
+///
+/// ```
+/// use metabezier::rng::derive_seed;
+///
+/// let a = derive_seed(2026, "HS:hs[hms=5]", "sphere-30", 0);
+/// assert_eq!(a, derive_seed(2026, "HS:hs[hms=5]", "sphere-30", 0));
+/// assert_ne!(a, derive_seed(2026, "HS:hs[hms=5]", "sphere-30", 1));
+/// assert_ne!(a, derive_seed(2026, "HS:hs[hms=5]", "rastrigin-30", 0));
+/// ```
 pub fn derive_seed(master: u64, cell_key: &str, problem_key: &str, run: u32) -> u64 {
     let mut s = splitmix64(master);
     s = splitmix64(s ^ fnv1a64(cell_key));

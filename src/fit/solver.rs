@@ -79,7 +79,7 @@ impl<S: SegmentSolver + ?Sized> SegmentSolver for Box<S> {
     }
 }
 
-/// Any [`Optimiser`] as a segment solver, drawing from its own generator
+/// Any [`crate::optim::Optimiser`] or [`crate::optim::Algorithm`] as a segment solver, drawing from its own generator
 /// (successive segments continue the same random stream, so a piecewise fit
 /// is reproducible from one seed).
 #[derive(Clone, Debug)]

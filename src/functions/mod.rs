@@ -437,6 +437,19 @@ impl std::error::Error for FunctionError {}
 
 /// A benchmark [`Function`] at a fixed dimension `D`, on the box `domain()^D`:
 /// the [`Problem`] the optimisers of Omran & Mahdavi (2008) are compared on.
+///
+/// ```
+/// use metabezier::functions::{Function, TestProblem, Transform};
+/// use metabezier::problem::Problem;
+///
+/// let rastrigin = TestProblem::new(Function::Rastrigin, 10).unwrap();
+/// assert_eq!(rastrigin.objective(&[0.0; 10]), 0.0);
+/// // A shifted and rotated instance k moves the optimum, not its value.
+/// let moved = TestProblem::instance(Function::Rastrigin, 10, Transform::ShiftRotate, 3).unwrap();
+/// assert_eq!(moved.dim(), 10);
+/// // The camel-back function exists at D = 2 only.
+/// assert!(TestProblem::new(Function::SixHumpCamel, 3).is_err());
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct TestProblem {
     function: Function,

@@ -85,6 +85,19 @@ pub fn sanitise(value: f64) -> f64 {
 /// Counts evaluations against a budget, tracks the best-so-far and records
 /// the trace. Optimisers call [`Evaluator::evaluate`] for every objective
 /// value and stop when [`Evaluator::remaining`] is zero.
+///
+/// ```
+/// use metabezier::functions::{Function, TestProblem};
+/// use metabezier::optim::Evaluator;
+///
+/// let sphere = TestProblem::new(Function::Sphere, 2).unwrap();
+/// let mut eval = Evaluator::new(&sphere, 3).with_target(0.5);
+/// eval.evaluate(&[1.0, 1.0]);
+/// eval.evaluate(&[0.5, 0.0]);
+/// assert_eq!(eval.remaining(), 1);
+/// let out = eval.finish();
+/// assert_eq!((out.best_value, out.evaluations_to_target), (0.25, Some(2)));
+/// ```
 pub struct Evaluator<'p, P: Problem + ?Sized> {
     problem: &'p P,
     budget: u64,

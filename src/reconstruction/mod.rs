@@ -40,6 +40,16 @@ pub use source::{ContourChoice, LoadOptions, Source, SourceContour, SourceError}
 /// How a segment problem is solved.
 #[derive(Clone, Debug)]
 pub enum Method {
+    ///
+    /// ```
+    /// use metabezier::reconstruction::Method;
+    ///
+    /// assert_eq!(Method::from_name("mhs+lm").unwrap().name(), "mhs+lm");
+    /// assert!(!Method::from_name("lm").unwrap().is_stochastic());
+    /// assert!(Method::names().contains(&"cmaes".to_string()));
+    /// assert!(Method::from_name("lm+lm").is_none());
+    /// ```
+
     /// One of the metaheuristics (HS, GHS, GA, PSO, MHS, L-SHADE, random
     /// search) with its settings.
     Metaheuristic(Algorithm),
