@@ -63,14 +63,16 @@ pub(crate) fn check_finished(dir: &Path) -> Result<(), ReportError> {
     Ok(())
 }
 
-/// Where the spec does not load here (a fitting spec names its inputs
-/// relative to its original place), checks what its text alone allows:
+/// Where the spec does not load here (`why`: a fitting spec names its
+/// inputs relative to its original place, or a library program registered
+/// the optimisers or problems it names), checks what its text alone allows:
 /// every (algorithm, problem) of runs.csv has the runs 0..R−1 of the spec's
 /// `runs = R`. Returns the note that says so.
 fn check_run_numbers(
     spec_path: &Path,
     path: &Path,
     records: &[RunRecord],
+    why: &crate::experiment::SpecError,
 ) -> Result<Option<String>, ReportError> {
     let runs = std::fs::read_to_string(spec_path)
         .ok()
@@ -111,9 +113,13 @@ fn check_run_numbers(
             });
         }
     }
-    Ok(Some(
-        "spec.toml does not load here (its inputs are named relative to its original place), so runs.csv was checked against its number of runs, not against its problems.".into(),
-    ))
+    // The usual causes: a fitting spec names its inputs relative to its
+    // original place, or the spec names optimisers or problems registered
+    // by the program that ran it.
+    let why = why.to_string().replace('`', "'");
+    Ok(Some(format!(
+        "spec.toml does not load here (`{why}`), so runs.csv was checked against its number of runs, not against its problems."
+    )))
 }
 
 /// Checks the rows of `runs.csv` in `dir`: no run twice, and, when the
@@ -143,7 +149,7 @@ pub(crate) fn check_rows(dir: &Path, records: &[RunRecord]) -> Result<Option<Str
     }
     let spec = match Spec::load(&spec_path) {
         Ok(s) => s,
-        Err(_) => return check_run_numbers(&spec_path, &path, records),
+        Err(e) => return check_run_numbers(&spec_path, &path, records, &e),
     };
     let index = RunIndex::of(&spec);
     if let Some(r) = records.iter().find(|r| index.get(&r.key()).is_none()) {
