@@ -17,7 +17,7 @@ use metabezier::experiment::records::{
     heap_block, read_results, record_heap, RecordShape, RunRecord, SEGMENT_ROW_HEAP,
 };
 use metabezier::experiment::runner::{self, check_limits, estimated_bytes};
-use metabezier::experiment::spec::ProblemKind;
+use metabezier::experiment::spec::Benchmark;
 use metabezier::experiment::{RunOptions, Shard, Spec};
 
 extern "C" {
@@ -380,7 +380,7 @@ fn a_campaign_whose_records_exceed_the_limit_is_refused() {
         };
         check_limits(&spec, &shard).unwrap();
     }
-    assert!(matches!(spec.problems[0].kind, ProblemKind::Benchmark(_)));
+    assert!(spec.problems[0].kind_as::<Benchmark>().is_some());
 }
 
 #[test]

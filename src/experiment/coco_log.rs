@@ -12,8 +12,8 @@
 
 use std::path::{Path, PathBuf};
 
-use super::runner::{minimise_problem, run_seed, Shard};
-use super::spec::{ProblemKind, Spec};
+use super::runner::{run_seed, Shard};
+use super::spec::{minimise_problem, Bbob, Spec};
 use super::ExperimentError;
 use crate::files::{create_dir, write_atomic, IoError};
 use crate::functions::{BbobProblem, CocoObserver};
@@ -69,7 +69,7 @@ pub fn write_coco_log(
         let observer = CocoObserver::new(&outer, &name, &name).map_err(CocoLogError::from)?;
         for id in ids.iter().filter(|id| id.cell == c) {
             let entry = &spec.problems[id.problem];
-            let ProblemKind::Bbob { function, fopt } = entry.kind else {
+            let Some(&Bbob { function, fopt }) = entry.kind_as::<Bbob>() else {
                 continue;
             };
             let problem =
@@ -86,11 +86,7 @@ pub fn write_coco_log(
 /// written, before any run (and before COCO, which ends the process when it
 /// cannot create its folders).
 pub fn check(spec: &Spec, dir: &Path) -> Result<(), ExperimentError> {
-    if !spec
-        .problems
-        .iter()
-        .any(|p| matches!(p.kind, ProblemKind::Bbob { .. }))
-    {
+    if !spec.problems.iter().any(|p| p.kind_as::<Bbob>().is_some()) {
         return Err(CocoLogError::NoBbob(spec.path.clone()).into());
     }
     create_dir(dir)?;

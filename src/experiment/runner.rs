@@ -18,19 +18,11 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use super::journal;
-use super::records::default_targets;
 use super::records::{self, RunKey, RunRecord};
-use super::spec::ProblemEntry;
-use super::spec::{ProblemKind, RunId, Spec};
+use super::spec::{FitCase, RunId, Spec};
 use super::{CampaignAction, CampaignError, ExperimentError};
 use crate::files::{create_dir, csv_bytes, fmt_real, write_atomic, IoError};
-use crate::functions::{BbobProblem, TestProblem};
-use crate::optim::evaluator::log_checkpoints;
-use crate::optim::Algorithm;
-use crate::optim::{Evaluator, Outcome};
-use crate::problem::Problem;
-use crate::reconstruction::Method;
-use crate::rng::{derive_seed, fnv1a64, run_rng, RNG_NAME};
+use crate::rng::{derive_seed, fnv1a64, RNG_NAME};
 
 /// One slice `K/N` of a campaign: the runs whose index `i` has `i mod N = K − 1`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -174,24 +166,7 @@ pub fn estimated_shard_bytes(spec: &Spec, shard: Option<Shard>) -> u128 {
     let mut heap = 0u128;
     let mut count = 0u128;
     for (p, entry) in spec.problems.iter().enumerate() {
-        let (trace_points, hits, segments) = match &entry.kind {
-            ProblemKind::Fit(case) => {
-                let per_segment = entry.budget / entry.dim.max(1) as u64;
-                let points = if case.extended {
-                    // The union of the segments' checkpoints, and the
-                    // evaluation each segment stopped at.
-                    log_checkpoints(per_segment, spec.checkpoints_per_decade).len() + entry.dim
-                } else {
-                    0
-                };
-                (points, 0, entry.dim)
-            }
-            _ => (
-                log_checkpoints(entry.budget, spec.checkpoints_per_decade).len(),
-                default_targets().len(),
-                0,
-            ),
-        };
+        let (trace_points, hits, segments) = entry.kind.record_shape(spec, entry);
         let problem = entry.name().len();
         for (c, [label, kind, params]) in cells.iter().enumerate() {
             let first = (p as u128 * cells.len() as u128 + c as u128) * runs;
@@ -329,113 +304,13 @@ pub fn run_seed(spec: &Spec, id: RunId) -> u64 {
     )
 }
 
-/// The benchmark problems of a campaign, each drawn once (a rotation costs
-/// `O(D³)`) and shared by all its runs; `None` for fitting problems.
-pub struct Instances(Vec<Option<TestProblem>>);
-
-impl Instances {
-    /// The problems of `spec`.
-    pub fn of(spec: &Spec) -> Instances {
-        Instances(
-            spec.problems
-                .iter()
-                .map(|entry| match &entry.kind {
-                    ProblemKind::Benchmark(f) => Some(
-                        TestProblem::instance(*f, entry.dim, entry.transform, entry.instance)
-                            .expect("instance checked when the spec loaded"),
-                    ),
-                    _ => None,
-                })
-                .collect(),
-        )
-    }
-}
-
-/// The evaluator of a benchmark run with optimum `f_star`: the run's
-/// budget, target, target precisions and checkpoints.
-fn benchmark_evaluator<'p, P: Problem + ?Sized>(
-    spec: &Spec,
-    entry: &ProblemEntry,
-    problem: &'p P,
-    f_star: f64,
-) -> Evaluator<'p, P> {
-    Evaluator::new(problem, entry.budget)
-        .with_target(f_star + spec.threshold)
-        .with_targets(f_star, default_targets())
-        .with_checkpoints(log_checkpoints(entry.budget, spec.checkpoints_per_decade))
-}
-
-/// Minimises a built-in benchmark function with optimum `f_star` under the
-/// run's budget, target, target precisions and checkpoints, the problem's
-/// type known to the optimiser's loop.
-pub fn minimise_benchmark(
-    spec: &Spec,
-    entry: &ProblemEntry,
-    algorithm: &Algorithm,
-    problem: &TestProblem,
-    f_star: f64,
-    seed: u64,
-) -> Outcome {
-    let mut eval = benchmark_evaluator(spec, entry, problem, f_star);
-    algorithm.minimise_benchmark(&mut eval, &mut run_rng(seed));
-    eval.finish()
-}
-
-/// [`minimise_benchmark`] of any other problem (COCO's bbob, a registered
-/// one), reached through `dyn Problem`.
-pub fn minimise_problem(
-    spec: &Spec,
-    entry: &ProblemEntry,
-    algorithm: &Algorithm,
-    problem: &dyn Problem,
-    f_star: f64,
-    seed: u64,
-) -> Outcome {
-    let mut eval = benchmark_evaluator(spec, entry, problem, f_star);
-    algorithm.minimise(&mut eval, &mut run_rng(seed));
-    eval.finish()
-}
-
 /// Executes one run: derives its seed, minimises, and records the outcome.
 pub fn execute(spec: &Spec, id: RunId) -> RunRecord {
-    let instances = Instances::of(spec);
-    execute_on(spec, &instances, id)
-}
-
-/// Executes one run on the campaign's drawn problems.
-pub fn execute_on(spec: &Spec, instances: &Instances, id: RunId) -> RunRecord {
     let entry = &spec.problems[id.problem];
     let cell = &spec.cells[id.cell];
     let seed = run_seed(spec, id);
     let start = Instant::now();
-    let (outcome, fit) = match (&entry.kind, &cell.method) {
-        (ProblemKind::Benchmark(f), Method::Metaheuristic(algorithm)) => {
-            let problem = instances.0[id.problem]
-                .as_ref()
-                .expect("a benchmark problem has an instance");
-            let out = minimise_benchmark(spec, entry, algorithm, problem, f.optimum_value(), seed);
-            (out, None)
-        }
-        (ProblemKind::Bbob { function, fopt }, Method::Metaheuristic(algorithm)) => {
-            // Each run owns its COCO problem: threads never share COCO state.
-            let problem = BbobProblem::new(*function, entry.dim, entry.instance as usize)
-                .expect("the bbob problem was built when the spec loaded");
-            let out = minimise_problem(spec, entry, algorithm, &problem, *fopt, seed);
-            debug_assert_eq!(problem.coco_evaluations(), out.evaluations);
-            (out, None)
-        }
-        (ProblemKind::Registered(r), Method::Metaheuristic(algorithm)) => {
-            let out = minimise_problem(spec, entry, algorithm, &*r.problem, r.optimum, seed);
-            (out, None)
-        }
-        (ProblemKind::Benchmark(_) | ProblemKind::Bbob { .. } | ProblemKind::Registered(_), _) => {
-            unreachable!("the spec refuses least-squares methods on benchmark functions")
-        }
-        (ProblemKind::Fit(case), method) => {
-            let (outcome, detail) = case.run(method, seed, spec.threshold);
-            (outcome, Some(detail))
-        }
-    };
+    let (outcome, fit) = entry.kind.execute(spec, entry, &cell.method, seed);
     let wall_seconds = start.elapsed().as_secs_f64();
     RunRecord {
         algorithm: cell.label.clone(),
@@ -611,10 +486,7 @@ pub(super) fn write_results(spec: &Spec, out: &Path, records: &[RunRecord]) -> R
         .iter()
         .map(|p| (p.name(), p.optimum_value()))
         .collect();
-    let hits = spec
-        .problems
-        .iter()
-        .any(|p| !matches!(p.kind, ProblemKind::Fit(_)));
+    let hits = spec.problems.iter().any(|p| p.kind.has_targets());
     records::write_files(
         spec,
         out,
@@ -635,8 +507,8 @@ fn outlines_csv(spec: &Spec) -> Vec<u8> {
     let rows = spec
         .problems
         .iter()
-        .filter_map(|p| match &p.kind {
-            ProblemKind::Fit(c) if seen.insert(c.source_name.clone()) => Some(c),
+        .filter_map(|p| match p.kind_as::<FitCase>() {
+            Some(c) if seen.insert(c.source_name.clone()) => Some(c),
             _ => None,
         })
         .flat_map(|c| {
@@ -826,7 +698,6 @@ fn execute_journalled(
         .map_err(|e| IoError::new("open", journal_path, e))?;
     let journal = Mutex::new(journal);
     let bar = progress_bar(spec, todo.len(), opts.progress);
-    let instances = Instances::of(spec);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.threads.unwrap_or(0))
         .build()
@@ -843,7 +714,7 @@ fn execute_journalled(
                 if stop.load(std::sync::atomic::Ordering::Relaxed) {
                     return None;
                 }
-                let mut rec = execute_on(spec, &instances, spec.run_id(i));
+                let mut rec = execute(spec, spec.run_id(i));
                 // Held until the end: no spare capacity.
                 rec.trace.shrink_to_fit();
                 rec.hits.shrink_to_fit();

@@ -15,10 +15,17 @@
 
 use std::collections::HashSet;
 use std::ops::Range;
+use std::sync::Arc;
 
-use super::{choices_hint, Budget, Parser, ProblemEntry, ProblemKind, SpecError, Table, Value};
+use super::{
+    choices_hint, metaheuristic, minimise_problem, Budget, Factor, Parser, ProblemEntry,
+    ProblemKind, Spec, SpecError, Table, Value,
+};
+use crate::experiment::records::FitDetail;
 use crate::functions::bbob::{bbob_function, BbobProblem, BBOB_DIMENSIONS, BBOB_NAMES};
 use crate::functions::Transform;
+use crate::optim::Outcome;
+use crate::reconstruction::Method;
 
 /// The keys of a bbob `[[problem]]`.
 pub(super) const BBOB_KEYS: [&str; 6] = [
@@ -33,6 +40,57 @@ pub(super) const BBOB_KEYS: [&str; 6] = [
 /// COCO's id of a bbob problem: `bbob_f008_i02_d05`.
 pub fn bbob_id(function: usize, instance: u32, dim: usize) -> String {
     format!("bbob_f{function:03}_i{instance:02}_d{dim:02}")
+}
+
+/// Function `function` (1..=24) of COCO's bbob suite
+/// ([`crate::functions::bbob`]) at the entry's dimension and instance,
+/// whose optimum is `fopt`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bbob {
+    /// The bbob function index.
+    pub function: usize,
+    /// f* of the instance, from COCO.
+    pub fopt: f64,
+}
+
+impl ProblemKind for Bbob {
+    fn name(&self, entry: &ProblemEntry) -> String {
+        bbob_id(self.function, entry.instance, entry.dim)
+    }
+
+    fn seed_name(&self, entry: &ProblemEntry, paired: &[Factor]) -> String {
+        if paired.contains(&Factor::Instance) {
+            format!("bbob_f{:03}_d{:02}", self.function, entry.dim)
+        } else {
+            self.name(entry)
+        }
+    }
+
+    fn optimum(&self) -> f64 {
+        self.fopt
+    }
+
+    fn execute(
+        &self,
+        spec: &Spec,
+        entry: &ProblemEntry,
+        method: &Method,
+        seed: u64,
+    ) -> (Outcome, Option<FitDetail>) {
+        // Each run owns its COCO problem: threads never share COCO state.
+        let problem = BbobProblem::new(self.function, entry.dim, entry.instance as usize)
+            .expect("the bbob problem was built when the spec loaded");
+        let out = minimise_problem(
+            spec,
+            entry,
+            metaheuristic(method),
+            &problem,
+            self.fopt,
+            seed,
+        );
+        debug_assert_eq!(problem.coco_evaluations(), out.evaluations);
+        (out, None)
+    }
 }
 
 impl Parser<'_> {
@@ -69,7 +127,7 @@ impl Parser<'_> {
                         .fopt();
                     for b in self.dim_budgets(budget, d, dspan, section)? {
                         let p = ProblemEntry {
-                            kind: ProblemKind::Bbob { function: f, fopt },
+                            kind: Arc::new(Bbob { function: f, fopt }),
                             dim: d,
                             budget: b,
                             budget_factor: budget.is_grid(),

@@ -181,6 +181,61 @@ impl FitCase {
     }
 }
 
+impl ProblemKind for FitCase {
+    fn name(&self, _: &ProblemEntry) -> String {
+        self.name.clone()
+    }
+
+    fn seed_name(&self, _: &ProblemEntry, paired: &[Factor]) -> String {
+        FitCase::seed_name(self, paired)
+    }
+
+    fn factor_value(&self, factor: Factor) -> Option<String> {
+        match factor {
+            Factor::SearchSpace => Some(self.options.search.kind.name().to_owned()),
+            Factor::AlphaSize => Some(fmt_real(self.options.search.alpha_size)),
+            _ => None,
+        }
+    }
+
+    /// 0: the error of a fit is its `E`.
+    fn optimum(&self) -> f64 {
+        0.0
+    }
+
+    fn execute(
+        &self,
+        spec: &super::Spec,
+        _: &ProblemEntry,
+        method: &Method,
+        seed: u64,
+    ) -> (Outcome, Option<FitDetail>) {
+        let (outcome, detail) = self.run(method, seed, spec.threshold);
+        (outcome, Some(detail))
+    }
+
+    /// With the current records, the union of the segments' checkpoints
+    /// and the evaluation each segment stopped at; one row per segment.
+    fn record_shape(&self, spec: &super::Spec, entry: &ProblemEntry) -> (usize, usize, usize) {
+        let per_segment = entry.budget / entry.dim.max(1) as u64;
+        let points = if self.extended {
+            crate::optim::evaluator::log_checkpoints(per_segment, spec.checkpoints_per_decade).len()
+                + entry.dim
+        } else {
+            0
+        };
+        (points, 0, entry.dim)
+    }
+
+    fn least_squares(&self) -> bool {
+        true
+    }
+
+    fn has_targets(&self) -> bool {
+        false
+    }
+}
+
 /// A solver that returns the centre of the search box without searching:
 /// it checks that every segment problem of a case can be built.
 struct Dry;
@@ -329,9 +384,12 @@ impl Parser<'_> {
         // asks for it.
         let current = out
             .iter()
-            .any(|p| matches!(&p.kind, ProblemKind::Fit(c) if c.extended));
+            .any(|p| p.kind_as::<FitCase>().is_some_and(|c| c.extended));
         for p in &mut out {
-            if let ProblemKind::Fit(c) = &mut p.kind {
+            // Each case has one owner until the spec is returned.
+            let kind: Option<&mut dyn std::any::Any> =
+                Arc::get_mut(&mut p.kind).map(|k| k as &mut dyn std::any::Any);
+            if let Some(c) = kind.and_then(|k| k.downcast_mut::<FitCase>()) {
                 c.extended = current;
             }
         }
@@ -777,7 +835,7 @@ impl Parser<'_> {
                 .options
                 .budget_per_segment
                 .saturating_mul(segments as u64),
-            kind: ProblemKind::Fit(Box::new(case)),
+            kind: Arc::new(case),
             dim: segments,
             budget_factor: false,
             transform: Transform::None,

@@ -27,22 +27,29 @@
 //! Every error names the file, line, column and field, says what was
 //! expected and lists the valid choices.
 
+use std::any::Any;
 use std::fmt;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use toml::de::{DeTable, DeValue};
 use toml::Spanned;
 
+use super::records::{default_targets, FitDetail};
 use super::registry::{ProblemDef, Registry, SharedProblem};
 use crate::functions::{Function, TestProblem, Transform};
+use crate::optim::evaluator::log_checkpoints;
 use crate::optim::{quoted_list, ParamDef, ParamSet, Raw, Setting};
+use crate::optim::{Algorithm, Evaluator, Outcome};
+use crate::problem::Problem;
 use crate::reconstruction::Method;
+use crate::rng::run_rng;
 
 mod bbob;
 mod fit;
 
+pub use bbob::Bbob;
 pub use fit::FitCase;
 
 /// A spec that failed to load, located in its file.
@@ -115,7 +122,7 @@ impl SpecError {
 #[derive(Clone, Debug)]
 pub struct ProblemEntry {
     /// What is solved.
-    pub kind: ProblemKind,
+    pub kind: Arc<dyn ProblemKind>,
     /// The dimension of a benchmark function; the number of segments of a
     /// fitting case.
     pub dim: usize,
@@ -176,24 +183,155 @@ impl Factor {
     }
 }
 
-/// What a [`ProblemEntry`] solves.
-#[derive(Clone, Debug)]
-pub enum ProblemKind {
-    /// A benchmark function ([`crate::functions`]).
-    Benchmark(Function),
-    /// Function `function` (1..=24) of COCO's bbob suite
-    /// ([`crate::functions::bbob`]), whose optimum is `fopt`.
-    Bbob {
-        /// The bbob function index.
-        function: usize,
-        /// f* of the instance, from COCO.
-        fopt: f64,
-    },
-    /// A piecewise curve fit of an outline ([`crate::reconstruction`]).
-    Fit(Box<FitCase>),
-    /// A problem registered by a library user ([`Registry::register_problem`]),
-    /// built at the entry's dimension when the spec loaded.
-    Registered(RegisteredProblem),
+/// What a [`ProblemEntry`] solves: one problem of a family (the thesis's
+/// functions, COCO's bbob suite, an outline-fitting case, a registered
+/// problem), with everything the seeds, the runner and the records ask of
+/// it. The runner matches on no list of families: a new family implements
+/// this beside its own spec section, in its own file.
+pub trait ProblemKind: Any + Send + Sync + fmt::Debug {
+    /// The problem's name in results (`sphere`, `bbob_f001_i01_d10`,
+    /// `horse/cubic/g1`).
+    fn name(&self, entry: &ProblemEntry) -> String;
+
+    /// The name the seeds derive from when the `paired` factors are left
+    /// out of them; by default [`ProblemKind::name`].
+    fn seed_name(&self, entry: &ProblemEntry, paired: &[Factor]) -> String {
+        let _ = paired;
+        self.name(entry)
+    }
+
+    /// The value of a factor the family owns (a fitting case's search
+    /// space and `α_size`); `None` where it does not apply.
+    fn factor_value(&self, factor: Factor) -> Option<String> {
+        let _ = factor;
+        None
+    }
+
+    /// The optimum value `f*` errors are measured from.
+    fn optimum(&self) -> f64;
+
+    /// Executes one run of `method` seeded with `seed`: its outcome, and
+    /// for a fitting problem the fit's own record.
+    fn execute(
+        &self,
+        spec: &Spec,
+        entry: &ProblemEntry,
+        method: &Method,
+        seed: u64,
+    ) -> (Outcome, Option<FitDetail>);
+
+    /// The size of one run's record: its trace points, target hits (an
+    /// upper bound) and segment rows; by default a benchmark run's (the
+    /// spec's checkpoints and every target).
+    fn record_shape(&self, spec: &Spec, entry: &ProblemEntry) -> (usize, usize, usize) {
+        (
+            log_checkpoints(entry.budget, spec.checkpoints_per_decade).len(),
+            default_targets().len(),
+            0,
+        )
+    }
+
+    /// Whether least-squares methods (`lm`, `<alg>+lm`) solve it: only
+    /// fitting problems, whose objective is a sum of squares.
+    fn least_squares(&self) -> bool {
+        false
+    }
+
+    /// Whether its runs record target hits (`hits.csv`); fitting runs,
+    /// whose error is `E`, do not.
+    fn has_targets(&self) -> bool {
+        true
+    }
+}
+
+/// The evaluator of a benchmark run with optimum `f_star`: the run's
+/// budget, target, target precisions and checkpoints.
+pub fn benchmark_evaluator<'p, P: Problem + ?Sized>(
+    spec: &Spec,
+    entry: &ProblemEntry,
+    problem: &'p P,
+    f_star: f64,
+) -> Evaluator<'p, P> {
+    Evaluator::new(problem, entry.budget)
+        .with_target(f_star + spec.threshold)
+        .with_targets(f_star, default_targets())
+        .with_checkpoints(log_checkpoints(entry.budget, spec.checkpoints_per_decade))
+}
+
+/// Minimises `problem`, reached through `dyn Problem` (COCO's bbob, a
+/// registered problem), with optimum `f_star` under the run's budget,
+/// target, target precisions and checkpoints.
+pub fn minimise_problem(
+    spec: &Spec,
+    entry: &ProblemEntry,
+    algorithm: &Algorithm,
+    problem: &dyn Problem,
+    f_star: f64,
+    seed: u64,
+) -> Outcome {
+    let mut eval = benchmark_evaluator(spec, entry, problem, f_star);
+    algorithm.minimise(&mut eval, &mut run_rng(seed));
+    eval.finish()
+}
+
+/// The metaheuristic of a benchmark run: the spec refuses least-squares
+/// methods on benchmark functions.
+pub(crate) fn metaheuristic(method: &Method) -> &Algorithm {
+    match method {
+        Method::Metaheuristic(a) => a,
+        _ => unreachable!("the spec refuses least-squares methods on benchmark functions"),
+    }
+}
+
+/// One of the thesis's functions at a dimension, transform and instance;
+/// the problem is drawn on its first run (a rotation costs `O(D³)`) and
+/// shared by all its runs.
+#[derive(Debug)]
+pub struct Benchmark {
+    /// The function.
+    pub function: Function,
+    problem: OnceLock<TestProblem>,
+}
+
+impl Benchmark {
+    /// The function `function`, drawn when first run.
+    pub fn new(function: Function) -> Benchmark {
+        Benchmark {
+            function,
+            problem: OnceLock::new(),
+        }
+    }
+
+    /// The problem of `entry` (its dimension, transform and instance).
+    pub fn problem(&self, entry: &ProblemEntry) -> &TestProblem {
+        self.problem.get_or_init(|| {
+            TestProblem::instance(self.function, entry.dim, entry.transform, entry.instance)
+                .expect("instance checked when the spec loaded")
+        })
+    }
+}
+
+impl ProblemKind for Benchmark {
+    fn name(&self, _: &ProblemEntry) -> String {
+        self.function.name().to_owned()
+    }
+
+    fn optimum(&self) -> f64 {
+        self.function.optimum_value()
+    }
+
+    fn execute(
+        &self,
+        spec: &Spec,
+        entry: &ProblemEntry,
+        method: &Method,
+        seed: u64,
+    ) -> (Outcome, Option<FitDetail>) {
+        let problem = self.problem(entry);
+        let mut eval = benchmark_evaluator(spec, entry, problem, self.optimum());
+        metaheuristic(method).minimise_benchmark(&mut eval, &mut run_rng(seed));
+        (eval.finish(), None)
+    }
 }
 
 /// A registered problem at one dimension, built once and shared by its runs.
@@ -216,16 +354,33 @@ impl fmt::Debug for RegisteredProblem {
     }
 }
 
+impl ProblemKind for RegisteredProblem {
+    fn name(&self, _: &ProblemEntry) -> String {
+        self.name.clone()
+    }
+
+    fn optimum(&self) -> f64 {
+        self.optimum
+    }
+
+    fn execute(
+        &self,
+        spec: &Spec,
+        entry: &ProblemEntry,
+        method: &Method,
+        seed: u64,
+    ) -> (Outcome, Option<FitDetail>) {
+        let algorithm = metaheuristic(method);
+        let out = minimise_problem(spec, entry, algorithm, &*self.problem, self.optimum, seed);
+        (out, None)
+    }
+}
+
 impl ProblemEntry {
     /// The problem's name in results: the function's name, or the fitting
     /// case's `source/function/continuity[/search-space]`.
     pub fn name(&self) -> String {
-        match &self.kind {
-            ProblemKind::Benchmark(f) => f.name().to_owned(),
-            ProblemKind::Bbob { function, .. } => bbob::bbob_id(*function, self.instance, self.dim),
-            ProblemKind::Fit(c) => c.name.clone(),
-            ProblemKind::Registered(r) => r.name.clone(),
-        }
+        self.kind.name(self)
     }
 
     /// The stable key of the problem, used in seeds and for resuming:
@@ -251,14 +406,7 @@ impl ProblemEntry {
     }
 
     fn key_with(&self, paired: &[Factor], with_budget: bool) -> String {
-        let name = match &self.kind {
-            ProblemKind::Fit(c) => c.seed_name(paired),
-            ProblemKind::Bbob { function, .. } if paired.contains(&Factor::Instance) => {
-                format!("bbob_f{function:03}_d{:02}", self.dim)
-            }
-            _ => self.name(),
-        };
-        let mut key = format!("{name}-{}", self.dim);
+        let mut key = format!("{}-{}", self.kind.seed_name(self, paired), self.dim);
         if with_budget && self.budget_factor && !paired.contains(&Factor::Budget) {
             key.push_str(&format!("|budget={}", self.budget));
         }
@@ -278,26 +426,21 @@ impl ProblemEntry {
             Factor::Budget => Some(self.budget.to_string()),
             Factor::Transform => Some(self.transform.name().to_owned()),
             Factor::Instance => Some(self.instance.to_string()),
-            Factor::SearchSpace => match &self.kind {
-                ProblemKind::Fit(c) => Some(c.options.search.kind.name().to_owned()),
-                _ => None,
-            },
-            Factor::AlphaSize => match &self.kind {
-                ProblemKind::Fit(c) => Some(crate::files::fmt_real(c.options.search.alpha_size)),
-                _ => None,
-            },
+            Factor::SearchSpace | Factor::AlphaSize => self.kind.factor_value(factor),
         }
     }
 
     /// The optimum value `f*` errors are measured from (0 for fitting:
     /// the error of a fit is its `E`).
     pub fn optimum_value(&self) -> f64 {
-        match &self.kind {
-            ProblemKind::Benchmark(f) => f.optimum_value(),
-            ProblemKind::Bbob { fopt, .. } => *fopt,
-            ProblemKind::Fit(_) => 0.0,
-            ProblemKind::Registered(r) => r.optimum,
-        }
+        self.kind.optimum()
+    }
+
+    /// The problem as its own type, if it is a `K` (a family's own tools
+    /// read their problems so: COCO's logger its bbob problems, the
+    /// outlines file its fitting cases).
+    pub fn kind_as<K: ProblemKind>(&self) -> Option<&K> {
+        (&*self.kind as &dyn Any).downcast_ref::<K>()
     }
 }
 
@@ -684,9 +827,7 @@ impl<'a> Parser<'a> {
         self.check_sections(root)?;
         let header = self.experiment(root, doc.span())?;
         let problems = self.all_problems(root, header.budget.as_ref(), doc.span())?;
-        let benchmarks = problems
-            .iter()
-            .any(|p| !matches!(p.kind, ProblemKind::Fit(_)));
+        let benchmarks = problems.iter().any(|p| !p.kind.least_squares());
         let cells = self.cells(root, doc.span(), benchmarks, (problems.len(), header.runs))?;
         let paired = self.paired(root, &problems)?;
         Ok(Spec {
@@ -1204,7 +1345,7 @@ impl<'a> Parser<'a> {
                         for &instance in listed {
                             for b in self.dim_budgets(budget, dim, dspan, &section)? {
                                 let p = ProblemEntry {
-                                    kind: ProblemKind::Benchmark(*f),
+                                    kind: Arc::new(Benchmark::new(*f)),
                                     dim,
                                     budget: b,
                                     budget_factor: budget.is_grid(),
@@ -1353,7 +1494,7 @@ impl<'a> Parser<'a> {
                 .map_err(|e| self.error(dspan.clone(), &format!("{section}.dim"), e))?;
             for b in self.dim_budgets(budget, dim, dspan, section)? {
                 let p = ProblemEntry {
-                    kind: ProblemKind::Registered(RegisteredProblem {
+                    kind: Arc::new(RegisteredProblem {
                         name: def.name.clone(),
                         optimum: def.optimum(dim),
                         problem: problem.clone(),
