@@ -328,3 +328,39 @@ impl Problem for Wrapped {
         self.0.objective(x)
     }
 }
+
+#[test]
+fn a_registered_problem_runs_as_shards_that_merge_into_the_whole_campaign() {
+    use metabezier::experiment::{merge, run_campaign, RunOptions, Shard};
+    let reg = custom_problem::registry();
+    let spec = Spec::parse_in(
+        Path::new("custom_problem.toml"),
+        custom_problem::SPEC,
+        SpecLimits::DEFAULT,
+        &reg,
+    )
+    .unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let whole = tmp.path().join("whole");
+    let opts = |out: &Path, shard| RunOptions {
+        out: Some(out.to_owned()),
+        threads: Some(2),
+        shard,
+        ..RunOptions::default()
+    };
+    run_campaign(&spec, &opts(&whole, None)).unwrap();
+    let sharded = tmp.path().join("sharded");
+    for k in 1..=2 {
+        let s = run_campaign(&spec, &opts(&sharded, Some(Shard { k, n: 2 }))).unwrap();
+        assert_eq!(s.total, 40);
+    }
+    let dirs = vec![sharded.join("shard-1-of-2"), sharded.join("shard-2-of-2")];
+    let merged = tmp.path().join("merged");
+    merge(&spec, &dirs, Some(merged.clone())).unwrap();
+    for file in ["runs.csv", "convergence.csv", "hits.csv"] {
+        assert!(
+            std::fs::read(whole.join(file)).unwrap() == std::fs::read(merged.join(file)).unwrap(),
+            "{file}"
+        );
+    }
+}
