@@ -253,38 +253,20 @@ impl ParticleSwarm {
         let mut phis = vec![0.0; 2 * dim];
         let lower: Vec<f64> = bounds.iter().map(|b| b.lower).collect();
         let upper: Vec<f64> = bounds.iter().map(|b| b.upper).collect();
-        // The swarm best is the personal best of particle `g`.
-        let mut g = 0;
 
-        for (i, ((xi, vi), pi)) in x
-            .chunks_exact_mut(dim)
-            .zip(v.chunks_exact_mut(dim))
-            .zip(pbest.chunks_exact_mut(dim))
-            .enumerate()
-        {
-            if eval.remaining() == 0 {
-                return;
-            }
-            rng.units(&mut phis);
-            for ((((xj, vj), b), &vm), u) in xi
-                .iter_mut()
-                .zip(vi.iter_mut())
-                .zip(bounds)
-                .zip(&vmax)
-                .zip(phis.chunks_exact(2))
-            {
-                *xj = b.lerp(u[0]);
-                *vj = -vm + u[1] * (vm + vm);
-            }
-            let f = eval.evaluate(xi);
-            pi.copy_from_slice(xi);
-            pval[i] = f;
-            if f < pval[g] {
-                g = i;
-            }
+        if !scatter(eval, rng, &vmax, (&mut x, &mut v), (&mut pbest, &mut pval)) {
+            return;
         }
+        // The swarm best is the personal best of particle `g`.
+        let mut g = (0..n).fold(0, |g, i| if pval[i] < pval[g] { i } else { g });
 
         let (c1, c2, policy) = (self.c1, self.c2, self.policy);
+        let walls = Walls {
+            bounds,
+            lower: &lower,
+            upper: &upper,
+            vmax: &vmax,
+        };
         loop {
             for i in 0..n {
                 if eval.remaining() == 0 {
@@ -300,53 +282,16 @@ impl ParticleSwarm {
                 // in registers, then move the particle in a branch-free loop.
                 rng.units(&mut phis);
                 let (phi1, phi2) = phis.split_at(dim);
+                let pull = Pull {
+                    w,
+                    c1,
+                    c2,
+                    phi1,
+                    phi2,
+                };
                 match policy {
-                    BoundPolicy::Clip => {
-                        let (xi, vi, pi, gi) =
-                            (&mut xi[..dim], &mut vi[..dim], &pi[..dim], &gi[..dim]);
-                        let (lo, hi, vm) = (&lower[..dim], &upper[..dim], &vmax[..dim]);
-                        let (f1, f2) = (&phi1[..dim], &phi2[..dim]);
-                        for j in 0..dim {
-                            let here = xi[j];
-                            let vel = min_x86(
-                                max_x86(
-                                    w * vi[j]
-                                        + c1 * f1[j] * (pi[j] - here)
-                                        + c2 * f2[j] * (gi[j] - here),
-                                    -vm[j],
-                                ),
-                                vm[j],
-                            );
-                            let pos = here + vel;
-                            let inside = clamp(Bounds::new(lo[j], hi[j]), pos);
-                            vi[j] = if inside == pos { vel } else { 0.0 };
-                            xi[j] = inside;
-                        }
-                    }
-                    BoundPolicy::Reflect => {
-                        for (((((((xj, vj), &pj), &gj), b), &vm), &f1), &f2) in xi
-                            .iter_mut()
-                            .zip(vi.iter_mut())
-                            .zip(pi)
-                            .zip(gi)
-                            .zip(bounds)
-                            .zip(&vmax)
-                            .zip(phi1)
-                            .zip(phi2)
-                        {
-                            let here = *xj;
-                            let mut vel = (w * *vj + c1 * f1 * (pj - here) + c2 * f2 * (gj - here))
-                                .max(-vm)
-                                .min(vm);
-                            let mut pos = here + vel;
-                            if !b.contains(pos) {
-                                pos = b.reflect(pos);
-                                vel = -vel;
-                            }
-                            *xj = pos;
-                            *vj = vel;
-                        }
-                    }
+                    BoundPolicy::Clip => move_clipped(&pull, &walls, xi, vi, pi, gi),
+                    BoundPolicy::Reflect => move_reflected(&pull, &walls, xi, vi, pi, gi),
                 }
                 let f = eval.evaluate(xi);
                 if f < pval[i] {
@@ -358,6 +303,133 @@ impl ParticleSwarm {
                 }
             }
         }
+    }
+}
+
+/// Scatters the swarm: each particle at a uniform point of the box with a
+/// uniform velocity in `[−v_max, v_max]`, evaluated, its personal best
+/// itself. Returns `false` if the budget ran out first.
+#[inline(always)]
+fn scatter<P: Problem + ?Sized, R: Words + ?Sized>(
+    eval: &mut Evaluator<'_, P>,
+    rng: &mut R,
+    vmax: &[f64],
+    (x, v): (&mut [f64], &mut [f64]),
+    (pbest, pval): (&mut [f64], &mut [f64]),
+) -> bool {
+    let bounds = eval.bounds();
+    let dim = bounds.len();
+    let mut phis = vec![0.0; 2 * dim];
+    for (i, ((xi, vi), pi)) in x
+        .chunks_exact_mut(dim)
+        .zip(v.chunks_exact_mut(dim))
+        .zip(pbest.chunks_exact_mut(dim))
+        .enumerate()
+    {
+        if eval.remaining() == 0 {
+            return false;
+        }
+        rng.units(&mut phis);
+        for ((((xj, vj), b), &vm), u) in xi
+            .iter_mut()
+            .zip(vi.iter_mut())
+            .zip(bounds)
+            .zip(vmax)
+            .zip(phis.chunks_exact(2))
+        {
+            *xj = b.lerp(u[0]);
+            *vj = -vm + u[1] * (vm + vm);
+        }
+        pval[i] = eval.evaluate(xi);
+        pi.copy_from_slice(xi);
+    }
+    true
+}
+
+/// What pulls a particle in one move: the inertia `w`, the acceleration
+/// coefficients `c₁`, `c₂` and the particle's uniform draws `φ₁`, `φ₂`.
+struct Pull<'a> {
+    w: f64,
+    c1: f64,
+    c2: f64,
+    phi1: &'a [f64],
+    phi2: &'a [f64],
+}
+
+/// The box a particle moves in, also as columns, and the velocity clamp.
+struct Walls<'a> {
+    bounds: &'a [Bounds],
+    lower: &'a [f64],
+    upper: &'a [f64],
+    vmax: &'a [f64],
+}
+
+/// One move (Shi & Eberhart 1998) `v ← clamp(w v + c₁φ₁(p − x) + c₂φ₂(g − x), ±v_max)`,
+/// `x ← x + v`, clipped into the box, a clipped coordinate's velocity
+/// zeroed; branch-free, so that it vectorises.
+#[inline(always)]
+fn move_clipped(
+    pull: &Pull<'_>,
+    walls: &Walls<'_>,
+    xi: &mut [f64],
+    vi: &mut [f64],
+    pi: &[f64],
+    gi: &[f64],
+) {
+    let dim = xi.len();
+    let (xi, vi, pi, gi) = (&mut xi[..dim], &mut vi[..dim], &pi[..dim], &gi[..dim]);
+    let (lo, hi, vm) = (&walls.lower[..dim], &walls.upper[..dim], &walls.vmax[..dim]);
+    let (f1, f2) = (&pull.phi1[..dim], &pull.phi2[..dim]);
+    let (w, c1, c2) = (pull.w, pull.c1, pull.c2);
+    for j in 0..dim {
+        let here = xi[j];
+        let vel = min_x86(
+            max_x86(
+                w * vi[j] + c1 * f1[j] * (pi[j] - here) + c2 * f2[j] * (gi[j] - here),
+                -vm[j],
+            ),
+            vm[j],
+        );
+        let pos = here + vel;
+        let inside = clamp(Bounds::new(lo[j], hi[j]), pos);
+        vi[j] = if inside == pos { vel } else { 0.0 };
+        xi[j] = inside;
+    }
+}
+
+/// The move of [`move_clipped`], a position outside the box reflected back
+/// into it and its velocity reversed.
+#[inline(always)]
+fn move_reflected(
+    pull: &Pull<'_>,
+    walls: &Walls<'_>,
+    xi: &mut [f64],
+    vi: &mut [f64],
+    pi: &[f64],
+    gi: &[f64],
+) {
+    let (w, c1, c2) = (pull.w, pull.c1, pull.c2);
+    for (((((((xj, vj), &pj), &gj), b), &vm), &f1), &f2) in xi
+        .iter_mut()
+        .zip(vi.iter_mut())
+        .zip(pi)
+        .zip(gi)
+        .zip(walls.bounds)
+        .zip(walls.vmax)
+        .zip(pull.phi1)
+        .zip(pull.phi2)
+    {
+        let here = *xj;
+        let mut vel = (w * *vj + c1 * f1 * (pj - here) + c2 * f2 * (gj - here))
+            .max(-vm)
+            .min(vm);
+        let mut pos = here + vel;
+        if !b.contains(pos) {
+            pos = b.reflect(pos);
+            vel = -vel;
+        }
+        *xj = pos;
+        *vj = vel;
     }
 }
 
