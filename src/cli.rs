@@ -593,6 +593,46 @@ fn list(w: &mut String) {
     for t in [Transform::None, Transform::Shift, Transform::ShiftRotate] {
         say!(w, "  {:<16} {}", t.name(), t.doc());
     }
+    say!(
+        w,
+        "\nCOCO's bbob suite ([[problem]] suite = \"bbob\", function = 1..=24 or names; dim in {:?}):",
+        crate::functions::bbob::BBOB_DIMENSIONS
+    );
+    for (i, name) in crate::functions::bbob::BBOB_NAMES.iter().enumerate() {
+        say!(w, "  f{:<3} {name}", i + 1);
+    }
+    say!(
+        w,
+        "\nFitting methods ([[fit]] problems and `metabezier fit --algorithm`):"
+    );
+    say!(
+        w,
+        "  {:<16} Levenberg–Marquardt from the linear least-squares fit (Levenberg 1944; Marquardt 1963)",
+        Method::EXACT
+    );
+    say!(
+        w,
+        "  {:<16} any algorithm above on 80 % of the budget, then an LM polish, e.g. mhs{}",
+        format!("<name>{}", Method::POLISH_SUFFIX),
+        Method::POLISH_SUFFIX
+    );
+    say!(
+        w,
+        "\nFitting functions ([[fit]] function = ..., `metabezier fit --function`):"
+    );
+    for f in crate::fit::FunctionType::ALL {
+        say!(
+            w,
+            "  {:<20} degree {}{}",
+            f.name(),
+            f.degree(),
+            if f.is_rational() {
+                ", rational (inner weights free)"
+            } else {
+                ""
+            }
+        );
+    }
 }
 
 /// `metabezier implant`: load and check the spec, then run it; nothing is

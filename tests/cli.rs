@@ -168,6 +168,12 @@ fn list_shows_every_algorithm_and_function() {
         "p_best",
         "sphere",
         "six_hump_camel",
+        "lm ",
+        "<name>+lm",
+        "rational-cubic",
+        "rational-quadratic",
+        "f24  lunacek",
+        "attractive-sector",
     ] {
         assert!(text.contains(name), "{name} missing from:\n{text}");
     }
