@@ -364,3 +364,61 @@ fn a_registered_problem_runs_as_shards_that_merge_into_the_whole_campaign() {
         );
     }
 }
+
+/// Random search that panics on problems of dimension 2, as a user's
+/// optimiser with a bug might.
+#[derive(Clone, Debug)]
+struct Fragile;
+
+impl metabezier::optim::Optimiser for Fragile {
+    fn minimise<P: Problem + ?Sized, R: metabezier::rng::Words + ?Sized>(
+        &self,
+        eval: &mut metabezier::optim::Evaluator<'_, P>,
+        rng: &mut R,
+    ) {
+        assert!(eval.dim() != 2, "fragile cannot do two dimensions");
+        RandomSearch.minimise(eval, rng)
+    }
+}
+
+#[test]
+fn a_panicking_optimiser_stops_the_campaign_with_the_run_named_and_keeps_finished_runs() {
+    use metabezier::experiment::{run_campaign, RunOptions};
+    use metabezier::optim::random;
+    let with = |fragile: bool| {
+        let mut reg = Registry::with_builtins();
+        let def = if fragile {
+            OptimiserDef::new("fragile", &random::PARAMS, "", |_: &ParamSet| Ok(Fragile))
+        } else {
+            OptimiserDef::new("fragile", &random::PARAMS, "", RandomSearch::from_params)
+        };
+        reg.register_optimiser(def).unwrap();
+        reg
+    };
+    let text = format!(
+        "{HEAD}[[problem]]\nfunction = \"sphere\"\ndim = [2, 3]\n\n[[algorithm]]\nname = \"fragile\"\n"
+    );
+    let tmp = tempfile::tempdir().unwrap();
+    let opts = |resume| RunOptions {
+        out: Some(tmp.path().to_owned()),
+        threads: Some(1),
+        resume,
+        ..RunOptions::default()
+    };
+    let spec = spec_in(&with(true), &text).unwrap();
+    let e = run_campaign(&spec, &opts(false)).unwrap_err().to_string();
+    assert!(
+        e.contains("run 0 of fragile on sphere-2 panicked: fragile cannot do two dimensions")
+            && e.contains("journal.csv")
+            && e.contains("--resume"),
+        "{e}"
+    );
+    assert!(!tmp.path().join("runs.csv").exists());
+    let journal = std::fs::read_to_string(tmp.path().join("journal.csv")).unwrap();
+    assert_eq!(journal.lines().count(), 2, "{journal}");
+    // The two runs at D = 3 (the longer, run first) finished before the
+    // panic and are reused.
+    let spec = spec_in(&with(false), &text).unwrap();
+    let s = run_campaign(&spec, &opts(true)).unwrap();
+    assert_eq!((s.total, s.reused, s.executed), (4, 2, 2));
+}

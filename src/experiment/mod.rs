@@ -238,6 +238,24 @@ pub enum CampaignError {
     /// The worker thread pool could not be started.
     #[error("cannot start worker threads: {0}")]
     Threads(#[source] rayon::ThreadPoolBuildError),
+    /// A run panicked (an optimiser's or a problem's code): the campaign
+    /// stopped, and the runs finished before it are kept in the journal.
+    #[error(
+        "run {run} of {cell} on {problem} panicked: {message}; the campaign stopped, and every run finished before it is kept in {}: fix the cause and pass --resume",
+        journal.display()
+    )]
+    RunPanicked {
+        /// The run number.
+        run: u32,
+        /// The cell's label.
+        cell: String,
+        /// The problem's key.
+        problem: String,
+        /// The panic's message.
+        message: String,
+        /// The journal that holds the finished runs.
+        journal: PathBuf,
+    },
 }
 
 /// The most runs a campaign may have without `--allow-large`.

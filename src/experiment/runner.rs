@@ -705,8 +705,13 @@ fn execute_journalled(
     // An indexed collect writes each record straight into its slot of one
     // vector (`None` = not run, once a journal line failed): no per-task
     // vectors, so the records' memory is what `estimated_bytes` counts.
-    let failed: Mutex<Option<IoError>> = Mutex::new(None);
     let stop = std::sync::atomic::AtomicBool::new(false);
+    let failed: Mutex<Option<ExperimentError>> = Mutex::new(None);
+    let fail = |e: ExperimentError| {
+        stop.store(true, std::sync::atomic::Ordering::Relaxed);
+        let mut first = failed.lock().unwrap_or_else(|p| p.into_inner());
+        first.get_or_insert(e);
+    };
     let new: Vec<Option<RunRecord>> = pool.install(|| {
         todo.par_iter()
             .with_max_len(1)
@@ -714,7 +719,33 @@ fn execute_journalled(
                 if stop.load(std::sync::atomic::Ordering::Relaxed) {
                     return None;
                 }
-                let mut rec = execute(spec, spec.run_id(i));
+                // A panic in an optimiser's or a problem's code (a library
+                // user's own, say) stops the campaign with the run named;
+                // the finished runs stay in the journal.
+                let id = spec.run_id(i);
+                let run =
+                    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| execute(spec, id)));
+                let mut rec = match run {
+                    Ok(rec) => rec,
+                    Err(payload) => {
+                        let message = payload
+                            .downcast_ref::<&str>()
+                            .map(|s| s.to_string())
+                            .or_else(|| payload.downcast_ref::<String>().cloned())
+                            .unwrap_or_else(|| "(no message)".into());
+                        fail(
+                            CampaignError::RunPanicked {
+                                run: id.run,
+                                cell: spec.cells[id.cell].label.clone(),
+                                problem: spec.problems[id.problem].key(),
+                                message,
+                                journal: journal_path.to_owned(),
+                            }
+                            .into(),
+                        );
+                        return None;
+                    }
+                };
                 // Held until the end: no spare capacity.
                 rec.trace.shrink_to_fit();
                 rec.hits.shrink_to_fit();
@@ -722,9 +753,7 @@ fn execute_journalled(
                 let mut j = journal.lock().unwrap_or_else(|p| p.into_inner());
                 if let Err(e) = j.write_all(&line).and_then(|_| j.flush()) {
                     drop(j);
-                    stop.store(true, std::sync::atomic::Ordering::Relaxed);
-                    let mut first = failed.lock().unwrap_or_else(|p| p.into_inner());
-                    first.get_or_insert(IoError::new("append to", journal_path, e));
+                    fail(IoError::new("append to", journal_path, e).into());
                     return None;
                 }
                 drop(j);
@@ -735,7 +764,7 @@ fn execute_journalled(
     });
     bar.finish_and_clear();
     if let Some(e) = failed.into_inner().unwrap_or_else(|p| p.into_inner()) {
-        return Err(e.into());
+        return Err(e);
     }
     // Every slot is filled when no line failed; the vector is reused in place.
     Ok(new.into_iter().map(|r| r.expect("every run ran")).collect())
