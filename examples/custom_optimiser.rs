@@ -16,7 +16,7 @@ use std::path::Path;
 
 use metabezier::experiment::{run_campaign, Registry, RunOptions, Spec, SpecLimits, Summary};
 use metabezier::optim::{
-    Evaluator, Kind, Optimiser, OptimiserDef, ParamDef, ParamError, ParamSet, Setting,
+    Evaluator, Kind, Optimiser, OptimiserDef, Param, ParamDef, ParamError, ParamSet, Setting,
 };
 use metabezier::problem::Problem;
 use metabezier::report::{write_report, ReportOptions};
@@ -32,10 +32,14 @@ pub struct OnePlusOneEs {
     pub sigma0: f64,
 }
 
+/// The key of the `sigma0` parameter: its name written once, its kind in
+/// its type.
+pub const SIGMA0: Param<f64> = Param::new("sigma0");
+
 /// The parameters of [`OnePlusOneEs`], declared as the built-ins declare
 /// theirs: a spec may set or grid them, and `check` validates them.
 pub static PARAMS: [ParamDef; 1] = [ParamDef {
-    name: "sigma0",
+    name: SIGMA0.name,
     doc: "initial step size σ₀ as a fraction of each variable's range",
     kind: Kind::Real {
         min: 0.0,
@@ -50,7 +54,7 @@ impl OnePlusOneEs {
     /// The ES of a parameter set made from [`PARAMS`].
     pub fn from_params(p: &ParamSet) -> Result<Self, ParamError> {
         Ok(OnePlusOneEs {
-            sigma0: p.real("sigma0"),
+            sigma0: p.get(SIGMA0),
         })
     }
 }

@@ -159,6 +159,7 @@ use super::params::{Kind, ParamDef, ParamSet, Setting};
 use super::{clamp, policy_param, Optimiser, ParamError, BOUNDS_PARAM};
 use crate::linalg::{dot, symmetric_eigen};
 use crate::optim::evaluator::Evaluator;
+use crate::optim::params::Param;
 use crate::problem::{BoundPolicy, Bounds, Problem};
 use crate::rng::{Draw, Words};
 use crate::simd::dispatch;
@@ -235,19 +236,30 @@ pub struct CmaEs {
     pub policy: BoundPolicy,
 }
 
+/// The key of the `lambda` parameter.
+pub const LAMBDA_KEY: Param<u64> = Param::new("lambda");
+/// The key of the `restarts` parameter.
+pub const RESTARTS_KEY: Param<&'static str> = Param::new("restarts");
+/// The key of the `sigma0` parameter.
+pub const SIGMA0_KEY: Param<f64> = Param::new("sigma0");
+/// The key of the `inc_popsize` parameter.
+pub const INC_POPSIZE_KEY: Param<f64> = Param::new("inc_popsize");
+/// The key of the `eigen_gap` parameter.
+pub const EIGEN_GAP_KEY: Param<f64> = Param::new("eigen_gap");
+
 /// The parameters of [`CmaEs`]. The defaults are the tutorial's (Hansen
 /// 2016: λ from Table 1, `σ₀ = 0.3` of the range) and IPOP's factor 2
 /// (Auger & Hansen 2005).
 pub static PARAMS: [ParamDef; 6] = [
     ParamDef {
-        name: "restarts",
+        name: RESTARTS_KEY.name,
         doc: "restart scheme: \"ipop\" (λ × inc_popsize at each restart), \"bipop\" (IPOP interlaced with small-population runs) or \"none\" (independent restarts)",
         kind: Kind::Choice(&Restarts::NAMES),
         default: Setting::Choice("ipop"),
         omit_at_default: false,
     },
     ParamDef {
-        name: "lambda",
+        name: LAMBDA_KEY.name,
         doc: "population size λ of the first run, at least 2; 0 = 4 + ⌊3 ln D⌋ (Hansen 2016)",
         kind: Kind::Count {
             min: 0,
@@ -257,7 +269,7 @@ pub static PARAMS: [ParamDef; 6] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "sigma0",
+        name: SIGMA0_KEY.name,
         doc: "initial step size σ₀, as a fraction of each variable's range",
         kind: Kind::Real {
             min: 0.0,
@@ -268,7 +280,7 @@ pub static PARAMS: [ParamDef; 6] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "inc_popsize",
+        name: INC_POPSIZE_KEY.name,
         doc: "factor by which each IPOP restart multiplies λ",
         kind: Kind::Real {
             min: 1.0,
@@ -279,7 +291,7 @@ pub static PARAMS: [ParamDef; 6] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "eigen_gap",
+        name: EIGEN_GAP_KEY.name,
         doc: "multiple of the tutorial's gap between eigendecompositions of C, λ/(c1 + cμ)/D/10 evaluations (Hansen 2016); 1 = the tutorial, larger is cheaper per evaluation and staler",
         kind: Kind::Real {
             min: 1.0,
@@ -301,7 +313,7 @@ impl Default for CmaEs {
 impl CmaEs {
     /// Builds CMA-ES from validated parameters; `lambda = 1` is refused.
     pub fn from_params(p: &ParamSet) -> Result<Self, ParamError> {
-        let lambda = p.count("lambda") as usize;
+        let lambda = p.get(LAMBDA_KEY) as usize;
         if lambda == 1 {
             return Err(ParamError::new(
                 "lambda",
@@ -309,11 +321,11 @@ impl CmaEs {
             ));
         }
         Ok(Self {
-            restarts: Restarts::from_name(p.choice("restarts")).unwrap_or(Restarts::Ipop),
+            restarts: Restarts::from_name(p.get(RESTARTS_KEY)).unwrap_or(Restarts::Ipop),
             lambda,
-            sigma0: p.real("sigma0"),
-            inc_popsize: p.real("inc_popsize"),
-            eigen_gap: p.real("eigen_gap"),
+            sigma0: p.get(SIGMA0_KEY),
+            inc_popsize: p.get(INC_POPSIZE_KEY),
+            eigen_gap: p.get(EIGEN_GAP_KEY),
             policy: policy_param(p),
         })
     }

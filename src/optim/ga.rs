@@ -5,6 +5,7 @@
 //! arithmetic crossover and uniform mutation of Michalewicz (1996, "Genetic
 //! Algorithms + Data Structures = Evolution Programs", 3rd ed., Springer).
 
+use crate::optim::params::Param;
 use std::cmp::Ordering;
 
 use super::params::{Kind, ParamDef, ParamSet, Setting};
@@ -123,6 +124,27 @@ pub struct GeneticAlgorithm {
     pub policy: BoundPolicy,
 }
 
+/// The key of the `pop` parameter.
+pub const POP_KEY: Param<u64> = Param::new("pop");
+/// The key of the `tournament` parameter.
+pub const TOURNAMENT_KEY: Param<u64> = Param::new("tournament");
+/// The key of the `pc` parameter.
+pub const PC_KEY: Param<f64> = Param::new("pc");
+/// The key of the `crossover` parameter.
+pub const CROSSOVER_KEY: Param<&'static str> = Param::new("crossover");
+/// The key of the `blend_alpha` parameter.
+pub const BLEND_ALPHA_KEY: Param<f64> = Param::new("blend_alpha");
+/// The key of the `pm` parameter.
+pub const PM_KEY: Param<f64> = Param::new("pm");
+/// The key of the `mutation` parameter.
+pub const MUTATION_KEY: Param<&'static str> = Param::new("mutation");
+/// The key of the `sigma` parameter.
+pub const SIGMA_KEY: Param<f64> = Param::new("sigma");
+/// The key of the `sigma_decay` parameter.
+pub const SIGMA_DECAY_KEY: Param<&'static str> = Param::new("sigma_decay");
+/// The key of the `elite` parameter.
+pub const ELITE_KEY: Param<u64> = Param::new("elite");
+
 /// The parameters of [`GeneticAlgorithm`]; the defaults are this project's
 /// choices in the usual ranges of the real-coded GA literature. BLX-0.5
 /// supplies most of the variation, so mutation is kept rare (`pm = 0.01`,
@@ -131,7 +153,7 @@ pub struct GeneticAlgorithm {
 /// at `D = 30`, rates of 0.02–0.05 or a constant σ slowed the convergence markedly.
 pub static PARAMS: [ParamDef; 11] = [
     ParamDef {
-        name: "pop",
+        name: POP_KEY.name,
         doc: "population size",
         kind: Kind::Count {
             min: 2,
@@ -141,7 +163,7 @@ pub static PARAMS: [ParamDef; 11] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "tournament",
+        name: TOURNAMENT_KEY.name,
         doc: "tournament size k (with replacement; at most pop)",
         kind: Kind::Count {
             min: 1,
@@ -151,7 +173,7 @@ pub static PARAMS: [ParamDef; 11] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "pc",
+        name: PC_KEY.name,
         doc: "crossover rate pc, per pair of parents",
         kind: Kind::Real {
             min: 0.0,
@@ -162,14 +184,14 @@ pub static PARAMS: [ParamDef; 11] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "crossover",
+        name: CROSSOVER_KEY.name,
         doc: "\"arithmetic\" (one γ ~ U(0,1) per pair) or \"blend\" (BLX-α, γ_j ~ U(−α, 1+α) per gene)",
         kind: Kind::Choice(&Crossover::NAMES),
         default: Setting::Choice("blend"),
         omit_at_default: false,
     },
     ParamDef {
-        name: "blend_alpha",
+        name: BLEND_ALPHA_KEY.name,
         doc: "BLX-α extension α of the parents' interval",
         kind: Kind::Real {
             min: 0.0,
@@ -180,7 +202,7 @@ pub static PARAMS: [ParamDef; 11] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "pm",
+        name: PM_KEY.name,
         doc: "mutation rate pm, per gene",
         kind: Kind::Real {
             min: 0.0,
@@ -191,14 +213,14 @@ pub static PARAMS: [ParamDef; 11] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "mutation",
+        name: MUTATION_KEY.name,
         doc: "\"gaussian\" (σ·range·N(0,1) step) or \"uniform\" (redraw in the bounds)",
         kind: Kind::Choice(&Mutation::NAMES),
         default: Setting::Choice("gaussian"),
         omit_at_default: false,
     },
     ParamDef {
-        name: "sigma",
+        name: SIGMA_KEY.name,
         doc: "standard deviation σ of Gaussian mutation, as a fraction of the range",
         kind: Kind::Real {
             min: 0.0,
@@ -209,14 +231,14 @@ pub static PARAMS: [ParamDef; 11] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "sigma_decay",
+        name: SIGMA_DECAY_KEY.name,
         doc: "\"none\" or \"linear\": σ(t) = σ·max(1 − t/NI, 0.001)",
         kind: Kind::Choice(&["none", "linear"]),
         default: Setting::Choice("linear"),
         omit_at_default: false,
     },
     ParamDef {
-        name: "elite",
+        name: ELITE_KEY.name,
         doc: "number of elites copied unchanged (at most pop − 1)",
         kind: Kind::Count {
             min: 0,
@@ -239,16 +261,16 @@ impl GeneticAlgorithm {
     /// `elite < pop` are required.
     pub fn from_params(p: &ParamSet) -> Result<Self, ParamError> {
         let s = Self {
-            pop: p.count("pop") as usize,
-            tournament: p.count("tournament") as usize,
-            pc: p.real("pc"),
-            crossover: Crossover::from_name(p.choice("crossover")),
-            blend_alpha: p.real("blend_alpha"),
-            pm: p.real("pm"),
-            mutation: Mutation::from_name(p.choice("mutation")),
-            sigma: p.real("sigma"),
-            sigma_decay: p.choice("sigma_decay") == "linear",
-            elite: p.count("elite") as usize,
+            pop: p.get(POP_KEY) as usize,
+            tournament: p.get(TOURNAMENT_KEY) as usize,
+            pc: p.get(PC_KEY),
+            crossover: Crossover::from_name(p.get(CROSSOVER_KEY)),
+            blend_alpha: p.get(BLEND_ALPHA_KEY),
+            pm: p.get(PM_KEY),
+            mutation: Mutation::from_name(p.get(MUTATION_KEY)),
+            sigma: p.get(SIGMA_KEY),
+            sigma_decay: p.get(SIGMA_DECAY_KEY) == "linear",
+            elite: p.get(ELITE_KEY) as usize,
             policy: policy_param(p),
         };
         if s.tournament > s.pop {

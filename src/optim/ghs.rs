@@ -7,6 +7,7 @@ use super::harmony::{choose_block_avx2, clamp4, Lanes};
 use super::params::{Kind, ParamDef, ParamSet, Setting};
 use super::{clamp, Optimiser, ParamError};
 use crate::optim::evaluator::Evaluator;
+use crate::optim::params::Param;
 use crate::problem::{Bounds, Problem};
 use crate::rng::{Field21, Words};
 use crate::simd::dispatch;
@@ -38,10 +39,19 @@ pub struct GlobalBestHarmonySearch {
     pub par_max: f64,
 }
 
+/// The key of the `hms` parameter.
+pub const HMS_KEY: Param<u64> = Param::new("hms");
+/// The key of the `hmcr` parameter.
+pub const HMCR_KEY: Param<f64> = Param::new("hmcr");
+/// The key of the `par_min` parameter.
+pub const PAR_MIN_KEY: Param<f64> = Param::new("par_min");
+/// The key of the `par_max` parameter.
+pub const PAR_MAX_KEY: Param<f64> = Param::new("par_max");
+
 /// The parameters of [`GlobalBestHarmonySearch`], with the paper's defaults.
 pub static PARAMS: [ParamDef; 4] = [
     ParamDef {
-        name: "hms",
+        name: HMS_KEY.name,
         doc: "harmony memory size HMS",
         kind: Kind::Count {
             min: 1,
@@ -51,7 +61,7 @@ pub static PARAMS: [ParamDef; 4] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "hmcr",
+        name: HMCR_KEY.name,
         doc: "harmony memory considering rate HMCR",
         kind: Kind::Real {
             min: 0.0,
@@ -62,7 +72,7 @@ pub static PARAMS: [ParamDef; 4] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "par_min",
+        name: PAR_MIN_KEY.name,
         doc: "pitch adjusting rate at the start, PARmin",
         kind: Kind::Real {
             min: 0.0,
@@ -73,7 +83,7 @@ pub static PARAMS: [ParamDef; 4] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "par_max",
+        name: PAR_MAX_KEY.name,
         doc: "pitch adjusting rate at the end, PARmax",
         kind: Kind::Real {
             min: 0.0,
@@ -95,10 +105,10 @@ impl GlobalBestHarmonySearch {
     /// Builds GHS from validated parameters.
     pub fn from_params(p: &ParamSet) -> Result<Self, ParamError> {
         let s = Self {
-            hms: p.count("hms") as usize,
-            hmcr: p.real("hmcr"),
-            par_min: p.real("par_min"),
-            par_max: p.real("par_max"),
+            hms: p.get(HMS_KEY) as usize,
+            hmcr: p.get(HMCR_KEY),
+            par_min: p.get(PAR_MIN_KEY),
+            par_max: p.get(PAR_MAX_KEY),
         };
         if s.par_min > s.par_max {
             return Err(ParamError::new(

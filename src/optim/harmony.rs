@@ -2,6 +2,7 @@
 //! MHS (Geem, Kim & Loganathan 2001, "A new heuristic optimization algorithm:
 //! harmony search", Simulation 76(2):60–68).
 
+use crate::optim::params::Param;
 use crate::rng::Words;
 
 use super::evaluator::Evaluator;
@@ -646,9 +647,16 @@ pub struct Bandwidth {
     pub bw_min: f64,
 }
 
+/// The key of the `bw` parameter.
+pub const BW_KEY: Param<f64> = Param::new("bw");
+/// The key of the `bw_decay` parameter.
+pub const BW_DECAY_KEY: Param<&'static str> = Param::new("bw_decay");
+/// The key of the `bw_min` parameter.
+pub const BW_MIN_KEY: Param<f64> = Param::new("bw_min");
+
 /// The `bw` parameter: the initial bandwidth fraction.
 pub const BW_PARAM: ParamDef = ParamDef {
-    name: "bw",
+    name: BW_KEY.name,
     doc: "bandwidth bw, as a fraction of each variable's range",
     kind: Kind::Real {
         min: 0.0,
@@ -661,7 +669,7 @@ pub const BW_PARAM: ParamDef = ParamDef {
 
 /// The `bw_decay` parameter: `"none"` or `"exponential"` (IHS).
 pub const BW_DECAY_PARAM: ParamDef = ParamDef {
-    name: "bw_decay",
+    name: BW_DECAY_KEY.name,
     doc: "\"none\" (classical HS) or \"exponential\" decay of bw to bw_min (IHS)",
     kind: Kind::Choice(&["none", "exponential"]),
     default: Setting::Choice("none"),
@@ -670,7 +678,7 @@ pub const BW_DECAY_PARAM: ParamDef = ParamDef {
 
 /// The `bw_min` parameter: the final fraction of an exponential decay.
 pub const BW_MIN_PARAM: ParamDef = ParamDef {
-    name: "bw_min",
+    name: BW_MIN_KEY.name,
     doc: "final bandwidth fraction for bw_decay = \"exponential\"",
     kind: Kind::Real {
         min: 0.0,
@@ -686,9 +694,9 @@ impl Bandwidth {
     /// checks that a decaying bandwidth does not grow.
     pub fn from_params(p: &ParamSet) -> Result<Self, ParamError> {
         let s = Self {
-            bw: p.real("bw"),
-            decay: p.choice("bw_decay") == "exponential",
-            bw_min: p.real("bw_min"),
+            bw: p.get(BW_KEY),
+            decay: p.get(BW_DECAY_KEY) == "exponential",
+            bw_min: p.get(BW_MIN_KEY),
         };
         if s.decay && s.bw_min > s.bw {
             return Err(ParamError::new(

@@ -1,6 +1,7 @@
 //! Harmony Search, HS (Geem, Kim & Loganathan 2001, "A new heuristic
 //! optimization algorithm: harmony search", Simulation 76(2):60–68).
 
+use crate::optim::params::Param;
 use crate::rng::Words;
 
 use super::harmony::{
@@ -33,11 +34,18 @@ pub struct HarmonySearch {
     pub policy: BoundPolicy,
 }
 
+/// The key of the `hms` parameter.
+pub const HMS_KEY: Param<u64> = Param::new("hms");
+/// The key of the `hmcr` parameter.
+pub const HMCR_KEY: Param<f64> = Param::new("hmcr");
+/// The key of the `par` parameter.
+pub const PAR_KEY: Param<f64> = Param::new("par");
+
 /// The parameters of [`HarmonySearch`]; defaults follow the HS settings of
 /// Omran & Mahdavi (2008).
 pub static PARAMS: [ParamDef; 7] = [
     ParamDef {
-        name: "hms",
+        name: HMS_KEY.name,
         doc: "harmony memory size HMS",
         kind: Kind::Count {
             min: 1,
@@ -47,7 +55,7 @@ pub static PARAMS: [ParamDef; 7] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "hmcr",
+        name: HMCR_KEY.name,
         doc: "harmony memory considering rate HMCR",
         kind: Kind::Real {
             min: 0.0,
@@ -58,7 +66,7 @@ pub static PARAMS: [ParamDef; 7] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "par",
+        name: PAR_KEY.name,
         doc: "pitch adjusting rate PAR",
         kind: Kind::Real {
             min: 0.0,
@@ -84,9 +92,9 @@ impl HarmonySearch {
     /// Builds HS from validated parameters.
     pub fn from_params(p: &ParamSet) -> Result<Self, ParamError> {
         Ok(Self {
-            hms: p.count("hms") as usize,
-            hmcr: p.real("hmcr"),
-            par: p.real("par"),
+            hms: p.get(HMS_KEY) as usize,
+            hmcr: p.get(HMCR_KEY),
+            par: p.get(PAR_KEY),
             bandwidth: Bandwidth::from_params(p)?,
             policy: policy_param(p),
         })

@@ -13,6 +13,7 @@
 //! choice of the authors' published L-SHADE code is followed and said so
 //! below.
 
+use crate::optim::params::Param;
 use std::cmp::Ordering;
 use std::f64::consts::PI;
 
@@ -138,11 +139,22 @@ pub struct Lshade {
     pub repair: Repair,
 }
 
+/// The key of the `r_n_init` parameter.
+pub const R_N_INIT_KEY: Param<f64> = Param::new("r_n_init");
+/// The key of the `memory` parameter.
+pub const MEMORY_KEY: Param<u64> = Param::new("memory");
+/// The key of the `arc_rate` parameter.
+pub const ARC_RATE_KEY: Param<f64> = Param::new("arc_rate");
+/// The key of the `p_best` parameter.
+pub const P_BEST_KEY: Param<f64> = Param::new("p_best");
+/// The key of the `bounds` parameter.
+pub const BOUNDS_KEY: Param<&'static str> = Param::new("bounds");
+
 /// The parameters of [`Lshade`], with the published defaults of Tanabe &
 /// Fukunaga (2014): `r^N_init = 18`, `H = 6`, `r^arc = 2.6`, `p = 0.11`.
 pub static PARAMS: [ParamDef; 5] = [
     ParamDef {
-        name: "r_n_init",
+        name: R_N_INIT_KEY.name,
         doc: "initial population per variable r^N_init: N_init = max(4, round(r_n_init·D))",
         kind: Kind::Real {
             min: 0.0,
@@ -153,14 +165,14 @@ pub static PARAMS: [ParamDef; 5] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "memory",
+        name: MEMORY_KEY.name,
         doc: "size H of the success-history memories M_CR and M_F",
         kind: Kind::Count { min: 1, max: 1000 },
         default: Setting::Count(6),
         omit_at_default: false,
     },
     ParamDef {
-        name: "arc_rate",
+        name: ARC_RATE_KEY.name,
         doc: "archive capacity per population member r^arc: |A| = round(arc_rate·N)",
         kind: Kind::Real {
             min: 0.0,
@@ -171,7 +183,7 @@ pub static PARAMS: [ParamDef; 5] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "p_best",
+        name: P_BEST_KEY.name,
         doc: "p of current-to-pbest/1: pbest among the max(2, round(p·N)) best",
         kind: Kind::Real {
             min: 0.0,
@@ -182,7 +194,7 @@ pub static PARAMS: [ParamDef; 5] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "bounds",
+        name: BOUNDS_KEY.name,
         doc: "bound handling of mutant coordinates: \"midpoint\" (between the parent and the violated bound, the L-SHADE code), \"clip\" or \"reflect\"",
         kind: Kind::Choice(&Repair::NAMES),
         default: Setting::Choice("midpoint"),
@@ -201,11 +213,11 @@ impl Lshade {
     /// checked on its own (by [`PARAMS`]); no combination is invalid.
     pub fn from_params(p: &ParamSet) -> Result<Self, ParamError> {
         Ok(Self {
-            r_n_init: p.real("r_n_init"),
-            memory: p.count("memory") as usize,
-            arc_rate: p.real("arc_rate"),
-            p_best: p.real("p_best"),
-            repair: Repair::from_name(p.choice("bounds")),
+            r_n_init: p.get(R_N_INIT_KEY),
+            memory: p.get(MEMORY_KEY) as usize,
+            arc_rate: p.get(ARC_RATE_KEY),
+            p_best: p.get(P_BEST_KEY),
+            repair: Repair::from_name(p.get(BOUNDS_KEY)),
         })
     }
 

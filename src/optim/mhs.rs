@@ -27,6 +27,7 @@
 //!   harmony search algorithm with multi-parent crossover", IJAMC 4(3):1–14)
 //!   for the GA step, applied here per variable (our adaptation).
 
+use crate::optim::params::Param;
 use crate::rng::Words;
 
 use super::harmony::{
@@ -128,13 +129,40 @@ pub struct ModifiedHarmonySearch {
     pub p_pso: f64,
 }
 
+/// The key of the `scheme` parameter.
+pub const SCHEME_KEY: Param<&'static str> = Param::new("scheme");
+/// The key of the `par` parameter.
+pub const PAR_KEY: Param<f64> = Param::new("par");
+/// The key of the `p_ga` parameter.
+pub const P_GA_KEY: Param<f64> = Param::new("p_ga");
+/// The key of the `p_pso` parameter.
+pub const P_PSO_KEY: Param<f64> = Param::new("p_pso");
+/// The key of the `hms` parameter.
+pub const HMS_KEY: Param<u64> = Param::new("hms");
+/// The key of the `hmcr` parameter.
+pub const HMCR_KEY: Param<f64> = Param::new("hmcr");
+/// The key of the `l` parameter.
+pub const L_KEY: Param<u64> = Param::new("l");
+/// The key of the `operators` parameter.
+pub const OPERATORS_KEY: Param<Vec<&'static str>> = Param::new("operators");
+/// The key of the `pm` parameter.
+pub const PM_KEY: Param<f64> = Param::new("pm");
+/// The key of the `mutation` parameter.
+pub const MUTATION_KEY: Param<&'static str> = Param::new("mutation");
+/// The key of the `sigma` parameter.
+pub const SIGMA_KEY: Param<f64> = Param::new("sigma");
+/// The key of the `c` parameter.
+pub const C_KEY: Param<f64> = Param::new("c");
+/// The key of the `update` parameter.
+pub const UPDATE_KEY: Param<&'static str> = Param::new("update");
+
 /// The parameters of [`ModifiedHarmonySearch`]; all defaults are this
 /// project's choices (the thesis's values are lost). The last four were
 /// added with the alternative readings and are left out of the canonical
 /// text at their defaults, so earlier results keep their keys and seeds.
 pub static PARAMS: [ParamDef; 17] = [
     ParamDef {
-        name: "hms",
+        name: HMS_KEY.name,
         doc: "harmony memory size HMS",
         kind: Kind::Count {
             min: 1,
@@ -144,7 +172,7 @@ pub static PARAMS: [ParamDef; 17] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "hmcr",
+        name: HMCR_KEY.name,
         doc: "HMCR of the HS operator",
         kind: Kind::Real {
             min: 0.0,
@@ -155,7 +183,7 @@ pub static PARAMS: [ParamDef; 17] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "par",
+        name: PAR_KEY.name,
         doc: "PAR of the HS operator",
         kind: Kind::Real {
             min: 0.0,
@@ -169,21 +197,21 @@ pub static PARAMS: [ParamDef; 17] = [
     BW_DECAY_PARAM,
     BW_MIN_PARAM,
     ParamDef {
-        name: "l",
+        name: L_KEY.name,
         doc: "number L of temporary harmony vectors D_l per improvisation",
         kind: Kind::Count { min: 1, max: 1000 },
         default: Setting::Count(3),
         omit_at_default: false,
     },
     ParamDef {
-        name: "operators",
+        name: OPERATORS_KEY.name,
         doc: "operators cycled over D_1..D_L",
         kind: Kind::Sequence(&Operator::NAMES),
         default: Setting::Sequence(std::borrow::Cow::Borrowed(&["hs", "ga", "pso"])),
         omit_at_default: false,
     },
     ParamDef {
-        name: "pm",
+        name: PM_KEY.name,
         doc: "mutation rate of the GA operator, per variable",
         kind: Kind::Real {
             min: 0.0,
@@ -194,14 +222,14 @@ pub static PARAMS: [ParamDef; 17] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "mutation",
+        name: MUTATION_KEY.name,
         doc: "\"uniform\" (reset in the bounds) or \"gaussian\" mutation",
         kind: Kind::Choice(&["uniform", "gaussian"]),
         default: Setting::Choice("uniform"),
         omit_at_default: false,
     },
     ParamDef {
-        name: "sigma",
+        name: SIGMA_KEY.name,
         doc: "standard deviation of Gaussian mutation, as a fraction of the range",
         kind: Kind::Real {
             min: 0.0,
@@ -212,7 +240,7 @@ pub static PARAMS: [ParamDef; 17] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "c",
+        name: C_KEY.name,
         doc: "step coefficient c of the PSO operator",
         kind: Kind::Real {
             min: 0.0,
@@ -224,21 +252,21 @@ pub static PARAMS: [ParamDef; 17] = [
     },
     BOUNDS_PARAM,
     ParamDef {
-        name: "update",
+        name: UPDATE_KEY.name,
         doc: "\"best-of-l\" (only the best D_l is offered to the memory) or \"each\" (every D_l in turn)",
         kind: Kind::Choice(&["best-of-l", "each"]),
         default: Setting::Choice("best-of-l"),
         omit_at_default: true,
     },
     ParamDef {
-        name: "scheme",
+        name: SCHEME_KEY.name,
         doc: "\"candidates\" (L whole vectors D_l) or \"per-variable\" (PA, GA or PSO per variable, one evaluation)",
         kind: Kind::Choice(&["candidates", "per-variable"]),
         default: Setting::Choice("candidates"),
         omit_at_default: true,
     },
     ParamDef {
-        name: "p_ga",
+        name: P_GA_KEY.name,
         doc: "per-variable scheme: probability of the GA crossover α·x_j + (1 − α)·x^b_j",
         kind: Kind::Real {
             min: 0.0,
@@ -249,7 +277,7 @@ pub static PARAMS: [ParamDef; 17] = [
         omit_at_default: true,
     },
     ParamDef {
-        name: "p_pso",
+        name: P_PSO_KEY.name,
         doc: "per-variable scheme: probability of the PSO pull x_j + c·φ·(best_j − x_j)",
         kind: Kind::Real {
             min: 0.0,
@@ -270,11 +298,11 @@ impl Default for ModifiedHarmonySearch {
 impl ModifiedHarmonySearch {
     /// Builds MHS from validated parameters.
     pub fn from_params(p: &ParamSet) -> Result<Self, ParamError> {
-        let scheme = match p.choice("scheme") {
+        let scheme = match p.get(SCHEME_KEY) {
             "per-variable" => Scheme::PerVariable,
             _ => Scheme::Candidates,
         };
-        let (par, p_ga, p_pso) = (p.real("par"), p.real("p_ga"), p.real("p_pso"));
+        let (par, p_ga, p_pso) = (p.get(PAR_KEY), p.get(P_GA_KEY), p.get(P_PSO_KEY));
         if scheme == Scheme::PerVariable && par + p_ga + p_pso > 1.0 {
             return Err(ParamError::new(
                 "p_pso",
@@ -284,22 +312,22 @@ impl ModifiedHarmonySearch {
             ));
         }
         Ok(Self {
-            hms: p.count("hms") as usize,
-            hmcr: p.real("hmcr"),
-            par: p.real("par"),
+            hms: p.get(HMS_KEY) as usize,
+            hmcr: p.get(HMCR_KEY),
+            par: p.get(PAR_KEY),
             bandwidth: Bandwidth::from_params(p)?,
-            l: p.count("l") as usize,
+            l: p.get(L_KEY) as usize,
             operators: p
-                .sequence("operators")
+                .get(OPERATORS_KEY)
                 .iter()
                 .map(|n| Operator::from_name(n))
                 .collect(),
-            pm: p.real("pm"),
-            gaussian_mutation: p.choice("mutation") == "gaussian",
-            sigma: p.real("sigma"),
-            c: p.real("c"),
+            pm: p.get(PM_KEY),
+            gaussian_mutation: p.get(MUTATION_KEY) == "gaussian",
+            sigma: p.get(SIGMA_KEY),
+            c: p.get(C_KEY),
             policy: policy_param(p),
-            update: match p.choice("update") {
+            update: match p.get(UPDATE_KEY) {
                 "each" => Update::Each,
                 _ => Update::BestOfL,
             },

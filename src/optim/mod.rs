@@ -45,7 +45,9 @@ pub use hs::HarmonySearch;
 pub use lm::{LeastSquares, LevenbergMarquardt};
 pub use lshade::Lshade;
 pub use mhs::ModifiedHarmonySearch;
-pub use params::{quoted_list, Kind, ParamDef, ParamSet, Raw, Setting, SettingError};
+pub use params::{
+    quoted_list, Kind, Param, ParamDef, ParamSet, ParamValue, Raw, Setting, SettingError,
+};
 pub use pso::ParticleSwarm;
 pub use random::RandomSearch;
 pub use registry::{
@@ -141,9 +143,12 @@ impl fmt::Display for ParamError {
 
 impl std::error::Error for ParamError {}
 
+/// The key of the `bounds` parameter.
+pub const BOUNDS_KEY: Param<&'static str> = Param::new("bounds");
+
 /// The shared `bounds` parameter: how values outside the box are repaired.
 pub const BOUNDS_PARAM: ParamDef = ParamDef {
-    name: "bounds",
+    name: BOUNDS_KEY.name,
     doc: "bound handling: \"clip\" or \"reflect\"",
     kind: Kind::Choice(&BoundPolicy::NAMES),
     default: Setting::Choice("clip"),
@@ -152,7 +157,7 @@ pub const BOUNDS_PARAM: ParamDef = ParamDef {
 
 /// Reads the [`BOUNDS_PARAM`] of a parameter set.
 pub fn policy_param(p: &ParamSet) -> BoundPolicy {
-    BoundPolicy::from_name(p.choice("bounds")).unwrap_or_default()
+    BoundPolicy::from_name(p.get(BOUNDS_KEY)).unwrap_or_default()
 }
 
 /// The built-in optimisers, one registration each, in the order

@@ -7,6 +7,7 @@
 
 use std::borrow::Cow;
 use std::fmt;
+use std::marker::PhantomData;
 
 /// The admissible values of one parameter.
 #[derive(Clone, Copy, Debug)]
@@ -66,6 +67,88 @@ impl Setting {
             Setting::Real(x) => Raw::Float(*x),
             Setting::Choice(s) => Raw::Text((*s).to_owned()),
             Setting::Sequence(v) => Raw::Text(v.join("+")),
+        }
+    }
+}
+
+/// The key of a declared parameter whose values are of type `T`: the one
+/// place its name is written, used both in its [`ParamDef`] (`name:
+/// KEY.name`) and to read it ([`ParamSet::get`]), so that a misspelt
+/// name or a value read as the wrong kind is a compile error.
+pub struct Param<T> {
+    /// The parameter's name in specs.
+    pub name: &'static str,
+    kind: PhantomData<fn() -> T>,
+}
+
+impl<T> Param<T> {
+    /// The key of the parameter `name`.
+    pub const fn new(name: &'static str) -> Self {
+        Param {
+            name,
+            kind: PhantomData,
+        }
+    }
+}
+
+impl<T> Clone for Param<T> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<T> Copy for Param<T> {}
+
+impl<T> fmt::Debug for Param<T> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "Param({})", self.name)
+    }
+}
+
+/// A type a parameter's [`Setting`] is read as.
+pub trait ParamValue: Sized {
+    /// The kind's name, for the panic of a mismatched key.
+    const KIND: &'static str;
+    /// The value, if `s` is of this kind.
+    fn of(s: &Setting) -> Option<Self>;
+}
+
+impl ParamValue for u64 {
+    const KIND: &'static str = "a count";
+    fn of(s: &Setting) -> Option<Self> {
+        match s {
+            Setting::Count(n) => Some(*n),
+            _ => None,
+        }
+    }
+}
+
+impl ParamValue for f64 {
+    const KIND: &'static str = "a real";
+    fn of(s: &Setting) -> Option<Self> {
+        match s {
+            Setting::Real(x) => Some(*x),
+            _ => None,
+        }
+    }
+}
+
+impl ParamValue for &'static str {
+    const KIND: &'static str = "a choice";
+    fn of(s: &Setting) -> Option<Self> {
+        match s {
+            Setting::Choice(c) => Some(c),
+            _ => None,
+        }
+    }
+}
+
+impl ParamValue for Vec<&'static str> {
+    const KIND: &'static str = "a sequence";
+    fn of(s: &Setting) -> Option<Self> {
+        match s {
+            Setting::Sequence(v) => Some(v.to_vec()),
+            _ => None,
         }
     }
 }
@@ -282,37 +365,15 @@ impl ParamSet {
         &self.values[i]
     }
 
-    /// An integer parameter (panics if `name` is not a declared count: a
-    /// programming error, not a user error).
-    pub fn count(&self, name: &str) -> u64 {
-        match self.value(name) {
-            Setting::Count(n) => *n,
-            other => panic!("parameter {name} is {other:?}, not a count"),
-        }
-    }
-
-    /// A real parameter (panics if `name` is not a declared real).
-    pub fn real(&self, name: &str) -> f64 {
-        match self.value(name) {
-            Setting::Real(x) => *x,
-            other => panic!("parameter {name} is {other:?}, not a real"),
-        }
-    }
-
-    /// A choice parameter (panics if `name` is not a declared choice).
-    pub fn choice(&self, name: &str) -> &'static str {
-        match self.value(name) {
-            Setting::Choice(s) => s,
-            other => panic!("parameter {name} is {other:?}, not a choice"),
-        }
-    }
-
-    /// A sequence parameter (panics if `name` is not a declared sequence).
-    pub fn sequence(&self, name: &str) -> &[&'static str] {
-        match self.value(name) {
-            Setting::Sequence(v) => v,
-            other => panic!("parameter {name} is {other:?}, not a sequence"),
-        }
+    /// The value of the declared parameter `key`, of the key's kind.
+    ///
+    /// Panics if this set does not declare `key` with that kind: a
+    /// programming error (the key of another optimiser's parameters), not a
+    /// user error; a misspelt key does not compile.
+    pub fn get<T: ParamValue>(&self, key: Param<T>) -> T {
+        let value = self.value(key.name);
+        T::of(value)
+            .unwrap_or_else(|| panic!("parameter {} is {value:?}, not {}", key.name, T::KIND))
     }
 
     /// `name=value;name=value;...` in declaration order: the stable text that
@@ -409,6 +470,6 @@ mod tests {
         p.set("hmcr", &Raw::Int(1)).unwrap();
         p.set("operators", &Raw::Text("ga + pso".into())).unwrap();
         assert_eq!(p.canonical(), "hms=5;hmcr=1;bounds=clip;operators=ga+pso");
-        assert_eq!(p.sequence("operators"), ["ga", "pso"]);
+        assert_eq!(p.get(Param::<Vec<&str>>::new("operators")), ["ga", "pso"]);
     }
 }

@@ -6,6 +6,7 @@
 use super::params::{Kind, ParamDef, ParamSet, Setting};
 use super::{clamp, max_x86, min_x86, policy_param, Optimiser, ParamError, BOUNDS_PARAM};
 use crate::optim::evaluator::Evaluator;
+use crate::optim::params::Param;
 use crate::problem::{BoundPolicy, Bounds, Problem};
 use crate::rng::Words;
 use crate::simd::dispatch;
@@ -79,6 +80,23 @@ pub struct ParticleSwarm {
     pub policy: BoundPolicy,
 }
 
+/// The key of the `swarm` parameter.
+pub const SWARM_KEY: Param<u64> = Param::new("swarm");
+/// The key of the `inertia` parameter.
+pub const INERTIA_KEY: Param<&'static str> = Param::new("inertia");
+/// The key of the `w` parameter.
+pub const W_KEY: Param<f64> = Param::new("w");
+/// The key of the `w_max` parameter.
+pub const W_MAX_KEY: Param<f64> = Param::new("w_max");
+/// The key of the `w_min` parameter.
+pub const W_MIN_KEY: Param<f64> = Param::new("w_min");
+/// The key of the `c1` parameter.
+pub const C1_KEY: Param<f64> = Param::new("c1");
+/// The key of the `c2` parameter.
+pub const C2_KEY: Param<f64> = Param::new("c2");
+/// The key of the `vmax` parameter.
+pub const VMAX_KEY: Param<f64> = Param::new("vmax");
+
 /// The parameters of [`ParticleSwarm`]. The defaults are the classical
 /// setting of Shi & Eberhart (1998): `ω` falling linearly from 0.9 to 0.4 with
 /// `c1 = c2 = 2`. The default constant `w = 0.7298` is the
@@ -88,7 +106,7 @@ pub struct ParticleSwarm {
 /// `c1 = c2 = 1.49618` when `inertia = "constant"`.
 pub static PARAMS: [ParamDef; 9] = [
     ParamDef {
-        name: "swarm",
+        name: SWARM_KEY.name,
         doc: "swarm size (number of particles)",
         kind: Kind::Count {
             min: 1,
@@ -98,14 +116,14 @@ pub static PARAMS: [ParamDef; 9] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "inertia",
+        name: INERTIA_KEY.name,
         doc: "\"constant\" ω = w, or \"linear\" ω(t) = w_max − (w_max − w_min)·t/NI",
         kind: Kind::Choice(&Inertia::NAMES),
         default: Setting::Choice("linear"),
         omit_at_default: false,
     },
     ParamDef {
-        name: "w",
+        name: W_KEY.name,
         doc: "constant inertia weight ω (inertia = \"constant\")",
         kind: Kind::Real {
             min: 0.0,
@@ -116,7 +134,7 @@ pub static PARAMS: [ParamDef; 9] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "w_max",
+        name: W_MAX_KEY.name,
         doc: "initial inertia weight (inertia = \"linear\")",
         kind: Kind::Real {
             min: 0.0,
@@ -127,7 +145,7 @@ pub static PARAMS: [ParamDef; 9] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "w_min",
+        name: W_MIN_KEY.name,
         doc: "final inertia weight (inertia = \"linear\"), at most w_max",
         kind: Kind::Real {
             min: 0.0,
@@ -138,7 +156,7 @@ pub static PARAMS: [ParamDef; 9] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "c1",
+        name: C1_KEY.name,
         doc: "cognitive (self-confidence) coefficient c1, C_PSO1",
         kind: Kind::Real {
             min: 0.0,
@@ -149,7 +167,7 @@ pub static PARAMS: [ParamDef; 9] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "c2",
+        name: C2_KEY.name,
         doc: "social (swarm-confidence) coefficient c2, C_PSO2",
         kind: Kind::Real {
             min: 0.0,
@@ -160,7 +178,7 @@ pub static PARAMS: [ParamDef; 9] = [
         omit_at_default: false,
     },
     ParamDef {
-        name: "vmax",
+        name: VMAX_KEY.name,
         doc: "velocity clamp vmax, as a fraction of each variable's range",
         kind: Kind::Real {
             min: 0.0,
@@ -184,14 +202,14 @@ impl ParticleSwarm {
     /// `w_min ≤ w_max` is required.
     pub fn from_params(p: &ParamSet) -> Result<Self, ParamError> {
         let s = Self {
-            swarm: p.count("swarm") as usize,
-            inertia: Inertia::from_name(p.choice("inertia")),
-            w: p.real("w"),
-            w_max: p.real("w_max"),
-            w_min: p.real("w_min"),
-            c1: p.real("c1"),
-            c2: p.real("c2"),
-            vmax: p.real("vmax"),
+            swarm: p.get(SWARM_KEY) as usize,
+            inertia: Inertia::from_name(p.get(INERTIA_KEY)),
+            w: p.get(W_KEY),
+            w_max: p.get(W_MAX_KEY),
+            w_min: p.get(W_MIN_KEY),
+            c1: p.get(C1_KEY),
+            c2: p.get(C2_KEY),
+            vmax: p.get(VMAX_KEY),
             policy: policy_param(p),
         };
         if s.inertia == Inertia::Linear && s.w_min > s.w_max {
