@@ -654,7 +654,7 @@ fn verdicts_across_functions_have_known_answers() {
     );
     let md = read(&dir.join("report.md"));
     assert!(
-        md.contains("| reference | final-error | X | R | all | wilcoxon-signed-rank | 4/4/0 |"),
+        md.contains("| X | R | final-error | wilcoxon-signed-rank | 4/4/0 |"),
         "{md}"
     );
 }

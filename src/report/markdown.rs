@@ -35,7 +35,7 @@ fn bullet(s: &mut String, key: &str, value: &str) {
 }
 
 /// The title, the description and the note on how the report was made.
-fn title(h: &Header<'_>) -> String {
+pub(crate) fn title(h: &Header<'_>) -> String {
     let p = h.provenance;
     let mut s = String::new();
     let name = p
@@ -187,10 +187,9 @@ fn data_bullets(s: &mut String, h: &Header<'_>) {
     }
 }
 
-/// The title and provenance block.
-pub(crate) fn header(h: &Header<'_>) -> String {
-    let mut s = title(h);
-    s.push_str("## Provenance\n\n");
+/// The provenance block (after the title, the summary and the figures).
+pub(crate) fn provenance(h: &Header<'_>) -> String {
+    let mut s = String::from("## Provenance\n\n");
     spec_bullets(&mut s, h);
     data_bullets(&mut s, h);
     if let Some(n) = &h.reference_note {
@@ -207,6 +206,12 @@ pub(crate) fn header(h: &Header<'_>) -> String {
     s
 }
 
+/// The most rows a table shows in `report.md`; a longer one shows its
+/// first [`HEAD_ROWS`] and links its CSV file, which has them all.
+pub(crate) const MAX_ROWS: usize = 15;
+/// The rows shown of a table longer than [`MAX_ROWS`].
+pub(crate) const HEAD_ROWS: usize = 5;
+
 /// A table section: heading, paragraphs, the table and its CSV path.
 pub(crate) fn table_section(t: &Table, level: usize) -> String {
     let mut s = String::new();
@@ -215,12 +220,25 @@ pub(crate) fn table_section(t: &Table, level: usize) -> String {
         "#".repeat(level),
         md_escape(&t.title)
     ));
-    for p in &t.intro {
-        s.push_str(&md_escape(p));
+    // The introduction as one paragraph: a table is a few lines of text.
+    if !t.intro.is_empty() {
+        let intro: Vec<String> = t.intro.iter().map(|p| md_escape(p)).collect();
+        s.push_str(&intro.join(" "));
         s.push_str("\n\n");
     }
     if t.md_rows.is_empty() {
         s.push_str("*(no rows)*\n\n");
+    } else if t.md_rows.len() > MAX_ROWS {
+        let head = Table {
+            md_rows: t.md_rows[..HEAD_ROWS].to_vec(),
+            ..t.clone()
+        };
+        s.push_str(&head.markdown());
+        s.push('\n');
+        s.push_str(&format!(
+            "The first {HEAD_ROWS} of {} rows; the whole table is in the CSV file below.\n\n",
+            t.md_rows.len()
+        ));
     } else {
         s.push_str(&t.markdown());
         s.push('\n');
@@ -235,7 +253,7 @@ pub(crate) fn table_section(t: &Table, level: usize) -> String {
 /// A plot section: heading, the PNG, the caption and the SVG path.
 pub(crate) fn plot_section(p: &Plot) -> String {
     format!(
-        "### {title}\n\n![{title}](plots/{stem}.png)\n\n{caption}\n\nSVG: \
+        "### {title}\n\n![{title}](plots/{stem}.png)\n{caption} SVG: \
          [`plots/{stem}.svg`](plots/{stem}.svg)\n\n",
         title = md_escape(&p.title),
         stem = p.stem,

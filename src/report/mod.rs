@@ -409,14 +409,130 @@ impl Sections {
             .chain(&self.fitting)
     }
 
-    /// The body of `report.md` after its header.
-    fn markdown(&self) -> String {
-        let mut md = String::from("## Verdicts\n\n");
+    /// The `## Summary` that opens the report: the question, the verdicts
+    /// over all problems with the counts of units on either side (their
+    /// range), the best setting of every tuned grid, and links to the
+    /// figures and to the parts skipped.
+    fn summary(&self, question: &str) -> String {
+        let mut md = String::from("## Summary\n\n");
+        md.push_str(&markdown::paragraph(&format!("Question: {question}")));
         match &self.tests.verdict_table {
-            Some(t) => md.push_str(&verdicts_section(t)),
+            Some(t) => {
+                let shown = summary_verdicts(t);
+                if shown.md_rows.is_empty() {
+                    md.push_str(&markdown::paragraph("No verdict over all problems."));
+                } else {
+                    md.push_str(&markdown::paragraph(
+                        "Verdicts over all problems against the reference (units +/=/− \
+                         counts the units that favour the algorithm, tie, or favour the \
+                         reference; effect is their median summary):",
+                    ));
+                    md.push_str(&shown.markdown());
+                    md.push('\n');
+                    let count = |v: &str| {
+                        t.md_rows
+                            .iter()
+                            .filter(|r| r.last().is_some_and(|x| x == v))
+                            .count()
+                    };
+                    md.push_str(&markdown::paragraph(&format!(
+                        "{} verdicts shown of {} (all scopes: {} better, {} worse, the others \
+                         no detectable difference); all are in tables/verdicts.csv.",
+                        shown.md_rows.len(),
+                        t.md_rows.len(),
+                        count("better"),
+                        count("worse")
+                    )));
+                }
+            }
             None => md.push_str(&markdown::paragraph(
                 "There is a single algorithm configuration: there is no verdict to state.",
             )),
+        }
+        let picks: Vec<String> = self
+            .tuning
+            .iter()
+            .filter(|t| t.stem.starts_with("tuning_picks_"))
+            .filter_map(|t| {
+                let row = t.md_rows.first()?;
+                let runner = t.md_header.iter().position(|h| h == "Runner-up");
+                let grid = t
+                    .title
+                    .strip_prefix("Parameter tuning of ")
+                    .and_then(|r| r.split(':').next())
+                    .unwrap_or("");
+                Some(format!(
+                    "- {}: {} (mean rank {}){}; [`tables/{}.csv`](tables/{}.csv)\n",
+                    crate::markdown::escape(grid),
+                    crate::markdown::escape(&row[0]),
+                    crate::markdown::escape(row.get(1).map_or("", String::as_str)),
+                    runner
+                        .and_then(|i| row.get(i))
+                        .map_or_else(String::new, |r| format!(
+                            ", runner-up {}",
+                            crate::markdown::escape(r)
+                        )),
+                    t.stem,
+                    t.stem
+                ))
+            })
+            .collect();
+        if !picks.is_empty() {
+            md.push_str("Best settings (lowest mean rank over the problems):\n\n");
+            picks.iter().for_each(|p| md.push_str(p));
+            md.push('\n');
+        }
+        if !self.figures.is_empty() {
+            let links: Vec<String> = self
+                .figures
+                .iter()
+                .map(|p| {
+                    format!(
+                        "[{}](plots/{}.png)",
+                        crate::markdown::escape(&p.title),
+                        p.stem
+                    )
+                })
+                .collect();
+            md.push_str(&format!("Figures: {}.\n\n", links.join(", ")));
+        }
+        if !self.notes.is_empty() {
+            md.push_str(&markdown::paragraph(&format!(
+                "{} part(s) were skipped or limited: see the last section.",
+                self.notes.len()
+            )));
+        }
+        md
+    }
+
+    /// The figures, after the summary.
+    fn figures_markdown(&self) -> String {
+        let mut md = String::from("## Plots\n\n");
+        if self.figures.is_empty() {
+            md.push_str(&markdown::paragraph(
+                "No plot could be drawn from these results.",
+            ));
+        }
+        for p in &self.figures {
+            md.push_str(&markdown::plot_section(p));
+        }
+        md
+    }
+
+    /// The body of `report.md` after the summary, figures and provenance.
+    fn markdown(&self) -> String {
+        let mut md = String::new();
+        if let Some(t) = &self.tests.verdict_table {
+            md.push_str("## Verdicts\n\n");
+            for p in &t.intro {
+                md.push_str(&markdown::paragraph(p));
+            }
+            md.push_str(&markdown::paragraph(&format!(
+                "The summary lists the verdicts over all problems; tables/verdicts.csv has all {} \
+                 (every factor level and design point), and the Robustness section shows them \
+                 per design point.",
+                t.md_rows.len()
+            )));
         }
         md.push_str("## Setup\n\n");
         for t in &self.setup {
@@ -454,15 +570,6 @@ impl Sections {
                 }
             }
         }
-        md.push_str("## Plots\n\n");
-        if self.figures.is_empty() {
-            md.push_str(&markdown::paragraph(
-                "No plot could be drawn from these results.",
-            ));
-        }
-        for p in &self.figures {
-            md.push_str(&markdown::plot_section(p));
-        }
         md.push_str(&markdown::notes_section(
             "Skipped or limited parts",
             &self.notes,
@@ -471,31 +578,65 @@ impl Sections {
     }
 }
 
-/// The Verdicts section: the table's introduction and its rows at scope
-/// `all` (every scope is in the CSV file and in the Robustness section).
-fn verdicts_section(t: &Table) -> String {
-    let scope = t.md_header.iter().position(|h| h == "Scope");
-    let all: Vec<Vec<String>> = t
+/// The verdicts over all problems in the summary: the algorithm, the
+/// reference, the measure, the units on either side, the effect, the
+/// adjusted p and the verdict, at most [`SUMMARY_VERDICTS`] rows (the
+/// decided ones first).
+fn summary_verdicts(t: &Table) -> Table {
+    let col = |name: &str| t.md_header.iter().position(|h| h == name);
+    let keep = [
+        "Algorithm",
+        "Reference",
+        "Measure",
+        "Test",
+        "Units +/=/−",
+        "Effect",
+        "p (adjusted)",
+        "Verdict",
+    ];
+    let idx: Vec<usize> = keep.iter().filter_map(|k| col(k)).collect();
+    let scope = col("Scope");
+    let verdict = col("Verdict");
+    let mut rows: Vec<&Vec<String>> = t
         .md_rows
         .iter()
         .filter(|r| scope.is_none_or(|i| r[i] == "all"))
-        .cloned()
         .collect();
-    let shown = Table {
-        md_rows: all,
+    // Decided verdicts first; the order is otherwise the table's.
+    rows.sort_by_key(|r| verdict.is_some_and(|i| !(r[i] == "better" || r[i] == "worse")));
+    rows.truncate(SUMMARY_VERDICTS);
+    Table {
+        md_header: idx.iter().map(|&i| t.md_header[i].clone()).collect(),
+        md_rows: rows
+            .into_iter()
+            .map(|r| idx.iter().map(|&i| r[i].clone()).collect())
+            .collect(),
         ..t.clone()
-    };
-    let mut md = markdown::table_section(&shown, 3);
-    if shown.md_rows.len() < t.md_rows.len() {
-        md.push_str(&markdown::paragraph(&format!(
-            "The table shows the {} verdicts over all problems; tables/verdicts.csv has all {} \
-             (every factor level and design point), and the Robustness section shows them \
-             per design point.",
-            shown.md_rows.len(),
-            t.md_rows.len()
-        )));
     }
-    md
+}
+
+/// The most verdicts the summary lists.
+const SUMMARY_VERDICTS: usize = 12;
+
+/// The question a report answers, from what its results hold.
+fn question(s: &Sections, ds: &data::Dataset) -> String {
+    let reference = s.tests.reference.as_deref().unwrap_or("the reference");
+    if !s.fitting.is_empty() {
+        format!(
+            "which method fits the outlines with the lowest fitting error E (and RMS and \
+             maximum distance), segment by segment, and does it beat {reference}?"
+        )
+    } else if s.tuning.iter().any(|t| t.stem.starts_with("tuning_picks_")) {
+        "which setting of each algorithm's parameter grid is best over the problems?".into()
+    } else if ds.cells.len() < 2 {
+        "how does this single algorithm configuration perform on each problem?".into()
+    } else {
+        format!(
+            "which algorithm reaches a lower final error than {reference} across the {} \
+             problem(s), and where does the verdict hold?",
+            ds.problems.len()
+        )
+    }
 }
 
 /// Computes every section of the report of `dir` from its dataset.
@@ -627,7 +768,7 @@ pub fn write_report(dir: &Path, options: &ReportOptions) -> Result<ReportSummary
     let (table_paths, plot_paths) = write_tables_and_plots(dir, &s)?;
 
     let (budgets, run_counts) = budgets_and_run_counts(&ds);
-    let mut md = markdown::header(&markdown::Header {
+    let header = markdown::Header {
         provenance: &provenance,
         ds: &ds,
         reference: s.tests.reference.clone(),
@@ -637,7 +778,11 @@ pub fn write_report(dir: &Path, options: &ReportOptions) -> Result<ReportSummary
         budgets,
         run_counts,
         dir_name: dir.file_name().map(|n| n.to_string_lossy().into_owned()),
-    });
+    };
+    let mut md = markdown::title(&header);
+    md.push_str(&s.summary(&question(&s, &ds)));
+    md.push_str(&s.figures_markdown());
+    md.push_str(&markdown::provenance(&header));
     md.push_str(&s.markdown());
     let report = dir.join("report.md");
     let mut bytes = md.trim_end().as_bytes().to_vec();

@@ -140,6 +140,9 @@ fn cell_text(k: Option<&Tally>, v: Option<&VerdictRow>) -> String {
     }
 }
 
+/// The most verdict lines the design-point table's introduction shows.
+const MAX_VERDICT_LINES: usize = 8;
+
 /// The robustness tables: the marks and verdicts at each design point (the
 /// verdict lines as the table's introduction), and per factor level.
 pub(crate) fn tables(
@@ -167,7 +170,15 @@ pub(crate) fn tables(
          the problems, they are not a test. The final error is shown here; the anytime \
          measure's verdicts are in tables/verdicts.csv."
     )];
-    intro.extend(verdict_lines(ds, s, &points, rows, noun));
+    let lines = verdict_lines(ds, s, &points, rows, noun);
+    let total = lines.len();
+    intro.extend(lines.into_iter().take(MAX_VERDICT_LINES));
+    if total > MAX_VERDICT_LINES {
+        intro.push(format!(
+            "The first {MAX_VERDICT_LINES} of {total} such verdict lines; every verdict is in \
+             tables/verdicts.csv."
+        ));
+    }
     intro.extend(budget_note);
     let mut by_point = Table {
         stem: "robustness".into(),

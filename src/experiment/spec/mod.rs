@@ -752,20 +752,35 @@ fn raw(v: &DeValue<'_>) -> Raw {
     }
 }
 
-/// The closest name within edit distance 2, for "did you mean" hints.
+/// The closest name within edit distance 2, for "did you mean" hints. The
+/// distance is Damerau–Levenshtein's in its optimal-string-alignment form
+/// (Damerau 1964): insertions, deletions, substitutions and transpositions
+/// of two adjacent characters each cost 1, so `msh` is one edit from `mhs`.
 fn suggest<'n>(word: &str, names: &[&'n str]) -> Option<&'n str> {
     fn distance(a: &str, b: &str) -> usize {
+        let a: Vec<char> = a.chars().collect();
         let b: Vec<char> = b.chars().collect();
-        let mut prev: Vec<usize> = (0..=b.len()).collect();
-        for (i, ca) in a.chars().enumerate() {
-            let mut cur = vec![i + 1; b.len() + 1];
-            for (j, cb) in b.iter().enumerate() {
-                let sub = prev[j] + usize::from(ca != *cb);
-                cur[j + 1] = sub.min(prev[j + 1] + 1).min(cur[j] + 1);
-            }
-            prev = cur;
+        // d[i][j]: distance between a[..i] and b[..j].
+        let mut d = vec![vec![0usize; b.len() + 1]; a.len() + 1];
+        for (i, row) in d.iter_mut().enumerate() {
+            row[0] = i;
         }
-        prev[b.len()]
+        for (j, cell) in d[0].iter_mut().enumerate() {
+            *cell = j;
+        }
+        for i in 1..=a.len() {
+            for j in 1..=b.len() {
+                let cost = usize::from(a[i - 1] != b[j - 1]);
+                let mut best = (d[i - 1][j] + 1)
+                    .min(d[i][j - 1] + 1)
+                    .min(d[i - 1][j - 1] + cost);
+                if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
+                    best = best.min(d[i - 2][j - 2] + 1);
+                }
+                d[i][j] = best;
+            }
+        }
+        d[a.len()][b.len()]
     }
     names
         .iter()
