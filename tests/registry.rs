@@ -422,3 +422,50 @@ fn a_panicking_optimiser_stops_the_campaign_with_the_run_named_and_keeps_finishe
     let s = run_campaign(&spec, &opts(true)).unwrap();
     assert_eq!((s.total, s.reused, s.executed), (4, 2, 2));
 }
+
+#[test]
+fn external_runs_enter_the_anytime_plots_with_their_directory_or_are_left_out_and_said() {
+    use metabezier::experiment::{run_campaign, RunOptions};
+    use metabezier::report::{write_report, ReportOptions};
+    let tmp = tempfile::tempdir().unwrap();
+    let es = tmp.path().join("es");
+    custom_optimiser::campaign(&es, Some(2)).unwrap();
+    let text = custom_optimiser::SPEC
+        .split("[[algorithm]]")
+        .next()
+        .unwrap()
+        .replace("custom_optimiser", "pso_only")
+        + "[[algorithm]]\nname = \"pso\"\nlabel = \"PSO\"\n";
+    let spec = spec_in(Registry::builtin(), &text).unwrap();
+    let ours = tmp.path().join("pso");
+    let opts = RunOptions {
+        out: Some(ours.clone()),
+        threads: Some(2),
+        ..RunOptions::default()
+    };
+    run_campaign(&spec, &opts).unwrap();
+    let report = |external: &Path| {
+        let opts = ReportOptions {
+            external: Some(external.to_owned()),
+            ..ReportOptions::default()
+        };
+        write_report(&ours, &opts).unwrap();
+        let md = std::fs::read_to_string(ours.join("report.md")).unwrap();
+        let svg = std::fs::read_to_string(ours.join("plots/ecdf_targets.svg")).unwrap();
+        (md, svg)
+    };
+    // With its results directory: in the 51-target ECDF, no note.
+    let (md, svg) = report(&es.join("runs.csv"));
+    assert!(svg.contains("(1+1)-ES") && svg.contains("PSO"));
+    assert!(!md.contains("come without convergence.csv"), "{md}");
+    // runs.csv alone: left out of that plot (not drawn as reaching
+    // nothing), and the report says why.
+    let alone = tmp.path().join("alone.csv");
+    std::fs::copy(es.join("runs.csv"), &alone).unwrap();
+    let (md, svg) = report(&alone);
+    assert!(!svg.contains("(1+1)-ES") && svg.contains("PSO"));
+    assert!(
+        md.contains("come without convergence.csv, timing.csv and hits.csv"),
+        "{md}"
+    );
+}

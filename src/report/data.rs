@@ -149,6 +149,9 @@ pub(crate) struct Dataset {
     /// Whether `hits.csv` was read, so that the runs of the results (not
     /// the external ones) carry every target they reached.
     pub has_hits: bool,
+    /// Whether the external runs came with their results directory's
+    /// convergence and hits, so that they carry every target they reached.
+    pub external_anytime: bool,
     /// Number of runs read.
     pub total_runs: usize,
     /// Remarks about the input, shown in the report.
@@ -259,6 +262,7 @@ impl Dataset {
             has_convergence,
             has_timing: false,
             has_hits: false,
+            external_anytime: false,
             total_runs,
             notes,
         }
@@ -420,8 +424,33 @@ pub(crate) fn load(dir: &Path, external: Option<&Path>) -> Result<Dataset, Repor
     let internal_labels: std::collections::BTreeSet<String> =
         records.iter().map(|r| r.algorithm.clone()).collect();
     let mut all: Vec<(RunRecord, bool)> = records.into_iter().map(|r| (r, false)).collect();
+    let mut external_anytime = false;
     if let Some(ext) = external {
-        let ext_records = read_runs(ext)?;
+        // A runs.csv inside another campaign's results directory brings its
+        // convergence and target hits, so that its runs enter every plot.
+        let ext_dir = ext
+            .parent()
+            .filter(|_| ext.file_name().is_some_and(|n| n == "runs.csv"))
+            .filter(|d| {
+                ["convergence.csv", "timing.csv", "hits.csv"]
+                    .iter()
+                    .all(|f| d.join(f).is_file())
+            });
+        external_anytime = ext_dir.is_some();
+        let ext_records = match ext_dir {
+            Some(d) => read_results(d)?,
+            None => {
+                notes.push(format!(
+                    "The external runs ({}) come without convergence.csv, timing.csv and \
+                     hits.csv beside them: they are in the tables, the final-error box plots \
+                     and the runtime ECDF to the success threshold, but not in the convergence \
+                     plot or the ECDFs over 51 targets, which need those files. Pass the runs.csv \
+                     of a complete results directory to draw them everywhere.",
+                    ext.display()
+                ));
+                read_runs(ext)?
+            }
+        };
         let mut renamed: std::collections::BTreeSet<String> = Default::default();
         for mut r in ext_records {
             if internal_labels.contains(&r.algorithm) {
@@ -442,6 +471,7 @@ pub(crate) fn load(dir: &Path, external: Option<&Path>) -> Result<Dataset, Repor
     let mut ds = Dataset::from_records(all);
     ds.has_timing = timing && conv;
     ds.has_hits = ds.has_timing && dir.join("hits.csv").is_file();
+    ds.external_anytime = external_anytime;
     if !ds.has_timing {
         ds.clear_timing();
     }

@@ -332,6 +332,10 @@ fn target_ecdf(
     let mut series: Vec<Line> = Vec::new();
     let mut xmax = 1.0f64;
     for c in 0..ds.cells.len() {
+        if ds.cells[c].external && !ds.external_anytime {
+            // Its hits were not read: it would show as reaching nothing.
+            continue;
+        }
         let mut total = 0usize;
         let mut times: Vec<f64> = Vec::new();
         for (p, problem) in ds.problems.iter().enumerate() {
