@@ -243,6 +243,11 @@ pub enum ImplantError {
     /// A statistic of the validation could not be computed.
     #[error("statistics: {0}")]
     Stats(#[from] StatsError),
+    /// A 3D validation case could not be cut out of the volume or
+    /// prepared: every method's row of the case carries this reason, and
+    /// the run goes on with the next case.
+    #[error("case not built: {0}")]
+    CaseNotBuilt(std::sync::Arc<ImplantError>),
 }
 
 impl ImplantError {
