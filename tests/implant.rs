@@ -38,6 +38,7 @@ fn real_config(slices: std::ops::RangeInclusive<usize>) -> DefectConfig {
         smoothing: Smoothing::default(),
         templates: None,
         ring_points: 120,
+        thickness_mm: None,
     }
 }
 
