@@ -38,6 +38,7 @@ fn real_config(slices: std::ops::RangeInclusive<usize>) -> DefectConfig {
         smoothing: Smoothing::default(),
         templates: None,
         ring_points: 120,
+        thickness_mm: None,
     }
 }
 
@@ -864,4 +865,50 @@ fn bad_ends_midlines_and_slices_are_refused_before_anything_is_written() {
             assert!(err.contains(e), "{name}: {err}");
         }
     }
+}
+
+// ---------------------------------------------------------------- issue 27: every case recorded
+
+#[test]
+fn a_case_that_cannot_be_built_is_a_failed_row_and_the_run_goes_on() {
+    // 2D: on z = 70 no outer contour lies at 110° (the real defect's
+    // side), 330° is intact bone. 3D: the range 60–62 starts on a slice
+    // of the real defect, where the patch's end B is off the bone. Both
+    // used to stop the whole run with no output.
+    let dir = tmp("unbuilt");
+    let spec = small_spec(
+        &crate_path(CT0051_PATH),
+        "",
+        "[validation]\nslices = [70]\npositions = [110, 330]\nwidths = [30]\nmethods = [\"lm\"]\n\
+         [validation_3d]\nranges = [[60, 62]]\npositions = [330]\nwidths = [30]\nmethods = [\"lm\"]\n",
+    );
+    let (ok, err) = run_spec(&dir, &spec);
+    assert!(ok, "{err}");
+    let csv = std::fs::read_to_string(dir.join("out/validation.csv")).unwrap();
+    let rows: Vec<&str> = csv.lines().skip(1).collect();
+    assert_eq!(rows.len(), 6, "{csv}");
+    for r in &rows[..3] {
+        assert!(
+            r.starts_with("70,110,30,")
+                && r.contains(",error,")
+                && r.contains("case not built: no outer contour at 110°"),
+            "{r}"
+        );
+    }
+    assert!(rows[3..].iter().all(|r| r.contains(",ok,")), "{csv}");
+    let csv3 = std::fs::read_to_string(dir.join("out/validation_3d.csv")).unwrap();
+    let rows3: Vec<&str> = csv3.lines().skip(1).collect();
+    assert_eq!(rows3.len(), 3, "{csv3}");
+    for (r, m) in rows3.iter().zip(["template", "straight", "curve:lm"]) {
+        assert!(
+            r.starts_with(&format!("60,62,330,30,{m},"))
+                && r.contains(",error,")
+                && r.contains("case not built: slice z = 60: B is not on the bone contour"),
+            "{r}"
+        );
+    }
+    let report = std::fs::read_to_string(dir.join("out/report.md")).unwrap();
+    assert!(report.contains("6 rows, 3 failed"), "{report}");
+    assert!(report.contains("3 rows, 3 failed"), "{report}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

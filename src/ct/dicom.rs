@@ -834,6 +834,10 @@ pub fn read_dicom_series(paths: &[PathBuf]) -> Result<Volume, CtError> {
         }
     }
     let sz = slice_step(&slices)?;
+    if let Some(o) = slices[0].orientation {
+        check_orthogonal(&slices[0].path, o)?;
+    }
+    let z_known = slices.len() > 1 || slices[0].thickness.is_some_and(|t| t > 0.0);
     let (origin, axes) = series_frame(&slices);
     let first = &slices[0];
     let (nx, ny, nz) = (first.cols, first.rows, slices.len());
@@ -846,7 +850,32 @@ pub fn read_dicom_series(paths: &[PathBuf]) -> Result<Volume, CtError> {
     for s in slices {
         data.extend_from_slice(&s.hu);
     }
-    Volume::new(nx, ny, nz, spacing, origin, data)?.with_frame(origin, axes, FrameSource::Dicom)
+    let mut v = Volume::new(nx, ny, nz, spacing, origin, data)?.with_frame(
+        origin,
+        axes,
+        FrameSource::Dicom,
+    )?;
+    v.z_spacing_known = z_known;
+    Ok(v)
+}
+
+/// ImageOrientationPatient `o` of the slice at `path` must be two
+/// orthogonal unit vectors (within 10⁻³, DICOM PS3.3 C.7.6.2.1.1).
+fn check_orthogonal(path: &Path, o: [f64; 6]) -> Result<(), CtError> {
+    let (r, c) = ([o[0], o[1], o[2]], [o[3], o[4], o[5]]);
+    let dot = r[0] * c[0] + r[1] * c[1] + r[2] * c[2];
+    let len = |v: [f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    let (row_len, col_len) = (len(r), len(c));
+    if dot.abs() > 1e-3 || (row_len - 1.0).abs() > 1e-3 || (col_len - 1.0).abs() > 1e-3 {
+        return Err(CtError::OrientationNotOrthogonal {
+            path: path.to_path_buf(),
+            orientation: o,
+            dot,
+            row_len,
+            col_len,
+        });
+    }
+    Ok(())
 }
 
 /// Checks that every slice of a series of more than one says where it lies:

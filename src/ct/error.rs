@@ -208,6 +208,29 @@ pub enum CtError {
         /// This slice's.
         found: [f64; 6],
     },
+    /// A DICOM slice's ImageOrientationPatient row and column directions
+    /// are not orthogonal unit vectors.
+    #[error("{}: ImageOrientationPatient {orientation:?} is not two orthogonal unit vectors (row·column = {dot:.4}, lengths {row_len:.4} and {col_len:.4}); expected direction cosines such as 1\\0\\0\\0\\1\\0", path.display())]
+    OrientationNotOrthogonal {
+        /// The slice.
+        path: PathBuf,
+        /// Its ImageOrientationPatient.
+        orientation: [f64; 6],
+        /// The dot product of the row and column directions.
+        dot: f64,
+        /// The row direction's length.
+        row_len: f64,
+        /// The column direction's length.
+        col_len: f64,
+    },
+    /// Two voxel axes point mostly along the same patient axis, so the
+    /// pictures cannot be labelled anterior/posterior, left/right,
+    /// superior/inferior.
+    #[error("the volume's axes {axes:?} (column, row, slice; patient LPS) do not point along three different patient axes: no anatomical labels")]
+    AmbiguousOrientation {
+        /// The unit axes.
+        axes: [[f64; 3]; 3],
+    },
     /// A slice has no voxel at or above the bone threshold.
     #[error("slice {slice}: no bone: no voxel at or above {threshold} HU")]
     NoBone {

@@ -59,7 +59,10 @@ pub use render::{
 };
 pub use stl::{parse_stl, stl_bytes, write_stl};
 pub use triangulate::ear_clip;
-pub use volume::{Frame, FrameSource, Slice, Spacing, Volume, IDENTITY_AXES};
+pub use volume::{
+    Anatomy, Frame, FrameSource, PatientDirection, Slice, Spacing, Volume, IDENTITY_AXES,
+    INV3_ANATOMY,
+};
 pub use voxelise::{voxelise, voxelise_mesh};
 
 /// Index in the original 108-slice ProMED CT 0051 volume of slice 0 of the

@@ -176,6 +176,10 @@ pub struct SliceView {
     pub top_label: String,
     /// The label at the bottom edge.
     pub bottom_label: String,
+    /// The label at the left edge (empty: none).
+    pub left_label: String,
+    /// The label at the right edge (empty: none).
+    pub right_label: String,
 }
 
 impl SliceView {
@@ -404,6 +408,19 @@ pub fn slice_view_rgb(
         14,
         [255, 255, 160],
     )?;
+    if !view.left_label.is_empty() {
+        canvas.text(&view.left_label, 4, (h as i32) / 2 - 8, 14, [255, 255, 160])?;
+    }
+    if !view.right_label.is_empty() {
+        let x = w as i32 - 8 * view.right_label.chars().count() as i32 - 4;
+        canvas.text(
+            &view.right_label,
+            x,
+            (h as i32) / 2 - 8,
+            14,
+            [255, 255, 160],
+        )?;
+    }
     Ok(canvas.rgb)
 }
 

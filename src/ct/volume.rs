@@ -57,6 +57,106 @@ pub struct Frame {
     pub source: FrameSource,
 }
 
+/// A direction in the patient: DICOM's patient frame is LPS, `+X` towards
+/// the patient's left, `+Y` posterior, `+Z` superior (DICOM PS3.3
+/// C.7.6.1.1.1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PatientDirection {
+    /// Towards the patient's left (`+X`).
+    Left,
+    /// Towards the patient's right (`−X`).
+    Right,
+    /// Towards the back of the head (`+Y`).
+    Posterior,
+    /// Towards the face (`−Y`).
+    Anterior,
+    /// Towards the top of the head (`+Z`).
+    Superior,
+    /// Towards the feet (`−Z`).
+    Inferior,
+}
+
+impl PatientDirection {
+    /// The direction a patient-frame unit vector mostly points to (its
+    /// largest LPS component and that component's sign).
+    pub fn of(v: [f64; 3]) -> PatientDirection {
+        let i = (0..3)
+            .max_by(|&a, &b| v[a].abs().total_cmp(&v[b].abs()))
+            .unwrap_or(0);
+        let plus = v[i] >= 0.0;
+        match (i, plus) {
+            (0, true) => PatientDirection::Left,
+            (0, false) => PatientDirection::Right,
+            (1, true) => PatientDirection::Posterior,
+            (1, false) => PatientDirection::Anterior,
+            (_, true) => PatientDirection::Superior,
+            (_, false) => PatientDirection::Inferior,
+        }
+    }
+
+    /// The opposite direction.
+    pub fn opposite(self) -> PatientDirection {
+        use PatientDirection::*;
+        match self {
+            Left => Right,
+            Right => Left,
+            Posterior => Anterior,
+            Anterior => Posterior,
+            Superior => Inferior,
+            Inferior => Superior,
+        }
+    }
+
+    /// The label of a picture's edge: `anterior (face)`, `posterior`,
+    /// `left`, `right`, `superior`, `inferior` (left and right are the
+    /// patient's).
+    pub fn label(self) -> &'static str {
+        use PatientDirection::*;
+        match self {
+            Left => "patient left",
+            Right => "patient right",
+            Posterior => "posterior",
+            Anterior => "anterior (face)",
+            Superior => "superior",
+            Inferior => "inferior",
+        }
+    }
+
+    /// The LPS axis (0, 1, 2) of the direction.
+    fn axis(self) -> usize {
+        use PatientDirection::*;
+        match self {
+            Left | Right => 0,
+            Posterior | Anterior => 1,
+            Superior | Inferior => 2,
+        }
+    }
+}
+
+/// Where the volume's voxel axes `+x` (columns), `+y` (rows) and `+z`
+/// (slices) point in the patient: the one place the pictures' flips and
+/// edge labels come from ([`Frame::anatomy`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Anatomy {
+    /// The direction of `+x`.
+    pub x: PatientDirection,
+    /// The direction of `+y`.
+    pub y: PatientDirection,
+    /// The direction of `+z`.
+    pub z: PatientDirection,
+}
+
+/// The anatomy an `.inv3` project declares by convention (it stores no
+/// patient axes): InVesalius flips the rows of the axial DICOM series it
+/// imports, so `+y` is anterior (the face, as in ProMED CT 0051), `+x` the
+/// patient's left and `+z` superior (RECONSTRUCTION: the convention of the
+/// InVesalius import, not a field of the file).
+pub const INV3_ANATOMY: Anatomy = Anatomy {
+    x: PatientDirection::Left,
+    y: PatientDirection::Anterior,
+    z: PatientDirection::Superior,
+};
+
 /// The identity axes.
 pub const IDENTITY_AXES: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 
@@ -113,6 +213,23 @@ impl Frame {
         }
     }
 
+    /// Where the voxel axes point in the patient: from the axes
+    /// (ImageOrientationPatient and the slice positions, already in the
+    /// LPS patient frame) for DICOM and a given frame, from
+    /// [`INV3_ANATOMY`] for an `.inv3`. Errors with
+    /// [`CtError::AmbiguousOrientation`] when two axes point mostly along
+    /// the same patient axis (an orientation that is not orthogonal).
+    pub fn anatomy(&self) -> Result<Anatomy, CtError> {
+        if let FrameSource::Inv3 { .. } = self.source {
+            return Ok(INV3_ANATOMY);
+        }
+        let [x, y, z] = self.axes.map(PatientDirection::of);
+        if x.axis() == y.axis() || x.axis() == z.axis() || y.axis() == z.axis() {
+            return Err(CtError::AmbiguousOrientation { axes: self.axes });
+        }
+        Ok(Anatomy { x, y, z })
+    }
+
     /// A one-line description for an 80-byte STL header: the frame's source
     /// and origin.
     pub fn stl_header(&self) -> String {
@@ -153,6 +270,10 @@ pub struct Volume {
     pub axes: [[f64; 3]; 3],
     /// Where the origin and axes came from.
     pub frame_source: FrameSource,
+    /// Whether `spacing.z` is the study's own: false for a one-slice DICOM
+    /// study without SliceThickness (0018,0050), whose 1 mm is a
+    /// placeholder (a one-slice design then needs `[defect] thickness_mm`).
+    pub z_spacing_known: bool,
     data: Vec<i16>,
 }
 
@@ -197,6 +318,7 @@ impl Volume {
             origin,
             axes: IDENTITY_AXES,
             frame_source: FrameSource::Given,
+            z_spacing_known: true,
             data,
         })
     }
@@ -314,6 +436,7 @@ impl Volume {
             origin,
             axes: self.axes,
             frame_source: self.frame_source,
+            z_spacing_known: self.z_spacing_known,
             data: self.data[z0 * n..z1 * n].to_vec(),
         }
     }

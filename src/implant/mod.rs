@@ -34,10 +34,10 @@ pub mod smooth;
 pub mod wall;
 
 pub use pipeline::{
-    build_mesh, check_distinct_ends, index_of, reconstruct_defect, reconstruct_defect_with,
-    reconstruct_from, resolve_midline, slice_context, slice_index, slice_mask, DefectConfig, Ends,
-    Implant, ImplantError, MidlineSpec, SliceContext, SliceResult, SliceSpec, Smoothing, Templates,
-    MIN_MIDLINE_DICE,
+    build_mesh, build_mesh_with, check_distinct_ends, index_of, reconstruct_defect,
+    reconstruct_defect_with, reconstruct_from, resolve_midline, slice_context, slice_index,
+    slice_mask, DefectConfig, Ends, Implant, ImplantError, MidlineSpec, SliceContext, SliceResult,
+    SliceSpec, Smoothing, Templates, MIN_MIDLINE_DICE,
 };
 pub use smooth::{choose_seats, lipschitz_envelope, roughness, smooth_outer_walls};
 pub use wall::{

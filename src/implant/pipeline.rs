@@ -115,6 +115,10 @@ pub struct DefectConfig {
     pub templates: Option<Templates>,
     /// Points per ring of the lofted mesh.
     pub ring_points: usize,
+    /// The slab thickness of a one-slice design (mm; `[defect]
+    /// thickness_mm`): used where given, else the study's slice spacing;
+    /// a one-slice study without SliceThickness needs it.
+    pub thickness_mm: Option<f64>,
 }
 
 /// The smallest reflection Dice of an acceptable midline estimate.
@@ -240,9 +244,20 @@ pub enum ImplantError {
         /// Whether every directed edge appears once and the volume is positive.
         oriented: bool,
     },
+    /// A one-slice design in a study that declares no slice thickness.
+    #[error("slice z = {z}: a one-slice design is extruded by the slice thickness, but the study has none (no SliceThickness (0018,0050) in its one DICOM slice); give `thickness_mm` in [defect] (mm)")]
+    NoSliceThickness {
+        /// The slice.
+        z: usize,
+    },
     /// A statistic of the validation could not be computed.
     #[error("statistics: {0}")]
     Stats(#[from] StatsError),
+    /// A 3D validation case could not be cut out of the volume or
+    /// prepared: every method's row of the case carries this reason, and
+    /// the run goes on with the next case.
+    #[error("case not built: {0}")]
+    CaseNotBuilt(std::sync::Arc<ImplantError>),
 }
 
 impl ImplantError {
@@ -586,7 +601,8 @@ pub fn reconstruct_from<S: SegmentSolver + ?Sized>(
     }
     let indices: Vec<usize> = contexts.iter().map(|c| c.k).collect();
     let sections: Vec<Polyline> = slices.iter().map(|s| s.wall.section.clone()).collect();
-    let (mesh, mask) = build_mesh(volume, &indices, &sections, cfg.ring_points)?;
+    let slab = slab_thickness(volume, cfg, &zs)?;
+    let (mesh, mask) = build_mesh_with(volume, &indices, &sections, cfg.ring_points, slab)?;
     measure_slices(volume, cfg, &mask, &mut slices);
     Ok(Implant {
         slices,
@@ -678,21 +694,45 @@ fn measure_slices(volume: &Volume, cfg: &DefectConfig, mask: &Mask3, slices: &mu
     }
 }
 
+/// The slab thickness of a one-slice design (`zs` the design's slices):
+/// `[defect] thickness_mm` where given, else the study's slice spacing, or
+/// [`ImplantError::NoSliceThickness`] when the study has none; the slice
+/// spacing for a design of several slices (unused).
+fn slab_thickness(volume: &Volume, cfg: &DefectConfig, zs: &[usize]) -> Result<f64, ImplantError> {
+    match (zs, cfg.thickness_mm) {
+        (_, Some(t)) => Ok(t),
+        ([z], None) if !volume.z_spacing_known => Err(ImplantError::NoSliceThickness { z: *z }),
+        _ => Ok(volume.spacing.z),
+    }
+}
+
 /// Lofts the sections of the volume slices `indices` into a closed mesh
-/// (`z = index·s_z`; one section becomes a slab from `z − s_z/2` to
-/// `z + s_z/2`) and voxelises its rings on the volume grid.
+/// (`z = index·s_z`; one section becomes a slab one slice spacing thick)
+/// and voxelises its rings on the volume grid ([`build_mesh_with`]).
 pub fn build_mesh(
     volume: &Volume,
     indices: &[usize],
     sections: &[Polyline],
     ring_points: usize,
 ) -> Result<(Mesh, Mask3), ImplantError> {
+    build_mesh_with(volume, indices, sections, ring_points, volume.spacing.z)
+}
+
+/// [`build_mesh`] with one section extruded into a slab `slab_mm` thick,
+/// from `z − slab/2` to `z + slab/2`.
+pub fn build_mesh_with(
+    volume: &Volume,
+    indices: &[usize],
+    sections: &[Polyline],
+    ring_points: usize,
+    slab_mm: f64,
+) -> Result<(Mesh, Mask3), ImplantError> {
     let sz = volume.spacing.z;
     let (secs, zs): (Vec<Polyline>, Vec<f64>) = if sections.len() == 1 {
         let z = indices[0] as f64 * sz;
         (
             vec![sections[0].clone(), sections[0].clone()],
-            vec![z - 0.5 * sz, z + 0.5 * sz],
+            vec![z - 0.5 * slab_mm, z + 0.5 * slab_mm],
         )
     } else {
         (

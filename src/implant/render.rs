@@ -7,8 +7,8 @@
 use super::pipeline::{DefectConfig, Implant, ImplantError, SliceResult};
 use super::wall::envelope_radius;
 use crate::ct::{
-    bone_loops, bone_mask_slice, loft, mesh_view_rgb, slice_view_rgb, Canvas, Frame, FrameSource,
-    Mesh, MidLine, Overlay, Polyline, SliceView, View, Volume, Window,
+    bone_loops, bone_mask_slice, loft, mesh_view_rgb, slice_view_rgb, Anatomy, Canvas, Frame, Mesh,
+    MidLine, Overlay, PatientDirection, Polyline, SliceView, View, Volume, Window,
 };
 use crate::geometry::Point;
 
@@ -24,23 +24,79 @@ const OVERLAP: [u8; 3] = [255, 120, 200];
 const ENDS: [u8; 3] = [255, 255, 0];
 const MIRRORED: [u8; 3] = [0, 255, 255];
 
-/// Whether the slice's +y is anterior: DICOM says so through the row axis
-/// (patient −Y, LPS, is anterior); an `.inv3` carries no patient axes and
-/// InVesalius stores the image flipped, so its +y is the face (as in
-/// ProMED CT 0051).
-pub fn anterior_is_plus_y(frame: &Frame) -> bool {
-    match frame.source {
-        FrameSource::Dicom | FrameSource::Given => frame.axes[1][1] < 0.0,
-        FrameSource::Inv3 { .. } => true,
-    }
+/// How the overlays and the preview are oriented, derived in one place
+/// from the volume's [`Anatomy`] ([`Frame::anatomy`]: ImageOrientationPatient
+/// for DICOM, the declared convention for `.inv3`): the slice is drawn with
+/// `+y` up or down so that anterior (or, on a coronal slice, superior) is
+/// at the top, `+x` to the right; every edge label names the patient
+/// direction that edge faces.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Orientation {
+    /// Where the voxel axes point.
+    pub anatomy: Anatomy,
+    /// Whether `+y` is drawn upwards.
+    pub y_up: bool,
 }
 
-/// The edge labels of a view with anterior up or down.
-fn edge_labels(anterior_up: bool) -> (String, String) {
-    if anterior_up {
-        ("anterior (face)".into(), "posterior".into())
-    } else {
-        ("posterior".into(), "anterior (face)".into())
+impl Orientation {
+    /// The orientation of a frame (errors when its axes are ambiguous).
+    pub fn of(frame: &Frame) -> Result<Orientation, ImplantError> {
+        let anatomy = frame.anatomy()?;
+        let y_up = matches!(
+            anatomy.y,
+            PatientDirection::Anterior | PatientDirection::Superior
+        );
+        Ok(Orientation { anatomy, y_up })
+    }
+
+    /// The patient directions at the top, bottom, left and right edges of
+    /// a slice picture.
+    pub fn edges(&self) -> [PatientDirection; 4] {
+        let y = self.anatomy.y;
+        let (top, bottom) = if self.y_up {
+            (y, y.opposite())
+        } else {
+            (y.opposite(), y)
+        };
+        let x = self.anatomy.x;
+        [top, bottom, x.opposite(), x]
+    }
+
+    /// The view of the millimetre box `[lo, hi]` in `size × size` pixels,
+    /// flipped and labelled by this orientation.
+    pub fn slice_view(&self, lo: Point, hi: Point, size: u32) -> SliceView {
+        let [top, bottom, left, right] = self.edges().map(|d| d.label().to_string());
+        SliceView {
+            min: lo,
+            max: hi,
+            width: size,
+            height: size,
+            y_up: self.y_up,
+            top_label: top,
+            bottom_label: bottom,
+            left_label: left,
+            right_label: right,
+        }
+    }
+
+    /// The sign of `+y` along the anterior direction (1: `+y` anterior,
+    /// −1: posterior; 0 when `+y` is not antero-posterior).
+    pub fn anterior_sign(&self) -> f64 {
+        match self.anatomy.y {
+            PatientDirection::Anterior => 1.0,
+            PatientDirection::Posterior => -1.0,
+            _ => 0.0,
+        }
+    }
+
+    /// The sign of `+z` along the superior direction (1 or −1; 1 when `+z`
+    /// is not supero-inferior).
+    pub fn superior_sign(&self) -> f64 {
+        if self.anatomy.z == PatientDirection::Inferior {
+            -1.0
+        } else {
+            1.0
+        }
     }
 }
 
@@ -127,8 +183,7 @@ pub fn overlay_png(
         .into_iter()
         .filter(|&(r, c)| slice.get(r, c) >= cfg.threshold)
         .collect();
-    let up = anterior_is_plus_y(&implant.frame);
-    let (top, bottom) = edge_labels(up);
+    let orientation = Orientation::of(&implant.frame)?;
     let full_lo = Point::new(-0.5 * slice.sx, -0.5 * slice.sy);
     let full_hi = Point::new(
         (slice.nx as f64 - 0.5) * slice.sx,
@@ -136,15 +191,7 @@ pub fn overlay_png(
     );
     let (zlo, zhi) = zoom_box(s);
     let panel = 512u32;
-    let view = |lo: Point, hi: Point| SliceView {
-        min: lo,
-        max: hi,
-        width: panel,
-        height: panel,
-        y_up: up,
-        top_label: top.clone(),
-        bottom_label: bottom.clone(),
-    };
+    let view = |lo: Point, hi: Point| orientation.slice_view(lo, hi, panel);
     let (full, zoom) = (view(full_lo, full_hi), view(zlo, zhi));
     let left = slice_view_rgb(
         &slice,
@@ -280,6 +327,12 @@ pub fn skull_proxy(
             zs.push(k as f64 * volume.spacing.z);
         }
     }
+    if sections.len() == 1 {
+        // A one-slice study: the proxy is a slab one slice thick.
+        let (z, h) = (zs[0], 0.5 * volume.spacing.z);
+        sections.push(sections[0].clone());
+        zs = vec![z - h, z + h];
+    }
     Ok(loft(&sections, &zs, 180)?)
 }
 
@@ -321,26 +374,28 @@ pub fn preview_png(
         .slices
         .first()
         .map_or(-1.0, |s| s.midline.side(s.wall.design.a).signum());
-    let front = if anterior_is_plus_y(&implant.frame) {
-        1.0
-    } else {
+    let orientation = Orientation::of(&implant.frame)?;
+    let front = if orientation.anterior_sign() < 0.0 {
         -1.0
+    } else {
+        1.0
     };
+    let sup = orientation.superior_sign();
     let sides = if side < 0.0 { "−x" } else { "+x" };
     let views = [
         (
             format!("from the defect's side ({sides}), turned 30° to the face"),
             [-side, -0.6 * front, 0.0],
-            [0.0, 0.0, 1.0],
+            [0.0, 0.0, sup],
         ),
         (
             "from the front (face)".to_string(),
             [0.0, -front, 0.0],
-            [0.0, 0.0, 1.0],
+            [0.0, 0.0, sup],
         ),
         (
             "from above (anterior up)".to_string(),
-            [0.0, 0.0, -1.0],
+            [0.0, 0.0, -sup],
             [0.0, front, 0.0],
         ),
     ];

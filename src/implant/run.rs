@@ -23,7 +23,7 @@ use super::tables::{
     verdicts_csv,
 };
 use super::tables3d::{validation_3d_csv, validation_3d_report};
-use super::validation::{evaluate, prepare_case, Case, PreparedCase, ValidationRow};
+use super::validation::{evaluate, prepare_case, Case, CaseError, PreparedCase, ValidationRow};
 use super::validation3d::{evaluate_3d, prepare_case_3d, Case3d, Prepared3d, Row3d};
 use super::wall::WallKind;
 use crate::ct::{read_dicom_dir, read_inv3, stl_bytes, Volume};
@@ -205,7 +205,8 @@ fn run_validation(
 }
 
 /// The 3D validation: `validation_3d.csv`, its time and the report's
-/// section.
+/// section. A patch that cannot be cut or prepared is a failed row for
+/// every method ([`ImplantError::CaseNotBuilt`]) and the run goes on.
 fn run_validation_3d(
     spec: &ImplantSpec,
     val: &Validation3dSpec,
@@ -223,8 +224,22 @@ fn run_validation_3d(
                     position_deg,
                     width_mm,
                 };
-                let p = prepare_case_3d(volume, &spec.defect_config, case, midline)?;
-                case_rows_3d(spec, val, &p, &mut rows);
+                match prepare_case_3d(volume, &spec.defect_config, case, midline) {
+                    Ok(p) => case_rows_3d(spec, val, &p, &mut rows),
+                    Err(e) => {
+                        let e = std::sync::Arc::new(e);
+                        let runs = method_runs(spec.seed, &val.methods, val.runs, |_, _| {
+                            Err(ImplantError::CaseNotBuilt(e.clone()))
+                        });
+                        rows.extend(runs.into_iter().map(|(method, run, seed, metrics)| Row3d {
+                            case,
+                            method,
+                            run,
+                            seed,
+                            metrics,
+                        }));
+                    }
+                }
             }
         }
     }
@@ -284,7 +299,10 @@ fn method_runs<T>(
 }
 
 /// Every validation row: for each slice × position × width, the case cut
-/// out of the slice and reconstructed by every method ([`case_rows`]).
+/// out of the slice and reconstructed by every method ([`case_rows`]); a
+/// case that cannot be cut is a failed row for every method
+/// ([`CaseError::NotBuilt`], its reason in the `error` column) and the run
+/// goes on.
 fn validation_rows(
     spec: &ImplantSpec,
     val: &ValidationSpec,
@@ -302,9 +320,25 @@ fn validation_rows(
                     position_deg: pos,
                     width_mm: w,
                 };
-                let prepared = prepare_case(volume, case, midline, cfg.threshold)
-                    .map_err(|source| ImplantError::on_slice(z, source))?;
-                case_rows(spec, val, &prepared, z, &mut rows);
+                match prepare_case(volume, case, midline, cfg.threshold) {
+                    Ok(prepared) => case_rows(spec, val, &prepared, z, &mut rows),
+                    Err(e) => {
+                        let e = std::sync::Arc::new(e);
+                        let runs = method_runs(spec.seed, &val.methods, val.runs, |_, _| ());
+                        rows.extend(runs.into_iter().map(|(method, run, seed, ())| {
+                            ValidationRow {
+                                case,
+                                z,
+                                method,
+                                run,
+                                seed,
+                                metrics: Err(CaseError::NotBuilt(e.clone())),
+                                fit_error: f64::NAN,
+                                join_deg: (f64::NAN, f64::NAN),
+                            }
+                        }));
+                    }
+                }
             }
         }
     }

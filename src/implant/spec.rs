@@ -156,8 +156,9 @@ const IMPLANT_KEYS: [&str; 19] = [
     "max_thickness_step_mm",
     "smooth_slices",
 ];
-const DEFECT_KEYS: [&str; 6] = [
+const DEFECT_KEYS: [&str; 7] = [
     "slices",
+    "thickness_mm",
     "ends",
     "overlays",
     "ring_points",
@@ -506,6 +507,7 @@ impl Parser<'_> {
                 smoothing,
                 templates: None,
                 ring_points: 160,
+                thickness_mm: None,
             },
         })
     }
@@ -618,6 +620,17 @@ impl Parser<'_> {
             if s != "auto" {
                 return Err(self.error(v.span(), "defect.ends", format!("unknown value \"{s}\"; valid choices: \"auto\" (give per-slice ends in [[defect.end]])")));
             }
+        }
+        if let Some(v) = self.get(d, "thickness_mm") {
+            let x = self.finite_real(v, "defect.thickness_mm")?;
+            if !(x > 0.0 && x <= 50.0) {
+                return Err(self.error(
+                    v.span(),
+                    "defect.thickness_mm",
+                    format!("expected a slab thickness in mm, 0 < t ≤ 50, found {x}"),
+                ));
+            }
+            cfg.thickness_mm = Some(x);
         }
         if let Some(v) = self.get(d, "ring_points") {
             cfg.ring_points = self.int(v, "defect.ring_points", 8, 100_000)? as usize;

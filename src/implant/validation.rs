@@ -242,6 +242,10 @@ pub enum CaseError {
     /// [`case_metrics`]).
     #[error(transparent)]
     Measure(CtError),
+    /// The case could not be cut out of its slice ([`prepare_case`]): every
+    /// method's row of the case carries this reason.
+    #[error("case not built: {0}")]
+    NotBuilt(std::sync::Arc<CtError>),
 }
 
 /// Validation result row: one case × method × run.
