@@ -108,7 +108,8 @@
 //! Data flows one way: spec → runner → records → report. The crate is a
 //! stack of rooms (top-level modules); a room may import the rooms listed
 //! before it and never one after it, and the leaves import nothing of the
-//! crate. `tests/layering.rs` reads `src/` and fails on an upward import.
+//! crate; inside a room, the files form no circle. `tests/layering.rs`
+//! reads `src/` and fails on an upward import or a circle of files.
 //!
 //! | # | room | what lives there |
 //! |---|---|---|

@@ -3,6 +3,11 @@
 //! import nothing of the crate. The order is the one `src/lib.rs` documents
 //! and declares; a new room must be placed in it.
 //!
+//! Inside a room the files form no circle either: for every module, the
+//! references between its child modules (`super::x`, `crate::room::x`,
+//! through `use` groups) must be acyclic, so that each file can be read
+//! before the ones that import it.
+//!
 //! The check reads the source as text: every `crate::room` path outside
 //! comments, including the rooms named inside `use crate::{...}` groups.
 
@@ -239,4 +244,241 @@ fn an_upward_import_is_found() {
     assert!(bad[0].contains("files.rs:1: the leaf `files` imports `crate::geometry`"));
     assert!(bad[1].contains("curve.rs:2: `geometry` imports `crate::report`"));
     assert!(bad[2].contains("the room `newroom` is not in the layering order"));
+}
+
+/// The module path of a file under `src/` (`src/a/b.rs` → `[a, b]`,
+/// `src/a/mod.rs` → `[a]`).
+fn module_of(src: &Path, file: &Path) -> Vec<String> {
+    let rel = file.strip_prefix(src).unwrap().with_extension("");
+    let mut path: Vec<String> = rel
+        .components()
+        .map(|c| c.as_os_str().to_string_lossy().into_owned())
+        .collect();
+    if path.last().is_some_and(|l| l == "mod") {
+        path.pop();
+    }
+    path
+}
+
+/// The paths a `use`-like tail names (`a::b::{c, d::e}` → `[a,b,c]`,
+/// `[a,b,d,e]`), from the start of `s`, each at most a few segments deep.
+fn paths_in(s: &str) -> Vec<Vec<String>> {
+    fn parse(s: &str, prefix: &[String], out: &mut Vec<Vec<String>>) -> usize {
+        let mut path = prefix.to_vec();
+        let mut i = 0;
+        loop {
+            let rest = &s[i..];
+            let trimmed = rest.trim_start();
+            i += rest.len() - trimmed.len();
+            if let Some(group) = trimmed.strip_prefix('{') {
+                i += 1;
+                let mut consumed = 0;
+                let mut g = group;
+                loop {
+                    let used = parse(g, &path, out);
+                    consumed += used;
+                    let after = g[used..].trim_start();
+                    consumed += g[used..].len() - after.len();
+                    if let Some(next) = after.strip_prefix(',') {
+                        consumed += 1;
+                        g = next;
+                        continue;
+                    }
+                    if after.starts_with('}') {
+                        consumed += 1;
+                    }
+                    break;
+                }
+                return i + consumed;
+            }
+            let id = ident_at(trimmed);
+            if id.is_empty() {
+                out.push(path);
+                return i;
+            }
+            path.push(id.to_owned());
+            i += id.len();
+            if let Some(_next) = s[i..].strip_prefix("::") {
+                i += 2;
+            } else {
+                out.push(path);
+                return i;
+            }
+        }
+    }
+    let mut out = Vec::new();
+    parse(s, &[], &mut out);
+    out
+}
+
+/// Every module-to-module reference of `src/` as (file, line, from, to),
+/// both absolute module paths (`to` may run on into an item's name).
+fn module_references(src: &Path) -> Vec<(PathBuf, usize, Vec<String>, Vec<String>)> {
+    let mut files = Vec::new();
+    rust_files(src, &mut files);
+    let mut out = Vec::new();
+    for file in files {
+        let from = module_of(src, &file);
+        if from.len() == 1 && (from[0] == "lib" || from[0] == "main") {
+            continue;
+        }
+        let text = std::fs::read_to_string(&file).unwrap();
+        let code: String = text.lines().map(|l| format!("{}\n", code_of(l))).collect();
+        let bytes = code.as_bytes();
+        let mut i = 0;
+        while i < code.len() {
+            let rest = &code[i..];
+            let word_start = i == 0
+                || !(bytes[i - 1].is_ascii_alphanumeric()
+                    || matches!(bytes[i - 1], b'_' | b'$' | b':'));
+            let (base, skip) = if word_start && rest.starts_with("crate::") {
+                (Vec::new(), "crate::".len())
+            } else if word_start && rest.starts_with("super::") {
+                // `super` of module `a::b` (file `a/b.rs` or `a/b/mod.rs`) is `a`.
+                let mut base = from.clone();
+                let mut skip = 0;
+                while rest[skip..].starts_with("super::") {
+                    base.pop();
+                    skip += "super::".len();
+                }
+                (base, skip)
+            } else {
+                i += rest.chars().next().map_or(1, char::len_utf8);
+                continue;
+            };
+            let line = code[..i].matches('\n').count() + 1;
+            for tail in paths_in(&code[i + skip..]) {
+                let mut to = base.clone();
+                to.extend(tail);
+                out.push((file.clone(), line, from.clone(), to));
+            }
+            i += skip;
+        }
+    }
+    out
+}
+
+/// Whether `src/<path>` is a module of its own (a file or a directory).
+fn is_module(src: &Path, path: &[String]) -> bool {
+    let p = path.iter().fold(src.to_path_buf(), |p, s| p.join(s));
+    p.with_extension("rs").is_file() || p.join("mod.rs").is_file()
+}
+
+/// The cycles among sibling modules inside each room: for every module
+/// `P`, the graph whose nodes are `P`'s children and whose edges are the
+/// references of one child's files to another child, and the cycles of it.
+fn circles_inside_rooms(src: &Path) -> Vec<String> {
+    // (parent, from-child) → to-child → first place seen
+    let mut edges: BTreeMap<Vec<String>, BTreeMap<String, BTreeMap<String, String>>> =
+        BTreeMap::new();
+    for (file, line, from, to) in module_references(src) {
+        let common = from.iter().zip(&to).take_while(|(a, b)| a == b).count();
+        if common == 0 || common >= from.len() || common >= to.len() {
+            continue; // across rooms (the test above) or a parent and its child
+        }
+        let parent = from[..common].to_vec();
+        let (a, b) = (&from[common], &to[common]);
+        let mut child = parent.clone();
+        child.push(b.clone());
+        if !is_module(src, &child) {
+            continue; // an item of the parent, not a sibling module
+        }
+        edges
+            .entry(parent)
+            .or_default()
+            .entry(a.clone())
+            .or_default()
+            .entry(b.clone())
+            .or_insert_with(|| format!("{}:{line}", file.display()));
+    }
+    let mut circles = Vec::new();
+    for (parent, graph) in &edges {
+        // Depth-first search for a back edge, reporting the cycle it closes.
+        let mut state: BTreeMap<&str, u8> = BTreeMap::new(); // 1 on the stack, 2 done
+        fn visit<'a>(
+            n: &'a str,
+            graph: &'a BTreeMap<String, BTreeMap<String, String>>,
+            state: &mut BTreeMap<&'a str, u8>,
+            stack: &mut Vec<&'a str>,
+            found: &mut Vec<Vec<String>>,
+        ) {
+            state.insert(n, 1);
+            stack.push(n);
+            for (m, _) in graph.get(n).into_iter().flatten() {
+                match state.get(m.as_str()) {
+                    Some(1) => {
+                        let start = stack.iter().position(|s| *s == m).unwrap();
+                        let mut cycle: Vec<String> = Vec::new();
+                        for w in stack[start..]
+                            .iter()
+                            .zip(stack[start + 1..].iter().chain([&m.as_str()]))
+                        {
+                            let place = &graph[*w.0][*w.1];
+                            cycle.push(format!("{} → {} ({place})", w.0, w.1));
+                        }
+                        found.push(cycle);
+                    }
+                    Some(_) => {}
+                    None => visit(m, graph, state, stack, found),
+                }
+            }
+            stack.pop();
+            state.insert(n, 2);
+        }
+        let mut found = Vec::new();
+        for n in graph.keys() {
+            if !state.contains_key(n.as_str()) {
+                visit(n, graph, &mut state, &mut Vec::new(), &mut found);
+            }
+        }
+        for cycle in found {
+            circles.push(format!("in `{}`: {}", parent.join("::"), cycle.join(", ")));
+        }
+    }
+    circles
+}
+
+#[test]
+fn no_circle_inside_a_room() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let circles = circles_inside_rooms(&src);
+    assert!(
+        circles.is_empty(),
+        "circles between the files of a room (move the shared part into a file both import):\n{}",
+        circles.join("\n")
+    );
+}
+
+#[test]
+fn the_circle_check_finds_a_circle() {
+    let dir = std::env::temp_dir().join(format!("layering-{}", std::process::id()));
+    let room = dir.join("room");
+    std::fs::create_dir_all(room.join("deep")).unwrap();
+    let files = [
+        (
+            "room/mod.rs",
+            "pub mod a;\npub mod b;\npub mod deep;\npub use a::X;\n",
+        ),
+        ("room/a.rs", "use super::b::Y; // a → b\npub struct X;\n"),
+        (
+            "room/b.rs",
+            "use crate::room::{deep::Z, X};\npub struct Y;\n",
+        ),
+        (
+            "room/deep/mod.rs",
+            "use super::super::room::a::X;\npub struct Z;\n",
+        ),
+    ];
+    for (name, text) in files {
+        std::fs::write(dir.join(name), text).unwrap();
+    }
+    let circles = circles_inside_rooms(&dir);
+    std::fs::remove_dir_all(&dir).unwrap();
+    // b → deep → a → b; `X` through the parent is an item, not a sibling.
+    assert_eq!(circles.len(), 1, "{circles:?}");
+    let c = &circles[0];
+    assert!(c.starts_with("in `room`:"), "{c}");
+    for edge in ["a → b", "b → deep", "deep → a"] {
+        assert!(c.contains(edge), "{edge} missing from {c}");
+    }
 }

@@ -1,6 +1,7 @@
 //! The campaign machinery, in the order data flows through it:
 //! a TOML [`spec`] is checked completely, the [`runner`] executes its seeded
-//! runs in parallel and appends each finished run to the [`journal`], and
+//! runs in parallel (each yielding its trace and, for a fit, an
+//! [`outcome::FitDetail`]) and appends each finished run to the [`journal`], and
 //! [`records`] writes the tidy CSV result files (with the per-segment
 //! columns of fitting runs in [`segments`]). [`fit_files`] writes the same
 //! records for a single `metabezier fit`. [`shards`] joins the shards of a
@@ -13,6 +14,7 @@
 pub mod coco_log;
 pub mod fit_files;
 pub mod journal;
+pub mod outcome;
 pub mod records;
 pub mod registry;
 pub mod runner;

@@ -20,12 +20,12 @@ use std::collections::HashMap;
 use std::io::{self, Write};
 use std::path::Path;
 
-use super::segments::{segment_rows, FIT_SEGMENT_HEADER, SEGMENT_HEADER};
+pub use super::outcome::{default_targets, FitDetail};
+use super::segments::{FIT_SEGMENT_HEADER, SEGMENT_HEADER};
 use super::spec::{factor_suffix, Spec};
 use crate::files::{fmt_real, write_atomic_with, IoError};
 use crate::functions::Transform;
 use crate::optim::{TargetHit, TracePoint};
-use crate::reconstruction::ShapeFit;
 
 /// What is wrong with a results file at one line.
 #[derive(Debug, thiserror::Error)]
@@ -248,46 +248,7 @@ pub struct RunRecord {
     pub wall_seconds: f64,
 }
 
-/// What a fitting run adds to its record: the fit's accuracy beyond `E`
-/// and every segment's control points.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FitDetail {
-    /// `√(E/N)`, measured at the parameters `sᵢ`.
-    pub rms: f64,
-    /// The largest orthogonal distance of a data point to the curve.
-    pub max_distance: f64,
-    /// The RMS of the orthogonal distances, with the current fitting records
-    /// (`None` in the legacy layout, which has no such column).
-    pub rms_distance: Option<f64>,
-    /// On closed outlines, the largest tangent angle at a closing joint
-    /// (degrees).
-    pub closing_angle_degrees: Option<f64>,
-    /// On closed outlines, the largest relative derivative gap there.
-    pub closing_relative_derivative_gap: Option<f64>,
-    /// One row per segment, in the columns of [`FIT_SEGMENT_HEADER`] with
-    /// the current records, of [`SEGMENT_HEADER`] without.
-    pub segments: Vec<Vec<String>>,
-}
-
 impl FitDetail {
-    /// The detail of a finished fit, with the current records or the
-    /// legacy ones.
-    pub fn of(fit: &ShapeFit, current: bool) -> FitDetail {
-        let gap = fit
-            .contours
-            .iter()
-            .filter_map(|c| c.fit.closing.map(|j| j.relative_derivative_gap))
-            .reduce(f64::max);
-        FitDetail {
-            rms: fit.metrics.rms,
-            max_distance: fit.metrics.max_distance,
-            rms_distance: current.then_some(fit.metrics.rms_distance),
-            closing_angle_degrees: fit.closing_angle_degrees(),
-            closing_relative_derivative_gap: gap,
-            segments: segment_rows(fit, current),
-        }
-    }
-
     /// The run-level columns of `fits.csv` after the run key: those of
     /// [`FIT_FIELDS_CURRENT`] with `rms_distance`, else of [`FIT_FIELDS`].
     pub(super) fn fields(&self) -> Vec<String> {
@@ -528,15 +489,6 @@ impl Schema {
         row.push(r.run.to_string());
         row
     }
-}
-
-/// The default target precisions `Δf = 10^(k/5)` for `k = 10, 9, …, −40`:
-/// 10² down to 10⁻⁸, five per decade (51 targets), as COCO's runtime ECDFs.
-pub fn default_targets() -> Vec<f64> {
-    (-40..=10)
-        .rev()
-        .map(|k| 10f64.powf(f64::from(k) / 5.0))
-        .collect()
 }
 
 /// The bytes of `hits.csv`: one row per run and target reached, with the

@@ -69,7 +69,10 @@ pub use error::FitError;
 pub use function::FunctionType;
 pub use linear::linear_fit;
 pub use metrics::{segment_metrics, FitMetrics, SegmentMetrics};
-pub use options::{Closing, FitOptions, GuessRule, SearchSpace, SearchSpaceOptions};
+pub use options::{
+    Closing, FitOptions, GuessRule, RealOption, SearchSpace, SearchSpaceOptions, ALPHA_SIZE,
+    MARGIN, PT,
+};
 pub use piecewise::{
     equal_arc_breaks, fit_adaptive, fit_breaks, fit_independent, fit_piecewise, fit_segment_count,
     ClosingJoint, PiecewiseFit, SplitOptions,

@@ -3,6 +3,84 @@
 use super::{FitError, FunctionType};
 use crate::geometry::{Continuity, Parameterisation};
 
+/// A real-valued fitting option's one home: its name, the interval it
+/// must lie in and its default, read by [`SearchSpaceOptions`], the spec
+/// parser and the report alike.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RealOption {
+    /// The option's name, as in specs.
+    pub name: &'static str,
+    /// The lower end of the interval.
+    pub min: f64,
+    /// Whether `min` itself is admissible.
+    pub min_inclusive: bool,
+    /// The upper end of the interval (admissible; `∞` for none).
+    pub max: f64,
+    /// The default value.
+    pub default: f64,
+    /// The interval in words, for error messages.
+    pub expected: &'static str,
+}
+
+impl RealOption {
+    /// Whether `x` is finite and in the option's interval.
+    pub fn contains(&self, x: f64) -> bool {
+        let above = if self.min_inclusive {
+            x >= self.min
+        } else {
+            x > self.min
+        };
+        x.is_finite() && above && x <= self.max
+    }
+
+    /// `x` if the option admits it, else the error naming the option.
+    pub fn check(&self, x: f64) -> Result<f64, FitError> {
+        if self.contains(x) {
+            Ok(x)
+        } else {
+            Err(FitError::InvalidOption {
+                name: self.name,
+                value: x,
+                expected: self.expected,
+            })
+        }
+    }
+}
+
+/// `α_size`: the technique's box has half-width `α_size·|C_m − C₀|` per
+/// coordinate; in `(0, 10⁶]`, default 0.5 (our choice; the thesis's value is
+/// lost).
+pub const ALPHA_SIZE: RealOption = RealOption {
+    name: "alpha_size",
+    min: 0.0,
+    min_inclusive: false,
+    max: 1e6,
+    default: 0.5,
+    expected: "a real number in (0, 1000000]",
+};
+
+/// `pt`: how far the first guesses move towards the data's end tangent
+/// lines; in `[0, 1]`, default 0 (not at all).
+pub const PT: RealOption = RealOption {
+    name: "pt",
+    min: 0.0,
+    min_inclusive: true,
+    max: 1.0,
+    default: 0.0,
+    expected: "a real number in [0, 1]",
+};
+
+/// The bounding box's enlargement on each side, as a fraction of its
+/// larger side; `≥ 0`, default 0.5.
+pub const MARGIN: RealOption = RealOption {
+    name: "margin",
+    min: 0.0,
+    min_inclusive: true,
+    max: f64::INFINITY,
+    default: 0.5,
+    expected: "a real number ≥ 0",
+};
+
 /// How the box the optimisers search is built.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum SearchSpace {
@@ -60,11 +138,11 @@ pub struct SearchSpaceOptions {
     pub kind: SearchSpace,
     /// Where the technique's first guesses come from.
     pub guess: GuessRule,
-    /// `α_size`: the box's half-width per coordinate is `α_size·|C_m − C₀|`;
-    /// default 0.5 (our choice; the thesis's value is lost). Must be `> 0`.
+    /// `α_size`: the box's half-width per coordinate is `α_size·|C_m − C₀|`
+    /// ([`ALPHA_SIZE`]: in `(0, 10⁶]`, default 0.5).
     pub alpha_size: f64,
     /// `pt ∈ [0, 1]`: how far the guesses move towards the end tangent lines
-    /// estimated from the data (0 = not at all, the default).
+    /// estimated from the data ([`PT`]: 0 = not at all, the default).
     pub pt: f64,
     /// `[T_min, T_max]`, the range of the G¹ ratio `T`; default `[0.05, 5]`.
     pub t_range: (f64, f64),
@@ -79,7 +157,7 @@ pub struct SearchSpaceOptions {
     /// `[0.01, 10]`. Must satisfy `0 < w_min < w_max`.
     pub weight_range: (f64, f64),
     /// The bounding box's enlargement on each side, as a fraction of its
-    /// larger side; default 0.5. Must be `≥ 0`.
+    /// larger side ([`MARGIN`]: `≥ 0`, default 0.5).
     pub margin: f64,
     /// How many data points, counted from each end, estimate an end tangent
     /// for `pt` (the chord from the end point to the `k`-th point); default 3.
@@ -91,12 +169,12 @@ impl Default for SearchSpaceOptions {
         Self {
             kind: SearchSpace::Technique,
             guess: GuessRule::QuarterPoints,
-            alpha_size: 0.5,
-            pt: 0.0,
+            alpha_size: ALPHA_SIZE.default,
+            pt: PT.default,
             t_range: (0.05, 5.0),
             scale_t_range: true,
             weight_range: (0.01, 10.0),
-            margin: 0.5,
+            margin: MARGIN.default,
             tangent_points: 3,
         }
     }
@@ -119,27 +197,9 @@ impl SearchSpaceOptions {
                 max: tmax,
             });
         }
-        if !(self.alpha_size.is_finite() && self.alpha_size > 0.0) {
-            return Err(FitError::InvalidOption {
-                name: "alpha_size",
-                value: self.alpha_size,
-                expected: "a finite number > 0",
-            });
-        }
-        if !(0.0..=1.0).contains(&self.pt) {
-            return Err(FitError::InvalidOption {
-                name: "pt",
-                value: self.pt,
-                expected: "a number in [0, 1]",
-            });
-        }
-        if !(self.margin.is_finite() && self.margin >= 0.0) {
-            return Err(FitError::InvalidOption {
-                name: "margin",
-                value: self.margin,
-                expected: "a finite number ≥ 0",
-            });
-        }
+        ALPHA_SIZE.check(self.alpha_size)?;
+        PT.check(self.pt)?;
+        MARGIN.check(self.margin)?;
         if self.tangent_points == 0 {
             return Err(FitError::InvalidOption {
                 name: "tangent_points",
@@ -275,5 +335,42 @@ mod tests {
         for n in SearchSpace::NAMES {
             assert_eq!(SearchSpace::from_name(n).unwrap().name(), n);
         }
+    }
+
+    #[test]
+    fn each_real_option_has_one_range_read_by_validate() {
+        let d = SearchSpaceOptions::default();
+        assert_eq!(d.alpha_size, ALPHA_SIZE.default);
+        assert_eq!(d.pt, PT.default);
+        assert_eq!(d.margin, MARGIN.default);
+        let cases: [(&RealOption, fn(&mut SearchSpaceOptions, f64)); 3] = [
+            (&ALPHA_SIZE, |s, x| s.alpha_size = x),
+            (&PT, |s, x| s.pt = x),
+            (&MARGIN, |s, x| s.margin = x),
+        ];
+        for (option, set) in cases {
+            assert!(option.contains(option.default), "{}", option.name);
+            for x in [-1.0, 0.0, 0.5, 1.0, 1e6, 1.5e6, f64::NAN, f64::INFINITY] {
+                let mut s = SearchSpaceOptions::default();
+                set(&mut s, x);
+                assert_eq!(
+                    s.validate().is_ok(),
+                    option.contains(x),
+                    "{} = {x}",
+                    option.name
+                );
+                if let Err(e) = s.validate() {
+                    let text = e.to_string();
+                    assert!(
+                        text.contains(option.name) && text.contains(option.expected),
+                        "{text}"
+                    );
+                }
+            }
+        }
+        assert!(
+            !ALPHA_SIZE.contains(0.0) && ALPHA_SIZE.contains(1e6) && !ALPHA_SIZE.contains(1.5e6)
+        );
+        assert!(PT.contains(0.0) && PT.contains(1.0) && !PT.contains(1.0 + 1e-12));
     }
 }

@@ -15,8 +15,10 @@
 //!
 //! | module | concept |
 //! |---|---|
+//! | [`wall_input`] | what a wall is given: its kind, options and the contours around a defect |
 //! | [`polar`] | the contours about the polar centre: envelope, mirror, local table, thickness |
 //! | [`wall`] | one slice's outer and inner wall ([`design_outer`], [`finish_wall`], [`reconstruct_wall`]) |
+//! | [`seats`] | the seats A′ and B′ of a stack of slices, chosen jointly (Viterbi) |
 //! | [`smooth`] | thickness and outer-wall smoothing across slices |
 //! | [`pipeline`] | the real defect: slices → mesh → voxels ([`reconstruct_defect`]) |
 //! | [`validation`] | artificial defects on intact bone, one slice each, AutoImplant metrics |
@@ -30,8 +32,10 @@
 pub mod checks;
 pub mod pipeline;
 pub mod polar;
+pub mod seats;
 pub mod smooth;
 pub mod wall;
+pub mod wall_input;
 
 pub use pipeline::{
     build_mesh, build_mesh_with, check_distinct_ends, index_of, reconstruct_defect,
@@ -39,7 +43,8 @@ pub use pipeline::{
     slice_mask, DefectConfig, Ends, Implant, ImplantError, MidlineSpec, SliceContext, SliceResult,
     SliceSpec, Smoothing, Templates, MIN_MIDLINE_DICE,
 };
-pub use smooth::{choose_seats, lipschitz_envelope, roughness, smooth_outer_walls};
+pub use seats::choose_seats;
+pub use smooth::{lipschitz_envelope, roughness, smooth_outer_walls};
 pub use wall::{
     angle_deg, design_outer, envelope_radius, finish_wall, reconstruct_wall, refit_outer,
     seat_bends, OuterDesign, Wall, WallInput, WallKind, WallOptions,

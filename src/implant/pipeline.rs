@@ -6,7 +6,8 @@
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-use super::smooth::{choose_seats, lipschitz_envelope, roughness, smooth_outer_walls};
+use super::seats::choose_seats;
+use super::smooth::{lipschitz_envelope, roughness, smooth_outer_walls};
 use super::wall::{
     design_outer, finish_wall, seat_bends, OuterDesign, Wall, WallInput, WallKind, WallOptions,
 };

@@ -9,7 +9,7 @@
 //! `2α − θ` (`α` the line's direction angle), so the mirrored envelope is
 //! `R(θ) = reflect(E(2α − θ))`.
 
-use super::wall::{WallInput, WallOptions};
+use super::wall_input::{WallInput, WallOptions};
 use crate::ct::{CtError, Polyline};
 use crate::fit::{
     FitError, FunctionType, LmSolver, SearchSpaceOptions, SegmentProblem, SegmentSolver, Start,

@@ -19,10 +19,12 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
+use crate::files::fmt_real;
+use crate::fit::ALPHA_SIZE;
 use crate::functions::bbob::bbob_group;
 
 use super::data::{Dataset, Problem};
-use super::fitting::split;
+use super::fit_runs::split;
 
 /// A factor level, ordered numerically where it is a number.
 #[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -117,7 +119,7 @@ impl Levels {
 
 /// Every candidate factor of a problem with its level, in the order of
 /// [`FACTORS`]; a fitting case's levels are read from its name (see
-/// [`super::fitting::split`]).
+/// [`super::fit_runs::split`]).
 pub(crate) fn factors(p: &Problem) -> Levels {
     if p.is_fit() {
         return fit_levels(&p.function, p.budget.map(|b| b / p.dim.max(1) as u64));
@@ -147,8 +149,10 @@ pub(crate) fn fit_levels(name: &str, budget_per_segment: Option<u64>) -> Levels 
     }
     let space = case.and_then(|c| c.space).unwrap_or("technique");
     out.push(("search_space", Level::Text(space.into())));
-    let alpha = case.and_then(|c| c.alpha).unwrap_or("0.5");
-    out.push(("alpha_size", Level::Text(alpha.into())));
+    let alpha = case
+        .and_then(|c| c.alpha)
+        .map_or_else(|| fmt_real(ALPHA_SIZE.default), str::to_owned);
+    out.push(("alpha_size", Level::Text(alpha)));
     let mode = if case.is_some_and(|c| c.per_segment) {
         "per-segment"
     } else {

@@ -16,11 +16,12 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use super::design::{fit_levels, restrict, varying, without, Levels};
-use super::fitting::{same_seeds, split, two_sample_test, FitRuns};
+use super::fit_runs::{same_seeds, split, two_sample_test, FitRuns};
 use super::format::{p_value, sci, Table};
 use super::verdicts::{comparison_set, find, pair_set, Measure, Observation, Standing};
 use crate::experiment::segments::FIT_SEGMENT_HEADER;
 use crate::files::fmt_real;
+use crate::fit::ALPHA_SIZE;
 use crate::stats::{holm_bonferroni, median, Mark, Verdict, VerdictRow};
 
 /// A segment of a source: (source, contour, segment).
@@ -154,8 +155,7 @@ fn levels_of(fr: &FitRuns<'_>, p: usize) -> Levels {
 fn alpha_of(level: &str) -> String {
     level
         .strip_prefix("technique, α = ")
-        .unwrap_or("0.5")
-        .to_owned()
+        .map_or_else(|| fmt_real(ALPHA_SIZE.default), str::to_owned)
 }
 
 /// The names of a search-space comparison: (algorithm, reference).

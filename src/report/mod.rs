@@ -21,6 +21,7 @@ mod data;
 mod descriptive;
 mod design;
 mod error;
+mod fit_runs;
 mod fit_units;
 mod fitting;
 mod format;
@@ -247,7 +248,7 @@ fn tests(
     stats: &[Vec<Option<descriptive::CellStats>>],
     options: &ReportOptions,
     provenance: &data::Provenance,
-    fits: Option<&fitting::FitRuns<'_>>,
+    fits: Option<&fit_runs::FitRuns<'_>>,
     notes: &mut Vec<String>,
 ) -> Result<Tests, ReportError> {
     let alpha = options.alpha;
@@ -653,7 +654,7 @@ fn sections(
     let fit_records = fitting::records(dir)?;
     let fits = fit_records
         .as_deref()
-        .map(|r| fitting::FitRuns::group(ds, r));
+        .map(|r| fit_runs::FitRuns::group(ds, r));
     let tests = tests(ds, &stats, options, provenance, fits.as_ref(), &mut notes)?;
     let (tuning, heat_maps) = tuning(ds, &stats, &mut notes);
     let best = best2009_for(ds, &mut notes);

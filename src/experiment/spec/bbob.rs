@@ -21,7 +21,7 @@ use super::{
     choices_hint, metaheuristic, minimise_problem, Budget, Factor, Parser, ProblemEntry,
     ProblemKind, Spec, SpecError, Table, Value,
 };
-use crate::experiment::records::FitDetail;
+use crate::experiment::outcome::FitDetail;
 use crate::functions::bbob::{bbob_function, BbobProblem, BBOB_DIMENSIONS, BBOB_NAMES};
 use crate::functions::Transform;
 use crate::optim::Outcome;

@@ -37,7 +37,7 @@ use std::ops::Range;
 use std::path::Path;
 use std::sync::Arc;
 
-use super::super::records::FitDetail;
+use super::super::outcome::FitDetail;
 use super::Factor;
 use super::{choices_hint, Budget, Parser, ProblemEntry, ProblemKind, SpecError, Table, Value};
 use crate::files::fmt_real;
@@ -47,8 +47,8 @@ use crate::files::fmt_real;
 /// hundred).
 pub const MAX_FIT_PROBLEMS: usize = 10_000;
 use crate::fit::{
-    Closing, FitError, FitOptions, FunctionType, SearchSpace, SearchSpaceOptions, SegmentProblem,
-    SegmentSolver, Solution,
+    Closing, FitError, FitOptions, FunctionType, RealOption, SearchSpace, SearchSpaceOptions,
+    SegmentProblem, SegmentSolver, Solution, ALPHA_SIZE, PT,
 };
 use crate::functions::Transform;
 use crate::geometry::{Continuity, Parameterisation};
@@ -139,7 +139,7 @@ impl FitCase {
             name = format!("{name}/{}", o.search.kind.name());
         }
         let alpha = o.search.alpha_size;
-        let default_alpha = SearchSpaceOptions::default().alpha_size;
+        let default_alpha = ALPHA_SIZE.default;
         if self.alpha_factor
             && technique
             && alpha != default_alpha
@@ -313,6 +313,28 @@ impl Parser<'_> {
                 v.span(),
                 &field,
                 format!("expected a real number in {open}{lo}, {hi}], found {x}"),
+            ));
+        }
+        Ok(Some(x))
+    }
+
+    /// The optional real-valued fitting option `option`, in its range.
+    fn real_option(
+        &self,
+        table: &Table<'_>,
+        option: &RealOption,
+        section: &str,
+    ) -> Result<Option<f64>, SpecError> {
+        let Some(v) = self.get(table, option.name) else {
+            return Ok(None);
+        };
+        let field = format!("{section}.{}", option.name);
+        let x = self.real(v, &field)?;
+        if !option.contains(x) {
+            return Err(self.error(
+                v.span(),
+                &field,
+                format!("expected {}, found {x}", option.expected),
             ));
         }
         Ok(Some(x))
@@ -703,7 +725,7 @@ impl Parser<'_> {
     ) -> Result<SearchOverrides, SpecError> {
         Ok(SearchOverrides {
             alpha_sizes: self.alpha_sizes(table, section)?,
-            pt: self.real_in(table, "pt", section, (0.0, 1.0), false)?,
+            pt: self.real_option(table, &PT, section)?,
             weight_range: self.positive_range(
                 table,
                 "weight_range",
@@ -714,7 +736,8 @@ impl Parser<'_> {
         })
     }
 
-    /// The optional `alpha_size`: a value or a list, each in `(0, 10⁶]`.
+    /// The optional `alpha_size`: a value or a list, each in the range of
+    /// [`ALPHA_SIZE`].
     fn alpha_sizes(&self, table: &Table<'_>, section: &str) -> Result<Option<Vec<f64>>, SpecError> {
         let Some(v) = self.get(table, "alpha_size") else {
             return Ok(None);
@@ -723,11 +746,11 @@ impl Parser<'_> {
         let mut out = Vec::new();
         for item in self.one_or_many(v, &field)? {
             let x = self.real(item, &field)?;
-            if !(x.is_finite() && x > 0.0 && x <= 1e6) {
+            if !ALPHA_SIZE.contains(x) {
                 return Err(self.error(
                     item.span(),
                     &field,
-                    format!("expected a real number in (0, 1000000], found {x}"),
+                    format!("expected {}, found {x}", ALPHA_SIZE.expected),
                 ));
             }
             if out.contains(&x) {

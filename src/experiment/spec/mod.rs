@@ -36,7 +36,7 @@ use std::sync::{Arc, OnceLock};
 use toml::de::{DeTable, DeValue};
 use toml::Spanned;
 
-use super::records::{default_targets, FitDetail};
+use super::outcome::{default_targets, FitDetail};
 use super::registry::{ProblemDef, Registry, SharedProblem};
 use crate::functions::{Function, TestProblem, Transform};
 use crate::optim::evaluator::log_checkpoints;

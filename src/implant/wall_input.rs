@@ -1,0 +1,144 @@
+//! What a wall reconstruction is given: the kind of wall
+//! ([`WallKind`]), its options ([`WallOptions`]) and the contours around
+//! one defect ([`WallInput`]). Both the polar reading of the gap
+//! ([`super::polar`]) and the wall design ([`super::wall`]) take them, so
+//! they sit below both.
+
+use crate::ct::{MidLine, Polyline, Slice};
+use crate::fit::{FunctionType, SearchSpaceOptions};
+use crate::geometry::{Continuity, Point};
+
+/// How the outer wall across the defect is made.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum WallKind {
+    /// The thesis: one (rational) Bézier segment from A to B fitted to the
+    /// template, ends fixed, G¹/C¹ joins with the intact contour.
+    CurveFit,
+    /// Baseline: the template points themselves (ends replaced by A and
+    /// B), joined by straight segments; no curve fit.
+    Template,
+    /// Baseline: the straight line from A to B.
+    Straight,
+}
+
+impl WallKind {
+    /// All kinds, curve fit first.
+    pub const ALL: [WallKind; 3] = [WallKind::CurveFit, WallKind::Template, WallKind::Straight];
+
+    /// The name used in tables: `curve`, `template`, `straight`.
+    pub fn name(self) -> &'static str {
+        match self {
+            WallKind::CurveFit => "curve",
+            WallKind::Template => "template",
+            WallKind::Straight => "straight",
+        }
+    }
+}
+
+/// Options of one wall reconstruction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WallOptions {
+    /// The Bézier function of the outer wall (default rational cubic).
+    pub function: FunctionType,
+    /// The join with the intact outer table at both ends: G¹ (default) or
+    /// C¹ (C⁰ leaves the inner control points free).
+    pub continuity: Continuity,
+    /// Objective evaluations for the fit (default 10 000, the chapter-5
+    /// budget per segment).
+    pub budget: u64,
+    /// Data points taken along the template (default 48).
+    pub template_points: usize,
+    /// Points on each wall of the section (default 64).
+    pub wall_points: usize,
+    /// How far (mm) C and D may lie from the mirrored outer envelope, or an
+    /// explicit template's ends from A′ and B′ (default 15): a bound on the
+    /// head's left–right asymmetry at the defect.
+    pub mirror_tolerance_mm: f64,
+    /// How far back from A′ and B′ (arc length on the outer table, mm) the
+    /// bone thickness is measured, clear of the bone end faces (default 4).
+    pub thickness_setback_mm: f64,
+    /// The arc length (mm) of outer table next to A′ and B′ whose fitted
+    /// quadratic gives the end tangents of the joins (default 6).
+    pub tangent_mm: f64,
+    /// The largest implant thickness (mm, default 15): a cap on the bone
+    /// thickness measured next to the ends.
+    pub max_thickness_mm: f64,
+    /// A′ and B′ are seated where the outer table turns by at most this
+    /// angle between two consecutive 3 mm secants (degrees, default 3),
+    /// behind the bevelled or rounded bone ends (RECONSTRUCTION).
+    pub seat_bend_deg: f64,
+    /// How far back from the tips (mm) a seat may lie (default 6; 0 keeps
+    /// A′ and B′ at the tips).
+    pub seat_max_mm: f64,
+    /// Grid cells per pixel of the clipping field (default 4; 0 turns the
+    /// clipping off).
+    pub clip_subdivision: usize,
+    /// The search space of the fit.
+    pub search: SearchSpaceOptions,
+}
+
+impl Default for WallOptions {
+    fn default() -> Self {
+        WallOptions {
+            function: FunctionType::RationalCubic,
+            continuity: Continuity::G1,
+            budget: 10_000,
+            template_points: 48,
+            wall_points: 64,
+            mirror_tolerance_mm: 15.0,
+            thickness_setback_mm: 4.0,
+            tangent_mm: 6.0,
+            max_thickness_mm: 15.0,
+            seat_bend_deg: 3.0,
+            seat_max_mm: 6.0,
+            clip_subdivision: 4,
+            search: SearchSpaceOptions::default(),
+        }
+    }
+}
+
+/// The contours around one defect, read in polar form about a centre on
+/// the mid-sagittal line (so that the reflection maps the ray at angle `θ`
+/// to the ray at `2α − θ`, `α` the line's direction angle).
+///
+/// The outer table is read as its **envelope** `E(θ)`: the farthest
+/// crossing of the ray at `θ` with the outer contour(s). This skips inner
+/// surfaces that a cut ring exposes (such as a frontal sinus opened by the
+/// defect, ProMED CT 0051 z = 56–66), which a nearest-point search would
+/// otherwise take for the outer table (RECONSTRUCTION: the thesis only says
+/// that C and D are the mirrored ends and the contour between them is the
+/// template).
+#[derive(Clone, Copy)]
+pub struct WallInput<'a> {
+    /// Outer contour(s) of the slice; only rays outside the defect's angular
+    /// range are ever queried for the envelope, and the table next to the
+    /// ends is walked along them.
+    pub outer: &'a [&'a Polyline],
+    /// Whether a point (mm) is bone; used to measure the thickness.
+    pub is_bone: &'a dyn Fn(Point) -> bool,
+    /// The polar centre, on the midline inside the head.
+    pub centre: Point,
+    /// The mid-sagittal line.
+    pub midline: MidLine,
+    /// The defect end A (mm): its polar angle starts the gap.
+    pub a: Point,
+    /// The defect end B (mm): its polar angle ends the gap.
+    pub b: Point,
+    /// An explicit template (from near A to near B; either order), used
+    /// instead of the mirror image; the defect may then cross the midline.
+    pub template: Option<&'a Polyline>,
+    /// The CT slice and bone threshold the section is clipped against
+    /// (`None`: no clipping).
+    pub tissue: Option<(&'a Slice<'a>, i16)>,
+}
+
+impl std::fmt::Debug for WallInput<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("WallInput")
+            .field("centre", &self.centre)
+            .field("midline", &self.midline)
+            .field("a", &self.a)
+            .field("b", &self.b)
+            .finish_non_exhaustive()
+    }
+}
