@@ -22,8 +22,8 @@ pub struct FitDetail {
     pub closing_angle_degrees: Option<f64>,
     /// On closed outlines, the largest relative derivative gap there.
     pub closing_relative_derivative_gap: Option<f64>,
-    /// One row per segment, in the columns of [`FIT_SEGMENT_HEADER`] with
-    /// the current records, of [`SEGMENT_HEADER`] without.
+    /// One row per segment, in the columns of [`super::segments::FIT_SEGMENT_HEADER`] with
+    /// the current records, of [`super::segments::SEGMENT_HEADER`] without.
     pub segments: Vec<Vec<String>>,
 }
 

@@ -343,7 +343,8 @@ mod tests {
         assert_eq!(d.alpha_size, ALPHA_SIZE.default);
         assert_eq!(d.pt, PT.default);
         assert_eq!(d.margin, MARGIN.default);
-        let cases: [(&RealOption, fn(&mut SearchSpaceOptions, f64)); 3] = [
+        type Setter = fn(&mut SearchSpaceOptions, f64);
+        let cases: [(&RealOption, Setter); 3] = [
             (&ALPHA_SIZE, |s, x| s.alpha_size = x),
             (&PT, |s, x| s.pt = x),
             (&MARGIN, |s, x| s.margin = x),
