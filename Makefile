@@ -3,11 +3,12 @@ CARGO ?= cargo
 BIN := target/release/metabezier
 SPECS := experiments
 
-.PHONY: help build quick test examples fuzz test-cluster bench speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all fmt lint clean-results
+.PHONY: help build quick test test-python python-bench examples fuzz test-cluster bench speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all fmt lint clean-results
 
 help:
 	@echo "make quick          run experiments/quick.toml (seconds) into results/quick/"
 	@echo "make test           the whole test suite, rustfmt check and clippy -D warnings"
+	@echo "make test-python    the Python package: pip install ./python in a venv, then its pytest suite (PyPI)"
 	@echo "make examples       the library examples (examples/*.rs): your own optimiser and problem in a campaign"
 	@echo "make fuzz           the seeded fuzz loops of tests/fuzz_*.rs with 100,000 mutants per reader (minutes)"
 	@echo "make test-cluster   a campaign as a Slurm array job on a private one-node Slurm (root; installs slurm-wlm, munge)"
@@ -35,6 +36,25 @@ test:
 	$(MAKE) examples
 	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --no-deps --locked
 	$(CARGO) clippy --release --locked --all-targets -- -D warnings
+
+# The Python package (python/): a virtual environment under target/ with the
+# pinned build and test tools (PyPI; python3 with venv), the package built
+# from the repository by `pip install ./python` (maturin, no build
+# isolation, so the pinned maturin builds it), rustfmt and clippy on its
+# Rust side, and its pytest suite, which compares with the binary $(BIN).
+PY_VENV := target/python-venv
+test-python: build
+	test -x $(PY_VENV)/bin/python || python3 -m venv $(PY_VENV)
+	$(PY_VENV)/bin/python -m pip install --quiet --disable-pip-version-check -r python/requirements-test.txt
+	$(PY_VENV)/bin/python -m pip install --quiet --disable-pip-version-check --no-build-isolation ./python
+	cd python && $(CARGO) fmt -- --check
+	cd python && $(CARGO) clippy --release --locked -- -D warnings
+	METABEZIER_BIN=$(CURDIR)/$(BIN) $(PY_VENV)/bin/python -m pytest -q python/tests
+
+# The cost per evaluation of a Python function called from metabezier,
+# against pure Rust and numpy alone (and mealpy, NiaPy where installed).
+python-bench: test-python
+	$(PY_VENV)/bin/python python/bench/overhead.py
 
 # The library examples, each a campaign through the library into a fresh
 # directory (tests/registry.rs checks their results on 1 and 2 threads).

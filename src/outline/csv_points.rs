@@ -192,20 +192,7 @@ pub fn csv_from_bytes(
         }
         points.push(Point::new(x, y));
     }
-    let repeats = points.len() > 1 && points.first() == points.last();
-    if repeats {
-        points.pop();
-    }
-    let closed = options.closed.unwrap_or(repeats);
-    check_extent(&points, path)?;
-    if points.len() < options.min_points {
-        return Err(OutlineError::TooFewPoints {
-            path: path.to_owned(),
-            found: points.len(),
-            need: options.min_points,
-        });
-    }
-    Ok(Outline::new(points, closed))
+    outline_from_points(points, options.closed, options.min_points, path)
 }
 
 /// The smallest span of an outline relative to its largest coordinate: with
@@ -215,6 +202,33 @@ pub const MIN_RELATIVE_EXTENT: f64 = 1e-9;
 /// The smallest absolute span of an outline: below it squared distances
 /// (E = Σ|R_i − P_i|²) fall towards f64's subnormal range (≈ 1e-308).
 pub const MIN_EXTENT: f64 = 1e-100;
+
+/// The outline of `points` read from `path` (a file, or a name such as
+/// `points` for points given directly): a last point repeating the first is
+/// dropped and closes the outline unless `closed` says otherwise; the points
+/// must span a measurable extent and number at least `min_points`. The rule
+/// the CSV reader applies, for callers that have the points already.
+pub fn outline_from_points(
+    mut points: Vec<Point>,
+    closed: Option<bool>,
+    min_points: usize,
+    path: &Path,
+) -> Result<Outline, OutlineError> {
+    let repeats = points.len() > 1 && points.first() == points.last();
+    if repeats {
+        points.pop();
+    }
+    let closed = closed.unwrap_or(repeats);
+    check_extent(&points, path)?;
+    if points.len() < min_points {
+        return Err(OutlineError::TooFewPoints {
+            path: path.to_owned(),
+            found: points.len(),
+            need: min_points,
+        });
+    }
+    Ok(Outline::new(points, closed))
+}
 
 /// Refuses points whose bounding box is too small for E to be resolved:
 /// its diagonal must be at least [`MIN_EXTENT`] and at least

@@ -42,8 +42,8 @@ pub use crate::geometry::Orientation;
 pub use border::{find_borders, BinaryImage, Border, BorderKind, Side};
 pub use corners::{find_corners, split_at, turning_angles, CornerOptions};
 pub use csv_points::{
-    csv_from_bytes, load_csv, CsvOptions, MAX_COORDINATE, MAX_CSV_LINE_BYTES, MAX_CSV_POINTS,
-    MIN_EXTENT, MIN_RELATIVE_EXTENT,
+    csv_from_bytes, load_csv, outline_from_points, CsvOptions, MAX_COORDINATE, MAX_CSV_LINE_BYTES,
+    MAX_CSV_POINTS, MIN_EXTENT, MIN_RELATIVE_EXTENT,
 };
 pub use error::OutlineError;
 pub use glyph::{

@@ -1,0 +1,403 @@
+"""metabezier from Python: its optimisers, campaigns and curve fitting.
+
+Every function calls the Rust library (the extension module
+``metabezier._core``); nothing here re-implements an algorithm. The same
+seed gives the same bits as the library and the ``metabezier`` command line.
+
+- :func:`minimize` runs one optimiser on a Python function, in the shape of
+  ``scipy.optimize.minimize``.
+- :func:`register_problem` lets a spec name a Python function; :func:`run`
+  runs a TOML spec exactly as ``metabezier run`` does, :func:`report` writes
+  its report, and :func:`load` reads the results back as columns.
+- :func:`fit` fits (rational) Bézier curves to points, :func:`score` measures
+  points against the curves of an SVG.
+"""
+
+from __future__ import annotations
+
+import csv
+import os
+from dataclasses import dataclass, field
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
+
+from . import _core
+
+__version__ = _core.__version__
+
+__all__ = [
+    "Algorithm",
+    "FitResult",
+    "OptimizeResult",
+    "Segment",
+    "algorithms",
+    "benchmark",
+    "fit",
+    "load",
+    "minimize",
+    "register_problem",
+    "report",
+    "run",
+    "score",
+]
+
+
+@dataclass(frozen=True)
+class Algorithm:
+    """A registered optimiser: its name, its source and its parameters as
+    ``(name, default, what it admits)``, as ``metabezier list`` shows them."""
+
+    name: str
+    source: str
+    params: List[Tuple[str, str, str]]
+
+
+def algorithms() -> Dict[str, Algorithm]:
+    """Every optimiser :func:`minimize` and the specs can name, by name."""
+    return {name: Algorithm(name, source, list(params)) for name, source, params in _core.algorithms()}
+
+
+@dataclass
+class OptimizeResult:
+    """The outcome of :func:`minimize`, named as ``scipy.optimize.OptimizeResult``.
+
+    ``x`` is the best point found and ``fun`` its value; ``nfev`` the
+    evaluations used (never more than the budget); ``nit`` is ``None``: the
+    optimisers count evaluations, not iterations. ``trace`` is the
+    best-so-far value at log-spaced evaluation counts, as
+    ``[(evaluations, best), ...]``, ending at the last evaluation.
+    """
+
+    x: List[float]
+    fun: float
+    nfev: int
+    nit: Optional[int]
+    trace: List[Tuple[int, float]]
+    algorithm: str
+    seed: int
+    params: Dict[str, Any] = field(default_factory=dict)
+    success: bool = True
+    message: str = "budget spent"
+
+    def __getitem__(self, key: str) -> Any:  # scipy's results are also dicts
+        return getattr(self, key)
+
+
+def _bounds_pairs(bounds: Any) -> List[Tuple[float, float]]:
+    """``bounds`` as a list of ``(lower, upper)`` floats, or a ``ValueError``."""
+    try:
+        pairs = [tuple(b) for b in bounds]
+    except TypeError:
+        raise ValueError(
+            "bounds: expected a sequence of (lower, upper) pairs, one per variable"
+        ) from None
+    out = []
+    for i, b in enumerate(pairs):
+        if len(b) != 2:
+            raise ValueError(
+                f"bounds[{i}]: expected a (lower, upper) pair, got {len(b)} values"
+            )
+        try:
+            out.append((float(b[0]), float(b[1])))
+        except (TypeError, ValueError):
+            raise ValueError(f"bounds[{i}] = {b!r}: expected two numbers") from None
+    return out
+
+
+def _batch_adapter(fun: Callable, dim: int) -> Callable:
+    """Wraps a vectorised ``fun`` (an ``(n, D)`` array in, ``n`` values out)
+    for the Rust side, which passes the rows as bytes."""
+    import numpy as np
+
+    def call(buf: bytes, n: int) -> bytes:
+        xs = np.frombuffer(buf, dtype=np.float64).reshape(n, dim)
+        y = np.asarray(fun(xs), dtype=np.float64).reshape(-1)
+        if y.shape[0] != n:
+            raise ValueError(f"fun returned {y.shape[0]} values for a batch of {n} points")
+        return y.tobytes()
+
+    return call
+
+
+def minimize(
+    fun: Callable,
+    bounds: Sequence[Tuple[float, float]],
+    algorithm: str = "mhs",
+    budget: int = 10_000,
+    seed: int = 1,
+    batch: bool = False,
+    **params: Any,
+) -> OptimizeResult:
+    """Minimises ``fun`` over the box ``bounds`` with a registered optimiser.
+
+    ``fun(x)`` gets ``x`` as a list of ``D`` floats and returns a number.
+    With ``batch=True`` it gets an ``(n, D)`` numpy array and returns ``n``
+    values: one call per generation for the optimisers that evaluate a
+    population at once (``ga``, ``cmaes``, ``lshade``, ``random``); the
+    others call it with one row at a time. ``budget`` counts evaluations;
+    ``params`` are the algorithm's parameters, named as in
+    :func:`algorithms` (``metabezier list``). The same ``seed`` gives the
+    same result, bit for bit. An exception raised in ``fun`` stops the run
+    and propagates.
+
+    >>> r = minimize(lambda x: sum(v * v for v in x), [(-5, 5)] * 3, budget=2000, seed=7)
+    >>> r.fun < 1e-2, r.nfev
+    (True, 2000)
+    """
+    pairs = _bounds_pairs(bounds)
+    if isinstance(budget, bool) or not isinstance(budget, int) or budget < 1:
+        raise ValueError(f"budget = {budget!r}: expected an integer number of evaluations >= 1")
+    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2**64:
+        raise ValueError(f"seed = {seed!r}: expected an integer in [0, 2**64)")
+    if not callable(fun):
+        raise ValueError("fun: expected a callable")
+    target = _batch_adapter(fun, len(pairs)) if batch else fun
+    x, best, nfev, trace = _core.minimize(
+        target, pairs, algorithm, budget, seed, bool(batch), params or None
+    )
+    return OptimizeResult(
+        x=list(x),
+        fun=best,
+        nfev=nfev,
+        nit=None,
+        trace=list(trace),
+        algorithm=algorithm,
+        seed=seed,
+        params=dict(params),
+    )
+
+
+def benchmark(
+    function: str,
+    dim: int,
+    algorithm: str = "mhs",
+    budget: int = 10_000,
+    seed: int = 1,
+    **params: Any,
+) -> OptimizeResult:
+    """One run on a built-in benchmark function (``sphere``, ``rastrigin``,
+    ... as ``metabezier list`` names them) at dimension ``dim``, entirely in
+    Rust: the same run a spec makes with the same seed. ``fun`` is the
+    objective value."""
+    x, best, nfev, trace = _core.benchmark(function, int(dim), algorithm, int(budget), int(seed), params or None)
+    return OptimizeResult(
+        x=list(x), fun=best, nfev=nfev, nit=None, trace=list(trace),
+        algorithm=algorithm, seed=seed, params=dict(params),
+    )
+
+
+def register_problem(
+    name: str,
+    fun: Callable,
+    bounds: Union[Tuple[float, float], Sequence[Tuple[float, float]]],
+    optimum: float = 0.0,
+    batch: bool = False,
+) -> None:
+    """Registers ``fun`` so that a spec may name it: ``[[problem]] function
+    = "name"`` with ``dim``. ``bounds`` is one ``(lower, upper)`` pair for
+    every variable at any dimension, or a list of pairs for that dimension
+    only. ``optimum`` is ``f*``, from which the error and the targets are
+    measured. ``batch`` as in :func:`minimize`. A name of a built-in
+    function is refused."""
+    if isinstance(bounds, tuple) and len(bounds) == 2 and not isinstance(bounds[0], (tuple, list)):
+        pairs, per_variable = _bounds_pairs([bounds]), False
+    else:
+        pairs, per_variable = _bounds_pairs(bounds), True
+    if not callable(fun):
+        raise ValueError("fun: expected a callable")
+    if batch:
+        if not per_variable:
+            raise ValueError("batch=True needs one (lower, upper) pair per variable (a fixed dimension)")
+        fun = _batch_adapter(fun, len(pairs))
+    _core.register_problem(name, fun, pairs, per_variable, float(optimum), bool(batch))
+
+
+@dataclass(frozen=True)
+class RunSummary:
+    """What :func:`run` did: the results directory and the run counts."""
+
+    out: str
+    total: int
+    reused: int
+    executed: int
+    complete: bool
+
+
+def run(
+    spec: Union[str, os.PathLike],
+    out: Optional[Union[str, os.PathLike]] = None,
+    threads: Optional[int] = None,
+    resume: bool = False,
+    shard: Optional[str] = None,
+    allow_large: bool = False,
+) -> RunSummary:
+    """Runs a campaign exactly as ``metabezier run`` does: ``spec`` is a
+    path to a TOML spec, or the TOML text itself (any string with a
+    newline); ``out`` the results directory (default: the spec's
+    ``results/<name>``), ``threads`` the workers (default all cores; the
+    results are the same for any number), ``resume`` reuses finished runs,
+    ``shard`` is ``"K/N"``. Problems registered with
+    :func:`register_problem` may be named."""
+    text = os.fspath(spec)
+    directory = None if out is None else os.fspath(out)
+    result = _core.run(text, directory, threads, bool(resume), shard, bool(allow_large))
+    return RunSummary(*result)
+
+
+def report(results: Union[str, os.PathLike]) -> str:
+    """Writes ``report.md`` (with its tables and figures) into a results
+    directory, as ``metabezier report`` does, and returns its path."""
+    return _core.report(os.fspath(results))
+
+
+def _column(values: List[str]) -> List[Any]:
+    """A CSV column as ints, else floats, else strings (empty cells ``None``)."""
+    present = [v for v in values if v != ""]
+    for kind in (int, float):
+        try:
+            converted = {v: kind(v) for v in set(present)}
+        except ValueError:
+            continue
+        return [converted[v] if v != "" else None for v in values]
+    return [v if v != "" else None for v in values]
+
+
+def _read_columns(path: str) -> Dict[str, List[Any]]:
+    with open(path, newline="", encoding="utf-8") as f:
+        rows = list(csv.reader(f))
+    if not rows:
+        return {}
+    header, body = rows[0], rows[1:]
+    return {name: _column([r[i] for r in body]) for i, name in enumerate(header)}
+
+
+def load(results: Union[str, os.PathLike], pandas: Optional[bool] = None) -> Dict[str, Any]:
+    """Reads a results directory: ``runs``, ``convergence`` and ``hits``
+    (and ``fits``, ``segments`` where a fitting campaign wrote them), each
+    as a dict of columns, or as a pandas DataFrame when pandas is installed
+    (``pandas=False`` keeps the dicts; ``True`` requires pandas)."""
+    directory = os.fspath(results)
+    if not os.path.isfile(os.path.join(directory, "runs.csv")):
+        raise ValueError(f"{directory}: no runs.csv; expected a results directory of metabezier run")
+    if pandas is None:
+        try:
+            import pandas as pd  # noqa: F401
+
+            pandas = True
+        except ImportError:
+            pandas = False
+    out: Dict[str, Any] = {}
+    for name in ("runs", "convergence", "hits", "fits", "segments"):
+        path = os.path.join(directory, f"{name}.csv")
+        if not os.path.isfile(path):
+            continue
+        if pandas:
+            import pandas as pd
+
+            out[name] = pd.DataFrame(_read_columns(path))
+        else:
+            out[name] = _read_columns(path)
+    return out
+
+
+@dataclass(frozen=True)
+class Segment:
+    """One fitted segment: its contour, function, control points and
+    weights (all 1 for a polynomial segment), and the indices of its first
+    and last data points."""
+
+    contour: int
+    function: str
+    control_points: List[Tuple[float, float]]
+    weights: List[float]
+    first: int
+    last: int
+
+
+@dataclass(frozen=True)
+class FitResult:
+    """The outcome of :func:`fit`: the segments and the metrics (``sse`` =
+    E, ``rms`` at the data parameters, ``rms_distance`` and
+    ``max_distance`` orthogonal, ``points``, ``segments``, ``evaluations``)."""
+
+    segments: List[Segment]
+    metrics: Dict[str, float]
+
+
+def _points(points: Any) -> List[Tuple[float, float]]:
+    try:
+        pts = [(float(p[0]), float(p[1])) for p in points]
+    except (TypeError, ValueError, IndexError):
+        raise ValueError("points: expected a sequence of (x, y) pairs") from None
+    if any(len(tuple(p)) != 2 for p in points):
+        raise ValueError("points: expected a sequence of (x, y) pairs")
+    return pts
+
+
+def fit(
+    points: Sequence[Tuple[float, float]],
+    function: str = "rational-cubic",
+    continuity: str = "g1",
+    segments: Optional[int] = None,
+    tolerance: Optional[float] = None,
+    algorithm: str = "mhs",
+    budget: int = 10_000,
+    seed: int = 1,
+    closed: Optional[bool] = None,
+    closing: str = "smooth",
+    search_space: str = "technique",
+    parameterisation: str = "auto",
+    corner_angle: float = 60.0,
+    corner_k: int = 5,
+) -> FitResult:
+    """Fits piecewise (rational) Bézier curves to ``points`` as ``metabezier
+    fit`` fits a CSV of points: ``segments`` of them (default 8), or split
+    until every point is within ``tolerance``; ``algorithm`` is an optimiser,
+    ``lm``, or ``<optimiser>+lm``; ``budget`` counts evaluations per segment.
+    The names are those of the command line. As in a CSV of points, the
+    outline is closed when its last point repeats the first (that point is
+    dropped), unless ``closed`` says otherwise."""
+    pts = _points(points)
+    if segments is not None and (isinstance(segments, bool) or not isinstance(segments, int)):
+        raise ValueError(f"segments = {segments!r}: expected an integer")
+    rows, metrics = _core.fit(
+        pts,
+        None if closed is None else bool(closed),
+        function,
+        continuity,
+        segments,
+        None if tolerance is None else float(tolerance),
+        algorithm,
+        int(budget),
+        int(seed),
+        closing,
+        search_space,
+        parameterisation,
+        float(corner_angle),
+        int(corner_k),
+    )
+    segs = [
+        Segment(c, f, [tuple(p) for p in cp], list(w), first, last)
+        for c, f, cp, w, first, last in rows
+    ]
+    return FitResult(segs, {k: (int(v) if k in ("points", "segments", "evaluations") else v) for k, v in metrics})
+
+
+def score(
+    points: Sequence[Tuple[float, float]],
+    svg: Union[str, os.PathLike],
+    closed: Optional[bool] = None,
+    offset: Tuple[float, float] = (0.0, 0.0),
+) -> Dict[str, float]:
+    """The orthogonal distances of ``points`` to the curves of ``svg`` (a
+    path, or the SVG text itself), as ``metabezier score``:
+    ``segments``, ``points``, ``max_distance`` and ``rms_distance``."""
+    pts = _points(points)
+    segments, n, max_distance, rms_distance = _core.score_svg(
+        pts, None if closed is None else bool(closed), os.fspath(svg), (float(offset[0]), float(offset[1]))
+    )
+    return {
+        "segments": segments,
+        "points": n,
+        "max_distance": max_distance,
+        "rms_distance": rms_distance,
+    }
