@@ -46,7 +46,7 @@ PY_VENV := target/python-venv
 test-python: build
 	test -x $(PY_VENV)/bin/python || python3 -m venv $(PY_VENV)
 	$(PY_VENV)/bin/python -m pip install --quiet --disable-pip-version-check -r python/requirements-test.txt
-	$(PY_VENV)/bin/python -m pip install --quiet --disable-pip-version-check --no-build-isolation ./python
+	PATH="$(CURDIR)/$(PY_VENV)/bin:$$PATH" $(PY_VENV)/bin/python -m pip install --quiet --disable-pip-version-check --no-build-isolation ./python
 	cd python && $(CARGO) fmt -- --check
 	cd python && $(CARGO) clippy --release --locked -- -D warnings
 	METABEZIER_BIN=$(CURDIR)/$(BIN) $(PY_VENV)/bin/python -m pytest -q python/tests

@@ -378,3 +378,33 @@ fn instance_lists_name_fixed_instances_and_are_checked() {
         "spec.toml:11:17: problem[1].instances: instance 2 is listed twice; give a count N (instances 1..N) or a list of distinct instance numbers"
     );
 }
+
+/// The error for an algorithm named `name` in the base spec.
+fn hint_for(name: &str) -> String {
+    error_of(&BASE.replace("name = \"hs\"", &format!("name = \"{name}\"")))
+}
+
+/// The "did you mean" suggester counts a transposition of two adjacent
+/// letters as one edit (Damerau–Levenshtein), so a swapped pair of letters
+/// is suggested back rather than a shorter name at the same distance.
+#[test]
+fn transposed_letters_suggest_the_name_they_come_from() {
+    for (typo, meant) in [
+        ("msh", "mhs"),
+        ("pos", "pso"),
+        ("cmase", "cmaes"),
+        ("lshaed", "lshade"),
+    ] {
+        let e = hint_for(typo);
+        assert!(
+            e.contains(&format!("did you mean \"{meant}\"?")),
+            "{typo}: {e}"
+        );
+    }
+}
+
+#[test]
+fn a_name_far_from_every_choice_gets_no_suggestion() {
+    let e = hint_for("simplex");
+    assert!(!e.contains("did you mean"), "{e}");
+}
