@@ -538,6 +538,55 @@ fn adaptive_split_meets_the_tolerance() {
 }
 
 #[test]
+fn a_corner_free_contour_closes_smoothly_at_a_tolerance() {
+    let pts = ellipse(400);
+    for (function, continuity) in [
+        (FunctionType::RationalCubic, Continuity::G1),
+        (FunctionType::Cubic, Continuity::C1),
+        (FunctionType::Cubic, Continuity::G1),
+    ] {
+        let options = FitOptions::new(function, continuity);
+        let fit = fit_adaptive(
+            &pts,
+            true,
+            &[],
+            &SplitOptions::new(0.01),
+            &options,
+            &mut LmSolver::default(),
+        )
+        .unwrap();
+        assert!(fit.metrics.segments > 1);
+        let c = fit.closing.unwrap();
+        assert!(!c.at_corner);
+        assert_eq!(c.imposed, continuity, "{function}");
+        assert!(c.angle_degrees < 1e-6, "{function} {continuity:?}: {c:?}");
+        // The sequential C¹ chain cannot reach 0.01 here, closed smoothly or
+        // C⁰ (each segment inherits the previous end derivative; about 0.5):
+        // a limit of the sequential chain, not of the closing.
+        if continuity == Continuity::G1 {
+            assert!(
+                fit.metrics.max_distance <= 0.01,
+                "{function} {continuity:?}: {:?}",
+                fit.metrics
+            );
+        }
+    }
+    // Closed C⁰ on request, the closing joint is not smoothed.
+    let mut options = FitOptions::new(FunctionType::RationalCubic, Continuity::G1);
+    options.closing = Closing::C0;
+    let fit = fit_adaptive(
+        &pts,
+        true,
+        &[],
+        &SplitOptions::new(0.01),
+        &options,
+        &mut LmSolver::default(),
+    )
+    .unwrap();
+    assert_eq!(fit.closing.unwrap().imposed, Continuity::C0);
+}
+
+#[test]
 fn bounding_box_search_space_is_available() {
     let pts = wave();
     let mut options = FitOptions::new(FunctionType::Cubic, Continuity::C1);

@@ -8,7 +8,8 @@
 //! * [`fit_adaptive`]: Schneider's recursive split (Schneider 1990, "An
 //!   algorithm for automatically fitting digitized curves", *Graphics Gems*):
 //!   fit, and while the largest orthogonal distance exceeds a tolerance,
-//!   split at the point of largest error and refit.
+//!   split at the point of largest error and refit. A corner-free closed
+//!   contour (one span, cut by the splits) closes smoothly as well.
 //!
 //! Segment `k > 0` starts where segment `k − 1` ends and inherits its join
 //! from it ([`Start::after`]), so interior joints hold C¹ or G¹ *by
@@ -225,15 +226,20 @@ impl Chain {
         }
     }
 
-    /// Whether the last segment joins the first one's start: a closed
-    /// outline closed smoothly, not at a corner, with a smooth continuity
-    /// and more than one segment.
-    fn closes_smoothly(&self, outline: &Outline<'_>, options: &FitOptions) -> bool {
+    /// Whether the last segment of a split fit ([`fit_adaptive`]) joins the
+    /// first one's start: a closed outline closed smoothly, not at a
+    /// corner, with a smooth continuity.
+    fn closes_smoothly_split(&self, outline: &Outline<'_>, options: &FitOptions) -> bool {
         outline.closed
             && options.closing == Closing::Smooth
             && !self.at_corner
             && options.continuity != Continuity::C0
-            && self.spans.len() > 1
+    }
+
+    /// Whether the last segment of a chain of spans joins the first one's
+    /// start: as [`Chain::closes_smoothly_split`], with more than one span.
+    fn closes_smoothly(&self, outline: &Outline<'_>, options: &FitOptions) -> bool {
+        self.closes_smoothly_split(outline, options) && self.spans.len() > 1
     }
 }
 
@@ -476,7 +482,10 @@ pub fn fit_adaptive<S: SegmentSolver + ?Sized>(
         .map(|&(a, _)| corners.contains(&(a % points.len())))
         .collect();
     let chain = Chain::new(&outline, spans, &corner, options);
-    let close = chain.closes_smoothly(&outline, options);
+    // A corner-free contour is one span, which the splits cut into several
+    // segments: it closes smoothly too (the last piece joins the first
+    // segment's start once that exists).
+    let close = chain.closes_smoothly_split(&outline, options);
     let closing_point = chain.spans.last().map_or(0, |s| s.1);
     let min_pts = split.min_points.max(options.function.min_points());
     let mut segments: Vec<FittedSegment> = Vec::new();
