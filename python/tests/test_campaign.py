@@ -40,6 +40,12 @@ def test_load_gives_columns(root, tmp_path):
     assert sorted(set(runs["algorithm"])) == ["GA", "GHS", "HS", "MHS", "PSO"]
     with pytest.raises(ValueError, match="no runs.csv"):
         mb.load(tmp_path)
+    # With pandas (installed by make test-python), the same columns as DataFrames.
+    frames = mb.load(tmp_path / "q")
+    df = frames["runs"]
+    assert list(df.columns) == list(runs) and len(df) == 75
+    assert df["best"].tolist() == runs["best"]
+    assert frames["convergence"].shape[0] == len(d["convergence"]["evaluations"])
 
 
 def styblinski_tang(x):
