@@ -170,6 +170,14 @@ fn fit_writes_its_files() {
     let svg = std::fs::read_to_string(tmp.path().join("fit.svg")).unwrap();
     assert!(svg.contains("coin: rational-cubic G1, pso"));
     assert!(svg.contains("fill-rule=\"evenodd\""));
+    // Rational cubics reach SVG as polynomial cubics, and the file says so.
+    let pieces = svg.matches(" C ").count();
+    assert!(
+        svg.contains(&format!(
+            "SVG has no rational curves: the 6 rational segment(s) of this fit are drawn as {pieces} polynomial cubic pieces"
+        )),
+        "{svg}"
+    );
     assert!(tmp.path().join("overlay.png").exists());
     assert_eq!(
         &std::fs::read(tmp.path().join("fit.png")).unwrap()[1..4],

@@ -96,6 +96,7 @@ pub fn shape_svg(fit: &ShapeFit, data: &[Point], title: &str) -> String {
     let tol = TOLERANCE * (x1 - x0).max(y1 - y0);
     let flip = |p: Point| format!("{} {}", p.x, y0 + y1 - p.y);
     let mut d = String::new();
+    let (mut rational, mut pieces) = (0usize, 0usize);
     for c in &fit.contours {
         let Some(first) = c.fit.segments.first() else {
             continue;
@@ -105,7 +106,15 @@ pub fn shape_svg(fit: &ShapeFit, data: &[Point], title: &str) -> String {
             match s.segment {
                 Segment::Quadratic(q) => d.push_str(&format!(" Q {} {}", flip(q.p1), flip(q.p2))),
                 other => {
-                    for p in cubic_pieces(&other, tol) {
+                    let cubics = cubic_pieces(&other, tol);
+                    if matches!(
+                        other,
+                        Segment::RationalQuadratic(_) | Segment::RationalCubic(_)
+                    ) {
+                        rational += 1;
+                        pieces += cubics.len();
+                    }
+                    for p in cubics {
                         d.push_str(&format!(" C {} {} {}", flip(p.p1), flip(p.p2), flip(p.p3)));
                     }
                 }
@@ -114,12 +123,22 @@ pub fn shape_svg(fit: &ShapeFit, data: &[Point], title: &str) -> String {
         d.push_str(" Z ");
     }
     let escaped = title.replace('&', "&amp;").replace('<', "&lt;");
+    let approximation = if rational > 0 {
+        format!(
+            "<!-- SVG has no rational curves: the {rational} rational segment(s) of this fit are \
+             drawn as {pieces} polynomial cubic pieces, each within {tol:e} of its segment \
+             ({TOLERANCE:e} of the drawing's size, checked at 5 parameters per piece); fit.csv \
+             holds the exact control points and weights. -->\n"
+        )
+    } else {
+        String::new()
+    };
     format!(
         "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"{x0} {y0} {w} {h}\">\n\
          <title>{escaped}</title>\n\
          <!-- metabezier fit: y here is Y0 + Y1 - y of the outline frame (the viewBox's \
          vertical extent); metabezier score reads it back with no offset. -->\n\
-         <path fill=\"#b4cdeb\" fill-rule=\"evenodd\" stroke=\"#1f4e8c\" \
+         {approximation}<path fill=\"#b4cdeb\" fill-rule=\"evenodd\" stroke=\"#1f4e8c\" \
          stroke-width=\"{sw}\" d=\"{d}\"/>\n</svg>\n",
         w = x1 - x0,
         h = y1 - y0,
