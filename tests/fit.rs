@@ -537,6 +537,12 @@ fn adaptive_split_meets_the_tolerance() {
     assert!(previous > 2);
 }
 
+/// `fit_adaptive` of the closed `pts` to 0.01 by LM.
+fn closed_at_a_hundredth(pts: &[Point], options: &FitOptions) -> metabezier::fit::PiecewiseFit {
+    let split = SplitOptions::new(0.01);
+    fit_adaptive(pts, true, &[], &split, options, &mut LmSolver::default()).unwrap()
+}
+
 #[test]
 fn a_corner_free_contour_closes_smoothly_at_a_tolerance() {
     let pts = ellipse(400);
@@ -545,16 +551,7 @@ fn a_corner_free_contour_closes_smoothly_at_a_tolerance() {
         (FunctionType::Cubic, Continuity::C1),
         (FunctionType::Cubic, Continuity::G1),
     ] {
-        let options = FitOptions::new(function, continuity);
-        let fit = fit_adaptive(
-            &pts,
-            true,
-            &[],
-            &SplitOptions::new(0.01),
-            &options,
-            &mut LmSolver::default(),
-        )
-        .unwrap();
+        let fit = closed_at_a_hundredth(&pts, &FitOptions::new(function, continuity));
         assert!(fit.metrics.segments > 1);
         let c = fit.closing.unwrap();
         assert!(!c.at_corner);
@@ -574,15 +571,7 @@ fn a_corner_free_contour_closes_smoothly_at_a_tolerance() {
     // Closed C⁰ on request, the closing joint is not smoothed.
     let mut options = FitOptions::new(FunctionType::RationalCubic, Continuity::G1);
     options.closing = Closing::C0;
-    let fit = fit_adaptive(
-        &pts,
-        true,
-        &[],
-        &SplitOptions::new(0.01),
-        &options,
-        &mut LmSolver::default(),
-    )
-    .unwrap();
+    let fit = closed_at_a_hundredth(&pts, &options);
     assert_eq!(fit.closing.unwrap().imposed, Continuity::C0);
 }
 

@@ -223,6 +223,24 @@ fn param_set(algorithm: &str, params: Option<&Bound<'_, PyDict>>) -> PyResult<Pa
     Ok(set)
 }
 
+/// The registered optimiser `algorithm` with `params`, for a run of
+/// `budget` (at least 1) evaluations.
+fn configured(
+    algorithm: &str,
+    params: Option<&Bound<'_, PyDict>>,
+    budget: u64,
+) -> PyResult<metabezier::optim::Algorithm> {
+    if budget == 0 {
+        return Err(PyValueError::new_err(
+            "budget: expected at least 1 evaluation",
+        ));
+    }
+    let set = param_set(algorithm, params)?;
+    Optimisers::builtin()
+        .build(algorithm, &set)
+        .map_err(|e| PyValueError::new_err(format!("{algorithm}: {e}")))
+}
+
 /// One run's result for Python: (best x, its value, evaluations used,
 /// the trace as `(evaluations, best)`).
 type RunResult = (Vec<f64>, f64, u64, Vec<(u64, f64)>);
@@ -259,15 +277,7 @@ fn minimize(
     params: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<RunResult> {
     let bounds = bounds_of(&bounds)?;
-    if budget == 0 {
-        return Err(PyValueError::new_err(
-            "budget: expected at least 1 evaluation",
-        ));
-    }
-    let set = param_set(algorithm, params)?;
-    let alg = Optimisers::builtin()
-        .build(algorithm, &set)
-        .map_err(|e| PyValueError::new_err(format!("{algorithm}: {e}")))?;
+    let alg = configured(algorithm, params, budget)?;
     let problem = PyProblem {
         name: "fun".into(),
         fun,
@@ -310,15 +320,7 @@ fn benchmark(
     })?;
     let problem = metabezier::functions::TestProblem::new(f, dim)
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
-    if budget == 0 {
-        return Err(PyValueError::new_err(
-            "budget: expected at least 1 evaluation",
-        ));
-    }
-    let set = param_set(algorithm, params)?;
-    let alg = Optimisers::builtin()
-        .build(algorithm, &set)
-        .map_err(|e| PyValueError::new_err(format!("{algorithm}: {e}")))?;
+    let alg = configured(algorithm, params, budget)?;
     let outcome = py.detach(|| alg.run(&problem, budget, &mut run_rng(seed)));
     Ok(run_result(outcome))
 }

@@ -329,15 +329,25 @@ impl Parser<'_> {
             return Ok(None);
         };
         let field = format!("{section}.{}", option.name);
-        let x = self.real(v, &field)?;
+        self.option_value(v, option, &field).map(Some)
+    }
+
+    /// The value `v` of `option`, in its range.
+    fn option_value(
+        &self,
+        v: &Value<'_>,
+        option: &RealOption,
+        field: &str,
+    ) -> Result<f64, SpecError> {
+        let x = self.real(v, field)?;
         if !option.contains(x) {
             return Err(self.error(
                 v.span(),
-                &field,
+                field,
                 format!("expected {}, found {x}", option.expected),
             ));
         }
-        Ok(Some(x))
+        Ok(x)
     }
 
     /// A pair `[min, max]` with `0 < min < max`, both finite.
@@ -745,14 +755,7 @@ impl Parser<'_> {
         let field = format!("{section}.alpha_size");
         let mut out = Vec::new();
         for item in self.one_or_many(v, &field)? {
-            let x = self.real(item, &field)?;
-            if !ALPHA_SIZE.contains(x) {
-                return Err(self.error(
-                    item.span(),
-                    &field,
-                    format!("expected {}, found {x}", ALPHA_SIZE.expected),
-                ));
-            }
+            let x = self.option_value(item, &ALPHA_SIZE, &field)?;
             if out.contains(&x) {
                 return Err(self.error(item.span(), &field, format!("{x} is listed twice")));
             }
