@@ -324,13 +324,15 @@ class FitResult:
 
 
 def _points(points: Any) -> List[Tuple[float, float]]:
+    """``points`` as ``(x, y)`` floats, read once (a generator works too)."""
+    out = []
     try:
-        pts = [(float(p[0]), float(p[1])) for p in points]
-    except (TypeError, ValueError, IndexError):
+        for p in points:
+            x, y = p
+            out.append((float(x), float(y)))
+    except (TypeError, ValueError):
         raise ValueError("points: expected a sequence of (x, y) pairs") from None
-    if any(len(tuple(p)) != 2 for p in points):
-        raise ValueError("points: expected a sequence of (x, y) pairs")
-    return pts
+    return out
 
 
 def fit(

@@ -25,6 +25,9 @@ def test_fit_a_circle():
     # A repeated first point closes the outline, as in a CSV of points.
     again = mb.fit(circle() + [circle()[0]], function="rational-quadratic", segments=4, algorithm="lm", budget=2000)
     assert again == f
+    # Points from a generator are read once, as a list would be.
+    gen = mb.fit((p for p in circle()), function="rational-quadratic", segments=4, algorithm="lm", budget=2000, closed=True)
+    assert gen == f
     # The same call, the same bits.
     assert mb.fit(circle(), function="rational-quadratic", segments=4, algorithm="lm", budget=2000, closed=True) == f
 

@@ -1,6 +1,7 @@
 //! The seats A′ and B′ of a stack of slices, chosen jointly so that the
 //! implant's edge follows the bone without jumping between slices
-//! (RECONSTRUCTION: the thesis places A and B on each slice by hand).
+//! (RECONSTRUCTION: the surviving thesis text names A and B but does not
+//! say how they are placed from slice to slice).
 
 use super::polar::SEAT_STEP_MM;
 

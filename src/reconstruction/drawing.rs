@@ -107,10 +107,7 @@ pub fn shape_svg(fit: &ShapeFit, data: &[Point], title: &str) -> String {
                 Segment::Quadratic(q) => d.push_str(&format!(" Q {} {}", flip(q.p1), flip(q.p2))),
                 other => {
                     let cubics = cubic_pieces(&other, tol);
-                    if matches!(
-                        other,
-                        Segment::RationalQuadratic(_) | Segment::RationalCubic(_)
-                    ) {
+                    if other.function().is_rational() {
                         rational += 1;
                         pieces += cubics.len();
                     }
