@@ -52,6 +52,7 @@
 //! # Ok::<(), metabezier::geometry::GeometryError>(())
 //! ```
 
+mod controls;
 mod error;
 mod function;
 mod linear;
@@ -70,7 +71,7 @@ pub use function::FunctionType;
 pub use linear::linear_fit;
 pub use metrics::{segment_metrics, FitMetrics, SegmentMetrics};
 pub use options::{
-    Closing, FitOptions, GuessRule, RealOption, SearchSpace, SearchSpaceOptions, ALPHA_SIZE,
+    Closing, ErrorMeasure, FitOptions, GuessRule, RealOption, SearchSpace, SearchSpaceOptions, ALPHA_SIZE,
     MARGIN, PT,
 };
 pub use piecewise::{

@@ -211,6 +211,51 @@ impl SearchSpaceOptions {
     }
 }
 
+/// What the fit's error `E` measures: the thesis's distance at fixed data
+/// parameters, or the orthogonal distance to the curve.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ErrorMeasure {
+    /// `E = Σᵢ |Rᵢ − P(sᵢ)|²` at the data parameters `sᵢ`, fixed during the
+    /// solve (the thesis's E; the `sᵢ` come from the parameterisation).
+    #[default]
+    Fixed,
+    /// `E = Σᵢ min_s |Rᵢ − P(s)|²`, the orthogonal distance regression of
+    /// Borges & Pastva (2002, "Total least squares fitting of Bézier and
+    /// B-spline curves to ordered data"): every candidate's `sᵢ` are its
+    /// foot points, found by a safeguarded Newton projection started from
+    /// the parameterisation's `sᵢ` (an inner solve), so the data parameters
+    /// are unknowns of the fit without widening the search space. For
+    /// Levenberg–Marquardt the `sᵢ` are eliminated by variable projection
+    /// (Golub & Pereyra 1973, with Kaufman's 1975 Jacobian): each residual
+    /// row is projected onto the curve's normal, which is Gauss–Newton on
+    /// the orthogonal distances ("tangent distance minimisation", Wang,
+    /// Pottmann & Liu 2006), exact at zero residual, and costs O(n) per
+    /// iteration in the number of points.
+    Orthogonal,
+}
+
+impl ErrorMeasure {
+    /// The names accepted in specs (`error = "…"`) and on the command line.
+    pub const NAMES: [&'static str; 2] = ["fixed", "orthogonal"];
+
+    /// Parses a name.
+    pub fn from_name(name: &str) -> Option<ErrorMeasure> {
+        match name {
+            "fixed" => Some(ErrorMeasure::Fixed),
+            "orthogonal" => Some(ErrorMeasure::Orthogonal),
+            _ => None,
+        }
+    }
+
+    /// The name.
+    pub fn name(self) -> &'static str {
+        match self {
+            ErrorMeasure::Fixed => "fixed",
+            ErrorMeasure::Orthogonal => "orthogonal",
+        }
+    }
+}
+
 /// How the chain of segments closes on a closed outline.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Closing {
@@ -257,8 +302,11 @@ pub struct FitOptions {
     pub function: FunctionType,
     /// The continuity at interior joints; default C¹.
     pub continuity: Continuity,
-    /// How data parameters are assigned; default chord length.
+    /// How data parameters are assigned; default chord length. Under
+    /// [`ErrorMeasure::Orthogonal`] they are the foot-point projection's start.
     pub parameterisation: Parameterisation,
+    /// What `E` measures; default [`ErrorMeasure::Fixed`] (the thesis's E).
+    pub error: ErrorMeasure,
     /// The search box.
     pub search: SearchSpaceOptions,
     /// Objective evaluations per segment (per solve); default 10 000.
@@ -279,6 +327,7 @@ impl Default for FitOptions {
             function: FunctionType::RationalCubic,
             continuity: Continuity::C1,
             parameterisation: Parameterisation::ChordLength,
+            error: ErrorMeasure::Fixed,
             search: SearchSpaceOptions::default(),
             budget_per_segment: 10_000,
             reparameterise: 0,

@@ -5,8 +5,9 @@
 //! it implements [`Problem`] for the metaheuristics and [`LeastSquares`] for
 //! Levenberg–Marquardt.
 
+use super::controls::{cubic, quad, rcubic, rquad, sum_sq, Controls};
 use super::search_space::{guesses, point_box};
-use super::{FitError, FunctionType, SearchSpaceOptions, Segment};
+use super::{ErrorMeasure, FitError, FunctionType, SearchSpaceOptions, Segment};
 use crate::geometry::{
     Continuity, CubicBez, Curve, Parameterisation, Point, QuadBez, RationalCubicBez,
     RationalQuadBez, SegmentEnd,
@@ -185,14 +186,6 @@ pub fn tangent_meet(c0: Point, leg: Point, cn: Point, dir: Point) -> Option<Poin
     (t > 0.0 && u > 0.0).then(|| c0 + leg * t)
 }
 
-/// The control points (`c[0..=m]`, unused slots zero) and inner weights of a
-/// decision vector; polynomial segments have `w₁ = w₂ = 1`.
-#[derive(Clone, Copy, Debug)]
-struct Controls {
-    c: [Point; 4],
-    w1: f64,
-    w2: f64,
-}
 
 /// The segment fitting problem of the thesis: data points `R₀..R_n` with
 /// parameters `s₀ = 0 < … < s_n = 1`, end control points fixed at `R₀` and
@@ -226,6 +219,7 @@ pub struct SegmentProblem {
     bounds: Vec<Bounds>,
     guess: Vec<f64>,
     search: SearchSpaceOptions,
+    error: ErrorMeasure,
 }
 
 impl SegmentProblem {
@@ -274,6 +268,7 @@ impl SegmentProblem {
             bounds: Vec::new(),
             guess: Vec::new(),
             search: *search,
+            error: ErrorMeasure::Fixed,
         };
         problem.build_search_space();
         Ok(problem)
@@ -350,6 +345,90 @@ impl SegmentProblem {
     /// How the segment ends.
     pub fn end(&self) -> End {
         self.end
+    }
+
+    /// The same problem measuring `E` as `error` says: at the fixed data
+    /// parameters (the thesis's E) or orthogonally, each candidate's
+    /// parameters being the foot points of the data on its curve, found from
+    /// the stored parameters (see [`ErrorMeasure::Orthogonal`]). The box and
+    /// the guess do not change.
+    pub fn with_error(mut self, error: ErrorMeasure) -> SegmentProblem {
+        self.error = error;
+        self
+    }
+
+    /// What `E` measures.
+    pub fn error(&self) -> ErrorMeasure {
+        self.error
+    }
+
+    /// The box a local solver (Levenberg–Marquardt) searches: the search
+    /// box under [`ErrorMeasure::Fixed`] (the thesis's method), and under
+    /// [`ErrorMeasure::Orthogonal`] only what keeps the curve valid — the
+    /// weights in `weight_range`, each G¹ ratio `T` in `[10⁻³T_min, 10³T_max]`
+    /// (positive), each inner control point within `10³` times the data's
+    /// extent of the search box's centre — so that a curve of the family
+    /// whose control points lie outside the thesis's box (a wide conic arc)
+    /// is reached. It contains the search box.
+    pub fn local_bounds(&self) -> Vec<Bounds> {
+        if self.error == ErrorMeasure::Fixed {
+            return self.bounds.clone();
+        }
+        let n = self.points.len() - 1;
+        let (mut lo, mut hi) = (self.points[0], self.points[0]);
+        for p in &self.points {
+            lo = Point::new(lo.x.min(p.x), lo.y.min(p.y));
+            hi = Point::new(hi.x.max(p.x), hi.y.max(p.y));
+        }
+        let extent = (hi - lo).hypot().max(self.points[0].distance(self.points[n]));
+        let reach = 1e3 * if extent > 0.0 { extent } else { 1.0 };
+        let ratio = |var: Option<C1Var>, i: usize| {
+            matches!(var, Some(C1Var::Ratio(j, _) | C1Var::EndRatio(j, _)) if j == i)
+        };
+        self.bounds
+            .iter()
+            .enumerate()
+            .map(|(i, b)| {
+                if self.is_weight(i) {
+                    *b
+                } else if ratio(Some(self.layout.c1), i) || ratio(self.layout.c2, i) {
+                    Bounds::new(b.lower * 1e-3, b.upper * 1e3)
+                } else {
+                    let c = 0.5 * (b.lower + b.upper);
+                    Bounds::new(c - reach, c + reach)
+                }
+            })
+            .collect()
+    }
+
+    /// The parameters at which `E(x)` is measured: the stored `sᵢ` for
+    /// [`ErrorMeasure::Fixed`], the foot points of the data on the curve of
+    /// `x` for [`ErrorMeasure::Orthogonal`] (the ends stay at 0 and 1).
+    pub fn measured_params(&self, x: &[f64]) -> Vec<f64> {
+        let mut out = self.params.clone();
+        if self.error == ErrorMeasure::Orthogonal {
+            let k = self.controls(x);
+            let m = self.function.degree();
+            let n = out.len() - 1;
+            for (i, o) in out.iter_mut().enumerate().take(n).skip(1) {
+                *o = k.foot(m, self.points[i], *o).0;
+            }
+        }
+        out
+    }
+
+    /// `(sᵢ, P(sᵢ), P′(sᵢ))` of data point `i` under the error measure: the
+    /// stored parameter, or the foot point (ends fixed).
+    #[inline(always)]
+    fn measured(&self, k: &Controls, i: usize) -> (f64, Point, Point) {
+        let s = self.params[i];
+        let m = self.function.degree();
+        if i == 0 || i + 1 == self.params.len() {
+            let (p, d1, _) = k.eval_d2(m, s);
+            (s, p, d1)
+        } else {
+            k.foot(m, self.points[i], s)
+        }
     }
 
     /// The same problem with new parameters (same box); used by parameter
@@ -530,13 +609,14 @@ impl SegmentProblem {
         Controls { c, w1, w2 }
     }
 
-    /// The fitted geometry for the decision vector `x`, clipped into the box
-    /// first (so the weights are positive). Panics if `x.len() != dim`.
+    /// The fitted geometry for the decision vector `x`, clipped into the
+    /// local box first ([`SegmentProblem::local_bounds`], which contains the
+    /// search box; so the weights are positive). Panics if `x.len() != dim`.
     pub fn segment(&self, x: &[f64]) -> Segment {
         assert_eq!(x.len(), self.layout.dim, "decision vector length");
         let clipped: Vec<f64> = x
             .iter()
-            .zip(&self.bounds)
+            .zip(&self.local_bounds())
             .map(|(&v, b)| b.clip(v))
             .collect();
         let k = self.controls(&clipped);
@@ -555,10 +635,19 @@ impl SegmentProblem {
     }
 
     /// Writes the residuals `Rᵢ − P(sᵢ)` as `(x, y)` pairs into `out`
-    /// (`out.len() == 2(n + 1)`), without allocation.
+    /// (`out.len() == 2(n + 1)`), without allocation; under
+    /// [`ErrorMeasure::Orthogonal`] the `sᵢ` are the foot points.
     pub fn residuals(&self, x: &[f64], out: &mut [f64]) {
         let k = self.controls(x);
         debug_assert_eq!(out.len(), 2 * self.points.len());
+        if self.error == ErrorMeasure::Orthogonal {
+            for (i, (o, &r)) in out.chunks_exact_mut(2).zip(&self.points).enumerate() {
+                let p = self.measured(&k, i).1;
+                o[0] = r.x - p.x;
+                o[1] = r.y - p.y;
+            }
+            return;
+        }
         let pairs = out.chunks_exact_mut(2).zip(&self.points).zip(&self.params);
         macro_rules! fill {
             ($eval:expr) => {
@@ -584,6 +673,12 @@ impl SegmentProblem {
     /// `∂P/∂C_k = w_k B_k / W` (times the identity), `∂P/∂w_k = B_k (C_k − P)/W`,
     /// and through the joins `∂C₁/∂T = L` (G¹), `∂C₁/∂w₁ = −D/(m w₁²)` (C¹);
     /// the residual's derivative is minus that of `P`.
+    ///
+    /// Under [`ErrorMeasure::Orthogonal`] the rows are taken at the foot
+    /// points and projected onto the normal, `−(I − t tᵀ) ∂P/∂x` with `t` the
+    /// unit tangent there: the foot point moves along the curve to first
+    /// order, `∂s/∂x = −t·∂P/∂x / |P′|` (Kaufman's 1975 variable-projection
+    /// Jacobian; exact where the residual is zero).
     pub fn jacobian(&self, x: &[f64], jac: &mut [f64]) {
         let dim = self.layout.dim;
         debug_assert_eq!(jac.len(), 2 * self.points.len() * dim);
@@ -593,7 +688,15 @@ impl SegmentProblem {
         let k = self.controls(x);
         let m = self.function.degree();
         let w = [1.0, k.w1, if m == 3 { k.w2 } else { 1.0 }, 1.0];
-        for (i, &s) in self.params.iter().enumerate() {
+        let orthogonal = self.error == ErrorMeasure::Orthogonal;
+        for i in 0..self.params.len() {
+            let (s, tangent) = if orthogonal {
+                let (s, _, d1) = self.measured(&k, i);
+                let len = d1.hypot();
+                (s, (len > 0.0 && len.is_finite()).then(|| d1 / len))
+            } else {
+                (self.params[i], None)
+            };
             let t = 1.0 - s;
             let b: [f64; 4] = if m == 3 {
                 [t * t * t, 3.0 * t * t * s, 3.0 * t * s * s, s * s * s]
@@ -642,6 +745,13 @@ impl SegmentProblem {
                 let var = self.layout.c2.unwrap_or(C1Var::Free(0));
                 put(j, (k.c[2] - p) * (b[2] / wsum) + derived(var, w[2], a2));
             }
+            if let Some(t) = tangent {
+                for (x, y) in rx.iter_mut().zip(ry.iter_mut()) {
+                    let along = *x * t.x + *y * t.y;
+                    *x -= along * t.x;
+                    *y -= along * t.y;
+                }
+            }
         }
     }
 
@@ -671,81 +781,6 @@ impl SegmentProblem {
     }
 }
 
-/// `P(s)` of the quadratic: `(1−s)²C₀ + 2(1−s)s C₁ + s²C₂`.
-#[inline(always)]
-fn quad(k: &Controls, s: f64) -> Point {
-    let t = 1.0 - s;
-    let (b0, b1, b2) = (t * t, 2.0 * t * s, s * s);
-    Point::new(
-        b0 * k.c[0].x + b1 * k.c[1].x + b2 * k.c[2].x,
-        b0 * k.c[0].y + b1 * k.c[1].y + b2 * k.c[2].y,
-    )
-}
-
-/// `P(s)` of the cubic in the explicit Bernstein form.
-#[inline(always)]
-fn cubic(k: &Controls, s: f64) -> Point {
-    let t = 1.0 - s;
-    let (tt, ss) = (t * t, s * s);
-    let (b0, b1, b2, b3) = (tt * t, 3.0 * tt * s, 3.0 * t * ss, ss * s);
-    Point::new(
-        b0 * k.c[0].x + b1 * k.c[1].x + b2 * k.c[2].x + b3 * k.c[3].x,
-        b0 * k.c[0].y + b1 * k.c[1].y + b2 * k.c[2].y + b3 * k.c[3].y,
-    )
-}
-
-/// `Q(s)` of the rational quadratic `(b₀C₀ + h₁b₁C₁ + b₂C₂)/(b₀ + h₁b₁ + b₂)`.
-#[inline(always)]
-fn rquad(k: &Controls, s: f64) -> Point {
-    let t = 1.0 - s;
-    let (b0, b1, b2) = (t * t, 2.0 * k.w1 * t * s, s * s);
-    let inv = 1.0 / (b0 + b1 + b2);
-    Point::new(
-        (b0 * k.c[0].x + b1 * k.c[1].x + b2 * k.c[2].x) * inv,
-        (b0 * k.c[0].y + b1 * k.c[1].y + b2 * k.c[2].y) * inv,
-    )
-}
-
-/// `Q(s)` of the rational cubic `Σ w_k b_k C_k / Σ w_k b_k`.
-#[inline(always)]
-fn rcubic(k: &Controls, s: f64) -> Point {
-    let t = 1.0 - s;
-    let (tt, ss) = (t * t, s * s);
-    let (b0, b1, b2, b3) = (tt * t, 3.0 * k.w1 * tt * s, 3.0 * k.w2 * t * ss, ss * s);
-    let inv = 1.0 / (b0 + b1 + b2 + b3);
-    Point::new(
-        (b0 * k.c[0].x + b1 * k.c[1].x + b2 * k.c[2].x + b3 * k.c[3].x) * inv,
-        (b0 * k.c[0].y + b1 * k.c[1].y + b2 * k.c[2].y + b3 * k.c[3].y) * inv,
-    )
-}
-
-/// `Σᵢ |Rᵢ − f(sᵢ)|²`, accumulated in four interleaved partial sums
-/// (points `4k + j` into sum `j`, added as `(a₀ + a₁) + (a₂ + a₃)` at the
-/// end) so that consecutive points do not wait on one addition chain; the
-/// order is fixed, so the value is deterministic.
-#[inline(always)]
-fn sum_sq<F: Fn(f64) -> Point>(points: &[Point], params: &[f64], f: F) -> f64 {
-    let n = points.len().min(params.len());
-    let (points, params) = (&points[..n], &params[..n]);
-    let sq = |r: Point, s: f64| {
-        let p = f(s);
-        let (dx, dy) = (r.x - p.x, r.y - p.y);
-        dx * dx + dy * dy
-    };
-    let mut acc = [0.0; 4];
-    let mut pc = points.chunks_exact(4);
-    let mut sc = params.chunks_exact(4);
-    for (r, s) in (&mut pc).zip(&mut sc) {
-        acc[0] += sq(r[0], s[0]);
-        acc[1] += sq(r[1], s[1]);
-        acc[2] += sq(r[2], s[2]);
-        acc[3] += sq(r[3], s[3]);
-    }
-    for (j, (&r, &s)) in pc.remainder().iter().zip(sc.remainder()).enumerate() {
-        acc[j] += sq(r, s);
-    }
-    (acc[0] + acc[1]) + (acc[2] + acc[3])
-}
 
 impl Problem for SegmentProblem {
     fn dim(&self) -> usize {
@@ -756,9 +791,17 @@ impl Problem for SegmentProblem {
         &self.bounds
     }
 
-    /// `E(x) = Σᵢ |Rᵢ − P(sᵢ)|²`, allocation-free.
+    /// `E(x) = Σᵢ |Rᵢ − P(sᵢ)|²`, allocation-free; under
+    /// [`ErrorMeasure::Orthogonal`] at the foot points, `Σᵢ min_s |Rᵢ − P(s)|²`
+    /// (one foot-point projection per point: several curve evaluations,
+    /// still counted as one evaluation of `E`).
     fn objective(&self, x: &[f64]) -> f64 {
         let k = self.controls(x);
+        if self.error == ErrorMeasure::Orthogonal {
+            return (0..self.points.len())
+                .map(|i| self.measured(&k, i).1.distance_squared(self.points[i]))
+                .sum();
+        }
         let (pts, ps) = (&self.points[..], &self.params[..]);
         match self.function {
             FunctionType::Quadratic => sum_sq(pts, ps, |s| quad(&k, s)),

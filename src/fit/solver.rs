@@ -4,10 +4,10 @@
 //! A [`SegmentSolver`] only sees a [`SegmentProblem`] and a budget; the
 //! piecewise fit does not know which algorithm it is driving.
 
-use super::{linear_fit, SegmentProblem};
-use crate::optim::lm::{LevenbergMarquardt, Termination};
+use super::{linear_fit, ErrorMeasure, SegmentProblem};
+use crate::optim::lm::{LeastSquares, LevenbergMarquardt, Termination};
 use crate::optim::{Runs, TracePoint};
-use crate::problem::Problem;
+use crate::problem::{Bounds, Problem};
 
 /// One stage of a solve (a hybrid has two).
 #[derive(Clone, Debug, PartialEq)]
@@ -168,7 +168,16 @@ impl SegmentSolver for LmSolver {
             LmStart::LinearFit => linear_fit(problem),
             LmStart::Guess => problem.guess().to_vec(),
         };
-        let out = self.lm.minimise(problem, &x0, budget);
+        let local = Local::of(problem);
+        let (x0, spent) = if problem.error() == ErrorMeasure::Orthogonal {
+            let fixed = problem.clone().with_error(ErrorMeasure::Fixed);
+            let first = self.lm.minimise(&Local::of(&fixed), &x0, budget / 2);
+            (first.x, first.evaluations)
+        } else {
+            (x0, 0)
+        };
+        let mut out = self.lm.minimise(&local, &x0, budget - spent);
+        out.evaluations += spent;
         Solution {
             value: out.value,
             evaluations: out.evaluations,
@@ -177,7 +186,7 @@ impl SegmentSolver for LmSolver {
                 value: out.value,
                 evaluations: out.evaluations,
             }],
-            trace: lm_trace(problem, &x0, out.evaluations, out.value),
+            trace: lm_trace(&local, &x0, out.evaluations, out.value),
             x: out.x,
         }
     }
@@ -220,7 +229,7 @@ impl<O: Runs<SegmentProblem, R>, R> SegmentSolver for HybridSolver<O, R> {
         } else {
             linear_fit(problem)
         };
-        let polish = self.lm.minimise(problem, &x0, rest);
+        let polish = self.lm.minimise(&Local::of(problem), &x0, rest);
         let mut parts = global.parts.clone();
         parts.push(SolvePart {
             name: "lm".into(),
@@ -265,7 +274,7 @@ fn end_trace(evaluations: u64, value: f64) -> Vec<TracePoint> {
 
 /// Levenberg–Marquardt's trace: `E(x₀)` after its first evaluation (the
 /// residuals at the start, clipped into the box as LM does), then its end.
-fn lm_trace(problem: &SegmentProblem, x0: &[f64], evaluations: u64, value: f64) -> Vec<TracePoint> {
+fn lm_trace(problem: &Local<'_>, x0: &[f64], evaluations: u64, value: f64) -> Vec<TracePoint> {
     if evaluations == 0 {
         return Vec::new();
     }
@@ -286,4 +295,49 @@ fn lm_trace(problem: &SegmentProblem, x0: &[f64], evaluations: u64, value: f64) 
         });
     }
     trace
+}
+
+/// A segment problem as Levenberg–Marquardt sees it: the same residuals in
+/// the local box ([`SegmentProblem::local_bounds`]).
+struct Local<'p> {
+    problem: &'p SegmentProblem,
+    bounds: Vec<Bounds>,
+}
+
+impl<'p> Local<'p> {
+    fn of(problem: &'p SegmentProblem) -> Local<'p> {
+        Local {
+            problem,
+            bounds: problem.local_bounds(),
+        }
+    }
+}
+
+impl Problem for Local<'_> {
+    fn dim(&self) -> usize {
+        self.problem.dim()
+    }
+
+    fn bounds(&self) -> &[Bounds] {
+        &self.bounds
+    }
+
+    fn objective(&self, x: &[f64]) -> f64 {
+        self.problem.objective(x)
+    }
+}
+
+impl LeastSquares for Local<'_> {
+    fn residual_count(&self) -> usize {
+        LeastSquares::residual_count(self.problem)
+    }
+
+    fn residuals(&self, x: &[f64], out: &mut [f64]) {
+        SegmentProblem::residuals(self.problem, x, out)
+    }
+
+    fn jacobian(&self, x: &[f64], jac: &mut [f64]) -> bool {
+        SegmentProblem::jacobian(self.problem, x, jac);
+        true
+    }
 }

@@ -9,7 +9,7 @@
 //! metrics are measured on its data points.
 
 use super::metrics::{segment_metrics, SegmentMetrics};
-use super::{End, FitError, FitOptions, Segment, SegmentProblem, SegmentSolver, Solution, Start};
+use super::{End, ErrorMeasure, FitError, FitOptions, Segment, SegmentProblem, SegmentSolver, Solution, Start};
 use crate::geometry::{Continuity, Point};
 use crate::optim::TracePoint;
 use crate::problem::Problem;
@@ -202,7 +202,8 @@ fn piece_problem(
         options.parameterisation,
         piece.start,
         &options.search,
-    )?;
+    )?
+    .with_error(options.error);
     if piece.end == End::Free {
         return Ok((problem, original, End::Free));
     }
@@ -242,7 +243,12 @@ pub(super) fn fit_one<S: SegmentSolver + ?Sized>(
     let mut spent = solution.evaluations;
     for _ in 0..options.reparameterise {
         let seg = problem.segment(&solution.x);
-        problem = problem.with_params(problem.corrected_params(&seg))?;
+        let params = match options.error {
+            ErrorMeasure::Fixed => problem.corrected_params(&seg),
+            // The foot points start the next round's projections.
+            ErrorMeasure::Orthogonal => problem.measured_params(&solution.x),
+        };
+        problem = problem.with_params(params)?;
         solution = solve(&problem, solver, budget);
         trace.extend(solution.trace.iter().map(|p| TracePoint {
             evaluations: p.evaluations + spent,
@@ -251,6 +257,10 @@ pub(super) fn fit_one<S: SegmentSolver + ?Sized>(
         spent += solution.evaluations;
     }
     solution.evaluations = spent;
+    if options.error == ErrorMeasure::Orthogonal {
+        // The parameters the solution's E was measured at: its foot points.
+        problem = problem.with_params(problem.measured_params(&solution.x))?;
+    }
     let segment = problem.segment(&solution.x);
     let (points, params, inserted) = match &original {
         None => (problem.points().to_vec(), problem.params().to_vec(), 0),
