@@ -23,8 +23,10 @@ use std::path::Path;
 use std::time::Duration;
 
 use criterion::{Criterion, Throughput};
-use metabezier::fit::{FunctionType, SearchSpaceOptions, Segment, SegmentProblem, Start};
-use metabezier::geometry::{Curve, Parameterisation, Point};
+use metabezier::fit::{
+    ErrorMeasure, FitOptions, FunctionType, SearchSpaceOptions, Segment, SegmentProblem, Start,
+};
+use metabezier::geometry::{Continuity, Curve, Parameterisation, Point};
 use metabezier::problem::Problem;
 
 const POINTS: usize = 500;
@@ -101,8 +103,23 @@ fn horse_source() -> metabezier::reconstruction::Source {
     .expect("the vendored horse")
 }
 
+/// The horse at 101 segments, rational cubic, G1, with the error `error`.
+fn horse_101(
+    source: &metabezier::reconstruction::Source,
+    error: ErrorMeasure,
+) -> metabezier::reconstruction::Reconstruction<'_> {
+    let mut options = FitOptions::new(FunctionType::RationalCubic, Continuity::G1);
+    options.error = error;
+    metabezier::reconstruction::Reconstruction {
+        source,
+        segmentation: metabezier::reconstruction::Segmentation::Count(101),
+        corners: Some(metabezier::outline::CornerOptions::default()),
+        options,
+    }
+}
+
 /// Fitting the horse at 1 px tolerance, end to end after loading, and at
-/// 101 segments with LM, closed smoothly and closed C0.
+/// 101 segments with LM under the fixed and the orthogonal error.
 fn horse(c: &mut Criterion) {
     use metabezier::fit::{FitOptions, FunctionType};
     use metabezier::geometry::Continuity;
@@ -132,20 +149,17 @@ fn horse(c: &mut Criterion) {
     group.finish();
     let mut group = c.benchmark_group("horse-101");
     group.sample_size(20);
-    let r = Reconstruction {
-        source: &source,
-        segmentation: Segmentation::Count(101),
-        corners: Some(CornerOptions::default()),
-        options: FitOptions::new(FunctionType::RationalCubic, Continuity::G1),
-    };
-    group.bench_function("lm", |b| {
-        b.iter(|| {
-            r.fit(&Method::Exact, 1)
-                .expect("a valid fit")
-                .metrics
-                .segments
-        })
-    });
+    for error in [ErrorMeasure::Fixed, ErrorMeasure::Orthogonal] {
+        let r = horse_101(&source, error);
+        group.bench_function(format!("lm-{}", error.name()), |b| {
+            b.iter(|| {
+                r.fit(&Method::Exact, 1)
+                    .expect("a valid fit")
+                    .metrics
+                    .segments
+            })
+        });
+    }
     group.finish();
     closing(c);
 }
@@ -187,32 +201,29 @@ fn closing(c: &mut Criterion) {
     group.finish();
 }
 
-/// The horse at 101 segments (rational cubic, G1, LM): its orthogonal
-/// maximum and RMS distance, by the fit's own measure (each point to its
-/// segment) and as `metabezier score` measures them (to the whole curve).
+/// The horse at 101 segments (rational cubic, G1, LM) under each error: its
+/// orthogonal maximum and RMS distance, by the fit's own measure (each point
+/// to its segment) and as `metabezier score` measures them (to the whole
+/// curve).
 fn horse_accuracy() {
-    use metabezier::fit::{FitOptions, FunctionType};
-    use metabezier::geometry::Continuity;
-    use metabezier::outline::{CornerOptions, Segment};
-    use metabezier::reconstruction::{cubic_pieces, score, Method, Reconstruction, Segmentation};
+    use metabezier::outline::Segment;
+    use metabezier::reconstruction::{cubic_pieces, score, Method};
     let source = horse_source();
-    let r = Reconstruction {
-        source: &source,
-        segmentation: Segmentation::Count(101),
-        corners: Some(CornerOptions::default()),
-        options: FitOptions::new(FunctionType::RationalCubic, Continuity::G1),
-    };
-    let fit = r.fit(&Method::Exact, 1).expect("a valid fit");
-    let curves: Vec<Vec<Segment>> = vec![fit
-        .segments()
-        .flat_map(|(_, s)| cubic_pieces(&s.segment, 1e-6))
-        .map(Segment::Cubic)
-        .collect()];
-    let s = score(&source, &curves).expect("finite curves to score");
-    println!(
-        "\nThe horse at 101 segments (rational cubic, G1, LM): max distance {:.3} px, RMS distance {:.3} px (each point to its segment); {:.3} px and {:.3} px to the whole curve",
-        fit.metrics.max_distance, fit.metrics.rms_distance, s.total.max_distance, s.total.rms_distance
-    );
+    for error in [ErrorMeasure::Fixed, ErrorMeasure::Orthogonal] {
+        let fit = horse_101(&source, error)
+            .fit(&Method::Exact, 1)
+            .expect("a valid fit");
+        let curves: Vec<Vec<Segment>> = vec![fit
+            .segments()
+            .flat_map(|(_, s)| cubic_pieces(&s.segment, 1e-6))
+            .map(Segment::Cubic)
+            .collect()];
+        let s = score(&source, &curves).expect("finite curves to score");
+        println!(
+            "\nThe horse at 101 segments (rational cubic, G1, LM, {} error): max distance {:.3} px, RMS distance {:.3} px (each point to its segment); {:.3} px and {:.3} px to the whole curve",
+            error.name(), fit.metrics.max_distance, fit.metrics.rms_distance, s.total.max_distance, s.total.rms_distance
+        );
+    }
 }
 
 fn main() {

@@ -14,7 +14,7 @@ use crate::experiment::slurm::{self, SlurmOptions};
 use crate::experiment::Registry;
 use crate::experiment::{coco_log, Spec, SpecError, SpecLimits};
 use crate::files::{check_output_dir, IoError, Staging};
-use crate::fit::{Closing, FitOptions, FunctionType, SearchSpace};
+use crate::fit::{Closing, ErrorMeasure, FitOptions, FunctionType, SearchSpace};
 use crate::functions::{Function, Transform};
 use crate::geometry::{Continuity, Parameterisation, Point};
 use crate::outline::{load_svg, CornerOptions, OutlineError};
@@ -179,7 +179,7 @@ struct FitArgs {
     continuity: String,
     /// hs, ghs, ga, pso, mhs; lm (Levenberg–Marquardt, the exact reference);
     /// or a metaheuristic polished by LM: hs+lm, …, mhs+lm. Default parameters.
-    #[arg(long, default_value = "mhs")]
+    #[arg(long, default_value = "lm")]
     algorithm: String,
     /// A fixed number of segments (split at corners, then at equal arc length).
     #[arg(long, conflicts_with_all = ["tolerance", "true_breaks"])]
@@ -217,6 +217,11 @@ struct FitArgs {
     /// glyph at its true breaks (its samples' own parameters), chord otherwise.
     #[arg(long, default_value = "auto", value_parser = clap::builder::PossibleValuesParser::new(PARAMETERISATIONS))]
     parameterisation: String,
+    /// What E measures: orthogonal (the distance from each point to the
+    /// curve, its parameter solved with the fit) or fixed (at the
+    /// parameters s_i, the thesis's E; the default in specs).
+    #[arg(long, default_value = "orthogonal", value_parser = clap::builder::PossibleValuesParser::new(ErrorMeasure::NAMES))]
+    error: String,
     /// Rounds of Newton parameter correction after each segment's solve
     /// (Schneider 1990); each round solves again with a fresh budget.
     #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=100))]
@@ -754,13 +759,14 @@ impl FitArgs {
             name => Parameterisation::from_name(name).expect("clap checked the name"),
         };
         options.reparameterise = self.reparameterise;
+        options.error = ErrorMeasure::from_name(&self.error).expect("clap checked the name");
         options.search.kind =
             SearchSpace::from_name(&self.search_space).expect("clap checked the name");
         options
     }
 
     /// The case columns of the fit's `metrics.csv`.
-    fn case(&self, options: &FitOptions, method: &Method) -> [(&'static str, String); 11] {
+    fn case(&self, options: &FitOptions, method: &Method) -> [(&'static str, String); 12] {
         [
             ("input", self.input.clone()),
             ("function", options.function.name().to_owned()),
@@ -775,6 +781,7 @@ impl FitArgs {
                 options.parameterisation.name().to_owned(),
             ),
             ("reparameterise", self.reparameterise.to_string()),
+            ("error", options.error.name().to_owned()),
             (
                 "contours",
                 self.contour

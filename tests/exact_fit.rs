@@ -8,8 +8,7 @@
 use std::f64::consts::{PI, TAU};
 
 use metabezier::fit::{
-    fit_piecewise, ErrorMeasure, FitOptions, FunctionType, LmSolver,
-    PiecewiseFit,
+    fit_piecewise, ErrorMeasure, FitOptions, FunctionType, LmSolver, PiecewiseFit,
 };
 use metabezier::geometry::{
     nearest_with, Continuity, Curve, Point, RationalCubicBez, RationalQuadBez,
@@ -204,7 +203,11 @@ fn random_parabola_arcs_are_recovered_by_one_cubic() {
         let options = orthogonal(FunctionType::Cubic, Continuity::C0);
         let fit = fit_piecewise(&points, false, &[0], &options, &mut LmSolver::default()).unwrap();
         let h = hausdorff(&fit, &[truth]);
-        assert!(h < 1e-9 * place.scale, "case {case}: {h:e} of {}", place.scale);
+        assert!(
+            h < 1e-9 * place.scale,
+            "case {case}: {h:e} of {}",
+            place.scale
+        );
     }
 }
 
@@ -266,7 +269,11 @@ fn a_degree_elevated_rational_quadratic_and_random_rational_cubics_are_recovered
     // minimum of the orthogonal error a few 10⁻⁶ to 10⁻³ of the size away.
     generic.sort_by(f64::total_cmp);
     let exact = generic.iter().filter(|&&h| h < 1e-9).count();
-    assert!(exact >= 18, "{exact} of {} exact: {generic:?}", generic.len());
+    assert!(
+        exact >= 18,
+        "{exact} of {} exact: {generic:?}",
+        generic.len()
+    );
     assert!(generic[generic.len() - 1] < 1e-2, "{generic:?}");
 }
 
@@ -325,10 +332,14 @@ fn the_thesis_fixed_parameter_error_misses_the_same_ellipse() {
     let (points, quarters) = ellipse(400, place);
     let mut options = orthogonal(FunctionType::RationalCubic, Continuity::G1);
     options.error = ErrorMeasure::Fixed;
-    let fit = fit_piecewise(&points, true, &[0, 100, 200, 300], &options, &mut LmSolver::default())
-        .unwrap();
+    let fit = fit_piecewise(
+        &points,
+        true,
+        &[0, 100, 200, 300],
+        &options,
+        &mut LmSolver::default(),
+    )
+    .unwrap();
     // The chord-length parameters, not the optimiser, set this error.
     assert!(hausdorff(&fit, &quarters) > 1e-3);
 }
-
-

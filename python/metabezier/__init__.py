@@ -341,20 +341,23 @@ def fit(
     continuity: str = "g1",
     segments: Optional[int] = None,
     tolerance: Optional[float] = None,
-    algorithm: str = "mhs",
+    algorithm: str = "lm",
     budget: int = 10_000,
     seed: int = 1,
     closed: Optional[bool] = None,
     closing: str = "smooth",
     search_space: str = "technique",
     parameterisation: str = "auto",
+    error: str = "orthogonal",
     corner_angle: float = 60.0,
     corner_k: int = 5,
 ) -> FitResult:
     """Fits piecewise (rational) Bézier curves to ``points`` as ``metabezier
     fit`` fits a CSV of points: ``segments`` of them (default 8), or split
     until every point is within ``tolerance``; ``algorithm`` is an optimiser,
-    ``lm``, or ``<optimiser>+lm``; ``budget`` counts evaluations per segment.
+    ``lm`` (the default), or ``<optimiser>+lm``; ``budget`` counts evaluations
+    per segment; ``error`` is ``orthogonal`` (the default: each point's
+    distance to the curve) or ``fixed`` (the thesis's E at the parameters).
     The names are those of the command line. As in a CSV of points, the
     outline is closed when its last point repeats the first (that point is
     dropped), unless ``closed`` says otherwise."""
@@ -374,6 +377,7 @@ def fit(
         closing,
         search_space,
         parameterisation,
+        error,
         float(corner_angle),
         int(corner_k),
     )

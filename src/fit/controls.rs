@@ -245,8 +245,16 @@ mod tests {
                 let (p, d1, d2) = k.eval_d2(m, s);
                 let close = |a: Point, b: Point| a.distance(b) <= 1e-12 * (1.0 + b.hypot());
                 assert!(close(p, curve.eval(s)), "m {m} s {s}");
-                assert!(close(d1, curve.deriv(s)), "m {m} s {s}: {d1:?} {:?}", curve.deriv(s));
-                assert!(close(d2, curve.deriv2(s)), "m {m} s {s}: {d2:?} {:?}", curve.deriv2(s));
+                assert!(
+                    close(d1, curve.deriv(s)),
+                    "m {m} s {s}: {d1:?} {:?}",
+                    curve.deriv(s)
+                );
+                assert!(
+                    close(d2, curve.deriv2(s)),
+                    "m {m} s {s}: {d2:?} {:?}",
+                    curve.deriv2(s)
+                );
             }
         }
     }

@@ -71,8 +71,8 @@ pub use function::FunctionType;
 pub use linear::linear_fit;
 pub use metrics::{segment_metrics, FitMetrics, SegmentMetrics};
 pub use options::{
-    Closing, ErrorMeasure, FitOptions, GuessRule, RealOption, SearchSpace, SearchSpaceOptions, ALPHA_SIZE,
-    MARGIN, PT,
+    Closing, ErrorMeasure, FitOptions, GuessRule, RealOption, SearchSpace, SearchSpaceOptions,
+    ALPHA_SIZE, MARGIN, PT,
 };
 pub use piecewise::{
     equal_arc_breaks, fit_adaptive, fit_breaks, fit_independent, fit_piecewise, fit_segment_count,

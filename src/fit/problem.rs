@@ -186,7 +186,6 @@ pub fn tangent_meet(c0: Point, leg: Point, cn: Point, dir: Point) -> Option<Poin
     (t > 0.0 && u > 0.0).then(|| c0 + leg * t)
 }
 
-
 /// The segment fitting problem of the thesis: data points `R₀..R_n` with
 /// parameters `s₀ = 0 < … < s_n = 1`, end control points fixed at `R₀` and
 /// `R_n`, and the objective `E(x) = Σᵢ |Rᵢ − P(sᵢ)|²`.
@@ -364,12 +363,14 @@ impl SegmentProblem {
 
     /// The box a local solver (Levenberg–Marquardt) searches: the search
     /// box under [`ErrorMeasure::Fixed`] (the thesis's method), and under
-    /// [`ErrorMeasure::Orthogonal`] only what keeps the curve valid — the
-    /// weights in `weight_range`, each G¹ ratio `T` in `[10⁻³T_min, 10³T_max]`
-    /// (positive), each inner control point within `10³` times the data's
-    /// extent of the search box's centre — so that a curve of the family
-    /// whose control points lie outside the thesis's box (a wide conic arc)
-    /// is reached. It contains the search box.
+    /// [`ErrorMeasure::Orthogonal`] the search box with every free control
+    /// point coordinate widened to `10³` times the data's extent about the
+    /// box's centre, so that a curve of the family whose control points lie
+    /// outside the thesis's box (a wide conic arc) is reached. The weights
+    /// keep `weight_range` and the G¹ ratios `T` their range: a leg shrunk
+    /// towards zero would make a G¹ joint a cusp in all but name (which the
+    /// orthogonal error, hugging a pixel staircase, would otherwise reach).
+    /// It contains the search box.
     pub fn local_bounds(&self) -> Vec<Bounds> {
         if self.error == ErrorMeasure::Fixed {
             return self.bounds.clone();
@@ -380,25 +381,20 @@ impl SegmentProblem {
             lo = Point::new(lo.x.min(p.x), lo.y.min(p.y));
             hi = Point::new(hi.x.max(p.x), hi.y.max(p.y));
         }
-        let extent = (hi - lo).hypot().max(self.points[0].distance(self.points[n]));
+        let extent = (hi - lo)
+            .hypot()
+            .max(self.points[0].distance(self.points[n]));
         let reach = 1e3 * if extent > 0.0 { extent } else { 1.0 };
-        let ratio = |var: Option<C1Var>, i: usize| {
-            matches!(var, Some(C1Var::Ratio(j, _) | C1Var::EndRatio(j, _)) if j == i)
-        };
-        self.bounds
-            .iter()
-            .enumerate()
-            .map(|(i, b)| {
-                if self.is_weight(i) {
-                    *b
-                } else if ratio(Some(self.layout.c1), i) || ratio(self.layout.c2, i) {
-                    Bounds::new(b.lower * 1e-3, b.upper * 1e3)
-                } else {
+        let mut out = self.bounds.clone();
+        for var in [Some(self.layout.c1), self.layout.c2].into_iter().flatten() {
+            if let C1Var::Free(i) = var {
+                for b in &mut out[i..i + 2] {
                     let c = 0.5 * (b.lower + b.upper);
-                    Bounds::new(c - reach, c + reach)
+                    *b = Bounds::new(c - reach, c + reach);
                 }
-            })
-            .collect()
+            }
+        }
+        out
     }
 
     /// The parameters at which `E(x)` is measured: the stored `sᵢ` for
@@ -780,7 +776,6 @@ impl SegmentProblem {
         out
     }
 }
-
 
 impl Problem for SegmentProblem {
     fn dim(&self) -> usize {

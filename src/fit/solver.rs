@@ -5,7 +5,7 @@
 //! piecewise fit does not know which algorithm it is driving.
 
 use super::{linear_fit, ErrorMeasure, SegmentProblem};
-use crate::optim::lm::{LeastSquares, LevenbergMarquardt, Termination};
+use crate::optim::lm::{LeastSquares, LevenbergMarquardt, LmOutcome, Termination};
 use crate::optim::{Runs, TracePoint};
 use crate::problem::{Bounds, Problem};
 
@@ -169,15 +169,11 @@ impl SegmentSolver for LmSolver {
             LmStart::Guess => problem.guess().to_vec(),
         };
         let local = Local::of(problem);
-        let (x0, spent) = if problem.error() == ErrorMeasure::Orthogonal {
-            let fixed = problem.clone().with_error(ErrorMeasure::Fixed);
-            let first = self.lm.minimise(&Local::of(&fixed), &x0, budget / 2);
-            (first.x, first.evaluations)
+        let out = if problem.error() == ErrorMeasure::Orthogonal {
+            orthogonal_lm(&self.lm, problem, &x0, budget)
         } else {
-            (x0, 0)
+            self.lm.minimise(&local, &x0, budget)
         };
-        let mut out = self.lm.minimise(&local, &x0, budget - spent);
-        out.evaluations += spent;
         Solution {
             value: out.value,
             evaluations: out.evaluations,
@@ -190,6 +186,29 @@ impl SegmentSolver for LmSolver {
             x: out.x,
         }
     }
+}
+
+/// Levenberg–Marquardt on the orthogonal error, started well: first LM on
+/// the fixed-parameter E from `x0` (at most half the budget; the
+/// orthogonal error is non-convex far from the data), then the orthogonal
+/// LM from there, stopping once a step gains less than 10⁻⁶ of E: it would
+/// otherwise creep along the flat valleys of near-reparameterisations (on
+/// the horse at 101 segments the test costs 0.02 % of E and saves a third
+/// of the evaluations), while a curve the family holds converges
+/// quadratically and is not stopped early.
+fn orthogonal_lm(
+    lm: &LevenbergMarquardt,
+    problem: &SegmentProblem,
+    x0: &[f64],
+    budget: u64,
+) -> LmOutcome {
+    let fixed = problem.clone().with_error(ErrorMeasure::Fixed);
+    let first = lm.minimise(&Local::of(&fixed), x0, budget / 2);
+    let mut lm = lm.clone();
+    lm.reduction_tol = lm.reduction_tol.max(1e-6);
+    let mut out = lm.minimise(&Local::of(problem), &first.x, budget - first.evaluations);
+    out.evaluations += first.evaluations;
+    out
 }
 
 /// A metaheuristic on a share of the budget, then Levenberg–Marquardt from

@@ -9,7 +9,10 @@
 //! metrics are measured on its data points.
 
 use super::metrics::{segment_metrics, SegmentMetrics};
-use super::{End, ErrorMeasure, FitError, FitOptions, Segment, SegmentProblem, SegmentSolver, Solution, Start};
+use super::{
+    End, ErrorMeasure, FitError, FitOptions, Segment, SegmentProblem, SegmentSolver, Solution,
+    Start,
+};
 use crate::geometry::{Continuity, Point};
 use crate::optim::TracePoint;
 use crate::problem::Problem;

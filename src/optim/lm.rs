@@ -52,6 +52,8 @@ pub enum Termination {
     Step,
     /// `E` fell below `value_tol`.
     Value,
+    /// An accepted step lowered `E` by at most `reduction_tol·E`.
+    Reduction,
     /// The evaluation budget is spent (or too small for another iteration).
     Budget,
     /// `max_iterations` iterations were made.
@@ -103,6 +105,9 @@ pub struct LevenbergMarquardt {
     pub step_tol: f64,
     /// Stop when `E ≤ value_tol`; default 0 (never).
     pub value_tol: f64,
+    /// Stop when an accepted step lowers `E` by at most `reduction_tol·E`
+    /// (the function-value test of Moré 1978); default 0 (never).
+    pub reduction_tol: f64,
     /// At most this many iterations; default 1000.
     pub max_iterations: u64,
 }
@@ -114,6 +119,7 @@ impl Default for LevenbergMarquardt {
             gradient_tol: 1e-15,
             step_tol: 1e-15,
             value_tol: 0.0,
+            reduction_tol: 0.0,
             max_iterations: 1000,
         }
     }
@@ -195,8 +201,12 @@ impl LevenbergMarquardt {
             let e_new = s.try_step();
             let rho = s.gain_ratio(e_new);
             if rho > 0.0 && e_new < s.e {
+                let small = s.e - e_new <= self.reduction_tol * s.e;
                 s.accept(e_new, rho);
                 need_jacobian = true;
+                if small {
+                    return Termination::Reduction;
+                }
             } else {
                 s.increase_damping();
                 if !s.mu.is_finite() || s.mu > 1e300 {

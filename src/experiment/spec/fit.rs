@@ -12,20 +12,21 @@
 //! # closing = "smooth"                     # or "c0" (the default in specs)
 //! # mode = "per-segment"                   # or "outline" (the default)
 //! # alpha_size = [0.1, 0.5]                # a list is a design factor
+//! # error = "fixed"                        # or "orthogonal" (one per section)
 //! ```
 //!
 //! Relative input paths are resolved against the spec file's directory.
 //! Every combination of input × function × continuity × search space ×
 //! α_size × budget is one problem, named `source/function/continuity`, with
 //! `/bounding-box` for the naive search space, `/alpha=A` for a listed
-//! α_size other than the default 0.5, and `/per-segment` in the per-segment
-//! mode. Each input is loaded and each problem's segmentation is checked
+//! α_size other than the default 0.5, `/per-segment` in the per-segment
+//! mode, and `/orthogonal` for `error = "orthogonal"`. Each input is loaded and each problem's segmentation is checked
 //! when the spec loads, so a missing image, a glyph absent from its font or
 //! an impossible segmentation is reported before anything runs.
 //!
 //! **Keys stay.** The keys and values that came with the smooth closing
 //! (`closing`, `mode`, `contour = "all"`, a list of `alpha_size`,
-//! `parameterisation = "auto"`) are the only ones that change what a
+//! `parameterisation = "auto"`) and `error` are the only ones that change what a
 //! campaign records: a spec with a section that uses one of them gets the
 //! current fitting records for all its fitting problems (a best-so-far
 //! trace in `convergence.csv`, `rms_distance` in `fits.csv`, `contour` and
@@ -47,8 +48,8 @@ use crate::files::fmt_real;
 /// hundred).
 pub const MAX_FIT_PROBLEMS: usize = 10_000;
 use crate::fit::{
-    Closing, FitError, FitOptions, FunctionType, RealOption, SearchSpace, SearchSpaceOptions,
-    SegmentProblem, SegmentSolver, Solution, ALPHA_SIZE, PT,
+    Closing, ErrorMeasure, FitError, FitOptions, FunctionType, RealOption, SearchSpace,
+    SearchSpaceOptions, SegmentProblem, SegmentSolver, Solution, ALPHA_SIZE, PT,
 };
 use crate::functions::Transform;
 use crate::geometry::{Continuity, Parameterisation};
@@ -59,7 +60,7 @@ use crate::reconstruction::{
     ContourChoice, FitMode, LoadOptions, Method, Reconstruction, Segmentation, ShapeFit, Source,
 };
 
-const FIT_KEYS: [&str; 17] = [
+const FIT_KEYS: [&str; 18] = [
     "input",
     "contour",
     "function",
@@ -73,6 +74,7 @@ const FIT_KEYS: [&str; 17] = [
     "weight_range",
     "t_range",
     "parameterisation",
+    "error",
     "budget",
     "label",
     "closing",
@@ -149,6 +151,9 @@ impl FitCase {
         }
         if self.mode == FitMode::PerSegment {
             name.push_str("/per-segment");
+        }
+        if o.error != ErrorMeasure::Fixed {
+            name = format!("{name}/{}", o.error.name());
         }
         name
     }
@@ -576,6 +581,7 @@ impl Parser<'_> {
         }
         let alpha_grid = search.alpha_sizes.as_ref().is_some_and(|a| a.len() > 1);
         let extended = self.get(table, "closing").is_some()
+            || self.get(table, "error").is_some()
             || self.get(table, "mode").is_some()
             || contour == ContourChoice::All
             || alpha_grid
@@ -699,11 +705,27 @@ impl Parser<'_> {
                 "expected one parameterisation, not a list".into(),
             ));
         };
+        let error = self.names(
+            table,
+            "error",
+            section,
+            ErrorMeasure::Fixed,
+            &ErrorMeasure::NAMES,
+            ErrorMeasure::from_name,
+        )?;
+        let [error] = error[..] else {
+            return Err(self.error(
+                entry.span(),
+                &format!("{section}.error"),
+                "expected one error measure, not a list (one [[fit]] section per measure)".into(),
+            ));
+        };
         Ok(FitChoices {
             functions,
             continuities,
             spaces,
             parameterisation,
+            error,
         })
     }
 
@@ -955,6 +977,7 @@ impl FitSettings {
                             let mut options = FitOptions::new(function, continuity);
                             options.closing = self.closing;
                             options.parameterisation = parameterisation;
+                            options.error = c.error;
                             options.budget_per_segment = budget;
                             options.search.kind = space;
                             if let Some(a) = alpha {
@@ -978,6 +1001,7 @@ struct FitChoices {
     continuities: Vec<Continuity>,
     spaces: Vec<SearchSpace>,
     parameterisation: Option<Parameterisation>,
+    error: ErrorMeasure,
 }
 
 /// Search-space settings of a `[[fit]]` section; `None` keeps the default.
