@@ -550,8 +550,8 @@ fn fit(
         Closing::from_name(closing).ok_or_else(|| choice("closing", closing, &Closing::NAMES))?;
     let space = SearchSpace::from_name(search_space)
         .ok_or_else(|| choice("search_space", search_space, &SearchSpace::NAMES))?;
-    let error =
-        ErrorMeasure::from_name(error).ok_or_else(|| choice("error", error, &ErrorMeasure::NAMES))?;
+    let error = ErrorMeasure::from_name(error)
+        .ok_or_else(|| choice("error", error, &ErrorMeasure::NAMES))?;
     let method = Method::from_name(algorithm).ok_or_else(|| {
         let names = Method::names();
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
