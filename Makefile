@@ -3,12 +3,13 @@ CARGO ?= cargo
 BIN := target/release/metabezier
 SPECS := experiments
 
-.PHONY: help build quick test test-python python-bench examples fuzz test-cluster bench speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all fmt lint clean-results
+.PHONY: help build quick test test-python test-dxf python-bench examples fuzz test-cluster bench speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all fmt lint clean-results
 
 help:
 	@echo "make quick          run experiments/quick.toml (seconds) into results/quick/"
 	@echo "make test           the whole test suite, rustfmt check and clippy -D warnings"
 	@echo "make test-python    the Python package: pip install ./python in a venv, then its pytest suite (PyPI)"
+	@echo "make test-dxf       fit.dxf read back by ezdxf (pinned in ci/dxf-requirements.txt, in a venv): exact control points and weights (PyPI)"
 	@echo "make examples       the library examples (examples/*.rs): your own optimiser and problem in a campaign"
 	@echo "make fuzz           the seeded fuzz loops of tests/fuzz_*.rs with 100,000 mutants per reader (minutes)"
 	@echo "make test-cluster   a campaign as a Slurm array job on a private one-node Slurm (root; installs slurm-wlm, munge)"
@@ -50,6 +51,20 @@ test-python: build
 	cd python && $(CARGO) fmt -- --check
 	cd python && $(CARGO) clippy --release --locked -- -D warnings
 	METABEZIER_BIN=$(CURDIR)/$(BIN) $(PY_VENV)/bin/python -m pytest -q python/tests
+
+# fit.dxf read back by a real DXF library: ezdxf audits it and
+# ci/check-dxf.py compares every SPLINE with fit.csv (rational cubics,
+# rational quadratics, and a glyph's quadratics).
+DXF_VENV := target/dxf-venv
+test-dxf: build
+	test -x $(DXF_VENV)/bin/python || python3 -m venv $(DXF_VENV)
+	$(DXF_VENV)/bin/python -m pip install --quiet --disable-pip-version-check -r ci/dxf-requirements.txt
+	@set -e; out=$$(mktemp -d); \
+	  $(BIN) fit data/outlines/horse.png --segments 101 --out $$out/horse > /dev/null; \
+	  $(BIN) fit data/outlines/coin.png --function rational-quadratic --segments 6 --out $$out/coin > /dev/null; \
+	  $(BIN) fit font:data/outlines/DejaVuSans.ttf:S --function quadratic --true-breaks --out $$out/S > /dev/null; \
+	  $(DXF_VENV)/bin/python ci/check-dxf.py $$out/horse $$out/coin $$out/S; \
+	  rm -rf $$out
 
 # The cost per evaluation of a Python function called from metabezier,
 # against pure Rust and numpy alone (and mealpy, NiaPy where installed).

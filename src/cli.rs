@@ -19,8 +19,8 @@ use crate::functions::{Function, Transform};
 use crate::geometry::{Continuity, Parameterisation, Point};
 use crate::outline::{load_svg, CornerOptions, OutlineError};
 use crate::reconstruction::{
-    save_shape, score, ContourChoice, LoadOptions, Method, OverlayFigure, Reconstruction,
-    Segmentation, ShapeFit, Source, SourceError,
+    save_shape, score, shape_dxf, ContourChoice, LoadOptions, Method, OverlayFigure,
+    Reconstruction, Segmentation, ShapeFit, Source, SourceError,
 };
 use crate::report::{self, save_overlay, ReportOptions};
 
@@ -711,6 +711,9 @@ fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
     let mut paths = write_fit_records(dir, &fit, &a.case(&r.options, &method), wall)?;
     let data = source.points();
     paths.extend(save_shape(&fit, &data, &title, dir, "fit")?);
+    let dxf = dir.join("fit.dxf");
+    crate::files::write_atomic(&dxf, shape_dxf(&fit).as_bytes())?;
+    paths.push(dxf);
     let figure = OverlayFigure::of_fit(&title, &data, &fit);
     paths.extend(save_overlay(&figure, dir, "overlay")?);
     let paths: Vec<PathBuf> = paths.iter().map(|p| staging.final_path(p)).collect();

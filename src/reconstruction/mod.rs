@@ -14,10 +14,12 @@
 //! | [`Reconstruction`], [`Method`], [`FitMode`] | the fitting task: whole outlines or per-segment problems |
 //! | [`ShapeFit`] | every contour's fit, with the totals and the best-so-far trace |
 //! | [`shape_svg`], [`save_shape`] | the fit as one even-odd SVG path and its PNG |
+//! | [`shape_dxf`] | the fit as exact DXF `SPLINE`s (control points and weights) |
 //! | [`score`] | other tools' curves against the same data points |
 //! | [`OverlayFigure`] | the data and the curves on axes, drawn by the report |
 
 mod drawing;
+mod dxf;
 mod overlay;
 mod score;
 mod shape;
@@ -32,6 +34,7 @@ use crate::outline::{find_corners, CornerOptions};
 use crate::rng::{run_rng, splitmix64};
 
 pub use drawing::{cubic_pieces, save_shape, shape_raster, shape_svg};
+pub use dxf::shape_dxf;
 pub use overlay::{OverlayCurve, OverlayFigure, OverlayPanel};
 pub use score::{score, segment_distance, Distances, Score, ScoreError, MAX_SCORE_COORDINATE};
 pub use shape::{ContourFit, ShapeFit};

@@ -1,0 +1,342 @@
+//! The fitted shape as a DXF drawing that CAD tools read exactly: every
+//! segment one `SPLINE` entity of its own degree, with its control points
+//! and, for a rational segment, its weights, so that nothing is
+//! approximated (SVG, which has no rational curves, cannot do this).
+//!
+//! A Bézier segment of degree `m` is the B-spline of order `m + 1` on the
+//! clamped knot vector `[0^(m+1), 1^(m+1)]` (Piegl & Tiller, *The NURBS
+//! Book*, §2.2), and a rational one the NURBS with the same weights, which
+//! is DXF's `SPLINE` with flag 4 (rational) and group 41 (weights)
+//! (Autodesk, *DXF Reference*, "SPLINE"). The file is DXF R2000 (`AC1015`)
+//! with the tables, block records, blocks and root dictionary that a
+//! drawing of that version holds, every object with a unique handle and
+//! its owner; the outline frame (y up) is the drawing's x–y plane.
+//! Coordinates are written with Rust's shortest round-trip formatting, so
+//! they read back bit for bit.
+
+use std::fmt::Write as _;
+
+use super::ShapeFit;
+use crate::fit::Segment;
+use crate::geometry::Curve;
+
+/// Writes group code and value pairs with consecutive handles.
+struct Dxf {
+    text: String,
+    next_handle: u64,
+}
+
+impl Dxf {
+    fn pair(&mut self, code: u32, value: impl std::fmt::Display) {
+        let _ = write!(self.text, "{code}\n{value}\n");
+    }
+
+    /// A new handle (hexadecimal, as DXF writes them).
+    fn handle(&mut self) -> String {
+        let h = format!("{:X}", self.next_handle);
+        self.next_handle += 1;
+        h
+    }
+
+    /// `0 TABLE` … with `entries` records written by `entry` (each gets the
+    /// table's handle as owner).
+    fn table(&mut self, name: &str, entries: &[&str], entry: impl Fn(&mut Dxf, &str, &str)) {
+        let table = self.handle();
+        self.pair(0, "TABLE");
+        self.pair(2, name);
+        self.pair(5, &table);
+        self.pair(330, 0);
+        self.pair(100, "AcDbSymbolTable");
+        self.pair(70, entries.len());
+        for e in entries {
+            let h = self.handle();
+            self.pair(0, name);
+            self.pair(5, &h);
+            self.pair(330, &table);
+            self.pair(100, "AcDbSymbolTableRecord");
+            entry(self, e, &h);
+        }
+        self.pair(0, "ENDTAB");
+    }
+}
+
+/// The DXF R2000 document of `fit`: one `SPLINE` per segment on layer `0`
+/// of model space, in contour order.
+pub fn shape_dxf(fit: &ShapeFit) -> String {
+    let mut d = Dxf {
+        text: String::new(),
+        next_handle: 0,
+    };
+    // Handles fixed in advance: the block records, which entities and
+    // blocks point to.
+    let (model_record, paper_record) = ("1F".to_owned(), "1E".to_owned());
+    let mut body = Dxf {
+        text: String::new(),
+        next_handle: 0x100,
+    };
+    // TABLES.
+    body.pair(0, "SECTION");
+    body.pair(2, "TABLES");
+    body.table("VPORT", &["*Active"], |d, name, _| {
+        d.pair(100, "AcDbViewportTableRecord");
+        d.pair(2, name);
+        d.pair(70, 0);
+    });
+    body.table(
+        "LTYPE",
+        &["ByBlock", "ByLayer", "Continuous"],
+        |d, name, _| {
+            d.pair(100, "AcDbLinetypeTableRecord");
+            d.pair(2, name);
+            d.pair(70, 0);
+            d.pair(
+                3,
+                if name == "Continuous" {
+                    "Solid line"
+                } else {
+                    ""
+                },
+            );
+            d.pair(72, 65);
+            d.pair(73, 0);
+            d.pair(40, 0.0);
+        },
+    );
+    body.table("LAYER", &["0"], |d, name, _| {
+        d.pair(100, "AcDbLayerTableRecord");
+        d.pair(2, name);
+        d.pair(70, 0);
+        d.pair(62, 7);
+        d.pair(6, "Continuous");
+    });
+    body.table("STYLE", &["Standard"], |d, name, _| {
+        d.pair(100, "AcDbTextStyleTableRecord");
+        d.pair(2, name);
+        d.pair(70, 0);
+        d.pair(40, 0.0);
+        d.pair(41, 1.0);
+        d.pair(50, 0.0);
+        d.pair(71, 0);
+        d.pair(42, 2.5);
+        d.pair(3, "txt");
+        d.pair(4, "");
+    });
+    body.table("VIEW", &[], |_, _, _| {});
+    body.table("UCS", &[], |_, _, _| {});
+    body.table("APPID", &["ACAD"], |d, name, _| {
+        d.pair(100, "AcDbRegAppTableRecord");
+        d.pair(2, name);
+        d.pair(70, 0);
+    });
+    body.table("DIMSTYLE", &["Standard"], |d, name, _| {
+        d.pair(100, "AcDbDimStyleTableRecord");
+        d.pair(2, name);
+        d.pair(70, 0);
+    });
+    // BLOCK_RECORD with the two fixed handles.
+    let records = body.handle();
+    body.pair(0, "TABLE");
+    body.pair(2, "BLOCK_RECORD");
+    body.pair(5, &records);
+    body.pair(330, 0);
+    body.pair(100, "AcDbSymbolTable");
+    body.pair(70, 2);
+    for (name, h) in [
+        ("*Model_Space", &model_record),
+        ("*Paper_Space", &paper_record),
+    ] {
+        body.pair(0, "BLOCK_RECORD");
+        body.pair(5, h);
+        body.pair(330, &records);
+        body.pair(100, "AcDbSymbolTableRecord");
+        body.pair(100, "AcDbBlockTableRecord");
+        body.pair(2, name);
+    }
+    body.pair(0, "ENDTAB");
+    body.pair(0, "ENDSEC");
+    // BLOCKS: the two layout blocks, empty (model space's entities are in
+    // ENTITIES).
+    body.pair(0, "SECTION");
+    body.pair(2, "BLOCKS");
+    for (name, owner) in [
+        ("*Model_Space", &model_record),
+        ("*Paper_Space", &paper_record),
+    ] {
+        let (block, end) = (body.handle(), body.handle());
+        body.pair(0, "BLOCK");
+        body.pair(5, &block);
+        body.pair(330, owner);
+        body.pair(100, "AcDbEntity");
+        body.pair(8, "0");
+        body.pair(100, "AcDbBlockBegin");
+        body.pair(2, name);
+        body.pair(70, 0);
+        for code in [10, 20, 30] {
+            body.pair(code, 0.0);
+        }
+        body.pair(3, name);
+        body.pair(1, "");
+        body.pair(0, "ENDBLK");
+        body.pair(5, &end);
+        body.pair(330, owner);
+        body.pair(100, "AcDbEntity");
+        body.pair(8, "0");
+        body.pair(100, "AcDbBlockEnd");
+    }
+    body.pair(0, "ENDSEC");
+    // ENTITIES: one SPLINE per segment.
+    body.pair(0, "SECTION");
+    body.pair(2, "ENTITIES");
+    for c in &fit.contours {
+        for s in &c.fit.segments {
+            spline(&mut body, &s.segment, &model_record);
+        }
+    }
+    body.pair(0, "ENDSEC");
+    // OBJECTS: the root dictionary and its ACAD_GROUP dictionary.
+    let (root, groups) = (body.handle(), body.handle());
+    body.pair(0, "SECTION");
+    body.pair(2, "OBJECTS");
+    body.pair(0, "DICTIONARY");
+    body.pair(5, &root);
+    body.pair(330, 0);
+    body.pair(100, "AcDbDictionary");
+    body.pair(281, 1);
+    body.pair(3, "ACAD_GROUP");
+    body.pair(350, &groups);
+    body.pair(0, "DICTIONARY");
+    body.pair(5, &groups);
+    body.pair(330, &root);
+    body.pair(100, "AcDbDictionary");
+    body.pair(281, 1);
+    body.pair(0, "ENDSEC");
+    body.pair(0, "EOF");
+    // HEADER last, once the handle seed is known.
+    d.pair(
+        999,
+        "metabezier fit: every segment one SPLINE, exact (control points and weights)",
+    );
+    d.pair(0, "SECTION");
+    d.pair(2, "HEADER");
+    d.pair(9, "$ACADVER");
+    d.pair(1, "AC1015");
+    d.pair(9, "$HANDSEED");
+    d.pair(5, format!("{:X}", body.next_handle));
+    d.pair(9, "$INSUNITS");
+    d.pair(70, 0);
+    d.pair(0, "ENDSEC");
+    d.pair(0, "SECTION");
+    d.pair(2, "CLASSES");
+    d.pair(0, "ENDSEC");
+    d.text.push_str(&body.text);
+    d.text
+}
+
+/// One segment as a `SPLINE`: degree `m`, the clamped knots
+/// `[0^(m+1), 1^(m+1)]`, the `m + 1` control points, and the weights when
+/// the segment is rational (flags: 8 planar, 4 rational).
+fn spline(d: &mut Dxf, segment: &Segment, owner: &str) {
+    let points = segment.control_points();
+    let weights = segment.weights();
+    let rational = segment.function().is_rational();
+    let m = points.len() - 1;
+    let h = d.handle();
+    d.pair(0, "SPLINE");
+    d.pair(5, &h);
+    d.pair(330, owner);
+    d.pair(100, "AcDbEntity");
+    d.pair(8, "0");
+    d.pair(100, "AcDbSpline");
+    for (code, v) in [(210, 0.0), (220, 0.0), (230, 1.0)] {
+        d.pair(code, v);
+    }
+    d.pair(70, if rational { 8 + 4 } else { 8 });
+    d.pair(71, m);
+    d.pair(72, 2 * (m + 1));
+    d.pair(73, m + 1);
+    d.pair(74, 0);
+    for k in 0..2 * (m + 1) {
+        d.pair(40, if k <= m { 0.0 } else { 1.0 });
+    }
+    if rational {
+        for w in &weights {
+            d.pair(41, w);
+        }
+    }
+    for p in &points {
+        d.pair(10, p.x);
+        d.pair(20, p.y);
+        d.pair(30, 0.0);
+    }
+    debug_assert_eq!(points[0], segment.start());
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The `(code, value)` pairs of a DXF text.
+    fn pairs(text: &str) -> Vec<(u32, &str)> {
+        let lines: Vec<&str> = text.lines().collect();
+        lines
+            .chunks_exact(2)
+            .map(|c| (c[0].trim().parse().expect("a group code"), c[1]))
+            .collect()
+    }
+
+    #[test]
+    fn every_segment_is_a_spline_with_its_exact_control_points_and_weights() {
+        use crate::fit::{FitOptions, FunctionType};
+        use crate::geometry::{Continuity, Point, RationalQuadBez};
+        use crate::reconstruction::{Method, Reconstruction, Segmentation, Source};
+        let mut pts = Vec::new();
+        for k in 0..4 {
+            let arc = RationalQuadBez::circular_arc(
+                Point::new(3.0, 4.0),
+                2.5,
+                k as f64 * std::f64::consts::FRAC_PI_2,
+                std::f64::consts::FRAC_PI_2,
+            )
+            .unwrap();
+            pts.extend((0..25).map(|j| arc.eval(j as f64 / 25.0)));
+        }
+        let outline =
+            crate::outline::outline_from_points(pts, Some(true), 4, std::path::Path::new("circle"))
+                .unwrap();
+        let source = Source::from_outline("circle", outline);
+        let r = Reconstruction {
+            source: &source,
+            segmentation: Segmentation::Count(4),
+            corners: None,
+            options: FitOptions::new(FunctionType::RationalCubic, Continuity::G1),
+        };
+        let fit = r.fit(&Method::Exact, 1).unwrap();
+        let text = shape_dxf(&fit);
+        let p = pairs(&text);
+        assert_eq!(p.last(), Some(&(0, "EOF")));
+        let splines: Vec<usize> = (0..p.len()).filter(|&i| p[i] == (0, "SPLINE")).collect();
+        assert_eq!(splines.len(), 4);
+        // The first spline's groups read back to the segment exactly.
+        let seg = &fit.contours[0].fit.segments[0].segment;
+        let body = &p[splines[0]..splines.get(1).copied().unwrap_or(p.len())];
+        let values = |code: u32| -> Vec<f64> {
+            body.iter()
+                .filter(|(c, _)| *c == code)
+                .map(|(_, v)| v.parse().unwrap())
+                .collect()
+        };
+        let xs: Vec<f64> = seg.control_points().iter().map(|q| q.x).collect();
+        let ys: Vec<f64> = seg.control_points().iter().map(|q| q.y).collect();
+        assert_eq!(values(10), xs);
+        assert_eq!(values(20), ys);
+        assert_eq!(values(41), seg.weights());
+        assert_eq!(values(40), [0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0]);
+        assert_eq!(values(70), [12.0]);
+        // Handles are unique.
+        let mut handles: Vec<&str> = p.iter().filter(|(c, _)| *c == 5).map(|(_, v)| *v).collect();
+        let n = handles.len();
+        handles.sort();
+        handles.dedup();
+        assert_eq!(handles.len(), n);
+    }
+}
