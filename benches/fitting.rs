@@ -162,6 +162,40 @@ fn horse(c: &mut Criterion) {
     }
     group.finish();
     closing(c);
+    orthogonal_scaling(c);
+}
+
+/// The orthogonal LM's cost against the number of points: a rotated ellipse
+/// (semi-axes 140 and 55) sampled at 10³, 10⁴ and 10⁵ equal angles, four G1
+/// rational cubics closed smoothly. One projection per point per
+/// evaluation, so the cost should grow linearly.
+fn orthogonal_scaling(c: &mut Criterion) {
+    use metabezier::fit::{fit_piecewise, LmSolver};
+    let mut group = c.benchmark_group("orthogonal-points");
+    group.sample_size(10);
+    for n in [1_000usize, 10_000, 100_000] {
+        let (s, co) = 0.4f64.sin_cos();
+        let pts: Vec<Point> = (0..n)
+            .map(|k| {
+                let phi = std::f64::consts::TAU * k as f64 / n as f64;
+                let (x, y) = (140.0 * phi.cos(), 55.0 * phi.sin());
+                Point::new(co * x - s * y + 200.0, s * x + co * y + 150.0)
+            })
+            .collect();
+        let breaks: Vec<usize> = (0..4).map(|k| k * n / 4).collect();
+        let mut options = FitOptions::new(FunctionType::RationalCubic, Continuity::G1);
+        options.error = ErrorMeasure::Orthogonal;
+        group.throughput(Throughput::Elements(n as u64));
+        group.bench_function(format!("{n}"), |b| {
+            b.iter(|| {
+                fit_piecewise(&pts, true, &breaks, &options, &mut LmSolver::default())
+                    .expect("a valid fit")
+                    .metrics
+                    .max_distance
+            })
+        });
+    }
+    group.finish();
 }
 
 /// What the smooth closing costs: the coin (no corner, so its chain closes

@@ -246,10 +246,11 @@ pub(super) fn fit_one<S: SegmentSolver + ?Sized>(
     let mut spent = solution.evaluations;
     for _ in 0..options.reparameterise {
         let seg = problem.segment(&solution.x);
-        let params = match options.error {
-            ErrorMeasure::Fixed => problem.corrected_params(&seg),
+        let params = match (options.error, solution.params.take()) {
+            (ErrorMeasure::Fixed, _) => problem.corrected_params(&seg),
             // The foot points start the next round's projections.
-            ErrorMeasure::Orthogonal => problem.measured_params(&solution.x),
+            (ErrorMeasure::Orthogonal, Some(params)) => params,
+            (ErrorMeasure::Orthogonal, None) => problem.measured_params(&solution.x),
         };
         problem = problem.with_params(params)?;
         solution = solve(&problem, solver, budget);
@@ -262,7 +263,11 @@ pub(super) fn fit_one<S: SegmentSolver + ?Sized>(
     solution.evaluations = spent;
     if options.error == ErrorMeasure::Orthogonal {
         // The parameters the solution's E was measured at: its foot points.
-        problem = problem.with_params(problem.measured_params(&solution.x))?;
+        let params = match solution.params.take() {
+            Some(params) => params,
+            None => problem.measured_params(&solution.x),
+        };
+        problem = problem.with_params(params)?;
     }
     let segment = problem.segment(&solution.x);
     let (points, params, inserted) = match &original {

@@ -254,6 +254,7 @@ impl SegmentSolver for Dry {
             evaluations: 0,
             parts: Vec::new(),
             trace: Vec::new(),
+            params: None,
         }
     }
 }
