@@ -5,7 +5,9 @@
 //! segments; each segment is fitted with a quadratic, cubic, rational
 //! quadratic or rational cubic Bézier function whose end control points are
 //! the segment's first and last data points, minimising
-//! `E = Σᵢ |Rᵢ − P(sᵢ)|²` at parameters `sᵢ` (chord length by default).
+//! `E = Σᵢ |Rᵢ − P(sᵢ)|²` at parameters `sᵢ` (chord length by default), or
+//! with [`ErrorMeasure::Orthogonal`] (beyond the thesis) the orthogonal
+//! `Σᵢ min_s |Rᵢ − P(s)|²`, the `sᵢ` solved with the curve.
 //! Segments are fitted in sequence; each joins the previous one with C⁰, C¹
 //! or G¹ continuity (Farin 2002, §10.2 and §13.6), and a closed outline's
 //! chain closes smoothly ([`Closing`]).
@@ -21,6 +23,7 @@
 //! |---|---|
 //! | [`FunctionType`], [`Segment`] | the four curve families and a fitted segment |
 //! | [`SegmentProblem`], [`Start`] | one segment's decision variables, box and objective |
+//! | [`ErrorMeasure`] | what E measures: at fixed parameters, or orthogonally (foot points) |
 //! | [`search_space`] | the thesis's search-space technique (reconstructed) |
 //! | [`linear_fit`] | fixed-weight linear least squares |
 //! | [`SegmentSolver`] | metaheuristic, LM and hybrid solvers |

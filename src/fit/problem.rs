@@ -1,5 +1,6 @@
 //! One segment's fitting problem: the decision variables, their box and the
-//! objective `E = Σᵢ |Rᵢ − P(sᵢ)|²`.
+//! objective `E = Σᵢ |Rᵢ − P(sᵢ)|²`, at fixed `sᵢ` or at each candidate's
+//! foot points ([`ErrorMeasure`]).
 //!
 //! The problem knows nothing of the algorithm that solves it (argmin's split):
 //! it implements [`Problem`] for the metaheuristics and [`LeastSquares`] for
@@ -188,7 +189,9 @@ pub fn tangent_meet(c0: Point, leg: Point, cn: Point, dir: Point) -> Option<Poin
 
 /// The segment fitting problem of the thesis: data points `R₀..R_n` with
 /// parameters `s₀ = 0 < … < s_n = 1`, end control points fixed at `R₀` and
-/// `R_n`, and the objective `E(x) = Σᵢ |Rᵢ − P(sᵢ)|²`.
+/// `R_n`, and the objective `E(x) = Σᵢ |Rᵢ − P(sᵢ)|²`; with
+/// [`SegmentProblem::with_error`]`(`[`ErrorMeasure::Orthogonal`]`)` the
+/// `sᵢ` of each candidate are its foot points, found from the stored ones.
 ///
 /// **Decision vector** (in this order; `m` the degree):
 ///
