@@ -293,6 +293,18 @@ fn ellipse(n: usize, place: Place) -> (Vec<Point>, Vec<RationalQuadBez>) {
     (pts, quarters)
 }
 
+/// The closed 400-point `points` fitted by LM in four segments of 100.
+fn fit_in_quarters(points: &[Point], options: &FitOptions) -> PiecewiseFit {
+    fit_piecewise(
+        points,
+        true,
+        &[0, 100, 200, 300],
+        options,
+        &mut LmSolver::default(),
+    )
+    .unwrap()
+}
+
 #[test]
 fn a_full_ellipse_is_recovered_by_four_g1_rational_cubics_or_quadratics() {
     let mut d = Draws(4);
@@ -303,15 +315,7 @@ fn a_full_ellipse_is_recovered_by_four_g1_rational_cubics_or_quadratics() {
         };
         let (points, quarters) = ellipse(400, place);
         for function in [FunctionType::RationalCubic, FunctionType::RationalQuadratic] {
-            let options = orthogonal(function, Continuity::G1);
-            let fit = fit_piecewise(
-                &points,
-                true,
-                &[0, 100, 200, 300],
-                &options,
-                &mut LmSolver::default(),
-            )
-            .unwrap();
+            let fit = fit_in_quarters(&points, &orthogonal(function, Continuity::G1));
             assert_eq!(fit.segments.len(), 4);
             let h = hausdorff(&fit, &quarters);
             assert!(h < 1e-9 * 140.0, "case {case} {function}: {h:e}");
@@ -332,14 +336,7 @@ fn the_thesis_fixed_parameter_error_misses_the_same_ellipse() {
     let (points, quarters) = ellipse(400, place);
     let mut options = orthogonal(FunctionType::RationalCubic, Continuity::G1);
     options.error = ErrorMeasure::Fixed;
-    let fit = fit_piecewise(
-        &points,
-        true,
-        &[0, 100, 200, 300],
-        &options,
-        &mut LmSolver::default(),
-    )
-    .unwrap();
+    let fit = fit_in_quarters(&points, &options);
     // The chord-length parameters, not the optimiser, set this error.
     assert!(hausdorff(&fit, &quarters) > 1e-3);
 }

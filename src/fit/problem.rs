@@ -10,7 +10,7 @@ use super::controls::{cubic, quad, rcubic, rquad, sum_sq, Controls};
 use super::search_space::{guesses, point_box};
 use super::{ErrorMeasure, FitError, FunctionType, SearchSpaceOptions, Segment};
 use crate::geometry::{
-    Continuity, CubicBez, Curve, Parameterisation, Point, QuadBez, RationalCubicBez,
+    bounding_box, Continuity, CubicBez, Curve, Parameterisation, Point, QuadBez, RationalCubicBez,
     RationalQuadBez, SegmentEnd,
 };
 use crate::optim::lm::LeastSquares;
@@ -379,11 +379,7 @@ impl SegmentProblem {
             return self.bounds.clone();
         }
         let n = self.points.len() - 1;
-        let (mut lo, mut hi) = (self.points[0], self.points[0]);
-        for p in &self.points {
-            lo = Point::new(lo.x.min(p.x), lo.y.min(p.y));
-            hi = Point::new(hi.x.max(p.x), hi.y.max(p.y));
-        }
+        let (lo, hi) = bounding_box(&self.points).expect("segment data are never empty");
         let extent = (hi - lo)
             .hypot()
             .max(self.points[0].distance(self.points[n]));
@@ -404,16 +400,13 @@ impl SegmentProblem {
     /// [`ErrorMeasure::Fixed`], the foot points of the data on the curve of
     /// `x` for [`ErrorMeasure::Orthogonal`] (the ends stay at 0 and 1).
     pub fn measured_params(&self, x: &[f64]) -> Vec<f64> {
-        let mut out = self.params.clone();
-        if self.error == ErrorMeasure::Orthogonal {
-            let k = self.controls(x);
-            let m = self.function.degree();
-            let n = out.len() - 1;
-            for (i, o) in out.iter_mut().enumerate().take(n).skip(1) {
-                *o = k.foot(m, self.points[i], *o).0;
-            }
+        if self.error == ErrorMeasure::Fixed {
+            return self.params.clone();
         }
-        out
+        let k = self.controls(x);
+        (0..self.params.len())
+            .map(|i| self.measured(&k, i).0)
+            .collect()
     }
 
     /// `(sᵢ, P(sᵢ), P′(sᵢ))` of data point `i` under the error measure: the

@@ -38,25 +38,51 @@ impl Dxf {
         h
     }
 
-    /// `0 TABLE` … with `entries` records written by `entry` (each gets the
-    /// table's handle as owner).
-    fn table(&mut self, name: &str, entries: &[&str], entry: impl Fn(&mut Dxf, &str, &str)) {
+    /// `0 TABLE` … with a record per name in `entries`, each with a new
+    /// handle and its body written by `entry`.
+    fn table(&mut self, name: &str, entries: &[&str], entry: impl Fn(&mut Dxf, &str)) {
         let table = self.handle();
+        let records: Vec<(&str, String)> = entries.iter().map(|&e| (e, self.handle())).collect();
+        self.table_of(name, &table, &records, entry);
+    }
+
+    /// `0 TABLE` with handle `table` and the given `(name, handle)`
+    /// records (each owned by the table), their bodies written by `entry`.
+    fn table_of(
+        &mut self,
+        name: &str,
+        table: &str,
+        records: &[(&str, String)],
+        entry: impl Fn(&mut Dxf, &str),
+    ) {
         self.pair(0, "TABLE");
         self.pair(2, name);
-        self.pair(5, &table);
+        self.pair(5, table);
         self.pair(330, 0);
         self.pair(100, "AcDbSymbolTable");
-        self.pair(70, entries.len());
-        for e in entries {
-            let h = self.handle();
+        self.pair(70, records.len());
+        for (e, h) in records {
             self.pair(0, name);
-            self.pair(5, &h);
-            self.pair(330, &table);
+            self.pair(5, h);
+            self.pair(330, table);
             self.pair(100, "AcDbSymbolTableRecord");
-            entry(self, e, &h);
+            entry(self, e);
         }
         self.pair(0, "ENDTAB");
+    }
+
+    /// A `DICTIONARY` object with its handle, owner and `(name, handle)`
+    /// entries.
+    fn dictionary(&mut self, handle: &str, owner: &str, entries: &[(&str, &str)]) {
+        self.pair(0, "DICTIONARY");
+        self.pair(5, handle);
+        self.pair(330, owner);
+        self.pair(100, "AcDbDictionary");
+        self.pair(281, 1);
+        for (name, h) in entries {
+            self.pair(3, name);
+            self.pair(350, h);
+        }
     }
 }
 
@@ -77,39 +103,35 @@ pub fn shape_dxf(fit: &ShapeFit) -> String {
     // TABLES.
     body.pair(0, "SECTION");
     body.pair(2, "TABLES");
-    body.table("VPORT", &["*Active"], |d, name, _| {
+    body.table("VPORT", &["*Active"], |d, name| {
         d.pair(100, "AcDbViewportTableRecord");
         d.pair(2, name);
         d.pair(70, 0);
     });
-    body.table(
-        "LTYPE",
-        &["ByBlock", "ByLayer", "Continuous"],
-        |d, name, _| {
-            d.pair(100, "AcDbLinetypeTableRecord");
-            d.pair(2, name);
-            d.pair(70, 0);
-            d.pair(
-                3,
-                if name == "Continuous" {
-                    "Solid line"
-                } else {
-                    ""
-                },
-            );
-            d.pair(72, 65);
-            d.pair(73, 0);
-            d.pair(40, 0.0);
-        },
-    );
-    body.table("LAYER", &["0"], |d, name, _| {
+    body.table("LTYPE", &["ByBlock", "ByLayer", "Continuous"], |d, name| {
+        d.pair(100, "AcDbLinetypeTableRecord");
+        d.pair(2, name);
+        d.pair(70, 0);
+        d.pair(
+            3,
+            if name == "Continuous" {
+                "Solid line"
+            } else {
+                ""
+            },
+        );
+        d.pair(72, 65);
+        d.pair(73, 0);
+        d.pair(40, 0.0);
+    });
+    body.table("LAYER", &["0"], |d, name| {
         d.pair(100, "AcDbLayerTableRecord");
         d.pair(2, name);
         d.pair(70, 0);
         d.pair(62, 7);
         d.pair(6, "Continuous");
     });
-    body.table("STYLE", &["Standard"], |d, name, _| {
+    body.table("STYLE", &["Standard"], |d, name| {
         d.pair(100, "AcDbTextStyleTableRecord");
         d.pair(2, name);
         d.pair(70, 0);
@@ -121,38 +143,32 @@ pub fn shape_dxf(fit: &ShapeFit) -> String {
         d.pair(3, "txt");
         d.pair(4, "");
     });
-    body.table("VIEW", &[], |_, _, _| {});
-    body.table("UCS", &[], |_, _, _| {});
-    body.table("APPID", &["ACAD"], |d, name, _| {
+    body.table("VIEW", &[], |_, _| {});
+    body.table("UCS", &[], |_, _| {});
+    body.table("APPID", &["ACAD"], |d, name| {
         d.pair(100, "AcDbRegAppTableRecord");
         d.pair(2, name);
         d.pair(70, 0);
     });
-    body.table("DIMSTYLE", &["Standard"], |d, name, _| {
+    body.table("DIMSTYLE", &["Standard"], |d, name| {
         d.pair(100, "AcDbDimStyleTableRecord");
         d.pair(2, name);
         d.pair(70, 0);
     });
     // BLOCK_RECORD with the two fixed handles.
     let records = body.handle();
-    body.pair(0, "TABLE");
-    body.pair(2, "BLOCK_RECORD");
-    body.pair(5, &records);
-    body.pair(330, 0);
-    body.pair(100, "AcDbSymbolTable");
-    body.pair(70, 2);
-    for (name, h) in [
-        ("*Model_Space", &model_record),
-        ("*Paper_Space", &paper_record),
-    ] {
-        body.pair(0, "BLOCK_RECORD");
-        body.pair(5, h);
-        body.pair(330, &records);
-        body.pair(100, "AcDbSymbolTableRecord");
-        body.pair(100, "AcDbBlockTableRecord");
-        body.pair(2, name);
-    }
-    body.pair(0, "ENDTAB");
+    body.table_of(
+        "BLOCK_RECORD",
+        &records,
+        &[
+            ("*Model_Space", model_record.clone()),
+            ("*Paper_Space", paper_record.clone()),
+        ],
+        |d, name| {
+            d.pair(100, "AcDbBlockTableRecord");
+            d.pair(2, name);
+        },
+    );
     body.pair(0, "ENDSEC");
     // BLOCKS: the two layout blocks, empty (model space's entities are in
     // ENTITIES).
@@ -197,18 +213,8 @@ pub fn shape_dxf(fit: &ShapeFit) -> String {
     let (root, groups) = (body.handle(), body.handle());
     body.pair(0, "SECTION");
     body.pair(2, "OBJECTS");
-    body.pair(0, "DICTIONARY");
-    body.pair(5, &root);
-    body.pair(330, 0);
-    body.pair(100, "AcDbDictionary");
-    body.pair(281, 1);
-    body.pair(3, "ACAD_GROUP");
-    body.pair(350, &groups);
-    body.pair(0, "DICTIONARY");
-    body.pair(5, &groups);
-    body.pair(330, &root);
-    body.pair(100, "AcDbDictionary");
-    body.pair(281, 1);
+    body.dictionary(&root, "0", &[("ACAD_GROUP", &groups)]);
+    body.dictionary(&groups, &root, &[]);
     body.pair(0, "ENDSEC");
     body.pair(0, "EOF");
     // HEADER last, once the handle seed is known.

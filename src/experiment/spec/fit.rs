@@ -571,15 +571,20 @@ impl Parser<'_> {
             &FitMode::NAMES,
             FitMode::from_name,
         )?;
-        for (key, n) in [("closing", closing.len()), ("mode", mode.len())] {
-            if n > 1 {
-                return Err(self.error(
-                    entry.span(),
-                    &format!("{section}.{key}"),
-                    format!("expected one {key}, not a list"),
-                ));
-            }
-        }
+        let closing = self.one(
+            &closing,
+            entry,
+            section,
+            "closing",
+            "expected one closing, not a list",
+        )?;
+        let mode = self.one(
+            &mode,
+            entry,
+            section,
+            "mode",
+            "expected one mode, not a list",
+        )?;
         let alpha_grid = search.alpha_sizes.as_ref().is_some_and(|a| a.len() > 1);
         let extended = self.get(table, "closing").is_some()
             || self.get(table, "error").is_some()
@@ -595,10 +600,31 @@ impl Parser<'_> {
             corners,
             search,
             alpha_grid,
-            closing: closing[0],
-            mode: mode[0],
+            closing,
+            mode,
             extended,
         })
+    }
+
+    /// The only value of a key that takes one (`closing`, `mode`,
+    /// `parameterisation`, `error`); a list of several is refused with the
+    /// message `expected` (`one_or_many` refuses an empty one).
+    fn one<T: Copy>(
+        &self,
+        values: &[T],
+        entry: &Value<'_>,
+        section: &str,
+        key: &str,
+        expected: &str,
+    ) -> Result<T, SpecError> {
+        match values {
+            [one] => Ok(*one),
+            _ => Err(self.error(
+                entry.span(),
+                &format!("{section}.{key}"),
+                expected.to_owned(),
+            )),
+        }
     }
 
     /// The optional `contour`: an index (default 0, the largest) or `"all"`.
@@ -699,13 +725,13 @@ impl Parser<'_> {
                 other => Parameterisation::from_name(other).map(Some),
             },
         )?;
-        let [parameterisation] = parameterisation[..] else {
-            return Err(self.error(
-                entry.span(),
-                &format!("{section}.parameterisation"),
-                "expected one parameterisation, not a list".into(),
-            ));
-        };
+        let parameterisation = self.one(
+            &parameterisation,
+            entry,
+            section,
+            "parameterisation",
+            "expected one parameterisation, not a list",
+        )?;
         let error = self.names(
             table,
             "error",
@@ -714,13 +740,13 @@ impl Parser<'_> {
             &ErrorMeasure::NAMES,
             ErrorMeasure::from_name,
         )?;
-        let [error] = error[..] else {
-            return Err(self.error(
-                entry.span(),
-                &format!("{section}.error"),
-                "expected one error measure, not a list (one [[fit]] section per measure)".into(),
-            ));
-        };
+        let error = self.one(
+            &error,
+            entry,
+            section,
+            "error",
+            "expected one error measure, not a list (one [[fit]] section per measure)",
+        )?;
         Ok(FitChoices {
             functions,
             continuities,
