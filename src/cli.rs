@@ -14,7 +14,7 @@ use crate::experiment::slurm::{self, SlurmOptions};
 use crate::experiment::Registry;
 use crate::experiment::{coco_log, Spec, SpecError, SpecLimits};
 use crate::files::{check_output_dir, IoError, Staging};
-use crate::fit::{Closing, ErrorMeasure, FitOptions, FunctionType, SearchSpace};
+use crate::fit::{Chain, Closing, ErrorMeasure, FitOptions, FunctionType, SearchSpace};
 use crate::functions::{Function, Transform};
 use crate::geometry::{Continuity, Parameterisation, Point};
 use crate::outline::{load_svg, CornerOptions, OutlineError};
@@ -120,7 +120,7 @@ enum Command {
         post_hoc: String,
     },
     /// Fit piecewise (rational) Bézier curves to an outline.
-    Fit(FitArgs),
+    Fit(Box<FitArgs>),
     /// Score the paths of an SVG file (another tool's curves) against the
     /// outline points `fit` would use: orthogonal max and RMS distance.
     Score(ScoreArgs),
@@ -222,6 +222,12 @@ struct FitArgs {
     /// parameters s_i, the thesis's E; the default in specs).
     #[arg(long, default_value = "orthogonal", value_parser = clap::builder::PossibleValuesParser::new(ErrorMeasure::NAMES))]
     error: String,
+    /// How the segments are solved: joint (the sequential chain, then all
+    /// segments at once by Levenberg–Marquardt with shared joins, so none
+    /// inherits another's error) or sequential (one after another, the
+    /// thesis's; the default in specs).
+    #[arg(long, default_value = "joint", value_parser = clap::builder::PossibleValuesParser::new(Chain::NAMES))]
+    chain: String,
     /// Rounds of Newton parameter correction after each segment's solve
     /// (Schneider 1990); each round solves again with a fresh budget.
     #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=100))]
@@ -380,7 +386,7 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
             };
             write_report(&dir, &opts, w)
         }
-        Command::Fit(args) => fit(args, w),
+        Command::Fit(args) => fit(*args, w),
         Command::Score(args) => score_curves(args, w),
         Command::Implant { spec, out } => implant(&spec, out, w),
         Command::List => {
@@ -763,13 +769,14 @@ impl FitArgs {
         };
         options.reparameterise = self.reparameterise;
         options.error = ErrorMeasure::from_name(&self.error).expect("clap checked the name");
+        options.chain = Chain::from_name(&self.chain).expect("clap checked the name");
         options.search.kind =
             SearchSpace::from_name(&self.search_space).expect("clap checked the name");
         options
     }
 
     /// The case columns of the fit's `metrics.csv`.
-    fn case(&self, options: &FitOptions, method: &Method) -> [(&'static str, String); 12] {
+    fn case(&self, options: &FitOptions, method: &Method) -> [(&'static str, String); 13] {
         [
             ("input", self.input.clone()),
             ("function", options.function.name().to_owned()),
@@ -785,6 +792,7 @@ impl FitArgs {
             ),
             ("reparameterise", self.reparameterise.to_string()),
             ("error", options.error.name().to_owned()),
+            ("chain", options.chain.name().to_owned()),
             (
                 "contours",
                 self.contour

@@ -9,6 +9,10 @@
 //! so a caller may inline it into code compiled for wider vector units and
 //! get the same bits.
 
+mod banded;
+
+pub use banded::BandedArrow;
+
 /// Solves `A y = b` in place for a symmetric positive definite `n × n` matrix
 /// `A` (row-major, overwritten by its Cholesky factor `L`, `A = LLᵀ`), leaving
 /// `y` in `b`. Returns `false` (with `a` and `b` in an unspecified state) if

@@ -8,7 +8,7 @@
 use std::f64::consts::{PI, TAU};
 
 use metabezier::fit::{
-    fit_piecewise, ErrorMeasure, FitOptions, FunctionType, LmSolver, PiecewiseFit,
+    fit_piecewise, Chain, ErrorMeasure, FitOptions, FunctionType, LmSolver, PiecewiseFit, Segment,
 };
 use metabezier::geometry::{
     nearest_with, Continuity, Curve, Point, RationalCubicBez, RationalQuadBez,
@@ -60,6 +60,12 @@ fn orthogonal(function: FunctionType, continuity: Continuity) -> FitOptions {
 /// `truth` pieces: every data point and 200 samples of every fitted segment
 /// to the truth, 200 samples of every true piece to the fit.
 fn hausdorff<C: Curve>(fit: &PiecewiseFit, truth: &[C]) -> f64 {
+    let segments: Vec<Segment> = fit.segments.iter().map(|s| s.segment).collect();
+    hausdorff_of(&segments, truth)
+}
+
+/// [`hausdorff`] of fitted curves however they were made.
+fn hausdorff_of<F: Curve, C: Curve>(fitted: &[F], truth: &[C]) -> f64 {
     let to_truth = |p: Point| {
         truth
             .iter()
@@ -67,16 +73,16 @@ fn hausdorff<C: Curve>(fit: &PiecewiseFit, truth: &[C]) -> f64 {
             .fold(f64::INFINITY, f64::min)
     };
     let to_fit = |p: Point| {
-        fit.segments
+        fitted
             .iter()
-            .map(|s| nearest_with(&s.segment, p, 1000).1)
+            .map(|s| nearest_with(s, p, 1000).1)
             .fold(f64::INFINITY, f64::min)
     };
     let ts = (0..=200).map(|k| k as f64 / 200.0);
     let mut worst: f64 = 0.0;
-    for s in &fit.segments {
+    for s in fitted {
         for t in ts.clone() {
-            worst = worst.max(to_truth(s.segment.eval(t)));
+            worst = worst.max(to_truth(s.eval(t)));
         }
     }
     for c in truth {
@@ -324,6 +330,144 @@ fn a_full_ellipse_is_recovered_by_four_g1_rational_cubics_or_quadratics() {
             assert!(fit.joins_hold(1e-9));
         }
     }
+}
+
+#[test]
+fn the_joint_chain_recovers_the_ellipse_from_uneven_breaks() {
+    // Arcs of 63°, 126°, 81° and 90°: each an exact rational quadratic, so
+    // the ellipse is four G¹ rational cubics whatever the breaks.
+    let (points, quarters) = ellipse(
+        400,
+        Place {
+            angle: 1.1,
+            scale: 1.0,
+            offset: Point::new(-40.0, 25.0),
+        },
+    );
+    for function in [FunctionType::RationalCubic, FunctionType::RationalQuadratic] {
+        let mut options = orthogonal(function, Continuity::G1);
+        options.chain = Chain::Joint;
+        let fit = fit_piecewise(
+            &points,
+            true,
+            &[0, 70, 210, 300],
+            &options,
+            &mut LmSolver::default(),
+        )
+        .unwrap();
+        assert_eq!(fit.chain, Chain::Joint);
+        let h = hausdorff(&fit, &quarters);
+        assert!(h < 1e-9 * 140.0, "{function}: {h:e}");
+        assert!(fit.closing.unwrap().angle_degrees < 1e-6);
+        assert!(fit.joins_hold(1e-9));
+    }
+}
+
+/// Runs `metabezier fit` on the points in a CSV (closed by repeating the
+/// first point) with `args`, and reads back the fitted segments.
+fn command_line_fit(points: &[Point], closed: bool, args: &[&str]) -> Vec<Segment> {
+    use metabezier::geometry::{RationalCubicBez, RationalQuadBez};
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("points.csv");
+    let mut text = String::from("x,y\n");
+    let ring = points.iter().chain(closed.then(|| &points[0]));
+    for p in ring {
+        text.push_str(&format!("{:?},{:?}\n", p.x, p.y));
+    }
+    std::fs::write(&csv, text).unwrap();
+    let out = dir.path().join("out");
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_metabezier"))
+        .arg("fit")
+        .arg(&csv)
+        .args(args)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        status.status.success(),
+        "{}",
+        String::from_utf8_lossy(&status.stderr)
+    );
+    let fit = std::fs::read_to_string(out.join("fit.csv")).unwrap();
+    let mut lines = fit.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    lines
+        .map(|line| {
+            let v: Vec<&str> = line.split(',').collect();
+            let num = |name: &str| v[col(name)].parse::<f64>().unwrap();
+            let pt = |k: usize| Point::new(num(&format!("c{k}x")), num(&format!("c{k}y")));
+            match v[col("function")] {
+                "rational-quadratic" => {
+                    Segment::from(RationalQuadBez::new(pt(0), pt(1), pt(2), num("w1")).unwrap())
+                }
+                "rational-cubic" => Segment::from(
+                    RationalCubicBez::new(pt(0), pt(1), pt(2), pt(3), num("w1"), num("w2"))
+                        .unwrap(),
+                ),
+                other => panic!("{other}"),
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn the_command_line_defaults_recover_an_ellipse_and_a_hyperbola_arc() {
+    // `metabezier fit` with its defaults (orthogonal error, joint chain, G1),
+    // the function, the segments and the algorithm named.
+    let (points, quarters) = ellipse(
+        400,
+        Place {
+            angle: 0.4,
+            scale: 1.0,
+            offset: Point::new(200.0, 150.0),
+        },
+    );
+    let fitted = command_line_fit(
+        &points,
+        true,
+        &[
+            "--function",
+            "rational-cubic",
+            "--segments",
+            "4",
+            "--algorithm",
+            "lm",
+        ],
+    );
+    assert_eq!(fitted.len(), 4);
+    let h = hausdorff_of(&fitted, &quarters);
+    assert!(h < 1e-9 * 140.0, "ellipse: {h:e}");
+    // A hyperbola arc sampled at equal hyperbolic parameter, 150 points.
+    let place = Place {
+        angle: 2.0,
+        scale: 40.0,
+        offset: Point::new(10.0, -30.0),
+    };
+    let arc = hyperbola_arc(1.5, 0.8, -0.9, 2.1, place);
+    let pts: Vec<Point> = (0..150)
+        .map(|k| {
+            let u = -0.9 + 2.1 * k as f64 / 149.0;
+            place.apply(Point::new(1.5 * u.cosh(), 0.8 * u.sinh()))
+        })
+        .collect();
+    let fitted = command_line_fit(
+        &pts,
+        false,
+        &[
+            "--function",
+            "rational-quadratic",
+            "--segments",
+            "1",
+            "--algorithm",
+            "lm",
+        ],
+    );
+    assert_eq!(fitted.len(), 1);
+    let size = arc.start().distance(arc.end());
+    let h = hausdorff_of(&fitted, &[arc]);
+    assert!(h < 1e-9 * size, "hyperbola: {h:e} of {size}");
 }
 
 #[test]

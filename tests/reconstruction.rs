@@ -478,6 +478,18 @@ fn bad_fitting_specs_get_specific_errors() {
             "7:1: fit[1].error: expected one error measure, not a list",
         ),
         (
+            "input = \"coin.png\"\nsegments = 4\nchain = \"jiont\"",
+            "10:9: fit[1].chain: unknown value \"jiont\"; did you mean \"joint\"?",
+        ),
+        (
+            "input = \"coin.png\"\nsegments = 4\nchain = [\"sequential\", \"joint\"]",
+            "7:1: fit[1].chain: expected one chain, not a list",
+        ),
+        (
+            "input = \"coin.png\"\nsegments = 4\nmode = \"per-segment\"\nchain = \"joint\"",
+            "11:9: fit[1].chain: expected \"sequential\" with mode = \"per-segment\"",
+        ),
+        (
             "input = \"coin.png\"\nsegments = 4\nfunction = \"quartic\"",
             "10:12: fit[1].function: unknown value \"quartic\"; did you mean \"quadratic\"? Valid choices: \"quadratic\"",
         ),
@@ -529,6 +541,37 @@ fn a_campaign_measures_the_orthogonal_error_where_a_section_asks() {
     // most the distance to the point at its fixed parameter: lower (7.2
     // against 12.8 here).
     assert!(orthogonal < 0.8 * fixed, "{orthogonal} vs {fixed}");
+}
+
+#[test]
+fn a_campaign_solves_the_chain_jointly_where_a_section_asks() {
+    let tmp = tempfile::tempdir().unwrap();
+    let body = "input = \"coin.png\"\nfunction = \"rational-cubic\"\ncontinuity = \"g1\"\nsegments = 6\nbudget = 2000\n";
+    let text = format!(
+        "[experiment]\nname = \"chain\"\nseed = 1\nruns = 1\n\n[[fit]]\n{body}\n[[fit]]\n{body}chain = \"joint\"\n\n[[algorithm]]\nname = \"lm\"\n"
+    );
+    let spec = spec_in(tmp.path(), &text);
+    let names: Vec<String> = spec.problems.iter().map(|p| p.key()).collect();
+    assert_eq!(
+        names,
+        ["coin/rational-cubic/g1-6", "coin/rational-cubic/g1/joint-6"]
+    );
+    let out = tmp.path().join("out");
+    run(&spec, &out, 2, None);
+    let records = metabezier::experiment::records::read_results(&out).unwrap();
+    let best = |name: &str| {
+        records
+            .iter()
+            .find(|r| r.problem == name)
+            .unwrap_or_else(|| panic!("{name} in {records:?}"))
+            .best
+    };
+    let (sequential, joint) = (
+        best("coin/rational-cubic/g1"),
+        best("coin/rational-cubic/g1/joint"),
+    );
+    // The same curves, their joins chosen together: never worse, here lower.
+    assert!(joint < 0.95 * sequential, "{joint} vs {sequential}");
 }
 
 /// A campaign with every fitting key that came with the smooth closing:
@@ -1172,33 +1215,49 @@ fn a_spec_asking_for_more_segments_than_the_outline_allows_is_refused() {
 
 #[test]
 fn the_command_line_default_fits_the_horse_within_a_pixel() {
-    // `metabezier fit` defaults to LM with the orthogonal error: the horse at
-    // 101 rational cubics, G1, within 1 px everywhere and 0.30 px RMS
-    // (potrace at 101 segments: 1.94 and 0.331 px; the fixed-parameter E:
-    // 1.33 and 0.316 px).
+    // `metabezier fit` defaults to LM with the orthogonal error and the joint
+    // chain: the horse at 101 rational cubics, G1, within 1 px everywhere and
+    // 0.30 px RMS (potrace at 101 segments: 1.94 and 0.331 px; the thesis's
+    // fixed-parameter E with the sequential chain: 1.33 and 0.316 px).
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().to_str().unwrap();
-    let (ok, _, err) = cli(&["fit", "horse.png", "--segments", "101", "--out", out]);
-    assert!(ok, "{err}");
-    let all = all_row(tmp.path());
+    let run = |extra: &[&str]| {
+        let mut args = vec!["fit", "horse.png", "--segments", "101", "--out", out];
+        args.extend_from_slice(extra);
+        let (ok, _, err) = cli(&args);
+        assert!(ok, "{err}");
+        all_row(tmp.path())
+    };
+    let all = run(&[]);
     assert_eq!(
-        (all["algorithm"].as_str(), all["error"].as_str()),
-        ("lm", "orthogonal")
+        (
+            all["algorithm"].as_str(),
+            all["error"].as_str(),
+            all["chain"].as_str()
+        ),
+        ("lm", "orthogonal", "joint")
     );
     let max: f64 = all["max_distance"].parse().unwrap();
     let rms: f64 = all["rms_distance"].parse().unwrap();
     assert!(max <= 1.0 && rms <= 0.30, "max {max}, RMS {rms}");
-    let (ok, _, err) = cli(&[
-        "fit",
-        "horse.png",
-        "--segments",
-        "101",
-        "--error",
-        "fixed",
-        "--out",
-        out,
-    ]);
-    assert!(ok, "{err}");
-    let fixed: f64 = all_row(tmp.path())["max_distance"].parse().unwrap();
-    assert!(fixed > 1.2, "{fixed}");
+    let e =
+        |row: &std::collections::HashMap<String, String>| -> f64 { row["sse"].parse().unwrap() };
+    let sequential = run(&["--chain", "sequential"]);
+    assert!(
+        e(&all) < 0.99 * e(&sequential),
+        "{} vs {}",
+        e(&all),
+        e(&sequential)
+    );
+    let fixed = run(&["--error", "fixed", "--chain", "sequential"]);
+    let fixed_max: f64 = fixed["max_distance"].parse().unwrap();
+    assert!(fixed_max > 1.2, "{fixed_max}");
+    // The joint chain lowers the thesis's E too, by a third.
+    let fixed_joint = run(&["--error", "fixed"]);
+    assert!(
+        e(&fixed_joint) < 0.7 * e(&fixed),
+        "{} vs {}",
+        e(&fixed_joint),
+        e(&fixed)
+    );
 }

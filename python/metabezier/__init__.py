@@ -349,6 +349,7 @@ def fit(
     search_space: str = "technique",
     parameterisation: str = "auto",
     error: str = "orthogonal",
+    chain: str = "joint",
     corner_angle: float = 60.0,
     corner_k: int = 5,
 ) -> FitResult:
@@ -357,7 +358,9 @@ def fit(
     until every point is within ``tolerance``; ``algorithm`` is an optimiser,
     ``lm`` (the default), or ``<optimiser>+lm``; ``budget`` counts evaluations
     per segment; ``error`` is ``orthogonal`` (the default: each point's
-    distance to the curve) or ``fixed`` (the thesis's E at the parameters).
+    distance to the curve) or ``fixed`` (the thesis's E at the parameters);
+    ``chain`` is ``joint`` (the default: all segments solved together with
+    shared joins) or ``sequential`` (one after another, the thesis's).
     The names are those of the command line. As in a CSV of points, the
     outline is closed when its last point repeats the first (that point is
     dropped), unless ``closed`` says otherwise."""
@@ -378,6 +381,7 @@ def fit(
         search_space,
         parameterisation,
         error,
+        chain,
         float(corner_angle),
         int(corner_k),
     )

@@ -12,7 +12,7 @@ use std::sync::{Mutex, OnceLock};
 use metabezier::experiment::{
     run_campaign, ProblemDef, Registry, RunOptions, Spec, SpecLimits, Summary,
 };
-use metabezier::fit::{Closing, ErrorMeasure, FitOptions, FunctionType, SearchSpace};
+use metabezier::fit::{Chain, Closing, ErrorMeasure, FitOptions, FunctionType, SearchSpace};
 use metabezier::geometry::{Continuity, Parameterisation, Point};
 use metabezier::optim::{Optimisers, ParamSet, Raw};
 use metabezier::outline::{
@@ -516,7 +516,7 @@ type FitRows = (Vec<SegmentRow>, Vec<(String, f64)>);
 /// `fit`: the piecewise fit of an outline given as points, as `metabezier
 /// fit` fits a CSV of points. Returns the segments and the metrics.
 #[pyfunction]
-#[pyo3(signature = (points, closed, function, continuity, segments, tolerance, algorithm, budget, seed, closing, search_space, parameterisation, error, corner_angle, corner_k))]
+#[pyo3(signature = (points, closed, function, continuity, segments, tolerance, algorithm, budget, seed, closing, search_space, parameterisation, error, chain, corner_angle, corner_k))]
 #[allow(clippy::too_many_arguments)]
 fn fit(
     py: Python<'_>,
@@ -533,6 +533,7 @@ fn fit(
     search_space: &str,
     parameterisation: &str,
     error: &str,
+    chain: &str,
     corner_angle: f64,
     corner_k: usize,
 ) -> PyResult<FitRows> {
@@ -552,6 +553,7 @@ fn fit(
         .ok_or_else(|| choice("search_space", search_space, &SearchSpace::NAMES))?;
     let error = ErrorMeasure::from_name(error)
         .ok_or_else(|| choice("error", error, &ErrorMeasure::NAMES))?;
+    let chain = Chain::from_name(chain).ok_or_else(|| choice("chain", chain, &Chain::NAMES))?;
     let method = Method::from_name(algorithm).ok_or_else(|| {
         let names = Method::names();
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
@@ -589,6 +591,7 @@ fn fit(
     options.closing = closing;
     options.search.kind = space;
     options.error = error;
+    options.chain = chain;
     options.parameterisation = match parameterisation {
         "auto" => source.auto_parameterisation(false),
         name => Parameterisation::from_name(name).ok_or_else(|| {

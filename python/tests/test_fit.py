@@ -48,7 +48,19 @@ def test_fit_matches_the_cli(cli, tmp_path):
     f = mb.fit(pts, segments=3, algorithm="pso", budget=3000, seed=4)
     with open(tmp_path / "out" / "metrics.csv", newline="") as fh:
         row = next(csv.DictReader(fh))
+    assert row["chain"] == "joint"
     assert float(row["sse"]) == f.metrics["sse"], (row, f.metrics)
+    subprocess.run(
+        [str(cli), "fit", str(data), "--segments", "3", "--algorithm", "pso", "--budget", "3000",
+         "--seed", "4", "--chain", "sequential", "--out", str(tmp_path / "seq")],
+        check=True, capture_output=True,
+    )
+    s = mb.fit(pts, segments=3, algorithm="pso", budget=3000, seed=4, chain="sequential")
+    with open(tmp_path / "seq" / "metrics.csv", newline="") as fh:
+        row = next(csv.DictReader(fh))
+    assert float(row["sse"]) == s.metrics["sse"], (row, s.metrics)
+    # The joint chain starts from the sequential one: never worse.
+    assert f.metrics["sse"] <= s.metrics["sse"]
 
 
 def test_tolerance_and_score(tmp_path):
@@ -77,6 +89,8 @@ def test_tolerance_and_score(tmp_path):
         (dict(segments=3, tolerance=1.0), "not both"),
         (dict(tolerance=-1.0), "tolerance"),
         (dict(segments=0), "segments"),
+        (dict(chain="jiont"), 'chain: unknown "jiont"; valid choices: "sequential" or "joint"'),
+        (dict(function="quadratic", continuity="c1"), 'chain "sequential"'),
     ],
 )
 def test_bad_fit_arguments(kwargs, message):

@@ -151,6 +151,40 @@ impl Controls {
         (p, p1, p2)
     }
 
+    /// The partial derivatives of `P(s)` of the degree-`m` curve with
+    /// respect to the inner control points and weights: with
+    /// `P = Σ w_k B_k C_k / W`, `W = Σ w_k B_k`, `∂P/∂C_k = (w_k B_k / W) I`
+    /// and `∂P/∂w_k = B_k (C_k − P) / W` (Piegl & Tiller, *The NURBS Book*,
+    /// §4.2). For `m = 2` the `C₂`, `w₂` parts are zero.
+    #[inline(always)]
+    pub(super) fn partials(&self, m: usize, s: f64) -> Partials {
+        let w = [1.0, self.w1, if m == 3 { self.w2 } else { 1.0 }, 1.0];
+        let t = 1.0 - s;
+        let b: [f64; 4] = if m == 3 {
+            [t * t * t, 3.0 * t * t * s, 3.0 * t * s * s, s * s * s]
+        } else {
+            [t * t, 2.0 * t * s, s * s, 0.0]
+        };
+        let mut wsum = 0.0;
+        let mut num = Point::ZERO;
+        for j in 0..=m {
+            wsum += w[j] * b[j];
+            num += self.c[j] * (w[j] * b[j]);
+        }
+        let p = num / wsum;
+        let inner2 = m == 3;
+        Partials {
+            c1: w[1] * b[1] / wsum,
+            c2: if inner2 { w[2] * b[2] / wsum } else { 0.0 },
+            w1: (self.c[1] - p) * (b[1] / wsum),
+            w2: if inner2 {
+                (self.c[2] - p) * (b[2] / wsum)
+            } else {
+                Point::ZERO
+            },
+        }
+    }
+
     /// The foot parameter of `r` on the degree-`m` curve near `s0`: Newton's
     /// method on `g(s) = (P(s) − r)·P′(s)` with `g′ = |P′|² + (P − r)·P″`
     /// (Piegl & Tiller, *The NURBS Book*, §6.1), the Gauss–Newton `g′ = |P′|²`
@@ -197,6 +231,19 @@ impl Controls {
         }
         (s, p, d1)
     }
+}
+
+/// The first-order sensitivities of `P(s)` ([`Controls::partials`]).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Partials {
+    /// `∂P/∂C₁ = c1 · I`.
+    pub(super) c1: f64,
+    /// `∂P/∂C₂ = c2 · I` (0 for quadratics).
+    pub(super) c2: f64,
+    /// `∂P/∂w₁`.
+    pub(super) w1: Point,
+    /// `∂P/∂w₂` (zero for quadratics).
+    pub(super) w2: Point,
 }
 
 /// The most Newton steps of one foot-point projection ([`Controls::foot`]).

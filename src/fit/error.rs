@@ -103,6 +103,10 @@ pub enum FitError {
         /// The length given.
         found: usize,
     },
+    /// The joint chain ([`crate::fit::Chain::Joint`]) was asked for
+    /// quadratic segments with C¹ joins, which their first segment
+    /// determines (one inner control point each).
+    JointQuadraticC1,
     /// A fit of one contour of a shape failed.
     Contour {
         /// The contour's number in its input.
@@ -199,6 +203,12 @@ impl fmt::Display for FitError {
             FitError::DimensionMismatch { expected, found } => write!(
                 f,
                 "the decision vector has {found} value(s), the problem {expected}"
+            ),
+            FitError::JointQuadraticC1 => write!(
+                f,
+                "the joint chain cannot join quadratic segments C1: each has one inner control \
+                 point, so C1 joins fix every segment from the first; use chain \"sequential\", \
+                 G1 joins, or a cubic or rational cubic function"
             ),
             FitError::Contour { contour, error } => write!(f, "contour {contour}: {error}"),
         }

@@ -10,7 +10,12 @@
 //! `Σᵢ min_s |Rᵢ − P(s)|²`, the `sᵢ` solved with the curve.
 //! Segments are fitted in sequence; each joins the previous one with C⁰, C¹
 //! or G¹ continuity (Farin 2002, §10.2 and §13.6), and a closed outline's
-//! chain closes smoothly ([`Closing`]).
+//! chain closes smoothly ([`Closing`]). With [`Chain::Joint`] (beyond the
+//! thesis) the sequential chain is then solved again as one problem, every
+//! join a shared variable (a G¹ joint's unit tangent and its two legs, a C¹
+//! joint's derivative), so that no segment inherits its predecessor's
+//! error; Levenberg–Marquardt solves it through the banded normal equations
+//! ([`crate::linalg::BandedArrow`]) in time linear in the segments.
 //!
 //! The split follows argmin's: a [`SegmentProblem`] is an ordinary
 //! box-bounded [`crate::problem::Problem`] (and a
@@ -24,6 +29,7 @@
 //! | [`FunctionType`], [`Segment`] | the four curve families and a fitted segment |
 //! | [`SegmentProblem`], [`Start`] | one segment's decision variables, box and objective |
 //! | [`ErrorMeasure`] | what E measures: at fixed parameters, or orthogonally (foot points) |
+//! | [`Chain`] | segments solved in sequence, or jointly with shared joins |
 //! | [`search_space`] | the thesis's search-space technique (reconstructed) |
 //! | [`linear_fit`] | fixed-weight linear least squares |
 //! | [`SegmentSolver`] | metaheuristic, LM and hybrid solvers |
@@ -55,6 +61,7 @@
 //! # Ok::<(), metabezier::geometry::GeometryError>(())
 //! ```
 
+mod chain;
 mod controls;
 mod error;
 mod function;
@@ -74,8 +81,8 @@ pub use function::FunctionType;
 pub use linear::linear_fit;
 pub use metrics::{segment_metrics, FitMetrics, SegmentMetrics};
 pub use options::{
-    Closing, ErrorMeasure, FitOptions, GuessRule, RealOption, SearchSpace, SearchSpaceOptions,
-    ALPHA_SIZE, MARGIN, PT,
+    Chain, Closing, ErrorMeasure, FitOptions, GuessRule, RealOption, SearchSpace,
+    SearchSpaceOptions, ALPHA_SIZE, MARGIN, PT,
 };
 pub use piecewise::{
     equal_arc_breaks, fit_adaptive, fit_breaks, fit_independent, fit_piecewise, fit_segment_count,

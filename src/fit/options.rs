@@ -294,6 +294,42 @@ impl Closing {
     }
 }
 
+/// How the segments of a piecewise fit are solved: one after another (the
+/// thesis's sequential fitting), or all at once.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Chain {
+    /// Segment after segment, each inheriting its start join from the
+    /// previous one (the default in specs).
+    #[default]
+    Sequential,
+    /// The sequential chain, then every segment's variables solved together
+    /// by Levenberg–Marquardt with shared joins (beyond the thesis; see
+    /// [`crate::fit`]'s joint-chain notes).
+    Joint,
+}
+
+impl Chain {
+    /// The names [`Chain::from_name`] accepts.
+    pub const NAMES: [&'static str; 2] = ["sequential", "joint"];
+
+    /// The chain called `name`.
+    pub fn from_name(name: &str) -> Option<Chain> {
+        match name {
+            "sequential" => Some(Chain::Sequential),
+            "joint" => Some(Chain::Joint),
+            _ => None,
+        }
+    }
+
+    /// Its name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Chain::Sequential => "sequential",
+            Chain::Joint => "joint",
+        }
+    }
+}
+
 /// Everything a piecewise fit needs besides the data, the breaks and the solver.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FitOptions {
@@ -319,6 +355,9 @@ pub struct FitOptions {
     pub reparameterise: u32,
     /// How a closed outline's chain closes; default [`Closing::Smooth`].
     pub closing: Closing,
+    /// How the chain of segments is solved; default [`Chain::Sequential`]
+    /// (the thesis's).
+    pub chain: Chain,
 }
 
 impl Default for FitOptions {
@@ -332,6 +371,7 @@ impl Default for FitOptions {
             budget_per_segment: 10_000,
             reparameterise: 0,
             closing: Closing::Smooth,
+            chain: Chain::Sequential,
         }
     }
 }

@@ -26,15 +26,21 @@
 //! imposed at the closing joint, as the thesis's sequential fitting does.
 //! [`PiecewiseFit::closing`] reports the closing joint's mismatch either way.
 //!
+//! With [`Chain::Joint`] the sequential chain is the start of one solve of
+//! all its segments with shared joins (see `chain.rs`); [`fit_adaptive`]
+//! keeps the joint result only where it stays within its tolerance.
+//!
 //! [`fit_independent`] refits every segment of a reference fit as its own
 //! problem, joined to the reference's neighbours (the per-segment mode).
 
+use super::chain::{solve_joint, Fitted};
 use super::metrics::{FitMetrics, SegmentMetrics};
 use super::span::{fit_one, Outline, Piece};
 use super::{
-    outline_trace, Closing, End, FitError, FitOptions, FittedSegment, SegmentSolver, Start,
+    outline_trace, Chain, Closing, End, FitError, FitOptions, FittedSegment, SegmentSolver, Start,
 };
 use crate::geometry::{check_join, Continuity, Curve, Point};
+use crate::optim::lm::LevenbergMarquardt;
 use crate::optim::TracePoint;
 
 /// The mismatch at the closing joint of a closed outline (last segment's end
@@ -94,6 +100,12 @@ pub struct PiecewiseFit {
     /// Evaluations spent on fits that [`fit_adaptive`] split and discarded
     /// (included in `metrics.evaluations`; 0 for the other methods).
     pub discarded_evaluations: u64,
+    /// The chain that made the segments: [`Chain::Joint`] when the joint
+    /// solve was asked for and kept, else [`Chain::Sequential`].
+    pub chain: Chain,
+    /// Evaluations of the joint solve (included in `metrics.evaluations`;
+    /// the segments' own count their sequential fits).
+    pub chain_evaluations: u64,
     /// The totals.
     pub metrics: FitMetrics,
 }
@@ -113,9 +125,16 @@ impl PiecewiseFit {
     }
 
     /// The best-so-far `E` of the whole fit against evaluations
-    /// ([`outline_trace`]).
+    /// ([`outline_trace`]); after a joint solve, its `E` at the end.
     pub fn trace(&self) -> Vec<TracePoint> {
-        outline_trace(&self.segments)
+        let mut trace = outline_trace(&self.segments);
+        if self.chain_evaluations > 0 && !trace.is_empty() {
+            trace.push(TracePoint {
+                evaluations: self.metrics.evaluations - self.discarded_evaluations,
+                best: self.metrics.sse,
+            });
+        }
+        trace
     }
 }
 
@@ -142,10 +161,12 @@ fn finish(
     segments: Vec<FittedSegment>,
     discarded: u64,
     at_corner: bool,
+    joint: Option<u64>,
 ) -> PiecewiseFit {
     let per: Vec<SegmentMetrics> = segments.iter().map(|s| s.metrics).collect();
     let mut metrics = FitMetrics::total(&per, outline.len());
-    metrics.evaluations += discarded;
+    let chain_evaluations = joint.unwrap_or(0);
+    metrics.evaluations += discarded + chain_evaluations;
     let closing = match (outline.closed, segments.first(), segments.last()) {
         (true, Some(f), Some(l)) => {
             let mut c = ClosingJoint::between(&l.segment, &f.segment);
@@ -164,19 +185,79 @@ fn finish(
         closed: outline.closed,
         closing,
         discarded_evaluations: discarded,
+        chain: if joint.is_some() {
+            Chain::Joint
+        } else {
+            Chain::Sequential
+        },
+        chain_evaluations,
         metrics,
     }
 }
 
+/// The joint solve of a sequential chain's `segments` when the options ask
+/// for it ([`Chain::Joint`]): Levenberg–Marquardt over all of them with a
+/// budget of `budget_per_segment` per segment (as much again as the
+/// sequential fit was given). Returns the segments to keep and the joint
+/// evaluations, or the segments unchanged and `None` when the chain is
+/// sequential, the joint variables cannot describe it (a straight
+/// quadratic), or — with a `tolerance` — the joint result strays beyond it
+/// where the sequential one did not.
+fn joint_chain(
+    outline: &Outline<'_>,
+    segments: Vec<FittedSegment>,
+    options: &FitOptions,
+    tolerance: Option<f64>,
+) -> Result<(Vec<FittedSegment>, Option<u64>), FitError> {
+    if options.chain != Chain::Joint || segments.is_empty() {
+        return Ok((segments, None));
+    }
+    let n = outline.len();
+    let fitted: Vec<Fitted<'_>> = segments
+        .iter()
+        .map(|s| {
+            let last = if outline.closed && s.last <= s.first {
+                s.last + n
+            } else {
+                s.last
+            };
+            Fitted {
+                segment: s,
+                span: (s.first, last),
+            }
+        })
+        .collect();
+    // A step gaining less than 10⁻⁶ of E ends the solve: on the horse at
+    // 101 rational cubics that costs 1.0 % of the fixed E (0.0 % of the
+    // orthogonal) and saves 73 % (15 %) of the joint evaluations.
+    let lm = LevenbergMarquardt {
+        reduction_tol: 1e-6,
+        ..LevenbergMarquardt::default()
+    };
+    let budget = options
+        .budget_per_segment
+        .saturating_mul(segments.len() as u64);
+    let Some((refit, used)) = solve_joint(outline, &fitted, options, &lm, budget)? else {
+        return Ok((segments, None));
+    };
+    let within = |s: &[FittedSegment], t: f64| s.iter().all(|f| f.metrics.max_distance <= t);
+    if let Some(t) = tolerance {
+        if within(&segments, t) && !within(&refit, t) {
+            return Ok((segments, None));
+        }
+    }
+    Ok((refit, Some(used)))
+}
+
 /// The spans of a chain in fitting order, the continuity at each start,
 /// and whether the first starts at a corner.
-struct Chain {
+struct Plan {
     spans: Vec<(usize, usize)>,
     joins: Vec<Continuity>,
     at_corner: bool,
 }
 
-impl Chain {
+impl Plan {
     /// The chain of `spans` (in outline order) whose starts are corners
     /// where `corner[k]`: C⁰ there, the options' continuity elsewhere, the
     /// first segment free. A closed outline closed smoothly starts at its
@@ -187,7 +268,7 @@ impl Chain {
         spans: Vec<(usize, usize)>,
         corner: &[bool],
         options: &FitOptions,
-    ) -> Chain {
+    ) -> Plan {
         let mut joins: Vec<Continuity> = corner
             .iter()
             .map(|&c| {
@@ -219,7 +300,7 @@ impl Chain {
         if let Some(j) = joins.first_mut() {
             *j = Continuity::C0;
         }
-        Chain {
+        Plan {
             spans,
             joins,
             at_corner,
@@ -237,7 +318,7 @@ impl Chain {
     }
 
     /// Whether the last segment of a chain of spans joins the first one's
-    /// start: as [`Chain::closes_smoothly_split`], with more than one span.
+    /// start: as [`Plan::closes_smoothly_split`], with more than one span.
     fn closes_smoothly(&self, outline: &Outline<'_>, options: &FitOptions) -> bool {
         self.closes_smoothly_split(outline, options) && self.spans.len() > 1
     }
@@ -247,7 +328,7 @@ impl Chain {
 /// joins the first when the chain closes smoothly.
 fn fit_chain<S: SegmentSolver + ?Sized>(
     outline: &Outline<'_>,
-    chain: &Chain,
+    chain: &Plan,
     options: &FitOptions,
     solver: &mut S,
 ) -> Result<PiecewiseFit, FitError> {
@@ -268,7 +349,8 @@ fn fit_chain<S: SegmentSolver + ?Sized>(
         };
         segments.push(fit_one(outline, piece, options, solver)?);
     }
-    Ok(finish(outline, segments, 0, chain.at_corner))
+    let (segments, joint) = joint_chain(outline, segments, options, None)?;
+    Ok(finish(outline, segments, 0, chain.at_corner, joint))
 }
 
 /// Fits `options.function` to `points` split at `breaks`, every interior
@@ -309,7 +391,7 @@ pub fn fit_breaks<S: SegmentSolver + ?Sized>(
         .iter()
         .map(|&(a, _)| corners.contains(&(a % points.len())))
         .collect();
-    let chain = Chain::new(&outline, spans, &corner, options);
+    let chain = Plan::new(&outline, spans, &corner, options);
     fit_chain(&outline, &chain, options, solver)
 }
 
@@ -420,7 +502,7 @@ pub fn fit_segment_count<S: SegmentSolver + ?Sized>(
                 .is_some_and(|p| is_corner[p])
         })
         .collect();
-    let chain = Chain::new(&outline, spans, &corner, options);
+    let chain = Plan::new(&outline, spans, &corner, options);
     fit_chain(&outline, &chain, options, solver)
 }
 
@@ -481,7 +563,7 @@ pub fn fit_adaptive<S: SegmentSolver + ?Sized>(
         .iter()
         .map(|&(a, _)| corners.contains(&(a % points.len())))
         .collect();
-    let chain = Chain::new(&outline, spans, &corner, options);
+    let chain = Plan::new(&outline, spans, &corner, options);
     // A corner-free contour is one span, which the splits cut into several
     // segments: it closes smoothly too (the last piece joins the first
     // segment's start once that exists).
@@ -525,7 +607,14 @@ pub fn fit_adaptive<S: SegmentSolver + ?Sized>(
             }
         }
     }
-    Ok(finish(&outline, segments, discarded, chain.at_corner))
+    let (segments, joint) = joint_chain(&outline, segments, options, Some(split.tolerance))?;
+    Ok(finish(
+        &outline,
+        segments,
+        discarded,
+        chain.at_corner,
+        joint,
+    ))
 }
 
 /// Fits every segment of `reference` again as its own problem: the same
@@ -575,7 +664,7 @@ where
         segments.push(fit_one(&outline, piece, options, &mut solver_for(k))?);
     }
     let at_corner = reference.closing.is_some_and(|c| c.at_corner);
-    Ok(finish(&outline, segments, 0, at_corner))
+    Ok(finish(&outline, segments, 0, at_corner, None))
 }
 
 #[cfg(test)]

@@ -679,7 +679,6 @@ impl SegmentProblem {
         }
         let k = self.controls(x);
         let m = self.function.degree();
-        let w = [1.0, k.w1, if m == 3 { k.w2 } else { 1.0 }, 1.0];
         let orthogonal = self.error == ErrorMeasure::Orthogonal;
         for i in 0..self.params.len() {
             let (s, tangent) = if orthogonal {
@@ -689,26 +688,13 @@ impl SegmentProblem {
             } else {
                 (self.params[i], None)
             };
-            let t = 1.0 - s;
-            let b: [f64; 4] = if m == 3 {
-                [t * t * t, 3.0 * t * t * s, 3.0 * t * s * s, s * s * s]
-            } else {
-                [t * t, 2.0 * t * s, s * s, 0.0]
-            };
-            let mut wsum = 0.0;
-            let mut num = Point::ZERO;
-            for j in 0..=m {
-                wsum += w[j] * b[j];
-                num += k.c[j] * (w[j] * b[j]);
-            }
-            let p = num / wsum;
-            let a1 = w[1] * b[1] / wsum;
+            let q = k.partials(m, s);
+            let (a1, a2) = (q.c1, q.c2);
             let (rx, ry) = jac[2 * i * dim..2 * (i + 1) * dim].split_at_mut(dim);
             let mut put = |j: usize, d: Point| {
                 rx[j] = -d.x;
                 ry[j] = -d.y;
             };
-            let a2 = w[2] * b[2] / wsum;
             let mut lin = |var: C1Var, a: f64| match var {
                 C1Var::Free(j) => {
                     put(j, Point::new(a, 0.0));
@@ -730,12 +716,11 @@ impl SegmentProblem {
                 _ => Point::ZERO,
             };
             if let Some(j) = self.layout.w1 {
-                let d = (k.c[1] - p) * (b[1] / wsum) + derived(self.layout.c1, w[1], a1);
-                put(j, d);
+                put(j, q.w1 + derived(self.layout.c1, k.w1, a1));
             }
             if let Some(j) = self.layout.w2 {
                 let var = self.layout.c2.unwrap_or(C1Var::Free(0));
-                put(j, (k.c[2] - p) * (b[2] / wsum) + derived(var, w[2], a2));
+                put(j, q.w2 + derived(var, k.w2, a2));
             }
             if let Some(t) = tangent {
                 for (x, y) in rx.iter_mut().zip(ry.iter_mut()) {

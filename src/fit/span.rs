@@ -34,7 +34,9 @@ pub struct FittedSegment {
     /// segment of a smoothly closed chain, which joins the first segment's
     /// start.
     pub end: End,
-    /// The decision vector found.
+    /// The decision vector found; after a joint solve
+    /// ([`crate::fit::Chain::Joint`]), the values of the chain's variables
+    /// this segment depends on.
     pub x: Vec<f64>,
     /// The local parameters `sᵢ` of its data points, the error was measured
     /// at (after any parameter correction).

@@ -18,7 +18,7 @@
 //! [`LeastSquares`].
 
 use super::evaluator::sanitise;
-use crate::linalg::cholesky_solve;
+use crate::linalg::{cholesky_solve, BandedArrow};
 use crate::problem::{Bounds, Problem};
 
 /// A box-bounded least-squares problem: minimise `E(x) = Σ_k r_k(x)²`.
@@ -40,6 +40,27 @@ pub trait LeastSquares: Problem {
     fn jacobian(&self, x: &[f64], jac: &mut [f64]) -> bool {
         let _ = (x, jac);
         false
+    }
+
+    /// The structure of `JᵀJ` for a problem that assembles its normal
+    /// equations itself ([`LeastSquares::normal_equations`]): the
+    /// half-bandwidth and the border of a [`BandedArrow`]. `None`, the
+    /// default, means a dense `JᵀJ` formed from [`LeastSquares::jacobian`].
+    /// A chain of curve segments has a banded `JᵀJ`, so its steps cost
+    /// `O(n b²)` instead of `O(n³)` and no `m × n` Jacobian is stored.
+    fn normal_structure(&self) -> Option<(usize, usize)> {
+        None
+    }
+
+    /// Adds `JᵀJ` into `a` and `Jᵀr` into `g` at `x`, whose residuals are
+    /// `r` (both zeroed by the caller); called, in place of
+    /// [`LeastSquares::jacobian`], exactly when
+    /// [`LeastSquares::normal_structure`] is `Some`, and costs `dim`
+    /// evaluations like a Jacobian. A problem that declares a structure
+    /// must implement it; the default panics.
+    fn normal_equations(&self, x: &[f64], r: &[f64], a: &mut BandedArrow, g: &mut [f64]) {
+        let _ = (x, r, a, g);
+        panic!("a problem with a normal_structure must assemble its normal_equations");
     }
 }
 
@@ -255,12 +276,12 @@ struct State<'p, P: LeastSquares + ?Sized> {
     e: f64,
     mu: f64,
     nu: f64,
-    /// The Jacobian, `JᵀJ` and `g = Jᵀr` at `x`.
+    /// The Jacobian (dense `JᵀJ` only), `JᵀJ` and `g = Jᵀr` at `x`.
     jac: Vec<f64>,
-    a: Vec<f64>,
+    a: Normal,
     g: Vec<f64>,
     /// The damped system's factor and the step `h`.
-    chol: Vec<f64>,
+    chol: Normal,
     h: Vec<f64>,
     /// The trial point and its residuals.
     x_new: Vec<f64>,
@@ -277,6 +298,19 @@ impl<'p, P: LeastSquares + ?Sized> State<'p, P> {
         let mut r = vec![0.0; m];
         problem.residuals(&x, &mut r);
         let e = sanitise(sum_sq(&r));
+        let (a, jac) = match problem.normal_structure() {
+            Some((width, border)) => (
+                Normal::Banded(BandedArrow::new(n, width, border)),
+                Vec::new(),
+            ),
+            None => (
+                Normal::Dense {
+                    n,
+                    a: vec![0.0; n * n],
+                },
+                vec![0.0; m * n],
+            ),
+        };
         State {
             problem,
             bounds: problem.bounds(),
@@ -290,10 +324,10 @@ impl<'p, P: LeastSquares + ?Sized> State<'p, P> {
             e,
             mu: tau,
             nu: 2.0,
-            jac: vec![0.0; m * n],
-            a: vec![0.0; n * n],
+            jac,
+            chol: a.clone(),
+            a,
             g: vec![0.0; n],
-            chol: vec![0.0; n * n],
             h: vec![0.0; n],
             x_new: vec![0.0; n],
             r_new: vec![0.0; m],
@@ -304,6 +338,15 @@ impl<'p, P: LeastSquares + ?Sized> State<'p, P> {
     /// A new iteration: the Jacobian at `x` (analytic, else forward
     /// differences; `dim` evaluations either way) and the normal equations.
     fn linearise(&mut self) {
+        if let Normal::Banded(a) = &mut self.a {
+            a.clear();
+            self.g.fill(0.0);
+            self.problem
+                .normal_equations(&self.x, &self.r, a, &mut self.g);
+            self.used += self.n as u64;
+            self.iterations += 1;
+            return;
+        }
         if !self.problem.jacobian(&self.x, &mut self.jac) {
             forward_differences(
                 self.problem,
@@ -316,23 +359,23 @@ impl<'p, P: LeastSquares + ?Sized> State<'p, P> {
         }
         self.used += self.n as u64;
         self.iterations += 1;
-        normal_equations(&self.jac, &self.r, self.m, self.n, &mut self.a, &mut self.g);
+        if let Normal::Dense { a, .. } = &mut self.a {
+            normal_equations(&self.jac, &self.r, self.m, self.n, a, &mut self.g);
+        }
     }
 
     /// Solves `(JᵀJ + μ D) h = −g` for the free variables; `false` if the
     /// system is not positive definite or the step is not finite.
     fn solve_step(&mut self) -> bool {
         let n = self.n;
-        let a = &self.a;
-        let chol = &mut self.chol;
-        let h = &mut self.h;
-        let max_diag = (0..n).map(|j| a[j * n + j]).fold(0.0, f64::max);
+        let max_diag = (0..n).map(|j| self.a.diagonal(j)).fold(0.0, f64::max);
         let floor = (max_diag * 1e-12).max(f64::MIN_POSITIVE);
-        chol.copy_from_slice(a);
+        self.chol.clone_from(&self.a);
         for j in 0..n {
-            chol[j * n + j] += self.mu * a[j * n + j].max(floor);
+            self.chol
+                .add_diagonal(j, self.mu * self.a.diagonal(j).max(floor));
         }
-        for (hj, gj) in h.iter_mut().zip(&self.g) {
+        for (hj, gj) in self.h.iter_mut().zip(&self.g) {
             *hj = -gj;
         }
         // Variables held at a bound by the gradient are fixed for this
@@ -340,15 +383,11 @@ impl<'p, P: LeastSquares + ?Sized> State<'p, P> {
         // 1982): their rows and columns become the identity, their step 0.
         for j in 0..n {
             if is_held(self.g[j], self.x[j], self.bounds[j]) {
-                for k in 0..n {
-                    chol[j * n + k] = 0.0;
-                    chol[k * n + j] = 0.0;
-                }
-                chol[j * n + j] = 1.0;
-                h[j] = 0.0;
+                self.chol.fix(j);
+                self.h[j] = 0.0;
             }
         }
-        cholesky_solve(chol, h, n) && h.iter().all(|v| v.is_finite())
+        self.chol.solve(&mut self.h) && self.h.iter().all(|v| v.is_finite())
     }
 
     /// Projects `x + h` onto the box as the trial point, and `h` to the
@@ -378,15 +417,11 @@ impl<'p, P: LeastSquares + ?Sized> State<'p, P> {
     /// the actual decrease of `F = ½E` over the decrease the linear model
     /// predicts, or −1 when the model predicts none.
     fn gain_ratio(&self, e_new: f64) -> f64 {
-        let (n, a, g, h) = (self.n, &self.a, &self.g, &self.h);
+        let (g, h) = (&self.g, &self.h);
         // Predicted decrease of F = ½E by the linear model:
         // L(0) − L(h) = −gᵀh − ½ hᵀ(JᵀJ)h.
         let gh: f64 = g.iter().zip(h).map(|(a, b)| a * b).sum();
-        let mut hah = 0.0;
-        for i in 0..n {
-            let row: f64 = (0..n).map(|j| a[i * n + j] * h[j]).sum();
-            hah += h[i] * row;
-        }
+        let hah = self.a.quadratic_form(h);
         let predicted = -gh - 0.5 * hah;
         let actual = 0.5 * (self.e - e_new);
         if predicted > 0.0 {
@@ -417,6 +452,74 @@ impl<'p, P: LeastSquares + ?Sized> State<'p, P> {
 #[inline]
 fn sum_sq(r: &[f64]) -> f64 {
     r.iter().map(|v| v * v).sum()
+}
+
+/// The normal matrix `JᵀJ` (and the damped system's factor): dense, or
+/// banded with a border for problems that declare a structure.
+#[derive(Clone, Debug)]
+enum Normal {
+    /// Row-major `n × n`.
+    Dense { n: usize, a: Vec<f64> },
+    /// [`LeastSquares::normal_structure`]'s shape.
+    Banded(BandedArrow),
+}
+
+impl Normal {
+    /// `A_jj`.
+    fn diagonal(&self, j: usize) -> f64 {
+        match self {
+            Normal::Dense { n, a } => a[j * *n + j],
+            Normal::Banded(a) => a.get(j, j),
+        }
+    }
+
+    /// `A_jj += v`.
+    fn add_diagonal(&mut self, j: usize, v: f64) {
+        match self {
+            Normal::Dense { n, a } => a[j * *n + j] += v,
+            Normal::Banded(a) => a.add(j, j, v),
+        }
+    }
+
+    /// Row and column `j` replaced by the identity's.
+    fn fix(&mut self, j: usize) {
+        match self {
+            Normal::Dense { n, a } => {
+                let n = *n;
+                for k in 0..n {
+                    a[j * n + k] = 0.0;
+                    a[k * n + j] = 0.0;
+                }
+                a[j * n + j] = 1.0;
+            }
+            Normal::Banded(a) => a.fix(j),
+        }
+    }
+
+    /// `hᵀAh`.
+    fn quadratic_form(&self, h: &[f64]) -> f64 {
+        match self {
+            Normal::Dense { n, a } => {
+                let n = *n;
+                let mut hah = 0.0;
+                for i in 0..n {
+                    let row: f64 = (0..n).map(|j| a[i * n + j] * h[j]).sum();
+                    hah += h[i] * row;
+                }
+                hah
+            }
+            Normal::Banded(a) => a.quadratic_form(h),
+        }
+    }
+
+    /// Solves `A y = b` in place, overwriting `A` by its factor; `false`
+    /// if `A` is not positive definite.
+    fn solve(&mut self, b: &mut [f64]) -> bool {
+        match self {
+            Normal::Dense { n, a } => cholesky_solve(a, b, *n),
+            Normal::Banded(a) => a.solve(b),
+        }
+    }
 }
 
 /// Forward-difference Jacobian, stepping backwards where the forward step

@@ -13,6 +13,7 @@
 //! # mode = "per-segment"                   # or "outline" (the default)
 //! # alpha_size = [0.1, 0.5]                # a list is a design factor
 //! # error = "fixed"                        # or "orthogonal" (one per section)
+//! # chain = "sequential"                   # or "joint" (one per section; outline mode)
 //! ```
 //!
 //! Relative input paths are resolved against the spec file's directory.
@@ -20,13 +21,14 @@
 //! α_size × budget is one problem, named `source/function/continuity`, with
 //! `/bounding-box` for the naive search space, `/alpha=A` for a listed
 //! α_size other than the default 0.5, `/per-segment` in the per-segment
-//! mode, and `/orthogonal` for `error = "orthogonal"`. Each input is loaded and each problem's segmentation is checked
+//! mode, `/orthogonal` for `error = "orthogonal"` and `/joint` for
+//! `chain = "joint"`. Each input is loaded and each problem's segmentation is checked
 //! when the spec loads, so a missing image, a glyph absent from its font or
 //! an impossible segmentation is reported before anything runs.
 //!
 //! **Keys stay.** The keys and values that came with the smooth closing
 //! (`closing`, `mode`, `contour = "all"`, a list of `alpha_size`,
-//! `parameterisation = "auto"`) and `error` are the only ones that change what a
+//! `parameterisation = "auto"`), `error` and `chain` are the only ones that change what a
 //! campaign records: a spec with a section that uses one of them gets the
 //! current fitting records for all its fitting problems (a best-so-far
 //! trace in `convergence.csv`, `rms_distance` in `fits.csv`, `contour` and
@@ -48,7 +50,7 @@ use crate::files::fmt_real;
 /// hundred).
 pub const MAX_FIT_PROBLEMS: usize = 10_000;
 use crate::fit::{
-    Closing, ErrorMeasure, FitError, FitOptions, FunctionType, RealOption, SearchSpace,
+    Chain, Closing, ErrorMeasure, FitError, FitOptions, FunctionType, RealOption, SearchSpace,
     SearchSpaceOptions, SegmentProblem, SegmentSolver, Solution, ALPHA_SIZE, PT,
 };
 use crate::functions::Transform;
@@ -60,7 +62,7 @@ use crate::reconstruction::{
     ContourChoice, FitMode, LoadOptions, Method, Reconstruction, Segmentation, ShapeFit, Source,
 };
 
-const FIT_KEYS: [&str; 18] = [
+const FIT_KEYS: [&str; 19] = [
     "input",
     "contour",
     "function",
@@ -75,6 +77,7 @@ const FIT_KEYS: [&str; 18] = [
     "t_range",
     "parameterisation",
     "error",
+    "chain",
     "budget",
     "label",
     "closing",
@@ -154,6 +157,9 @@ impl FitCase {
         }
         if o.error != ErrorMeasure::Fixed {
             name = format!("{name}/{}", o.error.name());
+        }
+        if o.chain != Chain::Sequential {
+            name = format!("{name}/{}", o.chain.name());
         }
         name
     }
@@ -585,9 +591,21 @@ impl Parser<'_> {
             "mode",
             "expected one mode, not a list",
         )?;
+        if mode == FitMode::PerSegment && choices.chain == Chain::Joint {
+            let at = self.get(table, "chain").map_or(entry.span(), |v| v.span());
+            return Err(self.error(
+                at,
+                &format!("{section}.chain"),
+                "expected \"sequential\" with mode = \"per-segment\" (each segment is its own \
+                 problem there, so there is no chain to solve jointly); use mode = \"outline\" \
+                 for the joint chain"
+                    .to_owned(),
+            ));
+        }
         let alpha_grid = search.alpha_sizes.as_ref().is_some_and(|a| a.len() > 1);
         let extended = self.get(table, "closing").is_some()
             || self.get(table, "error").is_some()
+            || self.get(table, "chain").is_some()
             || self.get(table, "mode").is_some()
             || contour == ContourChoice::All
             || alpha_grid
@@ -747,12 +765,28 @@ impl Parser<'_> {
             "error",
             "expected one error measure, not a list (one [[fit]] section per measure)",
         )?;
+        let chain = self.names(
+            table,
+            "chain",
+            section,
+            Chain::Sequential,
+            &Chain::NAMES,
+            Chain::from_name,
+        )?;
+        let chain = self.one(
+            &chain,
+            entry,
+            section,
+            "chain",
+            "expected one chain, not a list (one [[fit]] section per chain)",
+        )?;
         Ok(FitChoices {
             functions,
             continuities,
             spaces,
             parameterisation,
             error,
+            chain,
         })
     }
 
@@ -1005,6 +1039,7 @@ impl FitSettings {
                             options.closing = self.closing;
                             options.parameterisation = parameterisation;
                             options.error = c.error;
+                            options.chain = c.chain;
                             options.budget_per_segment = budget;
                             options.search.kind = space;
                             if let Some(a) = alpha {
@@ -1029,6 +1064,7 @@ struct FitChoices {
     spaces: Vec<SearchSpace>,
     parameterisation: Option<Parameterisation>,
     error: ErrorMeasure,
+    chain: Chain,
 }
 
 /// Search-space settings of a `[[fit]]` section; `None` keeps the default.
