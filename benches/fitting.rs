@@ -24,7 +24,8 @@ use std::time::Duration;
 
 use criterion::{Criterion, Throughput};
 use metabezier::fit::{
-    ErrorMeasure, FitOptions, FunctionType, SearchSpaceOptions, Segment, SegmentProblem, Start,
+    Chain, ErrorMeasure, FitOptions, FunctionType, SearchSpaceOptions, Segment, SegmentProblem,
+    Start,
 };
 use metabezier::geometry::{Continuity, Curve, Parameterisation, Point};
 use metabezier::problem::Problem;
@@ -103,13 +104,16 @@ fn horse_source() -> metabezier::reconstruction::Source {
     .expect("the vendored horse")
 }
 
-/// The horse at 101 segments, rational cubic, G1, with the error `error`.
+/// The horse at 101 segments, rational cubic, G1, with the error `error`
+/// and the chain `chain`.
 fn horse_101(
     source: &metabezier::reconstruction::Source,
     error: ErrorMeasure,
+    chain: Chain,
 ) -> metabezier::reconstruction::Reconstruction<'_> {
     let mut options = FitOptions::new(FunctionType::RationalCubic, Continuity::G1);
     options.error = error;
+    options.chain = chain;
     metabezier::reconstruction::Reconstruction {
         source,
         segmentation: metabezier::reconstruction::Segmentation::Count(101),
@@ -149,17 +153,38 @@ fn horse(c: &mut Criterion) {
     group.finish();
     let mut group = c.benchmark_group("horse-101");
     group.sample_size(20);
-    for error in [ErrorMeasure::Fixed, ErrorMeasure::Orthogonal] {
-        let r = horse_101(&source, error);
-        group.bench_function(format!("lm-{}", error.name()), |b| {
-            b.iter(|| {
-                r.fit(&Method::Exact, 1)
-                    .expect("a valid fit")
-                    .metrics
-                    .segments
-            })
-        });
+    for chain in [Chain::Sequential, Chain::Joint] {
+        for error in [ErrorMeasure::Fixed, ErrorMeasure::Orthogonal] {
+            let r = horse_101(&source, error, chain);
+            let id = match chain {
+                Chain::Sequential => format!("lm-{}", error.name()),
+                Chain::Joint => format!("lm-{}-joint", error.name()),
+            };
+            group.bench_function(id, |b| {
+                b.iter(|| {
+                    r.fit(&Method::Exact, 1)
+                        .expect("a valid fit")
+                        .metrics
+                        .segments
+                })
+            });
+        }
     }
+    // The command line's default end to end: the PNG loaded and traced,
+    // then fitted (orthogonal error, joint chain).
+    group.bench_function("end-to-end", |b| {
+        b.iter(|| {
+            let source = horse_source();
+            horse_101(&source, ErrorMeasure::Orthogonal, Chain::Joint)
+                .fit(&Method::Exact, 1)
+                .expect("a valid fit")
+                .metrics
+                .segments
+        })
+    });
+    group.bench_function("load-and-trace", |b| {
+        b.iter(|| horse_source().points().len())
+    });
     group.finish();
     closing(c);
     orthogonal_scaling(c);
@@ -243,8 +268,13 @@ fn horse_accuracy() {
     use metabezier::outline::Segment;
     use metabezier::reconstruction::{cubic_pieces, score, Method};
     let source = horse_source();
-    for error in [ErrorMeasure::Fixed, ErrorMeasure::Orthogonal] {
-        let fit = horse_101(&source, error)
+    for (error, chain) in [
+        (ErrorMeasure::Fixed, Chain::Sequential),
+        (ErrorMeasure::Orthogonal, Chain::Sequential),
+        (ErrorMeasure::Fixed, Chain::Joint),
+        (ErrorMeasure::Orthogonal, Chain::Joint),
+    ] {
+        let fit = horse_101(&source, error, chain)
             .fit(&Method::Exact, 1)
             .expect("a valid fit");
         let curves: Vec<Vec<Segment>> = vec![fit
@@ -254,8 +284,8 @@ fn horse_accuracy() {
             .collect()];
         let s = score(&source, &curves).expect("finite curves to score");
         println!(
-            "\nThe horse at 101 segments (rational cubic, G1, LM, {} error): max distance {:.3} px, RMS distance {:.3} px (each point to its segment); {:.3} px and {:.3} px to the whole curve",
-            error.name(), fit.metrics.max_distance, fit.metrics.rms_distance, s.total.max_distance, s.total.rms_distance
+            "\nThe horse at 101 segments (rational cubic, G1, LM, {} error, {} chain): max distance {:.3} px, RMS distance {:.3} px (each point to its segment); {:.3} px and {:.3} px to the whole curve",
+            error.name(), chain.name(), fit.metrics.max_distance, fit.metrics.rms_distance, s.total.max_distance, s.total.rms_distance
         );
     }
 }
@@ -288,11 +318,18 @@ fn main() {
             println!("{m:<6} {:>10.1} ms", t / 1e6);
         }
     }
-    if let Some(t) = mean_ns("horse-101", "lm") {
-        println!(
-            "\nThe horse at 101 segments, rational cubics, G1, LM: {:.2} ms",
-            t / 1e6
-        );
+    println!("\nThe horse at 101 segments, rational cubics, G1, LM:");
+    for id in [
+        "lm-fixed",
+        "lm-orthogonal",
+        "lm-fixed-joint",
+        "lm-orthogonal-joint",
+        "end-to-end",
+        "load-and-trace",
+    ] {
+        if let Some(t) = mean_ns("horse-101", id) {
+            println!("{id:<22} {:>8.2} ms", t / 1e6);
+        }
     }
     println!("\nThe coin at 20 segments, rational cubics, G1, closed smoothly against C0:");
     for m in ["lm", "mhs"] {
