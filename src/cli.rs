@@ -820,6 +820,14 @@ fn say_fit(w: &mut String, label: &str, fit: &ShapeFit, wall: f64, paths: &[Path
         m.evaluations,
         wall
     );
+    let outline = fit.contours.iter().map(|c| c.fit.outline_distance);
+    if let Some(d) = outline.clone().flatten().reduce(f64::max) {
+        say!(
+            w,
+            "  the curve and the outline polyline: at most {d:.4e} apart (both sides, {} samples per point gap)",
+            crate::fit::OUTLINE_SAMPLES
+        );
+    }
     for c in &fit.contours {
         if let Some(j) = c.fit.closing {
             let at = if j.at_corner {

@@ -530,6 +530,17 @@ fn adaptive_split_meets_the_tolerance() {
             fit.metrics
         );
         assert!(fit.joins_hold(1e-9));
+        // Between the points too, up to the chords' own sagitta (no smooth
+        // curve through the points is nearer their polyline).
+        let sagitta = pts
+            .windows(3)
+            .map(|w| (w[0] - w[1] * 2.0 + w[2]).hypot() / 8.0)
+            .fold(0.0f64, f64::max);
+        let between = fit.outline_distance.unwrap();
+        assert!(
+            between <= tol + sagitta,
+            "tol {tol}: {between} (sagitta {sagitta})"
+        );
         assert!(fit.metrics.segments >= previous);
         assert!(fit.metrics.evaluations >= fit.discarded_evaluations);
         previous = fit.metrics.segments;

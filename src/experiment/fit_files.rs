@@ -13,7 +13,11 @@ use crate::geometry::Orientation;
 use crate::reconstruction::ShapeFit;
 
 /// The columns of `metrics.csv` after the case columns.
-pub const METRICS_COLUMNS: [&str; 12] = [
+///
+/// `outline_distance` is the two-sided distance between the curve and the
+/// outline polyline that a `--tolerance` fit holds within its tolerance
+/// ([`crate::fit::outline_distance`]); empty for the other segmentations.
+pub const METRICS_COLUMNS: [&str; 13] = [
     "contour",
     "orientation",
     "points",
@@ -22,6 +26,7 @@ pub const METRICS_COLUMNS: [&str; 12] = [
     "rms",
     "max_distance",
     "rms_distance",
+    "outline_distance",
     "evaluations",
     "closing_join",
     "closing_angle_degrees",
@@ -35,6 +40,7 @@ fn metrics_fields(
     orientation: Option<Orientation>,
     m: &FitMetrics,
     closing: Option<ClosingJoint>,
+    outline: Option<f64>,
 ) -> Vec<String> {
     let orientation = match orientation {
         Some(Orientation::CounterClockwise) => "counter-clockwise",
@@ -58,6 +64,7 @@ fn metrics_fields(
         m.rms.to_string(),
         m.max_distance.to_string(),
         m.rms_distance.to_string(),
+        outline.map_or(String::new(), |d| d.to_string()),
         m.evaluations.to_string(),
         join,
         closing.map_or(String::new(), |c| c.angle_degrees.to_string()),
@@ -100,12 +107,18 @@ pub fn write_fit_records(
                 Some(c.orientation),
                 &c.fit.metrics,
                 c.fit.closing,
+                c.fit.outline_distance,
             ));
             row
         })
         .collect();
     let mut all = case_values;
-    all.extend(metrics_fields("all", None, &fit.metrics, None));
+    let outline = fit
+        .contours
+        .iter()
+        .map(|c| c.fit.outline_distance)
+        .try_fold(0.0, |worst: f64, d| d.map(|d| worst.max(d)));
+    all.extend(metrics_fields("all", None, &fit.metrics, None, outline));
     rows.push(all);
     let metrics_csv = dir.join("metrics.csv");
     write_atomic(&metrics_csv, &csv_bytes(&header, rows))?;

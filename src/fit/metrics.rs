@@ -59,6 +59,163 @@ pub fn segment_metrics<C: Curve + ?Sized>(
     }
 }
 
+/// Samples per data gap of [`outline_distance`], on each side.
+pub const OUTLINE_SAMPLES: usize = 8;
+
+/// Edges on each side of a curve sample's gap that [`outline_distance`]
+/// searches first.
+const WINDOW: usize = 16;
+
+/// How far a curve and the outline polyline of its data points are apart.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OutlineDistance {
+    /// The sampled two-sided distance (an upper bound of each sample's
+    /// true distance, so never below what the samples show).
+    pub distance: f64,
+    /// The same beyond the polyline's own sagitta: each sample's distance
+    /// less `σᵢ = max(|Δ²Rᵢ|, |Δ²Rᵢ₊₁|)/8` of its gap, with
+    /// `Δ²Rⱼ = Rⱼ₋₁ − 2Rⱼ + Rⱼ₊₁` (0 at the ends), the distance by which a
+    /// chord of a smooth curve through those points misses the curve
+    /// (`h²κ/8` for points `h` apart on a curvature `κ`). No smooth curve
+    /// through the points can be nearer the polyline than that, so a
+    /// tolerance below the sagitta is met here rather than refused.
+    pub excess: f64,
+    /// The gap `i` (between points `i` and `i + 1`) of the largest excess.
+    pub gap: usize,
+}
+
+/// The two-sided distance between `curve` and the polyline through `points`
+/// (in order, the first and last at the curve's ends): the Hausdorff
+/// distance of the two, checked on the polyline at [`OUTLINE_SAMPLES`]
+/// points of every edge (each projected on the curve by Newton's method,
+/// Piegl & Tiller, *The NURBS Book*, §6.1, from its end points' foot
+/// parameters and from between them, the closest kept) and on the curve at
+/// as many points per edge, equally spaced in its parameter, each against
+/// every edge. Every sample's distance is to a point actually on the other
+/// side, so the result never understates what it samples; between samples
+/// it can miss at most the bulge of one sample spacing. The data points'
+/// own distances are included (with no sagitta: they lie on the outline).
+pub fn outline_distance<C: Curve + ?Sized>(curve: &C, points: &[Point]) -> OutlineDistance {
+    let mut worst = OutlineDistance {
+        distance: 0.0,
+        excess: 0.0,
+        gap: 0,
+    };
+    if points.len() < 2 {
+        return worst;
+    }
+    let edges = points.len() - 1;
+    let bend = |j: usize| {
+        if j == 0 || j == edges {
+            0.0
+        } else {
+            (points[j - 1] - points[j] * 2.0 + points[j + 1]).hypot() / 8.0
+        }
+    };
+    let sagitta: Vec<f64> = (0..edges).map(|i| bend(i).max(bend(i + 1))).collect();
+
+    // The ends are the curve's ends (a closed one-segment contour starts and
+    // ends at the same point, whose nearest parameter is ambiguous).
+    let feet: Vec<f64> = (0..=edges)
+        .map(|i| match i {
+            0 => 0.0,
+            i if i == edges => 1.0,
+            _ => nearest(curve, points[i]).0,
+        })
+        .collect();
+    let k = OUTLINE_SAMPLES as f64;
+    for i in 0..edges {
+        note(&mut worst, curve.eval(feet[i]).distance(points[i]), i, 0.0);
+        for j in 1..OUTLINE_SAMPLES {
+            let f = j as f64 / k;
+            let q = points[i].lerp(points[i + 1], f);
+            let from = |s0: f64| curve.eval(local_foot(curve, q, s0)).distance(q);
+            let mut d = from(feet[i] + (feet[i + 1] - feet[i]) * f);
+            // The other starts only where this one could raise the result.
+            if d > worst.distance || d - sagitta[i] > worst.excess {
+                d = d.min(from(feet[i])).min(from(feet[i + 1]));
+            }
+            note(&mut worst, d, i, sagitta[i]);
+        }
+    }
+    note(
+        &mut worst,
+        curve.eval(1.0).distance(points[edges]),
+        edges - 1,
+        0.0,
+    );
+    let samples = OUTLINE_SAMPLES * edges;
+    // Each curve sample against the edges near its gap (found from the foot
+    // parameters), and against every edge only where that nearby distance
+    // could raise the result: the true distance is at most the nearby one.
+    let nearest_edge = |c: Point, range: std::ops::Range<usize>| {
+        range
+            .map(|e| (segment_distance(c, points[e], points[e + 1]), e))
+            .fold((f64::INFINITY, 0), |a, b| if b.0 < a.0 { b } else { a })
+    };
+    let mut at = 0;
+    for j in 1..samples {
+        let t = j as f64 / samples as f64;
+        while at + 1 < edges && feet[at + 1] < t {
+            at += 1;
+        }
+        let c = curve.eval(t);
+        let window = at.saturating_sub(WINDOW)..(at + WINDOW + 1).min(edges);
+        let (mut best, mut gap) = nearest_edge(c, window);
+        if best > worst.distance || best - sagitta[gap] > worst.excess {
+            (best, gap) = nearest_edge(c, 0..edges);
+        }
+        note(&mut worst, best, gap, sagitta[gap]);
+    }
+    worst
+}
+
+/// Takes a sample's distance `d` in gap `gap`, with the sagitta `allowed`
+/// there, into `worst`.
+fn note(worst: &mut OutlineDistance, d: f64, gap: usize, allowed: f64) {
+    worst.distance = worst.distance.max(d);
+    if d - allowed > worst.excess {
+        worst.excess = d - allowed;
+        worst.gap = gap;
+    }
+}
+
+/// The distance from `q` to the segment `[a, b]`.
+fn segment_distance(q: Point, a: Point, b: Point) -> f64 {
+    let d = b - a;
+    let len2 = d.hypot2();
+    let t = if len2 > 0.0 {
+        ((q - a).dot(d) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    q.distance(a + d * t)
+}
+
+/// A local foot parameter of `q` on `curve` near `s0`: Newton's method on
+/// `g = (C(s) − q)·C′(s)`, clamped to `[0, 1]`, a step kept only if it
+/// brings the curve closer; at most 8 steps.
+fn local_foot<C: Curve + ?Sized>(curve: &C, q: Point, s0: f64) -> f64 {
+    let mut s = s0.clamp(0.0, 1.0);
+    let mut d = curve.eval(s).distance_squared(q);
+    for _ in 0..8 {
+        let (p, d1, d2) = (curve.eval(s), curve.deriv(s), curve.deriv2(s));
+        let e = p - q;
+        let gp = d1.hypot2() + e.dot(d2);
+        let gp = if gp > 0.0 { gp } else { d1.hypot2() };
+        if !(gp > 0.0 && gp.is_finite()) {
+            break;
+        }
+        let next = (s - e.dot(d1) / gp).clamp(0.0, 1.0);
+        let dn = curve.eval(next).distance_squared(q);
+        if dn.is_nan() || dn >= d {
+            break;
+        }
+        (s, d) = (next, dn);
+    }
+    s
+}
+
 /// The quality and cost of a whole piecewise fit.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FitMetrics {

@@ -79,7 +79,9 @@ mod trace;
 pub use error::FitError;
 pub use function::FunctionType;
 pub use linear::linear_fit;
-pub use metrics::{segment_metrics, FitMetrics, SegmentMetrics};
+pub use metrics::{
+    outline_distance, segment_metrics, FitMetrics, OutlineDistance, SegmentMetrics, OUTLINE_SAMPLES,
+};
 pub use options::{
     Chain, Closing, ErrorMeasure, FitOptions, GuessRule, RealOption, SearchSpace,
     SearchSpaceOptions, ALPHA_SIZE, MARGIN, PT,

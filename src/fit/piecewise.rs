@@ -34,10 +34,13 @@
 //! problem, joined to the reference's neighbours (the per-segment mode).
 
 use super::chain::{solve_joint, Fitted};
-use super::metrics::{FitMetrics, SegmentMetrics};
+use super::metrics::{outline_distance, FitMetrics, SegmentMetrics};
 use super::span::{fit_one, Outline, Piece};
+#[cfg(doc)]
+use super::OutlineDistance;
 use super::{
-    outline_trace, Chain, Closing, End, FitError, FitOptions, FittedSegment, SegmentSolver, Start,
+    outline_trace, Chain, Closing, End, ErrorMeasure, FitError, FitOptions, FittedSegment,
+    SegmentSolver, Start,
 };
 use crate::geometry::{check_join, Continuity, Curve, Point};
 use crate::optim::lm::LevenbergMarquardt;
@@ -106,6 +109,12 @@ pub struct PiecewiseFit {
     /// Evaluations of the joint solve (included in `metrics.evaluations`;
     /// the segments' own count their sequential fits).
     pub chain_evaluations: u64,
+    /// The largest two-sided distance between a segment and the outline
+    /// polyline of its data ([`outline_distance`]), measured by
+    /// [`fit_adaptive`], which holds it within its tolerance plus the
+    /// polyline's own sagitta ([`OutlineDistance::excess`]: 0 on straight
+    /// runs); `None` for the other methods.
+    pub outline_distance: Option<f64>,
     /// The totals.
     pub metrics: FitMetrics,
 }
@@ -191,8 +200,45 @@ fn finish(
             Chain::Sequential
         },
         chain_evaluations,
+        outline_distance: None,
         metrics,
     }
+}
+
+/// How far `fit`, a segment of `outline`, strays from it: the larger of its
+/// data points' distance to the curve and the sampled two-sided distance
+/// between the curve and the data's polyline beyond the polyline's own
+/// sagitta ([`OutlineDistance::excess`]), the local index of a data point
+/// to split at, and the strict two-sided distance.
+fn stray(
+    outline: &Outline<'_>,
+    fit: &FittedSegment,
+    first: usize,
+    last: usize,
+) -> (f64, usize, f64) {
+    let o = outline_distance(&fit.segment, &outline.gather(first, last));
+    let strict = o.distance.max(fit.metrics.max_distance);
+    if o.excess > fit.metrics.max_distance {
+        (o.excess, o.gap + 1, strict)
+    } else {
+        (fit.metrics.max_distance, fit.metrics.max_index, strict)
+    }
+}
+
+/// The spans of `segments` on `outline`, wrapping indices kept increasing.
+fn spans_of(outline: &Outline<'_>, segments: &[FittedSegment]) -> Vec<(usize, usize)> {
+    let n = outline.len();
+    segments
+        .iter()
+        .map(|s| {
+            let last = if outline.closed && s.last <= s.first {
+                s.last + n
+            } else {
+                s.last
+            };
+            (s.first, last)
+        })
+        .collect()
 }
 
 /// The joint solve of a sequential chain's `segments` when the options ask
@@ -212,20 +258,11 @@ fn joint_chain(
     if options.chain != Chain::Joint || segments.is_empty() {
         return Ok((segments, None));
     }
-    let n = outline.len();
+    let spans = spans_of(outline, &segments);
     let fitted: Vec<Fitted<'_>> = segments
         .iter()
-        .map(|s| {
-            let last = if outline.closed && s.last <= s.first {
-                s.last + n
-            } else {
-                s.last
-            };
-            Fitted {
-                segment: s,
-                span: (s.first, last),
-            }
-        })
+        .zip(&spans)
+        .map(|(segment, &span)| Fitted { segment, span })
         .collect();
     // A step gaining less than 10⁻⁶ of E ends the solve: on the horse at
     // 101 rational cubics that costs 1.0 % of the fixed E (0.0 % of the
@@ -240,7 +277,11 @@ fn joint_chain(
     let Some((refit, used)) = solve_joint(outline, &fitted, options, &lm, budget)? else {
         return Ok((segments, None));
     };
-    let within = |s: &[FittedSegment], t: f64| s.iter().all(|f| f.metrics.max_distance <= t);
+    let within = |s: &[FittedSegment], t: f64| {
+        s.iter()
+            .zip(&spans)
+            .all(|(f, &(a, b))| stray(outline, f, a, b).0 <= t)
+    };
     if let Some(t) = tolerance {
         if within(&segments, t) && !within(&refit, t) {
             return Ok((segments, None));
@@ -595,26 +636,47 @@ pub fn fit_adaptive<S: SegmentSolver + ?Sized>(
             let fit = fit_one(&outline, piece, options, solver)?;
             let lo = p + min_pts - 1;
             let hi = q + 1 - min_pts.min(q + 1);
-            if fit.metrics.max_distance > split.tolerance && depth < split.max_depth && lo <= hi {
-                let m = (p + fit.metrics.max_index).clamp(lo, hi);
+            let (distance, at, _) = stray(&outline, &fit, p, q);
+            if distance > split.tolerance && depth < split.max_depth && lo <= hi {
+                let m = (p + at).clamp(lo, hi);
                 discarded += fit.metrics.evaluations;
                 // The rest starts afresh at m; the piece starting at p has
                 // been rejected once more.
                 stack.push((m, q, 0));
                 stack.push((p, m, depth + 1));
+            } else if distance > split.tolerance && options.error == ErrorMeasure::Orthogonal {
+                // A piece the limits keep whole that strays between its data
+                // points (a short rational segment under the orthogonal
+                // error can loop out between them, its data still on it):
+                // the fixed-parameter E spreads the curve along its data at
+                // their parameters; the one that strays less is kept.
+                let fixed = FitOptions {
+                    error: ErrorMeasure::Fixed,
+                    ..*options
+                };
+                let other = fit_one(&outline, piece, &fixed, solver)?;
+                if stray(&outline, &other, p, q).0 < distance {
+                    discarded += fit.metrics.evaluations;
+                    segments.push(other);
+                } else {
+                    discarded += other.metrics.evaluations;
+                    segments.push(fit);
+                }
             } else {
                 segments.push(fit);
             }
         }
     }
     let (segments, joint) = joint_chain(&outline, segments, options, Some(split.tolerance))?;
-    Ok(finish(
-        &outline,
-        segments,
-        discarded,
-        chain.at_corner,
-        joint,
-    ))
+    let spans = spans_of(&outline, &segments);
+    let worst = segments
+        .iter()
+        .zip(&spans)
+        .map(|(s, &(a, b))| stray(&outline, s, a, b).2)
+        .fold(0.0, f64::max);
+    let mut fit = finish(&outline, segments, discarded, chain.at_corner, joint);
+    fit.outline_distance = Some(worst);
+    Ok(fit)
 }
 
 /// Fits every segment of `reference` again as its own problem: the same
