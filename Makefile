@@ -3,7 +3,7 @@ CARGO ?= cargo
 BIN := target/release/metabezier
 SPECS := experiments
 
-.PHONY: help build quick test test-python test-dxf python-bench examples fuzz test-cluster bench speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all fmt lint clean-results
+.PHONY: help build quick test test-python test-dxf python-bench examples peer-kurbo fuzz test-cluster bench speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all fmt lint clean-results
 
 help:
 	@echo "make quick          run experiments/quick.toml (seconds) into results/quick/"
@@ -11,6 +11,7 @@ help:
 	@echo "make test-python    the Python package: pip install ./python in a venv, then its pytest suite (PyPI)"
 	@echo "make test-dxf       fit.dxf read back by ezdxf (pinned in ci/dxf-requirements.txt, in a venv): exact control points and weights (PyPI)"
 	@echo "make examples       the library examples (examples/*.rs): your own optimiser and problem in a campaign"
+	@echo "make peer-kurbo     kurbo's curve fitting on the horse and the coin, scored by metabezier score"
 	@echo "make fuzz           the seeded fuzz loops of tests/fuzz_*.rs with 100,000 mutants per reader (minutes)"
 	@echo "make test-cluster   a campaign as a Slurm array job on a private one-node Slurm (root; installs slurm-wlm, munge)"
 	@echo "make bench          criterion benchmarks: optimiser overhead per evaluation, cost of E per fitting function"
@@ -35,6 +36,7 @@ test:
 	$(CARGO) fmt --all -- --check
 	$(CARGO) test --release --locked
 	$(MAKE) examples
+	$(MAKE) peer-kurbo
 	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --no-deps --locked
 	$(CARGO) clippy --release --locked --all-targets -- -D warnings
 
@@ -81,6 +83,19 @@ examples:
 	  test -s $$out/$$e/runs.csv && test -s $$out/$$e/report.md; \
 	  rm -rf $$out; \
 	done
+
+# kurbo's curve fitting as a peer on the same outlines (examples/kurbo_fit.rs,
+# kurbo a dev-dependency), scored by `metabezier score` like our fit.svg and
+# potrace's trace; fails if a point is further from kurbo's curves than
+# 1.1 times the accuracy asked for.
+PEER_INPUTS := data/outlines/horse.png data/outlines/coin.png
+peer-kurbo: build
+	$(CARGO) build --release --locked --example kurbo_fit
+	@set -e; out=$$(mktemp -d); for i in $(PEER_INPUTS); do for a in 1 2; do \
+	  target/release/examples/kurbo_fit $$i $$out/k.svg $$a; \
+	  $(BIN) score $$i $$out/k.svg | tee $$out/score.txt | tail -1; \
+	  awk -v a=$$a '$$1 == "all" { if ($$3 > 1.1 * a) { print "kurbo strays " $$3 " > 1.1 x " a; exit 1 } }' $$out/score.txt; \
+	done; done; rm -rf $$out
 
 # The fuzz loops of `make test` (a few thousand mutants per reader), longer.
 FUZZ_MUTANTS ?= 100000
