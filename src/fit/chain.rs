@@ -47,6 +47,7 @@ use crate::geometry::{
 use crate::linalg::BandedArrow;
 use crate::optim::lm::{LeastSquares, LevenbergMarquardt};
 use crate::problem::{Bounds, Problem};
+use std::cell::RefCell;
 
 /// The variables of one joint.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -118,6 +119,10 @@ struct JointChain {
     residuals: usize,
     width: usize,
     border: usize,
+    /// The point of the last residual evaluation and, under the orthogonal
+    /// error, the foot parameters found there (one per residual pair), so
+    /// that the normal equations at that point do not project again.
+    feet: RefCell<(Vec<f64>, Vec<f64>)>,
 }
 
 /// `(cos θ, sin θ)`.
@@ -332,6 +337,14 @@ impl LeastSquares for JointChain {
     /// `Rᵢ − P(sᵢ)` for the interior points of every link (the ends are
     /// interpolated); infinite where a quadratic's tangent lines do not meet.
     fn residuals(&self, x: &[f64], out: &mut [f64]) {
+        let mut feet = self.feet.borrow_mut();
+        let (at, params) = &mut *feet;
+        at.clear();
+        params.clear();
+        let keep = self.error == ErrorMeasure::Orthogonal;
+        if keep {
+            params.resize(self.residuals / 2, f64::NAN);
+        }
         for (k, link) in self.links.iter().enumerate() {
             let rows = &mut out[2 * link.offset..2 * (link.offset + link.points.len())];
             let Some((c, _, _)) = self.controls(k, x) else {
@@ -339,11 +352,17 @@ impl LeastSquares for JointChain {
                 continue;
             };
             for (i, o) in rows.chunks_exact_mut(2).enumerate() {
-                let p = self.measured(&c, link, i).1;
+                let (s, p, _) = self.measured(&c, link, i);
+                if keep {
+                    params[link.offset + i] = s;
+                }
                 let r = link.points[i];
                 o[0] = r.x - p.x;
                 o[1] = r.y - p.y;
             }
+        }
+        if keep {
+            at.extend_from_slice(x);
         }
     }
 
@@ -357,6 +376,8 @@ impl LeastSquares for JointChain {
     /// (as [`crate::fit::SegmentProblem::jacobian`]).
     fn normal_equations(&self, x: &[f64], r: &[f64], a: &mut BandedArrow, g: &mut [f64]) {
         let m = self.function.degree();
+        let feet = self.feet.borrow();
+        let cached = (feet.0.as_slice() == x).then_some(feet.1.as_slice());
         for (k, link) in self.links.iter().enumerate() {
             let Some((c, sens, n)) = self.controls(k, x) else {
                 continue;
@@ -364,7 +385,16 @@ impl LeastSquares for JointChain {
             let sens = &sens[..n];
             let mut row = [Point::ZERO; MAX_LOCAL];
             for i in 0..link.points.len() {
-                let (s, _, d1) = self.measured(&c, link, i);
+                let (s, d1) = match cached {
+                    Some(params) => {
+                        let s = params[link.offset + i];
+                        (s, c.eval_d2(m, s).1)
+                    }
+                    None => {
+                        let (s, _, d1) = self.measured(&c, link, i);
+                        (s, d1)
+                    }
+                };
                 let q = c.partials(m, s);
                 for (o, v) in row.iter_mut().zip(sens) {
                     *o = -(v.c1 * q.c1 + v.c2 * q.c2 + q.w1 * v.w1 + q.w2 * v.w2);
@@ -562,6 +592,7 @@ fn build(
         residuals: 2 * offset,
         width: 0,
         border,
+        feet: RefCell::new((Vec::new(), Vec::new())),
     };
     // The half-bandwidth: the widest spread of one link's non-border variables.
     let mut width = 0;
