@@ -507,15 +507,39 @@ fn bad_fitting_specs_get_specific_errors() {
     );
 }
 
-#[test]
-fn a_campaign_measures_the_orthogonal_error_where_a_section_asks() {
+/// A one-run LM campaign of the coin in 6 rational cubics joined G1, named
+/// `name`: one `[[fit]]` section with the spec defaults, a second with
+/// `key` added. Returns the problem keys and the best E of each problem.
+fn coin_sections(name: &str, key: &str) -> (Vec<String>, Vec<(String, f64)>) {
     let tmp = tempfile::tempdir().unwrap();
     let body = "input = \"coin.png\"\nfunction = \"rational-cubic\"\ncontinuity = \"g1\"\nsegments = 6\nbudget = 2000\n";
     let text = format!(
-        "[experiment]\nname = \"err\"\nseed = 1\nruns = 1\n\n[[fit]]\n{body}\n[[fit]]\n{body}error = \"orthogonal\"\n\n[[algorithm]]\nname = \"lm\"\n"
+        "[experiment]\nname = \"{name}\"\nseed = 1\nruns = 1\n\n[[fit]]\n{body}\n[[fit]]\n{body}{key}\n\n[[algorithm]]\nname = \"lm\"\n"
     );
     let spec = spec_in(tmp.path(), &text);
-    let names: Vec<String> = spec.problems.iter().map(|p| p.key()).collect();
+    let names = spec.problems.iter().map(|p| p.key()).collect();
+    let out = tmp.path().join("out");
+    run(&spec, &out, 2, None);
+    let records = metabezier::experiment::records::read_results(&out).unwrap();
+    let best = records
+        .iter()
+        .map(|r| (r.problem.clone(), r.best))
+        .collect();
+    (names, best)
+}
+
+/// The best E of `problem` among `records`.
+fn best_of(records: &[(String, f64)], problem: &str) -> f64 {
+    records
+        .iter()
+        .find(|(p, _)| p == problem)
+        .unwrap_or_else(|| panic!("{problem} in {records:?}"))
+        .1
+}
+
+#[test]
+fn a_campaign_measures_the_orthogonal_error_where_a_section_asks() {
+    let (names, records) = coin_sections("err", "error = \"orthogonal\"");
     assert_eq!(
         names,
         [
@@ -523,19 +547,9 @@ fn a_campaign_measures_the_orthogonal_error_where_a_section_asks() {
             "coin/rational-cubic/g1/orthogonal-6"
         ]
     );
-    let out = tmp.path().join("out");
-    run(&spec, &out, 2, None);
-    let records = metabezier::experiment::records::read_results(&out).unwrap();
-    let best = |name: &str| {
-        records
-            .iter()
-            .find(|r| r.problem == name)
-            .unwrap_or_else(|| panic!("{name} in {records:?}"))
-            .best
-    };
     let (fixed, orthogonal) = (
-        best("coin/rational-cubic/g1"),
-        best("coin/rational-cubic/g1/orthogonal"),
+        best_of(&records, "coin/rational-cubic/g1"),
+        best_of(&records, "coin/rational-cubic/g1/orthogonal"),
     );
     // The orthogonal E is the distance from each point to the curve, at
     // most the distance to the point at its fixed parameter: lower (7.2
@@ -545,30 +559,14 @@ fn a_campaign_measures_the_orthogonal_error_where_a_section_asks() {
 
 #[test]
 fn a_campaign_solves_the_chain_jointly_where_a_section_asks() {
-    let tmp = tempfile::tempdir().unwrap();
-    let body = "input = \"coin.png\"\nfunction = \"rational-cubic\"\ncontinuity = \"g1\"\nsegments = 6\nbudget = 2000\n";
-    let text = format!(
-        "[experiment]\nname = \"chain\"\nseed = 1\nruns = 1\n\n[[fit]]\n{body}\n[[fit]]\n{body}chain = \"joint\"\n\n[[algorithm]]\nname = \"lm\"\n"
-    );
-    let spec = spec_in(tmp.path(), &text);
-    let names: Vec<String> = spec.problems.iter().map(|p| p.key()).collect();
+    let (names, records) = coin_sections("chain", "chain = \"joint\"");
     assert_eq!(
         names,
         ["coin/rational-cubic/g1-6", "coin/rational-cubic/g1/joint-6"]
     );
-    let out = tmp.path().join("out");
-    run(&spec, &out, 2, None);
-    let records = metabezier::experiment::records::read_results(&out).unwrap();
-    let best = |name: &str| {
-        records
-            .iter()
-            .find(|r| r.problem == name)
-            .unwrap_or_else(|| panic!("{name} in {records:?}"))
-            .best
-    };
     let (sequential, joint) = (
-        best("coin/rational-cubic/g1"),
-        best("coin/rational-cubic/g1/joint"),
+        best_of(&records, "coin/rational-cubic/g1"),
+        best_of(&records, "coin/rational-cubic/g1/joint"),
     );
     // The same curves, their joins chosen together: never worse, here lower.
     assert!(joint < 0.95 * sequential, "{joint} vs {sequential}");

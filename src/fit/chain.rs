@@ -40,10 +40,8 @@ use super::metrics::segment_metrics;
 use super::span::Outline;
 #[cfg(doc)]
 use super::Chain;
-use super::{End, ErrorMeasure, FitError, FitOptions, FittedSegment, FunctionType, Segment};
-use crate::geometry::{
-    bounding_box, Continuity, CubicBez, Curve, Point, QuadBez, RationalCubicBez, RationalQuadBez,
-};
+use super::{End, ErrorMeasure, FitError, FitOptions, FittedSegment, FunctionType};
+use crate::geometry::{bounding_box, Continuity, Curve, Point};
 use crate::linalg::BandedArrow;
 use crate::optim::lm::{LeastSquares, LevenbergMarquardt};
 use crate::problem::{Bounds, Problem};
@@ -159,23 +157,6 @@ impl JointChain {
         if m == 2 {
             c[2] = j1;
             c[1] = match (link.start, ka, kb) {
-                (Side::Free(i), _, _) => {
-                    push(sens_c1(i, Point::new(1.0, 0.0)));
-                    push(sens_c1(i + 1, Point::new(0.0, 1.0)));
-                    free(i)
-                }
-                (Side::Length(i), Joint::G1(t), _) => {
-                    let u = unit(x[t]);
-                    push(sens_c1(i, u));
-                    push(sens_c1(t, perp(u) * x[i]));
-                    j0 + u * x[i]
-                }
-                (Side::Length(i), _, Joint::G1(t)) => {
-                    let u = unit(x[t]);
-                    push(sens_c1(i, -u));
-                    push(sens_c1(t, perp(u) * -x[i]));
-                    j1 - u * x[i]
-                }
                 (Side::Meet, Joint::G1(t0), Joint::G1(t1)) => {
                     let (u0, u1) = (unit(x[t0]), unit(x[t1]));
                     let d = j1 - j0;
@@ -191,52 +172,34 @@ impl JointChain {
                     push(sens_c1(t1, u0 * dt1));
                     j0 + u0 * t
                 }
-                _ => unreachable!("the quadratic sides are built with their joints"),
+                // A leg along the start's tangent, else the end's.
+                (Side::Length(_), Joint::G1(_), _) | (Side::Free(_), _, _) => {
+                    let (p, d) = leg(link.start, ka, j0, 1.0, 1.0, x);
+                    for (v, d) in d {
+                        push(sens_c1(v, d));
+                    }
+                    p
+                }
+                (side, _, _) => {
+                    let (p, d) = leg(side, kb, j1, -1.0, 1.0, x);
+                    for (v, d) in d {
+                        push(sens_c1(v, d));
+                    }
+                    p
+                }
             };
         } else {
             c[3] = j1;
-            c[1] = match (link.start, ka) {
-                (Side::Free(i), _) => {
-                    push(sens_c1(i, Point::new(1.0, 0.0)));
-                    push(sens_c1(i + 1, Point::new(0.0, 1.0)));
-                    free(i)
-                }
-                (Side::Length(i), Joint::G1(t)) => {
-                    let u = unit(x[t]);
-                    push(sens_c1(i, u));
-                    push(sens_c1(t, perp(u) * x[i]));
-                    j0 + u * x[i]
-                }
-                (Side::Derivative, Joint::C1(i)) => {
-                    let d = free(i);
-                    let f = 1.0 / (mf * w1);
-                    push(sens_c1(i, Point::new(f, 0.0)));
-                    push(sens_c1(i + 1, Point::new(0.0, f)));
-                    j0 + d * f
-                }
-                _ => unreachable!("the cubic start sides are built with their joints"),
-            };
-            c[2] = match (link.end, kb) {
-                (Side::Free(i), _) => {
-                    push(sens_c2(i, Point::new(1.0, 0.0)));
-                    push(sens_c2(i + 1, Point::new(0.0, 1.0)));
-                    free(i)
-                }
-                (Side::Length(i), Joint::G1(t)) => {
-                    let u = unit(x[t]);
-                    push(sens_c2(i, -u));
-                    push(sens_c2(t, perp(u) * -x[i]));
-                    j1 - u * x[i]
-                }
-                (Side::Derivative, Joint::C1(i)) => {
-                    let d = free(i);
-                    let f = 1.0 / (mf * w2);
-                    push(sens_c2(i, Point::new(-f, 0.0)));
-                    push(sens_c2(i + 1, Point::new(0.0, -f)));
-                    j1 - d * f
-                }
-                _ => unreachable!("the cubic end sides are built with their joints"),
-            };
+            let (p, d) = leg(link.start, ka, j0, 1.0, mf * w1, x);
+            for (v, d) in d {
+                push(sens_c1(v, d));
+            }
+            c[1] = p;
+            let (p, d) = leg(link.end, kb, j1, -1.0, mf * w2, x);
+            for (v, d) in d {
+                push(sens_c2(v, d));
+            }
+            c[2] = p;
         }
         if let Some(i) = link.w1 {
             let mut s = Sensitivity {
@@ -277,21 +240,41 @@ impl JointChain {
             ErrorMeasure::Orthogonal => k.foot(m, link.points[i], s),
         }
     }
+}
 
-    /// The segment of link `k` at `x` (`None` as in [`JointChain::controls`]).
-    fn segment(&self, k: usize, x: &[f64]) -> Option<Segment> {
-        let (c, _, _) = self.controls(k, x)?;
-        let [c0, c1, c2, c3] = c.c;
-        Some(match self.function {
-            FunctionType::Quadratic => Segment::Quadratic(QuadBez::new(c0, c1, c2)),
-            FunctionType::Cubic => Segment::Cubic(CubicBez::new(c0, c1, c2, c3)),
-            FunctionType::RationalQuadratic => {
-                Segment::RationalQuadratic(RationalQuadBez::new(c0, c1, c2, c.w1).ok()?)
-            }
-            FunctionType::RationalCubic => {
-                Segment::RationalCubic(RationalCubicBez::new(c0, c1, c2, c3, c.w1, c.w2).ok()?)
-            }
-        })
+/// An inner control point set by one side of a segment, at joint `j`
+/// (variables `joint`), leaving it in the direction `sign` (+1 from the
+/// start, −1 from the end), and its sensitivities to its two variables:
+/// a free point; `J + sign·a·u(θ)` (G¹); `J + sign·d/scale` with `scale =
+/// m w` (C¹).
+fn leg(
+    side: Side,
+    joint: Joint,
+    j: Point,
+    sign: f64,
+    scale: f64,
+    x: &[f64],
+) -> (Point, [(usize, Point); 2]) {
+    match (side, joint) {
+        (Side::Free(i), _) => (
+            Point::new(x[i], x[i + 1]),
+            [(i, Point::new(1.0, 0.0)), (i + 1, Point::new(0.0, 1.0))],
+        ),
+        (Side::Length(i), Joint::G1(t)) => {
+            let u = unit(x[t]);
+            (
+                j + u * (sign * x[i]),
+                [(i, u * sign), (t, perp(u) * (sign * x[i]))],
+            )
+        }
+        (Side::Derivative, Joint::C1(i)) => {
+            let f = sign / scale;
+            (
+                j + Point::new(x[i], x[i + 1]) * f,
+                [(i, Point::new(f, 0.0)), (i + 1, Point::new(0.0, f))],
+            )
+        }
+        _ => unreachable!("a side is built with its joint"),
     }
 }
 
@@ -632,7 +615,10 @@ pub(super) fn solve_joint(
     for (k, f) in fitted.iter().enumerate() {
         let link = &chain.links[k];
         // LM only accepts steps of finite E, so every link is valid at x.
-        let (Some(segment), Some(c)) = (chain.segment(k, &x), chain.controls(k, &x)) else {
+        let Some(c) = chain.controls(k, &x) else {
+            return Ok(None);
+        };
+        let Ok(segment) = c.0.segment(options.function) else {
             return Ok(None);
         };
         let mut params = Vec::with_capacity(link.points.len() + 2);

@@ -2,7 +2,8 @@
 //! them: the explicit Bernstein forms of degree 2 and 3, their first two
 //! derivatives, and the foot-point projection of a data point.
 
-use crate::geometry::Point;
+use super::{FunctionType, Segment};
+use crate::geometry::{CubicBez, GeometryError, Point, QuadBez, RationalCubicBez, RationalQuadBez};
 
 /// The control points (`c[0..=m]`, unused slots zero) and inner weights of a
 /// decision vector; polynomial segments have `w₁ = w₂ = 1`.
@@ -149,6 +150,23 @@ impl Controls {
         let p1 = (Point::new(n1[0], n1[1]) - p * w1) / w;
         let p2 = (Point::new(n2[0], n2[1]) - p1 * (2.0 * w1) - p * w2) / w;
         (p, p1, p2)
+    }
+
+    /// The segment of `function` with these control points (`c[0..=m]`)
+    /// and inner weights; fails where a weight is not positive or a point
+    /// is not finite.
+    pub(super) fn segment(&self, function: FunctionType) -> Result<Segment, GeometryError> {
+        let [c0, c1, c2, c3] = self.c;
+        Ok(match function {
+            FunctionType::Quadratic => Segment::Quadratic(QuadBez::new(c0, c1, c2)),
+            FunctionType::Cubic => Segment::Cubic(CubicBez::new(c0, c1, c2, c3)),
+            FunctionType::RationalQuadratic => {
+                Segment::RationalQuadratic(RationalQuadBez::new(c0, c1, c2, self.w1)?)
+            }
+            FunctionType::RationalCubic => {
+                Segment::RationalCubic(RationalCubicBez::new(c0, c1, c2, c3, self.w1, self.w2)?)
+            }
+        })
     }
 
     /// The partial derivatives of `P(s)` of the degree-`m` curve with

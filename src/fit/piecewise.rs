@@ -205,23 +205,37 @@ fn finish(
     }
 }
 
-/// How far `fit`, a segment of `outline`, strays from it: the larger of its
-/// data points' distance to the curve and the sampled two-sided distance
-/// between the curve and the data's polyline beyond the polyline's own
-/// sagitta ([`OutlineDistance::excess`]), the local index of a data point
-/// to split at, and the strict two-sided distance.
-fn stray(
-    outline: &Outline<'_>,
-    fit: &FittedSegment,
-    first: usize,
-    last: usize,
-) -> (f64, usize, f64) {
+/// How far a fitted segment strays from its part of the outline
+/// ([`stray`]).
+#[derive(Clone, Copy, Debug)]
+struct Stray {
+    /// What a tolerance is held to: the larger of its data points' distance
+    /// to the curve and the sampled two-sided distance between the curve and
+    /// the data's polyline beyond the polyline's own sagitta
+    /// ([`OutlineDistance::excess`]).
+    split: f64,
+    /// The local index of a data point to split at.
+    at: usize,
+    /// The strict two-sided distance.
+    strict: f64,
+}
+
+/// How far `fit`, the segment of `outline` from `first` to `last`, strays.
+fn stray(outline: &Outline<'_>, fit: &FittedSegment, first: usize, last: usize) -> Stray {
     let o = outline_distance(&fit.segment, &outline.gather(first, last));
     let strict = o.distance.max(fit.metrics.max_distance);
     if o.excess > fit.metrics.max_distance {
-        (o.excess, o.gap + 1, strict)
+        Stray {
+            split: o.excess,
+            at: o.gap + 1,
+            strict,
+        }
     } else {
-        (fit.metrics.max_distance, fit.metrics.max_index, strict)
+        Stray {
+            split: fit.metrics.max_distance,
+            at: fit.metrics.max_index,
+            strict,
+        }
     }
 }
 
@@ -244,24 +258,21 @@ fn spans_of(outline: &Outline<'_>, segments: &[FittedSegment]) -> Vec<(usize, us
 /// The joint solve of a sequential chain's `segments` when the options ask
 /// for it ([`Chain::Joint`]): Levenberg–Marquardt over all of them with a
 /// budget of `budget_per_segment` per segment (as much again as the
-/// sequential fit was given). Returns the segments to keep and the joint
-/// evaluations, or the segments unchanged and `None` when the chain is
-/// sequential, the joint variables cannot describe it (a straight
-/// quadratic), or — with a `tolerance` — the joint result strays beyond it
-/// where the sequential one did not.
+/// sequential fit was given). Returns the refitted segments and the joint
+/// evaluations, or `None` when the chain is sequential or the joint
+/// variables cannot describe it (a straight quadratic).
 fn joint_chain(
     outline: &Outline<'_>,
-    segments: Vec<FittedSegment>,
+    segments: &[FittedSegment],
+    spans: &[(usize, usize)],
     options: &FitOptions,
-    tolerance: Option<f64>,
-) -> Result<(Vec<FittedSegment>, Option<u64>), FitError> {
+) -> Result<Option<(Vec<FittedSegment>, u64)>, FitError> {
     if options.chain != Chain::Joint || segments.is_empty() {
-        return Ok((segments, None));
+        return Ok(None);
     }
-    let spans = spans_of(outline, &segments);
     let fitted: Vec<Fitted<'_>> = segments
         .iter()
-        .zip(&spans)
+        .zip(spans)
         .map(|(segment, &span)| Fitted { segment, span })
         .collect();
     // A step gaining less than 10⁻⁶ of E ends the solve: on the horse at
@@ -274,20 +285,7 @@ fn joint_chain(
     let budget = options
         .budget_per_segment
         .saturating_mul(segments.len() as u64);
-    let Some((refit, used)) = solve_joint(outline, &fitted, options, &lm, budget)? else {
-        return Ok((segments, None));
-    };
-    let within = |s: &[FittedSegment], t: f64| {
-        s.iter()
-            .zip(&spans)
-            .all(|(f, &(a, b))| stray(outline, f, a, b).0 <= t)
-    };
-    if let Some(t) = tolerance {
-        if within(&segments, t) && !within(&refit, t) {
-            return Ok((segments, None));
-        }
-    }
-    Ok((refit, Some(used)))
+    solve_joint(outline, &fitted, options, &lm, budget)
 }
 
 /// The spans of a chain in fitting order, the continuity at each start,
@@ -390,8 +388,12 @@ fn fit_chain<S: SegmentSolver + ?Sized>(
         };
         segments.push(fit_one(outline, piece, options, solver)?);
     }
-    let (segments, joint) = joint_chain(outline, segments, options, None)?;
-    Ok(finish(outline, segments, 0, chain.at_corner, joint))
+    Ok(
+        match joint_chain(outline, &segments, &spans_of(outline, &segments), options)? {
+            Some((refit, used)) => finish(outline, refit, 0, chain.at_corner, Some(used)),
+            None => finish(outline, segments, 0, chain.at_corner, None),
+        },
+    )
 }
 
 /// Fits `options.function` to `points` split at `breaks`, every interior
@@ -612,6 +614,8 @@ pub fn fit_adaptive<S: SegmentSolver + ?Sized>(
     let closing_point = chain.spans.last().map_or(0, |s| s.1);
     let min_pts = split.min_points.max(options.function.min_points());
     let mut segments: Vec<FittedSegment> = Vec::new();
+    // How far each kept segment strays, measured once.
+    let mut strays: Vec<Stray> = Vec::new();
     let mut discarded = 0u64;
     for &(a, b) in &chain.spans {
         // Pending pieces, the next one on top: (first, last, depth).
@@ -636,9 +640,10 @@ pub fn fit_adaptive<S: SegmentSolver + ?Sized>(
             let fit = fit_one(&outline, piece, options, solver)?;
             let lo = p + min_pts - 1;
             let hi = q + 1 - min_pts.min(q + 1);
-            let (distance, at, _) = stray(&outline, &fit, p, q);
+            let measured = stray(&outline, &fit, p, q);
+            let distance = measured.split;
             if distance > split.tolerance && depth < split.max_depth && lo <= hi {
-                let m = (p + at).clamp(lo, hi);
+                let m = (p + measured.at).clamp(lo, hi);
                 discarded += fit.metrics.evaluations;
                 // The rest starts afresh at m; the piece starting at p has
                 // been rejected once more.
@@ -655,25 +660,42 @@ pub fn fit_adaptive<S: SegmentSolver + ?Sized>(
                     ..*options
                 };
                 let other = fit_one(&outline, piece, &fixed, solver)?;
-                if stray(&outline, &other, p, q).0 < distance {
+                let other_measured = stray(&outline, &other, p, q);
+                if other_measured.split < distance {
                     discarded += fit.metrics.evaluations;
                     segments.push(other);
+                    strays.push(other_measured);
                 } else {
                     discarded += other.metrics.evaluations;
                     segments.push(fit);
+                    strays.push(measured);
                 }
             } else {
                 segments.push(fit);
+                strays.push(measured);
             }
         }
     }
-    let (segments, joint) = joint_chain(&outline, segments, options, Some(split.tolerance))?;
     let spans = spans_of(&outline, &segments);
-    let worst = segments
-        .iter()
-        .zip(&spans)
-        .map(|(s, &(a, b))| stray(&outline, s, a, b).2)
-        .fold(0.0, f64::max);
+    let within = |s: &[Stray]| s.iter().all(|d| d.split <= split.tolerance);
+    let (segments, strays, joint) = match joint_chain(&outline, &segments, &spans, options)? {
+        Some((refit, used)) => {
+            let refit_strays: Vec<Stray> = refit
+                .iter()
+                .zip(&spans)
+                .map(|(s, &(a, b))| stray(&outline, s, a, b))
+                .collect();
+            // The joint result is kept unless it strays beyond the
+            // tolerance where the sequential one did not.
+            if within(&strays) && !within(&refit_strays) {
+                (segments, strays, None)
+            } else {
+                (refit, refit_strays, Some(used))
+            }
+        }
+        None => (segments, strays, None),
+    };
+    let worst = strays.iter().map(|d| d.strict).fold(0.0, f64::max);
     let mut fit = finish(&outline, segments, discarded, chain.at_corner, joint);
     fit.outline_distance = Some(worst);
     Ok(fit)
@@ -703,15 +725,10 @@ where
 {
     options.validate()?;
     let outline = Outline::new(points, closed, options.function.min_points())?;
-    let n = points.len();
     let refs = &reference.segments;
+    let spans = spans_of(&outline, refs);
     let mut segments = Vec::with_capacity(refs.len());
-    for (k, r) in refs.iter().enumerate() {
-        let last = if r.last <= r.first && closed {
-            r.last + n
-        } else {
-            r.last
-        };
+    for (k, (r, &(_, last))) in refs.iter().zip(&spans).enumerate() {
         let start = match k.checked_sub(1) {
             Some(p) if r.join != Continuity::C0 => Start::after(&refs[p].segment, r.join),
             _ => Start::Free,

@@ -9,10 +9,7 @@
 use super::controls::{cubic, quad, rcubic, rquad, sum_sq, Controls};
 use super::search_space::{guesses, point_box};
 use super::{ErrorMeasure, FitError, FunctionType, SearchSpaceOptions, Segment};
-use crate::geometry::{
-    bounding_box, Continuity, CubicBez, Curve, Parameterisation, Point, QuadBez, RationalCubicBez,
-    RationalQuadBez, SegmentEnd,
-};
+use crate::geometry::{bounding_box, Continuity, Curve, Parameterisation, Point, SegmentEnd};
 use crate::optim::lm::LeastSquares;
 use crate::problem::{Bounds, Problem};
 
@@ -611,19 +608,9 @@ impl SegmentProblem {
             .zip(&self.local_bounds())
             .map(|(&v, b)| b.clip(v))
             .collect();
-        let k = self.controls(&clipped);
-        let [c0, c1, c2, c3] = k.c;
-        let invalid = "weights clipped into a positive range and finite points";
-        match self.function {
-            FunctionType::Quadratic => Segment::Quadratic(QuadBez::new(c0, c1, c2)),
-            FunctionType::Cubic => Segment::Cubic(CubicBez::new(c0, c1, c2, c3)),
-            FunctionType::RationalQuadratic => {
-                Segment::RationalQuadratic(RationalQuadBez::new(c0, c1, c2, k.w1).expect(invalid))
-            }
-            FunctionType::RationalCubic => Segment::RationalCubic(
-                RationalCubicBez::new(c0, c1, c2, c3, k.w1, k.w2).expect(invalid),
-            ),
-        }
+        self.controls(&clipped)
+            .segment(self.function)
+            .expect("weights clipped into a positive range and finite points")
     }
 
     /// Writes the residuals `Rᵢ − P(sᵢ)` as `(x, y)` pairs into `out`
@@ -806,6 +793,7 @@ impl LeastSquares for SegmentProblem {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::{CubicBez, QuadBez, RationalCubicBez};
 
     fn sample<C: Curve>(c: &C, n: usize) -> (Vec<Point>, Vec<f64>) {
         let params: Vec<f64> = (0..=n).map(|k| k as f64 / n as f64).collect();
