@@ -17,7 +17,7 @@ help:
 	@echo "make bench          criterion benchmarks: optimiser overhead per evaluation, cost of E per fitting function"
 	@echo "make speedup        1 -> 2 thread speed-up of a 60-run campaign (five alternating runs; run it idle)"
 	@echo "make reproduce-ch4  chapter 4: benchmarks, scalability, MHS tuning, with reports (results/ch4_*/)"
-	@echo "make reproduce-ch5  chapter 5: curve fitting of four real outlines, search-space and MHS studies (results/ch5_*/)"
+	@echo "make reproduce-ch5  chapter 5: curve fitting of real outlines, search-space and MHS studies, both errors (results/ch5_*/)"
 	@echo "make reproduce-ch6  chapter 6: cranial implant from CT 0051, artificial-defect validation (results/ch6_cranial/)"
 	@echo "make bbob           COCO's bbob suite: 8 optimisers x 24 functions x D = 2, 5, 10, report and COCO logs (results/bbob/)"
 	@echo "make cocopp         COCO's own post-processing (cocopp, pinned in tools/cocopp-requirements.txt, in a venv) of results/bbob/coco/"
@@ -132,7 +132,7 @@ reproduce-ch4: build
 	$(foreach e,$(CH4),$(BIN) run $(SPECS)/$(e).toml --resume && $(BIN) report results/$(e) $(REPORT_ARGS_$(e)) &&) true
 	$(CHECK_TUNED) $(addprefix results/,$(TUNED_CH4))
 
-CH5 := ch5_outlines ch5_search_space ch5_mhs
+CH5 := ch5_outlines ch5_search_space ch5_mhs ch5_errors ch5_errors_segments
 
 # The check needs the tuning's picks: ch4_tuning is resumed (nothing to do
 # once it is complete) and reported first.

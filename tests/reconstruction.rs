@@ -490,6 +490,18 @@ fn bad_fitting_specs_get_specific_errors() {
             "11:9: fit[1].chain: expected \"sequential\" with mode = \"per-segment\"",
         ),
         (
+            "input = \"coin.png\"\nsegments = 4\nfree_parameters = 20",
+            "9:12: fit[1].segments: expected either segments or free_parameters, not both",
+        ),
+        (
+            "input = \"coin.png\"\nfree_parameters = 0",
+            "9:19: fit[1].free_parameters: expected an integer",
+        ),
+        (
+            "input = \"coin.png\"\nfree_parameters = 20\nfunction = \"quadratic\"\ncontinuity = \"c1\"",
+            "9:19: fit[1].free_parameters: a quadratic segment with C1 joins adds no free parameter to its chain",
+        ),
+        (
             "input = \"coin.png\"\nsegments = 4\nfunction = \"quartic\"",
             "10:12: fit[1].function: unknown value \"quartic\"; did you mean \"quadratic\"? Valid choices: \"quadratic\"",
         ),
@@ -570,6 +582,55 @@ fn a_campaign_solves_the_chain_jointly_where_a_section_asks() {
     );
     // The same curves, their joins chosen together: never worse, here lower.
     assert!(joint < 0.95 * sequential, "{joint} vs {sequential}");
+}
+
+#[test]
+fn free_parameters_give_each_function_its_segments() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = "[experiment]\nname = \"params\"\nseed = 1\nruns = 1\nbudget = 2000\n\n\
+        [[fit]]\ninput = \"coin.png\"\nfunction = [\"quadratic\", \"cubic\", \"rational-quadratic\", \"rational-cubic\"]\n\
+        continuity = \"g1\"\nfree_parameters = 30\nclosing = \"smooth\"\n\n\
+        [[fit]]\ninput = \"coin.png\"\nfunction = [\"cubic\", \"rational-cubic\"]\ncontinuity = \"c1\"\n\
+        free_parameters = 30\nclosing = \"smooth\"\nerror = \"orthogonal\"\nchain = \"joint\"\n\n\
+        [[algorithm]]\nname = \"lm\"\n";
+    let spec = spec_in(tmp.path(), text);
+    let names: Vec<String> = spec.problems.iter().map(|p| p.key()).collect();
+    // round(30 / k) segments, k = 1, 3, 2, 5 with G1 joins and 2, 4 with C1
+    // (the coin has no corner, so its chain is closed and cyclic).
+    assert_eq!(
+        names,
+        [
+            "coin/quadratic/g1/params=30-30",
+            "coin/cubic/g1/params=30-10",
+            "coin/rational-quadratic/g1/params=30-15",
+            "coin/rational-cubic/g1/params=30-6",
+            "coin/cubic/c1/params=30/orthogonal/joint-15",
+            "coin/rational-cubic/c1/params=30/orthogonal/joint-8",
+        ]
+    );
+    let out = tmp.path().join("out");
+    run(&spec, &out, 2, None);
+    let records = metabezier::experiment::records::read_results(&out).unwrap();
+    assert_eq!(records.len(), 6);
+    for r in &records {
+        assert!(
+            r.best.is_finite() && r.best > 0.0,
+            "{}: {}",
+            r.problem,
+            r.best
+        );
+    }
+    // A function with fewer unknowns per segment gets more segments: at
+    // equal unknowns on a circle-like outline the cubic is not behind the
+    // rational quadratic.
+    let e = |p: &str| {
+        records
+            .iter()
+            .find(|r| r.problem == p)
+            .unwrap_or_else(|| panic!("{p}"))
+            .best
+    };
+    assert!(e("coin/cubic/g1/params=30") < e("coin/rational-quadratic/g1/params=30"));
 }
 
 /// A campaign with every fitting key that came with the smooth closing:

@@ -720,3 +720,80 @@ fn a_nan_in_a_result_file_is_refused_with_its_line_and_column() {
     }
     assert_eq!(report_error(&out), "");
 }
+
+/// Six DejaVu Sans glyphs fitted by LM alone with cubics and rational
+/// cubics joined G1, at equal segments and at equal free parameters, under
+/// the fixed-parameter E and under the orthogonal error with the joint
+/// chain (the design of `experiments/ch5_errors.toml`, reduced).
+fn errors_spec() -> String {
+    let font = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/outlines/DejaVuSans.ttf");
+    let inputs: Vec<String> = "aceGs2"
+        .chars()
+        .map(|g| format!("\"font:{}:{g}\"", font.display()))
+        .collect();
+    let inputs = format!("[{}]", inputs.join(", "));
+    let mut text = String::from(
+        "[experiment]\nname = \"errors\"\nseed = 5\nruns = 1\nbudget = 2000\nthreshold = 0\n",
+    );
+    for size in ["segments = 12", "free_parameters = 60"] {
+        for variant in [
+            "error = \"fixed\"\nchain = \"sequential\"",
+            "error = \"orthogonal\"\nchain = \"joint\"",
+        ] {
+            text.push_str(&format!(
+                "\n[[fit]]\ninput = {inputs}\nfunction = [\"cubic\", \"rational-cubic\"]\n\
+                 continuity = \"g1\"\n{size}\nclosing = \"smooth\"\n{variant}\n"
+            ));
+        }
+    }
+    text.push_str("\n[[algorithm]]\nname = \"lm\"\nlabel = \"LM\"\n");
+    text
+}
+
+#[test]
+fn functions_are_judged_per_error_and_size_with_a_single_method() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = campaign(tmp.path(), "errors", &errors_spec());
+    write_report(&dir, &ReportOptions::default()).unwrap();
+    keep(&dir, "errors");
+    let verdicts = read(&dir.join("tables/verdicts.csv"));
+    let row = |scope: &str| -> Vec<String> {
+        let line = verdicts
+            .lines()
+            .find(|l| {
+                l.starts_with("fitting-function,final-error,cubic,rational-cubic,")
+                    && l.contains(&format!(",{scope},"))
+            })
+            .unwrap_or_else(|| panic!("no row at {scope} in\n{verdicts}"));
+        line.split(',').map(str::to_owned).collect()
+    };
+    // One row per design point: the two errors (each with its chain) and
+    // the two sizes, six outlines each.
+    for error in [
+        "error=fixed;chain=sequential",
+        "error=orthogonal;chain=joint",
+    ] {
+        for size in ["segments", "free-parameters"] {
+            let r = row(&format!("{error};size={size}"));
+            assert_eq!(r[5], "6", "{r:?}");
+        }
+        // At equal segments the rational cubic has two more unknowns per
+        // segment, and it is ahead on every glyph: the verdict is decided.
+        let r = row(&format!("{error};size=segments"));
+        assert_eq!((r[7].as_str(), r[9].as_str()), ("0", "6"), "{r:?}");
+        assert_eq!(r.last().map(String::as_str), Some("worse"), "{r:?}");
+    }
+    // The summary states the verdicts at the design points, with their
+    // scope, and none that pools the errors or the sizes.
+    let report = read(&dir.join("report.md"));
+    let summary = &report[report.find("## Summary").unwrap()..];
+    let summary = &summary[..summary[3..].find("\n## ").map_or(summary.len(), |i| i + 3)];
+    assert!(summary.contains("| Scope |"), "{summary}");
+    assert!(summary.contains("error=orthogonal;chain=joint;size=free-parameters"));
+    assert!(!summary.contains("| all |"), "{summary}");
+    assert!(summary.contains("which fitting function and which continuity"));
+    // The problem names carry the variant and the free parameters.
+    let runs = read(&dir.join("runs.csv"));
+    assert!(runs.contains("DejaVuSans-a/cubic/g1/params=60/orthogonal/joint,20,"));
+    assert!(runs.contains("DejaVuSans-a/rational-cubic/g1/params=60,12,"));
+}

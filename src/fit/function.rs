@@ -1,5 +1,7 @@
 //! The curve family a segment is fitted with.
 
+use crate::geometry::Continuity;
+
 /// The Bézier function fitted to each segment (the thesis compares the
 /// four): polynomial or rational, quadratic or cubic, rational ones in
 /// standard form `w₀ = w_m = 1` (Farin 2002, §12.3 and §13.3).
@@ -71,6 +73,25 @@ impl FunctionType {
     pub fn free_dim(self) -> usize {
         let inner = self.degree() - 1;
         2 * inner + if self.is_rational() { inner } else { 0 }
+    }
+
+    /// The free scalars one segment adds to a closed chain of segments
+    /// joined with `continuity` whose join points are fixed: the
+    /// [`FunctionType::free_dim`] of an unjoined segment, less the one
+    /// scalar a G1 join takes (the start leg's direction is the shared
+    /// tangent's) or the two a C1 join takes (the first inner control point
+    /// follows from the shared derivative), so 2/4/3/6 for C0, 1/3/2/5 for
+    /// G1 and 0/2/1/4 for C1 (quadratic, cubic, rational quadratic, rational
+    /// cubic). It is the dimension of a segment whose start is joined, and
+    /// `segments × chain_dim` the number of unknowns of a cyclic chain
+    /// solved jointly; a corner or an open end adds a few more.
+    pub fn chain_dim(self, continuity: Continuity) -> usize {
+        let taken = match continuity {
+            Continuity::C0 => 0,
+            Continuity::G1 => 1,
+            Continuity::C1 => 2,
+        };
+        self.free_dim() - taken
     }
 
     /// The fewest data points a segment needs: the two fixed ends plus

@@ -824,9 +824,13 @@ mod tests {
         let o = SearchSpaceOptions::default();
         let expect = [[2, 0, 1], [4, 2, 3], [3, 1, 2], [6, 4, 5]];
         for (f, dims) in FunctionType::ALL.iter().zip(expect) {
-            for (start, d) in starts().into_iter().zip(dims) {
+            let continuities = [Continuity::C0, Continuity::C1, Continuity::G1];
+            for ((start, d), continuity) in starts().into_iter().zip(dims).zip(continuities) {
                 let p = SegmentProblem::new(*f, pts.clone(), ps.clone(), start, &o).unwrap();
                 assert_eq!(p.dim(), d, "{f} {start:?}");
+                // What a segment adds to a chain is the dimension of a
+                // segment whose start is joined.
+                assert_eq!(f.chain_dim(continuity), d, "{f} {continuity:?}");
                 assert_eq!(p.bounds().len(), d);
                 assert_eq!(p.variable_names().len(), d);
                 assert!(p.variable_names().iter().all(|n| !n.is_empty()));

@@ -7,8 +7,9 @@
 //! results other than the algorithm, the function and the run: the
 //! dimension, the budget, the transform and the bbob group of benchmark
 //! problems; the fitting function, the continuity, the budget per segment,
-//! the search space, the technique's α_size and the problem mode of
-//! fitting cases. A scope is `all`, one factor level (`transform=shift`)
+//! the search space, the technique's α_size, the problem mode, the error
+//! (fixed parameters or orthogonal), the chain (sequential or joint) and
+//! what was held equal (segments or free parameters) of fitting cases. A scope is `all`, one factor level (`transform=shift`)
 //! or one design point (`transform=shift;budget=10000`).
 //!
 //! Units are what a test across problems may count as independent: a
@@ -46,7 +47,7 @@ impl std::fmt::Display for Level {
 
 /// The design factors in their fixed order: (key in scopes and CSV
 /// headers, name in the Markdown).
-pub(crate) const FACTORS: [(&str, &str); 11] = [
+pub(crate) const FACTORS: [(&str, &str); 14] = [
     ("function", "function"),
     ("continuity", "continuity"),
     ("dim", "D"),
@@ -57,6 +58,9 @@ pub(crate) const FACTORS: [(&str, &str); 11] = [
     ("search_space", "search space"),
     ("alpha_size", "α_size"),
     ("mode", "mode"),
+    ("error", "error"),
+    ("chain", "chain"),
+    ("size", "held equal"),
     ("method", "method"),
 ];
 
@@ -77,6 +81,9 @@ pub(crate) fn phrase(key: &str, level: &Level) -> String {
         "mode" => format!("{level} problems"),
         "function" => format!("{level}"),
         "continuity" => level.to_string().to_uppercase(),
+        "error" => format!("the {level} error"),
+        "chain" => format!("the {level} chain"),
+        "size" => format!("equal {}", level.to_string().replace('-', " ")),
         "method" => format!("{level}"),
         _ => format!("{} {level}", factor_name(key)),
     }
@@ -159,6 +166,11 @@ pub(crate) fn fit_levels(name: &str, budget_per_segment: Option<u64>) -> Levels 
         "outline"
     };
     out.push(("mode", Level::Text(mode.into())));
+    if let Some(c) = case {
+        out.push(("error", Level::Text(c.error().into())));
+        out.push(("chain", Level::Text(c.chain().into())));
+        out.push(("size", Level::Text(c.size().into())));
+    }
     Levels(out)
 }
 

@@ -26,17 +26,75 @@ pub(crate) struct Case<'a> {
     pub alpha: Option<&'a str>,
     /// Whether the case is in the per-segment mode.
     pub per_segment: bool,
+    /// The section's `free_parameters` (`params=P`), when they set the
+    /// segments.
+    pub params: Option<&'a str>,
+    /// Whether E is the orthogonal error (`orthogonal`) rather than the
+    /// thesis's fixed-parameter E.
+    pub orthogonal: bool,
+    /// Whether the chain was solved jointly (`joint`).
+    pub joint: bool,
 }
 
 impl Case<'_> {
-    /// `source/function/continuity` and `/per-segment`: what a technique
-    /// case and its bounding-box twin share.
+    /// `source/function/continuity`, `/per-segment` and the variant: what
+    /// a technique case and its bounding-box twin share.
     pub fn base(&self) -> String {
         let mut s = format!("{}/{}/{}", self.source, self.function, self.continuity);
         if self.per_segment {
             s.push_str("/per-segment");
         }
+        let variant = self.variant();
+        if !variant.is_empty() {
+            s = format!("{s}/{variant}");
+        }
         s
+    }
+
+    /// The name's tail after the mode: `params=P`, `orthogonal` and
+    /// `joint` as they apply, joined by `/`; empty for the thesis's case
+    /// (fixed parameters, sequential chain, a segment count).
+    pub fn variant(&self) -> String {
+        let mut parts = Vec::new();
+        if let Some(p) = self.params {
+            parts.push(format!("params={p}"));
+        }
+        if self.orthogonal {
+            parts.push("orthogonal".into());
+        }
+        if self.joint {
+            parts.push("joint".into());
+        }
+        parts.join("/")
+    }
+
+    /// The error as a design level: `fixed` or `orthogonal`.
+    pub fn error(&self) -> &'static str {
+        if self.orthogonal {
+            "orthogonal"
+        } else {
+            "fixed"
+        }
+    }
+
+    /// The chain as a design level: `sequential` or `joint`.
+    pub fn chain(&self) -> &'static str {
+        if self.joint {
+            "joint"
+        } else {
+            "sequential"
+        }
+    }
+
+    /// What the section held equal as a design level: `segments`, or
+    /// `free-parameters` for `free_parameters = P` (whatever `P`, so that
+    /// outlines given different counts form one design point).
+    pub fn size(&self) -> &'static str {
+        if self.params.is_some() {
+            "free-parameters"
+        } else {
+            "segments"
+        }
     }
 
     /// The search space as a design level: `bounding-box`, or
@@ -60,9 +118,28 @@ pub(crate) fn split(name: &str) -> Option<Case<'_>> {
         space: None,
         alpha: None,
         per_segment: false,
+        params: None,
+        orthogonal: false,
+        joint: false,
     };
+    // The tail in the order `FitCase::seed_name` writes it: space, α_size,
+    // mode, free parameters, error, chain.
+    let mut tail = false;
     for part in parts {
         match part {
+            _ if part.starts_with("params=") && case.params.is_none() && !case.orthogonal => {
+                case.params = Some(&part["params=".len()..]);
+                tail = true;
+            }
+            "orthogonal" if !case.orthogonal && !case.joint => {
+                case.orthogonal = true;
+                tail = true;
+            }
+            "joint" if !case.joint => {
+                case.joint = true;
+                tail = true;
+            }
+            _ if tail => return None,
             "per-segment" if !case.per_segment => case.per_segment = true,
             _ if part.starts_with("alpha=") && case.alpha.is_none() => {
                 case.alpha = Some(&part["alpha=".len()..]);
@@ -251,4 +328,50 @@ pub(crate) fn same_seeds(fr: &FitRuns<'_>, p: usize, q: usize, c: usize) -> bool
         Some(v)
     };
     matches!((seeds(p), seeds(q)), (Some(a), Some(b)) if a == b)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_split_into_their_parts_and_variants() {
+        let c = split("horse/rational-cubic/g1").unwrap();
+        assert_eq!(
+            (c.source, c.function, c.continuity),
+            ("horse", "rational-cubic", "g1")
+        );
+        assert_eq!(
+            (c.variant().as_str(), c.error(), c.chain()),
+            ("", "fixed", "sequential")
+        );
+        assert_eq!(c.size(), "segments");
+
+        let c = split("coin/cubic/c1/bounding-box/per-segment/orthogonal").unwrap();
+        assert_eq!(c.space, Some("bounding-box"));
+        assert!(c.per_segment && c.orthogonal && !c.joint);
+        assert_eq!(c.base(), "coin/cubic/c1/per-segment/orthogonal");
+
+        let c = split("g/quadratic/g1/params=60/orthogonal/joint").unwrap();
+        assert_eq!(c.params, Some("60"));
+        assert_eq!(
+            (c.error(), c.chain(), c.size()),
+            ("orthogonal", "joint", "free-parameters")
+        );
+        assert_eq!(c.variant(), "params=60/orthogonal/joint");
+        // A technique twin and its bounding box share the variant.
+        let t = split("g/quadratic/g1/alpha=0.1/params=60/orthogonal/joint").unwrap();
+        assert_eq!(t.base(), c.base());
+
+        // Out of order or repeated: not a fitting name.
+        for bad in [
+            "g/quadratic/g1/joint/orthogonal",
+            "g/quadratic/g1/orthogonal/params=60",
+            "g/quadratic/g1/joint/per-segment",
+            "g/quadratic/g1/joint/joint",
+            "g/quadratic",
+        ] {
+            assert_eq!(split(bad), None, "{bad}");
+        }
+    }
 }

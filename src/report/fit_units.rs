@@ -115,7 +115,9 @@ fn describe(a: &UnitRuns, b: &UnitRuns, paired: bool, alpha: f64) -> Option<Unit
 }
 
 /// A group of per-segment problems pooled over the sources: function,
-/// continuity, search-space level and budget per segment.
+/// continuity and variant (`function/continuity` with the name's tail:
+/// `orthogonal` and the like, see [`super::fit_runs::Case::variant`]),
+/// search-space level and budget per segment.
 type Group = (String, String, String, Option<u64>);
 
 /// The per-segment problems of each group, with their sources.
@@ -125,9 +127,15 @@ fn groups(fr: &FitRuns<'_>) -> BTreeMap<Group, Vec<usize>> {
         let Some(c) = split(&problem.name).filter(|c| c.per_segment) else {
             continue;
         };
+        let variant = c.variant();
+        let continuity = if variant.is_empty() {
+            c.continuity.to_owned()
+        } else {
+            format!("{}/{variant}", c.continuity)
+        };
         let key = (
             c.function.to_owned(),
-            c.continuity.to_owned(),
+            continuity,
             c.space_level(),
             problem.budget,
         );

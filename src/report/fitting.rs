@@ -244,6 +244,7 @@ fn functions_table(fr: &FitRuns<'_>, best: &[(f64, String)]) -> Table {
         csv_header: [
             "source",
             "continuity",
+            "variant",
             "search_space",
             "budget_per_segment",
             "function",
@@ -260,6 +261,7 @@ fn functions_table(fr: &FitRuns<'_>, best: &[(f64, String)]) -> Table {
         split(&problems[p].name).map(|c| {
             (
                 c.source,
+                c.variant(),
                 c.space_level(),
                 problems[p].budget,
                 c.continuity,
@@ -272,6 +274,10 @@ fn functions_table(fr: &FitRuns<'_>, best: &[(f64, String)]) -> Table {
             continue;
         };
         let mut cont = case.continuity.to_uppercase();
+        let variant = case.variant();
+        if !variant.is_empty() {
+            cont = format!("{cont} {variant}");
+        }
         if case.space.is_some() || case.alpha.is_some() {
             cont = format!("{cont} ({})", case.space_level());
         }
@@ -288,6 +294,7 @@ fn functions_table(fr: &FitRuns<'_>, best: &[(f64, String)]) -> Table {
         functions.csv_rows.push(vec![
             case.source.into(),
             case.continuity.into(),
+            variant,
             case.space_level(),
             problems[p].budget.map_or(String::new(), |b| b.to_string()),
             case.function.into(),
@@ -513,10 +520,22 @@ fn overlay_panel(
         let Some(c) = split(&fr.problems[*p].name) else {
             continue;
         };
-        if c.source != source || c.function != function || c.space.is_some() || c.alpha.is_some() {
+        // At equal segments only: a panel compares the continuities and
+        // the variants (error, chain) of one function.
+        if c.source != source
+            || c.function != function
+            || c.space.is_some()
+            || c.alpha.is_some()
+            || c.params.is_some()
+        {
             continue;
         }
-        let cont = c.continuity.to_uppercase();
+        let variant = c.variant();
+        let cont = if variant.is_empty() {
+            c.continuity.to_uppercase()
+        } else {
+            format!("{} {variant}", c.continuity.to_uppercase())
+        };
         for r in rs {
             match best.iter_mut().find(|(k, _)| *k == cont) {
                 Some((_, b)) if r.best < b.best => *b = r,
@@ -637,15 +656,20 @@ pub(crate) fn treatment_observations(fr: &FitRuns<'_>) -> Vec<Observation> {
         .iter()
         .map(|k| !beyond_the_thesis(k.as_deref().unwrap_or("")))
         .collect();
-    // Cases of whole outlines by (source, space level, budget).
-    type CaseKey = (String, String, Option<u64>);
+    // Cases of whole outlines by (source, space level, budget, variant).
+    type CaseKey = (String, String, Option<u64>, String);
     let mut cases: BTreeMap<CaseKey, Vec<(usize, Case<'_>)>> = BTreeMap::new();
     for (p, problem) in fr.problems.iter().enumerate() {
         let Some(c) = split(&problem.name).filter(|c| !c.per_segment) else {
             continue;
         };
         cases
-            .entry((c.source.to_owned(), c.space_level(), problem.budget))
+            .entry((
+                c.source.to_owned(),
+                c.space_level(),
+                problem.budget,
+                c.variant(),
+            ))
             .or_default()
             .push((p, c));
     }
@@ -654,7 +678,8 @@ pub(crate) fn treatment_observations(fr: &FitRuns<'_>) -> Vec<Observation> {
                        (pa, a): (usize, &str),
                        (pb, b): (usize, &str),
                        source: &str,
-                       fixed: (&'static str, &str)| {
+                       fixed: (&'static str, &str),
+                       case: &Case<'_>| {
         for (c, cell) in fr.cells.iter().enumerate() {
             if !thesis[c] {
                 continue;
@@ -674,13 +699,16 @@ pub(crate) fn treatment_observations(fr: &FitRuns<'_>) -> Vec<Observation> {
                 unit: source.to_owned(),
                 levels: Levels(vec![
                     (fixed.0, Level::Text(fixed.1.to_owned())),
+                    ("error", Level::Text(case.error().to_owned())),
+                    ("chain", Level::Text(case.chain().to_owned())),
+                    ("size", Level::Text(case.size().into())),
                     ("method", Level::Text(cell.clone())),
                 ]),
                 value,
             });
         }
     };
-    for ((source, _, _), list) in &cases {
+    for ((source, _, _, _), list) in &cases {
         for &(p, c) in list {
             // Every function against the rational cubic of the same continuity.
             if c.function != "rational-cubic" {
@@ -696,6 +724,7 @@ pub(crate) fn treatment_observations(fr: &FitRuns<'_>) -> Vec<Observation> {
                         b,
                         source,
                         ("continuity", c.continuity),
+                        &c,
                     );
                 }
             }
@@ -711,6 +740,7 @@ pub(crate) fn treatment_observations(fr: &FitRuns<'_>) -> Vec<Observation> {
                         (q, "c1"),
                         source,
                         ("function", c.function),
+                        &c,
                     );
                 }
             }

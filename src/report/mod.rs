@@ -257,19 +257,35 @@ fn tests(
             // Still check the name, so that a typo is not silently ignored.
             resolve_reference(ds, Some(r))?;
         }
-        let text = "There is a single algorithm configuration: no significance test, \
-                    Friedman ranking or Nemenyi critical difference can be computed."
+        let text = "There is a single algorithm configuration: no significance test between \
+                    methods, Friedman ranking or Nemenyi critical difference can be computed."
             .to_owned();
         notes.push(text.clone());
+        // The comparisons between fitting functions and continuities need
+        // one method only.
+        let observations = fits
+            .map(fitting::treatment_observations)
+            .unwrap_or_default();
+        let rows = verdicts::verdicts(
+            &observations,
+            &[],
+            verdicts::Settings {
+                alpha,
+                post_hoc: options.post_hoc,
+                reference: None,
+            },
+        );
+        let verdict_table =
+            (!rows.is_empty()).then(|| verdicts::table(&rows, design::unit_noun(ds), alpha));
         return Ok(Tests {
             reference: None,
             reference_note: None,
             tables: Vec::new(),
             text: Some(text),
             robustness: Vec::new(),
-            verdicts: Vec::new(),
-            verdict_table: None,
-            observations: Vec::new(),
+            verdicts: rows,
+            verdict_table,
+            observations,
         });
     }
     let (reference, reference_note) = resolve_reference(ds, options.reference.as_deref())?;
@@ -423,11 +439,18 @@ impl Sections {
                 if shown.md_rows.is_empty() {
                     md.push_str(&markdown::paragraph("No verdict over all problems."));
                 } else {
-                    md.push_str(&markdown::paragraph(
+                    let at_points = shown.md_header.iter().any(|h| h == "Scope");
+                    md.push_str(&markdown::paragraph(if at_points {
+                        "Verdicts at each design point, against the reference (the fixed and \
+                         the orthogonal error, and equal segments and equal free parameters, \
+                         measure different things, so no verdict here pools them; units +/=/− \
+                         counts the units that favour the algorithm, tie, or favour the \
+                         reference; effect is their median summary):"
+                    } else {
                         "Verdicts over all problems against the reference (units +/=/− \
                          counts the units that favour the algorithm, tie, or favour the \
-                         reference; effect is their median summary):",
-                    ));
+                         reference; effect is their median summary):"
+                    }));
                     md.push_str(&shown.markdown());
                     md.push('\n');
                     let count = |v: &str| {
@@ -595,17 +618,38 @@ fn summary_verdicts(t: &Table) -> Table {
         "p (adjusted)",
         "Verdict",
     ];
-    let idx: Vec<usize> = keep.iter().filter_map(|k| col(k)).collect();
     let scope = col("Scope");
     let verdict = col("Verdict");
+    // Scopes that pool the two errors or the two sizes (equal segments,
+    // equal free parameters) pool measures of different things: such a
+    // campaign's summary states its verdicts at the design points.
+    let pools = |key: &str| {
+        scope.is_some_and(|i| t.md_rows.iter().any(|r| r[i].contains(&format!("{key}="))))
+    };
+    let by_point = pools("error") || pools("size");
+    let parts = |r: &Vec<String>| scope.map_or(0, |i| r[i].split(';').count());
+    let most = t.md_rows.iter().map(parts).max().unwrap_or(0);
+    let mut keep = keep.to_vec();
+    if by_point {
+        keep.insert(2, "Scope");
+    }
+    let idx: Vec<usize> = keep.iter().filter_map(|k| col(k)).collect();
     let mut rows: Vec<&Vec<String>> = t
         .md_rows
         .iter()
-        .filter(|r| scope.is_none_or(|i| r[i] == "all"))
+        .filter(|r| match scope {
+            Some(i) if by_point => parts(r) == most && r[i] != "all",
+            Some(i) => r[i] == "all",
+            None => true,
+        })
         .collect();
-    // Decided verdicts first; the order is otherwise the table's.
-    rows.sort_by_key(|r| verdict.is_some_and(|i| !(r[i] == "better" || r[i] == "worse")));
-    rows.truncate(SUMMARY_VERDICTS);
+    if by_point {
+        rows.truncate(SUMMARY_POINT_VERDICTS);
+    } else {
+        // Decided verdicts first; the order is otherwise the table's.
+        rows.sort_by_key(|r| verdict.is_some_and(|i| !(r[i] == "better" || r[i] == "worse")));
+        rows.truncate(SUMMARY_VERDICTS);
+    }
     Table {
         md_header: idx.iter().map(|&i| t.md_header[i].clone()).collect(),
         md_rows: rows
@@ -619,10 +663,19 @@ fn summary_verdicts(t: &Table) -> Table {
 /// The most verdicts the summary lists.
 const SUMMARY_VERDICTS: usize = 12;
 
+/// The most verdicts the summary lists at design points (when its scopes
+/// pool the errors or the sizes).
+const SUMMARY_POINT_VERDICTS: usize = 40;
+
 /// The question a report answers, from what its results hold.
 fn question(s: &Sections, ds: &data::Dataset) -> String {
     let reference = s.tests.reference.as_deref().unwrap_or("the reference");
-    if !s.fitting.is_empty() {
+    if !s.fitting.is_empty() && ds.cells.len() < 2 {
+        "which fitting function and which continuity fit the outlines with the lowest \
+         error E, and where does the verdict hold (error, chain, equal segments or equal \
+         free parameters)?"
+            .into()
+    } else if !s.fitting.is_empty() {
         format!(
             "which method fits the outlines with the lowest fitting error E (and RMS and \
              maximum distance), segment by segment, and does it beat {reference}?"

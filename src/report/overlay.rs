@@ -11,13 +11,37 @@ use std::path::{Path, PathBuf};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::render::{colour, draw_legend, draw_title, font, legend_height, save, Draw, DrawResult};
+use super::render::{
+    colour, draw_legend, draw_title, font, legend_height, save, text_width, Draw, DrawResult,
+};
 use super::ReportError;
 use crate::geometry::Point;
 use crate::reconstruction::{OverlayFigure, OverlayPanel};
 
 const PANEL: u32 = 760;
 const TITLE_H: u32 = 40;
+/// The font size and line height of a panel's caption.
+const CAPTION: (u32, u32) = (16, 22);
+
+/// `text` broken at its `", "` separators into lines at most `width`
+/// pixels wide at `size` (a part wider than that gets a line of its own).
+fn wrap(text: &str, width: u32, size: u32) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    for part in text.split(", ") {
+        match lines.last_mut() {
+            Some(line) if text_width(&format!("{line}, {part}"), size) <= width => {
+                line.push_str(", ");
+                line.push_str(part);
+            }
+            Some(line) => {
+                line.push(',');
+                lines.push(part.to_owned());
+            }
+            None => lines.push(part.to_owned()),
+        }
+    }
+    lines
+}
 
 /// Writes `figure` as `<dir>/<stem>.svg` and `<dir>/<stem>.png`; returns
 /// the two paths.
@@ -31,22 +55,23 @@ pub fn save_overlay(
 
 // The drawing's layout of the reconstruction room's figure data.
 impl OverlayFigure {
+    /// The curve labels of every panel, each once, in the order they
+    /// first appear: a curve's colour is its label's place here, the same
+    /// in every panel.
+    fn labels(&self) -> Vec<&str> {
+        let mut out: Vec<&str> = Vec::new();
+        for c in self.panels.iter().flat_map(|p| &p.curves) {
+            if !out.contains(&c.label.as_str()) {
+                out.push(&c.label);
+            }
+        }
+        out
+    }
+
     fn legend(&self) -> Vec<(String, RGBColor)> {
         let mut out: Vec<(String, RGBColor)> = vec![("data".into(), RGBColor(120, 120, 120))];
-        // Curve colours follow their position in the panel.
-        let n = self
-            .panels
-            .iter()
-            .map(|p| p.curves.len())
-            .max()
-            .unwrap_or(0);
-        for i in 0..n {
-            let label = self
-                .panels
-                .iter()
-                .find_map(|p| p.curves.get(i).map(|c| c.label.clone()))
-                .unwrap_or_default();
-            out.push((label, colour(i)));
+        for (i, label) in self.labels().into_iter().enumerate() {
+            out.push((label.to_owned(), colour(i)));
         }
         out
     }
@@ -79,6 +104,7 @@ fn square_box(points: impl Iterator<Item = Point>) -> ((f64, f64), (f64, f64)) {
 fn draw_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     panel: &OverlayPanel,
+    labels: &[&str],
 ) -> DrawResult {
     let all = panel.data.iter().copied().chain(
         panel
@@ -88,8 +114,18 @@ fn draw_panel<DB: DrawingBackend>(
     );
     let ((x0, x1), (y0, y1)) = square_box(all);
     let y_range = if panel.y_down { y1..y0 } else { y0..y1 };
-    let mut chart = ChartBuilder::on(area)
-        .caption(&panel.title, font(18))
+    // The caption, wrapped to the panel's width.
+    let (w, _) = area.dim_in_pixel();
+    let lines = wrap(&panel.title, w.saturating_sub(24), CAPTION.0);
+    let (caption, area) = area.split_vertically(CAPTION.1 * lines.len() as u32 + 6);
+    for (cell, line) in caption
+        .split_evenly((lines.len().max(1), 1))
+        .iter()
+        .zip(&lines)
+    {
+        draw_title(cell, line, CAPTION.0)?;
+    }
+    let mut chart = ChartBuilder::on(&area)
         .margin(8)
         .x_label_area_size(36)
         .y_label_area_size(52)
@@ -109,8 +145,8 @@ fn draw_panel<DB: DrawingBackend>(
             .iter()
             .map(|p| Circle::new((p.x, p.y), 2, grey.filled())),
     )?;
-    for (i, curve) in panel.curves.iter().enumerate() {
-        let c = colour(i);
+    for curve in &panel.curves {
+        let c = colour(labels.iter().position(|l| *l == curve.label).unwrap_or(0));
         for poly in &curve.control_polygons {
             chart.draw_series(std::iter::once(PathElement::new(
                 poly.iter().map(|p| (p.x, p.y)).collect::<Vec<_>>(),
@@ -159,8 +195,9 @@ impl Draw for OverlayFigure {
         draw_legend(&strip, &legend)?;
         let (rows, cols) = self.shape();
         let cells = body.split_evenly((rows, cols));
+        let labels = self.labels();
         for (panel, cell) in self.panels.iter().zip(cells.iter()) {
-            draw_panel(cell, panel)?;
+            draw_panel(cell, panel, &labels)?;
         }
         Ok(())
     }
@@ -207,6 +244,17 @@ mod tests {
         );
         let png = std::fs::read(&files[1]).unwrap();
         assert_eq!(&png[1..4], b"PNG");
+    }
+
+    #[test]
+    fn long_captions_wrap_at_their_separators() {
+        let title = "rational-cubic: C1 E = 1.23e+01 (LM), G1 E = 3.60e+01 (LM), \
+                     G1 orthogonal/joint E = 4.21e-01 (LM), C1 orthogonal/joint E = 9.9e-01 (LM)";
+        let lines = wrap(title, 400, 16);
+        assert!(lines.len() > 1, "{lines:?}");
+        assert!(lines.iter().all(|l| text_width(l, 16) <= 400), "{lines:?}");
+        assert_eq!(lines.join(" "), title);
+        assert_eq!(wrap("short", 400, 16), ["short"]);
     }
 
     #[test]

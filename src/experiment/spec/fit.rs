@@ -6,6 +6,7 @@
 //! function = ["cubic", "rational-cubic"]   # quadratic, cubic, rational-quadratic, rational-cubic
 //! continuity = ["c1", "g1"]                # c0, c1, g1
 //! segments = 24                            # or "true-breaks" for glyphs
+//! # free_parameters = 60                   # instead of segments: equal unknowns
 //! search_space = "technique"               # or "bounding-box", or both in a list
 //! budget = 5000                            # evaluations per segment (or a list)
 //! # contour = "all"                        # or an index (default 0, the largest)
@@ -22,7 +23,16 @@
 //! `/bounding-box` for the naive search space, `/alpha=A` for a listed
 //! α_size other than the default 0.5, `/per-segment` in the per-segment
 //! mode, `/orthogonal` for `error = "orthogonal"` and `/joint` for
-//! `chain = "joint"`. Each input is loaded and each problem's segmentation is checked
+//! `chain = "joint"`, and `/params=P` for `free_parameters = P`.
+//!
+//! **Equal free parameters.** `free_parameters = P` replaces `segments`:
+//! each function × continuity gets `round(P / k)` segments (at least one),
+//! where `k` is what one segment adds to a closed chain
+//! ([`FunctionType::chain_dim`]: 1/3/2/5 scalars with G1 joins and 0/2/1/4
+//! with C1, quadratic, cubic, rational quadratic, rational cubic), so that
+//! the functions and continuities of a section are compared at the same
+//! number of unknowns rather than the same number of segments. Quadratics
+//! with C1 joins add none and are refused. Each input is loaded and each problem's segmentation is checked
 //! when the spec loads, so a missing image, a glyph absent from its font or
 //! an impossible segmentation is reported before anything runs.
 //!
@@ -62,12 +72,13 @@ use crate::reconstruction::{
     ContourChoice, FitMode, LoadOptions, Method, Reconstruction, Segmentation, ShapeFit, Source,
 };
 
-const FIT_KEYS: [&str; 19] = [
+const FIT_KEYS: [&str; 20] = [
     "input",
     "contour",
     "function",
     "continuity",
     "segments",
+    "free_parameters",
     "corner_angle",
     "corner_k",
     "search_space",
@@ -101,6 +112,9 @@ pub struct FitCase {
     pub source: Arc<Source>,
     /// How each contour is cut into segments.
     pub segmentation: Segmentation,
+    /// The section's `free_parameters`, which set the segment count and
+    /// end the name with `/params=P`.
+    pub free_parameters: Option<usize>,
     /// The corner detector used by the segmentation.
     pub corners: Option<CornerOptions>,
     /// Function, continuity, closing, search space and budget per segment.
@@ -154,6 +168,9 @@ impl FitCase {
         }
         if self.mode == FitMode::PerSegment {
             name.push_str("/per-segment");
+        }
+        if let Some(p) = self.free_parameters {
+            name = format!("{name}/params={p}");
         }
         if o.error != ErrorMeasure::Fixed {
             name = format!("{name}/{}", o.error.name());
@@ -481,15 +498,24 @@ impl Parser<'_> {
             let source = Source::load(&text, base, &load)
                 .map_err(|e| self.error(item.span(), &input_field, e.to_string()))?;
             let segmentation = self.fit_segmentation(&segments, &source, &text)?;
+            let free_parameters = match segments.kind {
+                Segs::FreeParameters(p) => Some(p),
+                _ => None,
+            };
             let source_name = label.clone().unwrap_or_else(|| source.label());
             let source = Arc::new(source);
             let mut references: HashMap<(FunctionType, Continuity), Arc<ShapeFit>> = HashMap::new();
             for options in settings.options(&source, &segments) {
+                let segmentation = match free_parameters {
+                    Some(p) => self.count_for(&segments, p, &options)?,
+                    None => segmentation.clone(),
+                };
                 let mut case = FitCase {
                     name: String::new(),
                     source_name: source_name.clone(),
                     source: Arc::clone(&source),
-                    segmentation: segmentation.clone(),
+                    segmentation,
+                    free_parameters,
                     corners: settings.corners,
                     options,
                     alpha_factor: settings.alpha_grid,
@@ -604,6 +630,7 @@ impl Parser<'_> {
         }
         let alpha_grid = search.alpha_sizes.as_ref().is_some_and(|a| a.len() > 1);
         let extended = self.get(table, "closing").is_some()
+            || self.get(table, "free_parameters").is_some()
             || self.get(table, "error").is_some()
             || self.get(table, "chain").is_some()
             || self.get(table, "mode").is_some()
@@ -847,13 +874,32 @@ impl Parser<'_> {
         Ok(Some(out))
     }
 
-    /// The required `segments`: a count or `"true-breaks"`.
+    /// The required `segments` (a count or `"true-breaks"`), or in its
+    /// place `free_parameters` (a count of unknowns per chain).
     fn fit_segments<'t, 'i>(
         &self,
         table: &'t Table<'i>,
         section: &str,
         entry: &Value<'_>,
     ) -> Result<FitSegments<'t, 'i>, SpecError> {
+        if let Some(value) = self.get(table, "free_parameters") {
+            let field = format!("{section}.free_parameters");
+            if let Some(s) = self.get(table, "segments") {
+                return Err(self.error(
+                    s.span(),
+                    &format!("{section}.segments"),
+                    "expected either segments or free_parameters, not both (free_parameters \
+                     sets the number of segments of each function and continuity)"
+                        .to_owned(),
+                ));
+            }
+            let p = self.integer(value, &field, 1, 1_000_000)? as usize;
+            return Ok(FitSegments {
+                kind: Segs::FreeParameters(p),
+                value,
+                field,
+            });
+        }
         let value = self.required(table, section, "segments", entry.span())?;
         let field = format!("{section}.segments");
         let kind = match raw_string(value) {
@@ -898,6 +944,8 @@ impl Parser<'_> {
     ) -> Result<Segmentation, SpecError> {
         match segments.kind {
             Segs::Count(n) => Ok(Segmentation::Count(n)),
+            // Set per function and continuity by `count_for`.
+            Segs::FreeParameters(_) => Ok(Segmentation::Count(1)),
             Segs::TrueBreaks => source.true_segmentation().ok_or_else(|| {
                 self.error(
                     segments.value.span(),
@@ -906,6 +954,34 @@ impl Parser<'_> {
                 )
             }),
         }
+    }
+
+    /// The segmentation that gives the function and continuity of
+    /// `options` about `p` free parameters: `round(p / k)` segments, at
+    /// least one, `k` the scalars a segment adds to a closed chain
+    /// ([`FunctionType::chain_dim`]).
+    fn count_for(
+        &self,
+        segments: &FitSegments<'_, '_>,
+        p: usize,
+        options: &FitOptions,
+    ) -> Result<Segmentation, SpecError> {
+        let k = options.function.chain_dim(options.continuity);
+        if k == 0 {
+            return Err(self.error(
+                segments.value.span(),
+                &segments.field,
+                format!(
+                    "a {} segment with {} joins adds no free parameter to its chain (its \
+                     first segment determines all the others), so free_parameters cannot set \
+                     its number of segments; give that function and continuity a section of \
+                     their own with segments = N",
+                    options.function.name(),
+                    options.continuity.name().to_uppercase()
+                ),
+            ));
+        }
+        Ok(Segmentation::Count(((p + k / 2) / k).max(1)))
     }
 
     /// The problem of a case, checked by a dry run: its dimension is its
@@ -990,7 +1066,7 @@ impl FitSettings {
                 .map(|f| f.min_points() - 1)
                 .max()
                 .unwrap_or(1),
-            Segs::Count(_) => 1,
+            Segs::Count(_) | Segs::FreeParameters(_) => 1,
         };
         LoadOptions {
             contour: self.contour,
@@ -1097,6 +1173,9 @@ enum Segs {
     Count(usize),
     /// A glyph's own break points.
     TrueBreaks,
+    /// As many segments as give each function and continuity this many
+    /// free parameters.
+    FreeParameters(usize),
 }
 
 /// The `segments` key of a section, with its value and field for errors
