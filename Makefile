@@ -21,7 +21,7 @@ help:
 	@echo "make reproduce-ch6  chapter 6: cranial implant from CT 0051, artificial-defect validation (results/ch6_cranial/)"
 	@echo "make bbob           COCO's bbob suite: 8 optimisers x 24 functions x D = 2, 5, 10, report and COCO logs (results/bbob/)"
 	@echo "make cocopp         COCO's own post-processing (cocopp, pinned in tools/cocopp-requirements.txt, in a venv) of results/bbob/coco/"
-	@echo "make reproduce-all  every chapter that exists so far"
+	@echo "make reproduce-all  every chapter: 4, 5 and 6 (about 40 min on 2 cores)"
 
 build:
 	$(CARGO) build --release --locked

@@ -165,8 +165,13 @@ say "whole run done"
 # Waits until job $1 has left the queue, then checks that every task
 # completed with exit code 0.
 await() {
-	for _ in $(seq 900); do
+	for i in $(seq 900); do
 		[ -z "$(squeue -h -j "$1" 2>/dev/null)" ] && break
+		# A relaunch that raced the old step's cleanup ("batch script setup
+		# failed ... File exists") is requeued held; let it go again.
+		if [ $((i % 10)) -eq 0 ] && squeue -h -j "$1" -o '%r' 2>/dev/null | grep -qi 'held'; then
+			scontrol release "$1" 2>/dev/null || true
+		fi
 		sleep 0.2
 	done
 	[ -z "$(squeue -h -j "$1")" ] || fail "job $1 still queued after 3 minutes"
@@ -225,15 +230,22 @@ if [ -e "$SHARD/runs.csv" ] || [ "$DONE" -lt 1 ] || [ "$DONE" -ge 18 ]; then
 fi
 scontrol requeue "${JOB}_1"
 say "B: task 1 suspended with $DONE of 18 runs journalled, and requeued"
-# A job requeued while suspended may be held; release it.
+# A job requeued while suspended may be held; release it once its old
+# batch step has gone (its spool directory removed), so that the relaunch
+# does not meet the old step's files on a loaded machine.
 for _ in $(seq 100); do
 	state=$(scontrol show job -o "${JOB}_1" | grep -o 'JobState=[A-Z]*')
 	[ "$state" = JobState=PENDING ] && break
 	sleep 0.1
 done
+TASK_ID=$(scontrol show job -o "${JOB}_1" | grep -o '^JobId=[0-9]*' | cut -d= -f2)
+for _ in $(seq 200); do
+	[ -d "$T/spool/job$(printf %05d "$TASK_ID")" ] || break
+	sleep 0.1
+done
 scontrol release "${JOB}_1" 2>/dev/null || true
 await "$JOB"
-scontrol show job -o "${JOB}_1" | grep -q 'Restarts=1' || fail "task 1 did not restart"
+scontrol show job -o "${JOB}_1" | grep -Eq 'Restarts=[1-9]' || fail "task 1 did not restart"
 grep -q 'DUE TO JOB REQUEUE' "slurm-${JOB}_1.out" || fail "task 1 was not requeued"
 # Its second start kept the runs of the first, which had not finished.
 REUSED=$(sed -n 's/.*18 runs (\([0-9]*\) reused.*/\1/p' "slurm-${JOB}_1.out")

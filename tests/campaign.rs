@@ -226,9 +226,19 @@ fn shards_run_at_once_into_one_out_and_merge_into_it() {
     let s = merge(&spec, std::slice::from_ref(&parent), None).unwrap();
     assert_eq!(s.out, parent);
     assert_eq!(files(&parent), files(&whole));
-    for file in files(&whole).iter().filter(|f| *f != "timing.csv") {
+    // Every file but the record of where and when (timing, provenance).
+    for file in files(&whole)
+        .iter()
+        .filter(|f| *f != "timing.csv" && *f != "provenance.toml")
+    {
         assert_eq!(read(&whole, file), read(&parent, file), "{file} differs");
     }
+    // The merged provenance holds the three shards' sessions, 18 runs each.
+    let sessions = metabezier::experiment::provenance::read(&parent);
+    assert_eq!(
+        sessions.iter().map(|s| s.runs).collect::<Vec<_>>(),
+        [18, 18, 18]
+    );
     assert!(files(&whole).contains(&"hits.csv".to_owned()));
     // The shard directories themselves merge as well, and again in place.
     let merged = tmp.path().join("merged");

@@ -88,6 +88,16 @@ fn run_writes_the_result_files_and_check_describes_the_plan() {
         "{meta}"
     );
     assert!(meta.contains("master_seed = 7"), "{meta}");
+    // Where and with what build the runs were made: beside meta.toml,
+    // which stays deterministic.
+    assert!(!meta.contains("commit") && !meta.contains("date"), "{meta}");
+    let sessions = metabezier::experiment::provenance::read(&dir);
+    assert_eq!(sessions.len(), 1, "{sessions:?}");
+    let s = &sessions[0];
+    assert_eq!(s.version, env!("CARGO_PKG_VERSION"));
+    assert_eq!(s.commit, metabezier::experiment::provenance::GIT_COMMIT);
+    assert!(s.date.len() == 20 && s.date.ends_with('Z') && s.date.starts_with("20"));
+    assert!(s.threads == 2 && !s.cpu.is_empty() && s.runs > 0, "{s:?}");
 
     // A second run without --resume refuses to touch the finished campaign.
     let again = metabezier()

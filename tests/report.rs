@@ -130,6 +130,18 @@ fn report_of_a_small_campaign() {
     assert_eq!(summary.problems, 4);
     assert_eq!(summary.runs, 4 * 3 * 5);
     assert_eq!(summary.reference.as_deref(), Some("MHS"));
+    // The report names the build and the machine that made the runs.
+    let md = read(&dir.join("report.md"));
+    let made = md
+        .lines()
+        .find(|l| l.contains("Made by"))
+        .unwrap_or_else(|| panic!("no provenance line in\n{md}"));
+    assert!(
+        made.contains(&format!("metabezier {}", env!("CARGO_PKG_VERSION")))
+            && made.contains("2 thread(s)")
+            && made.contains(": 60 run(s)"),
+        "{made}"
+    );
     for t in [
         "algorithms",
         "problems",

@@ -15,6 +15,7 @@ pub mod coco_log;
 pub mod fit_files;
 pub mod journal;
 pub mod outcome;
+pub mod provenance;
 pub mod records;
 pub mod registry;
 pub mod runner;

@@ -521,7 +521,9 @@ fn outlines_csv(spec: &Spec) -> Vec<u8> {
 }
 
 /// Runs (or resumes) a campaign and writes `runs.csv`, `convergence.csv`,
-/// `timing.csv`, a copy of the spec and `meta.toml` into the output directory.
+/// `timing.csv`, a copy of the spec, `meta.toml` and `provenance.toml` (one
+/// session appended per invocation that ran something) into the output
+/// directory.
 pub fn run_campaign(spec: &Spec, opts: &RunOptions) -> Result<Summary, ExperimentError> {
     check_limits(spec, opts)?;
     let out = campaign_dir(spec, opts.out.as_deref(), opts.shard);
@@ -566,8 +568,19 @@ pub fn run_campaign(spec: &Spec, opts: &RunOptions) -> Result<Summary, Experimen
         let p = &spec.problems[spec.run_id(i).problem];
         std::cmp::Reverse(p.budget.saturating_mul(p.dim as u64))
     });
+    let threads = opts
+        .threads
+        .filter(|&t| t > 0)
+        .unwrap_or_else(rayon::current_num_threads);
+    let mut session = super::provenance::Session::now(threads, 0);
     let new = execute_journalled(spec, &todo, &journal_path, opts)?;
     let executed = new.len();
+    // Where and with what build the runs were made, beside (not in) the
+    // deterministic meta.toml.
+    if executed > 0 || !out.join(super::provenance::PROVENANCE_FILE).exists() {
+        session.runs = executed;
+        super::provenance::append(&out, &session)?;
+    }
     for (&i, rec) in todo.iter().zip(new) {
         done.insert(i, rec);
     }

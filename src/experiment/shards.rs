@@ -266,6 +266,13 @@ pub fn merge_found(
         meta_toml(spec, None, ids.len()).as_bytes(),
     )?;
     write_results(spec, &out, &ordered)?;
+    // The shards' sessions, in the order the directories were given.
+    let sessions: Vec<_> = inputs
+        .dirs
+        .iter()
+        .flat_map(|d| super::provenance::read(d))
+        .collect();
+    super::provenance::write(&out, &sessions)?;
     Ok(Summary {
         out,
         total: ids.len(),

@@ -532,6 +532,9 @@ pub(crate) struct Provenance {
     pub spec_found: bool,
     /// Whether `meta.toml` was found and parsed.
     pub meta_found: bool,
+    /// The sessions of `provenance.toml` (version, commit, date, threads,
+    /// SIMD level, CPU), oldest first; empty when it is missing.
+    pub sessions: Vec<crate::experiment::provenance::Session>,
     /// Problems reading the two files.
     pub notes: Vec<String>,
 }
@@ -595,6 +598,7 @@ pub(crate) fn provenance(dir: &Path) -> Provenance {
             });
         }
     }
+    p.sessions = crate::experiment::provenance::read(dir);
     if let Some(meta) = read_toml(&dir.join("meta.toml"), &mut notes) {
         p.meta_found = true;
         let tool = meta.get("tool").map(value_text);

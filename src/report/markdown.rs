@@ -91,8 +91,9 @@ fn budget_text(p: &Provenance, budgets: &[u64]) -> String {
     format!("{budgets}{spec_budget}")
 }
 
-/// The provenance bullets taken from spec.toml and meta.toml: spec, hash,
-/// seed, runs, budget, threshold and tool version.
+/// The provenance bullets taken from spec.toml, meta.toml and
+/// provenance.toml: spec, hash, seed, runs, budget, threshold, tool version
+/// and the sessions that made the runs.
 fn spec_bullets(s: &mut String, h: &Header<'_>) {
     let p = h.provenance;
     bullet(
@@ -143,6 +144,35 @@ fn spec_bullets(s: &mut String, h: &Header<'_>) {
             .clone()
             .map_or_else(|| "unknown (no meta.toml)".into(), |v| md_escape(&v)),
     );
+    bullet(s, "Made by", &sessions_text(&p.sessions));
+}
+
+/// The sessions of `provenance.toml` in a sentence each: build, date,
+/// threads, SIMD level, CPU and runs.
+fn sessions_text(sessions: &[crate::experiment::provenance::Session]) -> String {
+    if sessions.is_empty() {
+        return "not recorded (no provenance.toml, or one that cannot be read)".into();
+    }
+    sessions
+        .iter()
+        .map(|x| {
+            let commit = if x.commit.len() == 40 {
+                format!("commit `{}`", &x.commit[..12])
+            } else {
+                format!("commit {}", md_escape(&x.commit))
+            };
+            format!(
+                "metabezier {} ({commit}) on {}, {} thread(s), SIMD {}, CPU {}: {} run(s)",
+                md_escape(&x.version),
+                md_escape(&x.date),
+                x.threads,
+                md_escape(&x.simd),
+                md_escape(&x.cpu),
+                x.runs
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("; ")
 }
 
 /// The provenance bullets about the data: what was read, the external runs
