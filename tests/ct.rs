@@ -1484,6 +1484,7 @@ fn overlay_and_mesh_previews_render() {
         View {
             direction: [0.0, 0.0, -1.0],
             up: [0.0, 1.0, 0.0],
+            mirror: false,
         },
         100,
     );
@@ -1501,6 +1502,7 @@ fn overlay_and_mesh_previews_render() {
         View {
             direction: [0.0, 1.0, 0.0],
             up: [0.0, 0.0, 1.0],
+            mirror: false,
         },
         100,
     );

@@ -54,8 +54,8 @@ pub use mirror::{
     MirrorTemplate, TiltedMidline,
 };
 pub use render::{
-    encode_png, mesh_view_rgb, slice_overlay_png, slice_view_rgb, write_png, Canvas, Overlay,
-    SliceView, View, Window,
+    encode_png, mesh_view, mesh_view_rgb, slice_overlay_png, slice_view_rgb, write_png, Canvas,
+    MeshView, Overlay, SliceView, View, Window,
 };
 pub use stl::{parse_stl, stl_bytes, write_stl};
 pub use triangulate::ear_clip;

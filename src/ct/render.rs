@@ -291,6 +291,26 @@ impl Canvas {
         root.present().map_err(draw_err)
     }
 
+    /// Draws a straight line `width` pixels wide from `(x0, y0)` to
+    /// `(x1, y1)`.
+    pub fn line(
+        &mut self,
+        (x0, y0): (i32, i32),
+        (x1, y1): (i32, i32),
+        colour: [u8; 3],
+        width: u32,
+    ) -> Result<(), CtError> {
+        let root = BitMapBackend::with_buffer(&mut self.rgb, (self.width, self.height))
+            .into_drawing_area();
+        let col = RGBColor(colour[0], colour[1], colour[2]);
+        root.draw(&PathElement::new(
+            vec![(x0, y0), (x1, y1)],
+            col.stroke_width(width),
+        ))
+        .map_err(draw_err)?;
+        root.present().map_err(draw_err)
+    }
+
     /// A colour key: one swatch and label per entry, in rows from `(x, y)`,
     /// `columns` entries per row `column_width` pixels apart.
     pub fn legend(
@@ -433,6 +453,10 @@ pub struct View {
     pub direction: [f64; 3],
     /// Up vector (not parallel to `direction`).
     pub up: [f64; 3],
+    /// Whether to mirror the image left–right: for meshes in a frame that
+    /// is left-handed in the patient (see `Anatomy::right_handed`), so that
+    /// the picture shows the patient as seen, not a mirror image.
+    pub mirror: bool,
 }
 
 fn norm(v: [f64; 3]) -> [f64; 3] {
@@ -457,9 +481,41 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 /// white background; returns the buffer. Depth test per pixel (z-buffer),
 /// Lambert shading with ambient 0.25.
 pub fn mesh_view_rgb(meshes: &[(&Mesh, [u8; 3])], view: View, size: u32) -> Vec<u8> {
+    mesh_view(meshes, view, size).rgb
+}
+
+/// A rendered view and its projection: what a scale bar and an axis triad
+/// drawn over it need.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshView {
+    /// Row-major RGB8, `size × size`.
+    pub rgb: Vec<u8>,
+    /// Millimetres (mesh units) per pixel, the same in x and y.
+    pub mm_per_px: f64,
+    /// The unit vector drawn towards the image's right.
+    pub right: [f64; 3],
+    /// The unit vector drawn towards the image's top.
+    pub up: [f64; 3],
+}
+
+impl MeshView {
+    /// Where the mesh-frame unit vector `v` points in the image, in pixels
+    /// per unit of its length drawn (`y` downwards, as in the image).
+    pub fn screen(&self, v: [f64; 3]) -> [f64; 2] {
+        [dot(v, self.right), -dot(v, self.up)]
+    }
+}
+
+/// [`mesh_view_rgb`] with the projection it used ([`MeshView`]).
+pub fn mesh_view(meshes: &[(&Mesh, [u8; 3])], view: View, size: u32) -> MeshView {
     let d = norm(view.direction);
     let right = norm(cross(d, view.up));
     let up = cross(right, d);
+    let right = if view.mirror {
+        right.map(|c| -c)
+    } else {
+        right
+    };
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     for (m, _) in meshes {
         for v in &m.vertices {
@@ -473,7 +529,12 @@ pub fn mesh_view_rgb(meshes: &[(&Mesh, [u8; 3])], view: View, size: u32) -> Vec<
     let n = size as usize;
     let mut rgb = vec![255u8; n * n * 3];
     if lo[0] > hi[0] {
-        return rgb;
+        return MeshView {
+            rgb,
+            mm_per_px: f64::NAN,
+            right,
+            up,
+        };
     }
     let span = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-9) * 1.1;
     let c = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
@@ -518,7 +579,12 @@ pub fn mesh_view_rgb(meshes: &[(&Mesh, [u8; 3])], view: View, size: u32) -> Vec<
             }
         }
     }
-    rgb
+    MeshView {
+        rgb,
+        mm_per_px: span / size as f64,
+        right,
+        up,
+    }
 }
 
 /// Writes PNG bytes to `path` atomically.

@@ -122,6 +122,18 @@ impl PatientDirection {
         }
     }
 
+    /// The LPS unit vector of the direction.
+    fn unit(self) -> [f64; 3] {
+        let mut v = [0.0; 3];
+        v[self.axis()] = match self {
+            PatientDirection::Left | PatientDirection::Posterior | PatientDirection::Superior => {
+                1.0
+            }
+            _ => -1.0,
+        };
+        v
+    }
+
     /// The LPS axis (0, 1, 2) of the direction.
     fn axis(self) -> usize {
         use PatientDirection::*;
@@ -144,6 +156,16 @@ pub struct Anatomy {
     pub y: PatientDirection,
     /// The direction of `+z`.
     pub z: PatientDirection,
+}
+
+impl Anatomy {
+    /// Whether `+x`, `+y`, `+z` form a right-handed frame in the patient
+    /// (as LPS does): the determinant of their LPS unit vectors is +1. A
+    /// left-handed volume (an `.inv3`'s rows flipped, say) drawn with a
+    /// right-handed camera would show a mirror image.
+    pub fn right_handed(&self) -> bool {
+        det3([self.x.unit(), self.y.unit(), self.z.unit()]) > 0.0
+    }
 }
 
 /// The anatomy an `.inv3` project declares by convention (it stores no

@@ -7,8 +7,8 @@
 use super::pipeline::{DefectConfig, Implant, ImplantError, SliceResult};
 use super::wall::envelope_radius;
 use crate::ct::{
-    bone_loops, bone_mask_slice, loft, mesh_view_rgb, slice_view_rgb, Anatomy, Canvas, Frame, Mesh,
-    MidLine, Overlay, PatientDirection, Polyline, SliceView, View, Volume, Window,
+    bone_loops, bone_mask_slice, loft, mesh_view, slice_view_rgb, Anatomy, Canvas, Frame, Mesh,
+    MeshView, MidLine, Overlay, PatientDirection, Polyline, SliceView, View, Volume, Window,
 };
 use crate::geometry::Point;
 
@@ -402,16 +402,140 @@ pub fn preview_png(
     let size = 360u32;
     let mut canvas = Canvas::new(3 * size, size + 34, [255, 255, 255]);
     for (i, (label, direction, up)) in views.iter().enumerate() {
-        let rgb = mesh_view_rgb(
+        let view = mesh_view(
             &[(&skull, [200, 200, 200]), (&implant.mesh, [230, 40, 40])],
             View {
                 direction: *direction,
                 up: *up,
+                mirror: !orientation.anatomy.right_handed(),
             },
             size,
         );
-        canvas.blit(&rgb, size, size, i as u32 * size, 34);
-        canvas.text(label, i as i32 * size as i32 + 8, 8, 15, [0, 0, 0])?;
+        let x0 = i as i32 * size as i32;
+        canvas.blit(&view.rgb, size, size, x0 as u32, 34);
+        canvas.text(label, x0 + 8, 8, 15, [0, 0, 0])?;
+        // A scale bar at the bottom left.
+        if let Some(mm) = scale_bar_mm(view.mm_per_px, size) {
+            let px = (f64::from(mm) / view.mm_per_px).round() as i32;
+            let y = 34 + size as i32 - 14;
+            canvas.line((x0 + 12, y), (x0 + 12 + px, y), [0, 0, 0], 3)?;
+            canvas.text(&format!("{mm} mm"), x0 + 12, y - 20, 13, [0, 0, 0])?;
+        }
+        // The patient axes at the bottom right.
+        let origin = (x0 + size as i32 - 46, 34 + size as i32 - 46);
+        for (name, tip, colour) in triad(&view, &orientation.anatomy, 30.0) {
+            let end = (
+                origin.0 + tip[0].round() as i32,
+                origin.1 + tip[1].round() as i32,
+            );
+            canvas.line(origin, end, colour, 2)?;
+            canvas.text(name, end.0 - 4, end.1 - 8, 12, colour)?;
+        }
     }
     Ok(canvas.png()?)
+}
+
+/// The length of a scale bar for a view of `mm_per_px` millimetres per
+/// pixel and `size` pixels: the largest of 1, 2, 5 × 10ᵏ mm that spans at
+/// most a quarter of the view; `None` for a view without a scale.
+pub fn scale_bar_mm(mm_per_px: f64, size: u32) -> Option<u32> {
+    let max = mm_per_px * f64::from(size) / 4.0;
+    if !max.is_finite() || max < 1.0 {
+        return None;
+    }
+    [1u32, 2, 5, 10, 20, 50, 100, 200, 500, 1000]
+        .into_iter()
+        .rev()
+        .find(|&l| f64::from(l) <= max)
+}
+
+/// The axis triad of a view: for the volume's `+x`, `+y` and `+z`, the
+/// short name of the patient direction it points to (L/R, A/P, S/I), where
+/// its arrow of `length` pixels ends on screen (relative to the triad's
+/// origin, `y` down) and its colour; an axis along the line of sight is
+/// left out.
+pub fn triad(
+    view: &MeshView,
+    anatomy: &Anatomy,
+    length: f64,
+) -> Vec<(&'static str, [f64; 2], [u8; 3])> {
+    let axes = [
+        ([1.0, 0.0, 0.0], anatomy.x, [200, 30, 30]),
+        ([0.0, 1.0, 0.0], anatomy.y, [20, 140, 20]),
+        ([0.0, 0.0, 1.0], anatomy.z, [30, 60, 220]),
+    ];
+    axes.into_iter()
+        .filter_map(|(v, d, colour)| {
+            let s = view.screen(v);
+            (s[0].hypot(s[1]) > 0.2).then(|| (short(d), [s[0] * length, s[1] * length], colour))
+        })
+        .collect()
+}
+
+/// The one-letter name of a patient direction.
+fn short(d: PatientDirection) -> &'static str {
+    match d {
+        PatientDirection::Left => "L",
+        PatientDirection::Right => "R",
+        PatientDirection::Anterior => "A",
+        PatientDirection::Posterior => "P",
+        PatientDirection::Superior => "S",
+        PatientDirection::Inferior => "I",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_scale_bar_is_a_round_length_of_at_most_a_quarter_view() {
+        // 360 px at 0.5 mm per px: 180 mm wide, a bar of at most 45 mm.
+        assert_eq!(scale_bar_mm(0.5, 360), Some(20));
+        assert_eq!(scale_bar_mm(0.56, 360), Some(50));
+        assert_eq!(scale_bar_mm(0.01, 360), None);
+        assert_eq!(scale_bar_mm(f64::NAN, 360), None);
+    }
+
+    #[test]
+    fn the_triad_names_the_patient_axes_where_they_point_on_screen() {
+        // Looking at the face along +y (LPS: towards posterior), +z up.
+        let view = MeshView {
+            rgb: Vec::new(),
+            mm_per_px: 0.5,
+            right: [1.0, 0.0, 0.0],
+            up: [0.0, 0.0, 1.0],
+        };
+        let lps = Anatomy {
+            x: PatientDirection::Left,
+            y: PatientDirection::Posterior,
+            z: PatientDirection::Superior,
+        };
+        let t = triad(&view, &lps, 30.0);
+        // +y is the line of sight: left out.
+        let names: Vec<&str> = t.iter().map(|a| a.0).collect();
+        assert_eq!(names, ["L", "S"]);
+        assert_eq!(t[0].1, [30.0, 0.0]);
+        // Superior is up: negative screen y.
+        assert_eq!(t[1].1, [0.0, -30.0]);
+        // A volume whose +z points to the feet labels the same arrow I.
+        let feet = Anatomy {
+            z: PatientDirection::Inferior,
+            ..lps
+        };
+        assert_eq!(triad(&view, &feet, 30.0)[1].0, "I");
+    }
+
+    #[test]
+    fn handedness_follows_the_patient_axes() {
+        use PatientDirection::*;
+        let a = |x, y, z| Anatomy { x, y, z };
+        assert!(a(Left, Posterior, Superior).right_handed());
+        assert!(a(Right, Anterior, Superior).right_handed());
+        assert!(a(Anterior, Left, Superior).right_handed());
+        // The .inv3 convention flips the rows of LPS: left-handed, so its
+        // preview is mirrored back.
+        assert!(!crate::ct::INV3_ANATOMY.right_handed());
+        assert!(!a(Left, Posterior, Inferior).right_handed());
+    }
 }
