@@ -804,6 +804,13 @@ fn functions_are_judged_per_error_and_size_with_a_single_method() {
     assert!(summary.contains("error=orthogonal;chain=joint;size=free-parameters"));
     assert!(!summary.contains("| all |"), "{summary}");
     assert!(summary.contains("which fitting function and which continuity"));
+    // A fitting report speaks of E and segments, not of f − f*, success
+    // rates and runtimes to a target.
+    assert!(report.contains("| Problem | Segments | Method | Runs |"), "{report}");
+    for benchmark_word in ["f − f", "aRT", "| SR |", "Evals to success"] {
+        assert!(!report.contains(benchmark_word), "{benchmark_word} in\n{report}");
+    }
+    assert!(report.contains("Final fitting error E per method and problem"));
     // The problem names carry the variant and the free parameters.
     let runs = read(&dir.join("runs.csv"));
     assert!(runs.contains("DejaVuSans-a/cubic/g1/params=60/orthogonal/joint,20,"));

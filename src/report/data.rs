@@ -159,6 +159,25 @@ pub(crate) struct Dataset {
 }
 
 impl Dataset {
+    /// Whether every problem is a curve fit (a `[[fit]]` case): its error
+    /// is the fitting error E and its dimension the number of segments.
+    pub fn fitting_only(&self) -> bool {
+        !self.problems.is_empty() && self.problems.iter().all(Problem::is_fit)
+    }
+
+    /// The name of the final error in the reader's vocabulary: `E` (the
+    /// fitting error Σ|R_i − P_i|²) for a fitting campaign, `f − f*`
+    /// otherwise.
+    pub fn error_symbol(&self) -> &'static str {
+        if self.fitting_only() {
+            "E"
+        } else {
+            "f − f*"
+        }
+    }
+}
+
+impl Dataset {
     /// The runs of `cell` on `problem`, sorted by run number.
     pub fn runs(&self, problem: usize, cell: usize) -> &[Run] {
         self.runs

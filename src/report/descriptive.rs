@@ -106,6 +106,28 @@ fn frame() -> Table {
     }
 }
 
+/// The descriptive table's Markdown in a fitting campaign's vocabulary:
+/// the error is E, `D` is the number of segments, and the success columns
+/// (fitting has no target) are left to the CSV.
+fn fitting_vocabulary(t: &mut Table) {
+    t.title = "Final fitting error E per method and problem".into();
+    t.intro = vec![
+        "Final fitting error E = Σ|R_i − P_i|² (the orthogonal E, Σ min_s |R_i − P(s)|², for \
+         problems named /orthogonal) over the independent runs: best (minimum), worst \
+         (maximum), mean, sample standard deviation (n − 1) and median; Segments is the \
+         number of segments of the fit. RMS and maximum distances in pixels (or font \
+         units) are in the fitting section below."
+            .into(),
+    ];
+    let keep = t.md_header.len() - 3;
+    t.md_header.truncate(keep);
+    t.md_header[1] = "Segments".into();
+    t.md_header[2] = "Method".into();
+    for row in &mut t.md_rows {
+        row.truncate(keep);
+    }
+}
+
 /// The descriptive table: one row per (problem, cell).
 pub(crate) fn table(ds: &Dataset, stats: &[Vec<Option<CellStats>>]) -> Table {
     let mut t = frame();
@@ -152,6 +174,9 @@ pub(crate) fn table(ds: &Dataset, stats: &[Vec<Option<CellStats>>]) -> Table {
                 csv_opt(sc.and_then(|x| x.average_runtime)),
             ]);
         }
+    }
+    if ds.fitting_only() {
+        fitting_vocabulary(&mut t);
     }
     if nan {
         t.intro

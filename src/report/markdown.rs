@@ -129,14 +129,22 @@ fn spec_bullets(s: &mut String, h: &Header<'_>) {
         "Budget (objective evaluations per run)",
         &budget_text(p, &h.budgets),
     );
-    bullet(
-        s,
-        "Success threshold",
-        &p.threshold.map_or_else(
-            || "unknown (the success flags of runs.csv are used)".into(),
-            |t| format!("f − f\\* ≤ {}", sci_digits(t, 2)),
-        ),
-    );
+    if h.ds.fitting_only() {
+        bullet(
+            s,
+            "Success threshold",
+            "none: a fit has no target, its E is compared directly",
+        );
+    } else {
+        bullet(
+            s,
+            "Success threshold",
+            &p.threshold.map_or_else(
+                || "unknown (the success flags of runs.csv are used)".into(),
+                |t| format!("f − f\\* ≤ {}", sci_digits(t, 2)),
+            ),
+        );
+    }
     bullet(
         s,
         "Tool version",

@@ -598,10 +598,12 @@ pub(crate) fn comparison_table(
             ds.cells[reference].name
         ),
         intro: vec![
-            "Each entry is the mean (sample standard deviation) of the final error f − f* \
-             over the runs, followed by the mark of the first-level test against the \
-             reference (next section)."
-                .into(),
+            format!(
+                "Each entry is the mean (sample standard deviation) of the final error {} \
+                 over the runs, followed by the mark of the first-level test against the \
+                 reference (next section).",
+                ds.error_symbol()
+            ),
             family_text(ds, s, alpha),
         ],
         md_header,

@@ -40,6 +40,8 @@ pub(crate) struct BoxPanel {
 /// The box-plot figure; categories are the cells in order.
 pub(crate) struct Boxes {
     title: String,
+    /// The error's name on the axis (`f − f*`, or `E` for fitting).
+    symbol: &'static str,
     names: Vec<String>,
     panels: Vec<BoxPanel>,
 }
@@ -77,7 +79,7 @@ impl Boxes {
             .build_cartesian_2d(panel.x.0..panel.x.1, -0.6f64..(k as f64 - 0.4))?;
         chart
             .configure_mesh()
-            .x_desc("final f − f* (log scale)")
+            .x_desc(format!("final {} (log scale)", self.symbol))
             .x_label_formatter(&|v| decade_tick(*v, panel.x))
             .x_labels(decade_labels(panel.x))
             .y_labels(0)
@@ -238,12 +240,13 @@ fn panel(ds: &Dataset, p: usize, row: Vec<Option<BoxStat>>, floor: f64) -> BoxPa
 
 /// The caption: how the boxes are drawn, the floor when some errors are
 /// drawn at it, and how many non-finite errors are left out.
-fn caption(floor: Option<f64>, dropped: usize) -> String {
-    let mut caption = "Final error f − f* of the runs per algorithm and problem (log scale): \
-                       the box spans the first to third quartile (type-7), the thick line \
-                       is the median, whiskers reach the most extreme runs within 1.5 \
-                       interquartile ranges of the box, circles are runs beyond them."
-        .to_owned();
+fn caption(symbol: &str, floor: Option<f64>, dropped: usize) -> String {
+    let mut caption = format!(
+        "Final error {symbol} of the runs per algorithm and problem (log scale): the box \
+         spans the first to third quartile (type-7), the thick line is the median, \
+         whiskers reach the most extreme runs within 1.5 interquartile ranges of the box, \
+         circles are runs beyond them."
+    );
     if let Some(floor) = floor {
         caption.push_str(&format!(
             " Errors ≤ {} (including exact zeros) are drawn at {}.",
@@ -292,9 +295,10 @@ pub(super) fn boxes(ds: &Dataset) -> Result<Plot, NoPlot> {
     Ok(Plot {
         stem: "boxplots".into(),
         title: "Final error distributions".into(),
-        caption: caption(floored.then_some(floor), dropped),
+        caption: caption(ds.error_symbol(), floored.then_some(floor), dropped),
         figure: Figure::Boxes(Boxes {
-            title: "Final error f − f* per algorithm".into(),
+            title: format!("Final error {} per algorithm", ds.error_symbol()),
+            symbol: ds.error_symbol(),
             names: ds.cells.iter().map(|c| c.name.clone()).collect(),
             panels,
         }),

@@ -50,6 +50,8 @@ pub(crate) struct ConvergencePanel {
 /// The convergence figure.
 pub(crate) struct Convergence {
     title: String,
+    /// The error's name on the axis (`f − f*`, or `E` for fitting).
+    symbol: &'static str,
     legend: Vec<(String, RGBColor)>,
     panels: Vec<ConvergencePanel>,
 }
@@ -65,7 +67,7 @@ impl Draw for Convergence {
         let area = frame(root, &self.title, &self.legend)?;
         let areas = area.split_evenly(grid_shape(self.panels.len(), 3));
         for (panel, a) in self.panels.iter().zip(&areas) {
-            draw_panel(panel, a)?;
+            draw_panel(panel, self.symbol, a)?;
         }
         Ok(())
     }
@@ -74,6 +76,7 @@ impl Draw for Convergence {
 /// Draws one problem's panel: axes, then a band and a median line per cell.
 fn draw_panel<DB: DrawingBackend>(
     panel: &ConvergencePanel,
+    symbol: &str,
     a: &DrawingArea<DB, Shift>,
 ) -> DrawResult {
     let mut chart = ChartBuilder::on(a)
@@ -86,7 +89,7 @@ fn draw_panel<DB: DrawingBackend>(
     chart
         .configure_mesh()
         .x_desc("objective evaluations (log scale)")
-        .y_desc("f − f* (log scale)")
+        .y_desc(format!("{symbol} (log scale)"))
         .x_label_formatter(&|v| decade_tick(*v, panel.x))
         .y_label_formatter(&|v| decade_tick(*v, panel.y))
         .x_labels(decade_labels(panel.x))
@@ -212,9 +215,9 @@ fn panel(ds: &Dataset, (p, curves): ProblemCurves, floor: f64) -> ConvergencePan
 
 /// The caption: how the curves are computed, and the floor when some
 /// errors are drawn at it.
-fn caption(max_runs: usize, floor: Option<f64>) -> String {
+fn caption(symbol: &str, max_runs: usize, floor: Option<f64>) -> String {
     let mut caption = format!(
-        "Median best-so-far error f − f* against objective evaluations, both on log \
+        "Median best-so-far error {symbol} against objective evaluations, both on log \
          scales, over the runs of each algorithm (up to {max_runs} per problem); the \
          shaded band is the interquartile range (25 % to 75 %, type-7 quantiles). A \
          checkpoint is drawn once every run has a finite best-so-far value."
@@ -254,8 +257,9 @@ pub(super) fn convergence(ds: &Dataset) -> Result<Plot, NoPlot> {
     Ok(Plot {
         stem: "convergence".into(),
         title: "Convergence".into(),
-        caption: caption(max_runs, floored.then_some(floor)),
+        caption: caption(ds.error_symbol(), max_runs, floored.then_some(floor)),
         figure: Figure::Convergence(Convergence {
+            symbol: ds.error_symbol(),
             title: "Median best-so-far error (band: interquartile range)".into(),
             legend,
             panels,
