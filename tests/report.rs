@@ -806,13 +806,91 @@ fn functions_are_judged_per_error_and_size_with_a_single_method() {
     assert!(summary.contains("which fitting function and which continuity"));
     // A fitting report speaks of E and segments, not of f − f*, success
     // rates and runtimes to a target.
-    assert!(report.contains("| Problem | Segments | Method | Runs |"), "{report}");
+    assert!(
+        report.contains("| Problem | Segments | Method | Runs |"),
+        "{report}"
+    );
     for benchmark_word in ["f − f", "aRT", "| SR |", "Evals to success"] {
-        assert!(!report.contains(benchmark_word), "{benchmark_word} in\n{report}");
+        assert!(
+            !report.contains(benchmark_word),
+            "{benchmark_word} in\n{report}"
+        );
     }
     assert!(report.contains("Final fitting error E per method and problem"));
     // The problem names carry the variant and the free parameters.
     let runs = read(&dir.join("runs.csv"));
     assert!(runs.contains("DejaVuSans-a/cubic/g1/params=60/orthogonal/joint,20,"));
     assert!(runs.contains("DejaVuSans-a/rational-cubic/g1/params=60,12,"));
+}
+
+/// The width and height of a PNG file, from its IHDR chunk.
+fn png_size(path: &Path) -> (u32, u32) {
+    let b = std::fs::read(path).unwrap();
+    assert_eq!(&b[1..4], b"PNG", "{}", path.display());
+    let be = |i: usize| u32::from_be_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
+    (be(16), be(20))
+}
+
+#[test]
+fn figures_with_many_panels_are_split_into_pages_that_fit_a_screen() {
+    // 8 functions × 3 dimensions = 24 problems, 4 algorithms: convergence
+    // plots of 8 rows of 3 panels and a scalability plot of 8 rows (each
+    // above 3,000 px in one image); the box plots' 12 rows just fit.
+    let spec = r#"
+[experiment]
+name = "pages"
+seed = 3
+runs = 2
+budget = 300
+threshold = 1e-3
+
+[[problem]]
+function = ["sphere", "rastrigin", "ackley", "griewank", "rosenbrock", "schwefel_2_22", "step", "schwefel_1_2"]
+dim = [2, 3, 4]
+
+[[algorithm]]
+name = "hs"
+label = "HS"
+
+[[algorithm]]
+name = "pso"
+label = "PSO"
+swarm = 10
+
+[[algorithm]]
+name = "mhs"
+label = "MHS"
+
+[[algorithm]]
+name = "ga"
+label = "GA"
+"#;
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = campaign(tmp.path(), "pages", spec);
+    write_report(&dir, &ReportOptions::default()).unwrap();
+    keep(&dir, "pages");
+    let mut pngs: Vec<PathBuf> = std::fs::read_dir(dir.join("plots"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "png"))
+        .collect();
+    pngs.sort();
+    for p in &pngs {
+        let (w, h) = png_size(p);
+        assert!(w <= 3000 && h <= 3000, "{}: {w} × {h}", p.display());
+    }
+    let names: Vec<String> = pngs
+        .iter()
+        .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    assert!(!names.contains(&"boxplots_2.png".to_owned()), "{names:?}");
+    for stem in ["convergence", "scalability"] {
+        assert!(names.contains(&format!("{stem}.png")), "{names:?}");
+        assert!(names.contains(&format!("{stem}_2.png")), "{names:?}");
+    }
+    // The report links every page, each named "(k of n)".
+    let md = read(&dir.join("report.md"));
+    assert!(md.contains("(plots/convergence_2.png)"), "{md}");
+    assert!(md.contains("(plots/scalability_2.png)"), "{md}");
+    assert!(md.contains("Convergence (2 of 2)"), "{md}");
 }

@@ -47,6 +47,36 @@ pub(crate) struct Boxes {
 }
 
 impl Boxes {
+    /// The figure split into pages of whole panels, none taller than
+    /// `max` pixels (one page when it fits).
+    pub(super) fn pages(self, max: u32) -> Vec<Boxes> {
+        let (_, cols) = grid_shape(self.panels.len(), 2);
+        let (_, ph) = self.panel_size();
+        let rows = (max.saturating_sub(TITLE_H) / ph).max(1) as usize;
+        let per_page = rows * cols;
+        if self.panels.len() <= per_page {
+            return vec![self];
+        }
+        let Boxes {
+            title,
+            symbol,
+            names,
+            mut panels,
+        } = self;
+        let mut pages = Vec::new();
+        while !panels.is_empty() {
+            let rest = panels.split_off(per_page.min(panels.len()));
+            pages.push(Boxes {
+                title: title.clone(),
+                symbol,
+                names: names.clone(),
+                panels,
+            });
+            panels = rest;
+        }
+        pages
+    }
+
     fn label_width(&self) -> u32 {
         self.names
             .iter()

@@ -56,6 +56,38 @@ pub(crate) struct Convergence {
     panels: Vec<ConvergencePanel>,
 }
 
+impl Convergence {
+    /// The figure split into pages of whole panels, none taller than
+    /// `max` pixels (one page when it fits).
+    pub(super) fn pages(self, max: u32) -> Vec<Convergence> {
+        let (_, cols) = grid_shape(self.panels.len(), 3);
+        let head = frame_height(cols as u32 * PANEL_W, &self.legend);
+        let rows = (max.saturating_sub(head) / PANEL_H).max(1) as usize;
+        let per_page = rows * cols;
+        if self.panels.len() <= per_page {
+            return vec![self];
+        }
+        let Convergence {
+            title,
+            symbol,
+            legend,
+            mut panels,
+        } = self;
+        let mut pages = Vec::new();
+        while !panels.is_empty() {
+            let rest = panels.split_off(per_page.min(panels.len()));
+            pages.push(Convergence {
+                title: title.clone(),
+                symbol,
+                legend: legend.clone(),
+                panels,
+            });
+            panels = rest;
+        }
+        pages
+    }
+}
+
 impl Draw for Convergence {
     fn size(&self) -> (u32, u32) {
         let (rows, cols) = grid_shape(self.panels.len(), 3);

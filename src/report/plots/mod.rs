@@ -111,6 +111,62 @@ pub(crate) enum NoPlot {
     NoHits,
 }
 
+/// The largest side of a figure, in pixels: a taller grid of panels is
+/// split into pages (`stem`, `stem_2`, …) that fit a screen.
+pub(crate) const MAX_SIDE: u32 = 3000;
+
+/// `plot` as pages of whole panels, each at most [`MAX_SIDE`] tall: the
+/// first keeps the stem and title, the others get `_k` and "(k of n)".
+/// Figures other than grids of panels are returned as they are.
+fn paginate(plot: Plot) -> Vec<Plot> {
+    let Plot {
+        stem,
+        title,
+        caption,
+        figure,
+    } = plot;
+    let figures: Vec<Figure> = match figure {
+        Figure::Convergence(f) => f
+            .pages(MAX_SIDE)
+            .into_iter()
+            .map(Figure::Convergence)
+            .collect(),
+        Figure::Boxes(f) => f.pages(MAX_SIDE).into_iter().map(Figure::Boxes).collect(),
+        Figure::Scalability(f) => f
+            .pages(MAX_SIDE)
+            .into_iter()
+            .map(Figure::Scalability)
+            .collect(),
+        other => vec![other],
+    };
+    let n = figures.len();
+    figures
+        .into_iter()
+        .enumerate()
+        .map(|(i, figure)| Plot {
+            stem: if i == 0 {
+                stem.clone()
+            } else {
+                format!("{stem}_{}", i + 1)
+            },
+            title: if n == 1 {
+                title.clone()
+            } else {
+                format!("{title} ({} of {n})", i + 1)
+            },
+            caption: if n == 1 {
+                caption.clone()
+            } else {
+                format!(
+                    "{caption} Page {} of {n}, in the order of the problems.",
+                    i + 1
+                )
+            },
+            figure,
+        })
+        .collect()
+}
+
 /// Every figure of the report that the data allows, and a note for each one
 /// that it does not.
 pub(crate) fn figures(
@@ -129,7 +185,7 @@ pub(crate) fn figures(
         scalability::scalability(ds, stats),
     ] {
         match result {
-            Ok(p) => plots.push(p),
+            Ok(p) => plots.extend(paginate(p)),
             Err(n) => notes.push(n.to_string()),
         }
     }

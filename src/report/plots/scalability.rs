@@ -44,6 +44,37 @@ pub(crate) struct Scalability {
     with_time: bool,
 }
 
+impl Scalability {
+    /// The figure split into pages of whole rows (one function each), none
+    /// taller than `max` pixels (one page when it fits).
+    pub(super) fn pages(self, max: u32) -> Vec<Scalability> {
+        let cols = if self.with_time { 2 } else { 1 };
+        let head = frame_height(cols * PANEL_W, &self.legend);
+        let per_page = (max.saturating_sub(head) / PANEL_H).max(1) as usize;
+        if self.rows.len() <= per_page {
+            return vec![self];
+        }
+        let Scalability {
+            title,
+            legend,
+            mut rows,
+            with_time,
+        } = self;
+        let mut pages = Vec::new();
+        while !rows.is_empty() {
+            let rest = rows.split_off(per_page.min(rows.len()));
+            pages.push(Scalability {
+                title: title.clone(),
+                legend: legend.clone(),
+                rows,
+                with_time,
+            });
+            rows = rest;
+        }
+        pages
+    }
+}
+
 impl Draw for Scalability {
     fn size(&self) -> (u32, u32) {
         let cols = if self.with_time { 2 } else { 1 };
