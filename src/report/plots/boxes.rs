@@ -14,8 +14,8 @@ use super::super::render::{
     Draw, DrawResult,
 };
 use super::layout::{
-    decade_labels, decade_tick, frame, grid_shape, Chart, AXIS_FONT, PANEL_TITLE_FONT, PANEL_W,
-    TICK_FONT, TITLE_H,
+    decade_labels, decade_tick, frame, grid_shape, pages_of, Chart, AXIS_FONT, PANEL_TITLE_FONT,
+    PANEL_W, TICK_FONT, TITLE_H,
 };
 use super::{Figure, NoPlot, Plot};
 
@@ -53,28 +53,21 @@ impl Boxes {
         let (_, cols) = grid_shape(self.panels.len(), 2);
         let (_, ph) = self.panel_size();
         let rows = (max.saturating_sub(TITLE_H) / ph).max(1) as usize;
-        let per_page = rows * cols;
-        if self.panels.len() <= per_page {
-            return vec![self];
-        }
         let Boxes {
             title,
             symbol,
             names,
-            mut panels,
+            panels,
         } = self;
-        let mut pages = Vec::new();
-        while !panels.is_empty() {
-            let rest = panels.split_off(per_page.min(panels.len()));
-            pages.push(Boxes {
+        pages_of(panels, rows * cols)
+            .into_iter()
+            .map(|panels| Boxes {
                 title: title.clone(),
                 symbol,
                 names: names.clone(),
                 panels,
-            });
-            panels = rest;
-        }
-        pages
+            })
+            .collect()
     }
 
     fn label_width(&self) -> u32 {

@@ -16,7 +16,7 @@ use super::super::render::{
     DrawResult,
 };
 use super::layout::{
-    decade_labels, decade_tick, frame, frame_height, grid_shape, AXIS_FONT, PANEL_H,
+    decade_labels, decade_tick, frame, frame_height, grid_shape, pages_of, AXIS_FONT, PANEL_H,
     PANEL_TITLE_FONT, PANEL_W, TICK_FONT,
 };
 use super::{Figure, NoPlot, Plot};
@@ -63,28 +63,21 @@ impl Convergence {
         let (_, cols) = grid_shape(self.panels.len(), 3);
         let head = frame_height(cols as u32 * PANEL_W, &self.legend);
         let rows = (max.saturating_sub(head) / PANEL_H).max(1) as usize;
-        let per_page = rows * cols;
-        if self.panels.len() <= per_page {
-            return vec![self];
-        }
         let Convergence {
             title,
             symbol,
             legend,
-            mut panels,
+            panels,
         } = self;
-        let mut pages = Vec::new();
-        while !panels.is_empty() {
-            let rest = panels.split_off(per_page.min(panels.len()));
-            pages.push(Convergence {
+        pages_of(panels, rows * cols)
+            .into_iter()
+            .map(|panels| Convergence {
                 title: title.clone(),
                 symbol,
                 legend: legend.clone(),
                 panels,
-            });
-            panels = rest;
-        }
-        pages
+            })
+            .collect()
     }
 }
 

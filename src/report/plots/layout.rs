@@ -56,6 +56,20 @@ pub(super) fn grid_shape(n: usize, max_cols: usize) -> (usize, usize) {
     (rows, cols)
 }
 
+/// `items` in order, in pages of at most `per_page` each (at least one item
+/// per page; a single page when they fit): how a figure's panels are split
+/// into pages that fit a screen.
+pub(super) fn pages_of<T>(mut items: Vec<T>, per_page: usize) -> Vec<Vec<T>> {
+    let per_page = per_page.max(1);
+    let mut pages = Vec::with_capacity(items.len().div_ceil(per_page).max(1));
+    while items.len() > per_page {
+        let rest = items.split_off(per_page);
+        pages.push(std::mem::replace(&mut items, rest));
+    }
+    pages.push(items);
+    pages
+}
+
 /// Splits the canvas into a title strip, a legend strip and the panels area.
 pub(super) fn frame<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
@@ -87,6 +101,17 @@ pub(super) fn frame_height(width: u32, legend: &[(String, RGBColor)]) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn pages_keep_the_order_and_fill_all_but_the_last() {
+        assert_eq!(
+            pages_of(vec![1, 2, 3, 4, 5], 2),
+            [vec![1, 2], vec![3, 4], vec![5]]
+        );
+        assert_eq!(pages_of(vec![1, 2], 2), [vec![1, 2]]);
+        assert_eq!(pages_of(vec![1, 2], 0), [vec![1], vec![2]]);
+        assert_eq!(pages_of(Vec::<u8>::new(), 3), [Vec::<u8>::new()]);
+    }
 
     #[test]
     fn grid_shapes() {

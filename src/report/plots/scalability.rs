@@ -18,7 +18,7 @@ use super::super::render::{
     DrawResult,
 };
 use super::layout::{
-    decade_labels, decade_tick, frame, frame_height, Chart, Line, AXIS_FONT, PANEL_H,
+    decade_labels, decade_tick, frame, frame_height, pages_of, Chart, Line, AXIS_FONT, PANEL_H,
     PANEL_TITLE_FONT, PANEL_W, TICK_FONT,
 };
 use super::{Figure, NoPlot, Plot};
@@ -51,27 +51,21 @@ impl Scalability {
         let cols = if self.with_time { 2 } else { 1 };
         let head = frame_height(cols * PANEL_W, &self.legend);
         let per_page = (max.saturating_sub(head) / PANEL_H).max(1) as usize;
-        if self.rows.len() <= per_page {
-            return vec![self];
-        }
         let Scalability {
             title,
             legend,
-            mut rows,
+            rows,
             with_time,
         } = self;
-        let mut pages = Vec::new();
-        while !rows.is_empty() {
-            let rest = rows.split_off(per_page.min(rows.len()));
-            pages.push(Scalability {
+        pages_of(rows, per_page)
+            .into_iter()
+            .map(|rows| Scalability {
                 title: title.clone(),
                 legend: legend.clone(),
                 rows,
                 with_time,
-            });
-            rows = rest;
-        }
-        pages
+            })
+            .collect()
     }
 }
 
