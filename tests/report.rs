@@ -888,9 +888,11 @@ label = "GA"
         assert!(names.contains(&format!("{stem}.png")), "{names:?}");
         assert!(names.contains(&format!("{stem}_2.png")), "{names:?}");
     }
-    // The report links every page, each named "(k of n)".
+    // The report has one section per figure, showing its first page and
+    // linking every page.
     let md = read(&dir.join("report.md"));
     assert!(md.contains("(plots/convergence_2.png)"), "{md}");
     assert!(md.contains("(plots/scalability_2.png)"), "{md}");
-    assert!(md.contains("Convergence (2 of 2)"), "{md}");
+    assert!(md.contains("### Convergence (2 pages)"), "{md}");
+    assert!(!md.contains("### Convergence (2 of 2)"), "{md}");
 }

@@ -15,7 +15,7 @@ use super::error::CtError;
 use super::mesh::Mesh;
 use super::volume::Slice;
 use crate::files::write_atomic;
-use crate::font::{ensure_font, FAMILY};
+use crate::font::{ensure_font, GlyphBackend, FAMILY};
 use crate::geometry::Point;
 use crate::geometry::Polyline;
 
@@ -99,7 +99,7 @@ pub fn slice_overlay_png(
     };
     let font_ok = ensure_font().is_ok();
     {
-        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+        let root = GlyphBackend(BitMapBackend::with_buffer(&mut buf, (w, h))).into_drawing_area();
         let fail = |message: String| CtError::Draw { message };
         for &(x, c) in &overlay.vertical_lines {
             let px = ((x / slice.sx + 0.5) * s) as i32;
@@ -257,8 +257,11 @@ impl Canvas {
         if ensure_font().is_err() {
             return Ok(());
         }
-        let root = BitMapBackend::with_buffer(&mut self.rgb, (self.width, self.height))
-            .into_drawing_area();
+        let root = GlyphBackend(BitMapBackend::with_buffer(
+            &mut self.rgb,
+            (self.width, self.height),
+        ))
+        .into_drawing_area();
         let col = RGBColor(colour[0], colour[1], colour[2]);
         root.draw(&Text::new(
             text.to_string(),
@@ -278,8 +281,11 @@ impl Canvas {
         colour: [u8; 3],
         filled: bool,
     ) -> Result<(), CtError> {
-        let root = BitMapBackend::with_buffer(&mut self.rgb, (self.width, self.height))
-            .into_drawing_area();
+        let root = GlyphBackend(BitMapBackend::with_buffer(
+            &mut self.rgb,
+            (self.width, self.height),
+        ))
+        .into_drawing_area();
         let col = RGBColor(colour[0], colour[1], colour[2]);
         let style = if filled {
             col.filled()
@@ -300,8 +306,11 @@ impl Canvas {
         colour: [u8; 3],
         width: u32,
     ) -> Result<(), CtError> {
-        let root = BitMapBackend::with_buffer(&mut self.rgb, (self.width, self.height))
-            .into_drawing_area();
+        let root = GlyphBackend(BitMapBackend::with_buffer(
+            &mut self.rgb,
+            (self.width, self.height),
+        ))
+        .into_drawing_area();
         let col = RGBColor(colour[0], colour[1], colour[2]);
         root.draw(&PathElement::new(
             vec![(x0, y0), (x1, y1)],
@@ -373,7 +382,7 @@ pub fn slice_view_rgb(
         (x.round() as i32, y.round() as i32)
     };
     {
-        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+        let root = GlyphBackend(BitMapBackend::with_buffer(&mut buf, (w, h))).into_drawing_area();
         for &((r, c), col) in &overlay.pixels {
             let centre = Point::new(c as f64 * slice.sx, r as f64 * slice.sy);
             let half = Point::new(0.5 * slice.sx, 0.5 * slice.sy);

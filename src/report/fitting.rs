@@ -17,7 +17,7 @@ use std::path::Path;
 use super::data::Dataset;
 use super::fit_runs::{cell_name, same_seeds, split, two_sample_test, Case, FitRuns, SpaceTest};
 use super::format::{sci, Table};
-use super::plots::{Figure, Plot};
+use super::plots::{Figure, Page, Plot};
 use super::verdicts::Observation;
 use crate::experiment::records::{read_results, FitDetail, RunRecord};
 use crate::experiment::segments::segment_from_row;
@@ -591,6 +591,7 @@ fn overlay_plot(ds: &Dataset, fr: &FitRuns<'_>, source: &str, data: &[Point]) ->
         .map(|ch| if ch.is_ascii_alphanumeric() { ch } else { '_' })
         .collect();
     Some(Plot {
+        page: Page::SINGLE,
         stem: format!("overlay_{slug}"),
         title: format!("Best fits of {source}"),
         caption: format!(

@@ -248,16 +248,19 @@ pub(crate) fn provenance(h: &Header<'_>) -> String {
 /// first [`HEAD_ROWS`] and links its CSV file, which has them all.
 pub(crate) const MAX_ROWS: usize = 15;
 /// The rows shown of a table longer than [`MAX_ROWS`].
-pub(crate) const HEAD_ROWS: usize = 5;
+pub(crate) const HEAD_ROWS: usize = 3;
+/// Above this many rows a table shows no head: three rows of thousands
+/// tell a reader nothing the CSV file does not.
+pub(crate) const MAX_HEAD_OF: usize = 200;
+/// The most columns a table shows in `report.md`; a wider one (a column
+/// per configuration of a large campaign) is only linked, as no screen
+/// shows it.
+pub(crate) const MAX_COLUMNS: usize = 16;
 
 /// A table section: heading, paragraphs, the table and its CSV path.
 pub(crate) fn table_section(t: &Table, level: usize) -> String {
     let mut s = String::new();
-    s.push_str(&format!(
-        "{} {}\n\n",
-        "#".repeat(level),
-        md_escape(&t.title)
-    ));
+    s.push_str(&format!("{} {}\n", "#".repeat(level), md_escape(&t.title)));
     // The introduction as one paragraph: a table is a few lines of text.
     if !t.intro.is_empty() {
         let intro: Vec<String> = t.intro.iter().map(|p| md_escape(p)).collect();
@@ -266,6 +269,18 @@ pub(crate) fn table_section(t: &Table, level: usize) -> String {
     }
     if t.md_rows.is_empty() {
         s.push_str("*(no rows)*\n\n");
+    } else if t.md_header.len() > MAX_COLUMNS {
+        s.push_str(&format!(
+            "The table has {} columns and {} rows, too wide to show here; it is in the CSV \
+             file below.\n\n",
+            t.md_header.len(),
+            t.md_rows.len()
+        ));
+    } else if t.md_rows.len() > MAX_HEAD_OF {
+        s.push_str(&format!(
+            "The {} rows of this table are in the CSV file below.\n\n",
+            t.md_rows.len()
+        ));
     } else if t.md_rows.len() > MAX_ROWS {
         let head = Table {
             md_rows: t.md_rows[..HEAD_ROWS].to_vec(),
@@ -291,12 +306,51 @@ pub(crate) fn table_section(t: &Table, level: usize) -> String {
 /// A plot section: heading, the PNG, the caption and the SVG path.
 pub(crate) fn plot_section(p: &Plot) -> String {
     format!(
-        "### {title}\n\n![{title}](plots/{stem}.png)\n{caption} SVG: \
+        "### {title}\n![{title}](plots/{stem}.png)\n{caption} SVG: \
          [`plots/{stem}.svg`](plots/{stem}.svg)\n\n",
         title = md_escape(&p.title),
         stem = p.stem,
         caption = md_escape(&p.caption),
     )
+}
+
+/// The plot sections of `plots`: one per figure, a figure split into
+/// pages showing its first page and linking every page (PNG and SVG), so
+/// that a 23-page figure is one section, not 23.
+pub(crate) fn plot_sections(plots: &[Plot]) -> String {
+    let mut s = String::new();
+    let mut i = 0;
+    while i < plots.len() {
+        let p = &plots[i];
+        let n = p.page.of;
+        if n <= 1 || p.page.index != 1 || i + n > plots.len() {
+            s.push_str(&plot_section(p));
+            i += 1;
+            continue;
+        }
+        let pages = &plots[i..i + n];
+        let (title, caption) = (p.figure_title(), p.figure_caption());
+        let links = |ext: &str| {
+            pages
+                .iter()
+                .map(|q| format!("[{}](plots/{}.{ext})", q.page.index, q.stem))
+                .collect::<Vec<_>>()
+                .join(" ")
+        };
+        s.push_str(&format!(
+            "### {title} ({n} pages)\n![{first}](plots/{stem}.png)\n{caption} The figure is \
+             split into {n} pages of whole panels, in the order of the problems; page 1 is \
+             shown. PNG: {png}. SVG: {svg}.\n\n",
+            title = md_escape(title),
+            first = md_escape(&p.title),
+            stem = p.stem,
+            caption = md_escape(caption),
+            png = links("png"),
+            svg = links("svg"),
+        ));
+        i += n;
+    }
+    s
 }
 
 /// A paragraph of plain text.

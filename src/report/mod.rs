@@ -32,6 +32,7 @@ mod plots;
 pub(crate) mod render;
 mod robustness;
 mod significance;
+mod style;
 mod tuning;
 mod verdicts;
 
@@ -354,11 +355,12 @@ fn tuning(
     ds: &data::Dataset,
     stats: &[Vec<Option<descriptive::CellStats>>],
     notes: &mut Vec<String>,
-) -> (Vec<Table>, Vec<tuning::HeatMap>) {
+) -> (Vec<Table>, Vec<Table>, Vec<tuning::HeatMap>) {
     let mut heat_maps = Vec::new();
-    let mut tables = Vec::new();
-    for g in &tuning::grids(ds) {
-        tables.extend(tuning::tables(ds, g, stats));
+    let mut per_grid = Vec::new();
+    for g in tuning::grids(ds) {
+        per_grid.push((g.clone(), tuning::tables(ds, &g, stats)));
+        let g = &g;
         match tuning::heat_map(ds, g, stats) {
             Some(h) => heat_maps.push(h),
             None if g.varying.len() < 2 => {}
@@ -368,7 +370,13 @@ fn tuning(
             )),
         }
     }
-    (tables, heat_maps)
+    let overview = if per_grid.len() > 1 {
+        tuning::overview(&per_grid)
+    } else {
+        Vec::new()
+    };
+    let tables = per_grid.into_iter().flat_map(|(_, t)| t).collect();
+    (tables, overview, heat_maps)
 }
 
 /// The distinct budgets and the distinct numbers of runs per (problem,
@@ -402,8 +410,11 @@ struct Sections {
     tests: Tests,
     /// The average runtime to each target.
     anytime: Vec<Table>,
-    /// The parameter-tuning tables.
+    /// The parameter-tuning tables, every grid's.
     tuning: Vec<Table>,
+    /// The overview of several grids that `report.md` shows in place of
+    /// their own tables (empty for a single grid).
+    tuning_overview: Vec<Table>,
     /// The curve-fitting tables.
     fitting: Vec<Table>,
     /// The figures.
@@ -423,6 +434,7 @@ impl Sections {
             .chain(&self.tests.robustness)
             .chain(&self.anytime)
             .chain(&self.tuning)
+            .chain(&self.tuning_overview)
             .chain(&self.fitting)
     }
 
@@ -510,10 +522,15 @@ impl Sections {
             let links: Vec<String> = self
                 .figures
                 .iter()
+                .filter(|p| p.page.index == 1)
                 .map(|p| {
+                    let title = match p.page.of {
+                        1 => p.title.clone(),
+                        n => format!("{} ({n} pages)", p.figure_title()),
+                    };
                     format!(
                         "[{}](plots/{}.png)",
-                        crate::markdown::escape(&p.title),
+                        crate::markdown::escape(&title),
                         p.stem
                     )
                 })
@@ -537,9 +554,7 @@ impl Sections {
                 "No plot could be drawn from these results.",
             ));
         }
-        for p in &self.figures {
-            md.push_str(&markdown::plot_section(p));
-        }
+        md.push_str(&markdown::plot_sections(&self.figures));
         md
     }
 
@@ -582,9 +597,14 @@ impl Sections {
         for t in &self.tests.robustness {
             md.push_str(&markdown::table_section(t, 3));
         }
+        let tuning = if self.tuning_overview.is_empty() {
+            &self.tuning
+        } else {
+            &self.tuning_overview
+        };
         for (title, tables) in [
             ("Anytime performance", &self.anytime),
-            ("Parameter tuning", &self.tuning),
+            ("Parameter tuning", tuning),
             ("Curve fitting", &self.fitting),
         ] {
             if !tables.is_empty() {
@@ -593,6 +613,18 @@ impl Sections {
                     md.push_str(&markdown::table_section(t, 3));
                 }
             }
+        }
+        if !self.tuning_overview.is_empty() {
+            let links: Vec<String> = self
+                .tuning
+                .iter()
+                .map(|t| format!("[`{0}.csv`](tables/{0}.csv)", t.stem))
+                .collect();
+            md.push_str(&format!(
+                "Every grid's own tables (best setting per problem with its errors, the mean \
+                 rank of every setting, the pick with its stability, edges and cost): {}.\n\n",
+                links.join(", ")
+            ));
         }
         md.push_str(&markdown::notes_section(
             "Skipped or limited parts",
@@ -709,10 +741,16 @@ fn sections(
         .as_deref()
         .map(|r| fit_runs::FitRuns::group(ds, r));
     let tests = tests(ds, &stats, options, provenance, fits.as_ref(), &mut notes)?;
-    let (tuning, heat_maps) = tuning(ds, &stats, &mut notes);
+    let (tuning, tuning_overview, heat_maps) = tuning(ds, &stats, &mut notes);
     let best = best2009_for(ds, &mut notes);
-    let (mut figures, plot_notes) =
-        plots::figures(ds, &stats, heat_maps, provenance.threshold, best.as_ref());
+    let (mut figures, plot_notes) = plots::figures(
+        ds,
+        &stats,
+        heat_maps,
+        provenance.threshold,
+        best.as_ref(),
+        tests.verdict_table.as_ref(),
+    );
     notes.extend(plot_notes);
     let mut fitting = Vec::new();
     if let Some(f) = fitting::section(
@@ -741,6 +779,7 @@ fn sections(
         tests,
         anytime,
         tuning,
+        tuning_overview,
         fitting,
         figures,
         notes,

@@ -12,8 +12,9 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::render::{
-    colour, draw_legend, draw_title, font, legend_height, save, text_width, Draw, DrawResult,
+    draw_legend, draw_title, font, legend_height, save, text_width, Draw, DrawResult,
 };
+use super::style::{label_colours, LegendEntry, SeriesStyle};
 use super::ReportError;
 use crate::geometry::Point;
 use crate::reconstruction::{OverlayFigure, OverlayPanel};
@@ -68,10 +69,12 @@ impl OverlayFigure {
         out
     }
 
-    fn legend(&self) -> Vec<(String, RGBColor)> {
-        let mut out: Vec<(String, RGBColor)> = vec![("data".into(), RGBColor(120, 120, 120))];
-        for (i, label) in self.labels().into_iter().enumerate() {
-            out.push((label.to_owned(), colour(i)));
+    fn legend(&self) -> Vec<LegendEntry> {
+        let mut out: Vec<LegendEntry> =
+            vec![("data".into(), SeriesStyle::solid(RGBColor(120, 120, 120)))];
+        let labels = self.labels();
+        for (label, c) in labels.iter().zip(label_colours(&labels)) {
+            out.push(((*label).to_owned(), SeriesStyle::solid(c)));
         }
         out
     }
@@ -106,6 +109,7 @@ fn draw_panel<DB: DrawingBackend>(
     panel: &OverlayPanel,
     labels: &[&str],
 ) -> DrawResult {
+    let colours = label_colours(labels);
     let all = panel.data.iter().copied().chain(
         panel
             .curves
@@ -146,7 +150,7 @@ fn draw_panel<DB: DrawingBackend>(
             .map(|p| Circle::new((p.x, p.y), 2, grey.filled())),
     )?;
     for curve in &panel.curves {
-        let c = colour(labels.iter().position(|l| *l == curve.label).unwrap_or(0));
+        let c = colours[labels.iter().position(|l| *l == curve.label).unwrap_or(0)];
         for poly in &curve.control_polygons {
             chart.draw_series(std::iter::once(PathElement::new(
                 poly.iter().map(|p| (p.x, p.y)).collect::<Vec<_>>(),

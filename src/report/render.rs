@@ -1,5 +1,5 @@
-//! Rendering plumbing for the plots: the colour palette, text measurement,
-//! shared legends, and writing a figure as SVG and PNG (both through
+//! Rendering plumbing for the plots: the viridis map, text measurement,
+//! shared legends, solid and dashed series lines, and writing a figure as SVG and PNG (both through
 //! [`write_atomic`]).
 //!
 //! Text is drawn with plotters' `ab_glyph` renderer and the crate's one
@@ -9,12 +9,14 @@ use std::path::{Path, PathBuf};
 
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
+use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
+use super::style::{LegendEntry, SeriesStyle};
 use super::ReportError;
 use crate::files::{write_atomic, IoError};
-use crate::font::{ensure_font, FAMILY};
+use crate::font::{ensure_font, GlyphBackend, FAMILY};
 
 /// A drawing failure, as text.
 #[derive(Debug)]
@@ -67,7 +69,7 @@ pub(crate) fn save<F: Draw>(
     let n = SCRATCH.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let scratch = dir.join(format!(".{stem}.{}-{n}.render.png", std::process::id()));
     let drawn = (|| -> DrawResult {
-        let root = BitMapBackend::new(&scratch, (w, h)).into_drawing_area();
+        let root = GlyphBackend(BitMapBackend::new(&scratch, (w, h))).into_drawing_area();
         figure.draw(&root)?;
         root.present()?;
         Ok(())
@@ -78,36 +80,6 @@ pub(crate) fn save<F: Draw>(
     let _ = std::fs::remove_file(&scratch);
     write_atomic(&png_path, &bytes?)?;
     Ok(vec![svg_path, png_path])
-}
-
-/// Tableau's 10 colours, then their light variants; cycled beyond 20.
-const PALETTE: [(u8, u8, u8); 20] = [
-    (0x1f, 0x77, 0xb4),
-    (0xff, 0x7f, 0x0e),
-    (0x2c, 0xa0, 0x2c),
-    (0xd6, 0x27, 0x28),
-    (0x94, 0x67, 0xbd),
-    (0x8c, 0x56, 0x4b),
-    (0xe3, 0x77, 0xc2),
-    (0x7f, 0x7f, 0x7f),
-    (0xbc, 0xbd, 0x22),
-    (0x17, 0xbe, 0xcf),
-    (0xae, 0xc7, 0xe8),
-    (0xff, 0xbb, 0x78),
-    (0x98, 0xdf, 0x8a),
-    (0xff, 0x98, 0x96),
-    (0xc5, 0xb0, 0xd5),
-    (0xc4, 0x9c, 0x94),
-    (0xf7, 0xb6, 0xd2),
-    (0xc7, 0xc7, 0xc7),
-    (0xdb, 0xdb, 0x8d),
-    (0x9e, 0xda, 0xe5),
-];
-
-/// The colour of the `i`-th algorithm.
-pub(crate) fn colour(i: usize) -> RGBColor {
-    let (r, g, b) = PALETTE[i % PALETTE.len()];
-    RGBColor(r, g, b)
 }
 
 /// The viridis colour map at `t` ∈ [0, 1] (linear between 9 samples).
@@ -157,7 +129,7 @@ const LEGEND_ROW: u32 = 24;
 const SWATCH: u32 = 26;
 
 /// Positions of legend entries (row, x offset) wrapped to `width`.
-fn legend_layout(entries: &[(String, RGBColor)], width: u32) -> Vec<(u32, u32)> {
+fn legend_layout(entries: &[LegendEntry], width: u32) -> Vec<(u32, u32)> {
     let mut out = Vec::with_capacity(entries.len());
     let (mut row, mut x) = (0u32, 12u32);
     for (name, _) in entries {
@@ -173,7 +145,7 @@ fn legend_layout(entries: &[(String, RGBColor)], width: u32) -> Vec<(u32, u32)> 
 }
 
 /// Height of a shared legend strip of `entries` at `width`.
-pub(crate) fn legend_height(entries: &[(String, RGBColor)], width: u32) -> u32 {
+pub(crate) fn legend_height(entries: &[LegendEntry], width: u32) -> u32 {
     let rows = legend_layout(entries, width)
         .last()
         .map_or(0, |&(r, _)| r + 1);
@@ -183,18 +155,47 @@ pub(crate) fn legend_height(entries: &[(String, RGBColor)], width: u32) -> u32 {
 /// Draws a shared legend strip: a line swatch and the name of every entry.
 pub(crate) fn draw_legend<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
-    entries: &[(String, RGBColor)],
+    entries: &[LegendEntry],
 ) -> DrawResult {
     let (w, _) = area.dim_in_pixel();
     let style = font(LEGEND_FONT).pos(Pos::new(HPos::Left, VPos::Center));
-    for ((name, c), (row, x)) in entries.iter().zip(legend_layout(entries, w)) {
+    for ((name, s), (row, x)) in entries.iter().zip(legend_layout(entries, w)) {
         let y = (4 + row * LEGEND_ROW + LEGEND_ROW / 2) as i32;
         let x = x as i32;
-        area.draw(&PathElement::new(
-            vec![(x, y), (x + SWATCH as i32, y)],
-            c.stroke_width(3),
-        ))?;
+        let swatch = vec![(x, y), (x + SWATCH as i32, y)];
+        if s.dashed {
+            area.draw(&DashedPathElement::new(
+                swatch,
+                DASH,
+                GAP,
+                s.colour.stroke_width(3),
+            ))?;
+        } else {
+            area.draw(&PathElement::new(swatch, s.colour.stroke_width(3)))?;
+        }
         area.draw_text(name, &style, (x + SWATCH as i32 + 6, y))?;
+    }
+    Ok(())
+}
+
+/// Dash length of a variant's line, in pixels.
+const DASH: u32 = 7;
+/// Gap between dashes, in pixels.
+const GAP: u32 = 4;
+
+/// Draws the polyline `points` in `style` at `width` pixels: solid, or
+/// dashed for a variant.
+pub(crate) fn draw_line<DB: DrawingBackend>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    points: Vec<(f64, f64)>,
+    style: SeriesStyle,
+    width: u32,
+) -> DrawResult {
+    let stroke = style.colour.stroke_width(width);
+    if style.dashed {
+        chart.draw_series(DashedLineSeries::new(points, DASH, GAP, stroke))?;
+    } else {
+        chart.draw_series(LineSeries::new(points, stroke))?;
     }
     Ok(())
 }
@@ -217,18 +218,48 @@ pub(crate) const LOG_MAX: f64 = 1e300;
 /// Smallest value drawn on a log axis.
 pub(crate) const LOG_MIN: f64 = 1e-300;
 
-/// The lower end of a log axis for values that may be ≤ 0: 1e-16, or a
-/// decade below the smallest positive value when that is smaller (never
-/// below [`LOG_MIN`]).
+/// The lowest value a log axis shows, for values that may be ≤ 0 (exact
+/// zeros): the whole decade below the smallest positive value, but not
+/// below 1e-16 (the relative precision of a double), so that a zero does not
+/// stretch the axis over dozens of empty decades; values at or below it are
+/// drawn at it and its tick reads "0" or "≤ 10⁻¹⁶" ([`FloorTick`]).
 pub(crate) fn log_floor(values: impl IntoIterator<Item = f64>) -> f64 {
     let min_pos = values
         .into_iter()
         .filter(|v| v.is_finite() && *v > 0.0)
         .fold(f64::INFINITY, f64::min);
-    if min_pos < 1e-16 {
-        10f64.powf(min_pos.log10().floor() - 1.0).max(LOG_MIN)
+    if min_pos.is_finite() {
+        10f64.powf(min_pos.log10().floor() - 1.0).max(1e-16)
     } else {
         1e-16
+    }
+}
+
+/// The tick of a log axis's floor when some values are drawn at it: at
+/// log10 of the floor, reading "0" when they are all exact zeros (or
+/// negative), else "≤ 10^k".
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct FloorTick {
+    /// log10 of the floor.
+    pub at: f64,
+    /// Whether every value drawn at the floor is ≤ 0.
+    pub zeros_only: bool,
+}
+
+impl FloorTick {
+    /// The floor tick of `values` drawn above `floor`, or `None` when none
+    /// is at or below it.
+    pub(crate) fn of(values: impl IntoIterator<Item = f64>, floor: f64) -> Option<FloorTick> {
+        let mut any = false;
+        let mut zeros_only = true;
+        for v in values.into_iter().filter(|v| !v.is_nan() && *v <= floor) {
+            any = true;
+            zeros_only &= v <= 0.0;
+        }
+        any.then(|| FloorTick {
+            at: floor.log10(),
+            zeros_only,
+        })
     }
 }
 
@@ -333,10 +364,19 @@ mod tests {
 
     #[test]
     fn ranges_and_floors() {
-        assert_eq!(log_floor([0.0, 1e-3, 5.0]), 1e-16);
-        assert_eq!(log_floor([0.0, 3e-20]), 1e-21);
+        assert_eq!(log_floor([0.0, 2e-3, 5.0]), 1e-4);
+        assert_eq!(log_floor([0.0, 3e-20]), 1e-16);
         assert_eq!(log_floor([f64::NAN, -1.0]), 1e-16);
-        assert_eq!(log_floor([0.0, 5e-324]), LOG_MIN);
+        assert_eq!(log_floor([0.0, 5e-324]), 1e-16);
+        assert_eq!(
+            FloorTick::of([0.0, 2e-3], 1e-4),
+            Some(FloorTick {
+                at: -4.0,
+                zeros_only: true
+            })
+        );
+        assert!(!FloorTick::of([0.0, 1e-20, 1.0], 1e-16).unwrap().zeros_only);
+        assert_eq!(FloorTick::of([2e-3], 1e-4), None);
         for (lo, hi) in [
             (1e300, 1e300),
             (f64::MAX, f64::MAX),
@@ -364,7 +404,6 @@ mod tests {
         assert_eq!(viridis(0.0), RGBColor(68, 1, 84));
         assert_eq!(viridis(1.0), RGBColor(253, 231, 37));
         assert_eq!(viridis(f64::NAN), RGBColor(68, 1, 84));
-        assert_eq!(colour(0), colour(20));
     }
 
     #[test]

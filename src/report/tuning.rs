@@ -307,6 +307,80 @@ pub(crate) fn tables(ds: &Dataset, grid: &Grid, stats: &[Vec<Option<CellStats>>]
     vec![best, ranks, picks]
 }
 
+/// The overview of several grids, which `report.md` shows in place of
+/// their own tables (those stay in `tables/`): the pick of every grid, one
+/// row each, and the best setting of every grid per problem, one column
+/// each. `per_grid` holds each grid's [`tables`] (best, ranks, picks).
+pub(crate) fn overview(per_grid: &[(Grid, Vec<Table>)]) -> Vec<Table> {
+    let mut picks = Table {
+        stem: "tuning_picks".into(),
+        title: "Parameter tuning: the pick of every algorithm".into(),
+        intro: Vec::new(),
+        md_header: vec!["Algorithm".into()],
+        md_rows: Vec::new(),
+        csv_header: vec!["grid".into()],
+        csv_rows: Vec::new(),
+    };
+    let mut best = Table {
+        stem: "tuning_best".into(),
+        title: "Parameter tuning: the best setting of every algorithm per problem".into(),
+        intro: vec![
+            "Per problem, the setting of each algorithm's grid with the lowest mean final \
+             error (ties: lowest median); the last row is the pick over all problems \
+             (lowest mean rank). Each grid's errors are in tables/tuning_best_<algorithm>.csv."
+                .into(),
+        ],
+        md_header: vec!["Problem".into(), "D".into()],
+        ..Table::default()
+    };
+    let mut rows: Vec<(String, String)> = Vec::new();
+    for (_, tables) in per_grid {
+        let Some(b) = tables.first() else { continue };
+        for r in &b.md_rows {
+            let key = (r[0].clone(), r[1].clone());
+            if !rows.contains(&key) {
+                rows.push(key);
+            }
+        }
+    }
+    best.md_rows = rows
+        .iter()
+        .map(|(p, d)| vec![p.clone(), d.clone()])
+        .collect();
+    best.csv_header = vec!["problem".into(), "dim".into()];
+    best.csv_rows = best.md_rows.clone();
+    for (grid, tables) in per_grid {
+        best.md_header.push(grid.label.clone());
+        best.csv_header.push(grid.label.clone());
+        let b = tables.first();
+        for (row, (p, d)) in best.md_rows.iter_mut().zip(&rows) {
+            let setting = b
+                .and_then(|b| b.md_rows.iter().find(|r| r[0] == *p && r[1] == *d))
+                .map_or_else(|| "—".to_owned(), |r| r[2].clone());
+            row.push(setting);
+        }
+        best.csv_rows = best.md_rows.clone();
+        let Some(t) = tables.get(2) else { continue };
+        if picks.md_header.len() == 1 {
+            picks.md_header.extend(t.md_header.iter().cloned());
+            picks.csv_header.extend(t.csv_header.iter().cloned());
+            picks.intro = t.intro.iter().take(1).cloned().collect();
+            picks.intro.push(
+                "The cost of each grid and the caution on an unstable pick are beside its \
+                 own table, tables/tuning_picks_<algorithm>.csv."
+                    .into(),
+            );
+        }
+        for r in &t.md_rows {
+            picks.md_rows.push(std::iter::once(grid.label.clone()).chain(r.iter().cloned()).collect());
+        }
+        for r in &t.csv_rows {
+            picks.csv_rows.push(std::iter::once(grid.label.clone()).chain(r.iter().cloned()).collect());
+        }
+    }
+    vec![picks, best]
+}
+
 /// The pick of a grid and how far to trust it.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Pick {

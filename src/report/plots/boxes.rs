@@ -2,6 +2,7 @@
 //! algorithm on a log scale, with Tukey whiskers and outliers.
 
 use plotters::coord::Shift;
+use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
@@ -10,14 +11,15 @@ use crate::stats::summarize;
 use super::super::data::Dataset;
 use super::super::format::sci_digits;
 use super::super::render::{
-    colour, draw_minor_decades, font, lg, lg_range, log_floor, log_range, on_log_axis, text_width,
-    Draw, DrawResult,
+    draw_minor_decades, font, lg, lg_range, log_floor, log_range, on_log_axis, text_width, Draw,
+    DrawResult, FloorTick,
 };
+use super::super::style::SeriesStyle;
 use super::layout::{
-    decade_labels, decade_tick, frame, grid_shape, pages_of, Chart, AXIS_FONT, PANEL_TITLE_FONT,
-    PANEL_W, TICK_FONT, TITLE_H,
+    decade_labels, draw_floor_label, floored_tick, frame, grid_shape, pages_of, Axis, Chart,
+    AXIS_FONT, PANEL_TITLE_FONT, PANEL_W, TICK_FONT, TITLE_H,
 };
-use super::{Figure, NoPlot, Plot};
+use super::{Figure, NoPlot, Page, Plot, SeriesSet};
 
 /// A box: quartiles, whiskers and outliers (floored), or `None` without data.
 #[derive(Clone, Debug, PartialEq)]
@@ -43,6 +45,10 @@ pub(crate) struct Boxes {
     /// The error's name on the axis (`f − f*`, or `E` for fitting).
     symbol: &'static str,
     names: Vec<String>,
+    /// The style of each category's box.
+    styles: Vec<SeriesStyle>,
+    /// The tick of the axis floor, when some error is drawn at it.
+    floor: Option<FloorTick>,
     panels: Vec<BoxPanel>,
 }
 
@@ -57,6 +63,8 @@ impl Boxes {
             title,
             symbol,
             names,
+            styles,
+            floor,
             panels,
         } = self;
         pages_of(panels, rows * cols)
@@ -65,6 +73,8 @@ impl Boxes {
                 title: title.clone(),
                 symbol,
                 names: names.clone(),
+                styles: styles.clone(),
+                floor,
                 panels,
             })
             .collect()
@@ -103,7 +113,7 @@ impl Boxes {
         chart
             .configure_mesh()
             .x_desc(format!("final {} (log scale)", self.symbol))
-            .x_label_formatter(&|v| decade_tick(*v, panel.x))
+            .x_label_formatter(&|v| floored_tick(*v, panel.x, self.floor))
             .x_labels(decade_labels(panel.x))
             .y_labels(0)
             .disable_y_mesh()
@@ -113,6 +123,7 @@ impl Boxes {
             .bold_line_style(RGBColor(215, 215, 215))
             .draw()?;
         draw_minor_decades(&mut chart, panel.x, (-0.6, k as f64 - 0.4), true, false)?;
+        draw_floor_label(a, &chart, self.floor, (Axis::X, panel.x), -0.6)?;
         let label_style = font(TICK_FONT).pos(Pos::new(HPos::Right, VPos::Center));
         for (i, name) in self.names.iter().enumerate() {
             let (px, py) = chart.backend_coord(&(panel.x.0, yk(i)));
@@ -130,7 +141,7 @@ impl Boxes {
                 )?;
                 continue;
             };
-            draw_box(&mut chart, b, yk(i), colour(i))?;
+            draw_box(&mut chart, b, yk(i), self.styles[i])?;
         }
         Ok(())
     }
@@ -141,9 +152,10 @@ fn draw_box<DB: DrawingBackend>(
     chart: &mut Chart<'_, DB>,
     b: &BoxStat,
     y: f64,
-    c: RGBColor,
+    style: SeriesStyle,
 ) -> DrawResult {
     let h = 0.3;
+    let c = style.colour;
     chart.draw_series([
         PathElement::new(vec![(b.lo, y), (b.q1, y)], BLACK.stroke_width(1)),
         PathElement::new(vec![(b.q3, y), (b.hi, y)], BLACK.stroke_width(1)),
@@ -156,10 +168,27 @@ fn draw_box<DB: DrawingBackend>(
             BLACK.stroke_width(1),
         ),
     ])?;
-    chart.draw_series([
-        Rectangle::new([(b.q1, y - h), (b.q3, y + h)], c.mix(0.45).filled()),
-        Rectangle::new([(b.q1, y - h), (b.q3, y + h)], c.stroke_width(2)),
-    ])?;
+    chart.draw_series([Rectangle::new(
+        [(b.q1, y - h), (b.q3, y + h)],
+        c.mix(0.45).filled(),
+    )])?;
+    let edge = vec![
+        (b.q1, y - h),
+        (b.q3, y - h),
+        (b.q3, y + h),
+        (b.q1, y + h),
+        (b.q1, y - h),
+    ];
+    if style.dashed {
+        chart.draw_series(std::iter::once(DashedPathElement::new(
+            edge,
+            6,
+            4,
+            c.stroke_width(2),
+        )))?;
+    } else {
+        chart.draw_series(std::iter::once(PathElement::new(edge, c.stroke_width(2))))?;
+    }
     chart.draw_series(std::iter::once(PathElement::new(
         vec![(b.median, y - h), (b.median, y + h)],
         BLACK.stroke_width(3),
@@ -284,12 +313,12 @@ fn caption(symbol: &str, floor: Option<f64>, dropped: usize) -> String {
 }
 
 /// The box plots, or why there are none.
-pub(super) fn boxes(ds: &Dataset) -> Result<Plot, NoPlot> {
+pub(super) fn boxes(ds: &Dataset, series: &SeriesSet) -> Result<Plot, NoPlot> {
     let mut raw: Vec<(usize, Vec<Option<BoxStat>>)> = Vec::new();
     let mut dropped = 0usize;
     for p in 0..ds.problems.len() {
         let mut row = Vec::new();
-        for c in 0..ds.cells.len() {
+        for &c in &series.cells {
             let errors = ds.errors(p, c);
             let finite: Vec<f64> = errors.iter().copied().filter(|v| v.is_finite()).collect();
             dropped += errors.len() - finite.len();
@@ -311,18 +340,27 @@ pub(super) fn boxes(ds: &Dataset) -> Result<Plot, NoPlot> {
     });
     let floor = log_floor(all.clone());
     let floored = all.clone().any(|v| v <= floor);
+    let floor_tick = FloorTick::of(all.clone(), floor);
     let panels = raw
         .into_iter()
         .map(|(p, row)| panel(ds, p, row, floor))
         .collect();
     Ok(Plot {
+        page: Page::SINGLE,
         stem: "boxplots".into(),
         title: "Final error distributions".into(),
-        caption: caption(ds.error_symbol(), floored.then_some(floor), dropped),
+        caption: caption(ds.error_symbol(), floored.then_some(floor), dropped)
+            + &series.caption_note(),
         figure: Figure::Boxes(Boxes {
             title: format!("Final error {} per algorithm", ds.error_symbol()),
             symbol: ds.error_symbol(),
-            names: ds.cells.iter().map(|c| c.name.clone()).collect(),
+            names: series
+                .legend(series.cells.iter().copied())
+                .into_iter()
+                .map(|e| e.0)
+                .collect(),
+            styles: series.cells.iter().map(|&c| series.style(c)).collect(),
+            floor: floor_tick,
             panels,
         }),
     })

@@ -12,14 +12,15 @@ use crate::stats::summarize;
 use super::super::data::{Dataset, Run};
 use super::super::format::sci_digits;
 use super::super::render::{
-    colour, draw_minor_decades, font, lg, lg_range, log_floor, log_range, on_log_axis, Draw,
-    DrawResult,
+    draw_line, draw_minor_decades, font, lg, lg_range, log_floor, log_range, on_log_axis, Draw,
+    DrawResult, FloorTick,
 };
+use super::super::style::{LegendEntry, SeriesStyle};
 use super::layout::{
-    decade_labels, decade_tick, frame, frame_height, grid_shape, pages_of, AXIS_FONT, PANEL_H,
-    PANEL_TITLE_FONT, PANEL_W, TICK_FONT,
+    decade_labels, decade_tick, draw_floor_label, floored_tick, frame, frame_height, grid_shape,
+    pages_of, Axis, AXIS_FONT, PANEL_H, PANEL_TITLE_FONT, PANEL_W, TICK_FONT,
 };
-use super::{Figure, NoPlot, Plot};
+use super::{Figure, NoPlot, Page, Plot, SeriesSet};
 
 /// (evaluations, q1, median, q3) of a convergence curve.
 type Quartiles = Vec<(u64, f64, f64, f64)>;
@@ -29,8 +30,8 @@ type ProblemCurves = (usize, Vec<(usize, Quartiles)>);
 
 /// One algorithm's curve: (evaluations, q1, median, q3), floored.
 pub(crate) struct Band {
-    /// Colour index (the cell).
-    pub cell: usize,
+    /// How the curve is drawn (its cell's style).
+    pub style: SeriesStyle,
     /// Points in increasing evaluations.
     pub points: Vec<(f64, f64, f64, f64)>,
 }
@@ -52,7 +53,9 @@ pub(crate) struct Convergence {
     title: String,
     /// The error's name on the axis (`f − f*`, or `E` for fitting).
     symbol: &'static str,
-    legend: Vec<(String, RGBColor)>,
+    legend: Vec<LegendEntry>,
+    /// The tick of the error axis's floor, when some error is drawn at it.
+    floor: Option<FloorTick>,
     panels: Vec<ConvergencePanel>,
 }
 
@@ -67,6 +70,7 @@ impl Convergence {
             title,
             symbol,
             legend,
+            floor,
             panels,
         } = self;
         pages_of(panels, rows * cols)
@@ -75,6 +79,7 @@ impl Convergence {
                 title: title.clone(),
                 symbol,
                 legend: legend.clone(),
+                floor,
                 panels,
             })
             .collect()
@@ -92,7 +97,7 @@ impl Draw for Convergence {
         let area = frame(root, &self.title, &self.legend)?;
         let areas = area.split_evenly(grid_shape(self.panels.len(), 3));
         for (panel, a) in self.panels.iter().zip(&areas) {
-            draw_panel(panel, self.symbol, a)?;
+            draw_panel(panel, self.symbol, self.floor, a)?;
         }
         Ok(())
     }
@@ -102,6 +107,7 @@ impl Draw for Convergence {
 fn draw_panel<DB: DrawingBackend>(
     panel: &ConvergencePanel,
     symbol: &str,
+    floor: Option<FloorTick>,
     a: &DrawingArea<DB, Shift>,
 ) -> DrawResult {
     let mut chart = ChartBuilder::on(a)
@@ -116,7 +122,7 @@ fn draw_panel<DB: DrawingBackend>(
         .x_desc("objective evaluations (log scale)")
         .y_desc(format!("{symbol} (log scale)"))
         .x_label_formatter(&|v| decade_tick(*v, panel.x))
-        .y_label_formatter(&|v| decade_tick(*v, panel.y))
+        .y_label_formatter(&|v| floored_tick(*v, panel.y, floor))
         .x_labels(decade_labels(panel.x))
         .y_labels(decade_labels(panel.y))
         .label_style(font(TICK_FONT))
@@ -125,17 +131,20 @@ fn draw_panel<DB: DrawingBackend>(
         .bold_line_style(RGBColor(215, 215, 215))
         .draw()?;
     draw_minor_decades(&mut chart, panel.x, panel.y, true, true)?;
+    draw_floor_label(a, &chart, floor, (Axis::Y, panel.y), panel.x.0)?;
     for band in &panel.bands {
-        let c = colour(band.cell);
+        let c = band.style.colour;
         if band.points.len() >= 2 {
             let mut poly: Vec<(f64, f64)> = band.points.iter().map(|p| (p.0, p.3)).collect();
             poly.extend(band.points.iter().rev().map(|p| (p.0, p.1)));
             chart.draw_series(std::iter::once(Polygon::new(poly, c.mix(0.18).filled())))?;
         }
-        chart.draw_series(LineSeries::new(
-            band.points.iter().map(|p| (p.0, p.2)),
-            c.stroke_width(2),
-        ))?;
+        draw_line(
+            &mut chart,
+            band.points.iter().map(|p| (p.0, p.2)).collect(),
+            band.style,
+            2,
+        )?;
         if band.points.len() == 1 {
             let p = band.points[0];
             chart.draw_series(std::iter::once(Circle::new((p.0, p.2), 3, c.filled())))?;
@@ -177,13 +186,13 @@ fn quartile_curve(runs: &[&Run]) -> Quartiles {
 
 /// The raw quartile curves of every problem that has one, the cells that
 /// have a curve, and the largest number of runs behind a curve.
-fn raw_curves(ds: &Dataset) -> (Vec<ProblemCurves>, BTreeSet<usize>, usize) {
+fn raw_curves(ds: &Dataset, series: &SeriesSet) -> (Vec<ProblemCurves>, BTreeSet<usize>, usize) {
     let mut raw = Vec::new();
     let mut used_cells = BTreeSet::new();
     let mut max_runs = 0usize;
     for p in 0..ds.problems.len() {
         let mut curves = Vec::new();
-        for c in 0..ds.cells.len() {
+        for &c in &series.cells {
             let runs: Vec<&Run> = ds
                 .runs(p, c)
                 .iter()
@@ -207,7 +216,12 @@ fn raw_curves(ds: &Dataset) -> (Vec<ProblemCurves>, BTreeSet<usize>, usize) {
 }
 
 /// One problem's panel: its curves on log10 axes, errors at least `floor`.
-fn panel(ds: &Dataset, (p, curves): ProblemCurves, floor: f64) -> ConvergencePanel {
+fn panel(
+    ds: &Dataset,
+    series: &SeriesSet,
+    (p, curves): ProblemCurves,
+    floor: f64,
+) -> ConvergencePanel {
     let mut bands = Vec::new();
     let (mut xmax, mut ylo, mut yhi) = (0.0f64, f64::INFINITY, f64::NEG_INFINITY);
     for (c, pts) in curves {
@@ -227,7 +241,10 @@ fn panel(ds: &Dataset, (p, curves): ProblemCurves, floor: f64) -> ConvergencePan
             ylo = ylo.min(q.1);
             yhi = yhi.max(q.3);
         }
-        bands.push(Band { cell: c, points });
+        bands.push(Band {
+            style: series.style(c),
+            points,
+        });
     }
     let x = if xmax > 0.0 { (0.0, xmax) } else { (-0.3, 0.3) };
     ConvergencePanel {
@@ -259,12 +276,12 @@ fn caption(symbol: &str, max_runs: usize, floor: Option<f64>) -> String {
 }
 
 /// The convergence plot, or why there is none.
-pub(super) fn convergence(ds: &Dataset) -> Result<Plot, NoPlot> {
+pub(super) fn convergence(ds: &Dataset, series: &SeriesSet) -> Result<Plot, NoPlot> {
     if !ds.has_convergence {
         return Err(NoPlot::NoTrace);
     }
     // Raw (q1, median, q3) curves first, then floor them together.
-    let (raw, used_cells, max_runs) = raw_curves(ds);
+    let (raw, used_cells, max_runs) = raw_curves(ds, series);
     if raw.is_empty() {
         return Err(NoPlot::NoFiniteTrace);
     }
@@ -274,19 +291,23 @@ pub(super) fn convergence(ds: &Dataset) -> Result<Plot, NoPlot> {
         .flat_map(|&(_, a, b, c)| [a, b, c]);
     let floor = log_floor(all.clone());
     let floored = all.clone().any(|v| v <= floor);
-    let panels = raw.into_iter().map(|r| panel(ds, r, floor)).collect();
-    let legend = used_cells
-        .iter()
-        .map(|&c| (ds.cells[c].name.clone(), colour(c)))
+    let floor_tick = FloorTick::of(all.clone(), floor);
+    let panels = raw
+        .into_iter()
+        .map(|r| panel(ds, series, r, floor))
         .collect();
+    let legend = series.legend(used_cells);
     Ok(Plot {
+        page: Page::SINGLE,
         stem: "convergence".into(),
         title: "Convergence".into(),
-        caption: caption(ds.error_symbol(), max_runs, floored.then_some(floor)),
+        caption: caption(ds.error_symbol(), max_runs, floored.then_some(floor))
+            + &series.caption_note(),
         figure: Figure::Convergence(Convergence {
             symbol: ds.error_symbol(),
             title: "Median best-so-far error (band: interquartile range)".into(),
             legend,
+            floor: floor_tick,
             panels,
         }),
     })

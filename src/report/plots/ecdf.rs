@@ -1,6 +1,7 @@
 //! The runtime ECDF (the COCO view): for every algorithm, the fraction of
 //! its (run, problem) pairs that reached the target within a number of
-//! objective evaluations, over all problems.
+//! objective evaluations, over all problems of one dimension (one figure
+//! per dimension: runtimes at D = 2 and D = 30 are not pooled).
 
 use std::collections::BTreeSet;
 
@@ -10,15 +11,17 @@ use plotters::prelude::*;
 use super::super::best2009::{self, Best2009};
 use super::super::data::Dataset;
 use super::super::format::{pow_tick, sci_digits};
-use super::super::render::{colour, draw_minor_decades, font, lg, Draw, DrawResult};
+use super::super::render::{draw_line, draw_minor_decades, font, lg, Draw, DrawResult};
+use super::super::style::{LegendEntry, SeriesStyle};
 use super::layout::{decade_labels, decade_tick, frame, frame_height, Line, AXIS_FONT, TICK_FONT};
-use super::{Figure, NoPlot, Plot};
+use super::{Figure, NoPlot, Page, Plot, SeriesSet};
 
 /// The runtime ECDF figure.
 pub(crate) struct Ecdf {
     title: String,
-    legend: Vec<(String, RGBColor)>,
-    series: Vec<Line>,
+    legend: Vec<LegendEntry>,
+    /// The curves, each with its cell's style.
+    series: Vec<(SeriesStyle, Vec<(f64, f64)>)>,
     /// A reference curve drawn under the others (COCO's best 2009).
     reference: Option<Vec<(f64, f64)>>,
     x: (f64, f64),
@@ -60,11 +63,8 @@ impl Draw for Ecdf {
                 REFERENCE.stroke_width(6),
             ))?;
         }
-        for (c, pts) in &self.series {
-            chart.draw_series(LineSeries::new(
-                pts.iter().copied(),
-                colour(*c).stroke_width(2),
-            ))?;
+        for (style, pts) in &self.series {
+            draw_line(&mut chart, pts.clone(), *style, 2)?;
         }
         Ok(())
     }
@@ -104,16 +104,17 @@ struct CellSteps {
     pairs: usize,
 }
 
-/// The ECDF steps of every cell that ran, the largest evaluation count or
-/// budget (at least 1), and whether any run succeeded.
-fn cell_steps(ds: &Dataset) -> (Vec<CellSteps>, f64, bool) {
+/// The ECDF steps of every drawn cell that ran a problem of `scope`, the
+/// largest evaluation count or budget (at least 1), and whether any run
+/// succeeded.
+fn cell_steps(ds: &Dataset, shown: &SeriesSet, scope: Scope<'_>) -> (Vec<CellSteps>, f64, bool) {
     let mut series = Vec::new();
     let mut xmax = 1.0f64;
     let mut any_success = false;
-    for c in 0..ds.cells.len() {
+    for &c in &shown.cells {
         let mut total = 0usize;
         let mut times: Vec<u64> = Vec::new();
-        for p in 0..ds.problems.len() {
+        for p in (0..ds.problems.len()).filter(|&p| scope.covers(&ds.problems[p])) {
             for r in ds.runs(p, c) {
                 total += 1;
                 xmax = xmax.max(r.evaluations as f64).max(r.budget as f64);
@@ -159,10 +160,10 @@ fn caption(threshold: Option<f64>, unequal_counts: bool) -> String {
     caption
 }
 
-/// The figure's title, naming the target.
-fn title(threshold: Option<f64>) -> String {
+/// The figure's title, naming the target and the problems.
+fn title(threshold: Option<f64>, scope: &str) -> String {
     format!(
-        "Runtime to the target {}, all problems",
+        "Runtime to the target {}, {scope}",
         threshold.map_or_else(
             || "success threshold".to_owned(),
             |t| if t > 0.0 {
@@ -174,35 +175,76 @@ fn title(threshold: Option<f64>) -> String {
     )
 }
 
-/// The runtime ECDF, or why there is none.
-pub(super) fn ecdf(ds: &Dataset, threshold: Option<f64>) -> Result<Plot, NoPlot> {
-    let (series, xmax, any_success) = cell_steps(ds);
+/// The dimensions of the problems, sorted.
+fn dimensions(ds: &Dataset) -> Vec<usize> {
+    let mut dims: Vec<usize> = ds.problems.iter().map(|p| p.dim).collect();
+    dims.sort_unstable();
+    dims.dedup();
+    dims
+}
+
+/// The runtime ECDFs, one per dimension when there are several (`ecdf_d2`,
+/// …; `ecdf` otherwise), or why there are none.
+pub(super) fn ecdf(
+    ds: &Dataset,
+    shown: &SeriesSet,
+    threshold: Option<f64>,
+) -> Result<Vec<Plot>, NoPlot> {
+    let dims = dimensions(ds);
+    let scopes: Vec<Scope<'_>> = if dims.len() > 1 {
+        dims.iter().map(|&d| Scope::Dim(d)).collect()
+    } else {
+        vec![Scope::All]
+    };
+    let plots: Vec<Plot> = scopes
+        .into_iter()
+        .filter_map(|scope| threshold_ecdf(ds, shown, threshold, scope))
+        .collect();
+    if plots.is_empty() {
+        Err(NoPlot::NoSuccess)
+    } else {
+        Ok(plots)
+    }
+}
+
+/// The runtime ECDF of the problems of `scope`, or `None` when no run
+/// there reached the target.
+fn threshold_ecdf(
+    ds: &Dataset,
+    shown: &SeriesSet,
+    threshold: Option<f64>,
+    scope: Scope<'_>,
+) -> Option<Plot> {
+    let (series, xmax, any_success) = cell_steps(ds, shown, scope);
     if !any_success {
-        return Err(NoPlot::NoSuccess);
+        return None;
     }
     let pair_counts: BTreeSet<usize> = series.iter().map(|s| s.pairs).collect();
     let xmax = xmax.max(2.0);
-    let series: Vec<Line> = series
+    let legend = shown.legend(series.iter().map(|s| s.cell));
+    let series = series
         .into_iter()
         .map(|mut s| {
             let last = s.steps.last().map_or(0.0, |p| p.1);
             s.steps.push((xmax, last));
             (
-                s.cell,
+                shown.style(s.cell),
                 s.steps.into_iter().map(|(x, y)| (lg(x), y)).collect(),
             )
         })
         .collect();
-    let legend = series
-        .iter()
-        .map(|(c, _)| (ds.cells[*c].name.clone(), colour(*c)))
-        .collect();
-    Ok(Plot {
-        stem: "ecdf".into(),
-        title: "Runtime ECDF".into(),
-        caption: caption(threshold, pair_counts.len() > 1),
+    let (stem, scope_text) = match scope {
+        Scope::Dim(d) => (format!("ecdf_d{d}"), format!("all problems at D = {d}")),
+        _ => ("ecdf".to_owned(), "all problems".to_owned()),
+    };
+    Some(Plot {
+        page: Page::SINGLE,
+        stem,
+        title: format!("Runtime ECDF, {scope_text}"),
+        caption: caption(threshold, pair_counts.len() > 1).replace("all problems", &scope_text)
+            + &shown.caption_note(),
         figure: Figure::Ecdf(Ecdf {
-            title: title(threshold),
+            title: title(threshold, &scope_text),
             legend,
             series,
             reference: None,
@@ -232,6 +274,7 @@ fn real_steps(times: &[f64], total: usize, start: f64) -> Vec<(f64, f64)> {
 /// when there are several functions, one per function.
 pub(super) fn target_ecdfs(
     ds: &Dataset,
+    shown: &SeriesSet,
     targets: &[f64],
     best: Option<&Best2009>,
 ) -> Result<Vec<Plot>, NoPlot> {
@@ -243,27 +286,28 @@ pub(super) fn target_ecdfs(
     let mut functions: Vec<&str> = ds.problems.iter().map(|p| p.function.as_str()).collect();
     functions.sort_unstable();
     functions.dedup();
-    let mut dims: Vec<usize> = ds.problems.iter().map(|p| p.dim).collect();
-    dims.sort_unstable();
-    dims.dedup();
-    let mut plots = vec![target_ecdf(ds, targets, best, Scope::All)];
-    if functions.len() > MAX_FUNCTION_PLOTS && dims.len() > 1 {
-        // Too many functions (a suite such as bbob): one figure per dimension.
-        plots.extend(
-            dims.iter()
-                .map(|&d| target_ecdf(ds, targets, best, Scope::Dim(d))),
-        );
-    } else if functions.len() > 1 && functions.len() <= MAX_FUNCTION_PLOTS {
-        plots.extend(
-            functions
-                .iter()
-                .map(|f| target_ecdf(ds, targets, best, Scope::Function(f))),
-        );
-    }
+    let dims = dimensions(ds);
+    let plots = if dims.len() > 1 {
+        // Runtimes at different dimensions are not pooled: one per dimension.
+        dims.iter()
+            .map(|&d| target_ecdf(ds, shown, targets, best, Scope::Dim(d)))
+            .collect()
+    } else {
+        let mut plots = vec![target_ecdf(ds, shown, targets, best, Scope::All)];
+        if functions.len() > 1 && functions.len() <= MAX_FUNCTION_PLOTS {
+            plots.extend(
+                functions
+                    .iter()
+                    .map(|f| target_ecdf(ds, shown, targets, best, Scope::Function(f))),
+            );
+        }
+        plots
+    };
     Ok(plots)
 }
 
-/// Above this many functions, the target ECDFs are drawn per dimension.
+/// Up to this many functions at one dimension, each gets its own target
+/// ECDF as well.
 const MAX_FUNCTION_PLOTS: usize = 12;
 
 /// Which problems a target ECDF covers.
@@ -324,6 +368,7 @@ fn reference_steps(
 /// COCO's best 2009 beneath when `best` covers them.
 fn target_ecdf(
     ds: &Dataset,
+    shown: &SeriesSet,
     target_values: &[f64],
     best: Option<&Best2009>,
     scope: Scope<'_>,
@@ -331,7 +376,7 @@ fn target_ecdf(
     let targets = target_values.len();
     let mut series: Vec<Line> = Vec::new();
     let mut xmax = 1.0f64;
-    for c in 0..ds.cells.len() {
+    for &c in &shown.cells {
         if ds.cells[c].external && !ds.external_anytime {
             // Its hits were not read: it would show as reaching nothing.
             continue;
@@ -375,13 +420,14 @@ fn target_ecdf(
         .filter_map(|pts| pts.first().map(|p| p.0))
         .fold(0.0f64, f64::min)
         .floor();
-    let mut legend: Vec<(String, RGBColor)> = series
-        .iter()
-        .map(|(c, _)| (ds.cells[*c].name.clone(), colour(*c)))
-        .collect();
+    let mut legend = shown.legend(series.iter().map(|(c, _)| *c));
     if reference.is_some() {
-        legend.push((best2009::LABEL.to_owned(), REFERENCE));
+        legend.push((best2009::LABEL.to_owned(), SeriesStyle::solid(REFERENCE)));
     }
+    let series = series
+        .into_iter()
+        .map(|(c, pts)| (shown.style(c), pts))
+        .collect();
     let reference_note = if reference.is_some() {
         format!(
             " The wide gold curve is {}, COCO's virtual best of the 31 algorithms of \
@@ -405,6 +451,7 @@ fn target_ecdf(
         Scope::All => ("ecdf_targets".to_owned(), "all problems".to_owned()),
     };
     Plot {
+        page: Page::SINGLE,
         stem,
         title: format!("Runtime ECDF over {targets} targets, {scope}"),
         caption: format!(
@@ -415,7 +462,8 @@ fn target_ecdf(
              the given number of objective evaluations divided by the dimension (log \
              scale). The curve ends at the largest budget; its height there is the \
              fraction of targets reached, so budget dependence is visible without \
-             rerunning.{reference_note}"
+             rerunning.{reference_note}{}",
+            shown.caption_note()
         ),
         figure: Figure::Ecdf(Ecdf {
             title: format!("Runtime to {targets} targets, {scope}"),

@@ -8,7 +8,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use super::super::render::{font, text_width, viridis, Draw, DrawResult};
 use super::super::tuning::{cell_label, HeatMap, HeatPanel};
 use super::layout::{frame, grid_shape, Chart, AXIS_FONT, PANEL_TITLE_FONT, TICK_FONT, TITLE_H};
-use super::{Figure, Plot};
+use super::{Figure, Page, Plot};
 
 /// A parameter-grid heat-map figure.
 pub(crate) struct Heat {
@@ -236,6 +236,7 @@ pub(super) fn heat(map: HeatMap) -> Plot {
     );
 
     Plot {
+        page: Page::SINGLE,
         stem: format!("tuning_{}", map.slug),
         title: format!("Parameter grid of {}", map.label),
         caption,

@@ -5,9 +5,11 @@
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::super::format::pow_tick;
-use super::super::render::{draw_legend, draw_title, legend_height, PlotError};
+use super::super::render::{draw_legend, draw_title, font, legend_height, FloorTick, PlotError};
+use super::super::style::LegendEntry;
 
 /// Width of one panel in pixels.
 pub(super) const PANEL_W: u32 = 540;
@@ -49,6 +51,80 @@ pub(super) fn decade_tick(v: f64, (lo, hi): (f64, f64)) -> String {
     }
 }
 
+/// [`decade_tick`] on an axis with a floor: blank at the floor, whose label
+/// [`draw_floor_label`] draws whether or not plotters puts a tick there,
+/// and, on an axis over more than 12 decades, blank within a decade per 12
+/// of the floor so that the two labels do not overlap.
+pub(super) fn floored_tick(v: f64, range: (f64, f64), floor: Option<FloorTick>) -> String {
+    let clear = ((range.1 - range.0) / 12.0).floor().max(0.0) + 1e-6;
+    match floor {
+        Some(f) if (v - f.at).abs() < clear => String::new(),
+        _ => decade_tick(v, range),
+    }
+}
+
+/// The label of a log axis's floor: "0" when only exact zeros are drawn
+/// there, else "≤" and its power of ten.
+fn floor_text(f: FloorTick) -> String {
+    if f.zeros_only {
+        "0".to_owned()
+    } else {
+        format!("≤{}", pow_tick(f.at))
+    }
+}
+
+/// Which axis of a chart carries a floor.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Axis {
+    /// The horizontal axis (box plots).
+    X,
+    /// The vertical axis (convergence, scalability).
+    Y,
+}
+
+/// Draws the floor's tick mark and label on `axis` of `chart` (whose
+/// range on that axis is `range` and whose other axis starts at
+/// `other_lo`), outside the plotting area as the other tick labels are;
+/// nothing when the floor is outside `range`.
+pub(super) fn draw_floor_label<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    chart: &Chart<'_, DB>,
+    floor: Option<FloorTick>,
+    (axis, range): (Axis, (f64, f64)),
+    other_lo: f64,
+) -> Result<(), PlotError> {
+    let Some(f) = floor.filter(|f| f.at >= range.0 && f.at <= range.1) else {
+        return Ok(());
+    };
+    let base = area.get_base_pixel();
+    let point = match axis {
+        Axis::X => (f.at, other_lo),
+        Axis::Y => (other_lo, f.at),
+    };
+    let (px, py) = chart.backend_coord(&point);
+    let (x, y) = (px - base.0, py - base.1);
+    let text = floor_text(f);
+    match axis {
+        Axis::X => {
+            area.draw(&PathElement::new(
+                vec![(x, y), (x, y + 5)],
+                BLACK.stroke_width(1),
+            ))?;
+            let style = font(TICK_FONT).pos(Pos::new(HPos::Center, VPos::Top));
+            area.draw_text(&text, &style, (x, y + 8))?;
+        }
+        Axis::Y => {
+            area.draw(&PathElement::new(
+                vec![(x - 5, y), (x, y)],
+                BLACK.stroke_width(1),
+            ))?;
+            let style = font(TICK_FONT).pos(Pos::new(HPos::Right, VPos::Center));
+            area.draw_text(&text, &style, (x - 8, y))?;
+        }
+    }
+    Ok(())
+}
+
 /// Rows and columns of a grid of `n` panels at most `max_cols` wide.
 pub(super) fn grid_shape(n: usize, max_cols: usize) -> (usize, usize) {
     let cols = n.clamp(1, max_cols.max(1));
@@ -74,7 +150,7 @@ pub(super) fn pages_of<T>(mut items: Vec<T>, per_page: usize) -> Vec<Vec<T>> {
 pub(super) fn frame<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     title: &str,
-    legend: &[(String, RGBColor)],
+    legend: &[LegendEntry],
 ) -> Result<DrawingArea<DB, Shift>, PlotError> {
     root.fill(&WHITE)?;
     let (w, _) = root.dim_in_pixel();
@@ -89,7 +165,7 @@ pub(super) fn frame<DB: DrawingBackend>(
 }
 
 /// Height of the title and legend strips of [`frame`] at `width`.
-pub(super) fn frame_height(width: u32, legend: &[(String, RGBColor)]) -> u32 {
+pub(super) fn frame_height(width: u32, legend: &[LegendEntry]) -> u32 {
     TITLE_H
         + if legend.is_empty() {
             0
@@ -111,6 +187,25 @@ mod tests {
         assert_eq!(pages_of(vec![1, 2], 2), [vec![1, 2]]);
         assert_eq!(pages_of(vec![1, 2], 0), [vec![1], vec![2]]);
         assert_eq!(pages_of(Vec::<u8>::new(), 3), [Vec::<u8>::new()]);
+    }
+
+    #[test]
+    fn the_floor_label_replaces_the_ticks_next_to_it() {
+        let zero = FloorTick {
+            at: -16.0,
+            zeros_only: true,
+        };
+        let zeros = Some(zero);
+        assert_eq!(floored_tick(-16.0, (-16.2, 2.0), zeros), "");
+        assert_eq!(floored_tick(-15.0, (-16.2, 2.0), zeros), "");
+        assert_eq!(floored_tick(-10.0, (-16.2, 2.0), zeros), pow_tick(-10.0));
+        assert_eq!(floored_tick(-3.0, (-4.2, 2.0), zeros), pow_tick(-3.0));
+        assert_eq!(floor_text(zero), "0");
+        let tiny = FloorTick {
+            at: -16.0,
+            zeros_only: false,
+        };
+        assert_eq!(floor_text(tiny), format!("≤{}", pow_tick(-16.0)));
     }
 
     #[test]

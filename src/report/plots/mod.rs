@@ -13,6 +13,7 @@ mod ecdf;
 mod heat_map;
 mod layout;
 mod scalability;
+mod verdict_map;
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -21,7 +22,8 @@ use super::best2009::Best2009;
 use super::data::Dataset;
 use super::descriptive::CellStats;
 use super::render::{Draw, DrawResult};
-use super::tuning::HeatMap;
+use super::style::{cell_styles, LegendEntry, SeriesStyle};
+use super::tuning::{grids, mean_ranks, HeatMap};
 use crate::experiment::records::default_targets;
 
 pub(crate) use self::boxes::Boxes;
@@ -29,6 +31,7 @@ pub(crate) use self::convergence::Convergence;
 pub(crate) use self::ecdf::Ecdf;
 pub(crate) use self::heat_map::Heat;
 pub(crate) use self::scalability::Scalability;
+pub(crate) use self::verdict_map::VerdictMap;
 
 /// A figure of the report, with the text that goes with it.
 pub(crate) struct Plot {
@@ -40,6 +43,44 @@ pub(crate) struct Plot {
     pub caption: String,
     /// The figure.
     pub figure: Figure,
+    /// Which page of its figure this is (a grid too tall for one file is
+    /// split into pages).
+    pub page: Page,
+}
+
+/// The page of a figure split into several files: the `index`-th (from 1)
+/// of `of`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Page {
+    /// This page, from 1.
+    pub index: usize,
+    /// The number of pages of the figure.
+    pub of: usize,
+}
+
+impl Page {
+    /// The only page of a figure that fits one file.
+    pub(crate) const SINGLE: Page = Page { index: 1, of: 1 };
+}
+
+impl Plot {
+    /// The title of the whole figure: without the "(k of n)" of a page.
+    pub(crate) fn figure_title(&self) -> &str {
+        let Page { index, of } = self.page;
+        self.title
+            .strip_suffix(&format!(" ({index} of {of})"))
+            .unwrap_or(&self.title)
+    }
+
+    /// The caption of the whole figure: without the page sentence.
+    pub(crate) fn figure_caption(&self) -> &str {
+        let Page { index, of } = self.page;
+        self.caption
+            .strip_suffix(&format!(
+                " Page {index} of {of}, in the order of the problems."
+            ))
+            .unwrap_or(&self.caption)
+    }
 }
 
 /// The kinds of figures.
@@ -56,6 +97,8 @@ pub(crate) enum Figure {
     Heat(Heat),
     /// Fitted outlines over their data.
     Overlay(crate::reconstruction::OverlayFigure),
+    /// Verdicts against the reference per design point.
+    Verdicts(VerdictMap),
 }
 
 impl Draw for Figure {
@@ -67,6 +110,7 @@ impl Draw for Figure {
             Figure::Scalability(f) => f.size(),
             Figure::Heat(f) => f.size(),
             Figure::Overlay(f) => f.size(),
+            Figure::Verdicts(f) => f.size(),
         }
     }
 
@@ -78,6 +122,7 @@ impl Draw for Figure {
             Figure::Scalability(f) => f.draw(root),
             Figure::Heat(f) => f.draw(root),
             Figure::Overlay(f) => f.draw(root),
+            Figure::Verdicts(f) => f.draw(root),
         }
     }
 }
@@ -124,6 +169,7 @@ fn paginate(plot: Plot) -> Vec<Plot> {
         title,
         caption,
         figure,
+        page: _,
     } = plot;
     let figures: Vec<Figure> = match figure {
         Figure::Convergence(f) => f
@@ -163,8 +209,144 @@ fn paginate(plot: Plot) -> Vec<Plot> {
                 )
             },
             figure,
+            page: Page {
+                index: i + 1,
+                of: n,
+            },
         })
         .collect()
+}
+
+/// At most this many algorithms are drawn in one panel.
+pub(crate) const MAX_SERIES: usize = 12;
+
+/// The algorithms the figures draw, with their legend names and styles:
+/// every cell when there are at most [`MAX_SERIES`], else, of each label
+/// with several settings (a tuning grid), its best setting (lowest mean
+/// rank of the mean final error over the problems) and its default one
+/// (every varying parameter at the optimiser's default), and every cell
+/// that is alone under its label.
+pub(crate) struct SeriesSet {
+    /// The cells drawn, in the order of the dataset.
+    pub cells: Vec<usize>,
+    /// Legend name and style, per cell of the dataset (`None`: not drawn).
+    entries: Vec<Option<LegendEntry>>,
+    /// How many cells are not drawn.
+    pub left_out: usize,
+}
+
+impl SeriesSet {
+    /// The series of `ds`: all its cells, or the best and default setting
+    /// of each grid when there are more than [`MAX_SERIES`].
+    pub(crate) fn of(ds: &Dataset, stats: &[Vec<Option<CellStats>>]) -> SeriesSet {
+        let n = ds.cells.len();
+        let mut tags: Vec<Option<&'static str>> = vec![None; n];
+        let cells: Vec<usize> = if n <= MAX_SERIES {
+            (0..n).collect()
+        } else {
+            let mut keep = vec![true; n];
+            for grid in grids(ds) {
+                for &c in &grid.cells {
+                    keep[c] = false;
+                }
+                let best = mean_ranks(ds, &grid, stats).and_then(|(_, r)| {
+                    (0..r.len())
+                        .min_by(|&a, &b| r[a].total_cmp(&r[b]))
+                        .map(|i| grid.cells[i])
+                });
+                let default = grid.cells.iter().copied().find(|&c| {
+                    let cell = &ds.cells[c];
+                    let Some(defs) = crate::optim::Algorithm::params(&cell.kind) else {
+                        return false;
+                    };
+                    grid.varying.iter().all(|k| {
+                        let d = defs.iter().find(|d| d.name == k);
+                        d.is_some_and(|d| {
+                            super::data::param_value(cell, k)
+                                .is_some_and(|v| same_value(&v, &d.default.to_string()))
+                        })
+                    })
+                });
+                if let Some(b) = best {
+                    keep[b] = true;
+                    tags[b] = Some("best");
+                }
+                if let Some(d) = default {
+                    keep[d] = true;
+                    tags[d] = Some(if best == Some(d) {
+                        "best, default"
+                    } else {
+                        "default"
+                    });
+                }
+            }
+            (0..n).filter(|&c| keep[c]).collect()
+        };
+        // Shades by place among the cells drawn: the best setting of a grid
+        // first (its optimiser's own colour), its default lighter.
+        let mut order = cells.clone();
+        order.sort_by_key(|&c| tags[c] == Some("default"));
+        let shown: Vec<super::data::Cell> = order.iter().map(|&c| ds.cells[c].clone()).collect();
+        let mut styles = vec![SeriesStyle::solid(RGBColor(0, 0, 0)); n];
+        for (&c, style) in order.iter().zip(cell_styles(&shown)) {
+            styles[c] = style;
+        }
+        let mut entries = vec![None; n];
+        for &c in &cells {
+            let style = styles[c];
+            let name = match tags[c] {
+                Some(tag) => format!("{} [{tag}]", ds.cells[c].name),
+                None => ds.cells[c].name.clone(),
+            };
+            entries[c] = Some((name, style));
+        }
+        SeriesSet {
+            left_out: n - cells.len(),
+            cells,
+            entries,
+        }
+    }
+
+    /// The style of cell `c` (solid grey when it is not drawn).
+    pub(crate) fn style(&self, c: usize) -> SeriesStyle {
+        self.entries
+            .get(c)
+            .and_then(|e| e.as_ref())
+            .map_or(SeriesStyle::solid(RGBColor(128, 128, 128)), |e| e.1)
+    }
+
+    /// The legend entry of cell `c`, when it is drawn.
+    pub(crate) fn entry(&self, c: usize) -> Option<LegendEntry> {
+        self.entries.get(c).and_then(|e| e.clone())
+    }
+
+    /// The legend of `cells` (those drawn), in their order.
+    pub(crate) fn legend(&self, cells: impl IntoIterator<Item = usize>) -> Vec<LegendEntry> {
+        cells.into_iter().filter_map(|c| self.entry(c)).collect()
+    }
+
+    /// The sentence a caption adds when some cells are not drawn.
+    pub(crate) fn caption_note(&self) -> String {
+        if self.left_out == 0 {
+            String::new()
+        } else {
+            format!(
+                " Of each algorithm tuned over a grid, only its best setting (lowest mean \
+                 rank over the problems) and its default setting are drawn ({} of {} \
+                 configurations; the tables hold them all).",
+                self.cells.len(),
+                self.cells.len() + self.left_out
+            )
+        }
+    }
+}
+
+/// Whether two parameter texts are the same value (`0.9` and `0.90`).
+fn same_value(a: &str, b: &str) -> bool {
+    match (a.parse::<f64>(), b.parse::<f64>()) {
+        (Ok(x), Ok(y)) => x == y,
+        _ => a == b,
+    }
 }
 
 /// Every figure of the report that the data allows, and a note for each one
@@ -175,21 +357,39 @@ pub(crate) fn figures(
     heat_maps: Vec<HeatMap>,
     threshold: Option<f64>,
     best: Option<&Best2009>,
+    verdicts: Option<&super::format::Table>,
 ) -> (Vec<Plot>, Vec<String>) {
     let mut plots = Vec::new();
+    if let Some(t) = verdicts {
+        let measure = t.csv_header.iter().position(|h| h == "measure");
+        let mut measures: Vec<&str> = measure
+            .map(|m| t.csv_rows.iter().map(|r| r[m].as_str()).collect())
+            .unwrap_or_default();
+        measures.dedup();
+        measures.sort_unstable();
+        measures.dedup();
+        // The final error first, as the verdict tables show it.
+        measures.sort_by_key(|m| *m != "final-error");
+        plots.extend(
+            measures
+                .iter()
+                .filter_map(|m| verdict_map::verdict_map(t, m)),
+        );
+    }
     let mut notes = Vec::new();
+    let series = SeriesSet::of(ds, stats);
     for result in [
-        convergence::convergence(ds),
-        boxes::boxes(ds),
-        ecdf::ecdf(ds, threshold),
-        scalability::scalability(ds, stats),
+        convergence::convergence(ds, &series).map(|p| vec![p]),
+        boxes::boxes(ds, &series).map(|p| vec![p]),
+        ecdf::ecdf(ds, &series, threshold),
+        scalability::scalability(ds, &series).map(|p| vec![p]),
     ] {
         match result {
-            Ok(p) => plots.extend(paginate(p)),
+            Ok(ps) => plots.extend(ps.into_iter().flat_map(paginate)),
             Err(n) => notes.push(n.to_string()),
         }
     }
-    match ecdf::target_ecdfs(ds, &default_targets(), best) {
+    match ecdf::target_ecdfs(ds, &series, &default_targets(), best) {
         Ok(p) => plots.extend(p),
         Err(n) => notes.push(n.to_string()),
     }

@@ -1,6 +1,8 @@
 //! The scalability figure: for every function run at several dimensions,
-//! the mean final error (log scale) and, when timing data exist, the mean
-//! wall time per run against the dimension.
+//! the median final error with its interquartile band and, when timing
+//! data exist, the median wall time per evaluation with its band, both on
+//! log–log axes against the dimension, with the exponent k of a least-
+//! squares fit time ∝ D^k per algorithm.
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -11,24 +13,30 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use crate::stats::summarize;
 
 use super::super::data::Dataset;
-use super::super::descriptive::{mean_error, CellStats};
 use super::super::format::sci_digits;
 use super::super::render::{
-    colour, draw_minor_decades, font, lg, lg_range, log_floor, log_range, on_log_axis, Draw,
-    DrawResult,
+    draw_line, draw_minor_decades, font, lg, lg_range, log_floor, log_range, on_log_axis, Draw,
+    DrawResult, FloorTick,
 };
+use super::super::style::{LegendEntry, SeriesStyle};
 use super::layout::{
-    decade_labels, decade_tick, frame, frame_height, pages_of, Chart, Line, AXIS_FONT, PANEL_H,
-    PANEL_TITLE_FONT, PANEL_W, TICK_FONT,
+    decade_labels, decade_tick, draw_floor_label, floored_tick, frame, frame_height, pages_of,
+    Axis, Chart, AXIS_FONT, PANEL_H, PANEL_TITLE_FONT, PANEL_W, TICK_FONT,
 };
-use super::{Figure, NoPlot, Plot};
+use super::{Figure, NoPlot, Page, Plot, SeriesSet};
 
-/// One function's scalability row: mean error and (if known) mean wall time
-/// against dimension, per cell.
+/// A cell's band against log10 D: (cell, [(log10 D, q1, median, q3)]),
+/// values in log10 once floored.
+type Band = (usize, Vec<(f64, f64, f64, f64)>);
+
+/// One function's scalability row: the final error and (if known) the wall
+/// time per evaluation against dimension, per cell, as quartile bands.
 pub(crate) struct ScalabilityRow {
     function: String,
-    error: Vec<Line>,
-    time: Option<Vec<Line>>,
+    error: Vec<Band>,
+    time: Option<Vec<Band>>,
+    /// The fitted exponent k of time per evaluation ∝ D^k, per cell.
+    exponents: Vec<(usize, f64)>,
     x: (f64, f64),
     y_error: (f64, f64),
     y_time: (f64, f64),
@@ -39,7 +47,11 @@ pub(crate) struct ScalabilityRow {
 /// The scalability figure.
 pub(crate) struct Scalability {
     title: String,
-    legend: Vec<(String, RGBColor)>,
+    legend: Vec<LegendEntry>,
+    /// The style of every cell, by its index in the dataset.
+    styles: Vec<SeriesStyle>,
+    /// The tick of the error axis's floor, when some error is drawn at it.
+    floor: Option<FloorTick>,
     rows: Vec<ScalabilityRow>,
     with_time: bool,
 }
@@ -54,6 +66,8 @@ impl Scalability {
         let Scalability {
             title,
             legend,
+            styles,
+            floor,
             rows,
             with_time,
         } = self;
@@ -62,6 +76,8 @@ impl Scalability {
             .map(|rows| Scalability {
                 title: title.clone(),
                 legend: legend.clone(),
+                styles: styles.clone(),
+                floor,
                 rows,
                 with_time,
             })
@@ -85,10 +101,10 @@ impl Draw for Scalability {
         let areas = area.split_evenly((self.rows.len().max(1), cols));
         for (r, row) in self.rows.iter().enumerate() {
             if let Some(a) = areas.get(r * cols) {
-                draw_error_panel(row, a)?;
+                draw_error_panel(row, &self.styles, self.floor, a)?;
             }
             if let (Some(times), Some(a)) = (&row.time, areas.get(r * cols + 1)) {
-                draw_time_panel(row, times, a)?;
+                draw_time_panel(row, times, &self.styles, a)?;
             }
         }
         Ok(())
@@ -112,28 +128,46 @@ fn panel_chart<'a, DB: DrawingBackend>(
         .build_cartesian_2d(row.x.0..row.x.1, y.0..y.1)?)
 }
 
-/// Draws a cell's polyline with a dot at every dimension.
-fn draw_lines<DB: DrawingBackend>(chart: &mut Chart<'_, DB>, lines: &[Line]) -> DrawResult {
-    for (c, pts) in lines {
-        let col = colour(*c);
-        chart.draw_series(LineSeries::new(pts.iter().copied(), col.stroke_width(2)))?;
-        chart.draw_series(pts.iter().map(|&p| Circle::new(p, 4, col.filled())))?;
+/// Draws a cell's band (interquartile range, shaded) and its median line
+/// with a dot at every dimension.
+fn draw_bands<DB: DrawingBackend>(
+    chart: &mut Chart<'_, DB>,
+    bands: &[Band],
+    styles: &[SeriesStyle],
+) -> DrawResult {
+    for (c, pts) in bands {
+        let style = styles.get(*c).copied().unwrap_or(SeriesStyle::solid(BLACK));
+        if pts.len() >= 2 {
+            let mut poly: Vec<(f64, f64)> = pts.iter().map(|p| (p.0, p.3)).collect();
+            poly.extend(pts.iter().rev().map(|p| (p.0, p.1)));
+            chart.draw_series(std::iter::once(Polygon::new(
+                poly,
+                style.colour.mix(0.15).filled(),
+            )))?;
+        }
+        draw_line(chart, pts.iter().map(|p| (p.0, p.2)).collect(), style, 2)?;
+        chart.draw_series(
+            pts.iter()
+                .map(|p| Circle::new((p.0, p.2), 4, style.colour.filled())),
+        )?;
     }
     Ok(())
 }
 
-/// Draws a row's mean-error panel (log10 vertical axis).
+/// Draws a row's final-error panel (log10 vertical axis).
 fn draw_error_panel<DB: DrawingBackend>(
     row: &ScalabilityRow,
+    styles: &[SeriesStyle],
+    floor: Option<FloorTick>,
     a: &DrawingArea<DB, Shift>,
 ) -> DrawResult {
-    let mut chart = panel_chart(a, row, "mean final error", row.y_error)?;
+    let mut chart = panel_chart(a, row, "final error", row.y_error)?;
     chart
         .configure_mesh()
         .x_desc("dimension D (log scale)")
-        .y_desc("mean f − f* (log scale)")
+        .y_desc("median f − f* (log scale)")
         .x_labels(0)
-        .y_label_formatter(&|v| decade_tick(*v, row.y_error))
+        .y_label_formatter(&|v| floored_tick(*v, row.y_error, floor))
         .y_labels(decade_labels(row.y_error))
         .label_style(font(TICK_FONT))
         .axis_desc_style(font(AXIS_FONT))
@@ -141,44 +175,61 @@ fn draw_error_panel<DB: DrawingBackend>(
         .bold_line_style(RGBColor(215, 215, 215))
         .draw()?;
     draw_minor_decades(&mut chart, row.x, row.y_error, false, true)?;
+    draw_floor_label(a, &chart, floor, (Axis::Y, row.y_error), row.x.0)?;
     dimension_ticks(a, &mut chart, &row.dims, row.y_error)?;
-    draw_lines(&mut chart, &row.error)
+    draw_bands(&mut chart, &row.error, styles)
 }
 
-/// Draws a row's mean-wall-time panel (linear vertical axis).
+/// Draws a row's time-per-evaluation panel (log–log), with the fitted
+/// exponent of every cell written in its colour.
 fn draw_time_panel<DB: DrawingBackend>(
     row: &ScalabilityRow,
-    times: &[Line],
+    times: &[Band],
+    styles: &[SeriesStyle],
     a: &DrawingArea<DB, Shift>,
 ) -> DrawResult {
-    let mut chart = panel_chart(a, row, "mean wall time", row.y_time)?;
+    let mut chart = panel_chart(a, row, "wall time per evaluation", row.y_time)?;
     chart
         .configure_mesh()
         .x_desc("dimension D (log scale)")
-        .y_desc(format!("wall time per run [{}]", row.time_unit))
+        .y_desc(format!(
+            "median time per evaluation [{}] (log scale)",
+            row.time_unit
+        ))
         .x_labels(0)
-        .y_label_formatter(&|v| plain_number(*v))
-        .y_labels(8)
+        .y_label_formatter(&|v| decade_tick(*v, row.y_time))
+        .y_labels(decade_labels(row.y_time))
         .label_style(font(TICK_FONT))
         .axis_desc_style(font(AXIS_FONT))
         .light_line_style(TRANSPARENT)
         .bold_line_style(RGBColor(215, 215, 215))
         .draw()?;
+    draw_minor_decades(&mut chart, row.x, row.y_time, false, true)?;
     dimension_ticks(a, &mut chart, &row.dims, row.y_time)?;
-    draw_lines(&mut chart, times)
+    draw_bands(&mut chart, times, styles)?;
+    let (px, py) = chart.backend_coord(&(row.x.0, row.y_time.1));
+    let base = a.get_base_pixel();
+    let style = font(TICK_FONT).pos(Pos::new(HPos::Left, VPos::Top));
+    for (i, (c, k)) in row.exponents.iter().enumerate() {
+        let colour = styles.get(*c).map_or(BLACK, |s| s.colour);
+        a.draw_text(
+            &format!("D^{k:.2}"),
+            &style.color(&colour),
+            (px - base.0 + 6, py - base.1 + 4 + 15 * i as i32),
+        )?;
+    }
+    Ok(())
 }
 
-/// A tick label of a linear axis: up to four significant digits, no
-/// exponent for ordinary magnitudes.
-fn plain_number(v: f64) -> String {
-    if v == 0.0 {
-        return "0".into();
-    }
-    if v.abs() >= 1e6 || v.abs() < 1e-3 {
-        return sci_digits(v, 2);
-    }
-    let s = format!("{v:.3}");
-    s.trim_end_matches('0').trim_end_matches('.').to_owned()
+/// The slope of the least-squares line through `points` (x, y), or `None`
+/// for fewer than two distinct x.
+fn slope(points: &[(f64, f64)]) -> Option<f64> {
+    let n = points.len() as f64;
+    let mx = points.iter().map(|p| p.0).sum::<f64>() / n;
+    let my = points.iter().map(|p| p.1).sum::<f64>() / n;
+    let sxx: f64 = points.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    let sxy: f64 = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    (points.len() >= 2 && sxx > 0.0).then(|| sxy / sxx)
 }
 
 /// Tick labels and light vertical lines at the dimensions actually run
@@ -228,31 +279,40 @@ fn problems_by_function(ds: &Dataset) -> Vec<(String, Vec<usize>)> {
         .collect()
 }
 
-/// Points (log10 D, value) of one cell.
-type Points = Vec<(f64, f64)>;
+/// Quartiles (log10 D, q1, median, q3) of one cell against the dimension.
+type Quartiles = Vec<(f64, f64, f64, f64)>;
 
-/// A cell's points against log10 D over `probs`: (mean error, mean wall
-/// time), each where defined and finite.
-fn cell_points(
-    ds: &Dataset,
-    stats: &[Vec<Option<CellStats>>],
-    c: usize,
-    probs: &[usize],
-) -> (Points, Points) {
+/// The (q1, median, q3) of the finite values of `v`.
+fn quartiles(v: &[f64]) -> Option<(f64, f64, f64)> {
+    let finite: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
+    summarize(&finite).ok().map(|s| (s.q1, s.median, s.q3))
+}
+
+/// A cell's quartiles against log10 D over `probs`: of the final error,
+/// and of the wall time per evaluation (seconds), each where defined.
+fn cell_points(ds: &Dataset, c: usize, probs: &[usize]) -> (Quartiles, Quartiles) {
     let mut pe = Vec::new();
     let mut pt = Vec::new();
     for &p in probs {
         let d = lg(ds.problems[p].dim as f64);
-        if let Some(m) = mean_error(stats, p, c).filter(|m| m.is_finite()) {
-            pe.push((d, m));
+        if let Some((a, m, b)) = quartiles(&ds.errors(p, c)) {
+            pe.push((d, a, m, b));
         }
-        let walls: Option<Vec<f64>> = ds.runs(p, c).iter().map(|r| r.wall_seconds).collect();
-        if let Some(w) = walls.filter(|w| !w.is_empty()) {
-            if let Ok(s) = summarize(&w) {
-                if s.mean.is_finite() {
-                    pt.push((d, s.mean));
-                }
-            }
+        let per_eval: Option<Vec<f64>> = ds
+            .runs(p, c)
+            .iter()
+            .map(|r| {
+                r.wall_seconds
+                    .filter(|_| r.evaluations > 0)
+                    .map(|w| w / r.evaluations as f64)
+            })
+            .collect();
+        if let Some((a, m, b)) = per_eval
+            .filter(|w| !w.is_empty())
+            .and_then(|w| quartiles(&w))
+            .filter(|q| q.0 > 0.0)
+        {
+            pt.push((d, a, m, b));
         }
     }
     (pe, pt)
@@ -261,7 +321,9 @@ fn cell_points(
 /// The unit of wall times whose largest value is `tmax` seconds, and the
 /// factor from seconds to it.
 fn time_unit(tmax: f64) -> (&'static str, f64) {
-    if tmax < 1e-3 {
+    if tmax < 1e-6 {
+        ("ns", 1e9)
+    } else if tmax < 1e-3 {
         ("µs", 1e6)
     } else if tmax < 1.0 {
         ("ms", 1e3)
@@ -271,19 +333,20 @@ fn time_unit(tmax: f64) -> (&'static str, f64) {
 }
 
 /// The row of one function over its problems `probs` (sorted by dimension),
-/// with raw mean errors (floored later); `None` when no cell has an error.
-/// Cells with an error are added to `used`.
+/// with raw errors (floored later) and times per evaluation on a log10
+/// axis; `None` when no cell has an error. Cells with an error are added
+/// to `used`.
 fn row(
     ds: &Dataset,
-    stats: &[Vec<Option<CellStats>>],
+    series: &SeriesSet,
     function: &str,
     probs: &[usize],
     used: &mut BTreeSet<usize>,
 ) -> Option<ScalabilityRow> {
     let mut error = Vec::new();
     let mut time = Vec::new();
-    for c in 0..ds.cells.len() {
-        let (pe, pt) = cell_points(ds, stats, c, probs);
+    for &c in &series.cells {
+        let (pe, pt) = cell_points(ds, c, probs);
         if !pe.is_empty() {
             used.insert(c);
             error.push((c, pe));
@@ -300,60 +363,74 @@ fn row(
         lg(dims.first().copied().unwrap_or(1).max(1) as f64),
         lg(dims.last().copied().unwrap_or(1).max(1) as f64),
     );
-    let tmax = time
-        .iter()
-        .flat_map(|(_, v)| v.iter().map(|p| p.1))
-        .fold(0.0f64, f64::max);
+    let all_times = || {
+        time.iter()
+            .flat_map(|(_, v): &Band| v.iter().flat_map(|p| [p.1, p.3]))
+    };
+    let tmax = all_times().fold(0.0f64, f64::max);
+    let tmin = all_times().fold(f64::INFINITY, f64::min);
     let (time_unit, scale) = time_unit(tmax);
+    let exponents = time
+        .iter()
+        .filter_map(|(c, pts)| {
+            let medians: Vec<(f64, f64)> = pts.iter().map(|p| (p.0, lg(p.2))).collect();
+            slope(&medians).map(|k| (*c, k))
+        })
+        .collect();
     for (_, pts) in &mut time {
         for p in pts.iter_mut() {
-            p.1 *= scale;
+            *p = (p.0, lg(p.1 * scale), lg(p.2 * scale), lg(p.3 * scale));
         }
     }
-    let tmax = tmax * scale;
     let pad = ((dhi - dlo) * 0.08).max(0.05);
     Some(ScalabilityRow {
         function: function.to_owned(),
         error,
         time: if time.is_empty() { None } else { Some(time) },
+        exponents,
         x: (dlo - pad, dhi + pad),
         y_error: (0.0, 0.0),
-        y_time: (0.0, if tmax > 0.0 { tmax * 1.1 } else { 1.0 }),
+        y_time: if tmax > 0.0 {
+            lg_range(log_range(tmin * scale, tmax * scale))
+        } else {
+            (0.0, 1.0)
+        },
         time_unit,
         dims,
     })
 }
 
-/// Puts the row's mean errors on a log10 axis above `floor` and sets its
-/// error range; returns whether some error was at or below the floor.
+/// Puts the row's errors on a log10 axis above `floor` and sets its error
+/// range; returns whether some error was at or below the floor.
 fn floor_errors(row: &mut ScalabilityRow, floor: f64) -> bool {
     let mut floored = false;
     let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
     for (_, pts) in &mut row.error {
         for p in pts.iter_mut() {
-            if p.1 <= floor {
-                floored = true;
-            }
-            p.1 = on_log_axis(p.1, floor);
-            lo = lo.min(p.1);
-            hi = hi.max(p.1);
-            p.1 = lg(p.1);
+            let mut at = |v: f64| {
+                floored |= v <= floor;
+                let v = on_log_axis(v, floor);
+                lo = lo.min(v);
+                hi = hi.max(v);
+                lg(v)
+            };
+            *p = (p.0, at(p.1), at(p.2), at(p.3));
         }
     }
     row.y_error = lg_range(log_range(lo, hi));
     floored
 }
 
-/// The caption: what is drawn, the floor when some mean errors are drawn
-/// at it, and whether wall times are shown.
+/// The caption: what is drawn, the floor when some errors are drawn at
+/// it, and whether times are shown.
 fn caption(floor: Option<f64>, with_time: bool) -> String {
-    let mut caption = "Mean final error f − f* (log scale) and, when timing.csv is \
-                       available, mean wall-clock time per run against the dimension, \
-                       for every function run at several dimensions."
+    let mut caption = "Median final error f − f* with its interquartile band (25 % to 75 %, \
+                       type-7) against the dimension, both on log scales, for every function \
+                       run at several dimensions."
         .to_owned();
     if let Some(floor) = floor {
         caption.push_str(&format!(
-            " Mean errors ≤ {} are drawn at {}.",
+            " Errors ≤ {} (including exact zeros) are drawn at {}.",
             sci_digits(floor, 2),
             sci_digits(floor, 2)
         ));
@@ -362,15 +439,18 @@ fn caption(floor: Option<f64>, with_time: bool) -> String {
         caption.push_str(" No wall times are available, so only errors are shown.");
     } else {
         caption.push_str(
-            " Wall times depend on the machine and its load; they are not part of the \
-             reproducible output.",
+            " Beside it, the median wall time per objective evaluation (a run's wall time \
+             over its evaluations, timing.csv) with its interquartile band on log–log axes; \
+             D^k gives each algorithm's exponent k of a least-squares fit of log time \
+             against log D through the medians. Wall times depend on the machine and its \
+             load; they are not part of the reproducible output.",
         );
     }
     caption
 }
 
 /// The scalability plot, or why there is none.
-pub(super) fn scalability(ds: &Dataset, stats: &[Vec<Option<CellStats>>]) -> Result<Plot, NoPlot> {
+pub(super) fn scalability(ds: &Dataset, series: &SeriesSet) -> Result<Plot, NoPlot> {
     let mut rows = Vec::new();
     let mut used = BTreeSet::new();
     for (f, mut probs) in problems_by_function(ds) {
@@ -379,31 +459,34 @@ pub(super) fn scalability(ds: &Dataset, stats: &[Vec<Option<CellStats>>]) -> Res
             continue;
         }
         probs.sort_by_key(|&p| ds.problems[p].dim);
-        rows.extend(row(ds, stats, &f, &probs, &mut used));
+        rows.extend(row(ds, series, &f, &probs, &mut used));
     }
     if rows.is_empty() {
         return Err(NoPlot::SingleDimension);
     }
-    let error_values = rows
-        .iter()
-        .flat_map(|r| r.error.iter().flat_map(|(_, pts)| pts.iter().map(|p| p.1)));
-    let floor = log_floor(error_values);
+    let error_values = rows.iter().flat_map(|r| {
+        r.error
+            .iter()
+            .flat_map(|(_, pts)| pts.iter().flat_map(|p| [p.1, p.2, p.3]))
+    });
+    let floor = log_floor(error_values.clone());
+    let floor_tick = FloorTick::of(error_values, floor);
     let mut floored_any = false;
     for row in &mut rows {
         floored_any |= floor_errors(row, floor);
     }
     let with_time = rows.iter().any(|r| r.time.is_some());
-    let legend = used
-        .iter()
-        .map(|&c| (ds.cells[c].name.clone(), colour(c)))
-        .collect();
+    let legend = series.legend(used);
     Ok(Plot {
+        page: Page::SINGLE,
         stem: "scalability".into(),
         title: "Scalability".into(),
-        caption: caption(floored_any.then_some(floor), with_time),
+        caption: caption(floored_any.then_some(floor), with_time) + &series.caption_note(),
         figure: Figure::Scalability(Scalability {
             title: "Scalability with the dimension".into(),
             legend,
+            styles: (0..ds.cells.len()).map(|c| series.style(c)).collect(),
+            floor: floor_tick,
             rows,
             with_time,
         }),
