@@ -118,6 +118,10 @@ enum Command {
         /// The correction of the post-hoc tests after Friedman's test.
         #[arg(long, default_value = "holm", value_parser = clap::builder::PossibleValuesParser::new(crate::report::PostHoc::NAMES))]
         post_hoc: String,
+        /// Exit 0 even when figures the results should allow could not be
+        /// drawn (the report is written and names them either way).
+        #[arg(long)]
+        keep_going: bool,
     },
     /// Fit piecewise (rational) Bézier curves to an outline.
     Fit(Box<FitArgs>),
@@ -377,6 +381,7 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
             alpha,
             external,
             post_hoc,
+            keep_going,
         } => {
             let opts = ReportOptions {
                 reference,
@@ -384,7 +389,7 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
                 external,
                 post_hoc: crate::report::PostHoc::from_name(&post_hoc).unwrap_or_default(),
             };
-            write_report(&dir, &opts, w)
+            write_report(&dir, &opts, keep_going, w)
         }
         Command::Fit(args) => fit(*args, w),
         Command::Score(args) => score_curves(args, w),
@@ -533,7 +538,12 @@ fn slurm(a: SlurmArgs, w: &mut String) -> Result<(), Error> {
 
 /// `metabezier report`: write the report of a results directory and list
 /// its notes.
-fn write_report(dir: &Path, opts: &ReportOptions, w: &mut String) -> Result<(), Error> {
+fn write_report(
+    dir: &Path,
+    opts: &ReportOptions,
+    keep_going: bool,
+    w: &mut String,
+) -> Result<(), Error> {
     let s = report::write_report(dir, opts)?;
     say!(
         w,
@@ -548,7 +558,14 @@ fn write_report(dir: &Path, opts: &ReportOptions, w: &mut String) -> Result<(), 
     for note in &s.notes {
         say!(w, "  note: {note}");
     }
-    Ok(())
+    if s.faults.is_empty() || keep_going {
+        Ok(())
+    } else {
+        Err(Error::Figures {
+            report: s.report,
+            faults: s.faults,
+        })
+    }
 }
 
 /// `metabezier list`: the algorithms with their parameters, and the

@@ -20,6 +20,21 @@ pub enum Error {
     /// A report could not be written.
     #[error(transparent)]
     Report(#[from] ReportError),
+    /// A report was written, but figures its results should allow could
+    /// not be drawn.
+    #[error(
+        "{}: written, but {} figure(s) the results should allow could not be drawn: {}; \
+         the report's summary names them (pass --keep-going to accept such a report)",
+        report.display(),
+        faults.len(),
+        faults.join("; ")
+    )]
+    Figures {
+        /// The report written.
+        report: std::path::PathBuf,
+        /// What could not be drawn, and why.
+        faults: Vec<String>,
+    },
     /// The chapter-6 implant experiment failed.
     #[error(transparent)]
     Implant(#[from] ImplantError),

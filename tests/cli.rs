@@ -156,6 +156,52 @@ fn report_of_a_missing_directory_names_the_file() {
 }
 
 #[test]
+fn a_report_whose_figures_cannot_be_drawn_says_so_and_fails_unless_told_to_go_on() {
+    // A runs.csv alone (another tool's) whose every error is infinite: the
+    // report is written, its summary names the figures the runs should have
+    // allowed, and the command fails unless given --keep-going.
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("broken");
+    std::fs::create_dir(&dir).unwrap();
+    let mut csv = String::from(
+        "algorithm,kind,params,problem,dim,budget,run,seed,best,error,evaluations,evaluations_to_target,success\n",
+    );
+    for (alg, kind) in [("HS", "hs"), ("MHS", "mhs")] {
+        for run in 0..3 {
+            csv.push_str(&format!(
+                "{alg},{kind},,sphere,2,100,{run},{run},inf,inf,100,,false\n"
+            ));
+        }
+    }
+    std::fs::write(dir.join("runs.csv"), csv).unwrap();
+    let out = metabezier().args(["report"]).arg(&dir).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("report.md: written, but 1 figure(s)"), "{err}");
+    assert!(
+        err.contains("box plots skipped: no finite final error"),
+        "{err}"
+    );
+    assert!(err.contains("--keep-going"), "{err}");
+    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    let summary = &md[md.find("## Summary").unwrap()..md.find("## Plots").unwrap()];
+    assert!(
+        summary.contains("Warning: 1 figure(s) could not be drawn"),
+        "{summary}"
+    );
+    let out = metabezier()
+        .args(["report", "--keep-going"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
 fn list_shows_every_algorithm_and_function() {
     let out = metabezier().arg("list").output().unwrap();
     assert!(out.status.success());

@@ -95,6 +95,11 @@ pub struct ReportSummary {
     pub reference: Option<String>,
     /// Parts that were skipped and why (also stated in the report).
     pub notes: Vec<String>,
+    /// The figures that the results should have allowed but did not (every
+    /// error infinite or NaN) or that could not be drawn; the summary of
+    /// `report.md` names them and `metabezier report` fails on them unless
+    /// given `--keep-going`.
+    pub faults: Vec<String>,
 }
 
 /// Chooses the reference cell: the requested label or name, else `MHS`,
@@ -421,6 +426,10 @@ struct Sections {
     figures: Vec<Plot>,
     /// Parts that were skipped or limited, and why.
     notes: Vec<String>,
+    /// The figures the data should have allowed but did not, or that could
+    /// not be drawn: the summary names them, and the command fails on them
+    /// unless told to go on.
+    faults: Vec<String>,
 }
 
 impl Sections {
@@ -536,6 +545,14 @@ impl Sections {
                 })
                 .collect();
             md.push_str(&format!("Figures: {}.\n\n", links.join(", ")));
+        }
+        if !self.faults.is_empty() {
+            md.push_str(&markdown::paragraph(&format!(
+                "Warning: {} figure(s) could not be drawn from these results, which should \
+                 allow them: {}.",
+                self.faults.len(),
+                self.faults.join("; ")
+            )));
         }
         if !self.notes.is_empty() {
             md.push_str(&markdown::paragraph(&format!(
@@ -743,7 +760,7 @@ fn sections(
     let tests = tests(ds, &stats, options, provenance, fits.as_ref(), &mut notes)?;
     let (tuning, tuning_overview, heat_maps) = tuning(ds, &stats, &mut notes);
     let best = best2009_for(ds, &mut notes);
-    let (mut figures, plot_notes) = plots::figures(
+    let drawn = plots::figures(
         ds,
         &stats,
         heat_maps,
@@ -751,7 +768,9 @@ fn sections(
         best.as_ref(),
         tests.verdict_table.as_ref(),
     );
-    notes.extend(plot_notes);
+    let mut figures = drawn.plots;
+    notes.extend(drawn.notes);
+    let faults = drawn.faults;
     let mut fitting = Vec::new();
     if let Some(f) = fitting::section(
         dir,
@@ -780,6 +799,7 @@ fn sections(
         anytime,
         tuning,
         tuning_overview,
+        faults,
         fitting,
         figures,
         notes,
@@ -809,7 +829,7 @@ fn best2009_for(ds: &data::Dataset, notes: &mut Vec<String>) -> Option<best2009:
 /// PNG under `dir/plots/`; returns the paths of both.
 fn write_tables_and_plots(
     dir: &Path,
-    s: &Sections,
+    s: &mut Sections,
 ) -> Result<(Vec<PathBuf>, Vec<PathBuf>), ReportError> {
     let tables_dir = dir.join("tables");
     let plots_dir = dir.join("plots");
@@ -822,9 +842,24 @@ fn write_tables_and_plots(
         table_paths.push(path);
     }
     let mut plot_paths = Vec::new();
-    for p in &s.figures {
-        plot_paths.extend(render::save(&p.figure, &plots_dir, &p.stem)?);
+    let mut drawn = Vec::with_capacity(s.figures.len());
+    for p in std::mem::take(&mut s.figures) {
+        match render::save(&p.figure, &plots_dir, &p.stem) {
+            Ok(paths) => {
+                plot_paths.extend(paths);
+                drawn.push(p);
+            }
+            // A figure the backend cannot draw is left out and named, so
+            // that the rest of the report is still written.
+            Err(e @ ReportError::Draw { .. }) => {
+                let fault = format!("plots/{}: {e}", p.stem);
+                s.notes.push(fault.clone());
+                s.faults.push(fault);
+            }
+            Err(e) => return Err(e),
+        }
     }
+    s.figures = drawn;
     Ok((table_paths, plot_paths))
 }
 
@@ -857,8 +892,8 @@ pub fn write_report(dir: &Path, options: &ReportOptions) -> Result<ReportSummary
     integrity::check_finished(dir)?;
     let ds = data::load(dir, options.external.as_deref())?;
     let provenance = data::provenance(dir);
-    let s = sections(dir, &ds, &provenance, options)?;
-    let (table_paths, plot_paths) = write_tables_and_plots(dir, &s)?;
+    let mut s = sections(dir, &ds, &provenance, options)?;
+    let (table_paths, plot_paths) = write_tables_and_plots(dir, &mut s)?;
 
     let (budgets, run_counts) = budgets_and_run_counts(&ds);
     let header = markdown::Header {
@@ -891,5 +926,6 @@ pub fn write_report(dir: &Path, options: &ReportOptions) -> Result<ReportSummary
         runs: ds.total_runs,
         reference: s.tests.reference,
         notes: s.notes,
+        faults: s.faults,
     })
 }

@@ -372,10 +372,18 @@ pub(crate) fn overview(per_grid: &[(Grid, Vec<Table>)]) -> Vec<Table> {
             );
         }
         for r in &t.md_rows {
-            picks.md_rows.push(std::iter::once(grid.label.clone()).chain(r.iter().cloned()).collect());
+            picks.md_rows.push(
+                std::iter::once(grid.label.clone())
+                    .chain(r.iter().cloned())
+                    .collect(),
+            );
         }
         for r in &t.csv_rows {
-            picks.csv_rows.push(std::iter::once(grid.label.clone()).chain(r.iter().cloned()).collect());
+            picks.csv_rows.push(
+                std::iter::once(grid.label.clone())
+                    .chain(r.iter().cloned())
+                    .collect(),
+            );
         }
     }
     vec![picks, best]

@@ -156,6 +156,15 @@ pub(crate) enum NoPlot {
     NoHits,
 }
 
+impl NoPlot {
+    /// Whether the data should have allowed the figure: runs whose every
+    /// error is infinite or NaN are broken results, not a campaign without
+    /// successes or without a second dimension.
+    pub(crate) fn is_fault(self) -> bool {
+        matches!(self, NoPlot::NoFiniteTrace | NoPlot::NoFiniteError)
+    }
+}
+
 /// The largest side of a figure, in pixels: a taller grid of panels is
 /// split into pages (`stem`, `stem_2`, …) that fit a screen.
 pub(crate) const MAX_SIDE: u32 = 3000;
@@ -349,8 +358,20 @@ fn same_value(a: &str, b: &str) -> bool {
     }
 }
 
-/// Every figure of the report that the data allows, and a note for each one
-/// that it does not.
+/// Every figure of the report that the data allows, a note for each one
+/// that it does not, and among the notes those that are faults of the data
+/// ([`NoPlot::is_fault`]).
+pub(crate) struct Figures {
+    /// The figures.
+    pub plots: Vec<Plot>,
+    /// Why a figure is not drawn, one line each.
+    pub notes: Vec<String>,
+    /// The notes that are faults of the data.
+    pub faults: Vec<String>,
+}
+
+/// Every figure of the report that the data allows, with the notes on the
+/// others.
 pub(crate) fn figures(
     ds: &Dataset,
     stats: &[Vec<Option<CellStats>>],
@@ -358,8 +379,9 @@ pub(crate) fn figures(
     threshold: Option<f64>,
     best: Option<&Best2009>,
     verdicts: Option<&super::format::Table>,
-) -> (Vec<Plot>, Vec<String>) {
+) -> Figures {
     let mut plots = Vec::new();
+    let mut faults = Vec::new();
     if let Some(t) = verdicts {
         let measure = t.csv_header.iter().position(|h| h == "measure");
         let mut measures: Vec<&str> = measure
@@ -386,7 +408,12 @@ pub(crate) fn figures(
     ] {
         match result {
             Ok(ps) => plots.extend(ps.into_iter().flat_map(paginate)),
-            Err(n) => notes.push(n.to_string()),
+            Err(n) => {
+                if n.is_fault() {
+                    faults.push(n.to_string());
+                }
+                notes.push(n.to_string());
+            }
         }
     }
     match ecdf::target_ecdfs(ds, &series, &default_targets(), best) {
@@ -394,5 +421,9 @@ pub(crate) fn figures(
         Err(n) => notes.push(n.to_string()),
     }
     plots.extend(heat_maps.into_iter().map(heat_map::heat));
-    (plots, notes)
+    Figures {
+        plots,
+        notes,
+        faults,
+    }
 }
