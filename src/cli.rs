@@ -537,8 +537,9 @@ fn write_report(dir: &Path, opts: &ReportOptions, w: &mut String) -> Result<(), 
     let s = report::write_report(dir, opts)?;
     say!(
         w,
-        "{}: {} algorithm configurations × {} problems, {} runs; {} tables, {} plots",
+        "{} and {}: {} algorithm configurations × {} problems, {} runs; {} tables, {} plots",
         s.report.display(),
+        s.html.display(),
         s.algorithms,
         s.problems,
         s.runs,

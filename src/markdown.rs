@@ -1,7 +1,11 @@
 //! Markdown tables (GitHub-flavoured) for every report the crate writes:
 //! the campaign reports and the chapter-6 implant report.
 //!
+//! [`html`] turns such a report into one self-contained HTML page.
+//!
 //! A leaf of the crate: it imports nothing of it.
+
+pub mod html;
 
 /// How the columns of a [`table`] are aligned.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
