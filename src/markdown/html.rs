@@ -32,6 +32,8 @@ mod parse;
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::path::Path;
 
+use super::thousands;
+
 pub use self::files::base64;
 use self::files::{inline_svg, read_csv, read_limited, CsvHead};
 use self::parse::{images, parse_blocks, parse_inline, plain, Align, Block, Tok};
@@ -92,19 +94,6 @@ pub fn escape(text: &str) -> String {
             '\'' => out.push_str("&#39;"),
             c => out.push(c),
         }
-    }
-    out
-}
-
-/// `n` with commas between thousands: `2,000`.
-fn thousands(n: usize) -> String {
-    let digits = n.to_string();
-    let mut out = String::new();
-    for (i, c) in digits.chars().enumerate() {
-        if i > 0 && (digits.len() - i).is_multiple_of(3) {
-            out.push(',');
-        }
-        out.push(c);
     }
     out
 }
@@ -477,7 +466,7 @@ fn csv_details(dir: &Path, dest: &str, id: &str) -> String {
             out.push_str(&format!(
                 "Table <code>{}</code>: {} row{}, {} column{}</summary>\n",
                 escape(dest),
-                thousands(total),
+                thousands(total as u128),
                 if total == 1 { "" } else { "s" },
                 header.len(),
                 if header.len() == 1 { "" } else { "s" }
@@ -504,8 +493,8 @@ fn csv_details(dir: &Path, dest: &str, id: &str) -> String {
             if total > rows.len() {
                 out.push_str(&format!(
                     "<p class=\"mb-note\">first {} of {} rows; the full table is {}</p>\n",
-                    thousands(rows.len()),
-                    thousands(total),
+                    thousands(rows.len() as u128),
+                    thousands(total as u128),
                     escape(dest)
                 ));
             }
@@ -826,13 +815,6 @@ mod tests {
         let other = &b[b.find("<h2 id=\"other\"").unwrap()..];
         assert!(!other.contains("mb-unit"));
         assert!(!body(&md.replace("### P6\n\n![Plot 6](plots/p6.png)\n", "")).contains("<select"));
-    }
-
-    #[test]
-    fn thousands_separators() {
-        assert_eq!(thousands(7), "7");
-        assert_eq!(thousands(2000), "2,000");
-        assert_eq!(thousands(1234567), "1,234,567");
     }
 
     #[test]
