@@ -8,7 +8,7 @@ SPECS := experiments
 help:
 	@echo "make quick          run experiments/quick.toml (seconds) into results/quick/"
 	@echo "make test           the whole test suite, rustfmt check and clippy -D warnings"
-	@echo "make test-browser   report.html of a quick campaign and an implant run in headless Chromium (Debian's; installed if missing)"
+	@echo "make test-browser   report.html of a quick campaign, an implant run and a fit campaign in headless Chromium (Debian's; installed if missing)"
 	@echo "make test-python    the Python package: pip install ./python in a venv, then its pytest suite (PyPI)"
 	@echo "make test-dxf       fit.dxf read back by ezdxf (pinned in ci/dxf-requirements.txt, in a venv): exact control points and weights (PyPI)"
 	@echo "make examples       the library examples (examples/*.rs): your own optimiser and problem in a campaign"
@@ -42,9 +42,10 @@ test:
 	$(CARGO) clippy --release --locked --all-targets -- -D warnings
 
 # report.html in headless Chromium (Debian's package, installed when
-# missing): the pages of a quick campaign and of a small implant run load
-# with no console message and their script done, sort and switch figures
-# when clicked, and make a screenshot that is not blank (ci/browser-test.sh).
+# missing): the pages of a quick campaign, a small implant run and a small
+# fitting campaign load with no console message and their script done, sort
+# and switch figures when clicked, and make a screenshot that is not blank
+# (ci/browser-test.sh).
 test-browser: build
 	ci/browser-test.sh $(BIN)
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # report.html in a real browser: headless Chromium (Debian's package,
-# installed when missing) opens the page of a quick campaign's report and
-# the page of a small implant run, and for each page checks that
+# installed when missing) opens the pages of a quick campaign's report, of
+# a small implant run and of a small fitting campaign, and for each page
+# checks that
 #
 #   (a) the page's script ran: the DOM after load has data-ready="1" on
 #       <body>, and a crowded section shows one figure of its menu (the
@@ -72,8 +73,9 @@ ready() { grep -aqE '<body[^>]*data-ready="1"' "$1"; }
 # The number of matches of the pattern $1 in the file $2.
 count() { { grep -ao "$1" "$2" || true; } | wc -l; }
 
-# The pages: a quick campaign (seven figures in its Plots section) and a
-# small implant run (text and tables).
+# The pages: a quick campaign (seven figures in its Plots section), a small
+# implant run (text and tables) and a small fitting campaign (large inline
+# SVGs of fitted glyphs).
 echo "browser-test: making the pages"
 "$bin" run "$root/experiments/quick.toml" --out "$work/quick" --quiet >/dev/null
 "$bin" report "$work/quick" >/dev/null
@@ -91,7 +93,28 @@ slices = [70, 72]
 overlays = [72]
 EOF
 "$bin" implant "$work/implant.toml" --out "$work/implant" >/dev/null
-pages=("$work/quick/report.html" "$work/implant/report.html")
+font="$root/data/outlines/DejaVuSans.ttf"
+cat >"$work/fit.toml" <<EOF
+[experiment]
+name = "fit"
+seed = 5
+runs = 1
+budget = 2000
+threshold = 0
+
+[[fit]]
+input = ["font:$font:a", "font:$font:S"]
+function = ["cubic", "rational-cubic"]
+continuity = "g1"
+segments = 12
+
+[[algorithm]]
+name = "lm"
+label = "LM"
+EOF
+"$bin" run "$work/fit.toml" --out "$work/fit" --quiet >/dev/null
+"$bin" report "$work/fit" >/dev/null
+pages=("$work/quick/report.html" "$work/implant/report.html" "$work/fit/report.html")
 for page in "${pages[@]}"; do
     [ -s "$page" ] || fail "$page was not written"
 done
