@@ -848,5 +848,51 @@ mod tests {
         }
         let long = "[*`".repeat(20_000);
         let _ = body(&long);
+        // Seeded random strings over the characters that matter, with
+        // multi-byte ones between them: no panic, and no tag but the
+        // converter's own.
+        let alphabet = [
+            "[",
+            "]",
+            "(",
+            ")",
+            "!",
+            "*",
+            "`",
+            "\\",
+            "&",
+            "#",
+            ";",
+            "|",
+            "-",
+            ":",
+            "<",
+            ">",
+            "\"",
+            " ",
+            "\n",
+            "é",
+            "−",
+            "x",
+            "1",
+            "plots/a.png",
+            "tables/t.csv",
+            "https://e/",
+        ];
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        for _ in 0..3000 {
+            let mut s = String::new();
+            for _ in 0..40 {
+                state = state
+                    .wrapping_mul(6_364_136_223_846_793_005)
+                    .wrapping_add(1_442_695_040_888_963_407);
+                s.push_str(alphabet[(state >> 33) as usize % alphabet.len()]);
+            }
+            let html = body(&s);
+            assert!(
+                !html.contains("<script") && !html.contains("href=\"https"),
+                "{s:?}"
+            );
+        }
     }
 }
