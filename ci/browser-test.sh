@@ -227,10 +227,17 @@ for page in "${pages[@]}"; do
     if [ "$menus" -gt 0 ]; then
         case " $check " in *" select-ok "*) ;; *) fail "$page: the figure menu ('$check')" ;; esac
     fi
-    # (d): the screenshot.
-    chromium --screenshot="$work/$name.png" --window-size=1280,2000 "file://$page" \
-        >/dev/null 2>&1 || fail "$page: chromium could not take the screenshot"
-    python3 "$root/ci/png-colours.py" "$work/$name.png" || fail "$page: the screenshot is blank"
+    # (d): the screenshot (taken again once if blank, in case Chromium shot
+    # before painting; a page that renders blank is blank both times).
+    shot() {
+        chromium --screenshot="$work/$name.png" --window-size=1280,2000 "file://$page" \
+            >/dev/null 2>&1 || fail "$page: chromium could not take the screenshot"
+        python3 "$root/ci/png-colours.py" "$work/$name.png"
+    }
+    if ! shot; then
+        echo "browser-test: blank screenshot of $page; taking it again"
+        shot || fail "$page: the screenshot is blank"
+    fi
     echo "browser-test: ok: ready, no console message, $units figure(s) in menus ($hidden hidden), clicks: $check"
 done
 echo "browser-test: ${#pages[@]} passed, 0 failed"
