@@ -131,6 +131,8 @@ struct Context<'d> {
     csv_pending: Vec<String>,
     /// Ids taken.
     ids: BTreeSet<String>,
+    /// The next suffix to try for each base of an id.
+    suffixes: BTreeMap<String, usize>,
 }
 
 impl<'d> Context<'d> {
@@ -144,6 +146,7 @@ impl<'d> Context<'d> {
             csv_shown: BTreeSet::new(),
             csv_pending: Vec::new(),
             ids: BTreeSet::new(),
+            suffixes: BTreeMap::new(),
         };
         ctx.ids.insert("mb-toc".to_owned());
         for b in blocks {
@@ -183,10 +186,10 @@ impl<'d> Context<'d> {
     /// `base`, or `base-2`, `base-3`, … if taken.
     fn unique_id(&mut self, base: &str) -> String {
         let mut id = base.to_owned();
-        let mut k = 2;
+        let k = self.suffixes.entry(base.to_owned()).or_insert(2);
         while self.ids.contains(&id) {
             id = format!("{base}-{k}");
-            k += 1;
+            *k += 1;
         }
         self.ids.insert(id.clone());
         id
