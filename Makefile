@@ -3,11 +3,12 @@ CARGO ?= cargo
 BIN := target/release/metabezier
 SPECS := experiments
 
-.PHONY: help build quick test test-python test-dxf python-bench examples peer-kurbo fuzz test-cluster bench speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all fmt lint clean-results
+.PHONY: help build quick test test-browser test-python test-dxf python-bench examples peer-kurbo fuzz test-cluster bench speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all fmt lint clean-results
 
 help:
 	@echo "make quick          run experiments/quick.toml (seconds) into results/quick/"
 	@echo "make test           the whole test suite, rustfmt check and clippy -D warnings"
+	@echo "make test-browser   report.html of a quick campaign, an implant run and a fit campaign in headless Chromium (Debian's; installed if missing)"
 	@echo "make test-python    the Python package: pip install ./python in a venv, then its pytest suite (PyPI)"
 	@echo "make test-dxf       fit.dxf read back by ezdxf (pinned in ci/dxf-requirements.txt, in a venv): exact control points and weights (PyPI)"
 	@echo "make examples       the library examples (examples/*.rs): your own optimiser and problem in a campaign"
@@ -39,6 +40,14 @@ test:
 	$(MAKE) peer-kurbo
 	RUSTDOCFLAGS="-D warnings" $(CARGO) doc --no-deps --locked
 	$(CARGO) clippy --release --locked --all-targets -- -D warnings
+
+# report.html in headless Chromium (Debian's package, installed when
+# missing): the pages of a quick campaign, a small implant run and a small
+# fitting campaign load with no console message and their script done, sort
+# and switch figures when clicked, and make a screenshot that is not blank
+# (ci/browser-test.sh).
+test-browser: build
+	ci/browser-test.sh $(BIN)
 
 # The Python package (python/): a virtual environment under target/ with the
 # pinned build and test tools (PyPI; python3 with venv), the package built

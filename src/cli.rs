@@ -101,7 +101,8 @@ enum Command {
     /// Print a Slurm array job (an sbatch script) that runs a campaign as
     /// N shards, one per task.
     Slurm(SlurmArgs),
-    /// Write report.md, tables/*.csv and plots/ for a results directory.
+    /// Write report.md, tables/*.csv, plots/ and report.html (the same as one
+    /// page) for a results directory.
     Report {
         /// A results directory of `metabezier run` or `metabezier merge`.
         dir: PathBuf,
@@ -547,8 +548,9 @@ fn write_report(
     let s = report::write_report(dir, opts)?;
     say!(
         w,
-        "{}: {} algorithm configurations × {} problems, {} runs; {} tables, {} plots",
+        "{} and {}: {} algorithm configurations × {} problems, {} runs; {} tables, {} plots",
         s.report.display(),
+        s.html.display(),
         s.algorithms,
         s.problems,
         s.runs,

@@ -113,7 +113,7 @@
 //!
 //! | # | room | what lives there |
 //! |---|---|---|
-//! | 0 | [`files`], [`font`], [`linalg`], [`markdown`], [`simd`] | leaves: atomic writes, CSV bytes and reals; the embedded font; the Cholesky solve; Markdown tables; the vector instruction sets |
+//! | 0 | [`files`], [`font`], [`linalg`], [`markdown`], [`simd`] | leaves: atomic writes, CSV bytes and reals; the embedded font; the Cholesky solve; Markdown tables and report.html pages; the vector instruction sets |
 //! | 1 | [`geometry`] | Bernstein basis, Bézier and rational Bézier curves, joins, offsets (thesis ch. 3) |
 //! | 2 | [`stats`] | descriptive statistics and significance tests |
 //! | 3 | [`rng`] | seed derivation and the random streams |

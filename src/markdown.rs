@@ -1,7 +1,11 @@
 //! Markdown tables (GitHub-flavoured) for every report the crate writes:
 //! the campaign reports and the chapter-6 implant report.
 //!
+//! [`html`] turns such a report into one self-contained HTML page.
+//!
 //! A leaf of the crate: it imports nothing of it.
+
+pub mod html;
 
 /// How the columns of a [`table`] are aligned.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -85,6 +89,19 @@ pub fn escape(text: &str) -> String {
     out
 }
 
+/// An integer with commas between thousands: `108,000,000`.
+pub fn thousands(n: u128) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, d) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
+            out.push(',');
+        }
+        out.push(d);
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -106,6 +123,14 @@ mod tests {
             Alignment::ByContent,
         );
         assert!(t.contains("| :-- | :-- | --: |"), "{t}");
+    }
+
+    #[test]
+    fn thousands_separators() {
+        assert_eq!(thousands(7), "7");
+        assert_eq!(thousands(2000), "2,000");
+        assert_eq!(thousands(999), "999");
+        assert_eq!(thousands(108_000_000), "108,000,000");
     }
 
     #[test]

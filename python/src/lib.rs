@@ -474,7 +474,8 @@ fn run(
     }
 }
 
-/// `report`: writes `report.md` (and its tables and figures) into a
+/// `report`: writes `report.md` (and its tables, its figures and
+/// `report.html`, the same as one page) into a
 /// results directory, as `metabezier report` does.
 #[pyfunction]
 fn report(py: Python<'_>, dir: PathBuf) -> PyResult<String> {

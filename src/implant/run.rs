@@ -29,6 +29,7 @@ use super::wall::WallKind;
 use crate::ct::{read_dicom_dir, read_inv3, stl_bytes, Volume};
 use crate::files::{write_atomic, Staging};
 use crate::fit::{LmSolver, SegmentSolver};
+use crate::markdown::html::markdown_to_html;
 use crate::reconstruction::Method;
 use crate::stats::VerdictRow;
 
@@ -74,7 +75,8 @@ impl Outputs {
     }
 
     /// Creates `dir` and writes every queued file into it: all into a
-    /// staging directory first (`implant.stl` first), then renamed into
+    /// staging directory first (`implant.stl` first), with `report.html`
+    /// made from the staged `report.md` and pictures, then renamed into
     /// place together ([`Staging`]); returns the seconds spent writing the
     /// STL.
     fn write_all(&mut self, dir: &Path) -> Result<f64, ImplantError> {
@@ -89,6 +91,11 @@ impl Outputs {
                 stl_seconds = t.elapsed().as_secs_f64();
             }
             self.summary.files.push(dir.join(name));
+        }
+        if let Some((_, md)) = self.files.iter().find(|(name, _)| name == "report.md") {
+            let html = markdown_to_html(&String::from_utf8_lossy(md), staging.path());
+            write_atomic(&staging.path().join("report.html"), html.as_bytes())?;
+            self.summary.files.push(dir.join("report.html"));
         }
         staging.publish()?;
         Ok(stl_seconds)

@@ -25,6 +25,7 @@ mod fit_runs;
 mod fit_units;
 mod fitting;
 mod format;
+mod html;
 mod integrity;
 mod markdown;
 mod overlay;
@@ -43,6 +44,7 @@ use crate::files::{create_dir, write_atomic};
 
 pub use self::error::ReportError;
 use self::format::Table;
+pub use self::html::write_html;
 pub use self::overlay::save_overlay;
 use self::plots::Plot;
 pub use self::verdicts::PostHoc;
@@ -81,6 +83,9 @@ impl Default for ReportOptions {
 pub struct ReportSummary {
     /// The Markdown report, `<dir>/report.md`.
     pub report: PathBuf,
+    /// The same report as one self-contained page, `<dir>/report.html`
+    /// ([`write_html`]).
+    pub html: PathBuf,
     /// The CSV tables under `<dir>/tables/`.
     pub tables: Vec<PathBuf>,
     /// The plots under `<dir>/plots/`, SVG and PNG.
@@ -876,8 +881,8 @@ pub fn load_results(dir: &Path, external: Option<&Path>) -> Result<usize, Report
 }
 
 /// Writes the report of the results directory `dir`: `report.md`, the
-/// tables as CSV under `dir/tables/` and the plots as SVG and PNG under
-/// `dir/plots/`.
+/// tables as CSV under `dir/tables/`, the plots as SVG and PNG under
+/// `dir/plots/`, and `report.html` from them all.
 ///
 /// Errors when `runs.csv` (or the external file) is missing or malformed,
 /// when a campaign directory (one with `meta.toml`) lacks one of its result
@@ -916,9 +921,11 @@ pub fn write_report(dir: &Path, options: &ReportOptions) -> Result<ReportSummary
     let mut bytes = md.trim_end().as_bytes().to_vec();
     bytes.push(b'\n');
     write_atomic(&report, &bytes)?;
+    let html = write_html(dir)?;
 
     Ok(ReportSummary {
         report,
+        html,
         tables: table_paths,
         plots: plot_paths,
         algorithms: ds.cells.len(),

@@ -4,6 +4,7 @@
 
 use std::collections::BTreeMap;
 
+use crate::markdown::thousands;
 use crate::rng::{fnv1a64, run_rng, Draw};
 use crate::stats::friedman;
 
@@ -528,19 +529,6 @@ fn cost(ds: &Dataset, grid: &Grid) -> (usize, u128, Option<f64>) {
     (runs, evaluations, wall.filter(|_| runs > 0))
 }
 
-/// An integer with thousands separators: `108,000,000`.
-fn grouped(n: u128) -> String {
-    let digits = n.to_string();
-    let mut out = String::new();
-    for (i, d) in digits.chars().enumerate() {
-        if i > 0 && (digits.len() - i).is_multiple_of(3) {
-            out.push(',');
-        }
-        out.push(d);
-    }
-    out
-}
-
 /// A wall time in seconds, with minutes or hours when long: `754.2 s
 /// (12.6 min)`.
 fn duration(seconds: f64) -> String {
@@ -573,10 +561,10 @@ fn picks_frame(ds: &Dataset, grid: &Grid) -> Table {
         intro: vec![format!(
             "Cost of the tuning: the {} runs of the {} settings of {} used {} \
              evaluations and {wall}.",
-            grouped(runs as u128),
+            thousands(runs as u128),
             grid.cells.len(),
             grid.label,
-            grouped(evaluations)
+            thousands(evaluations)
         )],
         md_header: [
             "Pick",
@@ -1097,8 +1085,6 @@ mod tests {
         add_midranks(&[3.0, 1.0, 1.0, 2.0], &mut Vec::new(), &mut sums);
         assert_eq!(sums, [4.0, 1.5, 1.5, 3.0]);
         assert_eq!(argmin(&sums), 1);
-        assert_eq!(grouped(108_000_000), "108,000,000");
-        assert_eq!(grouped(999), "999");
         assert_eq!(duration(754.2), "754.2 s (12.6 min)");
     }
 }
