@@ -248,6 +248,19 @@ fn cli_writes_byte_identical_csv_and_a_valid_stl() {
     let (ok, err) = run_spec(&dir, &text);
     assert!(ok, "{err}");
     let out = dir.join("out");
+    // The report reads: its summary first (the question, the verdicts, the
+    // pictures), under 300 lines, no picture over 3,000 px.
+    let faults = common::unreadable(&out);
+    assert!(faults.is_empty(), "{faults:?}");
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(
+        md.contains("(overlay_z072.png)") && md.contains("(preview_3d.png)"),
+        "{md}"
+    );
+    assert!(
+        md.contains("slice by slice, curve:lm against the straight bridge"),
+        "{md}"
+    );
     for f in [
         "implant.stl",
         "metrics.csv",

@@ -5,6 +5,8 @@
 //! Set `METABEZIER_REPORT_KEEP=DIR` to copy the generated results and
 //! reports to DIR for inspection.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use metabezier::experiment::Spec;
@@ -824,13 +826,6 @@ fn functions_are_judged_per_error_and_size_with_a_single_method() {
 }
 
 /// The width and height of a PNG file, from its IHDR chunk.
-fn png_size(path: &Path) -> (u32, u32) {
-    let b = std::fs::read(path).unwrap();
-    assert_eq!(&b[1..4], b"PNG", "{}", path.display());
-    let be = |i: usize| u32::from_be_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
-    (be(16), be(20))
-}
-
 #[test]
 fn figures_with_many_panels_are_split_into_pages_that_fit_a_screen() {
     // 8 functions × 3 dimensions = 24 problems, 4 algorithms: convergence
@@ -876,7 +871,7 @@ label = "GA"
         .collect();
     pngs.sort();
     for p in &pngs {
-        let (w, h) = png_size(p);
+        let (w, h) = common::png_size(p);
         assert!(w <= 3000 && h <= 3000, "{}: {w} × {h}", p.display());
     }
     let names: Vec<String> = pngs

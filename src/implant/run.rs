@@ -19,8 +19,8 @@ use super::pipeline::{reconstruct_defect, resolve_midline, slice_index, ImplantE
 use super::render::{overlay_png, preview_png};
 use super::spec::{ImplantSpec, Validation3dSpec, ValidationSpec};
 use super::tables::{
-    defect_csv, defect_report, report_header, slices_off_target, validation_csv, validation_report,
-    verdicts_csv,
+    defect_csv, defect_report, report_header, report_summary, slices_off_target, validation_csv,
+    validation_report, verdicts_csv,
 };
 use super::tables3d::{validation_3d_csv, validation_3d_report};
 use super::validation::{evaluate, prepare_case, Case, CaseError, PreparedCase, ValidationRow};
@@ -118,6 +118,7 @@ pub fn run_implant(spec: &ImplantSpec, out: &Path) -> Result<RunSummary, Implant
         timing: String::new(),
         verdicts: Vec::new(),
     };
+    let header_len = outputs.report.len();
     let mut pipeline = None;
     if spec.run_defect {
         pipeline = Some(run_defect(spec, &volume, t0, &mut outputs)?);
@@ -132,7 +133,16 @@ pub fn run_implant(spec: &ImplantSpec, out: &Path) -> Result<RunSummary, Implant
         let verdicts = verdicts_csv(&outputs.verdicts);
         outputs.add("verdicts.csv", verdicts);
     }
-    let report = std::mem::take(&mut outputs.report);
+    // The summary goes after the title, once every verdict and picture is
+    // known.
+    let mut report = std::mem::take(&mut outputs.report);
+    let pictures: Vec<String> = outputs
+        .files
+        .iter()
+        .map(|(name, _)| name.clone())
+        .filter(|n| n.ends_with(".png"))
+        .collect();
+    report.insert_str(header_len, &report_summary(&outputs.verdicts, &pictures));
     outputs.add("report.md", report.into_bytes());
     if let Some(t) = pipeline {
         // The STL is written first; its write time completes load → STL.

@@ -68,6 +68,97 @@ pub fn report_header(spec: &ImplantSpec, volume: &Volume) -> String {
     report
 }
 
+/// The `## Summary` that opens `report.md`, after its title: the
+/// chapter's question, every verdict over all units of the curve fit
+/// against its baselines (the validation's, 2D and 3D) in one table with a
+/// sentence per baseline, and links to the pictures (`pictures`, file
+/// names beside the report).
+pub fn report_summary(verdicts: &[VerdictRow], pictures: &[String]) -> String {
+    let mut s = String::from("## Summary\n\n");
+    s.push_str(
+        "Question: does the curve-fitted outer wall (with its offset inner wall) rebuild \
+         the missing bone better than the mirrored template and than a straight bridge? \
+         The real defect has no ground truth; the artificial defects, cut from intact bone, \
+         have one: Dice (larger is better), HD95 and the deviation of the wall (mm, smaller \
+         is better), slice by slice and in 3D.\n\n",
+    );
+    let all: Vec<&VerdictRow> = verdicts.iter().filter(|v| v.scope == "all").collect();
+    if all.is_empty() {
+        s.push_str("No validation ran, so there are no verdicts.\n\n");
+    } else {
+        s.push_str(
+            "Verdicts over all units (Wilcoxon signed-rank test across independent units, \
+             Holm-corrected; a decided verdict gives the units that favour the fit, tie and \
+             favour the baseline, and the adjusted p):\n\n",
+        );
+        let mut pairs: Vec<(&str, &str, &str)> = Vec::new();
+        for v in &all {
+            let key = (v.table.as_str(), v.algorithm.as_str(), v.reference.as_str());
+            if !pairs.contains(&key) {
+                pairs.push(key);
+            }
+        }
+        for (table, fit, against) in pairs {
+            let of = |verdict: &str| -> String {
+                let m: Vec<String> = all
+                    .iter()
+                    .filter(|v| {
+                        v.table == table
+                            && v.algorithm == fit
+                            && v.reference == against
+                            && v.verdict.as_str() == verdict
+                    })
+                    .map(|v| {
+                        let a = &v.across;
+                        if verdict == "no detectable difference" {
+                            v.measure.clone()
+                        } else {
+                            format!(
+                                "{} ({}/{}/{}, p {:.3})",
+                                v.measure, a.better, a.equal, a.worse, v.p_adjusted
+                            )
+                        }
+                    })
+                    .collect();
+                if m.is_empty() {
+                    "none".to_owned()
+                } else {
+                    m.join(", ")
+                }
+            };
+            let scope = match table {
+                VALIDATION_2D_TABLE => "slice by slice",
+                "validation-3d" => "in 3D",
+                other => other,
+            };
+            let against = match against {
+                "template" => "mirrored template",
+                "straight" => "straight bridge",
+                other => other,
+            };
+            s.push_str(&format!(
+                "- {scope}, {fit} against the {against}: better on {}; worse on {}; no \
+                 detectable difference on {}.\n",
+                of("better"),
+                of("worse"),
+                of("no detectable difference")
+            ));
+        }
+        s.push_str("\nEvery verdict, per width and slice range too, is in `verdicts.csv`.\n\n");
+    }
+    if !pictures.is_empty() {
+        let links: Vec<String> = pictures
+            .iter()
+            .map(|p| format!("[{}]({p})", p.trim_end_matches(".png").replace('_', " ")))
+            .collect();
+        s.push_str(&format!("Figures: {}.\n\n", links.join(", ")));
+        for p in pictures.iter().filter(|p| p.starts_with("preview")) {
+            s.push_str(&format!("![{}]({p})\n\n", p.trim_end_matches(".png")));
+        }
+    }
+    s
+}
+
 /// The thickness steps of each slice from the previous one (mm, the larger
 /// of the two ends; `None` for the first slice or after a gap in z).
 pub fn thickness_steps(implant: &Implant) -> Vec<Option<f64>> {

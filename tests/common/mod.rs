@@ -64,3 +64,47 @@ pub fn thousand_value_hs_grid() -> String {
         thousand_counts()
     )
 }
+
+/// Width and height of a PNG file, from its IHDR chunk.
+pub fn png_size(path: &std::path::Path) -> (u32, u32) {
+    let b = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    assert_eq!(&b[1..4], b"PNG", "{}", path.display());
+    let be = |i: usize| u32::from_be_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
+    (be(16), be(20))
+}
+
+/// What makes the report in `dir` unreadable, one line each (empty when it
+/// reads): `report.md` must open (after its title and preamble) with
+/// `## Summary`, be under 300 lines, and every picture beside it or under
+/// `plots/` must be at most 3,000 px on each side.
+pub fn unreadable(dir: &std::path::Path) -> Vec<String> {
+    let mut faults = Vec::new();
+    let md = std::fs::read_to_string(dir.join("report.md"))
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.join("report.md").display()));
+    let first = md.lines().find(|l| l.starts_with("## "));
+    if first != Some("## Summary") {
+        faults.push(format!("the first section is {first:?}, not ## Summary"));
+    }
+    let lines = md.lines().count();
+    if lines >= 300 {
+        faults.push(format!("report.md has {lines} lines"));
+    }
+    let mut pngs = Vec::new();
+    for sub in [dir.to_path_buf(), dir.join("plots")] {
+        if let Ok(entries) = std::fs::read_dir(&sub) {
+            pngs.extend(
+                entries
+                    .map(|e| e.unwrap().path())
+                    .filter(|p| p.extension().is_some_and(|e| e == "png")),
+            );
+        }
+    }
+    pngs.sort();
+    for p in pngs {
+        let (w, h) = png_size(&p);
+        if w > 3000 || h > 3000 {
+            faults.push(format!("{}: {w} × {h} px", p.display()));
+        }
+    }
+    faults
+}

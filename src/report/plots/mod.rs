@@ -382,12 +382,17 @@ pub(crate) fn figures(
 ) -> Figures {
     let mut plots = Vec::new();
     let mut faults = Vec::new();
+    let series = SeriesSet::of(ds, stats);
     if let Some(t) = verdicts {
+        let shown: Vec<&str> = series
+            .cells
+            .iter()
+            .map(|&c| ds.cells[c].name.as_str())
+            .collect();
         let measure = t.csv_header.iter().position(|h| h == "measure");
         let mut measures: Vec<&str> = measure
             .map(|m| t.csv_rows.iter().map(|r| r[m].as_str()).collect())
             .unwrap_or_default();
-        measures.dedup();
         measures.sort_unstable();
         measures.dedup();
         // The final error first, as the verdict tables show it.
@@ -395,11 +400,10 @@ pub(crate) fn figures(
         plots.extend(
             measures
                 .iter()
-                .filter_map(|m| verdict_map::verdict_map(t, m)),
+                .filter_map(|m| verdict_map::verdict_map(t, m, &shown)),
         );
     }
     let mut notes = Vec::new();
-    let series = SeriesSet::of(ds, stats);
     for result in [
         convergence::convergence(ds, &series).map(|p| vec![p]),
         boxes::boxes(ds, &series).map(|p| vec![p]),

@@ -146,8 +146,10 @@ impl Draw for VerdictMap {
 /// `equal`, `worse`, `verdict`) of the reference and state-of-the-art
 /// families, the first test of each scope (the signed-rank test across the
 /// functions; the Friedman post-hoc rows are left to the table), or `None`
-/// when the results have no design point beyond "all".
-pub(super) fn verdict_map(t: &Table, measure: &str) -> Option<Plot> {
+/// when the results have no design point beyond "all". Only the algorithms
+/// named in `shown` (those the other figures draw: of a tuning grid its
+/// best and default settings) get a column.
+pub(super) fn verdict_map(t: &Table, measure: &str, shown: &[&str]) -> Option<Plot> {
     let col = |name: &str| t.csv_header.iter().position(|h| h == name);
     let (table, meas, alg, scope) = (
         col("table")?,
@@ -166,7 +168,9 @@ pub(super) fn verdict_map(t: &Table, measure: &str) -> Option<Plot> {
         .csv_rows
         .iter()
         .filter(|r| {
-            (r[table] == "reference" || r[table] == "state-of-the-art") && r[meas] == measure
+            (r[table] == "reference" || r[table] == "state-of-the-art")
+                && r[meas] == measure
+                && shown.contains(&r[alg].as_str())
         })
         .collect();
     let parts = |r: &Vec<String>| {

@@ -1,0 +1,204 @@
+//! Reports people read, on reduced versions of the campaigns: a grid of 54
+//! settings, a robustness design and a fitting study each give a
+//! `report.md` that opens with its summary and stays under 300 lines,
+//! pictures no larger than 3,000 px, at most the best and default setting
+//! of each grid in a figure, and one fixed colour per algorithm. (The
+//! implant's report is checked in `tests/implant.rs`.)
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use metabezier::experiment::{run_campaign, RunOptions, Spec};
+use metabezier::report::{write_report, ReportOptions};
+
+fn campaign(tmp: &Path, name: &str, text: &str) -> PathBuf {
+    let path = tmp.join(format!("{name}.toml"));
+    std::fs::write(&path, text).unwrap();
+    let spec = Spec::parse(&path, text).unwrap();
+    let out = tmp.join(name);
+    let opts = RunOptions {
+        out: Some(out.clone()),
+        threads: Some(2),
+        ..RunOptions::default()
+    };
+    assert!(run_campaign(&spec, &opts).unwrap().complete);
+    write_report(&out, &ReportOptions::default()).unwrap();
+    out
+}
+
+fn read(path: &Path) -> String {
+    std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+#[test]
+fn a_grid_of_fifty_four_settings_reads_on_a_screen() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = campaign(
+        tmp.path(),
+        "grid",
+        r#"
+[experiment]
+name = "grid"
+seed = 11
+runs = 2
+budget = 400
+
+[[problem]]
+function = ["sphere", "rastrigin"]
+dim = [2, 5]
+
+[[algorithm]]
+name = "hs"
+label = "HS"
+hms = [5, 10, 20]
+hmcr = [0.7, 0.9, 0.99]
+bw = [0.001, 0.01, 0.1]
+
+[[algorithm]]
+name = "mhs"
+label = "MHS"
+hms = [5, 10, 20]
+hmcr = [0.7, 0.9, 0.99]
+bw = [0.001, 0.01, 0.1]
+
+[[algorithm]]
+name = "ga"
+label = "GA"
+
+[[algorithm]]
+name = "pso"
+label = "PSO"
+"#,
+    );
+    let faults = common::unreadable(&dir);
+    assert!(faults.is_empty(), "{faults:?}");
+    let md = read(&dir.join("report.md"));
+    assert!(
+        md.contains("### Parameter tuning: the pick of every algorithm"),
+        "{md}"
+    );
+    let mut svgs: Vec<PathBuf> = std::fs::read_dir(dir.join("plots"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "svg"))
+        .collect();
+    svgs.sort();
+    for path in &svgs {
+        let stem = path.file_stem().unwrap().to_string_lossy();
+        if stem.starts_with("tuning_") {
+            continue;
+        }
+        let svg = read(path);
+        // Of each 27-setting grid, only its best and default settings.
+        for label in ["HS (", "MHS ("] {
+            let shown = svg
+                .lines()
+                .map(str::trim)
+                .filter(|l| l.starts_with(label))
+                .collect::<std::collections::BTreeSet<_>>()
+                .len();
+            assert!(shown <= 2, "{stem}: {shown} settings of {label}");
+        }
+    }
+    for stem in ["convergence", "boxplots", "scalability"] {
+        let svg = read(&dir.join(format!("plots/{stem}.svg")));
+        let names = svg
+            .lines()
+            .filter(|l| l.trim_start().starts_with("HS ("))
+            .count();
+        assert!(names >= 1, "{stem}: no setting of HS");
+        // The optimisers' own colours (Okabe & Ito), whatever their place
+        // in the spec: HS blue, MHS vermillion, GA bluish green, PSO orange.
+        for colour in ["#0072B2", "#D55E00", "#009E73", "#E69F00"] {
+            assert!(svg.contains(colour), "{stem}: no {colour}");
+        }
+    }
+    // Runtimes at different dimensions are not pooled.
+    assert!(!dir.join("plots/ecdf.png").exists());
+    // The scalability figure is of medians with their exponent.
+    let scal = read(&dir.join("plots/scalability.svg"));
+    assert!(scal.contains("D^"), "no fitted exponent");
+}
+
+#[test]
+fn a_robustness_design_reads_on_a_screen_with_its_verdict_map() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = campaign(
+        tmp.path(),
+        "design",
+        r#"
+[experiment]
+name = "design"
+seed = 12
+runs = 3
+budget = [300, 900]
+paired = ["budget"]
+
+[[problem]]
+function = ["sphere", "rastrigin", "ackley", "griewank", "step", "rosenbrock"]
+dim = 5
+transform = ["none", "shift"]
+instances = 2
+
+[[algorithm]]
+name = "hs"
+label = "HS"
+
+[[algorithm]]
+name = "hs"
+label = "HS-tuned"
+hms = 10
+
+[[algorithm]]
+name = "mhs"
+label = "MHS"
+
+[[algorithm]]
+name = "pso"
+label = "PSO"
+"#,
+    );
+    let faults = common::unreadable(&dir);
+    assert!(faults.is_empty(), "{faults:?}");
+    let md = read(&dir.join("report.md"));
+    let summary = &md[md.find("## Summary").unwrap()..md.find("## Plots").unwrap()];
+    assert!(
+        summary.contains("(plots/verdicts_final_error.png)"),
+        "{summary}"
+    );
+    let map = read(&dir.join("plots/verdicts_final_error.svg"));
+    for point in ["budget = 300", "budget = 900", "transform = shift"] {
+        assert!(map.contains(point), "the map has no row {point}");
+    }
+    // HS-tuned is drawn in HS's blue, dashed: more HS-blue strokes than
+    // HS's own solid curves alone would give.
+    let conv = read(&dir.join("plots/convergence.svg"));
+    assert!(conv.contains("#0072B2"));
+}
+
+#[test]
+fn a_fitting_study_reads_on_a_screen_in_its_own_vocabulary() {
+    let tmp = tempfile::tempdir().unwrap();
+    let font = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/outlines/DejaVuSans.ttf");
+    let inputs: Vec<String> = "ace"
+        .chars()
+        .map(|g| format!("\"font:{}:{g}\"", font.display()))
+        .collect();
+    let text = format!(
+        "[experiment]\nname = \"fits\"\nseed = 5\nruns = 1\nbudget = 2000\nthreshold = 0\n\n\
+         [[fit]]\ninput = [{}]\nfunction = [\"cubic\", \"rational-cubic\"]\n\
+         continuity = \"g1\"\nsegments = 8\nclosing = \"smooth\"\n\n\
+         [[algorithm]]\nname = \"lm\"\nlabel = \"LM\"\n",
+        inputs.join(", ")
+    );
+    let dir = campaign(tmp.path(), "fits", &text);
+    let faults = common::unreadable(&dir);
+    assert!(faults.is_empty(), "{faults:?}");
+    let md = read(&dir.join("report.md"));
+    assert!(
+        !md.contains("f − f\\*"),
+        "benchmark vocabulary in a fitting report"
+    );
+    assert!(md.contains("Final error E"), "{md}");
+}
