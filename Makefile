@@ -3,7 +3,7 @@ CARGO ?= cargo
 BIN := target/release/metabezier
 SPECS := experiments
 
-.PHONY: help build quick test test-browser test-python test-dxf python-bench examples peer-kurbo fuzz test-cluster bench speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all fmt lint clean-results
+.PHONY: help build quick test test-browser test-python test-dxf python-bench examples peer-kurbo fuzz test-cluster bench speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all check-reports fmt lint clean-results
 
 help:
 	@echo "make quick          run experiments/quick.toml (seconds) into results/quick/"
@@ -23,6 +23,7 @@ help:
 	@echo "make bbob           COCO's bbob suite: 8 optimisers x 24 functions x D = 2, 5, 10, report and COCO logs (results/bbob/)"
 	@echo "make cocopp         COCO's own post-processing (cocopp, pinned in tools/cocopp-requirements.txt, in a venv) of results/bbob/coco/"
 	@echo "make reproduce-all  every chapter: 4, 5 and 6 (about 40 min on 2 cores)"
+	@echo "make check-reports  every report under results/ reads on a screen: summary first, < 300 lines, report.html, pictures <= 3,000 px"
 
 build:
 	$(CARGO) build --release --locked
@@ -181,6 +182,12 @@ cocopp:
 	@echo "cocopp's report: results/bbob/cocopp/index.html"
 
 reproduce-all: reproduce-ch4 reproduce-ch5 reproduce-ch6
+
+# After make reproduce-all (and make bbob): every report.md opens with its
+# summary and is under 300 lines, report.html is beside it, and no picture
+# is over 3,000 px (ci/check-reports.py, python3's standard library).
+check-reports:
+	python3 ci/check-reports.py results
 
 fmt:
 	$(CARGO) fmt --all

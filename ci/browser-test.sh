@@ -118,6 +118,10 @@ pages=("$work/quick/report.html" "$work/implant/report.html" "$work/fit/report.h
 for page in "${pages[@]}"; do
     [ -s "$page" ] || fail "$page was not written"
 done
+# The same pages' reports read on a screen (what make check-reports checks
+# on the full results): summary first, under 300 lines, pictures <= 3,000 px.
+python3 "$root/ci/check-reports.py" "$work/quick" "$work/implant" "$work/fit" ||
+    fail "a report does not read on a screen (ci/check-reports.py above)"
 
 # The detectors first: a thrown error must be seen, a blank page must fail.
 page=${pages[0]}

@@ -113,10 +113,12 @@ pub fn report_summary(verdicts: &[VerdictRow], pictures: &[String]) -> String {
                         if verdict == "no detectable difference" {
                             v.measure.clone()
                         } else {
-                            format!(
-                                "{} ({}/{}/{}, p {:.3})",
-                                v.measure, a.better, a.equal, a.worse, v.p_adjusted
-                            )
+                            let p = if v.p_adjusted < 0.001 {
+                                "p < 0.001".to_owned()
+                            } else {
+                                format!("p {:.3}", v.p_adjusted)
+                            };
+                            format!("{} ({}/{}/{}, {p})", v.measure, a.better, a.equal, a.worse)
                         }
                     })
                     .collect();
@@ -805,7 +807,8 @@ pub(crate) fn verdict_tables(report: &mut String, rows: &[(VerdictRow, usize)]) 
             scopes.push(&r.0.scope);
         }
     }
-    for scope in scopes {
+    let (all, others) = scopes.split_at(1.min(scopes.len()));
+    for &scope in all {
         let table: Vec<Vec<String>> = rows
             .iter()
             .filter(|r| r.0.scope == scope)
@@ -840,6 +843,58 @@ pub(crate) fn verdict_tables(report: &mut String, rows: &[(VerdictRow, usize)]) 
         report.push_str(&markdown::table(&header, &table, Alignment::Unmarked));
         let _ = writeln!(report);
     }
+    if others.is_empty() {
+        return;
+    }
+    // The other scopes side by side, one column each: where a verdict holds
+    // and where it flips (their p-values and effects are in verdicts.csv).
+    let mut pivot_header = vec!["method".to_owned(), "baseline".into(), "metric".into()];
+    pivot_header.extend(others.iter().map(|s| format!("`{s}`")));
+    let mut keys: Vec<(&str, &str, &str)> = Vec::new();
+    for (v, _) in rows.iter().filter(|r| others.contains(&r.0.scope.as_str())) {
+        let k = (
+            v.algorithm.as_str(),
+            v.reference.as_str(),
+            v.measure.as_str(),
+        );
+        if !keys.contains(&k) {
+            keys.push(k);
+        }
+    }
+    let pivot: Vec<Vec<String>> = keys
+        .iter()
+        .map(|&(alg, base, metric)| {
+            let mut row = vec![alg.to_owned(), base.to_owned(), metric.to_owned()];
+            row.extend(others.iter().map(|&scope| {
+                rows.iter()
+                    .find(|(v, _)| {
+                        v.scope == scope
+                            && v.algorithm == alg
+                            && v.reference == base
+                            && v.measure == metric
+                    })
+                    .map_or_else(
+                        || "—".to_owned(),
+                        |(v, _)| {
+                            let a = &v.across;
+                            let word = match v.verdict.as_str() {
+                                "no detectable difference" => "n.d.",
+                                w => w,
+                            };
+                            format!("{word} {}/{}/{}", a.better, a.equal, a.worse)
+                        },
+                    )
+            }));
+            row
+        })
+        .collect();
+    let _ = writeln!(
+        report,
+        "Per scope (verdict and units better/equal/worse; n.d. = no detectable difference; \
+         every p and effect is in `verdicts.csv`):\n"
+    );
+    report.push_str(&markdown::table(&pivot_header, &pivot, Alignment::Unmarked));
+    let _ = writeln!(report);
 }
 
 /// The join quality of the fitted walls: median and max join angle.

@@ -113,6 +113,22 @@ impl Problem {
         s
     }
 
+    /// [`Problem::short`] without the dimension a COCO bbob id carries
+    /// (`bbob_f008_d05` → `bbob_f008`), so that one function's dimensions
+    /// group together (scalability).
+    pub fn across_dimensions(&self) -> String {
+        let short = self.short();
+        let Some(rest) = self.function.strip_prefix("bbob_f") else {
+            return short;
+        };
+        match rest.rsplit_once("_d") {
+            Some((f, d)) if !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit()) => {
+                short.replacen(&self.function, &format!("bbob_f{f}"), 1)
+            }
+            _ => short,
+        }
+    }
+
     /// Whether this is a fitting case (its name has `/` parts).
     pub fn is_fit(&self) -> bool {
         self.function.contains('/')
@@ -657,6 +673,24 @@ mod tests {
             name: String::new(),
             external: false,
         }
+    }
+
+    #[test]
+    fn a_bbob_function_is_one_function_across_its_dimensions() {
+        let p = |function: &str, dim: usize| Problem {
+            function: function.into(),
+            dim,
+            budget: None,
+            transform: Transform::None,
+            instance: 1,
+        };
+        assert_eq!(p("bbob_f008_d05", 5).across_dimensions(), "bbob_f008");
+        assert_eq!(
+            p("bbob_f008_d05", 5).across_dimensions(),
+            p("bbob_f008_d10", 10).across_dimensions()
+        );
+        assert_eq!(p("sphere", 30).across_dimensions(), "sphere");
+        assert_eq!(p("bbob_f008_dx", 5).across_dimensions(), "bbob_f008_dx");
     }
 
     #[test]

@@ -719,7 +719,7 @@ const SUMMARY_VERDICTS: usize = 12;
 
 /// The most verdicts the summary lists at design points (when its scopes
 /// pool the errors or the sizes).
-const SUMMARY_POINT_VERDICTS: usize = 40;
+const SUMMARY_POINT_VERDICTS: usize = 20;
 
 /// The question a report answers, from what its results hold.
 fn question(s: &Sections, ds: &data::Dataset) -> String {

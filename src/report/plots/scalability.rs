@@ -264,9 +264,10 @@ fn problems_by_function(ds: &Dataset) -> Vec<(String, Vec<usize>)> {
     let mut by_function: BTreeMap<String, Vec<usize>> = BTreeMap::new();
     let mut order: Vec<String> = Vec::new();
     for (p, problem) in ds.problems.iter().enumerate() {
-        let e = by_function.entry(problem.short()).or_default();
+        let name = problem.across_dimensions();
+        let e = by_function.entry(name.clone()).or_default();
         if e.is_empty() {
-            order.push(problem.short());
+            order.push(name);
         }
         e.push(p);
     }
