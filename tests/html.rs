@@ -11,9 +11,11 @@ use std::process::Command;
 use metabezier::experiment::{run_campaign, RunOptions, Spec};
 use metabezier::report::{write_html, write_report, ReportOptions};
 
-/// 2 functions × 2 dimensions × 2 algorithms × 3 runs: seven figures
-/// (convergence, box plots, two ECDFs, one per function, scalability), and
-/// a description and a label that try to inject a script.
+/// 2 functions × 2 dimensions × 2 algorithms × 3 runs: nine figures (the
+/// verdict maps of the final error and the anytime measure, convergence,
+/// box plots, the ECDF to the threshold and over all targets at each of
+/// the two dimensions, scalability), and a description and a label that
+/// try to inject a script.
 const SPEC: &str = r#"
 [experiment]
 name = "html_test"
@@ -127,7 +129,7 @@ fn report_html_is_self_contained_escaped_and_reproducible() {
 
     // One inline SVG per figure of report.md, with its prolog dropped.
     let figures = md.matches("![").count();
-    assert_eq!(figures, 7, "{md}");
+    assert_eq!(figures, 9, "{md}");
     assert_eq!(html.matches("<svg").count(), figures);
     assert_eq!(html.matches("<span class=\"mb-svg\"").count(), figures);
     assert!(!html.contains("<?xml") && !html.contains("data:image/png"));
@@ -169,7 +171,7 @@ fn report_html_is_self_contained_escaped_and_reproducible() {
     assert_eq!(html.matches("<select").count(), 1);
     assert_eq!(html.matches("<div class=\"mb-unit\"").count(), figures);
     assert_eq!(html.matches("<option value=").count(), figures + 1);
-    assert!(html.contains("<option value=\"0\">1. Convergence</option>"));
+    assert!(html.contains("<option value=\"2\">3. Convergence</option>"));
 
     // A table of contents of the ## headings, sortable tables, the script
     // that sets the ready flag.
@@ -215,7 +217,7 @@ fn missing_figures_and_long_tables() {
     std::fs::write(dir.join("report.md"), md).unwrap();
 
     let html = read(&write_html(&dir).unwrap());
-    assert_eq!(html.matches("<svg").count(), 5);
+    assert_eq!(html.matches("<svg").count(), 7);
     assert_eq!(
         html.matches("<img id=\"fig-convergence\" alt=\"Convergence\" src=\"data:image/png;base64,iVBORw0KGgo")
             .count(),
