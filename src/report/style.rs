@@ -6,7 +6,8 @@
 //! it too keeps its colour from report to report. A variant of an
 //! optimiser (a label other than its own name: `HS-tuned`, `MHS+LM`,
 //! `MHS-pervar`) has the optimiser's hue and a dashed line, and several
-//! configurations of one label are lighter shades of it.
+//! configurations of one label are lighter shades of it. Curve labels
+//! that name no method (`C1`, `G1`) get Tol's muted colours in order.
 
 use plotters::style::RGBColor;
 
@@ -126,26 +127,43 @@ pub(crate) fn cell_styles(cells: &[Cell]) -> Vec<SeriesStyle> {
         .collect()
 }
 
-/// The colours of curve labels that name methods (`LM`, `MHS`,
-/// `CMA-ES+LM`), distinct among `labels`: the optimiser's colour when the
-/// label or its first part (before `+`, `-`, `/` or a space) is a built-in,
-/// else (or when an earlier label has that colour) a colour from the whole
-/// label's name.
+/// Categorical colours for curve labels that name no method (`C1`, `G1`,
+/// a function): Tol's muted scheme (Tol 2021), in order.
+const OTHERS: [(u8, u8, u8); 7] = [
+    (0xcc, 0x66, 0x77), // rose
+    (0x11, 0x77, 0x33), // green
+    (0x88, 0x22, 0x55), // wine
+    (0x44, 0xaa, 0x99), // teal
+    (0xaa, 0x44, 0x99), // purple
+    (0xdd, 0xcc, 0x77), // sand
+    (0x88, 0xcc, 0xee), // cyan
+];
+
+/// The colours of curve labels, distinct among `labels`: a label that
+/// names a method (`LM`, `MHS`, `CMA-ES+LM`: the label or its first part
+/// before `+`, `-`, `/` or a space is a built-in) gets the optimiser's
+/// colour, unless an earlier label has it; the others, in order, Tol's
+/// muted colours, then colours from their names.
 pub(crate) fn label_colours(labels: &[&str]) -> Vec<RGBColor> {
+    let built_in = |n: &str| BUILT_IN.iter().any(|(b, _)| *b == key(n));
     let mut out: Vec<RGBColor> = Vec::with_capacity(labels.len());
+    let mut others = OTHERS.iter().map(|&(r, g, b)| RGBColor(r, g, b));
     for label in labels {
         let head = label.split(['+', '-', '/', ' ']).next().unwrap_or(label);
-        let built_in = |n: &str| BUILT_IN.iter().any(|(b, _)| *b == key(n));
-        let mut c = if built_in(label) {
-            base_colour(label)
+        let method = if built_in(label) {
+            Some(base_colour(label))
         } else if built_in(head) {
-            base_colour(head)
+            Some(base_colour(head))
         } else {
-            base_colour(label)
+            None
         };
-        if out.contains(&c) {
-            c = base_colour(&format!("{label}#"));
-        }
+        let c = match method.filter(|c| !out.contains(c)) {
+            Some(c) => c,
+            None => others
+                .by_ref()
+                .find(|c| !out.contains(c))
+                .unwrap_or_else(|| base_colour(&format!("{label}#"))),
+        };
         out.push(c);
     }
     out
@@ -211,7 +229,10 @@ mod tests {
         assert_eq!(c[0], base_colour("lm"));
         assert_eq!(c[1], base_colour("mhs"));
         assert_ne!(c[2], c[1], "MHS+LM is told apart from MHS");
-        assert_eq!(c[3], base_colour("quadratic"));
+        assert_eq!(c[3], RGBColor(0x11, 0x77, 0x33));
+        // Labels that name no method get distinct categorical colours.
+        let c = label_colours(&["C1", "G1"]);
+        assert_eq!(c, [RGBColor(0xcc, 0x66, 0x77), RGBColor(0x11, 0x77, 0x33)]);
     }
 
     #[test]

@@ -2,8 +2,9 @@
 //! are the design points (every combination of the factors that vary other
 //! than the algorithm, the function and the run) under the verdict over all
 //! problems; columns are the algorithms; a cell is coloured by the verdict
-//! of the test across the functions there (better, worse, no detectable
-//! difference) and carries the functions better/equal/worse.
+//! of the test across the units there (better, worse, no detectable
+//! difference) and carries its units (functions, outlines or segments)
+//! better/equal/worse.
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -133,7 +134,8 @@ impl Draw for VerdictMap {
         let note = font(AXIS_FONT - 2).pos(Pos::new(HPos::Left, VPos::Top));
         let y = head + ROW_H as i32 * self.points.len() as i32 + 8;
         area.draw_text(
-            "cells: functions better/equal/worse than the reference at that design point",
+            "cells: units (functions, outlines or segments) better/equal/worse than the \
+             reference at that design point",
             &note,
             (10, y),
         )?;
@@ -232,10 +234,10 @@ pub(super) fn verdict_map(t: &Table, measure: &str, shown: &[&str]) -> Option<Pl
             "Where each verdict against {reference} holds, measure {measure}: one row per \
              design point (the combination of the factors other than the algorithm, the \
              function and the run) under the verdict over all of them, one column per \
-             algorithm. A cell is green where the Holm-corrected test across the functions \
+             algorithm. A cell is green where the Holm-corrected test across the units \
              at that design point finds the algorithm better than the reference, vermillion \
              where worse, grey where there is no detectable difference; it reads the \
-             functions better/equal/worse. The same verdicts, with p-values and effect \
+             units (functions, outlines or segments) better/equal/worse. The same verdicts, with p-values and effect \
              sizes, are in tables/verdicts.csv."
         ),
         figure: Figure::Verdicts(VerdictMap {
