@@ -9,20 +9,11 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use metabezier::experiment::{run_campaign, RunOptions, Spec};
 use metabezier::report::{write_report, ReportOptions};
 
+/// [`common::campaign`] and its report.
 fn campaign(tmp: &Path, name: &str, text: &str) -> PathBuf {
-    let path = tmp.join(format!("{name}.toml"));
-    std::fs::write(&path, text).unwrap();
-    let spec = Spec::parse(&path, text).unwrap();
-    let out = tmp.join(name);
-    let opts = RunOptions {
-        out: Some(out.clone()),
-        threads: Some(2),
-        ..RunOptions::default()
-    };
-    assert!(run_campaign(&spec, &opts).unwrap().complete);
+    let out = common::campaign(tmp, name, text);
     write_report(&out, &ReportOptions::default()).unwrap();
     out
 }

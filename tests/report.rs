@@ -7,10 +7,10 @@
 
 mod common;
 
+use common::campaign;
+
 use std::path::{Path, PathBuf};
 
-use metabezier::experiment::Spec;
-use metabezier::experiment::{run_campaign, RunOptions};
 use metabezier::report::{write_report, ReportOptions};
 
 /// 2 functions (at two dimensions, for the scalability plot) × 3 algorithms
@@ -64,20 +64,6 @@ label = "MHS"
 hmcr = [0.7, 0.9, 0.99]
 bw = [0.001, 0.01]
 "#;
-
-fn campaign(tmp: &Path, name: &str, text: &str) -> PathBuf {
-    let path = tmp.join(format!("{name}.toml"));
-    std::fs::write(&path, text).unwrap();
-    let spec = Spec::parse(&path, text).unwrap();
-    let out = tmp.join(name);
-    let opts = RunOptions {
-        out: Some(out.clone()),
-        threads: Some(2),
-        ..RunOptions::default()
-    };
-    assert!(run_campaign(&spec, &opts).unwrap().complete);
-    out
-}
 
 fn keep(dir: &Path, name: &str) {
     if let Some(target) = std::env::var_os("METABEZIER_REPORT_KEEP") {

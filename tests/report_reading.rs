@@ -4,9 +4,10 @@
 //! any other section, stays under 300 lines for the robustness design, and
 //! shows at most a head of every long table, linking its CSV file.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
-use metabezier::experiment::{run_campaign, RunOptions, Spec};
 use metabezier::report::{write_report, ReportOptions};
 
 const GRID: &str = r#"
@@ -65,16 +66,7 @@ label = "MHS"
 "#;
 
 fn report_of(tmp: &Path, name: &str, text: &str) -> (PathBuf, String) {
-    let path = tmp.join(format!("{name}.toml"));
-    std::fs::write(&path, text).unwrap();
-    let spec = Spec::parse(&path, text).unwrap();
-    let out = tmp.join(name);
-    let opts = RunOptions {
-        out: Some(out.clone()),
-        threads: Some(2),
-        ..RunOptions::default()
-    };
-    assert!(run_campaign(&spec, &opts).unwrap().complete);
+    let out = common::campaign(tmp, name, text);
     write_report(&out, &ReportOptions::default()).unwrap();
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
     (out, md)

@@ -329,7 +329,7 @@ pub(crate) fn plot_sections(plots: &[Plot]) -> String {
             continue;
         }
         let pages = &plots[i..i + n];
-        let (title, caption) = (p.figure_title(), p.figure_caption());
+        let caption = p.figure_caption();
         let links = |ext: &str| {
             pages
                 .iter()
@@ -338,10 +338,10 @@ pub(crate) fn plot_sections(plots: &[Plot]) -> String {
                 .join(" ")
         };
         s.push_str(&format!(
-            "### {title} ({n} pages)\n![{first}](plots/{stem}.png)\n{caption} The figure is \
+            "### {title}\n![{first}](plots/{stem}.png)\n{caption} The figure is \
              split into {n} pages of whole panels, in the order of the problems; page 1 is \
              shown. PNG: {png}. SVG: {svg}.\n\n",
-            title = md_escape(title),
+            title = md_escape(&p.figure_heading()),
             first = md_escape(&p.title),
             stem = p.stem,
             caption = md_escape(caption),

@@ -538,13 +538,9 @@ impl Sections {
                 .iter()
                 .filter(|p| p.page.index == 1)
                 .map(|p| {
-                    let title = match p.page.of {
-                        1 => p.title.clone(),
-                        n => format!("{} ({n} pages)", p.figure_title()),
-                    };
                     format!(
                         "[{}](plots/{}.png)",
-                        crate::markdown::escape(&title),
+                        crate::markdown::escape(&p.figure_heading()),
                         p.stem
                     )
                 })

@@ -1,6 +1,6 @@
 //! Rendering plumbing for the plots: the viridis map, text measurement,
-//! shared legends, solid and dashed series lines, and writing a figure as SVG and PNG (both through
-//! [`write_atomic`]).
+//! shared legends, solid and dashed series lines, and writing a figure as
+//! SVG and PNG (both through [`write_atomic`]).
 //!
 //! Text is drawn with plotters' `ab_glyph` renderer and the crate's one
 //! embedded font ([`crate::font`]), so no system font library is needed.

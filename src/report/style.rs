@@ -12,6 +12,7 @@
 use plotters::style::RGBColor;
 
 use super::data::Cell;
+use crate::rng::fnv1a64;
 
 /// How a series is drawn: its colour, and whether its line is dashed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -66,10 +67,7 @@ pub(crate) fn base_colour(kind: &str) -> RGBColor {
     if let Some((_, (r, g, b))) = BUILT_IN.iter().find(|(n, _)| *n == k) {
         return RGBColor(*r, *g, *b);
     }
-    let hash = k.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
-        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
-    });
-    hsl((hash % 360) as f64, 0.65, 0.40)
+    hsl((fnv1a64(&k) % 360) as f64, 0.65, 0.40)
 }
 
 /// HSL to RGB (Foley et al., "Computer Graphics", 2nd ed., §13.3.5).
@@ -108,14 +106,16 @@ fn optimiser(kind: &str) -> &str {
 pub(crate) fn cell_styles(cells: &[Cell]) -> Vec<SeriesStyle> {
     cells
         .iter()
-        .map(|c| {
+        .enumerate()
+        .map(|(i, c)| {
             let kind = if c.kind.is_empty() { &c.label } else { &c.kind };
             let base = base_colour(optimiser(kind));
             let dashed = key(&c.label) != key(kind) || kind.contains('+');
-            let same: Vec<&Cell> = cells.iter().filter(|o| o.label == c.label).collect();
-            let k = same.iter().position(|o| std::ptr::eq(*o, c)).unwrap_or(0);
-            let shade = if same.len() > 1 {
-                0.5 * k as f64 / (same.len() - 1) as f64
+            let same = |o: &&Cell| o.label == c.label;
+            let k = cells[..i].iter().filter(same).count();
+            let n = k + cells[i..].iter().filter(same).count();
+            let shade = if n > 1 {
+                0.5 * k as f64 / (n - 1) as f64
             } else {
                 0.0
             };

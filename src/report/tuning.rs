@@ -349,7 +349,6 @@ pub(crate) fn overview(per_grid: &[(Grid, Vec<Table>)]) -> Vec<Table> {
         .map(|(p, d)| vec![p.clone(), d.clone()])
         .collect();
     best.csv_header = vec!["problem".into(), "dim".into()];
-    best.csv_rows = best.md_rows.clone();
     for (grid, tables) in per_grid {
         best.md_header.push(grid.label.clone());
         best.csv_header.push(grid.label.clone());
@@ -360,7 +359,6 @@ pub(crate) fn overview(per_grid: &[(Grid, Vec<Table>)]) -> Vec<Table> {
                 .map_or_else(|| "—".to_owned(), |r| r[2].clone());
             row.push(setting);
         }
-        best.csv_rows = best.md_rows.clone();
         let Some(t) = tables.get(2) else { continue };
         if picks.md_header.len() == 1 {
             picks.md_header.extend(t.md_header.iter().cloned());
@@ -387,6 +385,7 @@ pub(crate) fn overview(per_grid: &[(Grid, Vec<Table>)]) -> Vec<Table> {
             );
         }
     }
+    best.csv_rows = best.md_rows.clone();
     vec![picks, best]
 }
 

@@ -108,3 +108,20 @@ pub fn unreadable(dir: &std::path::Path) -> Vec<String> {
     }
     faults
 }
+
+/// Runs the spec `text`, written to `tmp/<name>.toml`, into `tmp/<name>` on
+/// two threads and returns that results directory.
+pub fn campaign(tmp: &std::path::Path, name: &str, text: &str) -> std::path::PathBuf {
+    use metabezier::experiment::{run_campaign, RunOptions, Spec};
+    let path = tmp.join(format!("{name}.toml"));
+    std::fs::write(&path, text).unwrap();
+    let spec = Spec::parse(&path, text).unwrap();
+    let out = tmp.join(name);
+    let opts = RunOptions {
+        out: Some(out.clone()),
+        threads: Some(2),
+        ..RunOptions::default()
+    };
+    assert!(run_campaign(&spec, &opts).unwrap().complete);
+    out
+}

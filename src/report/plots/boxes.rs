@@ -2,7 +2,6 @@
 //! algorithm on a log scale, with Tukey whiskers and outliers.
 
 use plotters::coord::Shift;
-use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
@@ -11,8 +10,8 @@ use crate::stats::summarize;
 use super::super::data::Dataset;
 use super::super::format::sci_digits;
 use super::super::render::{
-    draw_minor_decades, font, lg, lg_range, log_floor, log_range, on_log_axis, text_width, Draw,
-    DrawResult, FloorTick,
+    draw_line, draw_minor_decades, font, lg, lg_range, log_floor, log_range, on_log_axis,
+    text_width, Draw, DrawResult, FloorTick,
 };
 use super::super::style::SeriesStyle;
 use super::layout::{
@@ -179,16 +178,7 @@ fn draw_box<DB: DrawingBackend>(
         (b.q1, y + h),
         (b.q1, y - h),
     ];
-    if style.dashed {
-        chart.draw_series(std::iter::once(DashedPathElement::new(
-            edge,
-            6,
-            4,
-            c.stroke_width(2),
-        )))?;
-    } else {
-        chart.draw_series(std::iter::once(PathElement::new(edge, c.stroke_width(2))))?;
-    }
+    draw_line(chart, edge, style, 2)?;
     chart.draw_series(std::iter::once(PathElement::new(
         vec![(b.median, y - h), (b.median, y + h)],
         BLACK.stroke_width(3),
@@ -339,8 +329,7 @@ pub(super) fn boxes(ds: &Dataset, series: &SeriesSet) -> Result<Plot, NoPlot> {
         })
     });
     let floor = log_floor(all.clone());
-    let floored = all.clone().any(|v| v <= floor);
-    let floor_tick = FloorTick::of(all.clone(), floor);
+    let floor_tick = FloorTick::of(all, floor);
     let panels = raw
         .into_iter()
         .map(|(p, row)| panel(ds, p, row, floor))
@@ -349,7 +338,7 @@ pub(super) fn boxes(ds: &Dataset, series: &SeriesSet) -> Result<Plot, NoPlot> {
         page: Page::SINGLE,
         stem: "boxplots".into(),
         title: "Final error distributions".into(),
-        caption: caption(ds.error_symbol(), floored.then_some(floor), dropped)
+        caption: caption(ds.error_symbol(), floor_tick.map(|_| floor), dropped)
             + &series.caption_note(),
         figure: Figure::Boxes(Boxes {
             title: format!("Final error {} per algorithm", ds.error_symbol()),

@@ -290,8 +290,7 @@ pub(super) fn convergence(ds: &Dataset, series: &SeriesSet) -> Result<Plot, NoPl
         .flat_map(|(_, cs)| cs.iter().flat_map(|(_, pts)| pts.iter()))
         .flat_map(|&(_, a, b, c)| [a, b, c]);
     let floor = log_floor(all.clone());
-    let floored = all.clone().any(|v| v <= floor);
-    let floor_tick = FloorTick::of(all.clone(), floor);
+    let floor_tick = FloorTick::of(all, floor);
     let panels = raw
         .into_iter()
         .map(|r| panel(ds, series, r, floor))
@@ -301,7 +300,7 @@ pub(super) fn convergence(ds: &Dataset, series: &SeriesSet) -> Result<Plot, NoPl
         page: Page::SINGLE,
         stem: "convergence".into(),
         title: "Convergence".into(),
-        caption: caption(ds.error_symbol(), max_runs, floored.then_some(floor))
+        caption: caption(ds.error_symbol(), max_runs, floor_tick.map(|_| floor))
             + &series.caption_note(),
         figure: Figure::Convergence(Convergence {
             symbol: ds.error_symbol(),

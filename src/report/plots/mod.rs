@@ -61,25 +61,51 @@ pub(crate) struct Page {
 impl Page {
     /// The only page of a figure that fits one file.
     pub(crate) const SINGLE: Page = Page { index: 1, of: 1 };
+
+    /// What a page adds to its figure's title: " (k of n)", nothing for a
+    /// figure of one page.
+    fn title_suffix(self) -> String {
+        if self.of == 1 {
+            String::new()
+        } else {
+            format!(" ({} of {})", self.index, self.of)
+        }
+    }
+
+    /// What a page adds to its figure's caption.
+    fn caption_suffix(self) -> String {
+        if self.of == 1 {
+            String::new()
+        } else {
+            format!(
+                " Page {} of {}, in the order of the problems.",
+                self.index, self.of
+            )
+        }
+    }
 }
 
 impl Plot {
     /// The title of the whole figure: without the "(k of n)" of a page.
-    pub(crate) fn figure_title(&self) -> &str {
-        let Page { index, of } = self.page;
+    fn figure_title(&self) -> &str {
         self.title
-            .strip_suffix(&format!(" ({index} of {of})"))
+            .strip_suffix(&self.page.title_suffix())
             .unwrap_or(&self.title)
     }
 
     /// The caption of the whole figure: without the page sentence.
     pub(crate) fn figure_caption(&self) -> &str {
-        let Page { index, of } = self.page;
         self.caption
-            .strip_suffix(&format!(
-                " Page {index} of {of}, in the order of the problems."
-            ))
+            .strip_suffix(&self.page.caption_suffix())
             .unwrap_or(&self.caption)
+    }
+
+    /// The figure's heading: its title, with "(n pages)" when it is split.
+    pub(crate) fn figure_heading(&self) -> String {
+        match self.page.of {
+            1 => self.title.clone(),
+            n => format!("{} ({n} pages)", self.figure_title()),
+        }
     }
 }
 
@@ -198,30 +224,22 @@ fn paginate(plot: Plot) -> Vec<Plot> {
     figures
         .into_iter()
         .enumerate()
-        .map(|(i, figure)| Plot {
-            stem: if i == 0 {
-                stem.clone()
-            } else {
-                format!("{stem}_{}", i + 1)
-            },
-            title: if n == 1 {
-                title.clone()
-            } else {
-                format!("{title} ({} of {n})", i + 1)
-            },
-            caption: if n == 1 {
-                caption.clone()
-            } else {
-                format!(
-                    "{caption} Page {} of {n}, in the order of the problems.",
-                    i + 1
-                )
-            },
-            figure,
-            page: Page {
+        .map(|(i, figure)| {
+            let page = Page {
                 index: i + 1,
                 of: n,
-            },
+            };
+            Plot {
+                stem: if i == 0 {
+                    stem.clone()
+                } else {
+                    format!("{stem}_{}", i + 1)
+                },
+                title: format!("{title}{}", page.title_suffix()),
+                caption: format!("{caption}{}", page.caption_suffix()),
+                figure,
+                page,
+            }
         })
         .collect()
 }

@@ -402,14 +402,12 @@ fn row(
 }
 
 /// Puts the row's errors on a log10 axis above `floor` and sets its error
-/// range; returns whether some error was at or below the floor.
-fn floor_errors(row: &mut ScalabilityRow, floor: f64) -> bool {
-    let mut floored = false;
+/// range.
+fn floor_errors(row: &mut ScalabilityRow, floor: f64) {
     let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
     for (_, pts) in &mut row.error {
         for p in pts.iter_mut() {
             let mut at = |v: f64| {
-                floored |= v <= floor;
                 let v = on_log_axis(v, floor);
                 lo = lo.min(v);
                 hi = hi.max(v);
@@ -419,7 +417,6 @@ fn floor_errors(row: &mut ScalabilityRow, floor: f64) -> bool {
         }
     }
     row.y_error = lg_range(log_range(lo, hi));
-    floored
 }
 
 /// The caption: what is drawn, the floor when some errors are drawn at
@@ -472,9 +469,8 @@ pub(super) fn scalability(ds: &Dataset, series: &SeriesSet) -> Result<Plot, NoPl
     });
     let floor = log_floor(error_values.clone());
     let floor_tick = FloorTick::of(error_values, floor);
-    let mut floored_any = false;
     for row in &mut rows {
-        floored_any |= floor_errors(row, floor);
+        floor_errors(row, floor);
     }
     let with_time = rows.iter().any(|r| r.time.is_some());
     let legend = series.legend(used);
@@ -482,7 +478,7 @@ pub(super) fn scalability(ds: &Dataset, series: &SeriesSet) -> Result<Plot, NoPl
         page: Page::SINGLE,
         stem: "scalability".into(),
         title: "Scalability".into(),
-        caption: caption(floored_any.then_some(floor), with_time) + &series.caption_note(),
+        caption: caption(floor_tick.map(|_| floor), with_time) + &series.caption_note(),
         figure: Figure::Scalability(Scalability {
             title: "Scalability with the dimension".into(),
             legend,
