@@ -3,19 +3,23 @@ CARGO ?= cargo
 BIN := target/release/metabezier
 SPECS := experiments
 
-.PHONY: help build quick test test-browser test-python test-dxf python-bench examples peer-kurbo fuzz test-cluster bench speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all check-reports fmt lint clean-results
+.PHONY: help build quick test test-browser test-python test-dxf python-bench examples peer-kurbo fuzz test-cluster bench overhead speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all check-reports fmt lint clean-results
 
 help:
+	@echo "make build          the release binary, target/release/metabezier (cargo build --release --locked)"
 	@echo "make quick          run experiments/quick.toml (seconds) into results/quick/"
 	@echo "make test           the whole test suite, rustfmt check and clippy -D warnings"
 	@echo "make test-browser   report.html of a quick campaign, an implant run and a fit campaign in headless Chromium (Debian's; installed if missing)"
 	@echo "make test-python    the Python package: pip install ./python in a venv, then its pytest suite (PyPI)"
 	@echo "make test-dxf       fit.dxf read back by ezdxf (pinned in ci/dxf-requirements.txt, in a venv): exact control points and weights (PyPI)"
+	@echo "make python-bench   cost per evaluation of a Python objective called from metabezier, against Rust and numpy (after test-python)"
 	@echo "make examples       the library examples (examples/*.rs): your own optimiser and problem in a campaign"
 	@echo "make peer-kurbo     kurbo's curve fitting on the horse and the coin, scored by metabezier score"
 	@echo "make fuzz           the seeded fuzz loops of tests/fuzz_*.rs with 100,000 mutants per reader (minutes)"
 	@echo "make test-cluster   a campaign as a Slurm array job on a private one-node Slurm (root; installs slurm-wlm, munge)"
 	@echo "make bench          criterion benchmarks: optimiser overhead per evaluation, cost of E per fitting function"
+	@echo "make overhead       each optimiser's CPU time per evaluation against a bare Sphere-30 loop in the same process (seconds; run it idle)"
+	@echo "make memory         the memory guard's estimate against the peak RSS of three campaigns at 1 and 2 threads (minutes; run it idle)"
 	@echo "make speedup        1 -> 2 thread speed-up of a 60-run campaign (five alternating runs; run it idle)"
 	@echo "make reproduce-ch4  chapter 4: benchmarks, scalability, MHS tuning, with reports (results/ch4_*/)"
 	@echo "make reproduce-ch5  chapter 5: curve fitting of real outlines, search-space and MHS studies, both errors (results/ch5_*/)"
@@ -24,6 +28,9 @@ help:
 	@echo "make cocopp         COCO's own post-processing (cocopp, pinned in tools/cocopp-requirements.txt, in a venv) of results/bbob/coco/"
 	@echo "make reproduce-all  every chapter: 4, 5 and 6 (about 40 min on 2 cores)"
 	@echo "make check-reports  every report under results/ reads on a screen: summary first, < 300 lines, report.html, pictures <= 3,000 px"
+	@echo "make fmt            cargo fmt --all"
+	@echo "make lint           cargo clippy --all-targets -- -D warnings"
+	@echo "make clean-results  delete results/quick and the chapter campaigns' results (not results/bbob)"
 
 build:
 	$(CARGO) build --release --locked
@@ -124,6 +131,14 @@ bench:
 	$(CARGO) bench --locked --bench implant
 	$(CARGO) bench --locked --bench instances
 	$(CARGO) bench --locked --bench loaders
+
+# Each optimiser's cost per evaluation on Sphere-30 against a bare loop of
+# the objective timed in the same process, both on the thread's CPU clock:
+# nine alternating rounds, medians and their spread (benches/overhead.rs;
+# OVERHEAD_ARGS="--dim 10 --rounds 15" to change). Not part of `make test`.
+OVERHEAD_ARGS ?=
+overhead:
+	$(CARGO) bench --locked --bench overhead -- $(OVERHEAD_ARGS)
 
 CH4 := ch4_tuning ch4_benchmarks ch4_scalability ch4_robustness
 # Extra `report` arguments per experiment: the tuning grid has 81 MHS cells,
