@@ -4,7 +4,7 @@
 //!
 //! For every optimiser of `Algorithm::names()` (or those given with
 //! `--algorithms`), one round times a *bare* sample, `runs × evals`
-//! evaluations of Sphere-`D` cycling through 1,024 uniform points, and then
+//! evaluations of Sphere-`D` (or `--function`) cycling through 1,024 uniform points, and then
 //! the optimiser's sample, `runs` seeded runs of `evals` evaluations each on
 //! the same problem (seeds 1..=runs, the same in every round, so every round
 //! does the same work). Both are read on the calling thread's CPU clock
@@ -20,7 +20,8 @@
 //! shared machine lengthen it much less than the wall clock; the caches and
 //! the CPU's clock speed they share still show in the spread.
 //!
-//! Options (after `--`): `--dim D` (30), `--evals N` (20,000 a run, as
+//! Options (after `--`): `--function F` (`sphere`; a name of
+//! `metabezier list`), `--dim D` (30, at most 1,000), `--evals N` (20,000 a run, as
 //! `benches/optimisers.rs`), `--runs K` (10 a sample), `--rounds R` (9),
 //! `--algorithms a,b,...` (all). Run without `--bench` (as `cargo test
 //! --benches` does), it measures a tiny budget once and checks that its
@@ -42,7 +43,9 @@ const POINTS: usize = 1024;
 /// What to measure.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Options {
-    /// The dimension of Sphere.
+    /// The objective (Sphere by default).
+    pub function: Function,
+    /// Its dimension.
     pub dim: usize,
     /// Evaluations of one optimiser run.
     pub evals: u64,
@@ -57,6 +60,7 @@ pub struct Options {
 impl Default for Options {
     fn default() -> Options {
         Options {
+            function: Function::Sphere,
             dim: 30,
             evals: 20_000,
             runs: 10,
@@ -96,7 +100,20 @@ impl Options {
                     .cloned()
             };
             match arg.as_str() {
-                "--dim" => o.dim = positive(arg, &value()?)? as usize,
+                "--function" => {
+                    let name = value()?;
+                    o.function = Function::from_name(&name).ok_or_else(|| {
+                        let names: Vec<&str> = Function::ALL.iter().map(|f| f.name()).collect();
+                        format!(
+                            "--function: unknown function {name:?}; the functions are {}",
+                            names.join(", ")
+                        )
+                    })?;
+                }
+                "--dim" => match positive(arg, &value()?)? {
+                    d if d <= MAX_DIM => o.dim = d as usize,
+                    d => return Err(format!("--dim: {d} is more than {MAX_DIM}")),
+                },
                 "--evals" => o.evals = positive(arg, &value()?)?,
                 "--runs" => o.runs = positive(arg, &value()?)?,
                 "--rounds" => o.rounds = positive(arg, &value()?)? as usize,
@@ -115,8 +132,8 @@ impl Options {
                 }
                 _ => {
                     return Err(format!(
-                        "unknown argument {arg:?}; the options are --dim D, --evals N, \
-                         --runs K, --rounds R, --algorithms a,b,..."
+                        "unknown argument {arg:?}; the options are --function F, --dim D, \
+                         --evals N, --runs K, --rounds R, --algorithms a,b,..."
                     ))
                 }
             }
@@ -127,9 +144,14 @@ impl Options {
                 o.evals, o.runs
             ));
         }
+        TestProblem::new(o.function, o.dim)
+            .map_err(|e| format!("--function {} --dim {}: {e}", o.function.name(), o.dim))?;
         Ok((o, bench))
     }
 }
+
+/// The largest `--dim` (the bare loop holds 1,024 points of `D` values).
+const MAX_DIM: u64 = 1000;
 
 /// The largest count an option takes, and the largest `evals × runs`.
 const MAX: u64 = 1 << 40;
@@ -203,7 +225,7 @@ pub struct Measurement {
 /// bare loop, then per round and per optimiser a bare sample followed by
 /// the optimiser's sample.
 pub fn measure(o: &Options) -> Measurement {
-    let problem = TestProblem::new(Function::Sphere, o.dim).expect("Sphere takes any D >= 1");
+    let problem = TestProblem::new(o.function, o.dim).expect("checked by Options::parse");
     let mut rng = run_rng(1);
     let points: Vec<Vec<f64>> = (0..POINTS)
         .map(|_| {
@@ -282,9 +304,13 @@ impl Measurement {
             "wall clock (no thread CPU clock on this system)"
         };
         let mut out = format!(
-            "Sphere, D = {}: {} runs of {} evaluations a sample against as many bare \
+            "{}, D = {}: {} runs of {} evaluations a sample against as many bare \
              evaluations, {} rounds, {clock}; medians over the rounds\n\n",
-            o.dim, o.runs, o.evals, o.rounds
+            o.function.title(),
+            o.dim,
+            o.runs,
+            o.evals,
+            o.rounds
         );
         out.push_str(
             "| optimiser | bare ns/eval | ns/eval | ratio to bare | ratio min–max | wall-clock ratio |\n",

@@ -74,6 +74,17 @@ fn options_are_read_and_bad_ones_refused_with_the_choices() {
     assert!(e.starts_with("--evals"), "{e}");
     let e = Options::parse(&args(&["--evals", "1099511627776", "--runs", "2"])).unwrap_err();
     assert!(e.contains("2^40 evaluations"), "{e}");
+    let (o, _) = Options::parse(&args(&["--function", "rastrigin", "--dim", "2"])).unwrap();
+    assert_eq!((o.function.name(), o.dim), ("rastrigin", 2));
+    let e = Options::parse(&args(&["--function", "spher"])).unwrap_err();
+    assert!(
+        e.contains("\"spher\"") && e.contains("six_hump_camel"),
+        "{e}"
+    );
+    let e = Options::parse(&args(&["--function", "six_hump_camel"])).unwrap_err();
+    assert!(e.starts_with("--function six_hump_camel --dim 30:"), "{e}");
+    let e = Options::parse(&args(&["--dim", "1001"])).unwrap_err();
+    assert!(e.starts_with("--dim"), "{e}");
     let e = Options::parse(&args(&["--rounds"])).unwrap_err();
     assert!(e.contains("needs a value"), "{e}");
     let e = Options::parse(&args(&["--threads", "2"])).unwrap_err();
