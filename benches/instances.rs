@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::mean_ns;
+use common::{mean_ns, uniform_points};
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput};
@@ -18,25 +18,12 @@ use metabezier::rng::{run_rng, Draw};
 const POINTS: usize = 1024;
 const D: usize = 30;
 
-fn points(problem: &TestProblem) -> Vec<Vec<f64>> {
-    let mut rng = run_rng(1);
-    (0..POINTS)
-        .map(|_| {
-            problem
-                .bounds()
-                .iter()
-                .map(|b| b.lerp(rng.unit()))
-                .collect()
-        })
-        .collect()
-}
-
 fn bench(c: &mut Criterion, f: Function) {
     let mut group = c.benchmark_group(format!("{}-{D}-instance", f.name()));
     group.throughput(Throughput::Elements(POINTS as u64));
     for t in [Transform::None, Transform::Shift, Transform::ShiftRotate] {
         let problem = TestProblem::instance(f, D, t, 1).unwrap();
-        let xs = points(&problem);
+        let xs = uniform_points(&problem, POINTS);
         group.bench_function(t.name(), |b| {
             b.iter(|| {
                 let mut s = 0.0;
@@ -52,7 +39,7 @@ fn bench(c: &mut Criterion, f: Function) {
         let mut rng = run_rng(2);
         (0..D * D).map(|_| rng.gaussian()).collect()
     };
-    let xs = points(&TestProblem::new(f, D).unwrap());
+    let xs = uniform_points(&TestProblem::new(f, D).unwrap(), POINTS);
     group.bench_function("matvec", |b| {
         let mut y = [0.0; D];
         b.iter(|| {
@@ -78,7 +65,7 @@ fn bench(c: &mut Criterion, f: Function) {
 fn bench_coco(c: &mut Criterion) {
     let ours = TestProblem::new(Function::Sphere, 10).unwrap();
     let coco = BbobProblem::new(1, 10, 1).unwrap();
-    let xs = points(&ours);
+    let xs = uniform_points(&ours, POINTS);
     let mut group = c.benchmark_group("sphere-10-coco");
     group.throughput(Throughput::Elements(POINTS as u64));
     group.bench_function("ours", |b| {

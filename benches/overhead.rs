@@ -27,6 +27,11 @@
 //! --benches` does), it measures a tiny budget once and checks that its
 //! table is well formed.
 
+#[allow(dead_code)]
+#[path = "common/mod.rs"]
+mod common;
+
+use common::uniform_points;
 use std::hint::black_box;
 use std::process::ExitCode;
 use std::time::Instant;
@@ -34,7 +39,7 @@ use std::time::Instant;
 use metabezier::functions::{Function, TestProblem};
 use metabezier::optim::Algorithm;
 use metabezier::problem::Problem;
-use metabezier::rng::{run_rng, Draw};
+use metabezier::rng::run_rng;
 use metabezier::stats::median;
 
 /// The uniform points the bare loop cycles through.
@@ -226,16 +231,7 @@ pub struct Measurement {
 /// the optimiser's sample.
 pub fn measure(o: &Options) -> Measurement {
     let problem = TestProblem::new(o.function, o.dim).expect("checked by Options::parse");
-    let mut rng = run_rng(1);
-    let points: Vec<Vec<f64>> = (0..POINTS)
-        .map(|_| {
-            problem
-                .bounds()
-                .iter()
-                .map(|b| b.lerp(rng.unit()))
-                .collect()
-        })
-        .collect();
+    let points = uniform_points(&problem, POINTS);
     let total = (o.evals * o.runs) as usize;
     let bare = || {
         let mut s = 0.0;

@@ -1,7 +1,28 @@
-//! Shared by the benchmarks: reading criterion's results back for the
-//! summary tables they print.
+//! Shared by the benchmarks: the uniform points their bare loops evaluate,
+//! and reading criterion's results back for the summary tables they print.
 
 use std::path::Path;
+
+use metabezier::problem::Problem;
+use metabezier::rng::{run_rng, Draw};
+
+/// `n` points drawn uniformly in `problem`'s box from `run_rng(1)`, one
+/// `u ~ U[0, 1)` a variable, `x_i = L_i + u·(U_i − L_i)` (`Bounds::lerp`):
+/// the points a bare loop evaluates, the same in every benchmark. (The
+/// fitting benchmarks draw none.)
+#[allow(dead_code)]
+pub fn uniform_points<P: Problem + ?Sized>(problem: &P, n: usize) -> Vec<Vec<f64>> {
+    let mut rng = run_rng(1);
+    (0..n)
+        .map(|_| {
+            problem
+                .bounds()
+                .iter()
+                .map(|b| b.lerp(rng.unit()))
+                .collect()
+        })
+        .collect()
+}
 
 /// Reads criterion's mean time per iteration (ns) of one benchmark from
 /// `target/criterion/<group>/<id>/new/estimates.json` (under
