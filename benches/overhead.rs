@@ -4,9 +4,9 @@
 //!
 //! For every optimiser of `Algorithm::names()` (or those given with
 //! `--algorithms`), one round times a *bare* sample, `runs × evals`
-//! evaluations of Sphere-`D` (or `--function`) cycling through 1,024 uniform points, and then
-//! the optimiser's sample, `runs` seeded runs of `evals` evaluations each on
-//! the same problem (seeds 1..=runs, the same in every round, so every round
+//! evaluations of Sphere-`D` (or `--function`) cycling through 1,024
+//! uniform points, and then the optimiser's sample, `runs` seeded runs of
+//! `evals` evaluations each on the same problem (seeds 1..=runs, the same in every round, so every round
 //! does the same work). Both are read on the calling thread's CPU clock
 //! (`clock_gettime(CLOCK_THREAD_CPUTIME_ID)`, Linux; elsewhere the wall
 //! clock, and the table says so) and on the wall clock. The ratio of a round
@@ -20,10 +20,10 @@
 //! shared machine lengthen it much less than the wall clock; the caches and
 //! the CPU's clock speed they share still show in the spread.
 //!
-//! Options (after `--`): `--function F` (`sphere`; a name of
-//! `metabezier list`), `--dim D` (30, at most 1,000), `--evals N` (20,000 a run, as
-//! `benches/optimisers.rs`), `--runs K` (10 a sample), `--rounds R` (9),
-//! `--algorithms a,b,...` (all). Run without `--bench` (as `cargo test
+//! Options (after `--`; `make overhead OVERHEAD_ARGS="..."`): `--function
+//! F` (`sphere`; a name of `metabezier list`), `--dim D` (30, at most
+//! 1,000), `--evals N` (20,000 a run, as `benches/optimisers.rs`), `--runs
+//! K` (10 a sample), `--rounds R` (9), `--algorithms a,b,...` (all). Run without `--bench` (as `cargo test
 //! --benches` does), it measures a tiny budget once and checks that its
 //! table is well formed.
 
@@ -232,7 +232,8 @@ pub struct Measurement {
 pub fn measure(o: &Options) -> Measurement {
     let problem = TestProblem::new(o.function, o.dim).expect("checked by Options::parse");
     let points = uniform_points(&problem, POINTS);
-    let total = (o.evals * o.runs) as usize;
+    // At most 2^40 (Options::parse); a 32-bit target stops at usize::MAX.
+    let total = usize::try_from(o.evals * o.runs).unwrap_or(usize::MAX);
     let bare = || {
         let mut s = 0.0;
         for x in points.iter().cycle().take(total) {
