@@ -3,7 +3,7 @@ CARGO ?= cargo
 BIN := target/release/metabezier
 SPECS := experiments
 
-.PHONY: help build quick test test-browser test-python test-dxf python-bench examples peer-kurbo fuzz test-cluster bench overhead speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 reproduce-all check-reports fmt lint clean-results
+.PHONY: help build quick test test-browser test-python test-dxf python-bench examples peer-kurbo fuzz test-cluster bench overhead speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 cq500 reproduce-all check-reports fmt lint clean-results
 
 help:
 	@echo "make build          the release binary, target/release/metabezier (cargo build --release --locked)"
@@ -24,13 +24,14 @@ help:
 	@echo "make reproduce-ch4  chapter 4: benchmarks, scalability, MHS tuning, with reports (results/ch4_*/)"
 	@echo "make reproduce-ch5  chapter 5: curve fitting of real outlines, search-space and MHS studies, both errors (results/ch5_*/)"
 	@echo "make reproduce-ch6  chapter 6: cranial implant from CT 0051, artificial-defect validation (results/ch6_cranial/)"
+	@echo "make cq500          chapter 6 on a second patient: one-slice validation on the CQ500 slice of pydicom-data (PyPI, in a venv; non-commercial data, not vendored) (results/ch6_cq500/)"
 	@echo "make bbob           COCO's bbob suite: 8 optimisers x 24 functions x D = 2, 5, 10, report and COCO logs (results/bbob/)"
 	@echo "make cocopp         COCO's own post-processing (cocopp, pinned in tools/cocopp-requirements.txt, in a venv) of results/bbob/coco/"
 	@echo "make reproduce-all  every chapter: 4, 5 and 6 (about 40 min on 2 cores)"
 	@echo "make check-reports  every report under results/ reads on a screen: summary first, < 300 lines, report.html, pictures <= 3,000 px"
 	@echo "make fmt            cargo fmt --all"
 	@echo "make lint           cargo clippy --all-targets -- -D warnings"
-	@echo "make clean-results  delete results/quick and the chapter campaigns' results (not results/bbob)"
+	@echo "make clean-results  delete results/quick, results/ch6_cq500 and the chapter campaigns' results (not results/bbob)"
 
 build:
 	$(CARGO) build --release --locked
@@ -173,6 +174,30 @@ CH6 := ch6_cranial
 reproduce-ch6: build
 	$(BIN) implant $(SPECS)/ch6_cranial.toml --out results/ch6_cranial
 
+# Chapter 6 on a second patient: one-slice validation on the CQ500 head CT
+# slice 693_UNCR.dcm, used from the PyPI package that ships it (pydicom-data
+# 1.0.0, hash-pinned in tools/cq500-requirements.txt) in a virtual environment
+# under target/; the slice's sha256 and size are checked, it is copied alone
+# into target/cq500/dicom/ (the volume of experiments/ch6_cq500.toml) and
+# never into the repository (CQ500 is CC BY-NC-SA 4.0: non-commercial).
+# Not part of `make test` (it downloads from PyPI).
+CQ500_VENV := target/cq500-venv
+CQ500_DIR := target/cq500/dicom
+CQ500_SHA256 := cc4cdd599231922ecf63de2ddacf03d51c4588805c9154c2eef1ff49c23b32be
+CQ500_BYTES := 525986
+cq500: build
+	test -x $(CQ500_VENV)/bin/python || python3 -m venv $(CQ500_VENV)
+	$(CQ500_VENV)/bin/python -m pip install --quiet --disable-pip-version-check --no-deps --only-binary :all: --require-hashes -r tools/cq500-requirements.txt
+	@set -e; \
+	  dcm=$$($(CQ500_VENV)/bin/python -c 'import pathlib, data_store; print(pathlib.Path(data_store.__file__).parent / "data" / "693_UNCR.dcm")'); \
+	  test -f "$$dcm" || { echo "make cq500: $$dcm is missing from pydicom-data" >&2; exit 1; }; \
+	  size=$$(wc -c < "$$dcm"); \
+	  test "$$size" -eq $(CQ500_BYTES) || { echo "make cq500: $$dcm has $$size bytes, expected $(CQ500_BYTES)" >&2; exit 1; }; \
+	  echo "$(CQ500_SHA256)  $$dcm" | sha256sum --check --quiet - || { echo "make cq500: $$dcm does not have sha256 $(CQ500_SHA256)" >&2; exit 1; }; \
+	  rm -rf $(CQ500_DIR); mkdir -p $(CQ500_DIR); cp "$$dcm" $(CQ500_DIR)/693_UNCR.dcm; \
+	  echo "693_UNCR.dcm: $$size bytes, sha256 $(CQ500_SHA256) (pydicom-data 1.0.0)"
+	$(BIN) implant $(SPECS)/ch6_cq500.toml --out results/ch6_cq500
+
 # The 1 -> 2 thread speed-up of a 60-run campaign: five alternating runs,
 # identical runs.csv checked, median speed-up printed (run it idle).
 speedup: build
@@ -211,7 +236,7 @@ lint:
 	$(CARGO) clippy --all-targets -- -D warnings
 
 clean-results:
-	rm -rf results/quick $(addprefix results/,$(CH4) $(CH5) $(CH6))
+	rm -rf results/quick results/ch6_cq500 $(addprefix results/,$(CH4) $(CH5) $(CH6))
 
 # The memory guard's estimate against the peak resident set size of three
 # campaign shapes at 1 and 2 threads (ci/measure-memory.sh; GNU time; about
