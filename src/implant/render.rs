@@ -495,9 +495,7 @@ pub fn validation_figure(
     two_d: &[Scored<'_>],
     three_d: &[Scored<'_>],
 ) -> Result<Option<ValidationFigure>, ImplantError> {
-    use crate::report::plots::factor_lines::{
-        FactorLines, FactorPanel, FactorSeries, Spread,
-    };
+    use crate::report::plots::factor_lines::{FactorLines, FactorPanel, FactorSeries, Spread};
     let styles = method_styles(methods);
     let mut panels = Vec::new();
     let mut legend_used = vec![false; methods.len()];
@@ -526,8 +524,11 @@ pub fn validation_figure(
                             .filter(|r| r.0 == m && r.1 == w)
                             .map(|r| if pick == 2 { r.2 } else { r.3 })
                             .collect();
-                        let finite: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
-                        no_hd95 += v.len() - finite.len();
+                        let finite: Vec<f64> =
+                            v.iter().copied().filter(|x| x.is_finite()).collect();
+                        if pick == 3 {
+                            no_hd95 += v.len() - finite.len();
+                        }
                         let s = crate::stats::summarize(&finite).ok()?;
                         Some((w, s.q1, s.median, s.q3))
                     })

@@ -535,7 +535,9 @@ impl Sections {
         let answers: Vec<String> = self
             .figures
             .iter()
-            .filter(|p| p.page.index == 1 && plots::fit_factors::ANSWER_STEMS.contains(&p.stem.as_str()))
+            .filter(|p| {
+                p.page.index == 1 && plots::fit_factors::ANSWER_STEMS.contains(&p.stem.as_str())
+            })
             .map(|p| {
                 format!(
                     "[{}](plots/{}.png)",

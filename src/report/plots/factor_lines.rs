@@ -26,8 +26,8 @@ use super::super::render::{
 };
 use super::super::style::{LegendEntry, SeriesStyle};
 use super::layout::{
-    decade_labels, draw_floor_label, floored_tick, frame, frame_height, grid_shape, pages_of,
-    Axis, AXIS_FONT, PANEL_H, PANEL_TITLE_FONT, PANEL_W, TICK_FONT,
+    decade_labels, draw_floor_label, floored_tick, frame, frame_height, grid_shape, pages_of, Axis,
+    AXIS_FONT, PANEL_H, PANEL_TITLE_FONT, PANEL_W, TICK_FONT,
 };
 
 /// One method's line: (level, q1, median, q3) in data units, in increasing
@@ -111,7 +111,6 @@ impl FactorLines {
             })
             .collect()
     }
-
 }
 
 impl FactorPanel {
@@ -214,7 +213,8 @@ fn y_range(panel: &FactorPanel) -> ((f64, f64), f64, Option<FloorTick>) {
 /// The positions (log10) of 2 × 10ᵏ and 5 × 10ᵏ inside `range` when it
 /// spans fewer than 3 decades, clear of the floor's label.
 fn between_decades(range: (f64, f64), floor: Option<FloorTick>) -> Vec<(f64, String)> {
-    if !(range.1 - range.0 < 3.0) {
+    let span = range.1 - range.0;
+    if span.is_nan() || span >= 3.0 {
         return Vec::new();
     }
     let (k0, k1) = (range.0.floor() as i32, range.1.ceil() as i32);
@@ -372,19 +372,21 @@ fn draw_panel<DB: DrawingBackend>(
             }
             Spread::Band => {}
             Spread::Bars => {
-                chart.draw_series(
-                    pts.iter()
-                        .map(|p| PathElement::new(vec![(p.0, p.1), (p.0, p.3)], c.stroke_width(2))),
-                )?;
+                chart
+                    .draw_series(pts.iter().map(|p| {
+                        PathElement::new(vec![(p.0, p.1), (p.0, p.3)], c.stroke_width(2))
+                    }))?;
             }
         }
         // Beside bars the line only links a method's medians: thinner.
         let width = if fig.spread == Spread::Bars { 1 } else { 2 };
-        draw_line(&mut chart, pts.iter().map(|p| (p.0, p.2)).collect(), s.style, width)?;
-        chart.draw_series(
-            pts.iter()
-                .map(|p| Circle::new((p.0, p.2), 4, c.filled())),
+        draw_line(
+            &mut chart,
+            pts.iter().map(|p| (p.0, p.2)).collect(),
+            s.style,
+            width,
         )?;
+        chart.draw_series(pts.iter().map(|p| Circle::new((p.0, p.2), 4, c.filled())))?;
     }
     Ok(())
 }
@@ -403,7 +405,10 @@ mod tests {
         let between = between_decades((-0.8, 1.2), None);
         let texts: Vec<&str> = between.iter().map(|b| b.1.as_str()).collect();
         assert_eq!(texts, ["0.2", "0.5", "2", "5"]);
-        assert_eq!(between_decades((5.5, 6.5), None)[0].1, pow_tick(5.0 + 5f64.log10()));
+        assert_eq!(
+            between_decades((5.5, 6.5), None)[0].1,
+            pow_tick(5.0 + 5f64.log10())
+        );
         assert!(between_decades((-10.0, 2.0), None).is_empty());
         let ((lo, hi), _) = x_range(&[], 2, Spread::Band);
         assert!(lo < hi);

@@ -126,8 +126,16 @@ fn budget_figure(ds: &Dataset, series: &SeriesSet, fr: &FitRuns<'_>) -> Option<P
     by_case.retain(|(_, v)| v.len() >= 2);
     let default_space =
         |name: &str| split(name).is_some_and(|c| c.space.is_none() && c.alpha.is_none());
-    if by_case.iter().any(|(n, _)| default_space(n)) {
+    let mut space_note = String::new();
+    if by_case.iter().any(|(n, _)| default_space(n))
+        && !by_case.iter().all(|(n, _)| default_space(n))
+    {
         by_case.retain(|(n, _)| default_space(n));
+        space_note = format!(
+            " The campaign also varies the search space: drawn here is the technique at its \
+             default α_size {} (the α_size figure compares the search spaces).",
+            crate::files::fmt_real(ALPHA_SIZE.default)
+        );
     }
     if by_case.is_empty() {
         return None;
@@ -176,7 +184,7 @@ fn budget_figure(ds: &Dataset, series: &SeriesSet, fr: &FitRuns<'_>) -> Option<P
              Each budget is its own set of runs (with the seeds the spec pairs across \
              budgets), so a point is a final E, not a point of one run's convergence curve \
              (convergence.png shows those). Lower is better; where two lines cross, the \
-             order of those two methods flips with the budget.{}",
+             order of those two methods flips with the budget.{space_note}{}",
             series.caption_note()
         ),
         figure: Figure::FactorLines(FactorLines {
