@@ -532,34 +532,22 @@ impl Sections {
             picks.iter().for_each(|p| md.push_str(p));
             md.push('\n');
         }
-        let answers: Vec<String> = self
-            .figures
-            .iter()
-            .filter(|p| {
-                p.page.index == 1 && plots::fit_factors::ANSWER_STEMS.contains(&p.stem.as_str())
-            })
-            .map(|p| {
+        if !self.figures.is_empty() {
+            // The figures that answer the question first, then the others.
+            let (answers, others): (Vec<&Plot>, Vec<&Plot>) = self
+                .figures
+                .iter()
+                .filter(|p| p.page.index == 1)
+                .partition(|p| plots::fit_factors::ANSWER_STEMS.contains(&p.stem.as_str()));
+            let link = |p: &&Plot| {
                 format!(
                     "[{}](plots/{}.png)",
                     crate::markdown::escape(&p.figure_heading()),
                     p.stem
                 )
-            })
-            .collect();
-        if !self.figures.is_empty() {
-            let links: Vec<String> = self
-                .figures
-                .iter()
-                .filter(|p| p.page.index == 1)
-                .filter(|p| !plots::fit_factors::ANSWER_STEMS.contains(&p.stem.as_str()))
-                .map(|p| {
-                    format!(
-                        "[{}](plots/{}.png)",
-                        crate::markdown::escape(&p.figure_heading()),
-                        p.stem
-                    )
-                })
-                .collect();
+            };
+            let answers: Vec<String> = answers.iter().map(link).collect();
+            let links: Vec<String> = others.iter().map(link).collect();
             let answer = if answers.is_empty() {
                 String::new()
             } else {

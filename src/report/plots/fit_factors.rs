@@ -109,6 +109,17 @@ fn legend(series: &SeriesSet, used: &[usize]) -> Vec<super::super::style::Legend
     series.legend(series.cells.iter().copied().filter(|c| used.contains(c)))
 }
 
+/// A panel of the median E (log axis) with no reference line.
+fn e_panel(title: String, series: Vec<FactorSeries>) -> FactorPanel {
+    FactorPanel {
+        title,
+        y_label: "median E".into(),
+        y_log: true,
+        series,
+        reference: None,
+    }
+}
+
 /// The figure of the median E against the budget per segment, one panel per
 /// case run at two budgets or more (the technique at its default α_size
 /// when the campaign also varies the search space); `None` when no case
@@ -161,13 +172,7 @@ fn budget_figure(ds: &Dataset, series: &SeriesSet, fr: &FitRuns<'_>) -> Option<P
                 .collect()
         });
         if !lines.is_empty() {
-            panels.push(FactorPanel {
-                title,
-                y_label: "median E".into(),
-                y_log: true,
-                series: lines,
-                reference: None,
-            });
+            panels.push(e_panel(title, lines));
         }
     }
     if panels.is_empty() {
@@ -361,13 +366,7 @@ fn alpha_figure(ds: &Dataset, series: &SeriesSet, fr: &FitRuns<'_>) -> Option<Pl
                 if let Some(b) = budget {
                     t.push_str(&format!(", budget {b}"));
                 }
-                panels.push(FactorPanel {
-                    title: t,
-                    y_label: "median E".into(),
-                    y_log: true,
-                    series: lines,
-                    reference: None,
-                });
+                panels.push(e_panel(t, lines));
             }
         }
     }
