@@ -2,8 +2,10 @@
 //! settings, a robustness design and a fitting study each give a
 //! `report.md` that opens with its summary and stays under 300 lines,
 //! pictures no larger than 3,000 px, at most the best and default setting
-//! of each grid in a figure, and one fixed colour per algorithm. (The
-//! implant's report is checked in `tests/implant.rs`.)
+//! of each grid in a figure, and one fixed colour per algorithm; a fitting
+//! campaign over a budget ladder and one over α_size each get the figure
+//! that answers its question, and only then. (The implant's report is
+//! checked in `tests/implant.rs`, its figure in `tests/implant_figures.rs`.)
 
 mod common;
 
@@ -192,4 +194,110 @@ fn a_fitting_study_reads_on_a_screen_in_its_own_vocabulary() {
         "benchmark vocabulary in a fitting report"
     );
     assert!(md.contains("Final error E"), "{md}");
+    // One budget and one search space: neither answer figure of chapter 5.
+    for stem in ["fit_budget", "fit_alpha_size"] {
+        assert!(!dir.join(format!("plots/{stem}.png")).exists(), "{stem}");
+        assert!(!md.contains(&format!("plots/{stem}.png")), "{stem}");
+    }
+}
+
+/// The `## Summary` of a report.
+fn summary(md: &str) -> &str {
+    &md[md.find("## Summary").unwrap()..md.find("## Plots").unwrap()]
+}
+
+/// A reduced ch5_mhs: one outline in the per-segment mode at two budgets
+/// per segment, HS (also tuned), PSO and MHS.
+fn budget_ladder(extra_fit: &str, budget: &str) -> String {
+    let coin = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/outlines/coin.png");
+    format!(
+        "[experiment]\nname = \"ladder\"\nseed = 2014\nruns = 3\nthreshold = 0\n\n\
+         [[fit]]\ninput = \"{}\"\nfunction = \"rational-cubic\"\ncontinuity = \"g1\"\n\
+         budget = {budget}\nsegments = 8\nmode = \"per-segment\"\nclosing = \"smooth\"\n{extra_fit}\n\
+         [[algorithm]]\nname = \"hs\"\nlabel = \"HS\"\n\n\
+         [[algorithm]]\nname = \"pso\"\nlabel = \"PSO\"\n\n\
+         [[algorithm]]\nname = \"mhs\"\nlabel = \"MHS\"\n\n\
+         [[algorithm]]\nname = \"hs\"\nlabel = \"HS-tuned\"\nhms = 20\nhmcr = 0.99\nbw = 0.01\n",
+        coin.display()
+    )
+}
+
+#[test]
+fn a_budget_ladder_gets_median_e_against_the_budget() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = campaign(tmp.path(), "ladder", &budget_ladder("", "[200, 600]"));
+    let faults = common::unreadable(&dir);
+    assert!(faults.is_empty(), "{faults:?}");
+    let md = read(&dir.join("report.md"));
+    assert!(
+        summary(&md).contains("The figure that answers the question: [Median E against the budget per segment](plots/fit_budget.png)"),
+        "{md}"
+    );
+    assert!(md.contains("### Median E against the budget per segment"));
+    let (w, h) = common::png_size(&dir.join("plots/fit_budget.png"));
+    assert!(w <= 3000 && h <= 3000, "{w} × {h}");
+    let svg = read(&dir.join("plots/fit_budget.svg"));
+    for text in [
+        "coin: rational-cubic G1, 8 segments",
+        "evaluations per segment (log scale)",
+        "median E (log scale)",
+        "HS-tuned",
+    ] {
+        assert!(svg.contains(text), "no {text:?} in fit_budget.svg");
+    }
+    for tick in ["200", "600"] {
+        assert!(svg.lines().any(|l| l.trim() == tick), "no tick {tick}");
+    }
+    // The optimisers' own colours: HS blue (HS-tuned too, dashed), PSO
+    // orange, MHS vermillion.
+    for colour in ["#0072B2", "#E69F00", "#D55E00"] {
+        assert!(svg.contains(colour), "no {colour}");
+    }
+    // One point per method and budget: 4 methods × 2 budgets.
+    let dots = svg.matches("<circle").count();
+    assert_eq!(dots, 8, "{dots} points");
+    // No α_size factor: no α_size figure.
+    assert!(!dir.join("plots/fit_alpha_size.png").exists());
+}
+
+#[test]
+fn an_alpha_size_design_gets_e_against_the_bounding_box() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = budget_ladder(
+        "search_space = [\"technique\", \"bounding-box\"]\nalpha_size = [0.1, 0.25, 0.5]\n",
+        "300",
+    )
+    .replace("name = \"ladder\"", "name = \"alpha\"")
+    .replace(
+        "threshold = 0\n",
+        "threshold = 0\npaired = [\"search_space\", \"alpha_size\"]\n",
+    );
+    let dir = campaign(tmp.path(), "alpha", &text);
+    let faults = common::unreadable(&dir);
+    assert!(faults.is_empty(), "{faults:?}");
+    let md = read(&dir.join("report.md"));
+    assert!(
+        summary(&md).contains("[E per α_size against the bounding box](plots/fit_alpha_size.png)"),
+        "{md}"
+    );
+    let (w, h) = common::png_size(&dir.join("plots/fit_alpha_size.png"));
+    assert!(w <= 3000 && h <= 3000, "{w} × {h}");
+    let svg = read(&dir.join("plots/fit_alpha_size.svg"));
+    for text in [
+        "rational-cubic G1",
+        "α_size (log scale)",
+        "E (technique) / E (bounding box) (log scale)",
+        "bounding box",
+    ] {
+        assert!(svg.contains(text), "no {text:?} in fit_alpha_size.svg");
+    }
+    for tick in ["0.1", "0.25", "0.5"] {
+        assert!(svg.lines().any(|l| l.trim() == tick), "no tick {tick}");
+    }
+    // One budget: the panel names none.
+    assert!(!svg.contains("per segment"));
+    // 4 methods × 3 values of α_size.
+    assert_eq!(svg.matches("<circle").count(), 12);
+    // One budget: no budget figure.
+    assert!(!dir.join("plots/fit_budget.png").exists());
 }

@@ -435,6 +435,208 @@ pub fn preview_png(
     Ok(canvas.png()?)
 }
 
+/// The file stem of the figure of Dice and HD95 per method and width
+/// (`validation_dice_hd95.png` and `.svg`).
+pub const VALIDATION_FIGURE: &str = "validation_dice_hd95";
+
+/// One successful reconstruction of a validation case: (method, width in
+/// mm, Dice, HD95 in mm).
+pub type Scored<'a> = (&'a str, f64, f64, f64);
+
+/// The figure that answers chapter 6's question, as files and as the
+/// section of `report.md` that shows it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ValidationFigure {
+    /// `validation_dice_hd95.png`.
+    pub png: Vec<u8>,
+    /// `validation_dice_hd95.svg` (inlined by `report.html`).
+    pub svg: Vec<u8>,
+    /// The section of `report.md` that shows the figure with its caption.
+    pub section: String,
+}
+
+/// The style of a reconstruction method in the figures: a curve fit
+/// (`curve:mhs`, `curve:mhs+lm`) in its optimiser's fixed colour, dashed
+/// for a hybrid, as in every report ([`crate::report::style`]); the
+/// baselines (`template`, `straight`) in Tol's muted colours, in order.
+fn method_styles(methods: &[String]) -> Vec<crate::report::style::SeriesStyle> {
+    use crate::report::style::{base_colour, label_colours, SeriesStyle};
+    let baselines: Vec<&str> = methods
+        .iter()
+        .filter(|m| !m.starts_with("curve:"))
+        .map(String::as_str)
+        .collect();
+    let mut others = label_colours(&baselines).into_iter();
+    methods
+        .iter()
+        .map(|m| match m.strip_prefix("curve:") {
+            Some(opt) => SeriesStyle {
+                colour: base_colour(opt.split('+').next().unwrap_or(opt)),
+                dashed: opt.contains('+'),
+            },
+            None => SeriesStyle::solid(others.next().unwrap_or(BLACK_RGB)),
+        })
+        .collect()
+}
+
+/// Black, for a style that has no colour of its own.
+const BLACK_RGB: plotters::style::RGBColor = plotters::style::RGBColor(0, 0, 0);
+
+/// The figure of Dice and HD95 (mm) per method and defect width: for each
+/// validation that ran (`two_d`, slice by slice, from `validation.csv`;
+/// `three_d`, in 3D, from `validation_3d.csv`), a Dice panel and an HD95
+/// panel; at each width (mm) the median over the cases and runs of every
+/// method in `methods` (in their order) with a bar over its interquartile
+/// range (type-7 quantiles), the methods side by side. A reconstruction
+/// without a finite HD95 (an empty implant) is left out of the HD95 panel
+/// and counted in the caption. `None` when no validation row succeeded.
+pub fn validation_figure(
+    methods: &[String],
+    two_d: &[Scored<'_>],
+    three_d: &[Scored<'_>],
+) -> Result<Option<ValidationFigure>, ImplantError> {
+    use crate::report::plots::factor_lines::{FactorLines, FactorPanel, FactorSeries, Spread};
+    let styles = method_styles(methods);
+    let mut panels = Vec::new();
+    let mut legend_used = vec![false; methods.len()];
+    let mut no_hd95 = 0usize;
+    for (scope, rows) in [
+        ("slice by slice (validation.csv)", two_d),
+        ("in 3D (validation_3d.csv)", three_d),
+    ] {
+        if rows.is_empty() {
+            continue;
+        }
+        let mut widths: Vec<f64> = rows.iter().map(|r| r.1).filter(|w| w.is_finite()).collect();
+        widths.sort_by(f64::total_cmp);
+        widths.dedup();
+        for (metric, label, pick) in [
+            ("Dice", "Dice (larger is better)", 2usize),
+            ("HD95", "HD95 mm (smaller is better)", 3),
+        ] {
+            let mut series = Vec::new();
+            for (i, m) in methods.iter().enumerate() {
+                let points: Vec<(f64, f64, f64, f64)> = widths
+                    .iter()
+                    .filter_map(|&w| {
+                        let v: Vec<f64> = rows
+                            .iter()
+                            .filter(|r| r.0 == m && r.1 == w)
+                            .map(|r| if pick == 2 { r.2 } else { r.3 })
+                            .collect();
+                        let finite: Vec<f64> =
+                            v.iter().copied().filter(|x| x.is_finite()).collect();
+                        if pick == 3 {
+                            no_hd95 += v.len() - finite.len();
+                        }
+                        let s = crate::stats::summarize(&finite).ok()?;
+                        Some((w, s.q1, s.median, s.q3))
+                    })
+                    .collect();
+                if !points.is_empty() {
+                    legend_used[i] = true;
+                    series.push(FactorSeries {
+                        style: styles[i],
+                        points,
+                    });
+                }
+            }
+            if !series.is_empty() {
+                panels.push(FactorPanel {
+                    title: format!("{metric}, {scope}"),
+                    y_label: label.into(),
+                    y_log: false,
+                    series,
+                    reference: None,
+                });
+            }
+        }
+    }
+    if panels.is_empty() {
+        return Ok(None);
+    }
+    let legend = methods
+        .iter()
+        .zip(&styles)
+        .zip(&legend_used)
+        .filter(|(_, used)| **used)
+        .map(|((m, s), _)| (m.clone(), *s))
+        .collect();
+    let figure = FactorLines {
+        title: "Dice and HD95 per method and defect width (bar: interquartile range)".into(),
+        legend,
+        x_label: "defect width (mm)".into(),
+        x_log: false,
+        spread: Spread::Bars,
+        columns: 2,
+        panels,
+    };
+    let (svg, png) = crate::report::render::draw_in_memory(&figure).map_err(|e| {
+        ImplantError::Ct(crate::ct::CtError::Draw {
+            message: format!("{VALIDATION_FIGURE}: {}", e.0),
+        })
+    })?;
+    let mut caption = String::from(
+        "Dice of the implant and the removed bone (larger is better) and HD95, the 95th \
+         percentile of the surface distances in mm (smaller is better), of every method at \
+         each defect width (mm): the point is the median over the validation cases (slices \
+         or slice ranges, and positions) and the runs of a stochastic method, the bar the \
+         interquartile range (25 % to 75 %, type-7 quantiles); the methods are set side by \
+         side at each width. template: the mirrored template; straight: the straight \
+         bridge; curve:<method>: the curve-fitted wall, in the method's colour of every \
+         report. The verdicts across independent units are in the sections above and in \
+         verdicts.csv.",
+    );
+    if no_hd95 > 0 {
+        caption.push_str(&format!(
+            " {no_hd95} reconstruction(s) without a finite HD95 (an empty implant) are left \
+             out of the HD95 panels."
+        ));
+    }
+    let section = format!(
+        "## Dice and HD95 per method and width\n\n![Dice and HD95 per method and width]({VALIDATION_FIGURE}.png)\n\n{caption}\n\n"
+    );
+    Ok(Some(ValidationFigure {
+        png,
+        svg: svg.into_bytes(),
+        section,
+    }))
+}
+
+/// [`validation_figure`] of the rows of a run of `spec`: the baselines and
+/// then every curve method of its validations, in the spec's order; the
+/// successful rows of `validation.csv` (`two_d`) and `validation_3d.csv`
+/// (`three_d`).
+pub fn validation_figure_of(
+    spec: &super::spec::ImplantSpec,
+    two_d: &[super::validation::ValidationRow],
+    three_d: &[super::validation3d::Row3d],
+) -> Result<Option<ValidationFigure>, ImplantError> {
+    let mut methods = vec!["template".to_string(), "straight".to_string()];
+    let curves = spec.validation.iter().flat_map(|v| &v.methods);
+    for m in curves.chain(spec.validation_3d.iter().flat_map(|v| &v.methods)) {
+        let name = format!("curve:{}", m.name());
+        if !methods.contains(&name) {
+            methods.push(name);
+        }
+    }
+    let rows_2d: Vec<Scored<'_>> = two_d
+        .iter()
+        .filter_map(|r| {
+            let m = r.metrics.as_ref().ok()?;
+            Some((r.method.as_str(), r.case.width_mm, m.dice, m.hd95))
+        })
+        .collect();
+    let rows_3d: Vec<Scored<'_>> = three_d
+        .iter()
+        .filter_map(|r| {
+            let m = r.metrics.as_ref().ok()?;
+            Some((r.method.as_str(), r.case.width_mm, m.dice, m.hd95))
+        })
+        .collect();
+    validation_figure(&methods, &rows_2d, &rows_3d)
+}
+
 /// The length of a scale bar for a view of `mm_per_px` millimetres per
 /// pixel and `size` pixels: the largest of 1, 2, 5 × 10ᵏ mm that spans at
 /// most a quarter of the view; `None` for a view without a scale.

@@ -16,7 +16,7 @@ use std::time::Instant;
 
 use super::checks::check_inputs;
 use super::pipeline::{reconstruct_defect, resolve_midline, slice_index, ImplantError};
-use super::render::{overlay_png, preview_png};
+use super::render::{overlay_png, preview_png, validation_figure_of, VALIDATION_FIGURE};
 use super::spec::{ImplantSpec, Validation3dSpec, ValidationSpec};
 use super::tables::{
     defect_csv, defect_report, report_header, report_summary, slices_off_target, validation_csv,
@@ -123,11 +123,18 @@ pub fn run_implant(spec: &ImplantSpec, out: &Path) -> Result<RunSummary, Implant
     if spec.run_defect {
         pipeline = Some(run_defect(spec, &volume, t0, &mut outputs)?);
     }
+    let mut rows_2d = Vec::new();
     if let Some(val) = &spec.validation {
-        run_validation(spec, val, &volume, &mut outputs)?;
+        rows_2d = run_validation(spec, val, &volume, &mut outputs)?;
     }
+    let mut rows_3d = Vec::new();
     if let Some(val) = &spec.validation_3d {
-        run_validation_3d(spec, val, &volume, &mut outputs)?;
+        rows_3d = run_validation_3d(spec, val, &volume, &mut outputs)?;
+    }
+    if let Some(f) = validation_figure_of(spec, &rows_2d, &rows_3d)? {
+        outputs.add(&format!("{VALIDATION_FIGURE}.png"), f.png);
+        outputs.add(&format!("{VALIDATION_FIGURE}.svg"), f.svg);
+        outputs.report.push_str(&f.section);
     }
     if !outputs.verdicts.is_empty() {
         let verdicts = verdicts_csv(&outputs.verdicts);
@@ -200,13 +207,13 @@ fn run_defect(
 }
 
 /// The artificial-defect validation: `validation.csv`, its time and the
-/// report's section.
+/// report's section; returns its rows (for the figure).
 fn run_validation(
     spec: &ImplantSpec,
     val: &ValidationSpec,
     volume: &Volume,
     outputs: &mut Outputs,
-) -> Result<(), ImplantError> {
+) -> Result<Vec<ValidationRow>, ImplantError> {
     let t1 = Instant::now();
     let rows = validation_rows(spec, val, volume)?;
     let _ = writeln!(
@@ -218,18 +225,19 @@ fn run_validation(
     let verdicts = validation_report(&mut outputs.report, val, &rows);
     outputs.verdicts.extend(verdicts);
     outputs.summary.validation_rows = rows.len();
-    Ok(())
+    Ok(rows)
 }
 
 /// The 3D validation: `validation_3d.csv`, its time and the report's
 /// section. A patch that cannot be cut or prepared is a failed row for
 /// every method ([`ImplantError::CaseNotBuilt`]) and the run goes on.
+/// Returns its rows (for the figure).
 fn run_validation_3d(
     spec: &ImplantSpec,
     val: &Validation3dSpec,
     volume: &Volume,
     outputs: &mut Outputs,
-) -> Result<(), ImplantError> {
+) -> Result<Vec<Row3d>, ImplantError> {
     let t1 = Instant::now();
     let (midline, _) = resolve_midline(volume, &spec.defect_config)?;
     let mut rows = Vec::new();
@@ -269,7 +277,7 @@ fn run_validation_3d(
     let verdicts = validation_3d_report(&mut outputs.report, val, &rows);
     outputs.verdicts.extend(verdicts);
     outputs.summary.validation_3d_rows = rows.len();
-    Ok(())
+    Ok(rows)
 }
 
 /// The rows of one prepared 3D case ([`method_runs`]).

@@ -148,6 +148,14 @@ pub fn report_summary(verdicts: &[VerdictRow], pictures: &[String]) -> String {
         }
         s.push_str("\nEvery verdict, per width and slice range too, is in `verdicts.csv`.\n\n");
     }
+    if let Some(p) = pictures
+        .iter()
+        .find(|p| p.strip_suffix(".png") == Some(super::render::VALIDATION_FIGURE))
+    {
+        s.push_str(&format!(
+            "The figure that answers the question: [Dice and HD95 per method and width]({p}).\n\n"
+        ));
+    }
     if !pictures.is_empty() {
         let links: Vec<String> = pictures
             .iter()

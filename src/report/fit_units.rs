@@ -25,14 +25,14 @@ use crate::fit::ALPHA_SIZE;
 use crate::stats::{holm_bonferroni, median, Mark, Verdict, VerdictRow};
 
 /// A segment of a source: (source, contour, segment).
-type Unit = (String, String, String);
+pub(super) type Unit = (String, String, String);
 
 /// The E of every run of one (problem, cell) per segment: unit → E by run.
-type UnitRuns = BTreeMap<Unit, Vec<f64>>;
+pub(super) type UnitRuns = BTreeMap<Unit, Vec<f64>>;
 
 /// The segment E's of the runs of cell `c` on problem `p`, by segment
 /// (rows in the layout of [`FIT_SEGMENT_HEADER`]).
-fn unit_runs(fr: &FitRuns<'_>, p: usize, c: usize) -> Option<UnitRuns> {
+pub(super) fn unit_runs(fr: &FitRuns<'_>, p: usize, c: usize) -> Option<UnitRuns> {
     let sse = FIT_SEGMENT_HEADER.iter().position(|h| *h == "sse")?;
     let source = split(&fr.problems[p].name)?.source.to_owned();
     let mut runs: Vec<_> = fr.runs.get(&(p, c))?.clone();

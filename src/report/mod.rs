@@ -29,11 +29,11 @@ mod html;
 mod integrity;
 mod markdown;
 mod overlay;
-mod plots;
+pub(crate) mod plots;
 pub(crate) mod render;
 mod robustness;
 mod significance;
-mod style;
+pub(crate) mod style;
 mod tuning;
 mod verdicts;
 
@@ -533,19 +533,35 @@ impl Sections {
             md.push('\n');
         }
         if !self.figures.is_empty() {
-            let links: Vec<String> = self
+            // The figures that answer the question first, then the others.
+            let (answers, others): (Vec<&Plot>, Vec<&Plot>) = self
                 .figures
                 .iter()
                 .filter(|p| p.page.index == 1)
-                .map(|p| {
-                    format!(
-                        "[{}](plots/{}.png)",
-                        crate::markdown::escape(&p.figure_heading()),
-                        p.stem
-                    )
-                })
-                .collect();
-            md.push_str(&format!("Figures: {}.\n\n", links.join(", ")));
+                .partition(|p| plots::fit_factors::ANSWER_STEMS.contains(&p.stem.as_str()));
+            let link = |p: &&Plot| {
+                format!(
+                    "[{}](plots/{}.png)",
+                    crate::markdown::escape(&p.figure_heading()),
+                    p.stem
+                )
+            };
+            let answers: Vec<String> = answers.iter().map(link).collect();
+            let links: Vec<String> = others.iter().map(link).collect();
+            let answer = if answers.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    "The figure that answers the question: {}. ",
+                    answers.join("; ")
+                )
+            };
+            let others = match (answers.is_empty(), links.is_empty()) {
+                (_, true) => String::new(),
+                (true, false) => format!("Figures: {}.", links.join(", ")),
+                (false, false) => format!("Other figures: {}.", links.join(", ")),
+            };
+            md.push_str(&format!("{}\n\n", format!("{answer}{others}").trim_end()));
         }
         if !self.faults.is_empty() {
             md.push_str(&markdown::paragraph(&format!(
@@ -784,6 +800,12 @@ fn sections(
         figures.extend(f.figures);
         notes.extend(f.notes);
         fitting = f.tables;
+    }
+    if let Some(fr) = fits.as_ref() {
+        // The figures that answer the chapter's question come first.
+        let series = plots::SeriesSet::of(ds, &stats);
+        let answers = plots::fit_factors::figures(ds, &series, fr);
+        figures.splice(0..0, answers);
     }
     let targets = default_targets();
     let anytime = anytime::art_table(ds, &targets, best.as_ref())

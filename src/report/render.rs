@@ -82,6 +82,28 @@ pub(crate) fn save<F: Draw>(
     Ok(vec![svg_path, png_path])
 }
 
+/// `figure` drawn in memory: its SVG text and its PNG bytes (the same
+/// drawing as [`save`], for outputs that are written later together, such
+/// as the implant's staged files).
+pub(crate) fn draw_in_memory<F: Draw>(figure: &F) -> Result<(String, Vec<u8>), PlotError> {
+    ensure_font().map_err(|e| PlotError(e.to_string()))?;
+    let (w, h) = figure.size();
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
+        figure.draw(&root)?;
+        root.present()?;
+    }
+    let mut rgb = vec![255u8; w as usize * h as usize * 3];
+    {
+        let root = GlyphBackend(BitMapBackend::with_buffer(&mut rgb, (w, h))).into_drawing_area();
+        figure.draw(&root)?;
+        root.present()?;
+    }
+    let png = crate::ct::render::encode_png(&rgb, w, h).map_err(|e| PlotError(e.to_string()))?;
+    Ok((svg, png))
+}
+
 /// The viridis colour map at `t` ∈ [0, 1] (linear between 9 samples).
 pub(crate) fn viridis(t: f64) -> RGBColor {
     const STOPS: [(u8, u8, u8); 9] = [

@@ -10,6 +10,8 @@
 mod boxes;
 mod convergence;
 mod ecdf;
+pub(crate) mod factor_lines;
+pub(crate) mod fit_factors;
 mod heat_map;
 mod layout;
 mod scalability;
@@ -125,6 +127,9 @@ pub(crate) enum Figure {
     Overlay(crate::reconstruction::OverlayFigure),
     /// Verdicts against the reference per design point.
     Verdicts(VerdictMap),
+    /// A measure's median and interquartile range over a design factor's
+    /// levels, one line per method.
+    FactorLines(factor_lines::FactorLines),
 }
 
 impl Draw for Figure {
@@ -137,6 +142,7 @@ impl Draw for Figure {
             Figure::Heat(f) => f.size(),
             Figure::Overlay(f) => f.size(),
             Figure::Verdicts(f) => f.size(),
+            Figure::FactorLines(f) => f.size(),
         }
     }
 
@@ -149,6 +155,7 @@ impl Draw for Figure {
             Figure::Heat(f) => f.draw(root),
             Figure::Overlay(f) => f.draw(root),
             Figure::Verdicts(f) => f.draw(root),
+            Figure::FactorLines(f) => f.draw(root),
         }
     }
 }
@@ -213,6 +220,11 @@ fn paginate(plot: Plot) -> Vec<Plot> {
             .map(Figure::Convergence)
             .collect(),
         Figure::Boxes(f) => f.pages(MAX_SIDE).into_iter().map(Figure::Boxes).collect(),
+        Figure::FactorLines(f) => f
+            .pages(MAX_SIDE)
+            .into_iter()
+            .map(Figure::FactorLines)
+            .collect(),
         Figure::Scalability(f) => f
             .pages(MAX_SIDE)
             .into_iter()
