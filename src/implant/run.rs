@@ -23,7 +23,9 @@ use super::tables::{
     validation_report, verdicts_csv,
 };
 use super::tables3d::{validation_3d_csv, validation_3d_report};
-use super::validation::{evaluate, prepare_case, Case, CaseError, PreparedCase, ValidationRow};
+use super::validation::{
+    case_template_source, evaluate, prepare_case, Case, CaseError, PreparedCase, ValidationRow,
+};
 use super::validation3d::{evaluate_3d, prepare_case_3d, Case3d, Prepared3d, Row3d};
 use super::wall::WallKind;
 use crate::ct::{read_dicom_dir, read_inv3, stl_bytes, Volume};
@@ -254,6 +256,8 @@ fn run_validation_3d(
                             run,
                             seed,
                             metrics,
+                            template_source: String::new(),
+                            half_width_deg: f64::NAN,
                         }));
                     }
                 }
@@ -283,6 +287,8 @@ fn case_rows_3d(spec: &ImplantSpec, val: &Validation3dSpec, p: &Prepared3d, rows
         run,
         seed,
         metrics,
+        template_source: p.template_sources(),
+        half_width_deg: p.half_width_deg,
     }));
 }
 
@@ -352,6 +358,7 @@ fn validation_rows(
                                 metrics: Err(CaseError::NotBuilt(e.clone())),
                                 fit_error: f64::NAN,
                                 join_deg: (f64::NAN, f64::NAN),
+                                template_source: None,
                             }
                         }));
                     }
@@ -371,6 +378,7 @@ fn case_rows(
     rows: &mut Vec<ValidationRow>,
 ) {
     let wall = &spec.defect_config.wall;
+    let template_source = Some(case_template_source(prepared, wall));
     let runs = method_runs(spec.seed, &val.methods, val.runs, |kind, solver| {
         evaluate(prepared, kind, wall, val.margin_mm, solver)
     });
@@ -385,6 +393,7 @@ fn case_rows(
                 metrics,
                 fit_error,
                 join_deg,
+                template_source,
             },
         ),
     );

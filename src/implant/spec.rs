@@ -21,6 +21,7 @@
 //! max_thickness_mm = 15     # cap on the implant thickness
 //! max_thickness_step_mm = 0.5   # thickness change between adjacent slices
 //! smooth_slices = 2         # outer-wall smoothing half-width (0: off)
+//! template_source = "auto"  # auto (mirror; continuation across the midline), mirror, continuation
 //!
 //! [defect]                  # the real defect (optional)
 //! slices = [56, 84]         # first and last slice (original numbering; [z, z]: one slice)
@@ -60,6 +61,7 @@ use std::path::{Path, PathBuf};
 
 use toml::de::DeValue;
 
+use super::continuation::TemplateChoice;
 use super::pipeline::{DefectConfig, Ends, MidlineSpec, SliceSpec, Smoothing};
 use super::template::read_templates;
 use super::wall::WallOptions;
@@ -135,7 +137,7 @@ pub struct ImplantSpec {
     pub validation_3d: Option<Validation3dSpec>,
 }
 
-const IMPLANT_KEYS: [&str; 19] = [
+const IMPLANT_KEYS: [&str; 20] = [
     "volume",
     "first_z",
     "threshold",
@@ -155,6 +157,7 @@ const IMPLANT_KEYS: [&str; 19] = [
     "max_thickness_mm",
     "max_thickness_step_mm",
     "smooth_slices",
+    "template_source",
 ];
 const DEFECT_KEYS: [&str; 7] = [
     "slices",
@@ -512,8 +515,10 @@ impl Parser<'_> {
         })
     }
 
-    /// `implant.function` and `implant.continuity` on the default wall
-    /// options with `budget`.
+    /// `implant.function`, `implant.continuity` and
+    /// `implant.template_source` (default `auto`, unlike the library's
+    /// [`WallOptions::default`], which is the thesis's mirror) on the
+    /// default wall options with `budget`.
     fn wall_options(&self, imp: &Table<'_>, budget: u64) -> Result<WallOptions, SpecError> {
         let mut wall = WallOptions {
             budget,
@@ -546,6 +551,22 @@ impl Parser<'_> {
                 )
             })?;
         }
+        wall.template = match self.get(imp, "template_source") {
+            None => TemplateChoice::Auto,
+            Some(v) => {
+                let s = self.string(v, "implant.template_source")?;
+                TemplateChoice::from_name(&s).ok_or_else(|| {
+                    self.error(
+                        v.span(),
+                        "implant.template_source",
+                        format!(
+                            "unknown template source \"{s}\"; valid choices: {} (\"auto\": the mirror, and the continuation of both sides where a defect crosses the midline; an explicit template file is `[defect] template`)",
+                            quoted(&TemplateChoice::NAMES)
+                        ),
+                    )
+                })?
+            }
+        };
         Ok(wall)
     }
 

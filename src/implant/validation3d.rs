@@ -16,6 +16,7 @@
 //! volume, and the pipeline runs on that copy with A and B given at the
 //! cut's outer corners.
 
+use super::continuation::source_for;
 use super::pipeline::{
     index_of, reconstruct_from, slice_context, DefectConfig, Ends, Implant, ImplantError,
     SliceContext, SliceSpec,
@@ -54,6 +55,34 @@ pub struct Prepared3d {
     pub midline: MidLine,
     /// The pipeline configuration (the range's slices, the midline given).
     pub config: DefectConfig,
+    /// The half-width (degrees about the polar centre) of the widest cut
+    /// slice's wedge: the patch covers `position ± half_width_deg`.
+    pub half_width_deg: f64,
+}
+
+impl Prepared3d {
+    /// The template sources of the patch's slices under the configuration's
+    /// wall options ([`super::continuation::source_for`]): `mirror`,
+    /// `continuation`, or both joined by `+` when the slices differ.
+    pub fn template_sources(&self) -> String {
+        let mut names: Vec<&str> = self
+            .contexts
+            .iter()
+            .map(|c| {
+                source_for(
+                    c.ends.0,
+                    c.ends.1,
+                    &self.midline,
+                    false,
+                    self.config.wall.template,
+                )
+                .name()
+            })
+            .collect();
+        names.sort_unstable();
+        names.dedup();
+        names.join("+")
+    }
 }
 
 /// The patch's width on a slice at `dz` slices from the range's middle.
@@ -63,7 +92,8 @@ fn patch_width(case: &Case3d, dz: f64) -> f64 {
 }
 
 /// Cuts slice `k` of `data` (the volume's samples) for the case: returns
-/// the ends A, B (mm); marks the removed voxels in `truth`.
+/// the ends A, B (mm) and the wedge's half-width (radians); marks the
+/// removed voxels in `truth`.
 fn cut_slice(
     volume: &Volume,
     data: &mut [i16],
@@ -72,7 +102,7 @@ fn cut_slice(
     (theta, width): (f64, f64),
     midline: &MidLine,
     threshold: i16,
-) -> Result<(Point, Point), CtError> {
+) -> Result<(Point, Point, f64), CtError> {
     let slice = volume.slice(k);
     let (sx, sy, nx) = (slice.sx, slice.sy, slice.nx);
     let (mask, outer, centre) = outer_loop(&slice, threshold, midline)?;
@@ -98,7 +128,7 @@ fn cut_slice(
     if removed == 0 {
         return Err(CtError::CutRemovedNoBone);
     }
-    Ok((pt(t1)?, pt(t2)?))
+    Ok((pt(t1)?, pt(t2)?, half))
 }
 
 /// Cuts the case's patch out of `volume` and prepares the slice contexts
@@ -115,10 +145,11 @@ pub fn prepare_case_3d(
     let mid = 0.5 * (case.range.0 + case.range.1) as f64;
     let theta = case.position_deg.to_radians();
     let mut slices = Vec::new();
+    let mut widest = 0.0f64;
     for z in case.range.0..=case.range.1 {
         let k = index_of(cfg, volume, z)?;
         let w = patch_width(&case, z as f64 - mid);
-        let (a, b) = cut_slice(
+        let (a, b, half) = cut_slice(
             volume,
             &mut data,
             &mut truth,
@@ -128,6 +159,7 @@ pub fn prepare_case_3d(
             cfg.threshold,
         )
         .map_err(|source| ImplantError::on_slice(z, source))?;
+        widest = widest.max(half);
         slices.push(SliceSpec {
             z,
             ends: Ends::Mm { a, b },
@@ -152,6 +184,7 @@ pub fn prepare_case_3d(
         contexts,
         midline,
         config,
+        half_width_deg: widest.to_degrees(),
     })
 }
 
@@ -255,6 +288,13 @@ pub struct Row3d {
     pub seed: u64,
     /// The metrics, or why the reconstruction failed.
     pub metrics: Result<Metrics3d, ImplantError>,
+    /// The template sources of the patch's slices
+    /// ([`Prepared3d::template_sources`]; empty when the patch was not
+    /// built).
+    pub template_source: String,
+    /// The patch's half-width in degrees ([`Prepared3d::half_width_deg`];
+    /// NaN when the patch was not built).
+    pub half_width_deg: f64,
 }
 
 /// Reconstructs a prepared case with walls of `kind` by the whole pipeline
