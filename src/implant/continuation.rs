@@ -54,8 +54,10 @@ use crate::linalg::cholesky_solve;
 /// (`[implant] template_source`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum TemplateChoice {
-    /// The mirror technique where it applies, the continuation where the
-    /// defect crosses the mid-sagittal line (the spec's default).
+    /// The mirror technique where it applies, the continuation where it
+    /// cannot serve: a defect across the mid-sagittal line, or one next to
+    /// it whose mirrored end falls into the gap ([`template_for`]; the
+    /// spec's default).
     Auto,
     /// The mirror technique only (thesis chapter 6): a defect across the
     /// midline is refused ([`CtError::DefectCrossesMidline`]). The library
@@ -112,17 +114,22 @@ pub fn crosses_midline(a: Point, b: Point, line: &MidLine) -> bool {
     line.side(a) * line.side(b) <= 0.0
 }
 
-/// The template a wall across the defect `a`–`b` is fitted to: the explicit
-/// file when there is one, else the continuation when `choice` forces it or
-/// (`Auto`) the defect crosses the midline, else the mirror.
+/// The template a wall across the defect `a`–`b` is fitted to, as far as
+/// it can be told before the design: the explicit file when there is one,
+/// else the continuation when `options.template` forces it or (`Auto`) the
+/// defect crosses the midline ([`crosses_midline`]), else the mirror. Under
+/// `Auto` a mirror that then cannot serve the defect (its mirrored end C
+/// or D falls into the gap, which happens next to the midline when a seat
+/// moves across it) still gives way to the continuation ([`template_for`]);
+/// [`super::wall::OuterDesign::template_source`] says what was used.
 pub fn source_for(
     a: Point,
     b: Point,
     line: &MidLine,
     has_file: bool,
-    choice: TemplateChoice,
+    options: &WallOptions,
 ) -> TemplateSource {
-    match choice {
+    match options.template {
         _ if has_file => TemplateSource::File,
         TemplateChoice::Continuation => TemplateSource::Continuation,
         TemplateChoice::Auto if crosses_midline(a, b, line) => TemplateSource::Continuation,
@@ -130,14 +137,14 @@ pub fn source_for(
     }
 }
 
-/// [`source_for`] of a wall input under `options.template`.
+/// [`source_for`] of a wall input under `options`.
 pub fn template_source(input: &WallInput<'_>, options: &WallOptions) -> TemplateSource {
     source_for(
         input.a,
         input.b,
         &input.midline,
         input.template.is_some(),
-        options.template,
+        options,
     )
 }
 
@@ -288,6 +295,43 @@ pub(crate) fn continuation_template(
     data[0] = a;
     data[n - 1] = b;
     Ok((WallEnds { a, b, c: a, d: b }, data))
+}
+
+/// The wall's ends and fit data (A′ first, B′ last) and where they came
+/// from: the continuation when [`template_source`] says so; otherwise the
+/// mirror (or the explicit file) — and under [`TemplateChoice::Auto`], when
+/// the mirror cannot serve the gap because a mirrored end (C or D) is not
+/// on the contour or too few mirrored rays meet it, the continuation.
+pub(crate) fn template_for(
+    gap: &Gap<'_>,
+    input: &WallInput<'_>,
+    options: &WallOptions,
+) -> Result<(WallEnds, Vec<Point>, TemplateSource), CtError> {
+    let source = template_source(input, options);
+    if source == TemplateSource::Continuation {
+        let (ends, data) = continuation_template(gap, options)?;
+        return Ok((ends, data, source));
+    }
+    let mirrored = gap
+        .ends(options.mirror_tolerance_mm)
+        .and_then(|ends| Ok((ends, gap.template(&ends, options)?)));
+    let mirror_failed = |e: &CtError| match e {
+        CtError::NotOnContour { what, .. } => what.starts_with('C') || what.starts_with('D'),
+        CtError::TemplateNotCovered { .. } => true,
+        _ => false,
+    };
+    match mirrored {
+        Ok((ends, data)) => Ok((ends, data, source)),
+        Err(e)
+            if options.template == TemplateChoice::Auto
+                && source == TemplateSource::Mirror
+                && mirror_failed(&e) =>
+        {
+            let (ends, data) = continuation_template(gap, options)?;
+            Ok((ends, data, TemplateSource::Continuation))
+        }
+        Err(e) => Err(e),
+    }
 }
 
 #[cfg(test)]

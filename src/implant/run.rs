@@ -281,14 +281,18 @@ fn case_rows_3d(spec: &ImplantSpec, val: &Validation3dSpec, p: &Prepared3d, rows
     let runs = method_runs(spec.seed, &val.methods, val.runs, |kind, solver| {
         evaluate_3d(p, kind, val.margin_mm, solver)
     });
-    rows.extend(runs.into_iter().map(|(method, run, seed, metrics)| Row3d {
-        case: p.case,
-        method,
-        run,
-        seed,
-        metrics,
-        template_source: p.template_sources(),
-        half_width_deg: p.half_width_deg,
+    rows.extend(runs.into_iter().map(|(method, run, seed, metrics)| {
+        Row3d {
+            case: p.case,
+            method,
+            run,
+            seed,
+            template_source: metrics
+                .as_ref()
+                .map_or(String::new(), |m| m.template_source_name()),
+            metrics,
+            half_width_deg: p.half_width_deg,
+        }
     }));
 }
 

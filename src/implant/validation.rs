@@ -275,10 +275,20 @@ pub struct ValidationRow {
 
 /// The template the walls of a prepared case are fitted to under
 /// `options.template`: the mirror, or the continuation of both sides
-/// ([`super::continuation`]) where it is forced or the cut crosses the
-/// midline.
+/// ([`super::continuation`]) where it is forced or the mirror cannot serve
+/// the cut. Read off the case's bare-template design (no fit, a few
+/// milliseconds); where even that fails, what could be told beforehand
+/// ([`source_for`]).
 pub fn case_template_source(p: &PreparedCase, options: &WallOptions) -> TemplateSource {
-    source_for(p.a, p.b, &p.midline, false, options.template)
+    match reconstruct_case(
+        p,
+        WallKind::Template,
+        options,
+        &mut crate::fit::LmSolver::default(),
+    ) {
+        Ok(w) => w.design.template_source,
+        Err(_) => source_for(p.a, p.b, &p.midline, false, options),
+    }
 }
 
 /// Runs `kind` on a prepared case and measures it; a failure becomes the

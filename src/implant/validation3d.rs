@@ -16,7 +16,7 @@
 //! volume, and the pipeline runs on that copy with A and B given at the
 //! cut's outer corners.
 
-use super::continuation::source_for;
+use super::continuation::TemplateSource;
 use super::pipeline::{
     index_of, reconstruct_from, slice_context, DefectConfig, Ends, Implant, ImplantError,
     SliceContext, SliceSpec,
@@ -58,31 +58,6 @@ pub struct Prepared3d {
     /// The half-width (degrees about the polar centre) of the widest cut
     /// slice's wedge: the patch covers `position ± half_width_deg`.
     pub half_width_deg: f64,
-}
-
-impl Prepared3d {
-    /// The template sources of the patch's slices under the configuration's
-    /// wall options ([`super::continuation::source_for`]): `mirror`,
-    /// `continuation`, or both joined by `+` when the slices differ.
-    pub fn template_sources(&self) -> String {
-        let mut names: Vec<&str> = self
-            .contexts
-            .iter()
-            .map(|c| {
-                source_for(
-                    c.ends.0,
-                    c.ends.1,
-                    &self.midline,
-                    false,
-                    self.config.wall.template,
-                )
-                .name()
-            })
-            .collect();
-        names.sort_unstable();
-        names.dedup();
-        names.join("+")
-    }
 }
 
 /// The patch's width on a slice at `dz` slices from the range's middle.
@@ -206,6 +181,28 @@ pub struct Metrics3d {
     pub truth_voxels: usize,
     /// Voxels of the implant.
     pub implant_voxels: usize,
+    /// How many of the implant's slices were fitted to the mirrored
+    /// template, the continuation and an explicit file, in that order
+    /// ([`super::wall::OuterDesign::template_source`]).
+    pub template_sources: [usize; 3],
+}
+
+impl Metrics3d {
+    /// The template sources used, by name, joined by `+` when the slices
+    /// differ: `mirror`, `continuation`, `mirror+continuation`.
+    pub fn template_source_name(&self) -> String {
+        [
+            TemplateSource::Mirror,
+            TemplateSource::Continuation,
+            TemplateSource::File,
+        ]
+        .iter()
+        .zip(self.template_sources)
+        .filter(|(_, n)| *n > 0)
+        .map(|(s, _)| s.name())
+        .collect::<Vec<_>>()
+        .join("+")
+    }
 }
 
 /// The box (inclusive voxel ranges z, y, x) around the voxels of `a` and
@@ -272,7 +269,22 @@ pub fn score_3d(p: &Prepared3d, implant: &Implant, margin_mm: f64) -> Result<Met
         hd95: hd,
         truth_voxels: truth.count(),
         implant_voxels: recon.count(),
+        template_sources: source_counts(implant),
     })
+}
+
+/// How many slices of `implant` used each template source (mirror,
+/// continuation, file).
+fn source_counts(implant: &Implant) -> [usize; 3] {
+    let mut n = [0; 3];
+    for s in &implant.slices {
+        n[match s.wall.design.template_source {
+            TemplateSource::Mirror => 0,
+            TemplateSource::Continuation => 1,
+            TemplateSource::File => 2,
+        }] += 1;
+    }
+    n
 }
 
 /// One row of `validation_3d.csv`: a case × method × run.
@@ -288,9 +300,8 @@ pub struct Row3d {
     pub seed: u64,
     /// The metrics, or why the reconstruction failed.
     pub metrics: Result<Metrics3d, ImplantError>,
-    /// The template sources of the patch's slices
-    /// ([`Prepared3d::template_sources`]; empty when the patch was not
-    /// built).
+    /// The template sources of the implant's slices
+    /// ([`Metrics3d::template_source_name`]; empty when it failed).
     pub template_source: String,
     /// The patch's half-width in degrees ([`Prepared3d::half_width_deg`];
     /// NaN when the patch was not built).

@@ -12,9 +12,7 @@
 //! contours in the slice's millimetre frame of [`crate::ct`], so the real
 //! defect and the artificial defects of the validation share it.
 
-use super::continuation::{
-    continuation_template, crosses_midline, template_source, TemplateSource,
-};
+use super::continuation::{crosses_midline, template_for, template_source, TemplateSource};
 use super::polar::{fit_err, Gap, Side, TableWalk};
 use super::seats::choose_seats;
 use crate::ct::{clip_to_tissue, CtError, Polyline, Slice};
@@ -346,14 +344,7 @@ pub fn design_outer<S: SegmentSolver + ?Sized>(
     };
     let (walk_a, walk_b) = (tip_a.from(seats.0), tip_b.from(seats.1));
     let gap = tips.moved(walk_a.at(0.0), walk_b.at(0.0));
-    let source = template_source(input, options);
-    let (ends, data) = if source == TemplateSource::Continuation {
-        continuation_template(&gap, options)?
-    } else {
-        let ends = gap.ends(options.mirror_tolerance_mm)?;
-        let data = gap.template(&ends, options)?;
-        (ends, data)
-    };
+    let (ends, data, source) = template_for(&gap, input, options)?;
     let (a, b) = (ends.a, ends.b);
     let joins = joins(&gap, (a, b), (&walk_a, &walk_b), options)?;
     let us = unit_params(options.wall_points);
