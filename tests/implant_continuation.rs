@@ -33,33 +33,26 @@ fn crate_path(p: &str) -> String {
 #[test]
 fn a_defect_across_the_posterior_midline_gets_a_continued_wall() {
     let v = read_inv3(Path::new(CT0051_PATH)).unwrap();
-    // The midline of CT 0051 (tests/implant.rs estimates the same line from
-    // slices 86–92; given here to keep the test cheap).
-    let cfg = DefectConfig {
-        first_z: CT0051_FIRST_Z,
-        slices: Vec::new(),
-        midline: MidlineSpec::Auto((86..=92).collect()),
-        max_tilt_deg: 20.0,
-        threshold: 300,
-        wall: WallOptions::default(),
-        smoothing: Smoothing::default(),
-        templates: None,
-        ring_points: 120,
-        thickness_mm: None,
+    // The midline of CT 0051 as `midline = "auto"` estimates it from the
+    // intact slices 86–92 (REPRODUCTION.md: x = 124.03 mm at y = 105.26 mm,
+    // tilt −3.15°), given here to keep the test cheap.
+    let mx = MidLine {
+        point: Point::new(124.03, 105.26),
+        tilt: (-3.15f64).to_radians(),
     };
-    let mx = resolve_midline(&v, &cfg).unwrap().0;
     let p = prepare_case(
         &v,
         Case {
-            index: 88 - CT0051_FIRST_Z,
+            index: 90 - CT0051_FIRST_Z,
             position_deg: 270.0,
-            width_mm: 30.0,
+            width_mm: 40.0,
         },
         mx,
         300,
     )
     .unwrap();
-    // The thesis's mirror refuses it, naming both ways out.
+    // z = 90, 40 mm at the posterior midline. The thesis's mirror refuses
+    // it, naming both ways out.
     let mirror = WallOptions::default();
     let e =
         reconstruct_case(&p, WallKind::CurveFit, &mirror, &mut LmSolver::default()).unwrap_err();
@@ -83,13 +76,12 @@ fn a_defect_across_the_posterior_midline_gets_a_continued_wall() {
         let m = case_metrics(&p, &w, 10.0).unwrap();
         dice.push((kind, m.dice, m.dev_mean));
     }
-    let curve = dice[0];
-    let straight = dice[2];
-    // The continued wall follows the removed outer table (the chord cannot:
-    // this is what makes the test able to fail).
-    assert!(curve.1 > 0.8, "{dice:?}");
-    assert!(curve.2 < 2.0, "{dice:?}");
-    assert!(curve.2 < straight.2, "{dice:?}");
+    let (curve, straight) = (dice[0], dice[2]);
+    // The continued wall follows the removed outer table where the chord
+    // cannot (a 40 mm gap: Dice 0.92 against 0.75 on this case with LM).
+    assert!(curve.1 > 0.85, "{dice:?}");
+    assert!(curve.1 > straight.1 + 0.05, "{dice:?}");
+    assert!(curve.2 < 2.0 && curve.2 < straight.2, "{dice:?}");
     let (ja, jb) = reconstruct_case(&p, WallKind::CurveFit, &auto, &mut LmSolver::default())
         .unwrap()
         .join_angles_deg();

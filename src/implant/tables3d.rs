@@ -101,7 +101,7 @@ pub fn validation_3d_report(
     let _ = writeln!(report, "## 3D validation (patches across slices)\n");
     let _ = writeln!(
         report,
-        "Slice ranges {:?}, positions {:?}°, widths {:?} mm (at the middle slice; elliptical patches), {} runs per stochastic method; the whole pipeline reconstructs each patch, its voxels are scored in 3D (boundary DSC within {} mm of the defective skull, HD95 on the voxel surfaces). {} rows, {failed} failed (see `validation_3d.csv`, column `error`). Template source per patch: {} (`continuation`: the outer table continued from both sides, curvature-continuous, where a patch crosses the midline; beyond the thesis, `src/implant/continuation.rs`).\n",
+        "Slice ranges {:?}, positions {:?}°, widths {:?} mm (at the middle slice; elliptical patches), {} runs per stochastic method; the whole pipeline reconstructs each patch, its voxels are scored in 3D (boundary DSC within {} mm of the defective skull, HD95 on the voxel surfaces). {} rows, {failed} failed (see `validation_3d.csv`, column `error`). Template source per patch: {} (`continuation`: the outer table continued from both sides, curvature-continuous, where the mirror cannot serve a patch — across or next to the midline; beyond the thesis, `src/implant/continuation.rs`).\n",
         val.ranges, val.positions, val.widths, val.runs, val.margin_mm, rows.len(), source_counts(rows)
     );
     let header: Vec<String> =

@@ -478,12 +478,13 @@ mod tests {
     #[test]
     fn overlapping_patches_are_one_unit_across_zero_degrees() {
         // 350° and 10° (half-widths 12°) overlap across 0°; 90° and 120°
-        // (half-widths 14° and 15°) touch at 104° < 105°; 200° stands alone.
+        // (half-widths 14° and 17°) overlap over 103°–104°; 200° stands
+        // alone, as would 120° with a half-width of 15° (a 1° gap).
         let e = [
             (350.0, 12.0),
             (90.0, 14.0),
             (10.0, 12.0),
-            (120.0, 15.0),
+            (120.0, 17.0),
             (200.0, 14.0),
         ];
         let u = position_units(&e);
@@ -498,6 +499,8 @@ mod tests {
             ]
         );
         assert!((smallest_patch_gap(&e).unwrap() - (-4.0)).abs() < 1e-12);
+        let touching = [(90.0, 14.0), (120.0, 15.0)];
+        assert!(position_units(&touching).iter().all(|(p, u)| p == u));
         // Apart: every position its own unit.
         let apart = [(0.0, 10.0), (30.0, 10.0), (330.0, 10.0)];
         assert!(position_units(&apart).iter().all(|(p, u)| p == u));
