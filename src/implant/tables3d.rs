@@ -187,8 +187,8 @@ fn position_unit_text(extents: &[(f64, f64)], units: &[(f64, f64)]) -> String {
     }
 }
 
-/// How many cases (not rows) had each template source: `mirror 108,
-/// continuation 27`.
+/// How many cases (not rows) had each template source: `continuation 18,
+/// mirror 36`.
 fn source_counts(rows: &[Row3d]) -> String {
     let mut seen: std::collections::BTreeMap<&str, std::collections::BTreeSet<String>> =
         std::collections::BTreeMap::new();
@@ -203,6 +203,9 @@ fn source_counts(rows: &[Row3d]) -> String {
                 r(c.position_deg),
                 r(c.width_mm)
             ));
+    }
+    if seen.is_empty() {
+        return "none (no patch was built)".into();
     }
     seen.iter()
         .map(|(k, v)| format!("{k} {}", v.len()))

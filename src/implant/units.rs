@@ -116,9 +116,9 @@ pub fn position_units(extents: &[(f64, f64)]) -> Vec<(f64, f64)> {
         }
     }
     let mut name = vec![f64::INFINITY; n];
-    for i in 0..n {
+    for (i, &(position, _)) in extents.iter().enumerate() {
         let r = root(&mut group, i);
-        name[r] = name[r].min(extents[i].0);
+        name[r] = name[r].min(position);
     }
     (0..n)
         .map(|i| (extents[i].0, name[root(&mut group, i)]))
