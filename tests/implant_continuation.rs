@@ -124,7 +124,7 @@ fn spec(dir: &Path, extra: &str) -> PathBuf {
 fn the_spec_chooses_the_template_source_and_names_bad_choices() {
     let dir = tmp("spec");
     for (line, want) in [
-        ("", TemplateChoice::Auto),
+        ("", TemplateChoice::Mirror),
         ("template_source = \"auto\"", TemplateChoice::Auto),
         ("template_source = \"mirror\"", TemplateChoice::Mirror),
         (
@@ -153,7 +153,7 @@ fn validation_csv_records_the_template_source_and_the_crossing_case_is_a_row() {
     let out = dir.join("out");
     let s = Command::new(env!("CARGO_BIN_EXE_metabezier"))
         .arg("implant")
-        .arg(spec(&dir, ""))
+        .arg(spec(&dir, "template_source = \"auto\""))
         .arg("--out")
         .arg(&out)
         .output()

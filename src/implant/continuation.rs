@@ -57,11 +57,12 @@ pub enum TemplateChoice {
     /// The mirror technique where it applies, the continuation where it
     /// cannot serve: a defect across the mid-sagittal line, or one next to
     /// it whose mirrored end falls into the gap ([`template_for`]; the
-    /// spec's default).
+    /// shipped chapter-6 spec asks for it).
     Auto,
     /// The mirror technique only (thesis chapter 6): a defect across the
-    /// midline is refused ([`CtError::DefectCrossesMidline`]). The library
-    /// default, so that [`WallOptions::default`] is the thesis's method.
+    /// midline is refused ([`CtError::DefectCrossesMidline`]). The default,
+    /// in [`WallOptions::default`] and in a spec, so that going beyond the
+    /// thesis is asked for.
     #[default]
     Mirror,
     /// The continuation everywhere ([`continuation_template`]).

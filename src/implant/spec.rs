@@ -21,7 +21,7 @@
 //! max_thickness_mm = 15     # cap on the implant thickness
 //! max_thickness_step_mm = 0.5   # thickness change between adjacent slices
 //! smooth_slices = 2         # outer-wall smoothing half-width (0: off)
-//! template_source = "auto"  # auto (mirror; continuation across the midline), mirror, continuation
+//! template_source = "mirror" # mirror (the thesis; default), auto (the continuation where the mirror cannot serve), continuation
 //!
 //! [defect]                  # the real defect (optional)
 //! slices = [56, 84]         # first and last slice (original numbering; [z, z]: one slice)
@@ -516,9 +516,9 @@ impl Parser<'_> {
     }
 
     /// `implant.function`, `implant.continuity` and
-    /// `implant.template_source` (default `auto`, unlike the library's
-    /// [`WallOptions::default`], which is the thesis's mirror) on the
-    /// default wall options with `budget`.
+    /// `implant.template_source` (default `mirror`, the thesis's technique,
+    /// as [`WallOptions::default`]: going beyond the thesis is asked for)
+    /// on the default wall options with `budget`.
     fn wall_options(&self, imp: &Table<'_>, budget: u64) -> Result<WallOptions, SpecError> {
         let mut wall = WallOptions {
             budget,
@@ -552,7 +552,7 @@ impl Parser<'_> {
             })?;
         }
         wall.template = match self.get(imp, "template_source") {
-            None => TemplateChoice::Auto,
+            None => TemplateChoice::Mirror,
             Some(v) => {
                 let s = self.string(v, "implant.template_source")?;
                 TemplateChoice::from_name(&s).ok_or_else(|| {
@@ -560,7 +560,7 @@ impl Parser<'_> {
                         v.span(),
                         "implant.template_source",
                         format!(
-                            "unknown template source \"{s}\"; valid choices: {} (\"auto\": the mirror, and the continuation of both sides where a defect crosses the midline; an explicit template file is `[defect] template`)",
+                            "unknown template source \"{s}\"; valid choices: {} (\"mirror\", the default: the thesis's technique; \"auto\": the mirror, and the continuation of both sides where the mirror cannot serve a defect, across or next to the midline; an explicit template file is `[defect] template`)",
                             quoted(&TemplateChoice::NAMES)
                         ),
                     )
