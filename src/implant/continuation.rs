@@ -6,7 +6,7 @@
 //! The missing outer table is described, as the mirrored template is, in
 //! polar form about the polar centre `O` on the midline: a radius function
 //! `r(θ)` from θ_A (at A′) to θ_B (at B′). Next to each end, the intact
-//! table (the outer envelope walked away from the gap, [`Gap::table`]) is
+//! table (the outer envelope walked away from the gap, `Gap::table` in [`super::polar`]) is
 //! read as samples `(θ_k, r_k)` and a least-squares quadratic in
 //! `φ = θ − θ_end` gives the end's slope `r′` and second derivative `r″`;
 //! `r` itself is the end's own radius. In a polar parameterisation the
@@ -56,7 +56,7 @@ use crate::linalg::cholesky_solve;
 pub enum TemplateChoice {
     /// The mirror technique where it applies, the continuation where it
     /// cannot serve: a defect across the mid-sagittal line, or one next to
-    /// it whose mirrored end falls into the gap ([`template_for`]; the
+    /// it whose mirrored end falls into the gap (`template_for`; the
     /// shipped chapter-6 spec asks for it).
     Auto,
     /// The mirror technique only (thesis chapter 6): a defect across the
@@ -65,7 +65,7 @@ pub enum TemplateChoice {
     /// thesis is asked for.
     #[default]
     Mirror,
-    /// The continuation everywhere ([`continuation_template`]).
+    /// The continuation everywhere (`continuation_template`).
     Continuation,
 }
 
@@ -91,7 +91,7 @@ pub enum TemplateSource {
     /// The mirrored outer envelope `R(θ) = reflect(E(2α − θ))`.
     Mirror,
     /// The curvature-continuous continuation of both sides
-    /// ([`continuation_template`]; beyond the thesis).
+    /// (`continuation_template`; beyond the thesis).
     Continuation,
     /// An explicit template file (`[defect] template`).
     File,
@@ -121,7 +121,7 @@ pub fn crosses_midline(a: Point, b: Point, line: &MidLine) -> bool {
 /// defect crosses the midline ([`crosses_midline`]), else the mirror. Under
 /// `Auto` a mirror that then cannot serve the defect (its mirrored end C
 /// or D falls into the gap, which happens next to the midline when a seat
-/// moves across it) still gives way to the continuation ([`template_for`]);
+/// moves across it) still gives way to the continuation (`template_for`);
 /// [`super::wall::OuterDesign::template_source`] says what was used.
 pub fn source_for(
     a: Point,
