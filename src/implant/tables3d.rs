@@ -16,7 +16,7 @@ use crate::stats::VerdictRow;
 
 /// `validation_3d.csv`: one row per case × method × run, with the
 /// template source of its slices (`mirror`, `continuation`, or
-/// `continuation+mirror` when they differ) and the patch's half-width in
+/// `mirror+continuation` when they differ) and the patch's half-width in
 /// degrees (what decides whether two positions share bone,
 /// [`super::units::position_units`]).
 pub fn validation_3d_csv(rows: &[Row3d]) -> Vec<u8> {
