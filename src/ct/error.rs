@@ -277,7 +277,8 @@ pub enum CtError {
     #[error(
         "the defect crosses the mid-sagittal line (A at x = {a_x:.2} mm, B at x = {b_x:.2} mm, \
          the midline at x = {midline_x:.2} mm): the mirror technique cannot supply a template; \
-         give an explicit template contour instead (`template = \"file.csv\"` in [defect])"
+         give an explicit template contour instead (`template = \"file.csv\"` in [defect]), \
+         or continue the bone from both sides (`template_source = \"auto\"` or \"continuation\" in [implant])"
     )]
     DefectCrossesMidline {
         /// x of A in mm.

@@ -17,6 +17,7 @@
 //! |---|---|
 //! | [`wall_input`] | what a wall is given: its kind, options and the contours around a defect |
 //! | [`polar`] | the contours about the polar centre: envelope, mirror, local table, thickness |
+//! | [`continuation`] | the template across the midline: both sides continued, G² (beyond the thesis) |
 //! | [`wall`] | one slice's outer and inner wall ([`design_outer`], [`finish_wall`], [`reconstruct_wall`]) |
 //! | [`seats`] | the seats A′ and B′ of a stack of slices, chosen jointly (Viterbi) |
 //! | [`smooth`] | thickness and outer-wall smoothing across slices |
@@ -30,6 +31,7 @@
 //! | [`render`] | its pictures: slice overlays and the 3D preview |
 
 pub mod checks;
+pub mod continuation;
 pub mod pipeline;
 pub mod polar;
 pub mod seats;
@@ -37,6 +39,7 @@ pub mod smooth;
 pub mod wall;
 pub mod wall_input;
 
+pub use continuation::{TemplateChoice, TemplateSource};
 pub use pipeline::{
     build_mesh, build_mesh_with, check_distinct_ends, index_of, reconstruct_defect,
     reconstruct_defect_with, reconstruct_from, resolve_midline, slice_context, slice_index,

@@ -23,7 +23,9 @@ use super::tables::{
     validation_report, verdicts_csv,
 };
 use super::tables3d::{validation_3d_csv, validation_3d_report};
-use super::validation::{evaluate, prepare_case, Case, CaseError, PreparedCase, ValidationRow};
+use super::validation::{
+    case_template_source, evaluate, prepare_case, Case, CaseError, PreparedCase, ValidationRow,
+};
 use super::validation3d::{evaluate_3d, prepare_case_3d, Case3d, Prepared3d, Row3d};
 use super::wall::WallKind;
 use crate::ct::{read_dicom_dir, read_inv3, stl_bytes, Volume};
@@ -262,6 +264,8 @@ fn run_validation_3d(
                             run,
                             seed,
                             metrics,
+                            template_source: String::new(),
+                            half_width_deg: f64::NAN,
                         }));
                     }
                 }
@@ -285,12 +289,18 @@ fn case_rows_3d(spec: &ImplantSpec, val: &Validation3dSpec, p: &Prepared3d, rows
     let runs = method_runs(spec.seed, &val.methods, val.runs, |kind, solver| {
         evaluate_3d(p, kind, val.margin_mm, solver)
     });
-    rows.extend(runs.into_iter().map(|(method, run, seed, metrics)| Row3d {
-        case: p.case,
-        method,
-        run,
-        seed,
-        metrics,
+    rows.extend(runs.into_iter().map(|(method, run, seed, metrics)| {
+        Row3d {
+            case: p.case,
+            method,
+            run,
+            seed,
+            template_source: metrics
+                .as_ref()
+                .map_or(String::new(), |m| m.template_source_name()),
+            metrics,
+            half_width_deg: p.half_width_deg,
+        }
     }));
 }
 
@@ -360,6 +370,7 @@ fn validation_rows(
                                 metrics: Err(CaseError::NotBuilt(e.clone())),
                                 fit_error: f64::NAN,
                                 join_deg: (f64::NAN, f64::NAN),
+                                template_source: None,
                             }
                         }));
                     }
@@ -379,6 +390,7 @@ fn case_rows(
     rows: &mut Vec<ValidationRow>,
 ) {
     let wall = &spec.defect_config.wall;
+    let template_source = Some(case_template_source(prepared, wall));
     let runs = method_runs(spec.seed, &val.methods, val.runs, |kind, solver| {
         evaluate(prepared, kind, wall, val.margin_mm, solver)
     });
@@ -393,6 +405,7 @@ fn case_rows(
                 metrics,
                 fit_error,
                 join_deg,
+                template_source,
             },
         ),
     );

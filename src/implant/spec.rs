@@ -21,6 +21,7 @@
 //! max_thickness_mm = 15     # cap on the implant thickness
 //! max_thickness_step_mm = 0.5   # thickness change between adjacent slices
 //! smooth_slices = 2         # outer-wall smoothing half-width (0: off)
+//! template_source = "mirror" # mirror (the thesis; default), auto (the continuation where the mirror cannot serve), continuation
 //!
 //! [defect]                  # the real defect (optional)
 //! slices = [56, 84]         # first and last slice (original numbering; [z, z]: one slice)
@@ -60,6 +61,7 @@ use std::path::{Path, PathBuf};
 
 use toml::de::DeValue;
 
+use super::continuation::TemplateChoice;
 use super::pipeline::{DefectConfig, Ends, MidlineSpec, SliceSpec, Smoothing};
 use super::template::read_templates;
 use super::wall::WallOptions;
@@ -135,7 +137,7 @@ pub struct ImplantSpec {
     pub validation_3d: Option<Validation3dSpec>,
 }
 
-const IMPLANT_KEYS: [&str; 19] = [
+const IMPLANT_KEYS: [&str; 20] = [
     "volume",
     "first_z",
     "threshold",
@@ -155,6 +157,7 @@ const IMPLANT_KEYS: [&str; 19] = [
     "max_thickness_mm",
     "max_thickness_step_mm",
     "smooth_slices",
+    "template_source",
 ];
 const DEFECT_KEYS: [&str; 7] = [
     "slices",
@@ -512,8 +515,10 @@ impl Parser<'_> {
         })
     }
 
-    /// `implant.function` and `implant.continuity` on the default wall
-    /// options with `budget`.
+    /// `implant.function`, `implant.continuity` and
+    /// `implant.template_source` (default `mirror`, the thesis's technique,
+    /// as [`WallOptions::default`]: going beyond the thesis is asked for)
+    /// on the default wall options with `budget`.
     fn wall_options(&self, imp: &Table<'_>, budget: u64) -> Result<WallOptions, SpecError> {
         let mut wall = WallOptions {
             budget,
@@ -546,6 +551,22 @@ impl Parser<'_> {
                 )
             })?;
         }
+        wall.template = match self.get(imp, "template_source") {
+            None => TemplateChoice::Mirror,
+            Some(v) => {
+                let s = self.string(v, "implant.template_source")?;
+                TemplateChoice::from_name(&s).ok_or_else(|| {
+                    self.error(
+                        v.span(),
+                        "implant.template_source",
+                        format!(
+                            "unknown template source \"{s}\"; valid choices: {} (\"mirror\", the default: the thesis's technique; \"auto\": the mirror, and the continuation of both sides where the mirror cannot serve a defect, across or next to the midline; an explicit template file is `[defect] template`)",
+                            quoted(&TemplateChoice::NAMES)
+                        ),
+                    )
+                })?
+            }
+        };
         Ok(wall)
     }
 

@@ -227,6 +227,7 @@ fn slice_row(s: &SliceResult, step: Option<f64>) -> Vec<String> {
     row.push(r(d.smoothing_shift_mm));
     row.push(dev.map_or("NaN".into(), |d| r(d.mean)));
     row.push(dev.map_or("NaN".into(), |d| r(d.max)));
+    row.push(d.template_source.name().into());
     row
 }
 
@@ -240,8 +241,9 @@ fn slice_row(s: &SliceResult, step: Option<f64>) -> Vec<String> {
 /// wall's length, the section's area and the fraction clipped away, the
 /// implant's pixels on the slice and the fraction of them on bone, the
 /// outer wall's roughness across z (and the template's, the mirrored
-/// bone's) and how far its smoothing moved it, and
-/// the wall's deviation from the template.
+/// bone's) and how far its smoothing moved it,
+/// the wall's deviation from the template, and where the template came
+/// from (`mirror`, `continuation` or `file`).
 pub fn defect_csv(implant: &Implant) -> Vec<u8> {
     let header = [
         "z",
@@ -280,6 +282,7 @@ pub fn defect_csv(implant: &Implant) -> Vec<u8> {
         "smoothing_shift_mm",
         "template_dev_mean_mm",
         "template_dev_max_mm",
+        "template_source",
     ];
     let steps = thickness_steps(implant);
     let rows = implant
@@ -481,6 +484,7 @@ pub fn validation_csv(rows: &[ValidationRow]) -> Vec<u8> {
         "fit_error_mm2",
         "join_a_deg",
         "join_b_deg",
+        "template_source",
         "error",
     ];
     let rows = rows.iter().map(|row| {
@@ -500,18 +504,25 @@ pub fn validation_csv(rows: &[ValidationRow]) -> Vec<u8> {
                     r(row.fit_error),
                     r(row.join_deg.0),
                     r(row.join_deg.1),
+                    source_name(row.template_source),
                     String::new(),
                 ]);
             }
             Err(e) => {
                 v.push("error".into());
                 v.extend(std::iter::repeat_n(String::new(), 8));
+                v.push(source_name(row.template_source));
                 v.push(e.to_string());
             }
         }
         v
     });
     csv_bytes(&header, rows)
+}
+
+/// A template source's name, empty when the case was not built.
+pub(crate) fn source_name(s: Option<super::continuation::TemplateSource>) -> String {
+    s.map_or(String::new(), |s| s.name().to_owned())
 }
 
 /// `verdicts.csv`: every verdict row of the validations, in the columns

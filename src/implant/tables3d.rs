@@ -8,13 +8,17 @@ use super::spec::Validation3dSpec;
 use super::tables::{
     cluster_list, decided_rows, design_text, family_size, medians_by_width, r, verdict_tables,
 };
-use super::units::{range_clusters, Observation, SliceCluster};
+use super::units::{position_units, range_clusters, smallest_patch_gap, Observation, SliceCluster};
 use super::validation3d::{Metrics3d, Row3d};
 use crate::files::csv_bytes;
 use crate::markdown::{self, Alignment};
 use crate::stats::VerdictRow;
 
-/// `validation_3d.csv`: one row per case × method × run.
+/// `validation_3d.csv`: one row per case × method × run, with the
+/// template source of its slices (`mirror`, `continuation`, or
+/// `mirror+continuation` when they differ) and the patch's half-width in
+/// degrees (what decides whether two positions share bone,
+/// [`super::units::position_units`]).
 pub fn validation_3d_csv(rows: &[Row3d]) -> Vec<u8> {
     let header = [
         "z_first",
@@ -30,6 +34,8 @@ pub fn validation_3d_csv(rows: &[Row3d]) -> Vec<u8> {
         "hd95_mm",
         "truth_voxels",
         "implant_voxels",
+        "template_source",
+        "half_width_deg",
         "error",
     ];
     let rows = rows.iter().map(|row| {
@@ -47,11 +53,13 @@ pub fn validation_3d_csv(rows: &[Row3d]) -> Vec<u8> {
                 v.push("ok".into());
                 v.extend([m.dice, m.boundary_dice, m.hd95].map(r));
                 v.extend([m.truth_voxels, m.implant_voxels].map(|n| n.to_string()));
+                v.extend([row.template_source.clone(), r(row.half_width_deg)]);
                 v.push(String::new());
             }
             Err(e) => {
                 v.push("error".into());
                 v.extend(std::iter::repeat_n(String::new(), 5));
+                v.extend([row.template_source.clone(), r(row.half_width_deg)]);
                 v.push(e.to_string());
             }
         }
@@ -93,8 +101,8 @@ pub fn validation_3d_report(
     let _ = writeln!(report, "## 3D validation (patches across slices)\n");
     let _ = writeln!(
         report,
-        "Slice ranges {:?}, positions {:?}°, widths {:?} mm (at the middle slice; elliptical patches), {} runs per stochastic method; the whole pipeline reconstructs each patch, its voxels are scored in 3D (boundary DSC within {} mm of the defective skull, HD95 on the voxel surfaces). {} rows, {failed} failed (see `validation_3d.csv`, column `error`).\n",
-        val.ranges, val.positions, val.widths, val.runs, val.margin_mm, rows.len()
+        "Slice ranges {:?}, positions {:?}°, widths {:?} mm (at the middle slice; elliptical patches), {} runs per stochastic method; the whole pipeline reconstructs each patch, its voxels are scored in 3D (boundary DSC within {} mm of the defective skull, HD95 on the voxel surfaces). {} rows, {failed} failed (see `validation_3d.csv`, column `error`). Template source per patch: {} (`continuation`: the outer table continued from both sides, curvature-continuous, where the mirror cannot serve a patch — across or next to the midline; beyond the thesis, `src/implant/continuation.rs`).\n",
+        val.ranges, val.positions, val.widths, val.runs, val.margin_mm, rows.len(), source_counts(rows)
     );
     let header: Vec<String> =
         std::iter::once("method".to_string())
@@ -126,21 +134,83 @@ pub fn validation_3d_report(
 fn observations_3d<'r>(
     rows: &'r [Row3d],
     clusters: &[SliceCluster],
+    units: &[(f64, f64)],
     f: fn(&Metrics3d) -> f64,
 ) -> Vec<Observation<'r>> {
     rows.iter()
         .filter_map(|r| {
             let value = r.metrics.as_ref().ok().map(f)?;
             let case = (r.case.position_deg, r.case.width_mm);
-            Some(Observation::at(
-                clusters,
-                r.case.range,
-                case,
-                &r.method,
-                value,
-            ))
+            let mut o = Observation::at(clusters, r.case.range, case, &r.method, value);
+            if let Some(&(_, u)) = units
+                .iter()
+                .find(|(p, _)| p.to_bits() == r.case.position_deg.to_bits())
+            {
+                o.unit.position_deg = u;
+            }
+            Some(o)
         })
         .collect()
+}
+
+/// Each position's widest patch over the rows: `(position_deg,
+/// half_width_deg)` in the spec's order (NaN when no patch of it was
+/// built).
+fn position_extents(val: &Validation3dSpec, rows: &[Row3d]) -> Vec<(f64, f64)> {
+    val.positions
+        .iter()
+        .map(|&p| {
+            let h = rows
+                .iter()
+                .filter(|r| r.case.position_deg.to_bits() == p.to_bits())
+                .map(|r| r.half_width_deg)
+                .filter(|h| h.is_finite())
+                .fold(f64::NAN, f64::max);
+            (p, h)
+        })
+        .collect()
+}
+
+/// How the positions become units: which overlapping positions were
+/// merged, or the smallest gap between two patches when none overlap.
+fn position_unit_text(extents: &[(f64, f64)], units: &[(f64, f64)]) -> String {
+    let merged: Vec<String> = units
+        .iter()
+        .filter(|(p, u)| p.to_bits() != u.to_bits())
+        .map(|(p, u)| format!("{}° with {}°", r(*p), r(*u)))
+        .collect();
+    let gap = smallest_patch_gap(extents).map_or(String::from("n/a"), |g| format!("{g:.1}°"));
+    if merged.is_empty() {
+        format!("No two positions' widest patches overlap (smallest gap between two patches: {gap} of arc about the polar centre), so every position is its own unit.")
+    } else {
+        format!("Positions whose widest patches overlap cut the same bone and are one unit: {} (smallest gap: {gap}).", merged.join(", "))
+    }
+}
+
+/// How many cases (not rows) had each template source: `continuation 18,
+/// mirror 36`.
+fn source_counts(rows: &[Row3d]) -> String {
+    let mut seen: std::collections::BTreeMap<&str, std::collections::BTreeSet<String>> =
+        std::collections::BTreeMap::new();
+    for row in rows.iter().filter(|r| !r.template_source.is_empty()) {
+        let c = &row.case;
+        seen.entry(&row.template_source)
+            .or_default()
+            .insert(format!(
+                "{}-{}-{}-{}",
+                c.range.0,
+                c.range.1,
+                r(c.position_deg),
+                r(c.width_mm)
+            ));
+    }
+    if seen.is_empty() {
+        return "none (no patch was built)".into();
+    }
+    seen.iter()
+        .map(|(k, v)| format!("{k} {}", v.len()))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// The verdict rows of every curve method against both baselines on every
@@ -148,10 +218,15 @@ fn observations_3d<'r>(
 /// spec's α; and their part of `report.md`.
 fn verdicts_3d(report: &mut String, val: &Validation3dSpec, rows: &[Row3d]) -> Vec<VerdictRow> {
     let clusters = range_clusters(&val.ranges);
+    let extents = position_extents(val, rows);
+    let units = position_units(&extents);
     let obs: Vec<Vec<Observation<'_>>> = METRICS_3D
         .iter()
-        .map(|m| observations_3d(rows, &clusters, m.2))
+        .map(|m| observations_3d(rows, &clusters, &units, m.2))
         .collect();
+    let mut unit_positions: Vec<f64> = units.iter().map(|u| u.1).collect();
+    unit_positions.sort_by(f64::total_cmp);
+    unit_positions.dedup_by(|a, b| a.to_bits() == b.to_bits());
     let verdicts = decided_rows(
         VALIDATION_3D_TABLE,
         &val.methods,
@@ -163,11 +238,12 @@ fn verdicts_3d(report: &mut String, val: &Validation3dSpec, rows: &[Row3d]) -> V
     let cases = verdicts.first().map_or(0, |v| v.0.problems);
     let _ = writeln!(
         report,
-        "### What the curve fit adds in 3D (verdicts across independent units)\n\nThe patches are not independent: the widths of one position are nested, and overlapping slice ranges cut the same bone. A *unit* is one position on one slice cluster, a maximal set of slice ranges that overlap or touch ({}). {}\n",
+        "### What the curve fit adds in 3D (verdicts across independent units)\n\nThe patches are not independent: the widths of one position are nested, and overlapping slice ranges cut the same bone. A *unit* is one position on one slice cluster, a maximal set of slice ranges that overlap or touch ({}). {} {}\n",
         cluster_list(&clusters),
+        position_unit_text(&extents, &units),
         design_text(
             clusters.len(),
-            val.positions.len(),
+            unit_positions.len(),
             cases,
             "its widths and the ranges of its cluster",
             family_size(&verdicts),

@@ -83,6 +83,68 @@ pub fn cluster_of(clusters: &[SliceCluster], range: (usize, usize)) -> Option<Sl
     clusters.iter().copied().find(|c| c.contains(range))
 }
 
+/// The circular distance (degrees) between two polar angles.
+fn angular_distance(a: f64, b: f64) -> f64 {
+    let d = (a - b).rem_euclid(360.0);
+    d.min(360.0 - d)
+}
+
+/// The unit position of each defect position, given each position's
+/// widest patch as `(position_deg, half_width_deg)`: positions whose
+/// patches overlap on the circle (centres closer than the sum of their
+/// half-widths) cut the same bone and form one unit, named by the group's
+/// smallest position; the others are their own unit. Returns
+/// `(position, unit position)` in the order of `extents`. A position with
+/// a non-finite half-width (no patch built) is its own unit.
+pub fn position_units(extents: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    let n = extents.len();
+    let mut group: Vec<usize> = (0..n).collect();
+    fn root(g: &mut [usize], mut i: usize) -> usize {
+        while g[i] != i {
+            g[i] = g[g[i]];
+            i = g[i];
+        }
+        i
+    }
+    for i in 0..n {
+        for j in i + 1..n {
+            let ((p, h), (q, k)) = (extents[i], extents[j]);
+            if (h + k).is_finite() && angular_distance(p, q) < h + k {
+                let (ri, rj) = (root(&mut group, i), root(&mut group, j));
+                group[ri.max(rj)] = ri.min(rj);
+            }
+        }
+    }
+    let mut name = vec![f64::INFINITY; n];
+    for (i, &(position, _)) in extents.iter().enumerate() {
+        let r = root(&mut group, i);
+        name[r] = name[r].min(position);
+    }
+    (0..n)
+        .map(|i| (extents[i].0, name[root(&mut group, i)]))
+        .collect()
+}
+
+/// The smallest gap (degrees) between the widest patches of two distinct
+/// positions (`(position_deg, half_width_deg)`): the circular distance of
+/// their centres minus both half-widths; negative when two overlap, `None`
+/// with fewer than two finite extents.
+pub fn smallest_patch_gap(extents: &[(f64, f64)]) -> Option<f64> {
+    let e: Vec<(f64, f64)> = extents
+        .iter()
+        .copied()
+        .filter(|e| e.1.is_finite())
+        .collect();
+    let mut best: Option<f64> = None;
+    for i in 0..e.len() {
+        for j in i + 1..e.len() {
+            let g = angular_distance(e[i].0, e[j].0) - e[i].1 - e[j].1;
+            best = Some(best.map_or(g, |b: f64| b.min(g)));
+        }
+    }
+    best
+}
+
 /// An independent unit of the validation: a defect position (polar angle,
 /// degrees) on a slice cluster. With several CTs the patient would be a
 /// third field of the key (one CT so far).
@@ -411,6 +473,38 @@ mod tests {
 
     fn c(first: usize, last: usize) -> SliceCluster {
         SliceCluster { first, last }
+    }
+
+    #[test]
+    fn overlapping_patches_are_one_unit_across_zero_degrees() {
+        // 350° and 10° (half-widths 12°) overlap across 0°; 90° and 120°
+        // (half-widths 14° and 17°) overlap over 103°–104°; 200° stands
+        // alone, as would 120° with a half-width of 15° (a 1° gap).
+        let e = [
+            (350.0, 12.0),
+            (90.0, 14.0),
+            (10.0, 12.0),
+            (120.0, 17.0),
+            (200.0, 14.0),
+        ];
+        let u = position_units(&e);
+        assert_eq!(
+            u,
+            vec![
+                (350.0, 10.0),
+                (90.0, 90.0),
+                (10.0, 10.0),
+                (120.0, 90.0),
+                (200.0, 200.0)
+            ]
+        );
+        assert!((smallest_patch_gap(&e).unwrap() - (-4.0)).abs() < 1e-12);
+        let touching = [(90.0, 14.0), (120.0, 15.0)];
+        assert!(position_units(&touching).iter().all(|(p, u)| p == u));
+        // Apart: every position its own unit.
+        let apart = [(0.0, 10.0), (30.0, 10.0), (330.0, 10.0)];
+        assert!(position_units(&apart).iter().all(|(p, u)| p == u));
+        assert!((smallest_patch_gap(&apart).unwrap() - 10.0).abs() < 1e-12);
     }
 
     #[test]

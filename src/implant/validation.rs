@@ -19,6 +19,7 @@
 //! [`hd95`] (mm), and the mean / max [`contour_deviation`] (mm) of the
 //! reconstructed outer wall from the removed outer envelope.
 
+use super::continuation::{source_for, TemplateSource};
 use super::wall::{envelope_radius, reconstruct_wall, Wall, WallInput, WallKind, WallOptions};
 use crate::ct::{
     bone_loops, bone_mask_slice, boundary_dice, contour_deviation, dice, hd95, voxelise, CtError,
@@ -267,6 +268,27 @@ pub struct ValidationRow {
     pub fit_error: f64,
     /// Join angles at A and B (degrees).
     pub join_deg: (f64, f64),
+    /// The template the case's walls are fitted to (`None`: the case was
+    /// not built), see [`case_template_source`].
+    pub template_source: Option<TemplateSource>,
+}
+
+/// The template the walls of a prepared case are fitted to under
+/// `options.template`: the mirror, or the continuation of both sides
+/// ([`super::continuation`]) where it is forced or the mirror cannot serve
+/// the cut. Read off the case's bare-template design (no fit, a few
+/// milliseconds); where even that fails, what could be told beforehand
+/// ([`source_for`]).
+pub fn case_template_source(p: &PreparedCase, options: &WallOptions) -> TemplateSource {
+    match reconstruct_case(
+        p,
+        WallKind::Template,
+        options,
+        &mut crate::fit::LmSolver::default(),
+    ) {
+        Ok(w) => w.design.template_source,
+        Err(_) => source_for(p.a, p.b, &p.midline, false, options),
+    }
 }
 
 /// Runs `kind` on a prepared case and measures it; a failure becomes the

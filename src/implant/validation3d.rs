@@ -16,6 +16,7 @@
 //! volume, and the pipeline runs on that copy with A and B given at the
 //! cut's outer corners.
 
+use super::continuation::TemplateSource;
 use super::pipeline::{
     index_of, reconstruct_from, slice_context, DefectConfig, Ends, Implant, ImplantError,
     SliceContext, SliceSpec,
@@ -54,6 +55,9 @@ pub struct Prepared3d {
     pub midline: MidLine,
     /// The pipeline configuration (the range's slices, the midline given).
     pub config: DefectConfig,
+    /// The half-width (degrees about the polar centre) of the widest cut
+    /// slice's wedge: the patch covers `position ± half_width_deg`.
+    pub half_width_deg: f64,
 }
 
 /// The patch's width on a slice at `dz` slices from the range's middle.
@@ -63,7 +67,8 @@ fn patch_width(case: &Case3d, dz: f64) -> f64 {
 }
 
 /// Cuts slice `k` of `data` (the volume's samples) for the case: returns
-/// the ends A, B (mm); marks the removed voxels in `truth`.
+/// the ends A, B (mm) and the wedge's half-width (radians); marks the
+/// removed voxels in `truth`.
 fn cut_slice(
     volume: &Volume,
     data: &mut [i16],
@@ -72,7 +77,7 @@ fn cut_slice(
     (theta, width): (f64, f64),
     midline: &MidLine,
     threshold: i16,
-) -> Result<(Point, Point), CtError> {
+) -> Result<(Point, Point, f64), CtError> {
     let slice = volume.slice(k);
     let (sx, sy, nx) = (slice.sx, slice.sy, slice.nx);
     let (mask, outer, centre) = outer_loop(&slice, threshold, midline)?;
@@ -98,7 +103,7 @@ fn cut_slice(
     if removed == 0 {
         return Err(CtError::CutRemovedNoBone);
     }
-    Ok((pt(t1)?, pt(t2)?))
+    Ok((pt(t1)?, pt(t2)?, half))
 }
 
 /// Cuts the case's patch out of `volume` and prepares the slice contexts
@@ -115,10 +120,11 @@ pub fn prepare_case_3d(
     let mid = 0.5 * (case.range.0 + case.range.1) as f64;
     let theta = case.position_deg.to_radians();
     let mut slices = Vec::new();
+    let mut widest = 0.0f64;
     for z in case.range.0..=case.range.1 {
         let k = index_of(cfg, volume, z)?;
         let w = patch_width(&case, z as f64 - mid);
-        let (a, b) = cut_slice(
+        let (a, b, half) = cut_slice(
             volume,
             &mut data,
             &mut truth,
@@ -128,6 +134,7 @@ pub fn prepare_case_3d(
             cfg.threshold,
         )
         .map_err(|source| ImplantError::on_slice(z, source))?;
+        widest = widest.max(half);
         slices.push(SliceSpec {
             z,
             ends: Ends::Mm { a, b },
@@ -152,6 +159,7 @@ pub fn prepare_case_3d(
         contexts,
         midline,
         config,
+        half_width_deg: widest.to_degrees(),
     })
 }
 
@@ -173,6 +181,28 @@ pub struct Metrics3d {
     pub truth_voxels: usize,
     /// Voxels of the implant.
     pub implant_voxels: usize,
+    /// How many of the implant's slices were fitted to the mirrored
+    /// template, the continuation and an explicit file, in that order
+    /// ([`super::wall::OuterDesign::template_source`]).
+    pub template_sources: [usize; 3],
+}
+
+impl Metrics3d {
+    /// The template sources used, by name, joined by `+` when the slices
+    /// differ: `mirror`, `continuation`, `mirror+continuation`.
+    pub fn template_source_name(&self) -> String {
+        [
+            TemplateSource::Mirror,
+            TemplateSource::Continuation,
+            TemplateSource::File,
+        ]
+        .iter()
+        .zip(self.template_sources)
+        .filter(|(_, n)| *n > 0)
+        .map(|(s, _)| s.name())
+        .collect::<Vec<_>>()
+        .join("+")
+    }
 }
 
 /// The box (inclusive voxel ranges z, y, x) around the voxels of `a` and
@@ -239,7 +269,22 @@ pub fn score_3d(p: &Prepared3d, implant: &Implant, margin_mm: f64) -> Result<Met
         hd95: hd,
         truth_voxels: truth.count(),
         implant_voxels: recon.count(),
+        template_sources: source_counts(implant),
     })
+}
+
+/// How many slices of `implant` used each template source (mirror,
+/// continuation, file).
+fn source_counts(implant: &Implant) -> [usize; 3] {
+    let mut n = [0; 3];
+    for s in &implant.slices {
+        n[match s.wall.design.template_source {
+            TemplateSource::Mirror => 0,
+            TemplateSource::Continuation => 1,
+            TemplateSource::File => 2,
+        }] += 1;
+    }
+    n
 }
 
 /// One row of `validation_3d.csv`: a case × method × run.
@@ -255,6 +300,12 @@ pub struct Row3d {
     pub seed: u64,
     /// The metrics, or why the reconstruction failed.
     pub metrics: Result<Metrics3d, ImplantError>,
+    /// The template sources of the implant's slices
+    /// ([`Metrics3d::template_source_name`]; empty when it failed).
+    pub template_source: String,
+    /// The patch's half-width in degrees ([`Prepared3d::half_width_deg`];
+    /// NaN when the patch was not built).
+    pub half_width_deg: f64,
 }
 
 /// Reconstructs a prepared case with walls of `kind` by the whole pipeline

@@ -12,6 +12,7 @@
 //! contours in the slice's millimetre frame of [`crate::ct`], so the real
 //! defect and the artificial defects of the validation share it.
 
+use super::continuation::{crosses_midline, template_for, template_source, TemplateSource};
 use super::polar::{fit_err, Gap, Side, TableWalk};
 use super::seats::choose_seats;
 use crate::ct::{clip_to_tissue, CtError, Polyline, Slice};
@@ -64,6 +65,8 @@ pub struct OuterDesign {
     /// How far (arc length on the outer table, mm) A′ and B′ were seated
     /// back from the defect's tips (see [`WallOptions::seat_bend_deg`]).
     pub seats: (f64, f64),
+    /// Where the template came from ([`super::continuation`]).
+    pub template_source: TemplateSource,
 }
 
 /// One reconstructed cross-section.
@@ -271,13 +274,15 @@ fn table_dir(walk: &TableWalk, side: Side) -> Point {
 /// The gap at the tips of a wall input and the outer table walked from
 /// each tip (far enough for the seat search, the tangents and the
 /// thickness). Checks first that the defect does not cross the midline
-/// (unless an explicit template is given).
+/// when the mirror is to serve it.
 fn tip_walks<'a>(
     input: &WallInput<'a>,
     options: &WallOptions,
 ) -> Result<(Gap<'a>, TableWalk, TableWalk), CtError> {
     let line = input.midline;
-    if input.template.is_none() && line.side(input.a) * line.side(input.b) <= 0.0 {
+    if template_source(input, options) == TemplateSource::Mirror
+        && crosses_midline(input.a, input.b, &line)
+    {
         return Err(CtError::DefectCrossesMidline {
             a_x: input.a.x,
             b_x: input.b.x,
@@ -339,9 +344,8 @@ pub fn design_outer<S: SegmentSolver + ?Sized>(
     };
     let (walk_a, walk_b) = (tip_a.from(seats.0), tip_b.from(seats.1));
     let gap = tips.moved(walk_a.at(0.0), walk_b.at(0.0));
-    let ends = gap.ends(options.mirror_tolerance_mm)?;
+    let (ends, data, source) = template_for(&gap, input, options)?;
     let (a, b) = (ends.a, ends.b);
-    let data = gap.template(&ends, options)?;
     let joins = joins(&gap, (a, b), (&walk_a, &walk_b), options)?;
     let us = unit_params(options.wall_points);
     let outer = match kind {
@@ -387,6 +391,7 @@ pub fn design_outer<S: SegmentSolver + ?Sized>(
         seats,
         bone_thickness,
         centre: input.centre,
+        template_source: source,
     })
 }
 
@@ -540,7 +545,9 @@ pub fn finish_wall(
 ///    the bone threshold ([`crate::ct::clip_to_tissue`]), so its end faces
 ///    follow the bone's cut edge and it never occupies intact bone.
 ///
-/// Errors: [`CtError::DefectCrossesMidline`] (no explicit template),
+/// Errors: [`CtError::DefectCrossesMidline`] (the mirror across the
+/// midline: no explicit template, [`WallOptions::template`] not
+/// continuing),
 /// [`CtError::NotOnContour`] (A, B, C or D not on the outer contour),
 /// [`CtError::TemplateNotCovered`], [`CtError::TooLittleIntactContour`] and
 /// [`CtError::NoBoneAtEnds`] when the contour around the defect is too

@@ -4,6 +4,7 @@
 //! ([`super::polar`]) and the wall design ([`super::wall`]) take them, so
 //! they sit below both.
 
+use super::continuation::TemplateChoice;
 use crate::ct::{MidLine, Polyline, Slice};
 use crate::fit::{FunctionType, SearchSpaceOptions};
 use crate::geometry::{Continuity, Point};
@@ -75,6 +76,11 @@ pub struct WallOptions {
     pub clip_subdivision: usize,
     /// The search space of the fit.
     pub search: SearchSpaceOptions,
+    /// Which template the wall is fitted to where no explicit one is given:
+    /// the mirror (default, the thesis), the continuation of both sides, or
+    /// the continuation only across the midline
+    /// ([`super::continuation`], beyond the thesis).
+    pub template: TemplateChoice,
 }
 
 impl Default for WallOptions {
@@ -93,6 +99,7 @@ impl Default for WallOptions {
             seat_max_mm: 6.0,
             clip_subdivision: 4,
             search: SearchSpaceOptions::default(),
+            template: TemplateChoice::Mirror,
         }
     }
 }
