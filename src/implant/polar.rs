@@ -326,35 +326,43 @@ impl<'a> Gap<'a> {
     }
 
     /// The bone's iso-contour next to an end, as the bone sees it: the
-    /// point `length_mm` of arc length from `p` along the threshold
+    /// points `lengths_mm` of arc length from `p` along the threshold
     /// iso-contour of the slice (the marching-squares loops of
     /// `input.outer`, [`crate::ct::bone_loops`]), walked from the contour
     /// point nearest `p` in the direction that leaves the gap (the one
     /// whose end point lies farther from the gap in polar angle). Unlike
     /// the envelope walk ([`Gap::table`]), it follows a rounded bone tip
     /// round its turn. `None` without contour points.
-    pub fn iso_point(&self, side: Side, p: Point, length_mm: f64) -> Option<Point> {
-        let foot = self
+    pub fn iso_points<const N: usize>(
+        &self,
+        side: Side,
+        p: Point,
+        lengths_mm: [f64; N],
+    ) -> Option<[Point; N]> {
+        let (poly, n) = self
             .input
             .outer
             .iter()
             .filter_map(|poly| poly.nearest(p).map(|n| (*poly, n)))
             .min_by(|x, y| x.1.distance.total_cmp(&y.1.distance))?;
-        let (poly, n) = foot;
         let o = self.input.centre;
         let away = match side {
             Side::A => -self.span.signum(),
             Side::B => self.span.signum(),
         };
         let th = angle(n.point, o);
-        [true, false]
-            .into_iter()
-            .map(|forward| walk_along(poly, &n, length_mm, forward))
-            .max_by(|x, y| {
-                let gx = away * wrap(angle(*x, o) - th);
-                let gy = away * wrap(angle(*y, o) - th);
-                gx.total_cmp(&gy)
-            })
+        Some(lengths_mm.map(|l| {
+            let (f, b) = (
+                walk_along(poly, &n, l, true),
+                walk_along(poly, &n, l, false),
+            );
+            let gain = |q: Point| away * wrap(angle(q, o) - th);
+            if gain(f) >= gain(b) {
+                f
+            } else {
+                b
+            }
+        }))
     }
 
     /// The template's offset from the bone at the point `p` (mm): on the

@@ -66,7 +66,7 @@ pub struct OuterDesign {
     /// The bone's direction of travel at A′ and B′ as the bone sees it:
     /// the secants of the threshold iso-contour from each seat over
     /// [`ISO_SECANTS_MM`] (1.5 mm, then 3 mm) of arc length
-    /// ([`Gap::iso_point`] in [`super::polar`]).
+    /// ([`Gap::iso_points`] in [`super::polar`]).
     pub iso_dirs: [(Point, Point); 2],
     /// The bone thickness measured next to A′ and B′ along the table's
     /// normal, capped at [`WallOptions::max_thickness_mm`] (mm).
@@ -449,15 +449,15 @@ pub fn seat_profiles(
             let from = walk.from(k as f64 * SEAT_STEP_MM);
             let p = from.at(0.0);
             let t = tips.local_tangent(side, &from, options.tangent_mm);
-            let kink = ISO_SECANTS_MM
-                .iter()
-                .filter_map(|&l| {
-                    let q = tips.iso_point(side, p, l)?;
-                    let secant = if side == Side::A { p - q } else { q - p };
-                    Some(angle_deg(t?, secant))
-                })
-                .filter(|k| k.is_finite())
-                .fold(0.0, f64::max);
+            let iso = tips.iso_points(side, p, ISO_SECANTS_MM);
+            let kink = match (t, iso) {
+                (Some(t), Some(qs)) => qs
+                    .iter()
+                    .map(|&q| angle_deg(t, if side == Side::A { p - q } else { q - p }))
+                    .filter(|k| k.is_finite())
+                    .fold(0.0, f64::max),
+                _ => 0.0,
+            };
             kink_deg.push(kink);
             offset_mm.push(tips.template_offset(p));
         }
@@ -561,11 +561,15 @@ pub fn design_outer<S: SegmentSolver + ?Sized>(
         tangents: joins.tangents,
         derivatives: joins.derivatives,
         smoothing_shift_mm: 0.0,
-        iso_dirs: ISO_SECANTS_MM.map(|l| {
-            let qa = gap.iso_point(Side::A, a, l).unwrap_or(a);
-            let qb = gap.iso_point(Side::B, b, l).unwrap_or(b);
-            (a - qa, qb - b)
-        }),
+        iso_dirs: {
+            let qa = gap.iso_points(Side::A, a, ISO_SECANTS_MM);
+            let qb = gap.iso_points(Side::B, b, ISO_SECANTS_MM);
+            [0, 1].map(|k| {
+                let qa = qa.map_or(a, |q| q[k]);
+                let qb = qb.map_or(b, |q| q[k]);
+                (a - qa, qb - b)
+            })
+        },
         seats,
         bone_thickness,
         centre: input.centre,
