@@ -423,7 +423,7 @@ pub struct Blend {
 /// The quintic smoothstep `6x⁵ − 15x⁴ + 10x³` on `[0, 1]` (clamped): 0 and
 /// 1 at the ends with vanishing first and second derivatives (Perlin,
 /// "Improving noise", SIGGRAPH 2002), its largest slope 15/8.
-pub(crate) fn smootherstep(x: f64) -> f64 {
+pub fn smootherstep(x: f64) -> f64 {
     let x = x.clamp(0.0, 1.0);
     x * x * x * (x * (6.0 * x - 15.0) + 10.0)
 }
@@ -461,7 +461,7 @@ fn ray_line(o: Point, p: Point, q: Point, t: Point) -> Option<Point> {
 /// enough. Returns the blended points (the ends exactly A′ and B′) and the
 /// blend at each end (the offset signed positive when the template lies
 /// farther than the seat from `o`).
-pub(crate) fn blend_onto_bone(
+pub fn blend_onto_bone(
     raw: &[Point],
     (a, b): (Point, Point),
     (t_a, t_b): (Point, Point),
@@ -507,7 +507,7 @@ pub(crate) fn blend_onto_bone(
 
 /// The distance from `seat` to `p`, signed positive when `p` lies farther
 /// from `o` than the seat (the template fuller than the bone).
-pub(crate) fn radial_offset(o: Point, seat: Point, p: Point) -> f64 {
+pub fn radial_offset(o: Point, seat: Point, p: Point) -> f64 {
     let d = p.distance(seat);
     if p.distance(o) >= seat.distance(o) {
         d

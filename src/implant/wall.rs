@@ -66,7 +66,7 @@ pub struct OuterDesign {
     /// The bone's direction of travel at A′ and B′ as the bone sees it:
     /// the secants of the threshold iso-contour from each seat over
     /// [`ISO_SECANTS_MM`] (1.5 mm, then 3 mm) of arc length
-    /// ([`Gap::iso_points`] in [`super::polar`]).
+    /// (`Gap::iso_points` in [`super::polar`]).
     pub iso_dirs: [(Point, Point); 2],
     /// The bone thickness measured next to A′ and B′ along the table's
     /// normal, capped at [`WallOptions::max_thickness_mm`] (mm).
