@@ -46,11 +46,11 @@ pub use pipeline::{
     slice_mask, DefectConfig, Ends, Implant, ImplantError, MidlineSpec, SliceContext, SliceResult,
     SliceSpec, Smoothing, Templates, MIN_MIDLINE_DICE,
 };
-pub use seats::choose_seats;
+pub use seats::{choose_seats, SeatProfile, SeatRule};
 pub use smooth::{lipschitz_envelope, roughness, smooth_outer_walls};
 pub use wall::{
     angle_deg, design_outer, envelope_radius, finish_wall, reconstruct_wall, refit_outer,
-    seat_bends, OuterDesign, Wall, WallInput, WallKind, WallOptions,
+    seat_profiles, seat_rule, OuterDesign, Wall, WallInput, WallKind, WallOptions,
 };
 pub mod render;
 pub mod run;

@@ -9,7 +9,8 @@ use std::path::PathBuf;
 use super::seats::choose_seats;
 use super::smooth::{lipschitz_envelope, roughness, smooth_outer_walls};
 use super::wall::{
-    design_outer, finish_wall, seat_bends, OuterDesign, Wall, WallInput, WallKind, WallOptions,
+    design_outer, finish_wall, seat_profiles, seat_rule, OuterDesign, Wall, WallInput, WallKind,
+    WallOptions,
 };
 use crate::ct::{
     bone_loops, bone_mask_slice, detect_defect, estimate_tilted_midline, loft_rings, voxelise,
@@ -630,7 +631,7 @@ fn design_walls<S: SegmentSolver + ?Sized>(
         .iter()
         .map(|ctx| {
             with_input(volume, cfg, ctx, midline, |input| {
-                seat_bends(input, &cfg.wall)
+                seat_profiles(input, &cfg.wall)
             })
             .map_err(at(ctx.z))
         })
@@ -638,8 +639,7 @@ fn design_walls<S: SegmentSolver + ?Sized>(
     let seats = choose_seats(
         &bends,
         &zs,
-        cfg.wall.seat_bend_deg,
-        cfg.smoothing.seat_change_deg_per_mm,
+        &seat_rule(&cfg.wall, cfg.smoothing.seat_change_deg_per_mm),
     );
     contexts
         .iter()

@@ -14,7 +14,7 @@ use crate::ct::{CtError, Polyline};
 use crate::fit::{
     FitError, FunctionType, LmSolver, SearchSpaceOptions, SegmentProblem, SegmentSolver, Start,
 };
-use crate::geometry::{Curve, Parameterisation, Point};
+use crate::geometry::{Curve, Nearest, Parameterisation, Point};
 use crate::linalg::cholesky_solve;
 
 /// The farthest crossing (mm from `o`) of the ray from `o` at angle `theta`
@@ -184,11 +184,12 @@ impl<'a> Gap<'a> {
 
     /// The fit data: the mirrored envelope `R(θ)` on `template_points` rays
     /// from θ_A to θ_B, or the explicit template resampled by arc length to
-    /// as many points; the ends replaced by A′ and B′.
+    /// as many points (its ends as they are: [`blend_onto_bone`] takes
+    /// them to A′ and B′).
     pub fn template(&self, ends: &WallEnds, options: &WallOptions) -> Result<Vec<Point>, CtError> {
         let needed = options.function.min_points();
         let n_t = options.template_points.max(needed + 2);
-        let mut data: Vec<Point> = match self.input.template {
+        let data: Vec<Point> = match self.input.template {
             Some(t) if t.points.len() >= 2 => {
                 let (first, _) = template_ends(t, ends.a);
                 let t = if first == t.points[0] {
@@ -209,9 +210,6 @@ impl<'a> Gap<'a> {
                 needed,
             });
         }
-        let last = data.len() - 1;
-        data[0] = ends.a;
-        data[last] = ends.b;
         Ok(data)
     }
 
@@ -327,6 +325,60 @@ impl<'a> Gap<'a> {
         m.min(max_mm)
     }
 
+    /// The bone's iso-contour next to an end, as the bone sees it: the
+    /// points `lengths_mm` of arc length from `p` along the threshold
+    /// iso-contour of the slice (the marching-squares loops of
+    /// `input.outer`, [`crate::ct::bone_loops`]), walked from the contour
+    /// point nearest `p` in the direction that leaves the gap (the one
+    /// whose end point lies farther from the gap in polar angle). Unlike
+    /// the envelope walk ([`Gap::table`]), it follows a rounded bone tip
+    /// round its turn. `None` without contour points.
+    pub fn iso_points<const N: usize>(
+        &self,
+        side: Side,
+        p: Point,
+        lengths_mm: [f64; N],
+    ) -> Option<[Point; N]> {
+        let (poly, n) = self
+            .input
+            .outer
+            .iter()
+            .filter_map(|poly| poly.nearest(p).map(|n| (*poly, n)))
+            .min_by(|x, y| x.1.distance.total_cmp(&y.1.distance))?;
+        let o = self.input.centre;
+        let away = match side {
+            Side::A => -self.span.signum(),
+            Side::B => self.span.signum(),
+        };
+        let th = angle(n.point, o);
+        Some(lengths_mm.map(|l| {
+            let (f, b) = (
+                walk_along(poly, &n, l, true),
+                walk_along(poly, &n, l, false),
+            );
+            let gain = |q: Point| away * wrap(angle(q, o) - th);
+            if gain(f) >= gain(b) {
+                f
+            } else {
+                b
+            }
+        }))
+    }
+
+    /// The template's offset from the bone at the point `p` (mm): on the
+    /// ray through `p`, the mirrored envelope's distance from `p`, signed
+    /// positive when it lies farther from the centre (as
+    /// [`Blend::offset_mm`]); with an explicit template, its distance from
+    /// `p`, signed the same way; 0 where the mirrored ray misses.
+    pub fn template_offset(&self, p: Point) -> f64 {
+        let o = self.input.centre;
+        let q = match self.input.template {
+            Some(t) => t.nearest(p).map(|n| n.point),
+            None => self.mirrored(angle(p, o)),
+        };
+        q.map_or(0.0, |q| radial_offset(o, p, q))
+    }
+
     /// The derivatives of the intact envelope at A′ and B′ (direction of
     /// travel), from neighbouring cubics over the same angular width as the
     /// gap (≤ 30°): the magnitudes of C¹ joins.
@@ -350,6 +402,117 @@ impl<'a> Gap<'a> {
         let d_a = neighbour_derivative(before, true).map_err(fit_err)?;
         let d_b = neighbour_derivative(after, false).map_err(fit_err)?;
         Ok((d_a, d_b))
+    }
+}
+
+/// How the template was blended onto the bone at one end
+/// ([`blend_onto_bone`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Blend {
+    /// The template's offset from the seat before blending (mm): the
+    /// distance from the seat to the template's end, positive when the
+    /// template lies farther from the polar centre than the bone (the
+    /// mirror image is fuller than the bone it replaces), negative when it
+    /// lies inside.
+    pub offset_mm: f64,
+    /// The template arc length (mm) over which it was blended onto the
+    /// bone's tangent line.
+    pub length_mm: f64,
+}
+
+/// The quintic smoothstep `6x⁵ − 15x⁴ + 10x³` on `[0, 1]` (clamped): 0 and
+/// 1 at the ends with vanishing first and second derivatives (Perlin,
+/// "Improving noise", SIGGRAPH 2002), its largest slope 15/8.
+pub fn smootherstep(x: f64) -> f64 {
+    let x = x.clamp(0.0, 1.0);
+    x * x * x * (x * (6.0 * x - 15.0) + 10.0)
+}
+
+/// The point where the ray from `o` through `p` meets the line through
+/// `q` with direction `t` (`None` when they are parallel or meet behind
+/// `o`).
+fn ray_line(o: Point, p: Point, q: Point, t: Point) -> Option<Point> {
+    let d = p - o;
+    let den = d.cross(t);
+    if den.abs() < 1e-12 {
+        return None;
+    }
+    let r = (q - o).cross(t) / den;
+    (r > 0.0).then(|| o + d * r)
+}
+
+/// Blends a template `raw` (from near A′ to near B′) onto the bone at its
+/// ends (**RECONSTRUCTION**, beyond the thesis): where the mirror image and
+/// the bone disagree at a seat, the bone wins there, since the implant must
+/// meet it flush and tangentially, and the template wins farther in.
+///
+/// In polar form about `o`: each template point `p` moves along its ray
+/// towards the bone's tangent line at each end (the line through A′ with
+/// the join direction `t_A`, and through B′ with `t_B`),
+/// `p̃ = p + w_A(s)·(ℓ_A(p) − p) + w_B(s)·(ℓ_B(p) − p)`, `ℓ(p)` the ray's
+/// crossing with the line, `w(s) = 1 − S(s/L)` of the arc length `s` from
+/// the end and `S` the quintic smoothstep ([`smootherstep`]). The blended
+/// template therefore starts at A′ along `t_A` and ends at B′ along `t_B`
+/// with no jump in curvature, stays one radius per ray like the mirror
+/// image, and equals the mirror image beyond `L`. The blend length is
+/// `L = clamp(15/8·|δ| / tan(slope_deg), min_mm, S/2)` (`δ` the template
+/// end's distance from the seat, `S` the template's arc length), so that
+/// the correction rises by at most `slope_deg` where the defect is wide
+/// enough. Returns the blended points (the ends exactly A′ and B′) and the
+/// blend at each end (the offset signed positive when the template lies
+/// farther than the seat from `o`).
+pub fn blend_onto_bone(
+    raw: &[Point],
+    (a, b): (Point, Point),
+    (t_a, t_b): (Point, Point),
+    o: Point,
+    slope_deg: f64,
+    min_mm: f64,
+) -> (Vec<Point>, (Blend, Blend)) {
+    let n = raw.len();
+    if n < 2 {
+        return (raw.to_vec(), (Blend::default(), Blend::default()));
+    }
+    let mut cum = vec![0.0; n];
+    for k in 1..n {
+        cum[k] = cum[k - 1] + raw[k].distance(raw[k - 1]);
+    }
+    let total = cum[n - 1];
+    let (d_a, d_b) = (radial_offset(o, a, raw[0]), radial_offset(o, b, raw[n - 1]));
+    let slope = slope_deg.to_radians().tan().max(1e-6);
+    let length = |delta: f64| (1.875 * delta.abs() / slope).max(min_mm).min(0.5 * total);
+    let (l_a, l_b) = (length(d_a), length(d_b));
+    let mut out: Vec<Point> = raw
+        .iter()
+        .zip(&cum)
+        .map(|(&p, &s)| {
+            let mut q = p;
+            for (end, t, l, s) in [(a, t_a, l_a, s), (b, t_b, l_b, total - s)] {
+                let w = 1.0 - smootherstep(s / l.max(f64::MIN_POSITIVE));
+                if let Some(on) = (w > 0.0).then(|| ray_line(o, p, end, t)).flatten() {
+                    q += (on - p) * w;
+                }
+            }
+            q
+        })
+        .collect();
+    out[0] = a;
+    out[n - 1] = b;
+    let blend = |offset_mm, length_mm| Blend {
+        offset_mm,
+        length_mm,
+    };
+    (out, (blend(d_a, l_a), blend(d_b, l_b)))
+}
+
+/// The distance from `seat` to `p`, signed positive when `p` lies farther
+/// from `o` than the seat (the template fuller than the bone).
+pub fn radial_offset(o: Point, seat: Point, p: Point) -> f64 {
+    let d = p.distance(seat);
+    if p.distance(o) >= seat.distance(o) {
+        d
+    } else {
+        -d
     }
 }
 
@@ -397,6 +560,43 @@ impl TableWalk {
         let t = if c1 > c0 { (s - c0) / (c1 - c0) } else { 0.0 };
         self.pts[i - 1].lerp(self.pts[i], t)
     }
+}
+
+/// The point `length` mm of arc length from the position `from` on `poly`,
+/// walking with the vertex order (`forward`) or against it; a closed
+/// polyline wraps round, an open one stops at its ends.
+pub(crate) fn walk_along(poly: &Polyline, from: &Nearest, length: f64, forward: bool) -> Point {
+    let pts = &poly.points;
+    let n = pts.len();
+    if n < 2 {
+        return from.point;
+    }
+    let segs = poly.segment_count();
+    let (mut seg, mut here) = (from.segment, from.point);
+    let mut left = length;
+    for _ in 0..=n {
+        // The vertex ahead of `here` on the current segment.
+        let (a, b) = poly.segment(seg);
+        let next = if forward { b } else { a };
+        let l = here.distance(next);
+        if left <= l {
+            return if l > 0.0 {
+                here.lerp(next, left / l)
+            } else {
+                here
+            };
+        }
+        left -= l;
+        here = next;
+        seg = match (forward, poly.closed) {
+            (true, true) => (seg + 1) % segs,
+            (false, true) => (seg + segs - 1) % segs,
+            (true, false) if seg + 1 < segs => seg + 1,
+            (false, false) if seg > 0 => seg - 1,
+            _ => return here,
+        };
+    }
+    here
 }
 
 /// The slope `b` of the least-squares quadratic `p(σ) = a + bσ + cσ²`
@@ -467,4 +667,84 @@ fn neighbour_derivative(points: Vec<Point>, at_end: bool) -> Result<Point, FitEr
 /// A fit error as the CT layer's error.
 pub(crate) fn fit_err(source: FitError) -> CtError {
     CtError::OuterWallFit { source }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::implant::wall::angle_deg;
+
+    /// A contour with a 45° corner 1 mm from the seat at the origin: 1 mm
+    /// along +x, then along (1, 1)/√2.
+    fn corner() -> Polyline {
+        let s = std::f64::consts::FRAC_1_SQRT_2;
+        Polyline::open(vec![
+            Point::new(-5.0, 0.0),
+            Point::ZERO,
+            Point::new(1.0, 0.0),
+            Point::new(1.0 + 10.0 * s, 10.0 * s),
+        ])
+    }
+
+    #[test]
+    fn the_iso_contour_secant_sees_a_corner_past_the_seat() {
+        let c = corner();
+        let n = c.nearest(Point::ZERO).unwrap();
+        // A straight wall arriving along +x: its kink against the contour's
+        // secant over L mm from the seat.
+        let kink = |l: f64| angle_deg(Point::new(1.0, 0.0), walk_along(&c, &n, l, true));
+        // 1.5 mm: 1 mm along x, 0.5 mm up the 45° leg.
+        let expected_15 = (0.5 * 0.5f64.sqrt()).atan2(1.0 + 0.5 * 0.5f64.sqrt());
+        assert!((kink(1.5) - expected_15.to_degrees()).abs() < 1e-9);
+        let expected_3 = (2.0 * 0.5f64.sqrt()).atan2(1.0 + 2.0 * 0.5f64.sqrt());
+        assert!((kink(3.0) - expected_3.to_degrees()).abs() < 1e-9);
+        assert!(kink(3.0) > 25.0 && kink(0.5) < 1e-9);
+        // Backwards, and clamped at the open end.
+        assert_eq!(walk_along(&c, &n, 2.0, false), Point::new(-2.0, 0.0));
+        assert_eq!(walk_along(&c, &n, 50.0, false), Point::new(-5.0, 0.0));
+        // A closed loop wraps round.
+        let sq = Polyline::closed(vec![
+            Point::ZERO,
+            Point::new(1.0, 0.0),
+            Point::new(1.0, 1.0),
+            Point::new(0.0, 1.0),
+        ]);
+        let n = sq.nearest(Point::new(0.5, 0.0)).unwrap();
+        let p = walk_along(&sq, &n, 3.0, true);
+        assert!(p.distance(Point::new(0.0, 0.5)) < 1e-12, "{p:?}");
+        let p = walk_along(&sq, &n, 1.0, false);
+        assert!(p.distance(Point::new(0.0, 0.5)) < 1e-12, "{p:?}");
+    }
+
+    #[test]
+    fn the_blend_meets_the_seats_tangentially_and_keeps_the_template_farther_in() {
+        // Centre at the origin; a template arc of radius 104 over 40°,
+        // seats on radius 100 with tangents along the circle of radius 100:
+        // the template lies 4 mm outside the bone at both ends.
+        let o = Point::ZERO;
+        let arc = |r: f64, t: f64| Point::new(r * t.cos(), r * t.sin());
+        let (t0, t1) = (70f64.to_radians(), 110f64.to_radians());
+        let raw: Vec<Point> = (0..=80)
+            .map(|k| arc(104.0, t0 + (t1 - t0) * k as f64 / 80.0))
+            .collect();
+        let (a, b) = (arc(100.0, t0), arc(100.0, t1));
+        let ta = Point::new(-t0.sin(), t0.cos());
+        let tb = Point::new(-t1.sin(), t1.cos());
+        let (out, (ba, bb)) = blend_onto_bone(&raw, (a, b), (ta, tb), o, 15.0, 8.0);
+        assert_eq!((out[0], out[80]), (a, b));
+        assert!((ba.offset_mm - 4.0).abs() < 1e-9 && (bb.offset_mm - 4.0).abs() < 1e-9);
+        // L = 15/8 · 4 / tan 15° ≈ 28 mm, within half the arc (36 mm).
+        let l = 1.875 * 4.0 / 15f64.to_radians().tan();
+        assert!((ba.length_mm - l).abs() < 1e-9 && (bb.length_mm - l).abs() < 1e-9);
+        // Tangent at the seats: the first leg along t_A within 1°.
+        assert!(angle_deg(out[1] - out[0], ta) < 1.0);
+        assert!(angle_deg(out[80] - out[79], tb) < 1.0);
+        // The middle is the template itself (beyond L from both ends).
+        assert_eq!(out[40], raw[40]);
+        // One radius per ray, never below the bone nor above the template.
+        for p in &out {
+            let r = p.distance(o);
+            assert!((99.9..=104.0 + 1e-9).contains(&r), "{r}");
+        }
+    }
 }

@@ -14,12 +14,15 @@
 //!   at the wall's own rays the radius is averaged over the neighbouring
 //!   slices whose walls the ray meets, with binomial weights (half-width
 //!   `h`: `[1, 2, 1]/4` for 1, `[1, 4, 6, 4, 1]/16` for 2, renormalised over
-//!   the walls present), and the wall is refitted to these points by
+//!   the walls present; faded out over the quarter of the rays next to
+//!   each end by a quintic smoothstep, [`END_TAPER`], so that near A′ and
+//!   B′ each wall keeps the shape that meets its own seat, which moves
+//!   between slices), and the wall is refitted to these points by
 //!   Levenberg–Marquardt with the same ends and joins
 //!   ([`super::wall::refit_outer`]), so A′, B′ and the G¹ joins stay exact
 //!   while the surface varies smoothly in z ([`roughness`] measures it).
 
-use super::polar::{angle, envelope_radius, wrap};
+use super::polar::{angle, envelope_radius, smootherstep, wrap};
 use super::wall::{refit_outer, OuterDesign, WallOptions};
 use crate::ct::CtError;
 use crate::geometry::{Point, Polyline};
@@ -39,6 +42,10 @@ pub fn lipschitz_envelope(values: &[f64], zs: &[usize], step: f64) -> Vec<f64> {
         })
         .collect()
 }
+
+/// The fraction of a wall's rays at each end over which the smoothing
+/// across slices fades out ([`smooth_outer_walls`]).
+pub const END_TAPER: f64 = 0.25;
 
 /// Binomial weights `C(2h, h + k)` for `k = −h..=h`.
 fn binomial(h: usize) -> Vec<f64> {
@@ -81,7 +88,7 @@ pub fn smooth_outer_walls(
     half_width: usize,
     options: &WallOptions,
 ) -> Result<(), CtError> {
-    if half_width == 0 || designs.len() < 2 || designs.iter().any(|d| d.segment.is_none()) {
+    if half_width == 0 || designs.len() < 2 || designs.iter().any(|d| d.segments.is_empty()) {
         return Ok(());
     }
     let o = common_centre(&designs.iter().collect::<Vec<_>>());
@@ -108,10 +115,16 @@ pub fn smooth_outer_walls(
                     total += wk;
                 }
             }
-            if let Some(r) = (total > 0.0)
-                .then(|| acc / total)
-                .or_else(|| radius(&walls[i], o, t))
-            {
+            let own = radius(&walls[i], o, t);
+            let averaged = (total > 0.0).then(|| acc / total);
+            // Tapered towards the ends, where the wall meets its own bone.
+            let u = j as f64 / (m - 1) as f64;
+            let taper = smootherstep(u.min(1.0 - u) / END_TAPER);
+            let r = match (averaged, own) {
+                (Some(s), Some(w)) => Some(taper * s + (1.0 - taper) * w),
+                (s, w) => w.or(s),
+            };
+            if let Some(r) = r {
                 points.push(o + Point::new(t.cos(), t.sin()) * r);
             }
         }

@@ -192,7 +192,6 @@ fn slice_row(s: &SliceResult, step: Option<f64>) -> Vec<String> {
     let w = &s.wall;
     let d = &w.design;
     let (ja, jb) = d.join_angles_deg();
-    let (ka, kb) = d.kinks_deg();
     let n = d.template.points.len() as f64;
     let dev = contour_deviation(&d.outer, &d.template, 0.25).ok();
     let centre_y = d.centre.y;
@@ -210,7 +209,19 @@ fn slice_row(s: &SliceResult, step: Option<f64>) -> Vec<String> {
         .map(r),
     );
     row.push(opt(step));
-    row.extend([d.fit_error, (d.fit_error / n).sqrt(), ja, jb, ka, kb].map(r));
+    let [k15, k3] = d.iso_kinks_deg();
+    row.extend([d.fit_error, (d.fit_error / n).sqrt(), ja, jb].map(r));
+    row.extend([k15.0, k15.1, k3.0, k3.1].map(r));
+    row.push(d.segments.len().to_string());
+    row.extend(
+        [
+            d.blends.0.offset_mm,
+            d.blends.1.offset_mm,
+            d.blends.0.length_mm,
+            d.blends.1.length_mm,
+        ]
+        .map(r),
+    );
     row.push(d.evaluations.to_string());
     row.extend(
         [
@@ -236,8 +247,15 @@ fn slice_row(s: &SliceResult, step: Option<f64>) -> Vec<String> {
 /// centre, tilt), the width, how far A′ and B′ were seated back from the
 /// tips, the bone thickness measured next to the ends
 /// and the thickness used (after smoothing) with its step from the previous
-/// slice, the fit (E, RMS, evaluations), the join angles with the join
-/// tangents, the kinks against the outer table (3 mm secant), the outer
+/// slice, the fit (E, RMS against the blended template, evaluations), the
+/// join angles with the join tangents, the kinks as the bone sees them
+/// (`kink_{a,b}_{1p5mm,3mm}_deg`: the angle between the wall's secant over
+/// its last 1.5 mm / 3 mm of arc at the seat and the secant over as much
+/// of the bone's 300 HU (`threshold`) iso-contour from the seat,
+/// [`crate::implant::OuterDesign::iso_kinks_deg`]), the number of fitted
+/// segments, the template's offset from the bone at A′ and B′ (mm,
+/// positive: the mirror image lies outside the bone) and the blend
+/// lengths over which the bone wins there, the outer
 /// wall's length, the section's area and the fraction clipped away, the
 /// implant's pixels on the slice and the fraction of them on bone, the
 /// outer wall's roughness across z (and the template's, the mirrored
@@ -269,8 +287,15 @@ pub fn defect_csv(implant: &Implant) -> Vec<u8> {
         "fit_rms_mm",
         "join_a_deg",
         "join_b_deg",
-        "kink_a_deg",
-        "kink_b_deg",
+        "kink_a_1p5mm_deg",
+        "kink_b_1p5mm_deg",
+        "kink_a_3mm_deg",
+        "kink_b_3mm_deg",
+        "segments",
+        "template_offset_a_mm",
+        "template_offset_b_mm",
+        "blend_a_mm",
+        "blend_b_mm",
         "evaluations",
         "outer_length_mm",
         "section_area_mm2",
@@ -393,7 +418,22 @@ pub fn defect_report(report: &mut String, spec: &ImplantSpec, implant: &Implant)
         implant.mask.count()
     );
     seatability_lines(report, implant);
-    report.push_str(&slice_table(implant));
+    let _ = writeln!(
+        report,
+        "Bone against template: at each seat the mirrored template's offset from the bone is measured on the seat's ray. Where it is within {:.1} mm they agree; where it is larger the bone wins at the seat, because the implant must meet the bone flush and tangentially (a step or a corner there is what a surgeon cannot use), and the template is blended onto the bone's tangent line over the length in the table (a quintic smoothstep, rising by at most {}° where the defect is wide enough), the template winning beyond it. Seats move back from the tips (up to {} mm) where bone and template agree better or the bone's iso-contour turns less. The fit RMS is against this blended template; an outer wall that misses {} mm RMS with one segment is fitted again as a G¹ chain of up to {} segments.\n",
+        cfg.wall.seat_offset_tol_mm,
+        cfg.wall.blend_slope_deg,
+        cfg.wall.seat_max_mm,
+        cfg.wall.fit_tolerance_mm,
+        cfg.wall.max_segments
+    );
+    let _ = writeln!(
+        report,
+        "Kinks as the bone sees them: at each seat, the angle between the wall's secant over its last 1.5 mm (3 mm) of arc and the secant over 1.5 mm (3 mm) of the bone's {} HU iso-contour from the seat (the marching-squares contour of the bone mask). The 3 mm kink is held to at most {}° per end; a slice that misses it is listed above with its overlay.\n",
+        cfg.threshold,
+        TARGET_KINK_MAX_DEG
+    );
+    report.push_str(&slice_table(implant, cfg.wall.seat_offset_tol_mm));
     let _ = writeln!(report);
 }
 
@@ -404,7 +444,7 @@ fn seatability_lines(report: &mut String, implant: &Implant) {
     let ok = |b: bool| if b { "met" } else { "missed" };
     let _ = writeln!(
         report,
-        "Seatability: largest bone overlap {:.2} % (target ≤ {:.0} % per slice: {}); kinks against the outer table (3 mm) median {:.2}°, max {:.2}° (targets ≤ {}° and ≤ {}°: {}, {}); largest thickness step {:.2} mm (target ≤ {} mm: {}).\n",
+        "Seatability: largest bone overlap {:.2} % (target ≤ {:.0} % per slice: {}); kinks against the bone's iso-contour (3 mm secants) median {:.2}°, max {:.2}° (targets ≤ {}° and ≤ {}°: {}, {}); largest thickness step {:.2} mm (target ≤ {} mm: {}).\n",
         100.0 * s.max_overlap,
         100.0 * TARGET_OVERLAP,
         ok(s.max_overlap <= TARGET_OVERLAP),
@@ -427,16 +467,38 @@ fn seatability_lines(report: &mut String, implant: &Implant) {
     }
 }
 
+/// Which wins at a seat, bone or template, and why, for the report's
+/// per-slice table: "agree" when the template's offset from the bone is at
+/// most `tol` mm (the seat rule's tolerance), else "bone" with the offset
+/// and the blend length; and how far the seat lies behind the bone tip.
+fn which_wins(blend: crate::implant::wall::Blend, seat_mm: f64, tol: f64) -> String {
+    let d = blend.offset_mm;
+    if d.abs() <= tol {
+        format!("agree ({d:+.1} mm; seat {seat_mm:.2} mm back)")
+    } else {
+        let side = if d > 0.0 { "outside" } else { "inside" };
+        format!(
+            "bone: template {:.1} mm {side}, blended over {:.1} mm (seat {seat_mm:.2} mm back)",
+            d.abs(),
+            blend.length_mm
+        )
+    }
+}
+
 /// The per-slice table of the real defect.
-fn slice_table(implant: &Implant) -> String {
+fn slice_table(implant: &Implant, tol: f64) -> String {
     let header = [
         "z",
         "width mm",
         "bone t_A / t_B mm",
         "t_A / t_B mm",
         "fit RMS mm",
+        "segments",
         "join A / B °",
-        "kink A / B °",
+        "kink 1.5 mm A / B °",
+        "kink 3 mm A / B °",
+        "at A′",
+        "at B′",
         "on bone %",
         "clipped %",
     ]
@@ -448,7 +510,7 @@ fn slice_table(implant: &Implant) -> String {
             let w = &s.wall;
             let d = &w.design;
             let (ja, jb) = d.join_angles_deg();
-            let (ka, kb) = d.kinks_deg();
+            let [k15, k3] = d.iso_kinks_deg();
             let rms = (d.fit_error / d.template.points.len() as f64).sqrt();
             vec![
                 s.z.to_string(),
@@ -456,8 +518,12 @@ fn slice_table(implant: &Implant) -> String {
                 format!("{:.1} / {:.1}", d.bone_thickness.0, d.bone_thickness.1),
                 format!("{:.1} / {:.1}", w.thickness.0, w.thickness.1),
                 format!("{rms:.2}"),
+                d.segments.len().to_string(),
                 format!("{ja:.0e} / {jb:.0e}"),
-                format!("{ka:.1} / {kb:.1}"),
+                format!("{:.1} / {:.1}", k15.0, k15.1),
+                format!("{:.1} / {:.1}", k3.0, k3.1),
+                which_wins(d.blends.0, d.seats.0, tol),
+                which_wins(d.blends.1, d.seats.1, tol),
                 format!("{:.1}", 100.0 * s.bone_overlap_fraction),
                 format!("{:.0}", 100.0 * w.clipped_fraction),
             ]

@@ -13,12 +13,13 @@
 //! defect and the artificial defects of the validation share it.
 
 use super::continuation::{crosses_midline, template_for, template_source, TemplateSource};
-use super::polar::{fit_err, Gap, Side, TableWalk};
-use super::seats::choose_seats;
+pub use super::polar::Blend;
+use super::polar::SEAT_STEP_MM;
+use super::polar::{blend_onto_bone, fit_err, walk_along, Gap, Side, TableWalk};
+use super::seats::{choose_seats, SeatProfile, SeatRule};
 use crate::ct::{clip_to_tissue, CtError, Polyline, Slice};
-use crate::fit::{End, Segment, SegmentProblem, SegmentSolver, Start};
-use crate::geometry::{offset_linear, Continuity, Curve, LinearDistance, Parameterisation, Point};
-use crate::problem::Problem;
+use crate::fit::{equal_arc_breaks, End, Segment, SegmentProblem, SegmentSolver, Start};
+use crate::geometry::{Continuity, Curve, Parameterisation, Point};
 
 pub use super::polar::envelope_radius;
 pub use super::wall_input::{WallInput, WallKind, WallOptions};
@@ -35,10 +36,20 @@ pub struct OuterDesign {
     pub c: Point,
     /// D = B′ mirrored (or the explicit template's end).
     pub d: Point,
-    /// The template `R_i` the wall is fitted to (from A′ to B′).
+    /// The template `R_i` the wall is fitted to (from A′ to B′): the mirror
+    /// image (or explicit template) blended onto the bone at its ends
+    /// ([`blend_onto_bone`]).
     pub template: Polyline,
-    /// The fitted segment ([`WallKind::CurveFit`] only).
-    pub segment: Option<Segment>,
+    /// The mirror image (or explicit template) as it is, before the blend:
+    /// its ends are where the other side of the head puts them.
+    pub mirror: Polyline,
+    /// How the template was blended onto the bone at A′ and at B′: its
+    /// offset from the seat and the blend length.
+    pub blends: (Blend, Blend),
+    /// The fitted segments from A′ to B′, joined with the wall's continuity
+    /// ([`WallKind::CurveFit`] only; more than one where one segment cannot
+    /// follow the template within [`WallOptions::fit_tolerance_mm`]).
+    pub segments: Vec<Segment>,
     /// The fit's `E = Σ|Rᵢ − P(sᵢ)|²` (mm², 0 for the baselines).
     pub fit_error: f64,
     /// Objective evaluations used by the fit.
@@ -53,10 +64,11 @@ pub struct OuterDesign {
     /// The largest distance (mm) the cross-slice smoothing moved the wall
     /// (0 when not smoothed).
     pub smoothing_shift_mm: f64,
-    /// The outer table's direction of travel at A′ and B′ measured as the
-    /// secant over the 3 mm of table next to each end (the kink metric's
-    /// reference).
-    pub table_dirs: (Point, Point),
+    /// The bone's direction of travel at A′ and B′ as the bone sees it:
+    /// the secants of the threshold iso-contour from each seat over
+    /// [`ISO_SECANTS_MM`] (1.5 mm, then 3 mm) of arc length
+    /// (`Gap::iso_points` in [`super::polar`]).
+    pub iso_dirs: [(Point, Point); 2],
     /// The bone thickness measured next to A′ and B′ along the table's
     /// normal, capped at [`WallOptions::max_thickness_mm`] (mm).
     pub bone_thickness: (f64, f64),
@@ -87,6 +99,10 @@ pub struct Wall {
     pub clipped_fraction: f64,
 }
 
+/// The arc lengths (mm) of the iso-contour secants of the kink measure
+/// ([`OuterDesign::iso_kinks_deg`]).
+pub const ISO_SECANTS_MM: [f64; 2] = [1.5, 3.0];
+
 /// The angle in degrees between the directions `u` and `v` (NaN when one
 /// is zero).
 pub fn angle_deg(u: Point, v: Point) -> f64 {
@@ -100,9 +116,9 @@ impl OuterDesign {
     /// The wall's end directions at A′ and B′ (direction of travel): the
     /// segment's derivatives, or the polyline's first and last legs.
     pub fn end_directions(&self) -> (Point, Point) {
-        match &self.segment {
-            Some(s) => (s.deriv(0.0), s.deriv(1.0)),
-            None => {
+        match (self.segments.first(), self.segments.last()) {
+            (Some(f), Some(l)) => (f.deriv(0.0), l.deriv(1.0)),
+            _ => {
                 let p = &self.outer.points;
                 let n = p.len();
                 (p[1] - p[0], p[n - 1] - p[n - 2])
@@ -120,15 +136,34 @@ impl OuterDesign {
         )
     }
 
-    /// The kinks against the real bone (degrees): the angle between the
-    /// wall's end direction and the outer table's secant over the 3 mm next
-    /// to A′ and B′.
+    /// The kinks against the bone at A′ and B′ over 3 mm (degrees): the
+    /// second pair of [`OuterDesign::iso_kinks_deg`].
     pub fn kinks_deg(&self) -> (f64, f64) {
-        let (da, db) = self.end_directions();
-        (
-            angle_deg(da, self.table_dirs.0),
-            angle_deg(db, self.table_dirs.1),
-        )
+        self.iso_kinks_deg()[1]
+    }
+
+    /// The kinks as the bone sees them (degrees), at A′ and B′ for each
+    /// arc length `L` of [`ISO_SECANTS_MM`] (1.5 mm, then 3 mm): the angle
+    /// between the wall's secant over its last `L` mm of arc length at
+    /// the seat and the secant over `L` mm of the bone's threshold
+    /// iso-contour from the seat ([`OuterDesign::iso_dirs`]), i.e. the
+    /// turn at the seat seen at the scale `L` from both sides. A wall
+    /// whose end derivative is tangent to the bone but that turns within
+    /// its last millimetres (a G¹ leg shrunk to nothing) shows here as the
+    /// corner it is.
+    pub fn iso_kinks_deg(&self) -> [(f64, f64); 2] {
+        let w = &self.outer;
+        let r = w.reversed();
+        let (Some(na), Some(nb)) = (w.nearest(self.a), r.nearest(self.b)) else {
+            return [(f64::NAN, f64::NAN); 2];
+        };
+        [0, 1].map(|k| {
+            let l = ISO_SECANTS_MM[k];
+            let qa = walk_along(w, &na, l, true);
+            let qb = walk_along(&r, &nb, l, true);
+            let (ta, tb) = self.iso_dirs[k];
+            (angle_deg(qa - self.a, ta), angle_deg(self.b - qb, tb))
+        })
     }
 
     /// The defect width |A′B′| (mm).
@@ -161,32 +196,38 @@ struct Joins {
 
 /// The outer wall from A′ to B′.
 struct OuterWall {
-    segment: Option<Segment>,
+    segments: Vec<Segment>,
     fit_error: f64,
     evaluations: u64,
     points: Vec<Point>,
 }
 
-/// The fitting problem of the outer wall: `options.function` on `data`
-/// (chord-length parameters), the ends fixed and the joins of
-/// `options.continuity`.
+/// The fitting problem of one piece of the outer wall: `options.function`
+/// on `data` (chord-length parameters), the ends fixed, joined at its
+/// start after `previous` (the chain's last segment; `None`: the bone at
+/// A′) and, when `last`, to the bone at B′, with `options.continuity`.
 fn wall_problem(
     options: &WallOptions,
     data: &[Point],
     joins: &Joins,
+    previous: Option<&Segment>,
+    last: bool,
 ) -> Result<SegmentProblem, CtError> {
     let (d_a, d_b) = joins.derivatives;
-    let (start, end) = match options.continuity {
-        Continuity::C0 => (Start::Free, End::Free),
-        Continuity::C1 => (Start::C1 { derivative: d_a }, End::C1 { derivative: d_b }),
-        Continuity::G1 => (
-            Start::G1 {
-                leg: joins.tangents.0,
-            },
-            End::G1 {
-                dir: joins.tangents.1,
-            },
-        ),
+    let start = match (previous, options.continuity) {
+        (Some(p), c) => Start::after(p, c),
+        (None, Continuity::C0) => Start::Free,
+        (None, Continuity::C1) => Start::C1 { derivative: d_a },
+        (None, Continuity::G1) => Start::G1 {
+            leg: joins.tangents.0,
+        },
+    };
+    let end = match (last, options.continuity) {
+        (false, _) | (true, Continuity::C0) => End::Free,
+        (true, Continuity::C1) => End::C1 { derivative: d_b },
+        (true, Continuity::G1) => End::G1 {
+            dir: joins.tangents.1,
+        },
     };
     let start = if options.function.degree() == 2 {
         Start::Free
@@ -204,7 +245,75 @@ fn wall_problem(
     .map_err(fit_err)
 }
 
-/// The curve fit of the outer wall ([`wall_problem`]), evaluated at `us`.
+/// The break indices of a chain of `count` pieces on `data`: equal arc
+/// length ([`crate::fit::equal_arc_breaks`]), the last point appended.
+fn chain_breaks(data: &[Point], count: usize) -> Result<Vec<usize>, CtError> {
+    let (mut breaks, _) = equal_arc_breaks(data, false, &[], count).map_err(fit_err)?;
+    breaks.push(data.len() - 1);
+    Ok(breaks)
+}
+
+/// `E = Σᵢ |Rᵢ − P(sᵢ)|²` of a chain of `segments` on `data` split at the
+/// chain's breaks, with chord-length parameters on each piece (the fit's
+/// objective, summed).
+fn chain_error(segments: &[Segment], data: &[Point]) -> Result<f64, CtError> {
+    let breaks = chain_breaks(data, segments.len())?;
+    Ok(segments
+        .iter()
+        .zip(breaks.windows(2))
+        .map(|(seg, w)| {
+            let piece = &data[w[0]..=w[1]];
+            seg.sse(piece, &Parameterisation::ChordLength.params(piece))
+        })
+        .sum())
+}
+
+/// The chain of `count` segments fitted to `data` in sequence (the
+/// chapter-5 sequential chain, [`crate::fit::fit_piecewise`], with the
+/// bone's joins at both ends), each piece solved by `solver` with
+/// `budget` evaluations.
+fn fit_chain<S: SegmentSolver + ?Sized>(
+    options: &WallOptions,
+    data: &[Point],
+    joins: &Joins,
+    count: usize,
+    budget: u64,
+    solver: &mut S,
+) -> Result<(Vec<Segment>, u64), CtError> {
+    let breaks = chain_breaks(data, count)?;
+    let mut segments: Vec<Segment> = Vec::with_capacity(count);
+    let mut evaluations = 0;
+    for (k, w) in breaks.windows(2).enumerate() {
+        let last = k + 2 == breaks.len();
+        let problem = wall_problem(options, &data[w[0]..=w[1]], joins, segments.last(), last)?;
+        let sol = solver.solve(&problem, budget);
+        evaluations += sol.evaluations;
+        segments.push(problem.segment(&sol.x));
+    }
+    Ok((segments, evaluations))
+}
+
+/// The points of a chain at `m` parameters: `u = (k + v)/count` on its
+/// `k`-th segment at local `v` (the wall's global parameter).
+fn chain_points(segments: &[Segment], us: &[f64]) -> Vec<Point> {
+    us.iter().map(|&u| chain_eval(segments, u).0).collect()
+}
+
+/// The segment and local parameter of the global parameter `u` of a chain,
+/// and the point there.
+fn chain_eval(segments: &[Segment], u: f64) -> (Point, usize, f64) {
+    let n = segments.len();
+    let x = (u.clamp(0.0, 1.0) * n as f64).min(n as f64);
+    let k = (x.floor() as usize).min(n - 1);
+    let v = x - k as f64;
+    (segments[k].eval(v), k, v)
+}
+
+/// The curve fit of the outer wall: one segment, then chains of 2, 3, …
+/// up to [`WallOptions::max_segments`] while the fit's RMS to the template
+/// `√(E/n)` exceeds [`WallOptions::fit_tolerance_mm`] (the chain with the
+/// smallest RMS is kept), each piece with the full budget; evaluated at
+/// `us`.
 fn fit_outer_wall<S: SegmentSolver + ?Sized>(
     options: &WallOptions,
     data: &[Point],
@@ -212,14 +321,42 @@ fn fit_outer_wall<S: SegmentSolver + ?Sized>(
     us: &[f64],
     solver: &mut S,
 ) -> Result<OuterWall, CtError> {
-    let problem = wall_problem(options, data, joins)?;
-    let sol = solver.solve(&problem, options.budget);
-    let seg = problem.segment(&sol.x);
+    let mut best: Option<(Vec<Segment>, f64)> = None;
+    let mut evaluations = 0;
+    // A quadratic has one inner control point: it can be joined to the bone
+    // at one end only, and in a chain it could not be joined to both its
+    // neighbour and the bone at B′; it stays one segment.
+    let most = if options.function.degree() == 2 {
+        1
+    } else {
+        options.max_segments.max(1)
+    };
+    for count in 1..=most {
+        if count > 1 && data.len() < count * (options.function.min_points() + 1) {
+            break;
+        }
+        let (segments, used) = fit_chain(options, data, joins, count, options.budget, solver)?;
+        evaluations += used;
+        let e = chain_error(&segments, data)?;
+        if best.as_ref().is_none_or(|b| e < b.1) {
+            best = Some((segments, e));
+        }
+        let rms = (e / data.len() as f64).sqrt();
+        if rms <= options.fit_tolerance_mm {
+            break;
+        }
+    }
+    let (segments, fit_error) = best.ok_or(CtError::OuterWallFit {
+        source: crate::fit::FitError::TooFewSegments {
+            requested: 0,
+            minimum: 1,
+        },
+    })?;
     Ok(OuterWall {
-        fit_error: problem.objective(&sol.x),
-        evaluations: sol.evaluations,
-        points: us.iter().map(|&u| seg.eval(u)).collect(),
-        segment: Some(seg),
+        fit_error,
+        evaluations,
+        points: chain_points(&segments, us),
+        segments,
     })
 }
 
@@ -262,15 +399,6 @@ fn joins(
     })
 }
 
-/// The outer table's direction of travel at an end: the secant over the
-/// 3 mm of table next to it.
-fn table_dir(walk: &TableWalk, side: Side) -> Point {
-    match side {
-        Side::A => walk.at(0.0) - walk.at(3.0),
-        Side::B => walk.at(3.0) - walk.at(0.0),
-    }
-}
-
 /// The gap at the tips of a wall input and the outer table walked from
 /// each tip (far enough for the seat search, the tangents and the
 /// thickness). Checks first that the defect does not cross the midline
@@ -306,17 +434,57 @@ fn tip_walks<'a>(
     Ok((tips, a, b))
 }
 
-/// The bend of the outer table at the candidate seats behind A and behind
-/// B on one slice (`Gap::bends` in [`super::polar`]: index `k` is `k·0.25` mm behind the tip).
-pub fn seat_bends(
+/// What the candidate seats behind A and behind B offer on one slice
+/// (index `k` is `k·0.25` mm behind the tip, up to `seat_max_mm`): the
+/// table's bend (`Gap::bends` in [`super::polar`]), the kink a wall joined
+/// there would make against the bone's iso-contour (the angle between the
+/// join tangent of [`WallOptions::tangent_mm`] and the iso-contour secants
+/// over [`ISO_SECANTS_MM`], the larger) and the template's offset from the
+/// bone on the seat's ray (the mirror image; an explicit template's
+/// distance).
+pub fn seat_profiles(
     input: &WallInput<'_>,
     options: &WallOptions,
-) -> Result<(Vec<f64>, Vec<f64>), CtError> {
-    let (_, tip_a, tip_b) = tip_walks(input, options)?;
-    Ok((
-        Gap::bends(&tip_a, options.seat_max_mm),
-        Gap::bends(&tip_b, options.seat_max_mm),
-    ))
+) -> Result<(SeatProfile, SeatProfile), CtError> {
+    let (tips, tip_a, tip_b) = tip_walks(input, options)?;
+    let side = |walk: &TableWalk, side: Side| {
+        let steps = (options.seat_max_mm / SEAT_STEP_MM).floor().max(0.0) as usize;
+        let (mut kink_deg, mut offset_mm) = (Vec::new(), Vec::new());
+        for k in 0..=steps {
+            let from = walk.from(k as f64 * SEAT_STEP_MM);
+            let p = from.at(0.0);
+            let t = tips.local_tangent(side, &from, options.tangent_mm);
+            let iso = tips.iso_points(side, p, ISO_SECANTS_MM);
+            let kink = match (t, iso) {
+                (Some(t), Some(qs)) => qs
+                    .iter()
+                    .map(|&q| angle_deg(t, if side == Side::A { p - q } else { q - p }))
+                    .filter(|k| k.is_finite())
+                    .fold(0.0, f64::max),
+                _ => 0.0,
+            };
+            kink_deg.push(kink);
+            offset_mm.push(tips.template_offset(p));
+        }
+        SeatProfile {
+            bend_deg: Gap::bends(walk, options.seat_max_mm),
+            kink_deg,
+            offset_mm,
+        }
+    };
+    Ok((side(&tip_a, Side::A), side(&tip_b, Side::B)))
+}
+
+/// The seat rule of `options` with `change_deg_per_mm` between slices.
+pub fn seat_rule(options: &WallOptions, change_deg_per_mm: f64) -> SeatRule {
+    SeatRule {
+        bend_deg: options.seat_bend_deg,
+        kink_deg: options.seat_kink_deg,
+        offset_tol_mm: options.seat_offset_tol_mm,
+        offset_deg_per_mm: options.seat_offset_deg_per_mm,
+        setback_deg_per_mm: options.seat_setback_deg_per_mm,
+        change_deg_per_mm,
+    }
 }
 
 /// The first step of the wall across one defect with `kind` (see
@@ -335,29 +503,37 @@ pub fn design_outer<S: SegmentSolver + ?Sized>(
     let seats = match seats {
         Some(s) => s,
         None => {
-            let bends = (
-                Gap::bends(&tip_a, options.seat_max_mm),
-                Gap::bends(&tip_b, options.seat_max_mm),
-            );
-            choose_seats(&[bends], &[0], options.seat_bend_deg, 0.0)[0]
+            let profiles = seat_profiles(input, options)?;
+            choose_seats(&[profiles], &[0], &seat_rule(options, 0.0))[0]
         }
     };
     let (walk_a, walk_b) = (tip_a.from(seats.0), tip_b.from(seats.1));
     let gap = tips.moved(walk_a.at(0.0), walk_b.at(0.0));
-    let (ends, data, source) = template_for(&gap, input, options)?;
+    let (ends, raw, source) = template_for(&gap, input, options)?;
     let (a, b) = (ends.a, ends.b);
     let joins = joins(&gap, (a, b), (&walk_a, &walk_b), options)?;
+    let (data, blends) = blend_onto_bone(
+        &raw,
+        (a, b),
+        joins.tangents,
+        input.centre,
+        options.blend_slope_deg,
+        options.blend_min_mm,
+    );
+    let mut bare = raw.clone();
+    let last = bare.len() - 1;
+    (bare[0], bare[last]) = (a, b);
     let us = unit_params(options.wall_points);
     let outer = match kind {
         WallKind::CurveFit => fit_outer_wall(options, &data, &joins, &us, solver)?,
         WallKind::Template => OuterWall {
-            segment: None,
+            segments: Vec::new(),
             fit_error: 0.0,
             evaluations: 0,
-            points: data.clone(),
+            points: bare,
         },
         WallKind::Straight => OuterWall {
-            segment: None,
+            segments: Vec::new(),
             fit_error: 0.0,
             evaluations: 0,
             points: us.iter().map(|&u| a.lerp(b, u)).collect(),
@@ -380,14 +556,24 @@ pub fn design_outer<S: SegmentSolver + ?Sized>(
         c: ends.c,
         d: ends.d,
         template: Polyline::open(data),
-        segment: outer.segment,
+        mirror: Polyline::open(raw),
+        blends,
+        segments: outer.segments,
         fit_error: outer.fit_error,
         evaluations: outer.evaluations,
         outer: Polyline::open(outer.points),
         tangents: joins.tangents,
         derivatives: joins.derivatives,
         smoothing_shift_mm: 0.0,
-        table_dirs: (table_dir(&walk_a, Side::A), table_dir(&walk_b, Side::B)),
+        iso_dirs: {
+            let qa = gap.iso_points(Side::A, a, ISO_SECANTS_MM);
+            let qb = gap.iso_points(Side::B, b, ISO_SECANTS_MM);
+            [0, 1].map(|k| {
+                let qa = qa.map_or(a, |q| q[k]);
+                let qb = qb.map_or(b, |q| q[k]);
+                (a - qa, qb - b)
+            })
+        },
         seats,
         bone_thickness,
         centre: input.centre,
@@ -397,34 +583,40 @@ pub fn design_outer<S: SegmentSolver + ?Sized>(
 
 /// Refits a fitted outer wall to `points` (from A′ to B′, e.g. the wall
 /// smoothed across slices) by Levenberg–Marquardt with the same function,
-/// ends and joins, and records how far it moved and its `E` against the
-/// template. A baseline design (no segment) is left unchanged.
+/// ends, joins and number of segments, and records how far it moved and
+/// its `E` against the template. A baseline design (no segment) is left
+/// unchanged.
 pub fn refit_outer(
     design: &mut OuterDesign,
     points: Vec<Point>,
     options: &WallOptions,
 ) -> Result<(), CtError> {
-    if design.segment.is_none() {
+    if design.segments.is_empty() {
         return Ok(());
     }
     let joins = Joins {
         derivatives: design.derivatives,
         tangents: design.tangents,
     };
-    let problem = wall_problem(options, &points, &joins)?;
-    let sol = crate::fit::LmSolver::default().solve(&problem, 2_000);
-    let seg = problem.segment(&sol.x);
+    let count = design.segments.len();
+    let (segments, _) = fit_chain(
+        options,
+        &points,
+        &joins,
+        count,
+        2_000,
+        &mut crate::fit::LmSolver::default(),
+    )?;
     let us = unit_params(options.wall_points);
-    let outer: Vec<Point> = us.iter().map(|&u| seg.eval(u)).collect();
+    let outer = chain_points(&segments, &us);
     let shift = outer
         .iter()
         .map(|&p| design.outer.distance_to(p))
         .fold(0.0, f64::max);
-    let template = wall_problem(options, &design.template.points, &joins)?;
-    design.fit_error = template.objective(&sol.x);
+    design.fit_error = chain_error(&segments, &design.template.points)?;
     design.smoothing_shift_mm = shift;
     design.outer = Polyline::open(outer);
-    design.segment = Some(seg);
+    design.segments = segments;
     Ok(())
 }
 
@@ -437,21 +629,20 @@ fn polyline_normal(p: &[Point], i: usize) -> Point {
     Point::new(d.y, -d.x).normalize().unwrap_or(Point::ZERO)
 }
 
-/// The inner wall of a fitted segment: `PO(u) = C(u) + Dis(u)·N(u)` at
-/// `us`, `Dis` linear from `t_A` to `t_B` with the sign that points
-/// towards `o`.
-fn offset_segment(seg: &Segment, us: &[f64], o: Point, (t_a, t_b): (f64, f64)) -> Vec<Point> {
-    let mid = seg.eval(0.5);
-    let n_mid = crate::geometry::offset_point(seg, 0.5, 1.0) - mid;
+/// The inner wall of a fitted chain: `PO(u) = C(u) + Dis(u)·N(u)` at the
+/// global parameters `us` ([`chain_eval`]), `Dis` linear in `u` from `t_A`
+/// to `t_B` with the sign that points towards `o`.
+fn offset_chain(segments: &[Segment], us: &[f64], o: Point, (t_a, t_b): (f64, f64)) -> Vec<Point> {
+    let (mid, k, v) = chain_eval(segments, 0.5);
+    let n_mid = crate::geometry::offset_point(&segments[k], v, 1.0) - mid;
     let sign = if n_mid.dot(o - mid) >= 0.0 { 1.0 } else { -1.0 };
-    offset_linear(
-        seg,
-        us,
-        LinearDistance {
-            d0: sign * t_a,
-            d1: sign * t_b,
-        },
-    )
+    us.iter()
+        .map(|&u| {
+            let (_, k, v) = chain_eval(segments, u);
+            let d = sign * ((1.0 - u) * t_a + u * t_b);
+            crate::geometry::offset_point(&segments[k], v, d)
+        })
+        .collect()
 }
 
 /// The inner wall of a baseline polyline `p`: the same offset with
@@ -488,9 +679,10 @@ pub fn finish_wall(
 ) -> Result<Wall, CtError> {
     let us = unit_params(options.wall_points);
     let o = design.centre;
-    let inner_pts = match &design.segment {
-        Some(seg) => offset_segment(seg, &us, o, thickness),
-        None => offset_polyline(&design.outer.points, o, thickness),
+    let inner_pts = if design.segments.is_empty() {
+        offset_polyline(&design.outer.points, o, thickness)
+    } else {
+        offset_chain(&design.segments, &us, o, thickness)
     };
     let inner_rev: Vec<Point> = inner_pts.iter().rev().copied().collect();
     let mut pts = design.outer.points.clone();

@@ -47,6 +47,15 @@ pub struct WallOptions {
     /// Objective evaluations for the fit (default 10 000, the chapter-5
     /// budget per segment).
     pub budget: u64,
+    /// The RMS distance (mm) within which the outer wall should follow the
+    /// template (default 0.75): a wall whose fit misses it is fitted again
+    /// as a chain of more segments joined with `continuity`, up to
+    /// `max_segments` (BEYOND the thesis, whose implant wall is one
+    /// segment; the chain is chapter 5's).
+    pub fit_tolerance_mm: f64,
+    /// The most segments of the outer wall (default 4; 1: one segment as
+    /// in the thesis).
+    pub max_segments: usize,
     /// Data points taken along the template (default 48).
     pub template_points: usize,
     /// Points on each wall of the section (default 64).
@@ -68,9 +77,31 @@ pub struct WallOptions {
     /// angle between two consecutive 3 mm secants (degrees, default 3),
     /// behind the bevelled or rounded bone ends (RECONSTRUCTION).
     pub seat_bend_deg: f64,
-    /// How far back from the tips (mm) a seat may lie (default 6; 0 keeps
-    /// A′ and B′ at the tips).
+    /// How far back from the tips (mm) a seat may lie (default 12; 0 keeps
+    /// A′ and B′ at the tips). Each mm back costs
+    /// [`WallOptions::seat_setback_deg_per_mm`].
     pub seat_max_mm: f64,
+    /// The kink against the bone accepted at a seat (degrees, default 8):
+    /// a seat where the join tangent and the bone's iso-contour secants
+    /// differ by more is avoided (see [`super::seats::SeatProfile`]), so
+    /// the measured 3 mm kink stays within 10°.
+    pub seat_kink_deg: f64,
+    /// The template–bone offset accepted at a seat (mm, default 1).
+    pub seat_offset_tol_mm: f64,
+    /// The cost of each mm of offset above it, in degrees of table bend
+    /// (default 2): seats go where bone and template agree when that is
+    /// near.
+    pub seat_offset_deg_per_mm: f64,
+    /// The cost of each mm a seat lies behind the bone tip, in degrees of
+    /// table bend (default 1): seats stay near the tips unless the bone's
+    /// shape or the template asks for more.
+    pub seat_setback_deg_per_mm: f64,
+    /// The template is blended onto the bone's tangent line at each seat
+    /// over a length chosen so that the correction rises by at most this
+    /// angle (degrees, default 15; see [`super::polar::blend_onto_bone`]).
+    pub blend_slope_deg: f64,
+    /// The shortest blend (mm of template arc, default 8).
+    pub blend_min_mm: f64,
     /// Grid cells per pixel of the clipping field (default 4; 0 turns the
     /// clipping off).
     pub clip_subdivision: usize,
@@ -89,6 +120,8 @@ impl Default for WallOptions {
             function: FunctionType::RationalCubic,
             continuity: Continuity::G1,
             budget: 10_000,
+            fit_tolerance_mm: 0.75,
+            max_segments: 4,
             template_points: 48,
             wall_points: 64,
             mirror_tolerance_mm: 15.0,
@@ -96,7 +129,13 @@ impl Default for WallOptions {
             tangent_mm: 6.0,
             max_thickness_mm: 15.0,
             seat_bend_deg: 3.0,
-            seat_max_mm: 6.0,
+            seat_max_mm: 12.0,
+            seat_kink_deg: 8.0,
+            seat_offset_tol_mm: 1.0,
+            seat_offset_deg_per_mm: 2.0,
+            seat_setback_deg_per_mm: 1.0,
+            blend_slope_deg: 15.0,
+            blend_min_mm: 8.0,
             clip_subdivision: 4,
             search: SearchSpaceOptions::default(),
             template: TemplateChoice::Mirror,
