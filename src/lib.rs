@@ -125,8 +125,8 @@
 //! | 9 | [`reconstruction`] | sources, methods, the fitting pipeline, overlay figure data |
 //! | 10 | [`ct`] | CT volumes, bone masks, contours, meshes, previews |
 //! | 11 | [`experiment`] | spec, runner, journal, records: the campaign machinery |
-//! | 12 | [`implant`] | the chapter-6 implant pipeline and its run |
-//! | 13 | [`report`] | tables, tests and plots of results directories |
+//! | 12 | [`report`] | tables, tests and plots of results directories |
+//! | 13 | [`implant`] | the chapter-6 implant pipeline and its run (its report draws with [`report`]'s plots and colours) |
 //! | 14 | [`error`] | the crate's [`error::Error`], wrapping each room's error |
 //! | 15 | [`cli`] | the command line |
 //!
@@ -162,9 +162,9 @@ pub mod ct;
 
 pub mod experiment;
 
-pub mod implant;
-
 pub mod report;
+
+pub mod implant;
 
 pub mod error;
 

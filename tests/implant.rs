@@ -6,7 +6,6 @@ mod common;
 use common::oblique_axes;
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use metabezier::ct::{
     parse_stl, read_inv3, write_inv3, CtError, Volume, CT0051_FIRST_Z, CT0051_MEASURED_ENDS,
@@ -212,10 +211,6 @@ fn validation_beats_the_template_and_records_midline_crossing() {
     assert!(e.to_string().contains("explicit template"), "{e}");
 }
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_metabezier"))
-}
-
 fn crate_path(p: &str) -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join(p)
@@ -223,23 +218,7 @@ fn crate_path(p: &str) -> String {
         .to_string()
 }
 
-/// Writes a spec into `dir` and runs `metabezier implant` on it; returns
-/// (success, stderr).
-fn run_spec(dir: &Path, text: &str) -> (bool, String) {
-    let spec = dir.join("spec.toml");
-    std::fs::write(&spec, text).unwrap();
-    let out = bin()
-        .arg("implant")
-        .arg(&spec)
-        .arg("--out")
-        .arg(dir.join("out"))
-        .output()
-        .unwrap();
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::implant as run_spec;
 
 fn small_spec(volume: &str, extra_implant: &str, defect: &str) -> String {
     format!(

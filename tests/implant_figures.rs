@@ -8,7 +8,6 @@
 mod common;
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use metabezier::ct::CT0051_PATH;
 
@@ -23,23 +22,11 @@ fn tmp(name: &str) -> PathBuf {
     d
 }
 
-/// Writes `text` as `dir/spec.toml`, runs `metabezier implant` on it into
-/// `dir/out` and returns that directory.
+/// Runs `metabezier implant` on `text` in `dir` ([`common::implant`]) and
+/// returns its output directory, `dir/out`.
 fn run(dir: &Path, text: &str) -> PathBuf {
-    let spec = dir.join("spec.toml");
-    std::fs::write(&spec, text).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_metabezier"))
-        .arg("implant")
-        .arg(&spec)
-        .arg("--out")
-        .arg(dir.join("out"))
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let (ok, err) = common::implant(dir, text);
+    assert!(ok, "{err}");
     dir.join("out")
 }
 

@@ -31,8 +31,8 @@ const ORDER: [&str; 15] = [
     "reconstruction",
     "ct",
     "experiment",
-    "implant",
     "report",
+    "implant",
     "error",
     "cli",
 ];

@@ -45,44 +45,10 @@
 //! continuation, `curve` its fit with the G¹ joins, `straight` the chord.
 
 use super::polar::{angle, wrap, Gap, Side, WallEnds};
-use super::wall_input::{WallInput, WallOptions};
+use super::wall_input::{TemplateChoice, WallInput, WallOptions};
 use crate::ct::{CtError, MidLine};
 use crate::geometry::Point;
 use crate::linalg::cholesky_solve;
-
-/// Which template the outer wall is fitted to, as the spec chooses it
-/// (`[implant] template_source`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum TemplateChoice {
-    /// The mirror technique where it applies, the continuation where it
-    /// cannot serve: a defect across the mid-sagittal line, or one next to
-    /// it whose mirrored end falls into the gap (`template_for`; the
-    /// shipped chapter-6 spec asks for it).
-    Auto,
-    /// The mirror technique only (thesis chapter 6): a defect across the
-    /// midline is refused ([`CtError::DefectCrossesMidline`]). The default,
-    /// in [`WallOptions::default`] and in a spec, so that going beyond the
-    /// thesis is asked for.
-    #[default]
-    Mirror,
-    /// The continuation everywhere (`continuation_template`).
-    Continuation,
-}
-
-impl TemplateChoice {
-    /// The spec's names, in order: `auto`, `mirror`, `continuation`.
-    pub const NAMES: [&'static str; 3] = ["auto", "mirror", "continuation"];
-
-    /// The choice of a spec name ([`TemplateChoice::NAMES`]).
-    pub fn from_name(name: &str) -> Option<TemplateChoice> {
-        match name {
-            "auto" => Some(TemplateChoice::Auto),
-            "mirror" => Some(TemplateChoice::Mirror),
-            "continuation" => Some(TemplateChoice::Continuation),
-            _ => None,
-        }
-    }
-}
 
 /// Which template a wall was actually fitted to (the `template_source`
 /// columns of `metrics.csv`, `validation.csv` and `validation_3d.csv`).

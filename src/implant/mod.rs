@@ -39,7 +39,7 @@ pub mod smooth;
 pub mod wall;
 pub mod wall_input;
 
-pub use continuation::{TemplateChoice, TemplateSource};
+pub use continuation::TemplateSource;
 pub use pipeline::{
     build_mesh, build_mesh_with, check_distinct_ends, index_of, reconstruct_defect,
     reconstruct_defect_with, reconstruct_from, resolve_midline, slice_context, slice_index,
@@ -52,6 +52,7 @@ pub use wall::{
     angle_deg, design_outer, envelope_radius, finish_wall, reconstruct_wall, refit_outer,
     seat_profiles, seat_rule, OuterDesign, Wall, WallInput, WallKind, WallOptions,
 };
+pub use wall_input::TemplateChoice;
 pub mod render;
 pub mod run;
 pub mod spec;

@@ -669,10 +669,18 @@ pub(crate) fn fit_err(source: FitError) -> CtError {
     CtError::OuterWallFit { source }
 }
 
+/// The angle in degrees between the directions `u` and `v` (NaN when one
+/// is zero).
+pub fn angle_deg(u: Point, v: Point) -> f64 {
+    match (u.normalize(), v.normalize()) {
+        (Some(u), Some(v)) => u.cross(v).atan2(u.dot(v)).abs().to_degrees(),
+        _ => f64::NAN,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::implant::wall::angle_deg;
 
     /// A contour with a 45° corner 1 mm from the seat at the origin: 1 mm
     /// along +x, then along (1, 1)/√2.

@@ -61,10 +61,10 @@ use std::path::{Path, PathBuf};
 
 use toml::de::DeValue;
 
-use super::continuation::TemplateChoice;
 use super::pipeline::{DefectConfig, Ends, MidlineSpec, SliceSpec, Smoothing};
 use super::template::read_templates;
 use super::wall::WallOptions;
+use super::wall_input::TemplateChoice;
 use crate::ct::MidLine;
 use crate::experiment::spec::{type_name, Parser, SpecError, Table, Value};
 use crate::fit::FunctionType;

@@ -21,7 +21,7 @@ use crate::ct::{clip_to_tissue, CtError, Polyline, Slice};
 use crate::fit::{equal_arc_breaks, End, Segment, SegmentProblem, SegmentSolver, Start};
 use crate::geometry::{Continuity, Curve, Parameterisation, Point};
 
-pub use super::polar::envelope_radius;
+pub use super::polar::{angle_deg, envelope_radius};
 pub use super::wall_input::{WallInput, WallKind, WallOptions};
 
 /// The first step of a wall: everything that does not depend on the
@@ -102,15 +102,6 @@ pub struct Wall {
 /// The arc lengths (mm) of the iso-contour secants of the kink measure
 /// ([`OuterDesign::iso_kinks_deg`]).
 pub const ISO_SECANTS_MM: [f64; 2] = [1.5, 3.0];
-
-/// The angle in degrees between the directions `u` and `v` (NaN when one
-/// is zero).
-pub fn angle_deg(u: Point, v: Point) -> f64 {
-    match (u.normalize(), v.normalize()) {
-        (Some(u), Some(v)) => u.cross(v).atan2(u.dot(v)).abs().to_degrees(),
-        _ => f64::NAN,
-    }
-}
 
 impl OuterDesign {
     /// The wall's end directions at A′ and B′ (direction of travel): the

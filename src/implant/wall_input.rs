@@ -4,7 +4,6 @@
 //! ([`super::polar`]) and the wall design ([`super::wall`]) take them, so
 //! they sit below both.
 
-use super::continuation::TemplateChoice;
 use crate::ct::{MidLine, Polyline, Slice};
 use crate::fit::{FunctionType, SearchSpaceOptions};
 use crate::geometry::{Continuity, Point};
@@ -186,5 +185,39 @@ impl std::fmt::Debug for WallInput<'_> {
             .field("a", &self.a)
             .field("b", &self.b)
             .finish_non_exhaustive()
+    }
+}
+
+/// Which template the outer wall is fitted to, as the spec chooses it
+/// (`[implant] template_source`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum TemplateChoice {
+    /// The mirror technique where it applies, the continuation where it
+    /// cannot serve: a defect across the mid-sagittal line, or one next to
+    /// it whose mirrored end falls into the gap (`template_for` in [`super::continuation`]; the
+    /// shipped chapter-6 spec asks for it).
+    Auto,
+    /// The mirror technique only (thesis chapter 6): a defect across the
+    /// midline is refused ([`crate::ct::CtError::DefectCrossesMidline`]). The default,
+    /// in [`WallOptions::default`] and in a spec, so that going beyond the
+    /// thesis is asked for.
+    #[default]
+    Mirror,
+    /// The continuation everywhere (`continuation_template`).
+    Continuation,
+}
+
+impl TemplateChoice {
+    /// The spec's names, in order: `auto`, `mirror`, `continuation`.
+    pub const NAMES: [&'static str; 3] = ["auto", "mirror", "continuation"];
+
+    /// The choice of a spec name ([`TemplateChoice::NAMES`]).
+    pub fn from_name(name: &str) -> Option<TemplateChoice> {
+        match name {
+            "auto" => Some(TemplateChoice::Auto),
+            "mirror" => Some(TemplateChoice::Mirror),
+            "continuation" => Some(TemplateChoice::Continuation),
+            _ => None,
+        }
     }
 }

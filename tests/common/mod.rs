@@ -125,3 +125,21 @@ pub fn campaign(tmp: &std::path::Path, name: &str, text: &str) -> std::path::Pat
     assert!(run_campaign(&spec, &opts).unwrap().complete);
     out
 }
+
+/// Writes `text` as `dir/spec.toml` and runs `metabezier implant` on it into
+/// `dir/out`; returns (success, stderr).
+pub fn implant(dir: &std::path::Path, text: &str) -> (bool, String) {
+    let spec = dir.join("spec.toml");
+    std::fs::write(&spec, text).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_metabezier"))
+        .arg("implant")
+        .arg(&spec)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
