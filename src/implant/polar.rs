@@ -379,6 +379,33 @@ impl<'a> Gap<'a> {
         q.map_or(0.0, |q| radial_offset(o, p, q))
     }
 
+    /// Where the template blended onto the bone ([`blend_onto_bone`]) is
+    /// expected `s` mm into the gap from a seat `p` whose join direction
+    /// into the gap is `into`: the point `ℓ = p + s·into` on the bone's
+    /// tangent line, moved along its ray by `S(s/L)·δ(ℓ)` (`δ(ℓ)` the
+    /// template's offset there, [`Gap::template_offset`]; `S` the quintic
+    /// smoothstep; `L` the blend length of the offset at the seat,
+    /// [`blend_length`]). The wall fitted to the template turns as this
+    /// point does over its last millimetres, which the join tangent alone
+    /// does not show; the arc length along the template is taken as `s`
+    /// and the other end's blend is ignored.
+    pub fn blended_near_seat(
+        &self,
+        p: Point,
+        into: Point,
+        s: f64,
+        slope_deg: f64,
+        min_mm: f64,
+    ) -> Point {
+        let o = self.input.centre;
+        let l = p + into * s;
+        let length = blend_length(self.template_offset(p), slope_deg, min_mm);
+        match (l - o).normalize() {
+            Some(r) => l + r * (smootherstep(s / length) * self.template_offset(l)),
+            None => l,
+        }
+    }
+
     /// The derivatives of the intact envelope at A′ and B′ (direction of
     /// travel), from neighbouring cubics over the same angular width as the
     /// gap (≤ 30°): the magnitudes of C¹ joins.
@@ -479,8 +506,7 @@ pub fn blend_onto_bone(
     }
     let total = cum[n - 1];
     let (d_a, d_b) = (radial_offset(o, a, raw[0]), radial_offset(o, b, raw[n - 1]));
-    let slope = slope_deg.to_radians().tan().max(1e-6);
-    let length = |delta: f64| (1.875 * delta.abs() / slope).max(min_mm).min(0.5 * total);
+    let length = |delta: f64| blend_length(delta, slope_deg, min_mm).min(0.5 * total);
     let (l_a, l_b) = (length(d_a), length(d_b));
     let mut out: Vec<Point> = raw
         .iter()
@@ -503,6 +529,15 @@ pub fn blend_onto_bone(
         length_mm,
     };
     (out, (blend(d_a, l_a), blend(d_b, l_b)))
+}
+
+/// The blend length of [`blend_onto_bone`] for a template lying `delta` mm
+/// off the seat, before the cap at half the template:
+/// `max(15/8·|δ| / tan(slope_deg), min_mm)` (15/8 the largest slope of
+/// [`smootherstep`]).
+pub fn blend_length(delta: f64, slope_deg: f64, min_mm: f64) -> f64 {
+    let slope = slope_deg.to_radians().tan().max(1e-6);
+    (1.875 * delta.abs() / slope).max(min_mm)
 }
 
 /// The distance from `seat` to `p`, signed positive when `p` lies farther

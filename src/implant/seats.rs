@@ -13,8 +13,10 @@ pub struct SeatProfile {
     /// 3 mm secant after the seat and the next 3 mm secant.
     pub bend_deg: Vec<f64>,
     /// The kink a wall joined there would make against the bone (degrees):
-    /// the larger angle between the join tangent at the seat and the
-    /// bone's iso-contour secants over 1.5 mm and 3 mm from it.
+    /// the largest angle between the bone's iso-contour secant over 1.5 mm
+    /// (3 mm) from the seat and either the join tangent at the seat or the
+    /// secant over the last 1.5 mm (3 mm) of the template blended onto the
+    /// bone there (`Gap::blended_near_seat`), the wall's expected end turn.
     pub kink_deg: Vec<f64>,
     /// How far the template lies from the bone at the seat (mm, signed as
     /// [`super::polar::Blend::offset_mm`]).

@@ -449,7 +449,25 @@ pub fn seat_profiles(
             let kink = match (t, iso) {
                 (Some(t), Some(qs)) => qs
                     .iter()
-                    .map(|&q| angle_deg(t, if side == Side::A { p - q } else { q - p }))
+                    .zip(ISO_SECANTS_MM)
+                    .flat_map(|(&q, l)| {
+                        // The join tangent, and the secant of the wall's
+                        // expected last `l` mm (the blended template's
+                        // turn), against the bone's `l` mm secant.
+                        let (into, bone) = match side {
+                            Side::A => (t, p - q),
+                            Side::B => (-t, q - p),
+                        };
+                        let w = tips.blended_near_seat(
+                            p,
+                            into,
+                            l,
+                            options.blend_slope_deg,
+                            options.blend_min_mm,
+                        );
+                        let wall = if side == Side::A { w - p } else { p - w };
+                        [angle_deg(t, bone), angle_deg(wall, bone)]
+                    })
                     .filter(|k| k.is_finite())
                     .fold(0.0, f64::max),
                 _ => 0.0,
