@@ -2,10 +2,10 @@
 //! for DICOM, the declared convention for `.inv3`) and one-slice designs of
 //! a one-slice DICOM study in the standard LPS frame.
 
+mod common;
 mod ct_inputs;
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use metabezier::ct::{
     parse_stl, read_inv3, write_dicom_series, FrameSource, PatientDirection, Volume,
@@ -79,22 +79,6 @@ fn write_study(dir: &Path, v: &Volume, thickness: bool) -> PathBuf {
     study
 }
 
-fn run(dir: &Path, spec: &str) -> (bool, String) {
-    let path = dir.join("spec.toml");
-    std::fs::write(&path, spec).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_metabezier"))
-        .arg("implant")
-        .arg(&path)
-        .arg("--out")
-        .arg(dir.join("out"))
-        .output()
-        .unwrap();
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
 /// A spec of the one-slice LPS study: the defect ends of z = 72 measured on
 /// CT 0051 (row, col) with the rows turned over.
 fn one_slice_spec(study: &Path, ny: usize, extra_defect: &str) -> String {
@@ -165,7 +149,7 @@ fn a_one_slice_lps_dicom_study_gives_an_implant_overlay_and_metrics() {
     let dir = tmp("oneslice");
     let lps = lps_slice();
     let study = write_study(&dir, &lps, true);
-    let (ok, err) = run(&dir, &one_slice_spec(&study, lps.ny, ""));
+    let (ok, err) = common::implant(&dir, &one_slice_spec(&study, lps.ny, ""));
     assert!(ok, "{err}");
     let out = dir.join("out");
     for f in [
@@ -201,7 +185,7 @@ fn a_one_slice_study_without_slice_thickness_needs_thickness_mm() {
     let dir = tmp("nothick");
     let lps = lps_slice();
     let study = write_study(&dir, &lps, false);
-    let (ok, err) = run(&dir, &one_slice_spec(&study, lps.ny, ""));
+    let (ok, err) = common::implant(&dir, &one_slice_spec(&study, lps.ny, ""));
     assert!(!ok);
     assert!(
         err.contains("slice z = 72")
@@ -210,7 +194,7 @@ fn a_one_slice_study_without_slice_thickness_needs_thickness_mm() {
         "{err}"
     );
     assert!(!dir.join("out").exists());
-    let (ok, err) = run(&dir, &one_slice_spec(&study, lps.ny, "thickness_mm = 2.0"));
+    let (ok, err) = common::implant(&dir, &one_slice_spec(&study, lps.ny, "thickness_mm = 2.0"));
     assert!(ok, "{err}");
     let stl = parse_stl(
         &std::fs::read(dir.join("out/implant.stl")).unwrap(),
