@@ -44,11 +44,10 @@
 //! so the wall kinds keep their meaning: `template` is the bare
 //! continuation, `curve` its fit with the G¹ joins, `straight` the chord.
 
-use super::polar::{angle, wrap, Gap, Side, WallEnds};
+use super::polar::{angle, least_squares_quadratic, wrap, Gap, Side, WallEnds};
 use super::wall_input::{TemplateChoice, WallInput, WallOptions};
 use crate::ct::{CtError, MidLine};
 use crate::geometry::Point;
-use crate::linalg::cholesky_solve;
 
 /// Which template a wall was actually fitted to (the `template_source`
 /// columns of `metrics.csv`, `validation.csv` and `validation_3d.csv`).
@@ -171,24 +170,12 @@ pub fn quintic_radius(a: &PolarJet, b: &PolarJet, span: f64, t: f64) -> f64 {
         + h[5] * b.r
 }
 
-/// The least-squares quadratic `r ≈ c₀ + c₁φ + c₂φ²` through `(φ_k, r_k)`:
-/// `(c₁, 2c₂)`, its slope and second derivative at `φ = 0`.
+/// The least-squares quadratic `r ≈ c₀ + c₁φ + c₂φ²` through `(φ_k, r_k)`
+/// ([`least_squares_quadratic`]): `(c₁, 2c₂)`, its slope and second
+/// derivative at `φ = 0`.
 fn quadratic_derivatives(samples: &[(f64, f64)]) -> Option<(f64, f64)> {
-    let mut m = [0.0; 9];
-    let mut rhs = [0.0; 3];
-    for &(phi, r) in samples {
-        let f = [1.0, phi, phi * phi];
-        for i in 0..3 {
-            for j in 0..3 {
-                m[3 * i + j] += f[i] * f[j];
-            }
-            rhs[i] += f[i] * r;
-        }
-    }
-    if !cholesky_solve(&mut m, &mut rhs, 3) {
-        return None;
-    }
-    Some((rhs[1], 2.0 * rhs[2])).filter(|(d, dd)| d.is_finite() && dd.is_finite())
+    let c = least_squares_quadratic(samples.iter().copied())?;
+    Some((c[1], 2.0 * c[2])).filter(|(d, dd)| d.is_finite() && dd.is_finite())
 }
 
 /// The polar jet of the outer envelope at one end of `gap`: `r` of the end

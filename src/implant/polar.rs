@@ -634,26 +634,32 @@ pub(crate) fn walk_along(poly: &Polyline, from: &Nearest, length: f64, forward: 
     here
 }
 
-/// The slope `b` of the least-squares quadratic `p(σ) = a + bσ + cσ²`
-/// through `(σ_k, p_k)`: the curve's derivative at σ = 0.
-fn quadratic_slope(samples: &[(f64, Point)]) -> Option<Point> {
+/// The least-squares quadratic `v(σ) ≈ c₀ + c₁σ + c₂σ²` through
+/// `(σ_k, v_k)` (normal equations, Cholesky): `[c₀, c₁, c₂]`, or `None` when
+/// the samples do not determine it.
+pub(crate) fn least_squares_quadratic(
+    samples: impl Iterator<Item = (f64, f64)>,
+) -> Option<[f64; 3]> {
     let mut m = [0.0; 9];
-    let (mut bx, mut by) = ([0.0; 3], [0.0; 3]);
-    for &(s, p) in samples {
+    let mut rhs = [0.0; 3];
+    for (s, v) in samples {
         let f = [1.0, s, s * s];
         for i in 0..3 {
             for j in 0..3 {
                 m[3 * i + j] += f[i] * f[j];
             }
-            bx[i] += f[i] * p.x;
-            by[i] += f[i] * p.y;
+            rhs[i] += f[i] * v;
         }
     }
-    let mut m2 = m;
-    if !(cholesky_solve(&mut m, &mut bx, 3) && cholesky_solve(&mut m2, &mut by, 3)) {
-        return None;
-    }
-    Some(Point::new(bx[1], by[1]))
+    cholesky_solve(&mut m, &mut rhs, 3).then_some(rhs)
+}
+
+/// The slope `b` of the least-squares quadratic `p(σ) = a + bσ + cσ²`
+/// through `(σ_k, p_k)`: the curve's derivative at σ = 0.
+fn quadratic_slope(samples: &[(f64, Point)]) -> Option<Point> {
+    let x = least_squares_quadratic(samples.iter().map(|&(s, p)| (s, p.x)))?;
+    let y = least_squares_quadratic(samples.iter().map(|&(s, p)| (s, p.y)))?;
+    Some(Point::new(x[1], y[1]))
 }
 
 /// The bone thickness along the ray from the outer point `p` in the unit
