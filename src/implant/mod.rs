@@ -52,7 +52,7 @@ pub use wall::{
     angle_deg, design_outer, envelope_radius, finish_wall, reconstruct_wall, refit_outer,
     seat_profiles, seat_rule, OuterDesign, Wall, WallInput, WallKind, WallOptions,
 };
-pub use wall_input::TemplateChoice;
+pub use wall_input::{TemplateChoice, ThicknessProfile};
 pub mod render;
 pub mod run;
 pub mod spec;

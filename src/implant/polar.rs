@@ -325,6 +325,60 @@ impl<'a> Gap<'a> {
         m.min(max_mm)
     }
 
+    /// The bone thickness of the other side of the head across the gap
+    /// (the mirror technique applied to the inner table): on `n` rays from
+    /// θ_A to θ_B, the mirrored ray `2α − θ` meets the intact outer table at
+    /// `Q = E(2α − θ)`, and the thickness is the first bone run along the
+    /// table's inward normal there (its secant over ±1 mm), capped at
+    /// `max_mm`. Rays that miss the table or the bone are filled from
+    /// their neighbours, and the profile is smoothed by a running median
+    /// of five. `None` when fewer than half the rays measure.
+    pub fn mirrored_thickness(&self, n: usize, max_mm: f64) -> Option<MirroredThickness> {
+        let (o, line) = (self.input.centre, self.input.midline);
+        let n = n.max(2);
+        let raw: Vec<Option<f64>> = (0..n)
+            .map(|k| {
+                let th = 2.0 * line.angle() - (self.th_a + self.span * k as f64 / (n - 1) as f64);
+                let q = self.env(th)?;
+                let per_mm = 1.0 / q.distance(o).max(1e-9);
+                let t = self.env(th + per_mm)? - self.env(th - per_mm)?;
+                let nrm = t.perp().normalize()?;
+                let inward = if nrm.dot(o - q) >= 0.0 { nrm } else { -nrm };
+                let run = thickness_along(q, inward, self.input.is_bone);
+                (run > 0.0).then(|| run.min(max_mm))
+            })
+            .collect();
+        let known: Vec<(usize, f64)> = raw
+            .iter()
+            .enumerate()
+            .filter_map(|(k, v)| v.map(|v| (k, v)))
+            .collect();
+        if 2 * known.len() < n {
+            return None;
+        }
+        // Each missing ray takes the value of the nearest measured one.
+        let filled: Vec<f64> = (0..n)
+            .map(|k| {
+                known
+                    .iter()
+                    .min_by_key(|(j, _)| j.abs_diff(k))
+                    .map_or(0.0, |&(_, v)| v)
+            })
+            .collect();
+        let values = (0..n)
+            .map(|k| {
+                let mut w: Vec<f64> = filled[k.saturating_sub(2)..(k + 3).min(n)].to_vec();
+                w.sort_by(f64::total_cmp);
+                w[w.len() / 2]
+            })
+            .collect();
+        Some(MirroredThickness {
+            th_a: self.th_a,
+            span: self.span,
+            values,
+        })
+    }
+
     /// The bone's iso-contour next to an end, as the bone sees it: the
     /// points `lengths_mm` of arc length from `p` along the threshold
     /// iso-contour of the slice (the marching-squares loops of
@@ -445,6 +499,37 @@ pub struct Blend {
     /// The template arc length (mm) over which it was blended onto the
     /// bone's tangent line.
     pub length_mm: f64,
+}
+
+/// The other side's bone thickness across a gap, on evenly spaced polar
+/// angles from θ_A to θ_B ([`Gap::mirrored_thickness`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct MirroredThickness {
+    /// The polar angle of A′ (radians).
+    pub th_a: f64,
+    /// The signed angular width from A′ to B′ (radians).
+    pub span: f64,
+    /// The thickness (mm) on the rays `θ_A + span·k/(n − 1)`.
+    pub values: Vec<f64>,
+}
+
+impl MirroredThickness {
+    /// The profile at polar angle `theta` (linear between rays, clamped to
+    /// the ends) less its chord between the end values: how much thicker
+    /// (or thinner) the other side is there than the straight blend of its
+    /// ends. 0 at A′ and B′, so an inner wall `Dis = (1 − u)·t_A + u·t_B +
+    /// excess` keeps the thickness measured at the seats.
+    pub fn excess(&self, theta: f64) -> f64 {
+        let n = self.values.len();
+        if n < 2 || self.span == 0.0 {
+            return 0.0;
+        }
+        let f = (wrap(theta - self.th_a) / self.span).clamp(0.0, 1.0);
+        let x = f * (n - 1) as f64;
+        let k = (x.floor() as usize).min(n - 2);
+        let v = self.values[k] + (x - k as f64) * (self.values[k + 1] - self.values[k]);
+        v - ((1.0 - f) * self.values[0] + f * self.values[n - 1])
+    }
 }
 
 /// The quintic smoothstep `6x⁵ − 15x⁴ + 10x³` on `[0, 1]` (clamped): 0 and
@@ -795,5 +880,31 @@ mod tests {
             let r = p.distance(o);
             assert!((99.9..=104.0 + 1e-9).contains(&r), "{r}");
         }
+    }
+
+    #[test]
+    fn the_mirrored_excess_vanishes_at_the_ends_and_follows_the_profile() {
+        // Thickness 4, 8, 6 mm on three rays over a gap of -0.5 rad from
+        // theta_A = 3 (a gap walked clockwise, across the +-pi seam).
+        let m = MirroredThickness {
+            th_a: 3.0,
+            span: -0.5,
+            values: vec![4.0, 8.0, 6.0],
+        };
+        assert!(m.excess(3.0).abs() < 1e-12);
+        assert!(m.excess(2.5).abs() < 1e-12);
+        // Mid-gap: 8 against the chord's 5.
+        assert!((m.excess(2.75) - 3.0).abs() < 1e-12);
+        // A quarter in: 6 against 4.5.
+        assert!((m.excess(2.875) - 1.5).abs() < 1e-12);
+        // Outside the gap it is clamped to the ends.
+        assert!(m.excess(3.2).abs() < 1e-12 && m.excess(2.0).abs() < 1e-12);
+        let seam = MirroredThickness {
+            th_a: 3.0,
+            span: 0.5,
+            values: vec![4.0, 8.0, 6.0],
+        };
+        // theta_A + span/2 = 3.25 is -3.033 after wrapping.
+        assert!((seam.excess(3.25 - std::f64::consts::TAU) - 3.0).abs() < 1e-12);
     }
 }

@@ -22,6 +22,8 @@
 //! max_thickness_step_mm = 0.5   # thickness change between adjacent slices
 //! smooth_slices = 2         # outer-wall smoothing half-width (0: off)
 //! template_source = "mirror" # mirror (the thesis; default), auto (the continuation where the mirror cannot serve), continuation
+//! thickness_profile = "linear" # Dis(u) linear from A′ to B′ (default), or "mirror": the other side's bone thickness
+//! fill_ends = false         # true: the section reaches the bone's cut face at both ends
 //!
 //! [defect]                  # the real defect (optional)
 //! slices = [56, 84]         # first and last slice (original numbering; [z, z]: one slice)
@@ -64,7 +66,7 @@ use toml::de::DeValue;
 use super::pipeline::{DefectConfig, Ends, MidlineSpec, SliceSpec, Smoothing};
 use super::template::read_templates;
 use super::wall::WallOptions;
-use super::wall_input::TemplateChoice;
+use super::wall_input::{TemplateChoice, ThicknessProfile};
 use crate::ct::MidLine;
 use crate::experiment::spec::{type_name, Parser, SpecError, Table, Value};
 use crate::fit::FunctionType;
@@ -137,7 +139,7 @@ pub struct ImplantSpec {
     pub validation_3d: Option<Validation3dSpec>,
 }
 
-const IMPLANT_KEYS: [&str; 20] = [
+const IMPLANT_KEYS: [&str; 22] = [
     "volume",
     "first_z",
     "threshold",
@@ -158,6 +160,8 @@ const IMPLANT_KEYS: [&str; 20] = [
     "max_thickness_step_mm",
     "smooth_slices",
     "template_source",
+    "thickness_profile",
+    "fill_ends",
 ];
 const DEFECT_KEYS: [&str; 7] = [
     "slices",
@@ -216,6 +220,18 @@ impl Parser<'_> {
                         ""
                     }
                 ),
+            )),
+        }
+    }
+
+    /// A boolean (`true` or `false`).
+    fn boolean(&self, v: &Value<'_>, field: &str) -> Result<bool, SpecError> {
+        match v.get_ref() {
+            DeValue::Boolean(b) => Ok(*b),
+            _ => Err(self.error(
+                v.span(),
+                field,
+                format!("expected true or false, found {}", self.show(v)),
             )),
         }
     }
@@ -567,6 +583,22 @@ impl Parser<'_> {
                 })?
             }
         };
+        if let Some(v) = self.get(imp, "fill_ends") {
+            wall.fill_ends = self.boolean(v, "implant.fill_ends")?;
+        }
+        if let Some(v) = self.get(imp, "thickness_profile") {
+            let s = self.string(v, "implant.thickness_profile")?;
+            wall.thickness_profile = ThicknessProfile::from_name(&s).ok_or_else(|| {
+                self.error(
+                    v.span(),
+                    "implant.thickness_profile",
+                    format!(
+                        "unknown thickness profile \"{s}\"; valid choices: {} (\"linear\", the default: Dis(u) from t_A to t_B; \"mirror\": the other side's bone thickness across the gap)",
+                        quoted(&ThicknessProfile::NAMES)
+                    ),
+                )
+            })?;
+        }
         Ok(wall)
     }
 

@@ -15,6 +15,7 @@ use super::units::{
     SliceCluster,
 };
 use super::validation::{CaseMetrics, ValidationRow};
+use super::wall_input::ThicknessProfile;
 use crate::ct::{contour_deviation, Volume};
 use crate::files::{csv_bytes, fmt_real};
 use crate::markdown::{self, Alignment};
@@ -34,6 +35,10 @@ pub const TARGET_KINK_MEDIAN_DEG: f64 = 5.0;
 pub const TARGET_KINK_MAX_DEG: f64 = 10.0;
 /// The target for the thickness step between adjacent slices (mm).
 pub const TARGET_THICKNESS_STEP_MM: f64 = 1.0;
+/// How far (mm) a thickness step may exceed its target and still meet it:
+/// the Lipschitz envelope `t + L·k` makes steps of exactly `L` up to a few
+/// units in the last place larger.
+const STEP_ROUNDING_MM: f64 = 1e-9;
 
 /// The title of `report.md` and the lines naming the spec, the volume and
 /// its frame.
@@ -380,7 +385,7 @@ pub fn defect_report(report: &mut String, spec: &ImplantSpec, implant: &Implant)
     let _ = writeln!(report, "## Real defect\n");
     let _ = writeln!(
         report,
-        "{n} slices z = {}..={}; method `{}`, function `{}`, continuity `{}`, budget {} evaluations per slice, seed {}; join tangents from {} mm of outer table; thickness measured {} mm behind the ends along the table's normal, capped at {} mm, changing by at most {} mm per slice; outer walls smoothed over ±{} slices.",
+        "{n} slices z = {}..={}; method `{}`, function `{}`, continuity `{}`, budget {} evaluations per slice, seed {}; join tangents from {} mm of outer table; thickness measured {} mm behind the ends along the table's normal, capped at {} mm, changing by at most {} mm per slice; inner wall's thickness profile {}{}; outer walls smoothed over ±{} slices.",
         implant.slices[0].z,
         implant.slices[n - 1].z,
         spec.method.name(),
@@ -392,6 +397,15 @@ pub fn defect_report(report: &mut String, spec: &ImplantSpec, implant: &Implant)
         cfg.wall.thickness_setback_mm,
         cfg.wall.max_thickness_mm,
         cfg.smoothing.max_thickness_step_mm,
+        match cfg.wall.thickness_profile {
+            ThicknessProfile::Linear => "linear from A′ to B′",
+            ThicknessProfile::Mirror => "the other side's bone thickness (mirror)",
+        },
+        if cfg.wall.fill_ends {
+            ", ends filled to the bone's cut face"
+        } else {
+            ""
+        },
         cfg.smoothing.wall_half_width
     );
     let m = &implant.midline;
@@ -456,7 +470,7 @@ fn seatability_lines(report: &mut String, implant: &Implant) {
         ok(s.max_kink_deg <= TARGET_KINK_MAX_DEG),
         s.max_thickness_step_mm,
         TARGET_THICKNESS_STEP_MM,
-        ok(s.max_thickness_step_mm <= TARGET_THICKNESS_STEP_MM)
+        ok(s.max_thickness_step_mm <= TARGET_THICKNESS_STEP_MM + STEP_ROUNDING_MM)
     );
     let off = slices_off_target(implant);
     if !off.is_empty() {
@@ -752,8 +766,11 @@ fn validation_verdicts(
         "The validation cases are not independent: the widths of one position are nested cuts of the same bone, and adjacent slices cut the same region of the vault. A *unit* is one defect position on one slice cluster, a maximal run of consecutive validation slices ({}). {}\n",
         cluster_list(&clusters),
         design_text(
-            clusters.len(),
-            val.positions.len(),
+            (
+                clusters.len(),
+                val.positions.len(),
+                units_observed(obs.first().map_or(&[][..], |o| &o[..]))
+            ),
             cases,
             "its widths and the slices of its cluster",
             family_size(&verdicts),
@@ -840,16 +857,24 @@ pub(crate) fn cluster_list(clusters: &[SliceCluster]) -> String {
 /// the summary within a unit, the test, the correction, p_min and the
 /// verdict rule.
 pub(crate) fn design_text(
-    clusters: usize,
-    positions: usize,
+    (clusters, positions, built): (usize, usize, usize),
     cases: usize,
     within: &str,
     family: usize,
     alpha: f64,
 ) -> String {
-    let n = clusters * positions;
+    let planned = clusters * positions;
+    let n = built.min(planned);
     let p_min = smallest_signed_rank_p(n);
-    let units = count(n, "unit");
+    let units = if n < planned {
+        format!(
+            "{}, of which {} with a built case",
+            count(planned, "unit"),
+            count(n, "unit")
+        )
+    } else {
+        count(n, "unit")
+    };
     let unreachable = if p_min >= alpha {
         format!(" Here p_min = {p_min:.3} ≥ α = {alpha}: no row can reject, whatever the data; the verdicts are all `no detectable difference` by design, and the rows are descriptive.")
     } else {
@@ -860,6 +885,15 @@ pub(crate) fn design_text(
         count(clusters, "slice cluster"),
         count(positions, "position"),
     )
+}
+
+/// The distinct units of `obs`: the effective n of a verdict section
+/// (a unit whose every case failed has no observation).
+pub(crate) fn units_observed(obs: &[Observation<'_>]) -> usize {
+    obs.iter()
+        .map(|o| o.unit)
+        .collect::<std::collections::BTreeSet<_>>()
+        .len()
 }
 
 /// `n` and `noun`, in the plural unless `n` is 1: `1 unit`, `18 units`.

@@ -6,7 +6,8 @@ use std::fmt::Write as _;
 
 use super::spec::Validation3dSpec;
 use super::tables::{
-    cluster_list, decided_rows, design_text, family_size, medians_by_width, r, verdict_tables,
+    cluster_list, decided_rows, design_text, family_size, medians_by_width, r, units_observed,
+    verdict_tables,
 };
 use super::units::{position_units, range_clusters, smallest_patch_gap, Observation, SliceCluster};
 use super::validation3d::{Metrics3d, Row3d};
@@ -242,8 +243,11 @@ fn verdicts_3d(report: &mut String, val: &Validation3dSpec, rows: &[Row3d]) -> V
         cluster_list(&clusters),
         position_unit_text(&extents, &units),
         design_text(
-            clusters.len(),
-            unit_positions.len(),
+            (
+                clusters.len(),
+                unit_positions.len(),
+                units_observed(obs.first().map_or(&[][..], |o| &o[..]))
+            ),
             cases,
             "its widths and the ranges of its cluster",
             family_size(&verdicts),

@@ -284,9 +284,15 @@ pub struct CaseDifference {
     pub difference: f64,
 }
 
+/// Differences within this relative tolerance of the values compared are
+/// ties: the same distance reached by two sums in a different order (an
+/// HD95 of √(1.5² + 0.957²) mm, say) differs in its last bits, and would
+/// otherwise count as a unit better or worse by 10⁻¹⁶.
+pub const TIE_TOLERANCE: f64 = 1e-12;
+
 /// Per case of `obs`, the median of `algorithm`'s finite values minus the
 /// median of `reference`'s, for the cases where both have one, sorted by
-/// case.
+/// case; a difference within [`TIE_TOLERANCE`] of the medians is 0.
 pub fn case_differences(
     obs: &[Observation<'_>],
     algorithm: &str,
@@ -313,10 +319,15 @@ pub fn case_differences(
     by_case
         .into_iter()
         .filter(|(_, (_, a, r))| !a.is_empty() && !r.is_empty())
-        .map(|(case, (unit, a, r))| CaseDifference {
-            case,
-            unit,
-            difference: median(&a) - median(&r),
+        .map(|(case, (unit, a, r))| {
+            let (ma, mr) = (median(&a), median(&r));
+            let d = ma - mr;
+            let tie = d.abs() <= TIE_TOLERANCE * ma.abs().max(mr.abs());
+            CaseDifference {
+                case,
+                unit,
+                difference: if tie { 0.0 } else { d },
+            }
         })
         .collect()
 }
@@ -638,6 +649,23 @@ mod tests {
         let w30 = &rows[2].0;
         assert_eq!((w30.across.units, w30.problems), (2, 2));
         assert_eq!((w30.across.better, w30.across.worse), (1, 1));
+    }
+
+    #[test]
+    fn the_same_distance_summed_in_another_order_is_a_tie() {
+        let clusters = slice_clusters(&[10]);
+        let hd = (1.5f64 * 1.5 + 0.957 * 0.957).sqrt();
+        let noisy = (0.957f64 * 0.957 + 1.5 * 1.5).sqrt() + 2.0 * f64::EPSILON;
+        assert_ne!(hd, noisy);
+        let obs = [
+            Observation::at(&clusters, (10, 10), (0.0, 20.0), "curve:x", noisy),
+            Observation::at(&clusters, (10, 10), (0.0, 20.0), "base", hd),
+            Observation::at(&clusters, (10, 10), (0.0, 30.0), "curve:x", 1.0),
+            Observation::at(&clusters, (10, 10), (0.0, 30.0), "base", 1.5),
+        ];
+        let d = case_differences(&obs, "curve:x", "base");
+        assert_eq!(d[0].difference, 0.0);
+        assert_eq!(d[1].difference, -0.5);
     }
 
     #[test]

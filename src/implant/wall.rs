@@ -15,13 +15,16 @@
 use super::continuation::{crosses_midline, template_for, template_source, TemplateSource};
 pub use super::polar::Blend;
 use super::polar::SEAT_STEP_MM;
-use super::polar::{blend_onto_bone, fit_err, walk_along, Gap, Side, TableWalk};
+use super::polar::{
+    angle, blend_onto_bone, fit_err, walk_along, Gap, MirroredThickness, Side, TableWalk,
+};
 use super::seats::{choose_seats, SeatProfile, SeatRule};
 use crate::ct::{clip_to_tissue, CtError, Polyline, Slice};
 use crate::fit::{equal_arc_breaks, End, Segment, SegmentProblem, SegmentSolver, Start};
 use crate::geometry::{Continuity, Curve, Parameterisation, Point};
 
 pub use super::polar::{angle_deg, envelope_radius};
+use super::wall_input::ThicknessProfile;
 pub use super::wall_input::{WallInput, WallKind, WallOptions};
 
 /// The first step of a wall: everything that does not depend on the
@@ -79,7 +82,19 @@ pub struct OuterDesign {
     pub seats: (f64, f64),
     /// Where the template came from ([`super::continuation`]).
     pub template_source: TemplateSource,
+    /// The other side's bone thickness across the gap, which the inner
+    /// wall follows ([`WallOptions::thickness_profile`] `Mirror` with a
+    /// mirrored template; `None`: `Dis(u)` linear).
+    pub mirror_thickness: Option<MirroredThickness>,
+    /// The outer table beyond A′ and beyond B′, walked away from the gap
+    /// (a point every [`BEYOND_STEP_MM`], up to
+    /// [`WallOptions::max_thickness_mm`]): where the section is extended
+    /// into the bone before clipping ([`WallOptions::fill_ends`]).
+    pub beyond: [Vec<Point>; 2],
 }
+
+/// The spacing (mm of outer table) of [`OuterDesign::beyond`].
+pub const BEYOND_STEP_MM: f64 = 0.5;
 
 /// One reconstructed cross-section.
 #[derive(Clone, Debug, PartialEq)]
@@ -587,6 +602,16 @@ pub fn design_outer<S: SegmentSolver + ?Sized>(
         bone_thickness,
         centre: input.centre,
         template_source: source,
+        mirror_thickness: match (options.thickness_profile, source) {
+            (ThicknessProfile::Mirror, TemplateSource::Mirror) => {
+                gap.mirrored_thickness(options.template_points, cap)
+            }
+            _ => None,
+        },
+        beyond: [&walk_a, &walk_b].map(|w| {
+            let n = (options.max_thickness_mm / BEYOND_STEP_MM).ceil().max(0.0) as usize;
+            (1..=n).map(|k| w.at(BEYOND_STEP_MM * k as f64)).collect()
+        }),
     })
 }
 
@@ -639,24 +664,28 @@ fn polyline_normal(p: &[Point], i: usize) -> Point {
 }
 
 /// The inner wall of a fitted chain: `PO(u) = C(u) + Dis(u)·N(u)` at the
-/// global parameters `us` ([`chain_eval`]), `Dis` linear in `u` from `t_A`
-/// to `t_B` with the sign that points towards `o`.
-fn offset_chain(segments: &[Segment], us: &[f64], o: Point, (t_a, t_b): (f64, f64)) -> Vec<Point> {
+/// global parameters `us` ([`chain_eval`]), `Dis = dis(u, C(u))` with the
+/// sign that points towards `o`.
+fn offset_chain(
+    segments: &[Segment],
+    us: &[f64],
+    o: Point,
+    dis: &dyn Fn(f64, Point) -> f64,
+) -> Vec<Point> {
     let (mid, k, v) = chain_eval(segments, 0.5);
     let n_mid = crate::geometry::offset_point(&segments[k], v, 1.0) - mid;
     let sign = if n_mid.dot(o - mid) >= 0.0 { 1.0 } else { -1.0 };
     us.iter()
         .map(|&u| {
-            let (_, k, v) = chain_eval(segments, u);
-            let d = sign * ((1.0 - u) * t_a + u * t_b);
-            crate::geometry::offset_point(&segments[k], v, d)
+            let (c, k, v) = chain_eval(segments, u);
+            crate::geometry::offset_point(&segments[k], v, sign * dis(u, c))
         })
         .collect()
 }
 
 /// The inner wall of a baseline polyline `p`: the same offset with
 /// polyline normals and `u` the arc-length fraction.
-fn offset_polyline(p: &[Point], o: Point, (t_a, t_b): (f64, f64)) -> Vec<Point> {
+fn offset_polyline(p: &[Point], o: Point, dis: &dyn Fn(f64, Point) -> f64) -> Vec<Point> {
     let mid = p.len() / 2;
     let sign = if polyline_normal(p, mid).dot(o - p[mid]) >= 0.0 {
         1.0
@@ -670,10 +699,41 @@ fn offset_polyline(p: &[Point], o: Point, (t_a, t_b): (f64, f64)) -> Vec<Point> 
             if i > 0 {
                 s += p[i].distance(p[i - 1]);
             }
-            let u = s / total;
-            p[i] + polyline_normal(p, i) * (sign * ((1.0 - u) * t_a + u * t_b))
+            p[i] + polyline_normal(p, i) * (sign * dis(s / total, p[i]))
         })
         .collect()
+}
+
+/// The section extended into the bone at both ends before clipping: the
+/// outer wall continued along the outer table beyond A′ and B′ by the
+/// end's thickness ([`OuterDesign::beyond`]), offset inwards by that
+/// thickness, then the inner wall `inner` (A″ → B″) between. Clipping
+/// removes the extension where it is bone and keeps it where the bone
+/// was cut away behind the wall's end face, so the implant reaches the
+/// bone's cut face whatever its angle to the wall's normal.
+fn filled_section(design: &OuterDesign, inner: &[Point], (t_a, t_b): (f64, f64)) -> Polyline {
+    let take = |k: usize, t: f64| {
+        let n = ((t / BEYOND_STEP_MM).ceil() as usize).min(design.beyond[k].len());
+        design.beyond[k][..n].to_vec()
+    };
+    let (ext_a, ext_b) = (take(0, t_a), take(1, t_b));
+    let mut outer: Vec<Point> = ext_a.iter().rev().copied().collect();
+    let first = outer.len();
+    outer.extend(design.outer.points.iter().copied());
+    let last = outer.len();
+    outer.extend(ext_b.iter().copied());
+    let o = design.centre;
+    let offset = |i: usize, t: f64| {
+        let n = polyline_normal(&outer, i);
+        let n = if n.dot(o - outer[i]) >= 0.0 { n } else { -n };
+        outer[i] + n * t
+    };
+    let mut inner_all: Vec<Point> = (0..first).map(|i| offset(i, t_a)).collect();
+    inner_all.extend(inner.iter().copied());
+    inner_all.extend((last..outer.len()).map(|i| offset(i, t_b)));
+    let mut pts = outer;
+    pts.extend(inner_all.iter().rev().copied());
+    Polyline::closed(pts)
 }
 
 /// The second step: the inner wall at `thickness` (mm at A′ and B′), the
@@ -688,10 +748,22 @@ pub fn finish_wall(
 ) -> Result<Wall, CtError> {
     let us = unit_params(options.wall_points);
     let o = design.centre;
+    let (t_a, t_b) = thickness;
+    // Dis(u): linear from t_A to t_B, plus the other side's excess
+    // thickness at the point's polar angle where the profile follows the
+    // mirror; never below a fifth of the thinner end.
+    let floor = 0.2 * t_a.min(t_b);
+    let dis = |u: f64, c: Point| -> f64 {
+        let excess = design
+            .mirror_thickness
+            .as_ref()
+            .map_or(0.0, |m| m.excess(angle(c, o)));
+        ((1.0 - u) * t_a + u * t_b + excess).max(floor)
+    };
     let inner_pts = if design.segments.is_empty() {
-        offset_polyline(&design.outer.points, o, thickness)
+        offset_polyline(&design.outer.points, o, &dis)
     } else {
-        offset_chain(&design.segments, &us, o, thickness)
+        offset_chain(&design.segments, &us, o, &dis)
     };
     let inner_rev: Vec<Point> = inner_pts.iter().rev().copied().collect();
     let mut pts = design.outer.points.clone();
@@ -699,10 +771,15 @@ pub fn finish_wall(
     let raw_section = Polyline::closed(pts);
     let (section, clipped_fraction) = match tissue {
         Some((slice, threshold)) if options.clip_subdivision > 0 => {
-            let c = clip_to_tissue(&raw_section, slice, threshold, options.clip_subdivision)
+            let to_clip = if options.fill_ends {
+                filled_section(&design, &inner_pts, thickness)
+            } else {
+                raw_section.clone()
+            };
+            let c = clip_to_tissue(&to_clip, slice, threshold, options.clip_subdivision)
                 .ok_or(CtError::ClippedAway)?;
-            let f = 1.0 - c.area_after / c.area_before.max(f64::MIN_POSITIVE);
-            (c.section, f.max(0.0))
+            let before = raw_section.area().abs().max(f64::MIN_POSITIVE);
+            (c.section, (1.0 - c.area_after / before).max(0.0))
         }
         _ => (raw_section.clone(), 0.0),
     };
@@ -740,11 +817,17 @@ pub fn finish_wall(
 ///    head and `t_A`, `t_B` the bone thickness along the outer table's
 ///    normal `thickness_setback_mm` back from A′ and B′, capped at
 ///    `max_thickness_mm` (**RECONSTRUCTION**: the thesis gives the offset
-///    formula but not how Dis(u) is chosen). The baselines use the same
-///    offset with polyline normals and `u` the arc-length fraction.
-/// 4. The section (outer A′→B′, inner back) is clipped to the tissue below
-///    the bone threshold ([`crate::ct::clip_to_tissue`]), so its end faces
-///    follow the bone's cut edge and it never occupies intact bone.
+///    formula but not how Dis(u) is chosen). With
+///    [`ThicknessProfile::Mirror`] the other side's thickness profile less
+///    its chord is added ([`MirroredThickness::excess`], beyond the
+///    thesis). The baselines use the same offset with polyline normals and
+///    `u` the arc-length fraction.
+/// 4. The section (outer A′→B′, inner back; with
+///    [`WallOptions::fill_ends`] extended into the bone along the outer
+///    table beyond both ends) is clipped to the tissue below the bone
+///    threshold ([`crate::ct::clip_to_tissue`]), so it never occupies
+///    intact bone, and its end faces follow the bone's cut edge where it
+///    reaches into bone (with `fill_ends`, wherever the cut face lies).
 ///
 /// Errors: [`CtError::DefectCrossesMidline`] (the mirror across the
 /// midline: no explicit template, [`WallOptions::template`] not

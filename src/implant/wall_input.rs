@@ -113,6 +113,58 @@ pub struct WallOptions {
     /// the continuation only across the midline
     /// ([`super::continuation`], beyond the thesis).
     pub template: TemplateChoice,
+    /// How the inner wall's offset `Dis(u)` varies between the thickness
+    /// at A′ and at B′: linearly (default), or following the other side's
+    /// bone thickness where the template is the mirror image
+    /// ([`ThicknessProfile::Mirror`], beyond the thesis).
+    pub thickness_profile: ThicknessProfile,
+    /// Before clipping, extend the section into the bone beyond A′ and B′
+    /// along the outer table by the end's thickness, so that the clipped
+    /// implant fills up to the bone's cut face rather than stopping at the
+    /// wall's normal through A′ and B′ (default `false`; beyond the
+    /// thesis).
+    pub fill_ends: bool,
+}
+
+/// How the inner wall's offset `Dis(u)` runs from A′ to B′, as the spec
+/// chooses it (`[implant] thickness_profile`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ThicknessProfile {
+    /// `Dis(u) = (1 − u)·t_A + u·t_B` (RECONSTRUCTION: the thesis gives the
+    /// offset `PO(u) = C(u) + Dis(u)·N(u)` but not `Dis`).
+    #[default]
+    Linear,
+    /// The linear blend plus the other side's thickness profile less its
+    /// own chord ([`super::polar::MirroredThickness::excess`]): the mirror
+    /// technique applied to the inner table as well, so that the implant
+    /// is as thick as the bone it replaces where the skull is thicker
+    /// mid-gap than at its ends (e.g. a vault cut obliquely near the
+    /// vertex). Where the template is not the mirror image (the
+    /// continuation, an explicit file) the profile is linear. BEYOND the
+    /// thesis.
+    Mirror,
+}
+
+impl ThicknessProfile {
+    /// The spec's names, in order: `linear`, `mirror`.
+    pub const NAMES: [&'static str; 2] = ["linear", "mirror"];
+
+    /// The profile of a spec name ([`ThicknessProfile::NAMES`]).
+    pub fn from_name(name: &str) -> Option<ThicknessProfile> {
+        match name {
+            "linear" => Some(ThicknessProfile::Linear),
+            "mirror" => Some(ThicknessProfile::Mirror),
+            _ => None,
+        }
+    }
+
+    /// The spec's name of the profile.
+    pub fn name(self) -> &'static str {
+        match self {
+            ThicknessProfile::Linear => "linear",
+            ThicknessProfile::Mirror => "mirror",
+        }
+    }
 }
 
 impl Default for WallOptions {
@@ -140,6 +192,8 @@ impl Default for WallOptions {
             clip_subdivision: 4,
             search: SearchSpaceOptions::default(),
             template: TemplateChoice::Mirror,
+            thickness_profile: ThicknessProfile::Linear,
+            fill_ends: false,
         }
     }
 }
