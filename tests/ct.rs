@@ -1737,3 +1737,63 @@ fn clipping_a_section_leaves_no_bone_pixel_inside() {
     // A section entirely in bone leaves nothing.
     assert!(clip_to_tissue(&rect(17.0, 8.0, 22.0, 20.0), &slice, 300, 4).is_none());
 }
+
+/// A ring broken twice (an artificial cut on a slice that also has a real
+/// defect) is two bone pieces; the largest component alone loses the piece
+/// that holds B, the mask holding the ends keeps it, and the tables are
+/// the two pieces' loops (A's first), read as one envelope by the design.
+#[test]
+fn a_ring_broken_twice_keeps_both_pieces_and_gives_their_loops() {
+    let (n, c) = (128usize, Point::new(64.0, 64.0));
+    let in_gap = |deg: f64| (-10.0..=10.0).contains(&deg) || (140.0..=160.0).contains(&deg);
+    let data: Vec<i16> = (0..n * n)
+        .map(|i| {
+            let p = Point::new((i % n) as f64, (i / n) as f64) - c;
+            let r = (p.x * p.x + p.y * p.y).sqrt();
+            let deg = p.y.atan2(p.x).to_degrees();
+            if (30.0..=36.0).contains(&r) && !in_gap(deg) {
+                1000
+            } else {
+                0
+            }
+        })
+        .collect();
+    let slice = Slice {
+        z: 0,
+        nx: n,
+        ny: n,
+        sx: 1.0,
+        sy: 1.0,
+        data: &data,
+    };
+    let at = |deg: f64| c + Point::new(deg.to_radians().cos(), deg.to_radians().sin()) * 36.2;
+    // A ends the larger piece (160°..350°), B the smaller (10°..140°).
+    let (a, b) = (at(-10.5), at(10.5));
+    let near = |m: &Mask2, p: Point| {
+        m.pixels()
+            .iter()
+            .any(|&(r, cc)| Point::new(cc as f64, r as f64).distance(p) <= 2.0)
+    };
+    let largest = bone_mask_slice(&slice, 300).unwrap();
+    assert!(near(&largest, a) && !near(&largest, b));
+    let e = table_contours(&bone_loops(&slice, &largest, 300), Some((a, b))).unwrap_err();
+    assert!(matches!(e, CtError::NotOnContour { what: "B", .. }), "{e}");
+    let both = bone_mask_slice_holding(&slice, 300, &[a, b], 2.0).unwrap();
+    assert!(near(&both, a) && near(&both, b));
+    assert_eq!(
+        both.count(),
+        threshold_slice(&slice, 300).count(),
+        "both pieces, nothing else"
+    );
+    // An end next to no bone adds nothing.
+    let alone = bone_mask_slice_holding(&slice, 300, &[a, c], 2.0).unwrap();
+    assert_eq!(alone, largest);
+    let t = table_contours(&bone_loops(&slice, &both, 300), Some((a, b))).unwrap();
+    assert!(!t.intact && t.outer.closed && t.inner.closed);
+    assert!(t.outer.nearest(a).unwrap().distance <= 2.0);
+    assert!(t.inner.nearest(b).unwrap().distance <= 2.0);
+    assert!(t.outer.nearest(b).unwrap().distance > 2.0);
+    // The centre's height is read from both pieces.
+    let m = t.vertex_mean();
+    assert!((m.y - 0.5 * (t.outer.vertex_mean().y + t.inner.vertex_mean().y)).abs() < 1e-9);
+}

@@ -745,6 +745,33 @@ fn validation_3d_of_one_small_patch() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// On the slices of the real defect (z = 64–70, whose rings it opens at
+/// the front) a patch at the back splits the ring into two pieces: the
+/// pipeline keeps both (`bone_mask_slice_holding`, the tables as two loops)
+/// and rebuilds it; a patch at the front meets the real defect and is a
+/// reason, not a panic.
+#[test]
+fn validation_3d_on_slices_that_have_the_real_defect() {
+    let v = volume();
+    let mut cfg = real_config(86..=86);
+    cfg.slices.clear();
+    let case = |position_deg| Case3d {
+        range: (64, 70),
+        position_deg,
+        width_mm: 20.0,
+    };
+    let p = prepare_case_3d(&v, &cfg, case(210.0), intact_midline()).unwrap();
+    for kind in [WallKind::CurveFit, WallKind::Straight] {
+        let m = evaluate_3d(&p, kind, 10.0, &mut LmSolver::default()).unwrap();
+        assert!(m.dice > 0.85 && m.hd95 < 3.0, "{kind:?}: {m:?}");
+    }
+    let front = prepare_case_3d(&v, &cfg, case(90.0), intact_midline()).unwrap();
+    match evaluate_3d(&front, WallKind::Straight, 10.0, &mut LmSolver::default()) {
+        Err(e) => assert!(e.to_string().contains("slice z = 64"), "{e}"),
+        Ok(m) => panic!("a patch in the real defect was rebuilt: {m:?}"),
+    }
+}
+
 // ---------------------------------------------------------------- bad input: clear errors, nothing written
 
 /// Runs a spec that must fail; returns its stderr after checking that no
@@ -899,15 +926,17 @@ fn bad_ends_midlines_and_slices_are_refused_before_anything_is_written() {
 #[test]
 fn a_case_that_cannot_be_built_is_a_failed_row_and_the_run_goes_on() {
     // 2D: on z = 70 no outer contour lies at 110° (the real defect's
-    // side), 330° is intact bone. 3D: the range 60–62 starts on a slice
-    // of the real defect, where the patch's end B is off the bone. Both
-    // used to stop the whole run with no output.
+    // side), 330° is intact bone. 3D: at 110° the range 60–62 lies in the
+    // real defect's opening, so the patch leaves the outer contour. Both
+    // used to stop the whole run with no output. (At 330° that range was
+    // refused too, "B is not on the bone contour", until the pipeline kept
+    // both pieces of a ring broken twice.)
     let dir = tmp("unbuilt");
     let spec = small_spec(
         &crate_path(CT0051_PATH),
         "",
         "[validation]\nslices = [70]\npositions = [110, 330]\nwidths = [30]\nmethods = [\"lm\"]\n\
-         [validation_3d]\nranges = [[60, 62]]\npositions = [330]\nwidths = [30]\nmethods = [\"lm\"]\n",
+         [validation_3d]\nranges = [[60, 62]]\npositions = [110]\nwidths = [30]\nmethods = [\"lm\"]\n",
     );
     let (ok, err) = run_spec(&dir, &spec);
     assert!(ok, "{err}");
@@ -928,9 +957,9 @@ fn a_case_that_cannot_be_built_is_a_failed_row_and_the_run_goes_on() {
     assert_eq!(rows3.len(), 3, "{csv3}");
     for (r, m) in rows3.iter().zip(["template", "straight", "curve:lm"]) {
         assert!(
-            r.starts_with(&format!("60,62,330,30,{m},"))
+            r.starts_with(&format!("60,62,110,30,{m},"))
                 && r.contains(",error,")
-                && r.contains("case not built: slice z = 60: B is not on the bone contour"),
+                && r.contains("case not built: slice z = 60: the defect leaves the outer contour"),
             "{r}"
         );
     }

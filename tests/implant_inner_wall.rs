@@ -3,8 +3,8 @@
 //! bone is up to ~23 mm thick in plane and thickest mid-gap, so an inner
 //! wall at the ends' thickness, capped at 15 mm and held to 0.5 mm per
 //! slice, leaves much of the removed bone uncovered. The shipped spec's
-//! inner wall (a wide cap and step, the other side's thickness profile,
-//! the ends filled up to the bone's cut face) covers it.
+//! inner wall (a wide cap, a 1 mm step, the ends filled up to the bone's
+//! cut face) covers it; the other side's thickness profile is an option.
 
 use std::path::Path;
 
@@ -37,7 +37,6 @@ fn config(wall: WallOptions, smoothing: Smoothing) -> DefectConfig {
 fn shipped() -> (WallOptions, Smoothing) {
     let wall = WallOptions {
         max_thickness_mm: 25.0,
-        thickness_profile: ThicknessProfile::Mirror,
         fill_ends: true,
         ..WallOptions::default()
     };
@@ -76,11 +75,11 @@ fn the_inner_wall_covers_the_oblique_vault_and_never_enters_bone() {
     for kind in [WallKind::CurveFit, WallKind::Straight] {
         let (old, _, _) = run(&base, kind);
         let (new, imp, p) = run(&config(wall, smoothing), kind);
-        // Measured (LM): curve Dice 0.817 -> 0.882, HD95 5.01 -> 2.61 mm;
-        // straight 0.825 -> 0.875, 3.69 -> 1.78 mm.
-        assert!(new.dice >= old.dice + 0.04, "{kind:?}: {old:?} -> {new:?}");
+        // Measured (LM): curve Dice 0.817 -> 0.867, HD95 5.01 -> 3.03 mm;
+        // straight 0.825 -> 0.861, 3.69 -> 2.02 mm.
+        assert!(new.dice >= old.dice + 0.03, "{kind:?}: {old:?} -> {new:?}");
         assert!(new.hd95 < old.hd95 - 1.0, "{kind:?}: {old:?} -> {new:?}");
-        assert!(new.dice > 0.86 && new.hd95 <= 3.0, "{kind:?}: {new:?}");
+        assert!(new.dice > 0.86 && new.hd95 <= 3.5, "{kind:?}: {new:?}");
         // Filling the ends does not put the implant into intact bone: the
         // clipped sections hold no bone pixel, and the rings lofted from
         // them (resampled to `ring_points`) rasterise onto at most 1 % of
@@ -98,18 +97,34 @@ fn the_inner_wall_covers_the_oblique_vault_and_never_enters_bone() {
             let all = imp.mask.slice(k).count();
             assert!(100 * on_bone <= all, "z {}: {on_bone} of {all}", s.z);
         }
-        // The mirrored profile is used where the template is the mirror,
-        // and it keeps the seats' thickness at A' and B'.
-        if kind == WallKind::CurveFit {
-            for s in &imp.slices {
-                let d = &s.wall.design;
-                let m = d.mirror_thickness.as_ref().expect("mirror template");
-                let (ta, tb) = (m.excess(m.th_a), m.excess(m.th_a + m.span));
-                assert!(ta.abs() < 1e-9 && tb.abs() < 1e-9, "z {}", s.z);
-                assert!(m.values.iter().all(|&t| t > 0.0 && t <= 25.0));
-            }
-        }
     }
+    // The mirrored profile, where asked for and the template is the
+    // mirror, keeps the seats' thickness at A' and B', and on this patch,
+    // thickest mid-gap, covers more of it (measured: Dice 0.882 against
+    // the linear profile's 0.867).
+    let mirrored = WallOptions {
+        thickness_profile: ThicknessProfile::Mirror,
+        ..wall
+    };
+    let (linear, _, _) = run(&config(wall, smoothing), WallKind::CurveFit);
+    let (m, imp, _) = run(&config(mirrored, smoothing), WallKind::CurveFit);
+    assert!(m.dice > linear.dice + 0.005, "{linear:?} -> {m:?}");
+    for s in &imp.slices {
+        let m = s
+            .wall
+            .design
+            .mirror_thickness
+            .as_ref()
+            .expect("mirror template");
+        let (ta, tb) = (m.excess(m.th_a), m.excess(m.th_a + m.span));
+        assert!(ta.abs() < 1e-9 && tb.abs() < 1e-9, "z {}", s.z);
+        assert!(m.values.iter().all(|&t| t > 0.0 && t <= 25.0));
+    }
+    let (_, imp, _) = run(&config(wall, smoothing), WallKind::CurveFit);
+    assert!(imp
+        .slices
+        .iter()
+        .all(|s| s.wall.design.mirror_thickness.is_none()));
 }
 
 #[test]

@@ -169,6 +169,20 @@ pub struct TableContours {
     pub intact: bool,
 }
 
+impl TableContours {
+    /// Where the polar centre's height is read: the vertex mean of the
+    /// outer table, or, for a ring broken twice (both tables whole closed
+    /// loops of two pieces, [`table_contours`]), the mean of the two
+    /// pieces' vertex means.
+    pub fn vertex_mean(&self) -> Point {
+        if !self.intact && self.outer.closed && self.inner.closed {
+            (self.outer.vertex_mean() + self.inner.vertex_mean()) * 0.5
+        } else {
+            self.outer.vertex_mean()
+        }
+    }
+}
+
 /// Outer and inner table contours from the loops of [`bone_loops`].
 ///
 /// - Intact ring (`ends = None`): the outer table is the loop of largest
@@ -183,8 +197,14 @@ pub struct TableContours {
 ///   vertex distance) from the loop's vertex mean, the inner table the other
 ///   arc; both keep the loop's direction (bone on the left), so the outer
 ///   runs from one end to the other and the inner back. The bone end faces go to whichever arc the cut points leave them.
-///   Error [`CtError::NotOnContour`] when `a` or `b` is more than 2 mm from
-///   the loop.
+///   When `a` or `b` is more than 2 mm from that loop, the loops nearest
+///   to them are used: one loop holding both is cut the same way; two
+///   different loops (the ring broken twice, e.g. an artificial cut on a
+///   slice with a real defect) are returned whole, the one holding `a` as
+///   `outer`, the one holding `b` as `inner`, and the wall design reads
+///   the envelope of both. Error [`CtError::NotOnContour`] when `a` or `b`
+///   is more than 2 mm from every loop (the distance given is to the
+///   largest loop).
 pub fn table_contours(
     loops: &[Polyline],
     ends: Option<(Point, Point)>,
@@ -212,20 +232,42 @@ pub fn table_contours(
         }
         Some((a, b)) => {
             const TOL: f64 = 2.0;
-            let na = outer.nearest(a).expect("non-empty loop");
-            let nb = outer.nearest(b).expect("non-empty loop");
-            for (what, n) in [("A", &na), ("B", &nb)] {
-                if n.distance > TOL {
+            // The bone loop nearest to `p` (of positive area), within TOL.
+            let holding = |what: &'static str, p: Point| -> Result<&Polyline, CtError> {
+                let (loop_, d) = loops
+                    .iter()
+                    .filter(|l| l.signed_area() > 0.0)
+                    .filter_map(|l| l.nearest(p).map(|n| (l, n.distance)))
+                    .min_by(|x, y| x.1.total_cmp(&y.1))
+                    .ok_or(CtError::NoClosedContour)?;
+                if d > TOL {
+                    let on_outer = outer.nearest(p).map_or(f64::INFINITY, |n| n.distance);
                     return Err(CtError::NotOnContour {
                         what,
-                        distance_mm: n.distance,
+                        distance_mm: on_outer,
                         tolerance_mm: TOL,
                     });
                 }
-            }
-            let centre = outer.vertex_mean();
-            let arc1 = outer.sub_arc(&na, &nb);
-            let arc2 = outer.sub_arc(&nb, &na);
+                Ok(loop_)
+            };
+            let na = outer.nearest(a).expect("non-empty loop");
+            let nb = outer.nearest(b).expect("non-empty loop");
+            let ring = if na.distance <= TOL && nb.distance <= TOL {
+                outer
+            } else {
+                let (la, lb) = (holding("A", a)?, holding("B", b)?);
+                if !std::ptr::eq(la, lb) {
+                    // The ring is broken twice (an artificial cut on a
+                    // slice with a real defect): A and B end two pieces.
+                    return Ok(two_pieces(la, lb));
+                }
+                la
+            };
+            let na = ring.nearest(a).expect("non-empty loop");
+            let nb = ring.nearest(b).expect("non-empty loop");
+            let centre = ring.vertex_mean();
+            let arc1 = ring.sub_arc(&na, &nb);
+            let arc2 = ring.sub_arc(&nb, &na);
             let mean_r = |p: &Polyline| {
                 p.points.iter().map(|q| q.distance(centre)).sum::<f64>() / p.points.len() as f64
             };
@@ -240,5 +282,18 @@ pub fn table_contours(
                 intact: false,
             })
         }
+    }
+}
+
+/// The tables of a ring broken twice, A ending the piece `la` and B the
+/// piece `lb`: each piece's whole loop, `la` as `outer` and `lb` as
+/// `inner`. The design reads the outer table as the envelope of both
+/// (the farthest crossing of a ray with either), which is the outer
+/// surface of both pieces.
+fn two_pieces(la: &Polyline, lb: &Polyline) -> TableContours {
+    TableContours {
+        outer: la.clone(),
+        inner: lb.clone(),
+        intact: false,
     }
 }

@@ -31,8 +31,8 @@ pub mod voxelise;
 
 pub use crate::geometry::{Nearest, Polyline};
 pub use bone::{
-    bone_mask_slice, bone_mask_volume, largest_component_2d, largest_component_3d, threshold_slice,
-    BONE_THRESHOLD_HU,
+    bone_mask_slice, bone_mask_slice_holding, bone_mask_volume, largest_component_2d,
+    largest_component_3d, threshold_slice, BONE_THRESHOLD_HU,
 };
 pub use clip::{clip_to_tissue, Clipped};
 pub use contour::{bone_loops, marching_squares, table_contours, TableContours};

@@ -13,8 +13,9 @@ use super::wall::{
     WallOptions,
 };
 use crate::ct::{
-    bone_loops, bone_mask_slice, detect_defect, estimate_tilted_midline, loft_rings, voxelise,
-    CtError, DefectParams, Frame, Mask2, Mask3, Mesh, MidLine, Polyline, TableContours, Volume,
+    bone_loops, bone_mask_slice, bone_mask_slice_holding, detect_defect, estimate_tilted_midline,
+    loft_rings, voxelise, CtError, DefectParams, Frame, Mask2, Mask3, Mesh, MidLine, Polyline,
+    TableContours, Volume,
 };
 use crate::files::IoError;
 use crate::fit::SegmentSolver;
@@ -431,7 +432,6 @@ pub fn slice_context(
     let at = |source: CtError| ImplantError::on_slice(z, source);
     let k = index_of(cfg, volume, z)?;
     let slice = volume.slice(k);
-    let mask = bone_mask_slice(&slice, cfg.threshold).map_err(at)?;
     let (sx, sy) = (slice.sx, slice.sy);
     let (a, b) = match spec.ends {
         Ends::Pixels { a, b } => (
@@ -440,15 +440,19 @@ pub fn slice_context(
         ),
         Ends::Mm { a, b } => (a, b),
         Ends::Auto => {
+            let mask = bone_mask_slice(&slice, cfg.threshold).map_err(at)?;
             let d = detect_defect(&mask, sx, sy, &DefectParams::default())
                 .ok_or_else(|| at(CtError::NoDefectFound))?;
             (d.a_mm, d.b_mm)
         }
     };
     check_distinct_ends(z, (a, b), (sx, sy))?;
+    // The largest component, and the piece holding an end when the ring is
+    // broken twice (`bone_mask_slice_holding`).
+    let mask = bone_mask_slice_holding(&slice, cfg.threshold, &[a, b], 2.0).map_err(at)?;
     let loops = bone_loops(&slice, &mask, cfg.threshold);
     let tables = crate::ct::table_contours(&loops, Some((a, b))).map_err(at)?;
-    let centre = midline.at_y(tables.outer.vertex_mean().y);
+    let centre = midline.at_y(tables.vertex_mean().y);
     Ok(SliceContext {
         z,
         k,

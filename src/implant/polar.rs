@@ -502,7 +502,7 @@ pub struct Blend {
 }
 
 /// The other side's bone thickness across a gap, on evenly spaced polar
-/// angles from θ_A to θ_B ([`Gap::mirrored_thickness`]).
+/// angles from θ_A to θ_B (measured by `Gap::mirrored_thickness`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct MirroredThickness {
     /// The polar angle of A′ (radians).
