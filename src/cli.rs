@@ -416,7 +416,7 @@ fn run(
         // before anything runs.
         coco_log::check(&spec, dir)?;
     }
-    let s = runner::run_campaign(&spec, opts)?;
+    let s = crate::experiment::run_campaign(&spec, opts)?;
     let state = if s.complete {
         format!("complete; results in {}", s.out.join("runs.csv").display())
     } else {

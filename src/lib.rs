@@ -103,68 +103,71 @@
 //! HS and MHS) and `examples/custom_problem.rs` (Styblinski–Tang solved by
 //! MHS and PSO) do it end to end, report included.
 //!
-//! # Rooms and the order between them
+//! # Crates, rooms and the order between them
 //!
-//! Data flows one way: spec → runner → records → report. The crate is a
-//! stack of rooms (top-level modules); a room may import the rooms listed
-//! before it and never one after it, and the leaves import nothing of the
-//! crate; inside a room, the files form no circle. `tests/layering.rs`
-//! reads `src/` and fails on an upward import or a circle of files.
+//! Data flows one way: spec → runner → records → report. The workspace is a
+//! stack of crates, each a floor of rooms; a crate depends only on the
+//! crates below it, so an upward import does not compile. Inside a crate a
+//! room may import the rooms listed before it and never one after it, and
+//! its files form no circle: `tests/layering.rs` reads every crate's
+//! `src/` and fails on an upward import or a circle of files.
 //!
-//! | # | room | what lives there |
+//! | crate | rooms (today's paths, re-exported here) | what lives there |
 //! |---|---|---|
-//! | 0 | [`files`], [`font`], [`linalg`], [`markdown`], [`simd`] | leaves: atomic writes, CSV bytes and reals; the embedded font; the Cholesky solve; Markdown tables and report.html pages; the vector instruction sets |
-//! | 1 | [`geometry`] | Bernstein basis, Bézier and rational Bézier curves, joins, offsets (thesis ch. 3) |
-//! | 2 | [`stats`] | descriptive statistics and significance tests |
-//! | 3 | [`rng`] | seed derivation and the random streams |
-//! | 4 | [`problem`] | the [`problem::Problem`] an optimiser minimises |
-//! | 5 | [`functions`] | the ten benchmark functions (thesis ch. 4) |
-//! | 6 | [`optim`] | HS, GHS, GA, PSO, MHS, L-SHADE, random search and Levenberg–Marquardt |
-//! | 7 | [`outline`] | data points from images, CSV files and glyphs |
-//! | 8 | [`fit`] | the fitting problem E = Σ‖R_i − P_i‖², search spaces, piecewise fits (ch. 5) |
-//! | 9 | [`reconstruction`] | sources, methods, the fitting pipeline, overlay figure data |
-//! | 10 | [`ct`] | CT volumes, bone masks, contours, meshes, previews |
-//! | 11 | [`experiment`] | spec, runner, journal, records: the campaign machinery |
-//! | 12 | [`report`] | tables, tests and plots of results directories |
-//! | 13 | [`implant`] | the chapter-6 implant pipeline and its run (its report draws with [`report`]'s plots and colours) |
-//! | 14 | [`error`] | the crate's [`error::Error`], wrapping each room's error |
-//! | 15 | [`cli`] | the command line |
+//! | `metabezier-core` | [`linalg`], [`simd`], [`geometry`], [`stats`], [`rng`], [`problem`], [`functions`], [`optim`], and the formatting half of [`files`] | Bézier geometry (ch. 3), the benchmark functions and optimisers (ch. 4), statistics; no I/O, no C |
+//! | `metabezier-files` | [`files`] | atomic writes, the I/O error that names its file |
+//! | `metabezier-bbob` | [`functions::bbob`] | COCO's bbob suite, its C core behind the `coco` feature (on by default) |
+//! | `metabezier-fit` | [`outline`], [`fit`], [`reconstruction`] | outlines, piecewise fits E = Σ‖R_i − P_i‖², DXF, scores (ch. 5) |
+//! | `metabezier-spec` | (`experiment::spec`'s grammar) | TOML read with located errors, for campaigns and the implant |
+//! | `metabezier-plot` | [`font`], [`markdown`] and the report's drawing | figures, colours, the embedded font, PNG, Markdown and report.html |
+//! | `metabezier-campaign` | [`experiment`] | spec, runner, journal, records, shards, Slurm |
+//! | `metabezier-report` | [`report`] | tables, tests and plots of results directories |
+//! | `metabezier-implant` | [`ct`], [`implant`] | CT volumes and the chapter-6 implant pipeline |
+//! | `metabezier` | [`error`], [`cli`], this facade | the command line and the crate's [`error::Error`] |
 //!
 //! An optimiser knows nothing of curves or files; a fitting problem knows
 //! nothing of the algorithm that solves it; the report reads only what
-//! [`experiment::records`] writes.
+//! [`experiment::records`] writes; the implant knows nothing of campaigns.
 #![warn(missing_docs)]
 
-pub mod files;
-pub mod font;
-pub mod linalg;
-pub mod markdown;
-pub mod simd;
+pub use metabezier_core::{geometry, linalg, optim, problem, rng, simd, stats};
+pub use metabezier_files as files;
+pub use metabezier_fit::{fit, outline, reconstruction};
+pub use metabezier_implant::{ct, implant};
+pub use metabezier_plot::{font, markdown};
+pub use metabezier_report as report;
 
-pub mod geometry;
-pub mod stats;
+/// The ten benchmark functions (thesis ch. 4, `metabezier-core`) and COCO's
+/// bbob suite (`metabezier-bbob`).
+pub mod functions {
+    pub use metabezier_bbob as bbob;
+    pub use metabezier_bbob::BbobError;
+    #[cfg(feature = "coco")]
+    pub use metabezier_bbob::{BbobProblem, CocoObserver};
+    pub use metabezier_core::functions::*;
+}
 
-pub mod rng;
+/// The campaign machinery (`metabezier-campaign`), with the commit this
+/// binary was built from recorded in every campaign it runs.
+pub mod experiment {
+    pub use metabezier_campaign::*;
 
-pub mod problem;
+    /// `provenance.toml` (`metabezier-campaign`'s), and the commit of this
+    /// build.
+    pub mod provenance {
+        pub use metabezier_campaign::provenance::*;
 
-pub mod functions;
+        /// The git commit the binary was built from (`git rev-parse HEAD`
+        /// at build time, by `build.rs`), or "unknown" outside a checkout.
+        pub const GIT_COMMIT: &str = env!("METABEZIER_GIT_COMMIT");
+    }
 
-pub mod optim;
-
-pub mod outline;
-
-pub mod fit;
-
-pub mod reconstruction;
-
-pub mod ct;
-
-pub mod experiment;
-
-pub mod report;
-
-pub mod implant;
+    /// [`metabezier_campaign::run_campaign`] with this build's commit
+    /// ([`provenance::GIT_COMMIT`]) recorded in `provenance.toml`.
+    pub fn run_campaign(spec: &Spec, opts: &RunOptions) -> Result<Summary, ExperimentError> {
+        runner::run_campaign_built(spec, opts, provenance::GIT_COMMIT)
+    }
+}
 
 pub mod error;
 

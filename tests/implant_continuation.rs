@@ -1,4 +1,4 @@
-//! The continuation template (src/implant/continuation.rs, beyond the
+//! The continuation template (crates/implant/src/implant/continuation.rs, beyond the
 //! thesis) on the vendored ProMED CT 0051 extract: a defect across the
 //! posterior midline gets a wall where the mirror refuses it, near-midline
 //! defects are routed to it, the spec key and its errors, and the CLI's
@@ -34,7 +34,7 @@ fn crate_path(p: &str) -> String {
 fn a_defect_across_the_posterior_midline_gets_a_continued_wall() {
     let v = read_inv3(Path::new(CT0051_PATH)).unwrap();
     // The midline of CT 0051 as `midline = "auto"` estimates it from the
-    // intact slices 86–92 (REPRODUCTION.md: x = 124.03 mm at y = 105.26 mm,
+    // intact slices 86–92 (docs/reproduction/ch6.md: x = 124.03 mm at y = 105.26 mm,
     // tilt −3.15°), given here to keep the test cheap.
     let mx = MidLine {
         point: Point::new(124.03, 105.26),

@@ -1,7 +1,16 @@
-//! The house stays one-way: every top-level module ("room") of `src/` may
-//! import only the rooms listed before it in [`ORDER`], and the leaves
-//! import nothing of the crate. The order is the one `src/lib.rs` documents
-//! and declares; a new room must be placed in it.
+//! The house stays one-way, on two levels.
+//!
+//! **Crates.** The workspace's crates are its floors, in [`CRATES`] order;
+//! a crate may depend only on the crates listed before it (its
+//! `Cargo.toml`), and the compiler refuses any import its dependencies do
+//! not allow. So an upward import across floors does not compile.
+//!
+//! **Rooms inside a crate.** Every top-level module ("room") of a crate
+//! with several rooms may import only the rooms listed before it, and the
+//! leaves import nothing of the crate; a crate of one room (the campaign,
+//! the report) is that room. The rooms of lower crates that a crate uses
+//! are named at its root (`use metabezier_core::{geometry, optim};`), so
+//! `crate::geometry` may name them: they sit below every room of the crate.
 //!
 //! Inside a room the files form no circle either: for every module, the
 //! references between its child modules (`super::x`, `crate::room::x`,
@@ -14,35 +23,126 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-/// Leaves: they import nothing of the crate.
-const LEAVES: [&str; 5] = ["files", "font", "linalg", "markdown", "simd"];
+/// One floor: its package, its source folder, its leaves (they import
+/// nothing of the crate) and its other rooms from the bottom up. A crate of
+/// one room has neither.
+struct Floor {
+    package: &'static str,
+    src: &'static str,
+    leaves: &'static [&'static str],
+    order: &'static [&'static str],
+}
 
-/// The rooms from the bottom up; each may import only those before it
-/// (and the leaves).
-const ORDER: [&str; 15] = [
-    "geometry",
-    "stats",
-    "rng",
-    "problem",
-    "functions",
-    "optim",
-    "outline",
-    "fit",
-    "reconstruction",
-    "ct",
-    "experiment",
-    "report",
-    "implant",
-    "error",
-    "cli",
+/// The workspace's crates from the bottom up: each may depend only on
+/// those before it.
+const CRATES: [Floor; 10] = [
+    Floor {
+        package: "metabezier-core",
+        src: "crates/core/src",
+        leaves: &["files", "linalg", "simd"],
+        order: &["geometry", "stats", "rng", "problem", "functions", "optim"],
+    },
+    Floor {
+        package: "metabezier-files",
+        src: "crates/files/src",
+        leaves: &[],
+        order: &[],
+    },
+    Floor {
+        package: "metabezier-bbob",
+        src: "crates/bbob/src",
+        leaves: &[],
+        order: &[],
+    },
+    Floor {
+        package: "metabezier-fit",
+        src: "crates/fit/src",
+        leaves: &[],
+        order: &["outline", "fit", "reconstruction"],
+    },
+    Floor {
+        package: "metabezier-spec",
+        src: "crates/spec/src",
+        leaves: &[],
+        order: &[],
+    },
+    Floor {
+        package: "metabezier-plot",
+        src: "crates/plot/src",
+        leaves: &["font", "markdown", "png"],
+        order: &["format", "style", "render", "layout", "factor_lines"],
+    },
+    Floor {
+        package: "metabezier-campaign",
+        src: "crates/campaign/src",
+        leaves: &[],
+        order: &[],
+    },
+    Floor {
+        package: "metabezier-report",
+        src: "crates/report/src",
+        leaves: &[],
+        order: &[],
+    },
+    Floor {
+        package: "metabezier-implant",
+        src: "crates/implant/src",
+        leaves: &[],
+        order: &["ct", "implant"],
+    },
+    Floor {
+        package: "metabezier",
+        src: "src",
+        leaves: &[],
+        order: &["error", "cli"],
+    },
 ];
 
-/// The rank of a room: leaves 0, then 1.. in [`ORDER`].
-fn rank(room: &str) -> Option<usize> {
-    if LEAVES.contains(&room) {
-        return Some(0);
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The rooms of a crate, leaves first: `(name, rank)`, leaves at rank 0.
+fn rooms(floor: &Floor) -> Vec<(&'static str, usize)> {
+    let mut out: Vec<(&str, usize)> = floor.leaves.iter().map(|l| (*l, 0)).collect();
+    out.extend(floor.order.iter().enumerate().map(|(i, r)| (*r, i + 1)));
+    out
+}
+
+/// The names a crate's root imports from the crates below it
+/// (`use metabezier_core::{geometry, optim};`, `use metabezier_files as
+/// files;`, the facade's `pub use` and its `pub mod functions { … }` of
+/// re-exports): `crate::geometry` may name them from any room.
+fn imported_rooms(lib: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    for line in lib.lines().filter(|l| !l.starts_with(' ')) {
+        if let Some(facade) = line
+            .strip_prefix("pub mod ")
+            .and_then(|l| l.strip_suffix(" {"))
+        {
+            out.push(facade.to_owned()); // a facade module of re-exports
+            continue;
+        }
+        let line = line.strip_prefix("pub ").unwrap_or(line);
+        let Some(rest) = line.strip_prefix("use metabezier_") else {
+            continue;
+        };
+        let rest = rest.trim_end_matches(';');
+        if let Some((_, alias)) = rest.split_once(" as ") {
+            out.push(alias.trim().to_owned());
+        } else if let Some((_, group)) = rest.split_once("::{") {
+            out.extend(
+                group
+                    .trim_end_matches('}')
+                    .split(',')
+                    .map(|n| n.trim().to_owned())
+                    .filter(|n| !n.is_empty()),
+            );
+        } else if let Some((_, name)) = rest.rsplit_once("::") {
+            out.push(name.to_owned());
+        }
     }
-    ORDER.iter().position(|r| *r == room).map(|i| i + 1)
+    out
 }
 
 fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
@@ -172,9 +272,16 @@ fn references(src: &Path) -> Vec<(PathBuf, usize, String, String)> {
     out
 }
 
-/// The upward (or unknown) imports of `src`, one message each.
-fn violations(src: &Path) -> Vec<String> {
+/// The upward (or unknown) imports of the crate `floor` whose source is
+/// `src`, one message each; `imported` are the lower crates' rooms its root
+/// names.
+fn violations(src: &Path, floor: &Floor, imported: &[String]) -> Vec<String> {
+    let rooms = rooms(floor);
+    let rank = |room: &str| rooms.iter().find(|(r, _)| *r == room).map(|(_, k)| *k);
     let mut bad = Vec::new();
+    if rooms.is_empty() {
+        return bad; // one room: only the circle check applies
+    }
     for (file, line, from, to) in references(src) {
         if from == to {
             continue;
@@ -182,8 +289,9 @@ fn violations(src: &Path) -> Vec<String> {
         let at = format!("{}:{line}", file.display());
         match (rank(&from), rank(&to)) {
             (None, _) => bad.push(format!(
-                "{at}: the room `{from}` is not in the layering order; add it to ORDER (tests/layering.rs) and to the table in src/lib.rs"
+                "{at}: the room `{from}` is not in the layering order; add it to CRATES (tests/layering.rs) and to the table in its lib.rs"
             )),
+            (_, None) if imported.contains(&to) => {}
             (_, None) => bad.push(format!("{at}: `{from}` imports `crate::{to}`, which is not a room")),
             (Some(0), _) => bad.push(format!(
                 "{at}: the leaf `{from}` imports `crate::{to}`; leaves import nothing of the crate"
@@ -199,23 +307,95 @@ fn violations(src: &Path) -> Vec<String> {
 
 #[test]
 fn no_room_imports_one_above_it() {
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
-    let bad = violations(&src);
+    let mut bad = Vec::new();
+    for floor in &CRATES {
+        let src = root().join(floor.src);
+        let lib = std::fs::read_to_string(src.join("lib.rs")).unwrap();
+        bad.extend(violations(&src, floor, &imported_rooms(&lib)));
+    }
     assert!(bad.is_empty(), "upward imports:\n{}", bad.join("\n"));
 }
 
 #[test]
-fn lib_declares_the_rooms_in_the_layering_order() {
-    let lib =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("src/lib.rs")).unwrap();
-    let declared: Vec<&str> = lib
+fn each_lib_declares_its_rooms_in_the_layering_order() {
+    for floor in CRATES.iter().filter(|f| !f.order.is_empty()) {
+        let lib = std::fs::read_to_string(root().join(floor.src).join("lib.rs")).unwrap();
+        let declared: Vec<&str> = lib
+            .lines()
+            .filter_map(|l| l.trim().strip_prefix("pub mod "))
+            .filter_map(|l| l.strip_suffix(';'))
+            .collect();
+        let mut expected: Vec<&str> = floor.leaves.to_vec();
+        expected.extend(floor.order);
+        assert_eq!(declared, expected, "{}", floor.package);
+    }
+}
+
+/// The `metabezier*` packages a crate's `Cargo.toml` depends on (normal
+/// dependencies).
+fn crate_dependencies(manifest: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut in_deps = false;
+    for line in manifest.lines().map(str::trim) {
+        if line.starts_with('[') {
+            in_deps = line == "[dependencies]";
+            continue;
+        }
+        if in_deps && line.starts_with("metabezier") {
+            let name: String = line
+                .chars()
+                .take_while(|c| c.is_ascii_alphanumeric() || *c == '-' || *c == '_')
+                .collect();
+            out.push(name);
+        }
+    }
+    out
+}
+
+#[test]
+fn each_crate_depends_only_on_the_floors_below_it() {
+    let members: Vec<String> = std::fs::read_to_string(root().join("Cargo.toml"))
+        .unwrap()
         .lines()
-        .filter_map(|l| l.trim().strip_prefix("pub mod "))
-        .map(|l| l.trim_end_matches(';'))
+        .filter_map(|l| l.trim().strip_prefix("\"crates/"))
+        .map(|l| l.trim_end_matches("\",").to_owned())
         .collect();
-    let mut expected: Vec<&str> = LEAVES.to_vec();
-    expected.extend(ORDER);
-    assert_eq!(declared, expected);
+    let listed: Vec<&str> = CRATES
+        .iter()
+        .filter_map(|f| f.src.strip_prefix("crates/")?.strip_suffix("/src"))
+        .collect();
+    assert_eq!(
+        members, listed,
+        "the workspace's members are the floors, in order"
+    );
+    for (k, floor) in CRATES.iter().enumerate() {
+        let dir = root().join(floor.src).parent().unwrap().to_owned();
+        let manifest = std::fs::read_to_string(dir.join("Cargo.toml")).unwrap();
+        for dep in crate_dependencies(&manifest) {
+            let place = CRATES.iter().position(|f| f.package == dep);
+            assert!(
+                place.is_some_and(|p| p < k),
+                "{} depends on {dep}, which is not a floor below it",
+                floor.package
+            );
+        }
+    }
+    let core = std::fs::read_to_string(root().join("crates/core/Cargo.toml")).unwrap();
+    assert!(
+        crate_dependencies(&core).is_empty(),
+        "the core stands on nothing"
+    );
+    for heavy in [
+        "dicom", "plotters", "image", "clap", "tar", "flate2", "cc", "toml",
+    ] {
+        assert!(
+            !core
+                .lines()
+                .any(|l| l.trim().starts_with(&format!("{heavy} "))
+                    || l.trim().starts_with(&format!("{heavy}."))),
+            "metabezier-core depends on {heavy}"
+        );
+    }
 }
 
 #[test]
@@ -239,7 +419,7 @@ fn an_upward_import_is_found() {
     for (name, text) in &files {
         std::fs::write(src.join(name), text).unwrap();
     }
-    let bad = violations(src);
+    let bad = violations(src, &CRATES[0], &[]);
     assert_eq!(bad.len(), 3, "{bad:#?}");
     assert!(bad[0].contains("files.rs:1: the leaf `files` imports `crate::geometry`"));
     assert!(bad[1].contains("curve.rs:2: `geometry` imports `crate::report`"));
@@ -367,11 +547,17 @@ fn is_module(src: &Path, path: &[String]) -> bool {
 /// The cycles among sibling modules inside each room: for every module
 /// `P`, the graph whose nodes are `P`'s children and whose edges are the
 /// references of one child's files to another child, and the cycles of it.
-fn circles_inside_rooms(src: &Path) -> Vec<String> {
+/// In a crate of one room (`one_room`), its top-level modules are that
+/// room's files.
+fn circles_inside_rooms(src: &Path, one_room: bool) -> Vec<String> {
     // (parent, from-child) → to-child → first place seen
     let mut edges: BTreeMap<Vec<String>, BTreeMap<String, BTreeMap<String, String>>> =
         BTreeMap::new();
-    for (file, line, from, to) in module_references(src) {
+    for (file, line, mut from, mut to) in module_references(src) {
+        if one_room {
+            from.insert(0, String::new());
+            to.insert(0, String::new());
+        }
         let common = from.iter().zip(&to).take_while(|(a, b)| a == b).count();
         if common == 0 || common >= from.len() || common >= to.len() {
             continue; // across rooms (the test above) or a parent and its child
@@ -380,7 +566,7 @@ fn circles_inside_rooms(src: &Path) -> Vec<String> {
         let (a, b) = (&from[common], &to[common]);
         let mut child = parent.clone();
         child.push(b.clone());
-        if !is_module(src, &child) {
+        if !is_module(src, &child[usize::from(one_room)..]) {
             continue; // an item of the parent, not a sibling module
         }
         edges
@@ -432,7 +618,22 @@ fn circles_inside_rooms(src: &Path) -> Vec<String> {
             }
         }
         for cycle in found {
-            circles.push(format!("in `{}`: {}", parent.join("::"), cycle.join(", ")));
+            let name = parent
+                .iter()
+                .filter(|p| !p.is_empty())
+                .cloned()
+                .collect::<Vec<_>>();
+            let name = if name.is_empty() {
+                "the crate root".to_owned()
+            } else {
+                name.join("::")
+            };
+            circles.push(format!(
+                "in {}: `{}`: {}",
+                src.display(),
+                name,
+                cycle.join(", ")
+            ));
         }
     }
     circles
@@ -440,8 +641,11 @@ fn circles_inside_rooms(src: &Path) -> Vec<String> {
 
 #[test]
 fn no_circle_inside_a_room() {
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
-    let circles = circles_inside_rooms(&src);
+    let mut circles = Vec::new();
+    for floor in &CRATES {
+        let one_room = floor.order.is_empty() && floor.leaves.is_empty();
+        circles.extend(circles_inside_rooms(&root().join(floor.src), one_room));
+    }
     assert!(
         circles.is_empty(),
         "circles between the files of a room (move the shared part into a file both import):\n{}",
@@ -472,13 +676,31 @@ fn the_circle_check_finds_a_circle() {
     for (name, text) in files {
         std::fs::write(dir.join(name), text).unwrap();
     }
-    let circles = circles_inside_rooms(&dir);
+    let circles = circles_inside_rooms(&dir, false);
     std::fs::remove_dir_all(&dir).unwrap();
     // b → deep → a → b; `X` through the parent is an item, not a sibling.
     assert_eq!(circles.len(), 1, "{circles:?}");
     let c = &circles[0];
-    assert!(c.starts_with("in `room`:"), "{c}");
+    assert!(c.contains(": `room`:"), "{c}");
     for edge in ["a → b", "b → deep", "deep → a"] {
         assert!(c.contains(edge), "{edge} missing from {c}");
     }
+}
+
+#[test]
+fn a_crate_of_one_room_is_checked_at_its_root() {
+    let dir = tempfile::tempdir().unwrap();
+    let files = [
+        ("lib.rs", "pub mod a;\npub mod b;\n"),
+        ("a.rs", "use crate::b::Y;\npub struct X;\n"),
+        ("b.rs", "use super::a::X;\npub struct Y;\n"),
+    ];
+    for (name, text) in files {
+        std::fs::write(dir.path().join(name), text).unwrap();
+    }
+    let circles = circles_inside_rooms(dir.path(), true);
+    assert_eq!(circles.len(), 1, "{circles:?}");
+    assert!(circles[0].contains("the crate root"), "{}", circles[0]);
+    // As a crate of several rooms, a and b are rooms: no circle inside one.
+    assert!(circles_inside_rooms(dir.path(), false).is_empty());
 }

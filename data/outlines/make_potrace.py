@@ -3,7 +3,7 @@
 
 Writes horse.pbm: the pixels `metabezier fit` takes as the shape (luminance
 Y = 0.2126 R + 0.7152 G + 0.0722 B composited over white with alpha, rounded
-as src/outline/image.rs does; shape = the class at or below Otsu's threshold
+as crates/fit/src/outline/image.rs does; shape = the class at or below Otsu's threshold
 when it is the smaller one), black in the PBM. The standard library only
 (zlib, struct): the PNG is 8-bit RGBA, non-interlaced.
 

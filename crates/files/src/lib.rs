@@ -1,0 +1,373 @@
+//! Writing result files: atomically (temporary file, sync, rename), as CSV
+//! bytes, with reals in shortest round-trip form; and the I/O error that
+//! names the file it concerns.
+//!
+//! The writing half of today's `files` room; the formatting half
+//! ([`fmt_real`], [`csv_bytes`]) lives in `metabezier-core`, which has no
+//! I/O, and is re-exported here so that `files::fmt_real` and
+//! `files::write_atomic` are found in one place above the core.
+#![warn(missing_docs)]
+
+pub use metabezier_core::files::{csv_bytes, fmt_real};
+
+use std::io;
+use std::path::{Path, PathBuf};
+
+/// A file or directory could not be read, written, created or renamed.
+#[derive(Debug, thiserror::Error)]
+#[error("{}: cannot {action}: {source}", path.display())]
+pub struct IoError {
+    /// What was being done, such as "write" or "create the directory".
+    pub action: &'static str,
+    /// The file or directory.
+    pub path: PathBuf,
+    /// The operating system's error.
+    #[source]
+    pub source: io::Error,
+}
+
+impl IoError {
+    /// The failure of `action` on `path`.
+    pub fn new(action: &'static str, path: &Path, source: io::Error) -> Self {
+        IoError {
+            action,
+            path: path.to_owned(),
+            source,
+        }
+    }
+}
+
+/// Creates `dir` and its parents if they are missing. A dangling symbolic
+/// link in the way is named as such (the system says only "File exists").
+pub fn create_dir(dir: &Path) -> Result<(), IoError> {
+    std::fs::create_dir_all(dir).map_err(|e| {
+        let e = match e.kind() {
+            io::ErrorKind::AlreadyExists => dangling_link(dir).unwrap_or(e),
+            _ => e,
+        };
+        IoError::new("create the directory", dir, e)
+    })
+}
+
+/// The error to give for `dir` when it, or one of its ancestors, is a
+/// symbolic link to nothing.
+fn dangling_link(dir: &Path) -> Option<io::Error> {
+    dir.ancestors()
+        .filter(|a| !a.as_os_str().is_empty())
+        .find_map(|a| {
+            let link = std::fs::symlink_metadata(a).ok()?;
+            (link.file_type().is_symlink() && std::fs::metadata(a).is_err()).then(|| {
+                let target = std::fs::read_link(a).map_or_else(|_| "?".into(), |t| t.display().to_string());
+                io::Error::new(
+                    io::ErrorKind::NotFound,
+                    format!(
+                        "{} is a symbolic link to {target}, which does not exist; create the target or remove the link",
+                        a.display()
+                    ),
+                )
+            })
+        })
+}
+
+/// Checks, before any work, that `dir` can become an output directory: it is
+/// a directory or does not exist, and its nearest existing ancestor is a
+/// directory (no file in the way). Nothing is created.
+pub fn check_output_dir(dir: &Path) -> Result<(), IoError> {
+    if let Some(e) = dangling_link(dir) {
+        return Err(IoError::new("use as the output directory", dir, e));
+    }
+    let in_the_way = |path: &Path| {
+        IoError::new(
+            "use as the output directory",
+            dir,
+            io::Error::new(
+                io::ErrorKind::NotADirectory,
+                format!("{} is a file, not a directory", path.display()),
+            ),
+        )
+    };
+    for ancestor in dir.ancestors().filter(|a| !a.as_os_str().is_empty()) {
+        match std::fs::metadata(ancestor) {
+            Ok(m) if m.is_dir() => return Ok(()),
+            Ok(_) => return Err(in_the_way(ancestor)),
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    io::ErrorKind::NotFound | io::ErrorKind::NotADirectory
+                ) =>
+            {
+                continue
+            }
+            Err(e) => return Err(IoError::new("use as the output directory", dir, e)),
+        }
+    }
+    Ok(())
+}
+
+/// An output directory being written: every file goes first into a hidden
+/// staging directory inside it (`.staging-PID-RANDOM`), and
+/// [`Staging::publish`] renames them into place only once all are written,
+/// so a full disk or an error part-way leaves the directory as it was,
+/// never half of a new result beside half of an old one.
+///
+/// Dropped without `publish`, the staging directory is removed (and the
+/// output directory too, when this created it and it is empty). A staging
+/// directory left by a killed process is removed by the next `Staging` of
+/// the same directory once its process is gone.
+pub struct Staging {
+    dir: PathBuf,
+    tmp: PathBuf,
+    created: bool,
+    published: bool,
+}
+
+impl Staging {
+    /// Starts writing into `dir` (created if missing).
+    pub fn new(dir: &Path) -> Result<Staging, IoError> {
+        let created = !dir.exists();
+        create_dir(dir)?;
+        remove_stale_staging(dir);
+        loop {
+            let tmp = dir.join(format!(
+                ".staging-{}-{:016x}",
+                std::process::id(),
+                random_u64()
+            ));
+            match std::fs::create_dir(&tmp) {
+                Ok(()) => {
+                    return Ok(Staging {
+                        dir: dir.to_owned(),
+                        tmp,
+                        created,
+                        published: false,
+                    })
+                }
+                Err(e) if e.kind() == io::ErrorKind::AlreadyExists => continue,
+                Err(e) => return Err(IoError::new("create the directory", &tmp, e)),
+            }
+        }
+    }
+
+    /// Where the files are to be written now.
+    pub fn path(&self) -> &Path {
+        &self.tmp
+    }
+
+    /// The place in the output directory of a file written at `staged`.
+    pub fn final_path(&self, staged: &Path) -> PathBuf {
+        match staged.strip_prefix(&self.tmp) {
+            Ok(rest) => self.dir.join(rest),
+            Err(_) => staged.to_owned(),
+        }
+    }
+
+    /// Renames every staged file into the output directory (replacing
+    /// files of the same name), syncs it and removes the staging
+    /// directory; returns the final paths, in name order.
+    pub fn publish(mut self) -> Result<Vec<PathBuf>, IoError> {
+        let read = |e| IoError::new("read the directory", &self.tmp, e);
+        let mut names: Vec<std::ffi::OsString> = std::fs::read_dir(&self.tmp)
+            .map_err(read)?
+            .map(|e| e.map(|e| e.file_name()))
+            .collect::<Result<_, _>>()
+            .map_err(read)?;
+        names.sort();
+        let mut out = Vec::with_capacity(names.len());
+        for name in names {
+            let to = self.dir.join(&name);
+            std::fs::rename(self.tmp.join(&name), &to)
+                .map_err(|e| IoError::new("write", &to, e))?;
+            out.push(to);
+        }
+        std::fs::File::open(&self.dir)
+            .and_then(|d| d.sync_all())
+            .map_err(|e| IoError::new("sync the directory", &self.dir, e))?;
+        std::fs::remove_dir(&self.tmp)
+            .map_err(|e| IoError::new("remove the directory", &self.tmp, e))?;
+        self.published = true;
+        Ok(out)
+    }
+}
+
+impl Drop for Staging {
+    fn drop(&mut self) {
+        if !self.published {
+            let _ = std::fs::remove_dir_all(&self.tmp);
+            if self.created {
+                // Fails, as it should, when something else is in it.
+                let _ = std::fs::remove_dir(&self.dir);
+            }
+        }
+    }
+}
+
+/// Removes the staging directories in `dir` whose process has ended
+/// (a process that still runs keeps its own; without `/proc`, none is
+/// removed).
+fn remove_stale_staging(dir: &Path) {
+    if !Path::new("/proc/self").exists() {
+        return;
+    }
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let Some(pid) = name
+            .to_str()
+            .and_then(|n| n.strip_prefix(".staging-"))
+            .and_then(|n| n.split('-').next())
+            .and_then(|p| p.parse::<u32>().ok())
+        else {
+            continue;
+        };
+        if pid != std::process::id() && !Path::new("/proc").join(pid.to_string()).exists() {
+            let _ = std::fs::remove_dir_all(entry.path());
+        }
+    }
+}
+
+/// The largest text file (spec, template) the readers take: 16 MiB.
+///
+/// A spec of the thesis's campaigns is a few KiB; a generated one with
+/// long grids stays far below this. A larger file (or an endless stream
+/// such as `/dev/zero`) is refused after reading `MAX_TEXT_BYTES + 1`
+/// bytes, before it can take the machine's memory.
+pub const MAX_TEXT_BYTES: u64 = 16 << 20;
+
+/// Reads `path` as UTF-8 text of at most `limit` bytes, reading no more
+/// than `limit + 1` bytes; `what` names the file in the error ("a spec").
+///
+/// The errors say which limit was passed, or at which byte the text stops
+/// being UTF-8.
+pub fn read_text_limited(path: &Path, limit: u64, what: &str) -> io::Result<String> {
+    use std::io::Read;
+    let file = std::fs::File::open(path)?;
+    let mut bytes = Vec::new();
+    file.take(limit.saturating_add(1)).read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > limit {
+        return Err(io::Error::new(
+            io::ErrorKind::FileTooLarge,
+            format!(
+                "it is larger than the {} MiB {what} may be",
+                limit as f64 / f64::from(1u32 << 20)
+            ),
+        ));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        io::Error::new(
+            io::ErrorKind::InvalidData,
+            format!(
+                "it is not UTF-8 text (invalid byte at offset {})",
+                e.utf8_error().valid_up_to()
+            ),
+        )
+    })
+}
+
+/// Writes `bytes` to `path` atomically: to a temporary file in the same
+/// directory, synced, then renamed over `path`, so that no reader ever sees a
+/// half-written file.
+///
+/// The temporary file is created exclusively (`O_EXCL`, atomic on local
+/// filesystems and NFSv3+) under a name with 64 random bits, so writers that
+/// share a directory never share a temporary file, even two processes with
+/// the same id on different nodes of a cluster.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
+    use std::io::Write;
+    write_atomic_with(path, |file| file.write_all(bytes))
+}
+
+/// Writes `path` atomically as [`write_atomic`] does, with the bytes that
+/// `write` streams into the temporary file (buffer them: the file is not),
+/// so that a large file never has to be held in memory whole.
+pub fn write_atomic_with(
+    path: &Path,
+    write: impl FnOnce(&mut std::fs::File) -> io::Result<()>,
+) -> Result<(), IoError> {
+    let (mut file, tmp) = create_temporary(path).map_err(|e| IoError::new("write", path, e))?;
+    let result = (|| {
+        write(&mut file)?;
+        file.sync_all()?;
+        drop(file);
+        std::fs::rename(&tmp, path)
+    })();
+    if let Err(e) = result {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(IoError::new("write", path, e));
+    }
+    Ok(())
+}
+
+/// Creates a new, empty temporary file beside `path`, named
+/// `.NAME.PID.RANDOM.tmp`; a name that exists already is never reused.
+fn create_temporary(path: &Path) -> io::Result<(std::fs::File, PathBuf)> {
+    let dir = path.parent().filter(|p| !p.as_os_str().is_empty());
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    loop {
+        let tmp_name = format!(".{name}.{}.{:016x}.tmp", std::process::id(), random_u64());
+        let tmp = match dir {
+            Some(d) => d.join(tmp_name),
+            None => PathBuf::from(tmp_name),
+        };
+        match std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&tmp)
+        {
+            Ok(file) => return Ok((file, tmp)),
+            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => continue,
+            Err(e) => return Err(e),
+        }
+    }
+}
+
+/// 64 random bits: the standard library's per-process random hash keys
+/// (drawn from the operating system), mixed with a counter and the clock.
+fn random_u64() -> u64 {
+    use std::hash::{BuildHasher, Hasher};
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    let mut h = std::collections::hash_map::RandomState::new().build_hasher();
+    h.write_u64(COUNTER.fetch_add(1, Ordering::Relaxed));
+    let now = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos());
+    h.write_u128(now);
+    h.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_atomic_write_leaves_no_temporary_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("out.csv");
+        write_atomic(&path, b"x\n").unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), b"x\n");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+        // Temporary names never repeat, within a process or across them.
+        let names: std::collections::HashSet<PathBuf> = (0..1000)
+            .map(|_| {
+                let (_, tmp) = create_temporary(&path).unwrap();
+                tmp
+            })
+            .collect();
+        assert_eq!(names.len(), 1000);
+        assert!(names.iter().all(|t| t.exists()
+            && t.file_name()
+                .unwrap()
+                .to_string_lossy()
+                .starts_with(".out.csv.")));
+        let e = write_atomic(&dir.path().join("missing/out.csv"), b"x").unwrap_err();
+        assert!(
+            e.to_string().contains("missing/out.csv: cannot write"),
+            "{e}"
+        );
+    }
+}

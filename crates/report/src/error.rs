@@ -1,0 +1,67 @@
+//! The report's error type.
+
+use std::path::PathBuf;
+
+use crate::experiment::{DataError, ReadError};
+use crate::files::IoError;
+use metabezier_plot::font::FontError;
+
+/// Why a report could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum ReportError {
+    /// A results file could not be read or is malformed.
+    #[error(transparent)]
+    Read(#[from] ReadError),
+    /// A report file could not be written.
+    #[error(transparent)]
+    Io(#[from] IoError),
+    /// The significance level is not in (0, 1).
+    #[error("--alpha: the significance level must lie strictly between 0 and 1, found {0}")]
+    Alpha(f64),
+    /// The requested reference algorithm is not in the results.
+    #[error(
+        "the reference algorithm \"{requested}\" is not in the results; the algorithms are: {}",
+        names.join(", ")
+    )]
+    UnknownReference {
+        /// The name asked for.
+        requested: String,
+        /// The configurations in the results.
+        names: Vec<String>,
+    },
+    /// The campaign in the directory is not finished.
+    #[error(
+        "{}: campaign unfinished (a journal.csv and no runs.csv): run `metabezier run SPEC --resume` to finish it",
+        dir.display()
+    )]
+    Unfinished {
+        /// The results directory.
+        dir: PathBuf,
+    },
+    /// The rows of runs.csv do not state the campaign.
+    #[error("{}: {problem}", path.display())]
+    Rows {
+        /// The runs.csv file.
+        path: PathBuf,
+        /// What is wrong.
+        #[source]
+        problem: super::integrity::RowProblem,
+    },
+    /// The embedded font could not be registered.
+    #[error(transparent)]
+    Font(#[from] FontError),
+    /// A plot could not be drawn.
+    #[error("cannot draw {file}: {message}")]
+    Draw {
+        /// The file being drawn, such as `convergence.svg`.
+        file: String,
+        /// The plotting library's message.
+        message: String,
+    },
+}
+
+impl From<DataError> for ReportError {
+    fn from(e: DataError) -> Self {
+        ReportError::Read(ReadError::Data(e))
+    }
+}

@@ -1,0 +1,966 @@
+//! Reports on a finished campaign: descriptive tables, significance tests
+//! against a reference algorithm, the Friedman ranking, parameter-tuning
+//! summaries and plots, written next to the results as `report.md`,
+//! `tables/*.csv` and `plots/*.{svg,png}`.
+//!
+//! The input is a results directory of `metabezier run` (`runs.csv`,
+//! `convergence.csv`, `timing.csv`, `hits.csv` or the fitting files,
+//! `spec.toml`, `meta.toml`: a directory with `meta.toml` must hold every
+//! result file of its campaign), or a `runs.csv` alone, optionally with an external `runs.csv` whose algorithms are added to the
+//! comparison. All statistics come from [`crate::stats`]. The output is
+//! deterministic: the same input gives byte-identical `report.md` and CSV
+//! files (and plots). Every file is written atomically.
+//!
+//! A "cell" is an algorithm configuration (label and parameters); cells that
+//! share a label are shown with their distinguishing parameters, e.g.
+//! `MHS (hmcr=0.9, bw=0.01)`. A "problem" is a function at a dimension.
+//!
+//! This crate (metabezier-report) reads what `metabezier-campaign` writes
+//! and draws with `metabezier-plot`; the rooms it stands on are named at
+//! this root (`experiment` is the campaign crate), so that
+//! `crate::experiment::records` reads as it did in the one-crate house.
+#![warn(missing_docs)]
+
+mod anytime;
+mod best2009;
+mod data;
+mod descriptive;
+mod design;
+mod error;
+mod fit_runs;
+mod fit_units;
+mod fitting;
+mod html;
+mod integrity;
+mod markdown;
+mod overlay;
+pub(crate) mod plots;
+pub(crate) mod render;
+mod robustness;
+mod significance;
+mod tuning;
+mod verdicts;
+
+use metabezier_campaign as experiment;
+use metabezier_core::{functions, geometry, optim, rng, stats};
+use metabezier_files as files;
+use metabezier_fit::{fit, reconstruction};
+use metabezier_plot::{format, style};
+
+use std::path::{Path, PathBuf};
+
+use crate::experiment::records::default_targets;
+use crate::files::{create_dir, write_atomic};
+
+pub use self::error::ReportError;
+use self::format::Table;
+pub use self::html::write_html;
+pub use self::overlay::save_overlay;
+use self::plots::Plot;
+pub use self::verdicts::PostHoc;
+
+/// How to build a report.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReportOptions {
+    /// The algorithm every other one is tested against: a label (`MHS`) or
+    /// a full configuration name as shown in the report (`MHS (hmcr=0.9)`).
+    /// By default `MHS` if present, else the first algorithm. When a label
+    /// has several configurations, the first one is the reference.
+    pub reference: Option<String>,
+    /// Significance level of the tests (default 0.05); the Nemenyi critical
+    /// difference is tabulated for 0.05 and 0.10 only.
+    pub alpha: f64,
+    /// An extra `runs.csv` (for example from another tool) whose algorithms
+    /// are added to the comparison; it has no convergence or timing data.
+    pub external: Option<PathBuf>,
+    /// The correction of the post-hoc tests after Friedman's test.
+    pub post_hoc: PostHoc,
+}
+
+impl Default for ReportOptions {
+    fn default() -> Self {
+        ReportOptions {
+            reference: None,
+            alpha: crate::stats::DEFAULT_ALPHA,
+            external: None,
+            post_hoc: PostHoc::Holm,
+        }
+    }
+}
+
+/// What [`write_report`] wrote.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReportSummary {
+    /// The Markdown report, `<dir>/report.md`.
+    pub report: PathBuf,
+    /// The same report as one self-contained page, `<dir>/report.html`
+    /// ([`write_html`]).
+    pub html: PathBuf,
+    /// The CSV tables under `<dir>/tables/`.
+    pub tables: Vec<PathBuf>,
+    /// The plots under `<dir>/plots/`, SVG and PNG.
+    pub plots: Vec<PathBuf>,
+    /// Number of algorithm configurations (cells) compared.
+    pub algorithms: usize,
+    /// Number of problems (function, dimension).
+    pub problems: usize,
+    /// Number of runs read.
+    pub runs: usize,
+    /// The reference algorithm of the tests, if there were tests.
+    pub reference: Option<String>,
+    /// Parts that were skipped and why (also stated in the report).
+    pub notes: Vec<String>,
+    /// The figures that the results should have allowed but did not (every
+    /// error infinite or NaN) or that could not be drawn; the summary of
+    /// `report.md` names them and `metabezier report` fails on them unless
+    /// given `--keep-going`.
+    pub faults: Vec<String>,
+}
+
+/// Chooses the reference cell: the requested label or name, else `MHS`,
+/// else the first cell. Returns the cell and a note when a label matched
+/// several configurations.
+fn resolve_reference(
+    ds: &data::Dataset,
+    requested: Option<&str>,
+) -> Result<(usize, Option<String>), ReportError> {
+    let by_label = |label: &str| ds.cells.iter().position(|c| c.label == label);
+    let found = match requested {
+        Some(r) => ds
+            .cells
+            .iter()
+            .position(|c| c.name == r)
+            .or_else(|| by_label(r))
+            .ok_or_else(|| ReportError::UnknownReference {
+                requested: r.to_owned(),
+                names: ds.cells.iter().map(|c| c.name.clone()).collect(),
+            })?,
+        None => by_label("MHS").unwrap_or(0),
+    };
+    let cell = &ds.cells[found];
+    let same_label = ds.cells.iter().filter(|c| c.label == cell.label).count();
+    let note = (same_label > 1 && requested != Some(cell.name.as_str())).then(|| {
+        format!(
+            "{} has {same_label} configurations; the reference is the first of them, {}. \
+             Pass a full configuration name to choose another.",
+            cell.label, cell.name
+        )
+    });
+    Ok((found, note))
+}
+
+/// The table of the compared algorithm configurations.
+fn algorithms_table(ds: &data::Dataset) -> Table {
+    let mut t = Table {
+        stem: "algorithms".into(),
+        title: "Algorithms".into(),
+        intro: vec![
+            "The algorithm configurations compared, with their complete parameters.".into(),
+        ],
+        md_header: ["Algorithm", "Optimiser", "Parameters", "Source"]
+            .map(String::from)
+            .to_vec(),
+        csv_header: ["name", "algorithm", "kind", "params", "external"]
+            .map(String::from)
+            .to_vec(),
+        ..Table::default()
+    };
+    for c in &ds.cells {
+        t.md_rows.push(vec![
+            c.name.clone(),
+            c.kind.clone(),
+            format!("`{}`", c.params.replace('`', "'")),
+            if c.external { "external" } else { "results" }.into(),
+        ]);
+        t.csv_rows.push(vec![
+            c.name.clone(),
+            c.label.clone(),
+            c.kind.clone(),
+            c.params.clone(),
+            c.external.to_string(),
+        ]);
+    }
+    t
+}
+
+/// The table of the problems with their budgets and run counts.
+fn problems_table(ds: &data::Dataset) -> Table {
+    let mut t = Table {
+        stem: "problems".into(),
+        title: "Problems".into(),
+        intro: vec![if ds.problems.iter().any(|p| p.function.contains('/')) {
+            "Each problem is a benchmark function at a dimension D, or a fitting case \
+             source/function/continuity, whose D is its number of segments and whose budget \
+             is the total over its segments."
+                .into()
+        } else {
+            "Each problem is a benchmark function at a dimension D.".into()
+        }],
+        md_header: ["Problem", "D", "Budget", "Algorithms", "Runs"]
+            .map(String::from)
+            .to_vec(),
+        csv_header: ["problem", "dim", "budget", "algorithms", "runs"]
+            .map(String::from)
+            .to_vec(),
+        ..Table::default()
+    };
+    for (p, problem) in ds.problems.iter().enumerate() {
+        let mut budgets: Vec<u64> = Vec::new();
+        let mut algorithms = 0usize;
+        let mut runs = 0usize;
+        for c in 0..ds.cells.len() {
+            let r = ds.runs(p, c);
+            if !r.is_empty() {
+                algorithms += 1;
+                runs += r.len();
+            }
+            budgets.extend(r.iter().map(|x| x.budget));
+        }
+        budgets.sort_unstable();
+        budgets.dedup();
+        let budget = budgets
+            .iter()
+            .map(u64::to_string)
+            .collect::<Vec<_>>()
+            .join(" / ");
+        t.md_rows.push(vec![
+            problem.short(),
+            problem.dim.to_string(),
+            budget.clone(),
+            algorithms.to_string(),
+            runs.to_string(),
+        ]);
+        t.csv_rows.push(vec![
+            problem.label(),
+            problem.dim.to_string(),
+            budget,
+            algorithms.to_string(),
+            runs.to_string(),
+        ]);
+    }
+    t
+}
+
+/// The statistical tests of a report, or why there are none.
+struct Tests {
+    /// The reference algorithm's name, when there are tests.
+    reference: Option<String>,
+    /// Why the reference was chosen, when a label was ambiguous.
+    reference_note: Option<String>,
+    /// The first-level test tables and the ranking (empty without tests).
+    tables: Vec<Table>,
+    /// The paragraph shown instead of the tables when there are none.
+    text: Option<String>,
+    /// Where the comparisons with the reference hold and where they flip.
+    robustness: Vec<Table>,
+    /// Every verdict across problems, and its table.
+    verdicts: Vec<crate::stats::VerdictRow>,
+    /// The table of the verdicts (`tables/verdicts.csv`).
+    verdict_table: Option<Table>,
+    /// The observations the verdicts were made from.
+    observations: Vec<verdicts::Observation>,
+}
+
+/// The first-level tests against the reference, the verdicts across
+/// problems and the Friedman ranking, or, with a single algorithm, the
+/// reason there are none (also added to `notes`).
+fn tests(
+    ds: &data::Dataset,
+    stats: &[Vec<Option<descriptive::CellStats>>],
+    options: &ReportOptions,
+    provenance: &data::Provenance,
+    fits: Option<&fit_runs::FitRuns<'_>>,
+    notes: &mut Vec<String>,
+) -> Result<Tests, ReportError> {
+    let alpha = options.alpha;
+    if ds.cells.len() < 2 {
+        if let Some(r) = &options.reference {
+            // Still check the name, so that a typo is not silently ignored.
+            resolve_reference(ds, Some(r))?;
+        }
+        let text = "There is a single algorithm configuration: no significance test between \
+                    methods, Friedman ranking or Nemenyi critical difference can be computed."
+            .to_owned();
+        notes.push(text.clone());
+        // The comparisons between fitting functions and continuities need
+        // one method only.
+        let observations = fits
+            .map(fitting::treatment_observations)
+            .unwrap_or_default();
+        let rows = verdicts::verdicts(
+            &observations,
+            &[],
+            verdicts::Settings {
+                alpha,
+                post_hoc: options.post_hoc,
+                reference: None,
+            },
+        );
+        let verdict_table =
+            (!rows.is_empty()).then(|| verdicts::table(&rows, design::unit_noun(ds), alpha));
+        return Ok(Tests {
+            reference: None,
+            reference_note: None,
+            tables: Vec::new(),
+            text: Some(text),
+            robustness: Vec::new(),
+            verdicts: rows,
+            verdict_table,
+            observations,
+        });
+    }
+    let (reference, reference_note) = resolve_reference(ds, options.reference.as_deref())?;
+    let s = significance::significance(ds, reference, alpha, provenance.threshold);
+    if !s.skipped_problems.is_empty() {
+        let names: Vec<String> = s
+            .skipped_problems
+            .iter()
+            .map(|&p| ds.problems[p].title())
+            .collect();
+        notes.push(format!(
+            "The reference {} did not run {}: no tests there.",
+            ds.cells[reference].name,
+            names.join("; ")
+        ));
+    }
+    let ref_name = ds.cells[reference].name.clone();
+    let (mut observations, mut standings) = significance::observations(ds, &s);
+    if let Some(fr) = fits {
+        let (o, st) = fit_units::observations(fr, Some(&ref_name), s.floor);
+        observations.extend(o);
+        observations.extend(fitting::treatment_observations(fr));
+        standings.extend(st);
+    }
+    let rows = verdicts::verdicts(
+        &observations,
+        &standings,
+        verdicts::Settings {
+            alpha,
+            post_hoc: options.post_hoc,
+            reference: Some(&ref_name),
+        },
+    );
+    let noun = design::unit_noun(ds);
+    let f = significance::friedman_report(ds, &standings, alpha, noun);
+    let mut tables = vec![
+        significance::comparison_table(ds, stats, &s, alpha),
+        significance::tests_table(ds, &s, verdicts::Measure::FinalError, alpha),
+    ];
+    if !s.anytime.is_empty() {
+        tables.push(significance::tests_table(
+            ds,
+            &s,
+            verdicts::Measure::AnytimeAuc,
+            alpha,
+        ));
+    }
+    tables.push(significance::marks_summary_table(ds, &s));
+    tables.push(significance::friedman_table(ds, &f, alpha));
+    let budget_note = robustness::budget_pairs_note(ds, &provenance.paired);
+    Ok(Tests {
+        reference: Some(ref_name),
+        reference_note,
+        tables,
+        text: None,
+        robustness: robustness::tables(ds, &s, &rows, noun, budget_note),
+        verdict_table: Some(verdicts::table(&rows, noun, alpha)),
+        verdicts: rows,
+        observations,
+    })
+}
+
+/// The tuning tables and heat maps of every parameter grid; a grid of two
+/// or more parameters without a heat map gets a note.
+fn tuning(
+    ds: &data::Dataset,
+    stats: &[Vec<Option<descriptive::CellStats>>],
+    notes: &mut Vec<String>,
+) -> (Vec<Table>, Vec<Table>, Vec<tuning::HeatMap>) {
+    let mut heat_maps = Vec::new();
+    let mut per_grid = Vec::new();
+    for g in tuning::grids(ds) {
+        per_grid.push((g.clone(), tuning::tables(ds, &g, stats)));
+        let g = &g;
+        match tuning::heat_map(ds, g, stats) {
+            Some(h) => heat_maps.push(h),
+            None if g.varying.len() < 2 => {}
+            None => notes.push(format!(
+                "{}: no heat map, no mean error is defined on the grid.",
+                g.label
+            )),
+        }
+    }
+    let overview = if per_grid.len() > 1 {
+        tuning::overview(&per_grid)
+    } else {
+        Vec::new()
+    };
+    let tables = per_grid.into_iter().flat_map(|(_, t)| t).collect();
+    (tables, overview, heat_maps)
+}
+
+/// The distinct budgets and the distinct numbers of runs per (problem,
+/// cell) in the results, both sorted.
+fn budgets_and_run_counts(ds: &data::Dataset) -> (Vec<u64>, Vec<usize>) {
+    let mut budgets: Vec<u64> = Vec::new();
+    let mut run_counts: Vec<usize> = Vec::new();
+    for p in 0..ds.problems.len() {
+        for c in 0..ds.cells.len() {
+            let runs = ds.runs(p, c);
+            budgets.extend(runs.iter().map(|r| r.budget));
+            if !runs.is_empty() {
+                run_counts.push(runs.len());
+            }
+        }
+    }
+    run_counts.sort_unstable();
+    run_counts.dedup();
+    budgets.sort_unstable();
+    budgets.dedup();
+    (budgets, run_counts)
+}
+
+/// Everything a report shows, in the order of its sections.
+struct Sections {
+    /// The algorithms and problems tables.
+    setup: [Table; 2],
+    /// The descriptive table.
+    results: Table,
+    /// The statistical tests.
+    tests: Tests,
+    /// The average runtime to each target.
+    anytime: Vec<Table>,
+    /// The parameter-tuning tables, every grid's.
+    tuning: Vec<Table>,
+    /// The overview of several grids that `report.md` shows in place of
+    /// their own tables (empty for a single grid).
+    tuning_overview: Vec<Table>,
+    /// The curve-fitting tables.
+    fitting: Vec<Table>,
+    /// The figures.
+    figures: Vec<Plot>,
+    /// Parts that were skipped or limited, and why.
+    notes: Vec<String>,
+    /// The figures the data should have allowed but did not, or that could
+    /// not be drawn: the summary names them, and the command fails on them
+    /// unless told to go on.
+    faults: Vec<String>,
+}
+
+impl Sections {
+    /// Every table, in the order of the report.
+    fn tables(&self) -> impl Iterator<Item = &Table> {
+        self.setup
+            .iter()
+            .chain(std::iter::once(&self.results))
+            .chain(&self.tests.verdict_table)
+            .chain(&self.tests.tables)
+            .chain(&self.tests.robustness)
+            .chain(&self.anytime)
+            .chain(&self.tuning)
+            .chain(&self.tuning_overview)
+            .chain(&self.fitting)
+    }
+
+    /// The `## Summary` that opens the report: the question, the verdicts
+    /// over all problems with the counts of units on either side (their
+    /// range), the best setting of every tuned grid, and links to the
+    /// figures and to the parts skipped.
+    fn summary(&self, question: &str) -> String {
+        let mut md = String::from("## Summary\n\n");
+        md.push_str(&markdown::paragraph(&format!("Question: {question}")));
+        match &self.tests.verdict_table {
+            Some(t) => {
+                let shown = summary_verdicts(t);
+                if shown.md_rows.is_empty() {
+                    md.push_str(&markdown::paragraph("No verdict over all problems."));
+                } else {
+                    let at_points = shown.md_header.iter().any(|h| h == "Scope");
+                    md.push_str(&markdown::paragraph(if at_points {
+                        "Verdicts at each design point, against the reference (the fixed and \
+                         the orthogonal error, and equal segments and equal free parameters, \
+                         measure different things, so no verdict here pools them; units +/=/− \
+                         counts the units that favour the algorithm, tie, or favour the \
+                         reference; effect is their median summary):"
+                    } else {
+                        "Verdicts over all problems against the reference (units +/=/− \
+                         counts the units that favour the algorithm, tie, or favour the \
+                         reference; effect is their median summary):"
+                    }));
+                    md.push_str(&shown.markdown());
+                    md.push('\n');
+                    let count = |v: &str| {
+                        t.md_rows
+                            .iter()
+                            .filter(|r| r.last().is_some_and(|x| x == v))
+                            .count()
+                    };
+                    md.push_str(&markdown::paragraph(&format!(
+                        "{} verdicts shown of {} (all scopes: {} better, {} worse, the others \
+                         no detectable difference); all are in tables/verdicts.csv.",
+                        shown.md_rows.len(),
+                        t.md_rows.len(),
+                        count("better"),
+                        count("worse")
+                    )));
+                }
+            }
+            None => md.push_str(&markdown::paragraph(
+                "There is a single algorithm configuration: there is no verdict to state.",
+            )),
+        }
+        let picks: Vec<String> = self
+            .tuning
+            .iter()
+            .filter(|t| t.stem.starts_with("tuning_picks_"))
+            .filter_map(|t| {
+                let row = t.md_rows.first()?;
+                let runner = t.md_header.iter().position(|h| h == "Runner-up");
+                let grid = t
+                    .title
+                    .strip_prefix("Parameter tuning of ")
+                    .and_then(|r| r.split(':').next())
+                    .unwrap_or("");
+                Some(format!(
+                    "- {}: {} (mean rank {}){}; [`tables/{}.csv`](tables/{}.csv)\n",
+                    metabezier_plot::markdown::escape(grid),
+                    metabezier_plot::markdown::escape(&row[0]),
+                    metabezier_plot::markdown::escape(row.get(1).map_or("", String::as_str)),
+                    runner
+                        .and_then(|i| row.get(i))
+                        .map_or_else(String::new, |r| format!(
+                            ", runner-up {}",
+                            metabezier_plot::markdown::escape(r)
+                        )),
+                    t.stem,
+                    t.stem
+                ))
+            })
+            .collect();
+        if !picks.is_empty() {
+            md.push_str("Best settings (lowest mean rank over the problems):\n\n");
+            picks.iter().for_each(|p| md.push_str(p));
+            md.push('\n');
+        }
+        if !self.figures.is_empty() {
+            // The figures that answer the question first, then the others.
+            let (answers, others): (Vec<&Plot>, Vec<&Plot>) = self
+                .figures
+                .iter()
+                .filter(|p| p.page.index == 1)
+                .partition(|p| plots::fit_factors::ANSWER_STEMS.contains(&p.stem.as_str()));
+            let link = |p: &&Plot| {
+                format!(
+                    "[{}](plots/{}.png)",
+                    metabezier_plot::markdown::escape(&p.figure_heading()),
+                    p.stem
+                )
+            };
+            let answers: Vec<String> = answers.iter().map(link).collect();
+            let links: Vec<String> = others.iter().map(link).collect();
+            let answer = if answers.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    "The figure that answers the question: {}. ",
+                    answers.join("; ")
+                )
+            };
+            let others = match (answers.is_empty(), links.is_empty()) {
+                (_, true) => String::new(),
+                (true, false) => format!("Figures: {}.", links.join(", ")),
+                (false, false) => format!("Other figures: {}.", links.join(", ")),
+            };
+            md.push_str(&format!("{}\n\n", format!("{answer}{others}").trim_end()));
+        }
+        if !self.faults.is_empty() {
+            md.push_str(&markdown::paragraph(&format!(
+                "Warning: {} figure(s) could not be drawn from these results, which should \
+                 allow them: {}.",
+                self.faults.len(),
+                self.faults.join("; ")
+            )));
+        }
+        if !self.notes.is_empty() {
+            md.push_str(&markdown::paragraph(&format!(
+                "{} part(s) were skipped or limited: see the last section.",
+                self.notes.len()
+            )));
+        }
+        md
+    }
+
+    /// The figures, after the summary.
+    fn figures_markdown(&self) -> String {
+        let mut md = String::from("## Plots\n\n");
+        if self.figures.is_empty() {
+            md.push_str(&markdown::paragraph(
+                "No plot could be drawn from these results.",
+            ));
+        }
+        md.push_str(&markdown::plot_sections(&self.figures));
+        md
+    }
+
+    /// The body of `report.md` after the summary, figures and provenance.
+    fn markdown(&self) -> String {
+        let mut md = String::new();
+        if let Some(t) = &self.tests.verdict_table {
+            md.push_str("## Verdicts\n\n");
+            for p in &t.intro {
+                md.push_str(&markdown::paragraph(p));
+            }
+            md.push_str(&markdown::paragraph(&format!(
+                "The summary lists the verdicts over all problems; tables/verdicts.csv has all {} \
+                 (every factor level and design point), and the Robustness section shows them \
+                 per design point.",
+                t.md_rows.len()
+            )));
+        }
+        md.push_str("## Setup\n\n");
+        for t in &self.setup {
+            md.push_str(&markdown::table_section(t, 3));
+        }
+        md.push_str("## Results\n\n");
+        md.push_str(&markdown::table_section(&self.results, 3));
+        md.push_str("## Statistical tests\n\n");
+        match &self.tests.text {
+            Some(text) => md.push_str(&markdown::paragraph(text)),
+            None => {
+                for t in &self.tests.tables {
+                    md.push_str(&markdown::table_section(t, 3));
+                }
+            }
+        }
+        md.push_str("## Robustness\n\n");
+        if self.tests.robustness.is_empty() {
+            md.push_str(&markdown::paragraph(
+                "There is a single algorithm configuration: there is no comparison whose range could be shown.",
+            ));
+        }
+        for t in &self.tests.robustness {
+            md.push_str(&markdown::table_section(t, 3));
+        }
+        let tuning = if self.tuning_overview.is_empty() {
+            &self.tuning
+        } else {
+            &self.tuning_overview
+        };
+        for (title, tables) in [
+            ("Anytime performance", &self.anytime),
+            ("Parameter tuning", tuning),
+            ("Curve fitting", &self.fitting),
+        ] {
+            if !tables.is_empty() {
+                md.push_str(&format!("## {title}\n\n"));
+                for t in tables {
+                    md.push_str(&markdown::table_section(t, 3));
+                }
+            }
+        }
+        if !self.tuning_overview.is_empty() {
+            let links: Vec<String> = self
+                .tuning
+                .iter()
+                .map(|t| format!("[`{0}.csv`](tables/{0}.csv)", t.stem))
+                .collect();
+            md.push_str(&format!(
+                "Every grid's own tables (best setting per problem with its errors, the mean \
+                 rank of every setting, the pick with its stability, edges and cost): {}.\n\n",
+                links.join(", ")
+            ));
+        }
+        md.push_str(&markdown::notes_section(
+            "Skipped or limited parts",
+            &self.notes,
+        ));
+        md
+    }
+}
+
+/// The verdicts over all problems in the summary: the algorithm, the
+/// reference, the measure, the units on either side, the effect, the
+/// adjusted p and the verdict, at most [`SUMMARY_VERDICTS`] rows (the
+/// decided ones first).
+fn summary_verdicts(t: &Table) -> Table {
+    let col = |name: &str| t.md_header.iter().position(|h| h == name);
+    let keep = [
+        "Algorithm",
+        "Reference",
+        "Measure",
+        "Test",
+        "Units +/=/−",
+        "Effect",
+        "p (adjusted)",
+        "Verdict",
+    ];
+    let scope = col("Scope");
+    let verdict = col("Verdict");
+    // Scopes that pool the two errors or the two sizes (equal segments,
+    // equal free parameters) pool measures of different things: such a
+    // campaign's summary states its verdicts at the design points.
+    let pools = |key: &str| {
+        scope.is_some_and(|i| t.md_rows.iter().any(|r| r[i].contains(&format!("{key}="))))
+    };
+    let by_point = pools("error") || pools("size");
+    let parts = |r: &Vec<String>| scope.map_or(0, |i| r[i].split(';').count());
+    let most = t.md_rows.iter().map(parts).max().unwrap_or(0);
+    let mut keep = keep.to_vec();
+    if by_point {
+        keep.insert(2, "Scope");
+    }
+    let idx: Vec<usize> = keep.iter().filter_map(|k| col(k)).collect();
+    let mut rows: Vec<&Vec<String>> = t
+        .md_rows
+        .iter()
+        .filter(|r| match scope {
+            Some(i) if by_point => parts(r) == most && r[i] != "all",
+            Some(i) => r[i] == "all",
+            None => true,
+        })
+        .collect();
+    if by_point {
+        rows.truncate(SUMMARY_POINT_VERDICTS);
+    } else {
+        // Decided verdicts first; the order is otherwise the table's.
+        rows.sort_by_key(|r| verdict.is_some_and(|i| !(r[i] == "better" || r[i] == "worse")));
+        rows.truncate(SUMMARY_VERDICTS);
+    }
+    Table {
+        md_header: idx.iter().map(|&i| t.md_header[i].clone()).collect(),
+        md_rows: rows
+            .into_iter()
+            .map(|r| idx.iter().map(|&i| r[i].clone()).collect())
+            .collect(),
+        ..t.clone()
+    }
+}
+
+/// The most verdicts the summary lists.
+const SUMMARY_VERDICTS: usize = 12;
+
+/// The most verdicts the summary lists at design points (when its scopes
+/// pool the errors or the sizes).
+const SUMMARY_POINT_VERDICTS: usize = 20;
+
+/// The question a report answers, from what its results hold.
+fn question(s: &Sections, ds: &data::Dataset) -> String {
+    let reference = s.tests.reference.as_deref().unwrap_or("the reference");
+    if !s.fitting.is_empty() && ds.cells.len() < 2 {
+        "which fitting function and which continuity fit the outlines with the lowest \
+         error E, and where does the verdict hold (error, chain, equal segments or equal \
+         free parameters)?"
+            .into()
+    } else if !s.fitting.is_empty() {
+        format!(
+            "which method fits the outlines with the lowest fitting error E (and RMS and \
+             maximum distance), segment by segment, and does it beat {reference}?"
+        )
+    } else if s.tuning.iter().any(|t| t.stem.starts_with("tuning_picks_")) {
+        "which setting of each algorithm's parameter grid is best over the problems?".into()
+    } else if ds.cells.len() < 2 {
+        "how does this single algorithm configuration perform on each problem?".into()
+    } else {
+        format!(
+            "which algorithm reaches a lower final error than {reference} across the {} \
+             problem(s), and where does the verdict hold?",
+            ds.problems.len()
+        )
+    }
+}
+
+/// Computes every section of the report of `dir` from its dataset.
+fn sections(
+    dir: &Path,
+    ds: &data::Dataset,
+    provenance: &data::Provenance,
+    options: &ReportOptions,
+) -> Result<Sections, ReportError> {
+    let stats = descriptive::compute(ds);
+    let mut notes: Vec<String> = Vec::new();
+    let setup = [algorithms_table(ds), problems_table(ds)];
+    let results = descriptive::table(ds, &stats);
+    let fit_records = fitting::records(dir)?;
+    let fits = fit_records
+        .as_deref()
+        .map(|r| fit_runs::FitRuns::group(ds, r));
+    let tests = tests(ds, &stats, options, provenance, fits.as_ref(), &mut notes)?;
+    let (tuning, tuning_overview, heat_maps) = tuning(ds, &stats, &mut notes);
+    let best = best2009_for(ds, &mut notes);
+    let drawn = plots::figures(
+        ds,
+        &stats,
+        heat_maps,
+        provenance.threshold,
+        best.as_ref(),
+        tests.verdict_table.as_ref(),
+    );
+    let mut figures = drawn.plots;
+    notes.extend(drawn.notes);
+    let faults = drawn.faults;
+    let mut fitting = Vec::new();
+    if let Some(f) = fitting::section(
+        dir,
+        ds,
+        fits.as_ref(),
+        &tests.observations,
+        &tests.verdicts,
+        options.alpha,
+    )? {
+        figures.extend(f.figures);
+        notes.extend(f.notes);
+        fitting = f.tables;
+    }
+    if let Some(fr) = fits.as_ref() {
+        // The figures that answer the chapter's question come first.
+        let series = plots::SeriesSet::of(ds, &stats);
+        let answers = plots::fit_factors::figures(ds, &series, fr);
+        figures.splice(0..0, answers);
+    }
+    let targets = default_targets();
+    let anytime = anytime::art_table(ds, &targets, best.as_ref())
+        .into_iter()
+        .chain(
+            best.as_ref()
+                .and_then(|b| anytime::reached_table(ds, &targets, b)),
+        )
+        .collect();
+    Ok(Sections {
+        setup,
+        results,
+        tests,
+        anytime,
+        tuning,
+        tuning_overview,
+        faults,
+        fitting,
+        figures,
+        notes,
+    })
+}
+
+/// COCO's best-2009 reference when some problem is a bbob function; a note
+/// when the vendored reference cannot be read.
+fn best2009_for(ds: &data::Dataset, notes: &mut Vec<String>) -> Option<best2009::Best2009> {
+    if !ds
+        .problems
+        .iter()
+        .any(|p| best2009::bbob_key(&p.function).is_some())
+    {
+        return None;
+    }
+    match best2009::Best2009::load() {
+        Ok(b) => Some(b),
+        Err(e) => {
+            notes.push(format!("best 2009 left out: {e}"));
+            None
+        }
+    }
+}
+
+/// Writes the tables as CSV under `dir/tables/` and the figures as SVG and
+/// PNG under `dir/plots/`; returns the paths of both.
+fn write_tables_and_plots(
+    dir: &Path,
+    s: &mut Sections,
+) -> Result<(Vec<PathBuf>, Vec<PathBuf>), ReportError> {
+    let tables_dir = dir.join("tables");
+    let plots_dir = dir.join("plots");
+    create_dir(&tables_dir)?;
+    create_dir(&plots_dir)?;
+    let mut table_paths = Vec::new();
+    for t in s.tables() {
+        let path = tables_dir.join(format!("{}.csv", t.stem));
+        write_atomic(&path, &t.csv_bytes())?;
+        table_paths.push(path);
+    }
+    let mut plot_paths = Vec::new();
+    let mut drawn = Vec::with_capacity(s.figures.len());
+    for p in std::mem::take(&mut s.figures) {
+        match render::save(&p.figure, &plots_dir, &p.stem) {
+            Ok(paths) => {
+                plot_paths.extend(paths);
+                drawn.push(p);
+            }
+            // A figure the backend cannot draw is left out and named, so
+            // that the rest of the report is still written.
+            Err(e @ ReportError::Draw { .. }) => {
+                let fault = format!("plots/{}: {e}", p.stem);
+                s.notes.push(fault.clone());
+                s.faults.push(fault);
+            }
+            Err(e) => return Err(e),
+        }
+    }
+    s.figures = drawn;
+    Ok((table_paths, plot_paths))
+}
+
+/// Reads and checks the results directory `dir` (and an `external` runs
+/// file) as [`write_report`] does before it computes anything: a finished
+/// campaign, every result file a campaign directory must hold, well-formed
+/// rows stating the campaign. Returns the number of runs read; writes
+/// nothing.
+pub fn load_results(dir: &Path, external: Option<&Path>) -> Result<usize, ReportError> {
+    integrity::check_finished(dir)?;
+    let ds = data::load(dir, external)?;
+    fitting::records(dir)?;
+    Ok(ds.total_runs)
+}
+
+/// Writes the report of the results directory `dir`: `report.md`, the
+/// tables as CSV under `dir/tables/`, the plots as SVG and PNG under
+/// `dir/plots/`, and `report.html` from them all.
+///
+/// Errors when `runs.csv` (or the external file) is missing or malformed,
+/// when a campaign directory (one with `meta.toml`) lacks one of its result
+/// files or a result file is malformed, when `options` are invalid, or when
+/// a file cannot be written. A `runs.csv` alone (another tool's), a single
+/// algorithm, a single run or no successful run are not errors: the parts
+/// that need more are skipped and the report says so.
+pub fn write_report(dir: &Path, options: &ReportOptions) -> Result<ReportSummary, ReportError> {
+    if !(options.alpha > 0.0 && options.alpha < 1.0) {
+        return Err(ReportError::Alpha(options.alpha));
+    }
+    integrity::check_finished(dir)?;
+    let ds = data::load(dir, options.external.as_deref())?;
+    let provenance = data::provenance(dir);
+    let mut s = sections(dir, &ds, &provenance, options)?;
+    let (table_paths, plot_paths) = write_tables_and_plots(dir, &mut s)?;
+
+    let (budgets, run_counts) = budgets_and_run_counts(&ds);
+    let header = markdown::Header {
+        provenance: &provenance,
+        ds: &ds,
+        reference: s.tests.reference.clone(),
+        reference_note: s.tests.reference_note.clone(),
+        alpha: options.alpha,
+        external: options.external.as_ref().map(|p| p.display().to_string()),
+        budgets,
+        run_counts,
+        dir_name: dir.file_name().map(|n| n.to_string_lossy().into_owned()),
+    };
+    let mut md = markdown::title(&header);
+    md.push_str(&s.summary(&question(&s, &ds)));
+    md.push_str(&s.figures_markdown());
+    md.push_str(&markdown::provenance(&header));
+    md.push_str(&s.markdown());
+    let report = dir.join("report.md");
+    let mut bytes = md.trim_end().as_bytes().to_vec();
+    bytes.push(b'\n');
+    write_atomic(&report, &bytes)?;
+    let html = write_html(dir)?;
+
+    Ok(ReportSummary {
+        report,
+        html,
+        tables: table_paths,
+        plots: plot_paths,
+        algorithms: ds.cells.len(),
+        problems: ds.problems.len(),
+        runs: ds.total_runs,
+        reference: s.tests.reference,
+        notes: s.notes,
+        faults: s.faults,
+    })
+}
