@@ -207,7 +207,10 @@ fn validation_beats_the_template_and_records_midline_crossing() {
     )
     .unwrap();
     let e = reconstruct_case(&p, WallKind::CurveFit, &opts, &mut LmSolver::default()).unwrap_err();
-    assert!(matches!(e, CtError::DefectCrossesMidline { .. }));
+    assert!(matches!(
+        e,
+        SliceError::Ct(CtError::DefectCrossesMidline { .. })
+    ));
     assert!(e.to_string().contains("explicit template"), "{e}");
 }
 

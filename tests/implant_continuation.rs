@@ -56,7 +56,10 @@ fn a_defect_across_the_posterior_midline_gets_a_continued_wall() {
     let mirror = WallOptions::default();
     let e =
         reconstruct_case(&p, WallKind::CurveFit, &mirror, &mut LmSolver::default()).unwrap_err();
-    assert!(matches!(e, CtError::DefectCrossesMidline { .. }), "{e}");
+    assert!(
+        matches!(e, SliceError::Ct(CtError::DefectCrossesMidline { .. })),
+        "{e}"
+    );
     assert!(e.to_string().contains("template_source"), "{e}");
     // Auto continues the bone from both sides, for every wall kind.
     let auto = WallOptions {

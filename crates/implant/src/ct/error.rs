@@ -8,7 +8,6 @@ use dicom_core::Tag;
 
 use super::plist::PlistError;
 use crate::files::IoError;
-use crate::fit::FitError;
 
 /// An error while reading, checking or processing CT data.
 #[derive(Debug, thiserror::Error)]
@@ -264,9 +263,6 @@ pub enum CtError {
     /// given to cut it.
     #[error("the bone ring is open (no inner cavity): give the defect ends A and B")]
     OpenRing,
-    /// Defect detection found no gap in the bone ring.
-    #[error("no defect found (the bone ring is closed): give A and B for this slice")]
-    NoDefectFound,
     /// The mirror technique was given an empty outer contour.
     #[error("the outer contour is empty")]
     EmptyContour,
@@ -301,60 +297,6 @@ pub enum CtError {
         /// The largest distance accepted, in mm.
         tolerance_mm: f64,
     },
-    /// Too few rays across the defect meet the mirrored contour to make a
-    /// template.
-    #[error("the mirrored contour does not cover the defect")]
-    TemplateNotCovered {
-        /// Template points found.
-        points: usize,
-        /// Points the wall's function needs.
-        needed: usize,
-    },
-    /// Too few rays next to a defect end meet the intact contour to fit its
-    /// tangent.
-    #[error("too little intact outer contour next to the defect ends")]
-    TooLittleIntactContour {
-        /// Envelope points found before A.
-        before: usize,
-        /// Envelope points found after B.
-        after: usize,
-    },
-    /// No bone along the inward ray next to a defect end, so the wall has
-    /// no thickness.
-    #[error("no bone next to the defect ends: cannot measure the bone thickness")]
-    NoBoneAtEnds {
-        /// Thickness measured next to A, in mm.
-        thickness_a: f64,
-        /// Thickness measured next to B, in mm.
-        thickness_b: f64,
-    },
-    /// The curve fit of the outer wall (or of a neighbouring tangent) was
-    /// refused.
-    #[error("the outer-wall fit failed: {source}")]
-    OuterWallFit {
-        /// The fitting error.
-        source: FitError,
-    },
-
-    // Artificial defects of the validation.
-    /// The outer envelope has no point at the defect's centre angle.
-    #[error("no outer contour at {position_deg}° from the centre")]
-    NoContourAt {
-        /// The defect's centre angle in degrees.
-        position_deg: f64,
-    },
-    /// A ray of the artificial defect misses the outer contour.
-    #[error("the defect leaves the outer contour")]
-    DefectLeavesContour,
-    /// The artificial defect's wedge holds no bone pixel.
-    #[error("the cut removed no bone")]
-    CutRemovedNoBone,
-
-    /// Clipping the implant section to the tissue left nothing: the section
-    /// lies entirely in bone.
-    #[error("the implant section lies entirely in bone (nothing left after clipping to the tissue below the threshold)")]
-    ClippedAway,
-
     // Meshes and pictures.
     /// Lofting was given fewer than two sections or a height count that
     /// differs from the section count.
@@ -917,19 +859,5 @@ mod tests {
              is not supported (only uncompressed little endian: 1.2.840.10008.1.2 Implicit VR Little Endian \
              or 1.2.840.10008.1.2.1 Explicit VR Little Endian)"
         );
-    }
-
-    #[test]
-    fn the_fit_error_is_the_source() {
-        use std::error::Error as _;
-        let fit = FitError::TooFewOutlinePoints {
-            found: 2,
-            needed: 4,
-        };
-        let e = CtError::OuterWallFit {
-            source: fit.clone(),
-        };
-        assert_eq!(e.to_string(), format!("the outer-wall fit failed: {fit}"));
-        assert!(e.source().is_some());
     }
 }

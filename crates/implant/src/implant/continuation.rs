@@ -46,6 +46,7 @@
 
 use super::polar::{angle, least_squares_quadratic, wrap, Gap, Side, WallEnds};
 use super::wall_input::{TemplateChoice, WallInput, WallOptions};
+use super::SliceError;
 use crate::ct::{CtError, MidLine};
 use crate::geometry::Point;
 
@@ -209,14 +210,14 @@ fn end_jet(gap: &Gap<'_>, side: Side, window: f64) -> Option<PolarJet> {
 /// D are A′ and B′ themselves (no mirror image is used).
 ///
 /// Errors: [`CtError::NotOnContour`] when the ray of A′ or B′ misses the
-/// contour, [`CtError::TooLittleIntactContour`] when the table next to an
+/// contour, [`SliceError::TooLittleIntactContour`] when the table next to an
 /// end is too short to read its derivatives, and
-/// [`CtError::TemplateNotCovered`] when the continued radius is not
+/// [`SliceError::TemplateNotCovered`] when the continued radius is not
 /// positive on every ray.
 pub(crate) fn continuation_template(
     gap: &Gap<'_>,
     options: &WallOptions,
-) -> Result<(WallEnds, Vec<Point>), CtError> {
+) -> Result<(WallEnds, Vec<Point>), SliceError> {
     let o = gap.input.centre;
     let missing = |what| CtError::NotOnContour {
         what,
@@ -227,11 +228,11 @@ pub(crate) fn continuation_template(
     let a = gap.env(gap.th_a).ok_or_else(|| missing("A"))?;
     let b = gap.env(th_b).ok_or_else(|| missing("B"))?;
     let window = window_mm(options);
-    let jet_a = end_jet(gap, Side::A, window).ok_or(CtError::TooLittleIntactContour {
+    let jet_a = end_jet(gap, Side::A, window).ok_or(SliceError::TooLittleIntactContour {
         before: 0,
         after: 1,
     })?;
-    let jet_b = end_jet(gap, Side::B, window).ok_or(CtError::TooLittleIntactContour {
+    let jet_b = end_jet(gap, Side::B, window).ok_or(SliceError::TooLittleIntactContour {
         before: 1,
         after: 0,
     })?;
@@ -245,7 +246,7 @@ pub(crate) fn continuation_template(
             (r.is_finite() && r > 0.0).then(|| o + Point::new(theta.cos(), theta.sin()) * r)
         })
         .collect::<Option<Vec<Point>>>()
-        .ok_or(CtError::TemplateNotCovered { points: 0, needed })?;
+        .ok_or(SliceError::TemplateNotCovered { points: 0, needed })?;
     data[0] = a;
     data[n - 1] = b;
     Ok((WallEnds { a, b, c: a, d: b }, data))
@@ -260,7 +261,7 @@ pub(crate) fn template_for(
     gap: &Gap<'_>,
     input: &WallInput<'_>,
     options: &WallOptions,
-) -> Result<(WallEnds, Vec<Point>, TemplateSource), CtError> {
+) -> Result<(WallEnds, Vec<Point>, TemplateSource), SliceError> {
     let source = template_source(input, options);
     if source == TemplateSource::Continuation {
         let (ends, data) = continuation_template(gap, options)?;
@@ -269,9 +270,11 @@ pub(crate) fn template_for(
     let mirrored = gap
         .ends(options.mirror_tolerance_mm)
         .and_then(|ends| Ok((ends, gap.template(&ends, options)?)));
-    let mirror_failed = |e: &CtError| match e {
-        CtError::NotOnContour { what, .. } => what.starts_with('C') || what.starts_with('D'),
-        CtError::TemplateNotCovered { .. } => true,
+    let mirror_failed = |e: &SliceError| match e {
+        SliceError::Ct(CtError::NotOnContour { what, .. }) => {
+            what.starts_with('C') || what.starts_with('D')
+        }
+        SliceError::TemplateNotCovered { .. } => true,
         _ => false,
     };
     match mirrored {

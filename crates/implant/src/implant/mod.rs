@@ -35,6 +35,7 @@ pub mod continuation;
 pub mod pipeline;
 pub mod polar;
 pub mod seats;
+pub mod slice_error;
 pub mod smooth;
 pub mod wall;
 pub mod wall_input;
@@ -47,6 +48,7 @@ pub use pipeline::{
     SliceSpec, Smoothing, Templates, MIN_MIDLINE_DICE,
 };
 pub use seats::{choose_seats, SeatProfile, SeatRule};
+pub use slice_error::SliceError;
 pub use smooth::{lipschitz_envelope, roughness, smooth_outer_walls};
 pub use wall::{
     angle_deg, design_outer, envelope_radius, finish_wall, reconstruct_wall, refit_outer,

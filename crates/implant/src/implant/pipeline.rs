@@ -3,6 +3,7 @@
 //! clipped sections, the lofted mesh and its voxelisation (thesis
 //! chapter 6).
 
+use super::SliceError;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
@@ -133,6 +134,10 @@ pub enum ImplantError {
     /// A CT-layer error not tied to one slice (reading the volume, writing).
     #[error(transparent)]
     Ct(#[from] CtError),
+    /// A design error not tied to one slice (refitting the outer walls
+    /// after smoothing them across slices).
+    #[error(transparent)]
+    Design(#[from] SliceError),
     /// An output file or directory could not be written.
     #[error(transparent)]
     Io(#[from] IoError),
@@ -143,7 +148,7 @@ pub enum ImplantError {
         z: usize,
         /// What went wrong there (boxed: some CT errors are large).
         #[source]
-        source: Box<CtError>,
+        source: Box<SliceError>,
     },
     /// A slice lies outside the volume.
     #[error(
@@ -265,19 +270,19 @@ pub enum ImplantError {
 
 impl ImplantError {
     /// The error `source` on slice `z` (original numbering).
-    pub fn on_slice(z: usize, source: CtError) -> Self {
+    pub fn on_slice(z: usize, source: impl Into<SliceError>) -> Self {
         ImplantError::Slice {
             z,
-            source: Box::new(source),
+            source: Box::new(source.into()),
         }
     }
 }
 
 /// The message of an error on slice `z`.
-fn slice_message(z: usize, source: &CtError) -> String {
+fn slice_message(z: usize, source: &SliceError) -> String {
     match source {
         // NoBone already names its slice (volume index): say both.
-        CtError::NoBone { threshold, .. } => format!(
+        SliceError::Ct(CtError::NoBone { threshold, .. }) => format!(
             "slice z = {z}: no bone: no voxel at or above {threshold} HU (lower `threshold` or check the slice range)"
         ),
         e => format!("slice z = {z}: {e}"),
@@ -442,7 +447,7 @@ pub fn slice_context(
         Ends::Auto => {
             let mask = bone_mask_slice(&slice, cfg.threshold).map_err(at)?;
             let d = detect_defect(&mask, sx, sy, &DefectParams::default())
-                .ok_or_else(|| at(CtError::NoDefectFound))?;
+                .ok_or_else(|| ImplantError::on_slice(z, SliceError::NoDefectFound))?;
             (d.a_mm, d.b_mm)
         }
     };
@@ -630,7 +635,7 @@ fn design_walls<S: SegmentSolver + ?Sized>(
     solver: &mut S,
 ) -> Result<Vec<OuterDesign>, ImplantError> {
     let zs: Vec<usize> = contexts.iter().map(|c| c.z).collect();
-    let at = |z: usize| move |source: CtError| ImplantError::on_slice(z, source);
+    let at = |z: usize| move |source: SliceError| ImplantError::on_slice(z, source);
     let bends = contexts
         .iter()
         .map(|ctx| {

@@ -10,6 +10,7 @@
 //! `R(θ) = reflect(E(2α − θ))`.
 
 use super::wall_input::{WallInput, WallOptions};
+use super::SliceError;
 use crate::ct::{CtError, Polyline};
 use crate::fit::{
     FitError, FunctionType, LmSolver, SearchSpaceOptions, SegmentProblem, SegmentSolver, Start,
@@ -141,18 +142,20 @@ impl<'a> Gap<'a> {
     /// within `tol` of the envelope at the mirrored angle, or, with an
     /// explicit template, its first and last points, each within `tol` of
     /// A′ and B′.
-    pub fn ends(&self, tol: f64) -> Result<WallEnds, CtError> {
-        let on = |what: &'static str, p: Option<Point>, target: Point| -> Result<Point, CtError> {
-            let d = p.map_or(f64::INFINITY, |q| q.distance(target));
-            match p {
-                Some(q) if d <= tol => Ok(q),
-                _ => Err(CtError::NotOnContour {
-                    what,
-                    distance_mm: d,
-                    tolerance_mm: tol,
-                }),
-            }
-        };
+    pub fn ends(&self, tol: f64) -> Result<WallEnds, SliceError> {
+        let on =
+            |what: &'static str, p: Option<Point>, target: Point| -> Result<Point, SliceError> {
+                let d = p.map_or(f64::INFINITY, |q| q.distance(target));
+                match p {
+                    Some(q) if d <= tol => Ok(q),
+                    _ => Err(CtError::NotOnContour {
+                        what,
+                        distance_mm: d,
+                        tolerance_mm: tol,
+                    }
+                    .into()),
+                }
+            };
         let (th_a, th_b) = (self.th_a, self.th_a + self.span);
         let a = on("A", self.env(th_a), self.env(th_a).unwrap_or(self.input.a))?;
         let b = on("B", self.env(th_b), self.env(th_b).unwrap_or(self.input.b))?;
@@ -186,7 +189,11 @@ impl<'a> Gap<'a> {
     /// from θ_A to θ_B, or the explicit template resampled by arc length to
     /// as many points (its ends as they are: [`blend_onto_bone`] takes
     /// them to A′ and B′).
-    pub fn template(&self, ends: &WallEnds, options: &WallOptions) -> Result<Vec<Point>, CtError> {
+    pub fn template(
+        &self,
+        ends: &WallEnds,
+        options: &WallOptions,
+    ) -> Result<Vec<Point>, SliceError> {
         let needed = options.function.min_points();
         let n_t = options.template_points.max(needed + 2);
         let data: Vec<Point> = match self.input.template {
@@ -205,7 +212,7 @@ impl<'a> Gap<'a> {
                 .collect(),
         };
         if data.len() < needed {
-            return Err(CtError::TemplateNotCovered {
+            return Err(SliceError::TemplateNotCovered {
                 points: data.len(),
                 needed,
             });
@@ -463,7 +470,7 @@ impl<'a> Gap<'a> {
     /// The derivatives of the intact envelope at A′ and B′ (direction of
     /// travel), from neighbouring cubics over the same angular width as the
     /// gap (≤ 30°): the magnitudes of C¹ joins.
-    pub fn neighbour_derivatives(&self) -> Result<(Point, Point), CtError> {
+    pub fn neighbour_derivatives(&self) -> Result<(Point, Point), SliceError> {
         let span = self.span;
         let w = span.abs().min(30f64.to_radians()) * span.signum();
         let side = |from: f64, dir: f64| -> Vec<Point> {
@@ -475,7 +482,7 @@ impl<'a> Gap<'a> {
         before.reverse(); // ends at A′
         let after = side(self.th_a + span, 1.0); // starts at B′
         if before.len() < 6 || after.len() < 6 {
-            return Err(CtError::TooLittleIntactContour {
+            return Err(SliceError::TooLittleIntactContour {
                 before: before.len(),
                 after: after.len(),
             });
@@ -791,8 +798,8 @@ fn neighbour_derivative(points: Vec<Point>, at_end: bool) -> Result<Point, FitEr
 }
 
 /// A fit error as the CT layer's error.
-pub(crate) fn fit_err(source: FitError) -> CtError {
-    CtError::OuterWallFit { source }
+pub(crate) fn fit_err(source: FitError) -> SliceError {
+    SliceError::OuterWallFit { source }
 }
 
 /// The angle in degrees between the directions `u` and `v` (NaN when one

@@ -24,7 +24,7 @@
 
 use super::polar::{angle, envelope_radius, smootherstep, wrap};
 use super::wall::{refit_outer, OuterDesign, WallOptions};
-use crate::ct::CtError;
+use super::SliceError;
 use crate::geometry::{Point, Polyline};
 
 /// The lower Lipschitz envelope `t̃_i = min_j (t_j + step·|z_i − z_j|)` of
@@ -87,7 +87,7 @@ pub fn smooth_outer_walls(
     zs: &[usize],
     half_width: usize,
     options: &WallOptions,
-) -> Result<(), CtError> {
+) -> Result<(), SliceError> {
     if half_width == 0 || designs.len() < 2 || designs.iter().any(|d| d.segments.is_empty()) {
         return Ok(());
     }

@@ -21,6 +21,7 @@
 
 use super::continuation::{source_for, TemplateSource};
 use super::wall::{envelope_radius, reconstruct_wall, Wall, WallInput, WallKind, WallOptions};
+use super::SliceError;
 use crate::ct::{
     bone_loops, bone_mask_slice, boundary_dice, contour_deviation, dice, hd95, voxelise, CtError,
     Mask2, Mask3, MidLine, Polyline, Slice, Spacing, Volume,
@@ -100,7 +101,7 @@ pub(crate) fn outer_loop(
     slice: &Slice<'_>,
     threshold: i16,
     midline: &MidLine,
-) -> Result<(Mask2, Polyline, Point), CtError> {
+) -> Result<(Mask2, Polyline, Point), SliceError> {
     let mask = bone_mask_slice(slice, threshold)?;
     let loops = bone_loops(slice, &mask, threshold);
     let outer = loops
@@ -118,21 +119,21 @@ pub fn prepare_case(
     case: Case,
     midline: MidLine,
     threshold: i16,
-) -> Result<PreparedCase, CtError> {
+) -> Result<PreparedCase, SliceError> {
     let slice = volume.slice(case.index);
     let (sx, sy) = (slice.sx, slice.sy);
     let (mask, outer, centre) = outer_loop(&slice, threshold, &midline)?;
     let polys = [&outer];
     let tc = case.position_deg.to_radians();
-    let rc = envelope_radius(&polys, centre, tc).ok_or(CtError::NoContourAt {
+    let rc = envelope_radius(&polys, centre, tc).ok_or(SliceError::NoContourAt {
         position_deg: case.position_deg,
     })?;
     let half = 0.5 * case.width_mm / rc;
     let (t1, t2) = (tc - half, tc + half);
-    let pt = |t: f64| -> Result<Point, CtError> {
+    let pt = |t: f64| -> Result<Point, SliceError> {
         envelope_radius(&polys, centre, t)
             .map(|r| centre + Point::new(t.cos(), t.sin()) * r)
-            .ok_or(CtError::DefectLeavesContour)
+            .ok_or(SliceError::DefectLeavesContour)
     };
     let (a, b) = (pt(t1)?, pt(t2)?);
     let true_outer = Polyline::open(
@@ -153,7 +154,7 @@ pub fn prepare_case(
         }
     }
     if truth.count() == 0 {
-        return Err(CtError::CutRemovedNoBone);
+        return Err(SliceError::CutRemovedNoBone);
     }
     Ok(PreparedCase {
         case,
@@ -178,7 +179,7 @@ pub fn reconstruct_case<S: SegmentSolver + ?Sized>(
     kind: WallKind,
     options: &WallOptions,
     solver: &mut S,
-) -> Result<Wall, CtError> {
+) -> Result<Wall, SliceError> {
     let (sx, sy) = p.spacing;
     let is_bone = |q: Point| {
         let (r, c) = ((q.y / sy).round(), (q.x / sx).round());
@@ -207,7 +208,11 @@ pub fn reconstruct_case<S: SegmentSolver + ?Sized>(
 }
 
 /// The metrics of `wall` against the case's ground truth.
-pub fn case_metrics(p: &PreparedCase, wall: &Wall, margin_mm: f64) -> Result<CaseMetrics, CtError> {
+pub fn case_metrics(
+    p: &PreparedCase,
+    wall: &Wall,
+    margin_mm: f64,
+) -> Result<CaseMetrics, SliceError> {
     let (nx, ny) = (p.truth.nx, p.truth.ny);
     let spacing = Spacing {
         x: p.spacing.0,
@@ -238,15 +243,15 @@ pub fn case_metrics(p: &PreparedCase, wall: &Wall, margin_mm: f64) -> Result<Cas
 pub enum CaseError {
     /// The wall could not be reconstructed (see [`reconstruct_case`]).
     #[error(transparent)]
-    Reconstruct(CtError),
+    Reconstruct(SliceError),
     /// The wall was reconstructed but could not be measured (see
     /// [`case_metrics`]).
     #[error(transparent)]
-    Measure(CtError),
+    Measure(SliceError),
     /// The case could not be cut out of its slice ([`prepare_case`]): every
     /// method's row of the case carries this reason.
     #[error("case not built: {0}")]
-    NotBuilt(std::sync::Arc<CtError>),
+    NotBuilt(std::sync::Arc<SliceError>),
 }
 
 /// Validation result row: one case × method × run.

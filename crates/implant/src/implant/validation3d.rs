@@ -23,6 +23,7 @@ use super::pipeline::{
 };
 use super::validation::{in_wedge, outer_loop, CUT_HU};
 use super::wall::{envelope_radius, WallKind};
+use super::SliceError;
 use crate::ct::{boundary_dice, dice, hd95, CtError, Mask3, MidLine, Volume};
 use crate::fit::SegmentSolver;
 use crate::geometry::Point;
@@ -77,7 +78,7 @@ fn cut_slice(
     (theta, width): (f64, f64),
     midline: &MidLine,
     threshold: i16,
-) -> Result<(Point, Point, f64), CtError> {
+) -> Result<(Point, Point, f64), SliceError> {
     let slice = volume.slice(k);
     let (sx, sy, nx) = (slice.sx, slice.sy, slice.nx);
     let (mask, outer, centre) = outer_loop(&slice, threshold, midline)?;
@@ -85,7 +86,7 @@ fn cut_slice(
     let pt = |t: f64| {
         envelope_radius(&polys, centre, t)
             .map(|r| centre + Point::new(t.cos(), t.sin()) * r)
-            .ok_or(CtError::DefectLeavesContour)
+            .ok_or(SliceError::DefectLeavesContour)
     };
     let rc = pt(theta)?.distance(centre);
     let half = 0.5 * width / rc;
@@ -101,7 +102,7 @@ fn cut_slice(
         }
     }
     if removed == 0 {
-        return Err(CtError::CutRemovedNoBone);
+        return Err(SliceError::CutRemovedNoBone);
     }
     Ok((pt(t1)?, pt(t2)?, half))
 }

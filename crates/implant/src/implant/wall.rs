@@ -19,6 +19,7 @@ use super::polar::{
     angle, blend_onto_bone, fit_err, walk_along, Gap, MirroredThickness, Side, TableWalk,
 };
 use super::seats::{choose_seats, SeatProfile, SeatRule};
+use super::SliceError;
 use crate::ct::{clip_to_tissue, CtError, Polyline, Slice};
 use crate::fit::{equal_arc_breaks, End, Segment, SegmentProblem, SegmentSolver, Start};
 use crate::geometry::{Continuity, Curve, Parameterisation, Point};
@@ -218,7 +219,7 @@ fn wall_problem(
     joins: &Joins,
     previous: Option<&Segment>,
     last: bool,
-) -> Result<SegmentProblem, CtError> {
+) -> Result<SegmentProblem, SliceError> {
     let (d_a, d_b) = joins.derivatives;
     let start = match (previous, options.continuity) {
         (Some(p), c) => Start::after(p, c),
@@ -253,7 +254,7 @@ fn wall_problem(
 
 /// The break indices of a chain of `count` pieces on `data`: equal arc
 /// length ([`crate::fit::equal_arc_breaks`]), the last point appended.
-fn chain_breaks(data: &[Point], count: usize) -> Result<Vec<usize>, CtError> {
+fn chain_breaks(data: &[Point], count: usize) -> Result<Vec<usize>, SliceError> {
     let (mut breaks, _) = equal_arc_breaks(data, false, &[], count).map_err(fit_err)?;
     breaks.push(data.len() - 1);
     Ok(breaks)
@@ -262,7 +263,7 @@ fn chain_breaks(data: &[Point], count: usize) -> Result<Vec<usize>, CtError> {
 /// `E = Σᵢ |Rᵢ − P(sᵢ)|²` of a chain of `segments` on `data` split at the
 /// chain's breaks, with chord-length parameters on each piece (the fit's
 /// objective, summed).
-fn chain_error(segments: &[Segment], data: &[Point]) -> Result<f64, CtError> {
+fn chain_error(segments: &[Segment], data: &[Point]) -> Result<f64, SliceError> {
     let breaks = chain_breaks(data, segments.len())?;
     Ok(segments
         .iter()
@@ -285,7 +286,7 @@ fn fit_chain<S: SegmentSolver + ?Sized>(
     count: usize,
     budget: u64,
     solver: &mut S,
-) -> Result<(Vec<Segment>, u64), CtError> {
+) -> Result<(Vec<Segment>, u64), SliceError> {
     let breaks = chain_breaks(data, count)?;
     let mut segments: Vec<Segment> = Vec::with_capacity(count);
     let mut evaluations = 0;
@@ -326,7 +327,7 @@ fn fit_outer_wall<S: SegmentSolver + ?Sized>(
     joins: &Joins,
     us: &[f64],
     solver: &mut S,
-) -> Result<OuterWall, CtError> {
+) -> Result<OuterWall, SliceError> {
     let mut best: Option<(Vec<Segment>, f64)> = None;
     let mut evaluations = 0;
     // A quadratic has one inner control point: it can be joined to the bone
@@ -352,7 +353,7 @@ fn fit_outer_wall<S: SegmentSolver + ?Sized>(
             break;
         }
     }
-    let (segments, fit_error) = best.ok_or(CtError::OuterWallFit {
+    let (segments, fit_error) = best.ok_or(SliceError::OuterWallFit {
         source: crate::fit::FitError::TooFewSegments {
             requested: 0,
             minimum: 1,
@@ -379,17 +380,17 @@ fn joins(
     ends: (Point, Point),
     walks: (&TableWalk, &TableWalk),
     options: &WallOptions,
-) -> Result<Joins, CtError> {
+) -> Result<Joins, SliceError> {
     let chord = ends.1 - ends.0;
     let ta = gap
         .local_tangent(Side::A, walks.0, options.tangent_mm)
-        .ok_or(CtError::TooLittleIntactContour {
+        .ok_or(SliceError::TooLittleIntactContour {
             before: 0,
             after: 1,
         })?;
     let tb = gap
         .local_tangent(Side::B, walks.1, options.tangent_mm)
-        .ok_or(CtError::TooLittleIntactContour {
+        .ok_or(SliceError::TooLittleIntactContour {
             before: 1,
             after: 0,
         })?;
@@ -412,7 +413,7 @@ fn joins(
 fn tip_walks<'a>(
     input: &WallInput<'a>,
     options: &WallOptions,
-) -> Result<(Gap<'a>, TableWalk, TableWalk), CtError> {
+) -> Result<(Gap<'a>, TableWalk, TableWalk), SliceError> {
     let line = input.midline;
     if template_source(input, options) == TemplateSource::Mirror
         && crosses_midline(input.a, input.b, &line)
@@ -421,7 +422,8 @@ fn tip_walks<'a>(
             a_x: input.a.x,
             b_x: input.b.x,
             midline_x: line.x_at(0.5 * (input.a.y + input.b.y)),
-        });
+        }
+        .into());
     }
     let tips = Gap::new(*input);
     let reach = options.seat_max_mm
@@ -431,7 +433,7 @@ fn tip_walks<'a>(
             .max(6.0);
     let walk = |side: Side| {
         tips.table(side, reach)
-            .ok_or(CtError::TooLittleIntactContour {
+            .ok_or(SliceError::TooLittleIntactContour {
                 before: 0,
                 after: 0,
             })
@@ -451,7 +453,7 @@ fn tip_walks<'a>(
 pub fn seat_profiles(
     input: &WallInput<'_>,
     options: &WallOptions,
-) -> Result<(SeatProfile, SeatProfile), CtError> {
+) -> Result<(SeatProfile, SeatProfile), SliceError> {
     let (tips, tip_a, tip_b) = tip_walks(input, options)?;
     let side = |walk: &TableWalk, side: Side| {
         let steps = (options.seat_max_mm / SEAT_STEP_MM).floor().max(0.0) as usize;
@@ -522,7 +524,7 @@ pub fn design_outer<S: SegmentSolver + ?Sized>(
     options: &WallOptions,
     seats: Option<(f64, f64)>,
     solver: &mut S,
-) -> Result<OuterDesign, CtError> {
+) -> Result<OuterDesign, SliceError> {
     let (tips, tip_a, tip_b) = tip_walks(input, options)?;
     let seats = match seats {
         Some(s) => s,
@@ -569,7 +571,7 @@ pub fn design_outer<S: SegmentSolver + ?Sized>(
         gap.thickness(&walk_b, set, cap),
     );
     if bone_thickness.0 <= 0.0 || bone_thickness.1 <= 0.0 {
-        return Err(CtError::NoBoneAtEnds {
+        return Err(SliceError::NoBoneAtEnds {
             thickness_a: bone_thickness.0,
             thickness_b: bone_thickness.1,
         });
@@ -624,7 +626,7 @@ pub fn refit_outer(
     design: &mut OuterDesign,
     points: Vec<Point>,
     options: &WallOptions,
-) -> Result<(), CtError> {
+) -> Result<(), SliceError> {
     if design.segments.is_empty() {
         return Ok(());
     }
@@ -739,13 +741,13 @@ fn filled_section(design: &OuterDesign, inner: &[Point], (t_a, t_b): (f64, f64))
 /// The second step: the inner wall at `thickness` (mm at A′ and B′), the
 /// section, and its clipping against `tissue` (the CT slice and bone
 /// threshold; `None` or `options.clip_subdivision = 0`: no clipping).
-/// Error [`CtError::ClippedAway`] when no tissue is left in the section.
+/// Error [`SliceError::ClippedAway`] when no tissue is left in the section.
 pub fn finish_wall(
     design: OuterDesign,
     thickness: (f64, f64),
     tissue: Option<(&Slice<'_>, i16)>,
     options: &WallOptions,
-) -> Result<Wall, CtError> {
+) -> Result<Wall, SliceError> {
     let us = unit_params(options.wall_points);
     let o = design.centre;
     let (t_a, t_b) = thickness;
@@ -777,7 +779,7 @@ pub fn finish_wall(
                 raw_section.clone()
             };
             let c = clip_to_tissue(&to_clip, slice, threshold, options.clip_subdivision)
-                .ok_or(CtError::ClippedAway)?;
+                .ok_or(SliceError::ClippedAway)?;
             let before = raw_section.area().abs().max(f64::MIN_POSITIVE);
             (c.section, (1.0 - c.area_after / before).max(0.0))
         }
@@ -833,16 +835,16 @@ pub fn finish_wall(
 /// midline: no explicit template, [`WallOptions::template`] not
 /// continuing),
 /// [`CtError::NotOnContour`] (A, B, C or D not on the outer contour),
-/// [`CtError::TemplateNotCovered`], [`CtError::TooLittleIntactContour`] and
-/// [`CtError::NoBoneAtEnds`] when the contour around the defect is too
-/// short or holds no bone, [`CtError::OuterWallFit`] for a failing fit,
-/// [`CtError::ClippedAway`].
+/// [`SliceError::TemplateNotCovered`], [`SliceError::TooLittleIntactContour`] and
+/// [`SliceError::NoBoneAtEnds`] when the contour around the defect is too
+/// short or holds no bone, [`SliceError::OuterWallFit`] for a failing fit,
+/// [`SliceError::ClippedAway`].
 pub fn reconstruct_wall<S: SegmentSolver + ?Sized>(
     input: &WallInput<'_>,
     kind: WallKind,
     options: &WallOptions,
     solver: &mut S,
-) -> Result<Wall, CtError> {
+) -> Result<Wall, SliceError> {
     let design = design_outer(input, kind, options, None, solver)?;
     let t = design.bone_thickness;
     finish_wall(design, t, input.tissue, options)
