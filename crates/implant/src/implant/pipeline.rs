@@ -135,9 +135,9 @@ pub enum ImplantError {
     #[error(transparent)]
     Ct(#[from] CtError),
     /// A design error not tied to one slice (refitting the outer walls
-    /// after smoothing them across slices).
+    /// after smoothing them across slices); boxed, as in [`Self::Slice`].
     #[error(transparent)]
-    Design(#[from] SliceError),
+    Design(Box<SliceError>),
     /// An output file or directory could not be written.
     #[error(transparent)]
     Io(#[from] IoError),
@@ -266,6 +266,12 @@ pub enum ImplantError {
     /// the run goes on with the next case.
     #[error("case not built: {0}")]
     CaseNotBuilt(std::sync::Arc<ImplantError>),
+}
+
+impl From<SliceError> for ImplantError {
+    fn from(e: SliceError) -> Self {
+        ImplantError::Design(Box::new(e))
+    }
 }
 
 impl ImplantError {
