@@ -269,6 +269,7 @@ pub(crate) fn template_for(
     }
     let mirrored = gap
         .ends(options.mirror_tolerance_mm)
+        .map_err(SliceError::from)
         .and_then(|ends| Ok((ends, gap.template(&ends, options)?)));
     let mirror_failed = |e: &SliceError| match e {
         SliceError::Ct(CtError::NotOnContour { what, .. }) => {

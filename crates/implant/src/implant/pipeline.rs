@@ -3,11 +3,11 @@
 //! clipped sections, the lofted mesh and its voxelisation (thesis
 //! chapter 6).
 
-use super::SliceError;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use super::seats::choose_seats;
+use super::slice_error::SliceError;
 use super::smooth::{lipschitz_envelope, roughness, smooth_outer_walls};
 use super::wall::{
     design_outer, finish_wall, seat_profiles, seat_rule, OuterDesign, Wall, WallInput, WallKind,

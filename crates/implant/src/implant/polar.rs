@@ -142,20 +142,18 @@ impl<'a> Gap<'a> {
     /// within `tol` of the envelope at the mirrored angle, or, with an
     /// explicit template, its first and last points, each within `tol` of
     /// A′ and B′.
-    pub fn ends(&self, tol: f64) -> Result<WallEnds, SliceError> {
-        let on =
-            |what: &'static str, p: Option<Point>, target: Point| -> Result<Point, SliceError> {
-                let d = p.map_or(f64::INFINITY, |q| q.distance(target));
-                match p {
-                    Some(q) if d <= tol => Ok(q),
-                    _ => Err(CtError::NotOnContour {
-                        what,
-                        distance_mm: d,
-                        tolerance_mm: tol,
-                    }
-                    .into()),
-                }
-            };
+    pub fn ends(&self, tol: f64) -> Result<WallEnds, CtError> {
+        let on = |what: &'static str, p: Option<Point>, target: Point| -> Result<Point, CtError> {
+            let d = p.map_or(f64::INFINITY, |q| q.distance(target));
+            match p {
+                Some(q) if d <= tol => Ok(q),
+                _ => Err(CtError::NotOnContour {
+                    what,
+                    distance_mm: d,
+                    tolerance_mm: tol,
+                }),
+            }
+        };
         let (th_a, th_b) = (self.th_a, self.th_a + self.span);
         let a = on("A", self.env(th_a), self.env(th_a).unwrap_or(self.input.a))?;
         let b = on("B", self.env(th_b), self.env(th_b).unwrap_or(self.input.b))?;
@@ -797,7 +795,7 @@ fn neighbour_derivative(points: Vec<Point>, at_end: bool) -> Result<Point, FitEr
     })
 }
 
-/// A fit error as the CT layer's error.
+/// A fit error of the outer wall as the slice's error.
 pub(crate) fn fit_err(source: FitError) -> SliceError {
     SliceError::OuterWallFit { source }
 }

@@ -101,7 +101,7 @@ pub(crate) fn outer_loop(
     slice: &Slice<'_>,
     threshold: i16,
     midline: &MidLine,
-) -> Result<(Mask2, Polyline, Point), SliceError> {
+) -> Result<(Mask2, Polyline, Point), CtError> {
     let mask = bone_mask_slice(slice, threshold)?;
     let loops = bone_loops(slice, &mask, threshold);
     let outer = loops
@@ -208,11 +208,7 @@ pub fn reconstruct_case<S: SegmentSolver + ?Sized>(
 }
 
 /// The metrics of `wall` against the case's ground truth.
-pub fn case_metrics(
-    p: &PreparedCase,
-    wall: &Wall,
-    margin_mm: f64,
-) -> Result<CaseMetrics, SliceError> {
+pub fn case_metrics(p: &PreparedCase, wall: &Wall, margin_mm: f64) -> Result<CaseMetrics, CtError> {
     let (nx, ny) = (p.truth.nx, p.truth.ny);
     let spacing = Spacing {
         x: p.spacing.0,
@@ -247,7 +243,7 @@ pub enum CaseError {
     /// The wall was reconstructed but could not be measured (see
     /// [`case_metrics`]).
     #[error(transparent)]
-    Measure(SliceError),
+    Measure(CtError),
     /// The case could not be cut out of its slice ([`prepare_case`]): every
     /// method's row of the case carries this reason.
     #[error("case not built: {0}")]
