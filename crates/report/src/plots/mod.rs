@@ -10,7 +10,7 @@
 mod boxes;
 mod convergence;
 mod ecdf;
-pub(crate) use metabezier_plot::factor_lines;
+use metabezier_plot::factor_lines;
 pub(crate) mod fit_factors;
 mod heat_map;
 use metabezier_plot::layout;
