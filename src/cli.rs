@@ -14,13 +14,15 @@ use crate::experiment::slurm::{self, SlurmOptions};
 use crate::experiment::Registry;
 use crate::experiment::{coco_log, Spec, SpecError, SpecLimits};
 use crate::files::{check_output_dir, IoError, Staging};
-use crate::fit::{Chain, Closing, ErrorMeasure, FitOptions, FunctionType, SearchSpace};
+use crate::fit::{Chain, Closing, ErrorMeasure, FitError, FitOptions, FunctionType, SearchSpace};
 use crate::functions::{Function, Transform};
 use crate::geometry::{Continuity, Parameterisation, Point};
-use crate::outline::{load_svg, CornerOptions, OutlineError};
+use crate::outline::{
+    load_svg, noise_level, parse_input, CornerOptions, Foreground, Input, OutlineError,
+};
 use crate::reconstruction::{
     save_shape, score, shape_dxf, ContourChoice, LoadOptions, Method, OverlayFigure,
-    Reconstruction, Segmentation, ShapeFit, Source, SourceError,
+    Reconstruction, Segmentation, ShapeFit, Source, SourceError, DEFAULT_TOLERANCE,
 };
 use crate::report::{self, save_overlay, ReportOptions};
 
@@ -186,10 +188,16 @@ struct FitArgs {
     /// or a metaheuristic polished by LM: hs+lm, …, mhs+lm. Default parameters.
     #[arg(long, default_value = "lm")]
     algorithm: String,
-    /// A fixed number of segments (split at corners, then at equal arc length).
+    /// A fixed number of segments per contour (split at corners, then at
+    /// equal arc length); a count below a contour's corner spans is raised
+    /// to them, with a note.
     #[arg(long, conflicts_with_all = ["tolerance", "true_breaks"])]
     segments: Option<usize>,
-    /// Split recursively until every data point is within PX of the curve.
+    /// Fit to this two-sided (Hausdorff) distance between curve and outline:
+    /// every data point within PX of the curve and the curve within PX of
+    /// the outline polyline (plus the pixel staircase's sagitta), with as
+    /// few segments as found; a contour that cannot be held to it fails
+    /// [default: 1, without --segments or --true-breaks].
     #[arg(
         long,
         value_name = "PX",
@@ -200,6 +208,11 @@ struct FitArgs {
     /// For a glyph: break at the font's own segment ends.
     #[arg(long)]
     true_breaks: bool,
+    /// For an image: which class is the shape. auto: the class that does
+    /// not touch the image border (if both do, the one that touches it
+    /// less); dark; light [default: auto].
+    #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(Foreground::NAMES))]
+    foreground: Option<String>,
     /// Corner threshold: turning angle in degrees over --corner-k points
     /// (0 disables corner detection).
     #[arg(long, default_value_t = 60.0, allow_negative_numbers = true, value_parser = corner_angle)]
@@ -690,7 +703,8 @@ fn implant(spec: &Path, out: Option<PathBuf>, w: &mut String) -> Result<(), Erro
     Ok(())
 }
 
-/// `metabezier fit`: load, segment, fit, write the files.
+/// `metabezier fit`: load, segment, fit, write the files. Contours that
+/// cannot be fitted are named (exit 1) and the others written.
 fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
     let method = Method::from_name(&a.algorithm).ok_or_else(|| UsageError::UnknownAlgorithm {
         name: a.algorithm.clone(),
@@ -699,17 +713,7 @@ fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
     if !a.allow_large && a.budget > crate::experiment::spec::MAX_BUDGET {
         return Err(UsageError::Budget(a.budget).into());
     }
-    let function = FunctionType::from_name(&a.function).expect("clap checked the name");
-    let load = LoadOptions {
-        contour: a.contour.map_or(ContourChoice::All, ContourChoice::Index),
-        min_samples_per_segment: if a.true_breaks {
-            function.min_points() - 1
-        } else {
-            1
-        },
-        ..LoadOptions::default()
-    };
-    let source = Source::load(&a.input, Path::new(""), &load)?;
+    let source = Source::load(&a.input, Path::new(""), &a.load_options()?)?;
     check_output_dir(&a.out)?;
     let r = Reconstruction {
         source: &source,
@@ -718,11 +722,21 @@ fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
         options: a.options(&source),
     };
     let start = std::time::Instant::now();
-    let fit = r.fit(&method, a.seed).map_err(|source| Error::Fit {
-        input: a.input.clone(),
-        source,
-    })?;
+    let outcome = r.fit_each(&method, a.seed);
     let wall = start.elapsed().as_secs_f64();
+    note_fit(&r, &outcome.fit, &outcome.failed);
+    let fit = outcome.fit;
+    if fit.contours.is_empty() {
+        let (_, first) = outcome
+            .failed
+            .into_iter()
+            .next()
+            .expect("a source has contours");
+        return Err(Error::Fit {
+            input: a.input.clone(),
+            source: first,
+        });
+    }
     let title = format!(
         "{}: {} {}, {}",
         source.label(),
@@ -733,7 +747,8 @@ fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
     // Every file is staged and renamed into place once all are written.
     let staging = Staging::new(&a.out)?;
     let dir = staging.path();
-    let mut paths = write_fit_records(dir, &fit, &a.case(&r.options, &method), wall)?;
+    let case = a.case(&r, &method);
+    let mut paths = write_fit_records(dir, &fit, &case, wall)?;
     let data = source.points();
     paths.extend(save_shape(&fit, &data, &title, dir, "fit")?);
     let dxf = dir.join("fit.dxf");
@@ -744,12 +759,57 @@ fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
     let paths: Vec<PathBuf> = paths.iter().map(|p| staging.final_path(p)).collect();
     staging.publish()?;
     say_fit(w, &source.label(), &fit, wall, &paths);
-    Ok(())
+    if outcome.failed.is_empty() {
+        Ok(())
+    } else {
+        Err(Error::ContoursFailed {
+            input: a.input.clone(),
+            fitted: fit.contours.len(),
+            out: a.out.clone(),
+            failed: outcome.failed.into_iter().map(|(_, e)| e).collect(),
+        })
+    }
+}
+
+/// How many times a contour's estimated noise ([`noise_level`]) a
+/// tolerance must be for the fit not to follow the noise: the largest of
+/// a few hundred normal deviates is about 3σ, and a smooth curve through
+/// the true shape is that far from some point.
+const NOISE_FACTOR: f64 = 3.0;
+
+/// Notes on stderr: segment counts raised to a contour's spans, and a
+/// tolerance below what a contour's noise allows.
+fn note_fit(r: &Reconstruction<'_>, fit: &ShapeFit, failed: &[(usize, FitError)]) {
+    let mut err = std::io::stderr().lock();
+    for c in &fit.contours {
+        if let Some(asked) = c.raised_from {
+            let _ = writeln!(
+                err,
+                "metabezier: note: contour {}: {asked} segment(s) asked for, but its corners make {} spans; fitted {} (one per span)",
+                c.contour, c.fit.metrics.segments, c.fit.metrics.segments
+            );
+        }
+    }
+    let Segmentation::Tolerance(t) = r.segmentation else {
+        return;
+    };
+    for c in &r.source.contours {
+        let noise = noise_level(&c.outline.points, c.outline.closed);
+        let failed_here = failed.iter().any(|(k, _)| *k == c.index);
+        if t < NOISE_FACTOR * noise && (failed_here || t < noise) {
+            let _ = writeln!(
+                err,
+                "metabezier: note: contour {}: the tolerance {t} is below what its points' noise allows (noise about {noise:.3e}, estimated from their fourth differences): a fit to it follows the noise; a tolerance of {:.3e} or more would not",
+                c.index,
+                NOISE_FACTOR * noise
+            );
+        }
+    }
 }
 
 impl FitArgs {
     /// The segmentation asked for: a count, a tolerance, a glyph's true
-    /// breaks, or 8 segments.
+    /// breaks, or the default tolerance ([`DEFAULT_TOLERANCE`]).
     fn segmentation(&self, source: &Source) -> Result<Segmentation, UsageError> {
         Ok(match (self.segments, self.tolerance, self.true_breaks) {
             (Some(n), _, _) => Segmentation::Count(n),
@@ -762,8 +822,33 @@ impl FitArgs {
             (_, _, true) => source
                 .true_segmentation()
                 .ok_or_else(|| UsageError::NotAGlyph(self.input.clone()))?,
-            (None, None, false) => Segmentation::Count(8),
+            (None, None, false) => Segmentation::Tolerance(DEFAULT_TOLERANCE),
         })
+    }
+
+    /// What to load: the contours asked for, the glyph sampling a fit at
+    /// true breaks needs, the foreground of an image (refused for other
+    /// inputs).
+    fn load_options(&self) -> Result<LoadOptions, Error> {
+        let function = FunctionType::from_name(&self.function).expect("clap checked the name");
+        let mut load = LoadOptions {
+            contour: self
+                .contour
+                .map_or(ContourChoice::All, ContourChoice::Index),
+            min_samples_per_segment: if self.true_breaks {
+                function.min_points() - 1
+            } else {
+                1
+            },
+            ..LoadOptions::default()
+        };
+        if let Some(name) = &self.foreground {
+            if !matches!(parse_input(&self.input), Ok(Input::Image(_))) {
+                return Err(UsageError::ForegroundNotImage(self.input.clone()).into());
+            }
+            load.image.foreground = Foreground::from_name(name).expect("clap checked the name");
+        }
+        Ok(load)
     }
 
     /// The corner detector (none for an angle of 0).
@@ -794,9 +879,21 @@ impl FitArgs {
         options
     }
 
-    /// The case columns of the fit's `metrics.csv`.
-    fn case(&self, options: &FitOptions, method: &Method) -> [(&'static str, String); 13] {
-        [
+    /// The case columns of the fit's `metrics.csv`: everything that decides
+    /// the fit, so that a file read on its own says what made it.
+    fn case(&self, r: &Reconstruction<'_>, method: &Method) -> Vec<(&'static str, String)> {
+        let options = &r.options;
+        let (segmentation, tolerance) = match &r.segmentation {
+            Segmentation::Count(n) => (format!("segments {n}"), String::new()),
+            Segmentation::Tolerance(t) => ("tolerance".to_owned(), t.to_string()),
+            Segmentation::TrueBreaks => ("true-breaks".to_owned(), String::new()),
+            Segmentation::Breaks { .. } => ("breaks".to_owned(), String::new()),
+        };
+        let foreground = match parse_input(&self.input) {
+            Ok(Input::Image(_)) => self.foreground.clone().unwrap_or_else(|| "auto".into()),
+            _ => String::new(),
+        };
+        vec![
             ("input", self.input.clone()),
             ("function", options.function.name().to_owned()),
             ("continuity", options.continuity.name().to_owned()),
@@ -812,6 +909,11 @@ impl FitArgs {
             ("reparameterise", self.reparameterise.to_string()),
             ("error", options.error.name().to_owned()),
             ("chain", options.chain.name().to_owned()),
+            ("segmentation", segmentation),
+            ("tolerance_asked", tolerance),
+            ("corner_angle", self.corner_angle.to_string()),
+            ("corner_k", self.corner_k.to_string()),
+            ("foreground", foreground),
             (
                 "contours",
                 self.contour
@@ -828,23 +930,45 @@ fn say_fit(w: &mut String, label: &str, fit: &ShapeFit, wall: f64, paths: &[Path
     let m = &fit.metrics;
     say!(
         w,
-        "{label}: {} contour(s), {} points, {} segments, E = {:.6e}, RMS = {:.4e}, RMS distance = {:.4e}, max distance = {:.4e}, {} evaluations, {:.3} s",
+        "{label}: {} contour(s), {} points, {} segments, Hausdorff distance = {:.4e} (data -> curve {:.4e}, curve -> data {:.4e}), RMS distance = {:.4e}, E = {:.6e}, RMS = {:.4e}, {} evaluations, {:.3} s",
         fit.contours.len(),
         m.points,
         m.segments,
+        m.hausdorff,
+        m.max_distance,
+        m.curve_distance,
+        m.rms_distance,
         m.sse,
         m.rms,
-        m.rms_distance,
-        m.max_distance,
         m.evaluations,
         wall
     );
-    let outline = fit.contours.iter().map(|c| c.fit.outline_distance);
-    if let Some(d) = outline.clone().flatten().reduce(f64::max) {
+    if let Some(t) = fit
+        .contours
+        .iter()
+        .filter_map(|c| c.fit.tolerance)
+        .reduce(f64::max)
+    {
+        let staircase = fit.contours.iter().any(|c| c.fit.staircase);
+        let (held, what) = if staircase {
+            (
+                m.excess,
+                "two-sided distance beyond the pixel staircase's sagitta",
+            )
+        } else {
+            (m.hausdorff, "Hausdorff distance")
+        };
         say!(
             w,
-            "  the curve and the outline polyline: at most {d:.4e} apart (both sides, {} samples per point gap)",
+            "  tolerance {t} held: largest {what} {held:.4e} (curve sampled {} times per point gap)",
             crate::fit::OUTLINE_SAMPLES
+        );
+    }
+    let at_bounds: usize = fit.contours.iter().map(|c| c.fit.weights_at_bounds).sum();
+    if at_bounds > 0 {
+        say!(
+            w,
+            "  {at_bounds} rational weight(s) at a bound of the weight range: the search box, not the data, decided them"
         );
     }
     for c in &fit.contours {

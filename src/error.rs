@@ -50,6 +50,26 @@ pub enum Error {
         #[source]
         source: FitError,
     },
+    /// Some contours of an input could not be fitted; the others were
+    /// written.
+    #[error(
+        "{input}: {} of {} contour(s) could not be fitted (the other {} are in {}):{}",
+        failed.len(),
+        failed.len() + fitted,
+        fitted,
+        out.display(),
+        failed.iter().map(|e| format!("\n  {e}")).collect::<String>()
+    )]
+    ContoursFailed {
+        /// The input as the user wrote it.
+        input: String,
+        /// How many contours were fitted and written.
+        fitted: usize,
+        /// Where they were written.
+        out: std::path::PathBuf,
+        /// Why each of the others failed (each names its contour).
+        failed: Vec<FitError>,
+    },
     /// Curves could not be scored against an outline.
     #[error("{}: {source}", curves.display())]
     Score {
@@ -77,8 +97,13 @@ pub enum UsageError {
         choices: Vec<String>,
     },
     /// `--tolerance` is not a positive distance.
-    #[error("--tolerance: expected a distance > 0 (data units), found {0}")]
+    #[error("--tolerance: expected a finite distance > 0 (data units), found {0}")]
     Tolerance(f64),
+    /// `--foreground` on an input that is not an image.
+    #[error(
+        "--foreground: {0} is not an image (a CSV, SVG or glyph outline has no background to tell apart); drop the option"
+    )]
+    ForegroundNotImage(String),
     /// `--true-breaks` on an input that is not a glyph.
     #[error(
         "--true-breaks: {0} is not a glyph, so it has no true break points; use --segments or --tolerance"

@@ -14,10 +14,16 @@ use crate::reconstruction::ShapeFit;
 
 /// The columns of `metrics.csv` after the case columns.
 ///
-/// `outline_distance` is the two-sided distance between the curve and the
-/// outline polyline that a `--tolerance` fit holds within its tolerance
-/// ([`crate::fit::outline_distance`]); empty for the other segmentations.
-pub const METRICS_COLUMNS: [&str; 13] = [
+/// `max_distance` and `rms_distance` are data → curve (each data point's
+/// orthogonal distance); `curve_distance` is curve → data (dense samples
+/// of every segment to the polyline of its data points); `hausdorff` the
+/// larger of the two sides ([`crate::fit::SegmentMetrics::hausdorff`]);
+/// `hausdorff_excess` the same beyond the staircase's allowance, what a
+/// tolerance holds for a traced image ([`crate::fit::SegmentMetrics::excess`]);
+/// `tolerance` the tolerance held (empty without one) and `tolerance_holds`
+/// which of the two it holds; `weights_at_bounds` the rational weights the
+/// search box, not the data, decided.
+pub const METRICS_COLUMNS: [&str; 18] = [
     "contour",
     "orientation",
     "points",
@@ -26,7 +32,12 @@ pub const METRICS_COLUMNS: [&str; 13] = [
     "rms",
     "max_distance",
     "rms_distance",
-    "outline_distance",
+    "curve_distance",
+    "hausdorff",
+    "hausdorff_excess",
+    "tolerance",
+    "tolerance_holds",
+    "weights_at_bounds",
     "evaluations",
     "closing_join",
     "closing_angle_degrees",
@@ -40,7 +51,8 @@ fn metrics_fields(
     orientation: Option<Orientation>,
     m: &FitMetrics,
     closing: Option<ClosingJoint>,
-    outline: Option<f64>,
+    tolerance: Option<(f64, bool)>,
+    weights_at_bounds: usize,
 ) -> Vec<String> {
     let orientation = match orientation {
         Some(Orientation::CounterClockwise) => "counter-clockwise",
@@ -64,7 +76,18 @@ fn metrics_fields(
         m.rms.to_string(),
         m.max_distance.to_string(),
         m.rms_distance.to_string(),
-        outline.map_or(String::new(), |d| d.to_string()),
+        m.curve_distance.to_string(),
+        m.hausdorff.to_string(),
+        m.excess.to_string(),
+        tolerance.map_or(String::new(), |(t, _)| t.to_string()),
+        tolerance.map_or(String::new(), |(_, staircase)| {
+            if staircase {
+                "hausdorff_excess".to_owned()
+            } else {
+                "hausdorff".to_owned()
+            }
+        }),
+        weights_at_bounds.to_string(),
         m.evaluations.to_string(),
         join,
         closing.map_or(String::new(), |c| c.angle_degrees.to_string()),
@@ -107,18 +130,29 @@ pub fn write_fit_records(
                 Some(c.orientation),
                 &c.fit.metrics,
                 c.fit.closing,
-                c.fit.outline_distance,
+                c.fit.tolerance.map(|t| (t, c.fit.staircase)),
+                c.fit.weights_at_bounds,
             ));
             row
         })
         .collect();
     let mut all = case_values;
-    let outline = fit
+    let tolerance = fit
         .contours
         .iter()
-        .map(|c| c.fit.outline_distance)
-        .try_fold(0.0, |worst: f64, d| d.map(|d| worst.max(d)));
-    all.extend(metrics_fields("all", None, &fit.metrics, None, outline));
+        .map(|c| c.fit.tolerance.map(|t| (t, c.fit.staircase)))
+        .try_fold((0.0, false), |(worst, s): (f64, bool), d| {
+            d.map(|(t, staircase)| (worst.max(t), s || staircase))
+        });
+    let at_bounds = fit.contours.iter().map(|c| c.fit.weights_at_bounds).sum();
+    all.extend(metrics_fields(
+        "all",
+        None,
+        &fit.metrics,
+        None,
+        tolerance,
+        at_bounds,
+    ));
     rows.push(all);
     let metrics_csv = dir.join("metrics.csv");
     write_atomic(&metrics_csv, &csv_bytes(&header, rows))?;

@@ -3,6 +3,7 @@
 use std::fmt;
 
 use super::FunctionType;
+use crate::geometry::Point;
 
 /// An invalid fitting request, with a message saying what to change.
 #[derive(Clone, Debug, PartialEq)]
@@ -107,6 +108,25 @@ pub enum FitError {
     /// quadratic segments with C¹ joins, which their first segment
     /// determines (one inner control point each).
     JointQuadraticC1,
+    /// A `--tolerance` fit could not hold its tolerance: the split reached
+    /// its limits with a segment whose two-sided distance to the outline,
+    /// beyond the staircase's allowance, is still above it.
+    ToleranceNotMet {
+        /// The tolerance asked for.
+        tolerance: f64,
+        /// The segment's two-sided distance (beyond the staircase's
+        /// allowance for a traced image, [`crate::fit::SplitOptions::staircase`]).
+        excess: f64,
+        /// The segment's position along the contour (0-based, fitting order).
+        segment: usize,
+        /// Its first data point (outline index).
+        first: usize,
+        /// Its last data point (outline index).
+        last: usize,
+        /// Where the distance is largest: the data point at the start of
+        /// that gap.
+        at: Point,
+    },
     /// A fit of one contour of a shape failed.
     Contour {
         /// The contour's number in its input.
@@ -209,6 +229,20 @@ impl fmt::Display for FitError {
                 "the joint chain cannot join quadratic segments C1: each has one inner control \
                  point, so C1 joins fix every segment from the first; use chain \"sequential\", \
                  G1 joins, or a cubic or rational cubic function"
+            ),
+            FitError::ToleranceNotMet {
+                tolerance,
+                excess,
+                segment,
+                first,
+                last,
+                at,
+            } => write!(
+                f,
+                "the tolerance {tolerance} is not met: segment {segment} (points {first}..{last}) \
+                 is {excess:.4} from the outline near ({:.2}, {:.2}) and the split limits stop \
+                 there; raise --tolerance or use --segments",
+                at.x, at.y
             ),
             FitError::Contour { contour, error } => write!(f, "contour {contour}: {error}"),
         }

@@ -25,11 +25,30 @@ pub struct SegmentMetrics {
     /// as potrace, FontForge and Inkscape are judged by); `rms` is measured
     /// at the parameters `sᵢ` and is never smaller.
     pub rms_distance: f64,
+    /// Curve → data: the largest distance from a sample of the curve
+    /// ([`OUTLINE_SAMPLES`] per data gap) to the polyline of its data
+    /// points ([`outline_distance`]). Large where the curve leaves the
+    /// outline between data points (a whisker past a corner, a loop), which
+    /// `max_distance` cannot see.
+    pub curve_distance: f64,
+    /// The two-sided (Hausdorff) distance between the curve and the polyline
+    /// of its data: the larger of data → curve (the data points and the
+    /// polyline's samples) and curve → data ([`OutlineDistance::distance`]).
+    pub hausdorff: f64,
+    /// The Hausdorff distance beyond the polyline's own sagitta, the pixel
+    /// staircase's allowance ([`OutlineDistance::excess`]): what a
+    /// tolerance is held to.
+    pub excess: f64,
+    /// The local gap (between local points `i` and `i + 1`) of `excess`.
+    pub excess_gap: usize,
+    /// The local gap of `hausdorff`.
+    pub hausdorff_gap: usize,
     /// Objective evaluations spent on the segment.
     pub evaluations: u64,
 }
 
-/// The metrics of `curve` fitted to `points` at `params`.
+/// The metrics of `curve` fitted to `points` (in order, the first and last
+/// at the curve's ends) at `params`, data → curve and curve → data.
 pub fn segment_metrics<C: Curve + ?Sized>(
     curve: &C,
     points: &[Point],
@@ -40,13 +59,16 @@ pub fn segment_metrics<C: Curve + ?Sized>(
     let mut max_index = 0;
     let mut max_distance = 0.0;
     let mut sum_sq_distance = 0.0;
+    let mut feet = Vec::with_capacity(points.len());
     for (i, &p) in points.iter().enumerate() {
-        let d = nearest(curve, p).1;
+        let (s, d) = nearest(curve, p);
+        feet.push(s);
         sum_sq_distance += d * d;
         if d > max_distance {
             (max_index, max_distance) = (i, d);
         }
     }
+    let o = outline_distance_from(curve, points, &mut feet);
     SegmentMetrics {
         points: points.len(),
         sse,
@@ -55,6 +77,19 @@ pub fn segment_metrics<C: Curve + ?Sized>(
         max_index,
         sum_sq_distance,
         rms_distance: per_point(sum_sq_distance, points.len()),
+        curve_distance: o.curve_side,
+        hausdorff: o.distance.max(max_distance),
+        excess: o.excess.max(max_distance),
+        excess_gap: if o.excess >= max_distance {
+            o.gap
+        } else {
+            max_index.min(points.len().saturating_sub(2))
+        },
+        hausdorff_gap: if o.distance >= max_distance {
+            o.distance_gap
+        } else {
+            max_index.min(points.len().saturating_sub(2))
+        },
         evaluations,
     }
 }
@@ -82,6 +117,11 @@ pub struct OutlineDistance {
     pub excess: f64,
     /// The gap `i` (between points `i` and `i + 1`) of the largest excess.
     pub gap: usize,
+    /// The curve's side alone: the largest distance from a curve sample to
+    /// the polyline (curve → data).
+    pub curve_side: f64,
+    /// The gap of the largest `distance`.
+    pub distance_gap: usize,
 }
 
 /// The two-sided distance between `curve` and the polyline through `points`
@@ -96,10 +136,23 @@ pub struct OutlineDistance {
 /// it can miss at most the bulge of one sample spacing. The data points'
 /// own distances are included (with no sagitta: they lie on the outline).
 pub fn outline_distance<C: Curve + ?Sized>(curve: &C, points: &[Point]) -> OutlineDistance {
+    let mut feet: Vec<f64> = points.iter().map(|&p| nearest(curve, p).0).collect();
+    outline_distance_from(curve, points, &mut feet)
+}
+
+/// [`outline_distance`] with the data points' foot parameters `feet`
+/// already found ([`nearest`]); the ends are set to the curve's ends.
+fn outline_distance_from<C: Curve + ?Sized>(
+    curve: &C,
+    points: &[Point],
+    feet: &mut [f64],
+) -> OutlineDistance {
     let mut worst = OutlineDistance {
         distance: 0.0,
         excess: 0.0,
         gap: 0,
+        curve_side: 0.0,
+        distance_gap: 0,
     };
     if points.len() < 2 {
         return worst;
@@ -116,13 +169,8 @@ pub fn outline_distance<C: Curve + ?Sized>(curve: &C, points: &[Point]) -> Outli
 
     // The ends are the curve's ends (a closed one-segment contour starts and
     // ends at the same point, whose nearest parameter is ambiguous).
-    let feet: Vec<f64> = (0..=edges)
-        .map(|i| match i {
-            0 => 0.0,
-            i if i == edges => 1.0,
-            _ => nearest(curve, points[i]).0,
-        })
-        .collect();
+    feet[0] = 0.0;
+    feet[edges] = 1.0;
     let k = OUTLINE_SAMPLES as f64;
     for i in 0..edges {
         note(&mut worst, curve.eval(feet[i]).distance(points[i]), i, 0.0);
@@ -149,9 +197,10 @@ pub fn outline_distance<C: Curve + ?Sized>(curve: &C, points: &[Point]) -> Outli
     // parameters), and against every edge only where that nearby distance
     // could raise the result: the true distance is at most the nearby one.
     let nearest_edge = |c: Point, range: std::ops::Range<usize>| {
-        range
-            .map(|e| (segment_distance(c, points[e], points[e + 1]), e))
-            .fold((f64::INFINITY, 0), |a, b| if b.0 < a.0 { b } else { a })
+        let (d2, e) = range
+            .map(|e| (segment_distance_squared(c, points[e], points[e + 1]), e))
+            .fold((f64::INFINITY, 0), |a, b| if b.0 < a.0 { b } else { a });
+        (d2.sqrt(), e)
     };
     let mut at = 0;
     for j in 1..samples {
@@ -165,6 +214,7 @@ pub fn outline_distance<C: Curve + ?Sized>(curve: &C, points: &[Point]) -> Outli
         if best > worst.distance || best - sagitta[gap] > worst.excess {
             (best, gap) = nearest_edge(c, 0..edges);
         }
+        worst.curve_side = worst.curve_side.max(best);
         note(&mut worst, best, gap, sagitta[gap]);
     }
     worst
@@ -173,15 +223,19 @@ pub fn outline_distance<C: Curve + ?Sized>(curve: &C, points: &[Point]) -> Outli
 /// Takes a sample's distance `d` in gap `gap`, with the sagitta `allowed`
 /// there, into `worst`.
 fn note(worst: &mut OutlineDistance, d: f64, gap: usize, allowed: f64) {
-    worst.distance = worst.distance.max(d);
+    if d > worst.distance {
+        worst.distance = d;
+        worst.distance_gap = gap;
+    }
     if d - allowed > worst.excess {
         worst.excess = d - allowed;
         worst.gap = gap;
     }
 }
 
-/// The distance from `q` to the segment `[a, b]`.
-fn segment_distance(q: Point, a: Point, b: Point) -> f64 {
+/// The squared distance from `q` to the segment `[a, b]` (squared, so that
+/// the search over edges takes no square root per edge).
+fn segment_distance_squared(q: Point, a: Point, b: Point) -> f64 {
     let d = b - a;
     let len2 = d.hypot2();
     let t = if len2 > 0.0 {
@@ -189,7 +243,7 @@ fn segment_distance(q: Point, a: Point, b: Point) -> f64 {
     } else {
         0.0
     };
-    q.distance(a + d * t)
+    (a + d * t - q).hypot2()
 }
 
 /// A local foot parameter of `q` on `curve` near `s0`: Newton's method on
@@ -235,6 +289,14 @@ pub struct FitMetrics {
     pub rms_distance: f64,
     /// `Σ d²` over the data points.
     pub sum_sq_distance: f64,
+    /// Curve → data: the largest [`SegmentMetrics::curve_distance`].
+    pub curve_distance: f64,
+    /// The two-sided distance: the largest [`SegmentMetrics::hausdorff`]
+    /// (never below `max_distance`).
+    pub hausdorff: f64,
+    /// The same beyond the staircase's allowance: the largest
+    /// [`SegmentMetrics::excess`], what a tolerance is held to.
+    pub excess: f64,
     /// Objective evaluations over all segments.
     pub evaluations: u64,
 }
@@ -252,6 +314,9 @@ impl FitMetrics {
             max_distance: segments.iter().map(|s| s.max_distance).fold(0.0, f64::max),
             rms_distance: per_point(sum_sq, points),
             sum_sq_distance: sum_sq,
+            curve_distance: largest(segments.iter().map(|s| s.curve_distance)),
+            hausdorff: largest(segments.iter().map(|s| s.hausdorff)),
+            excess: largest(segments.iter().map(|s| s.excess)),
             evaluations: segments.iter().map(|s| s.evaluations).sum(),
         }
     }
@@ -270,9 +335,17 @@ impl FitMetrics {
             max_distance: parts.iter().map(|m| m.max_distance).fold(0.0, f64::max),
             rms_distance: per_point(sum_sq, points),
             sum_sq_distance: sum_sq,
+            curve_distance: largest(parts.iter().map(|m| m.curve_distance)),
+            hausdorff: largest(parts.iter().map(|m| m.hausdorff)),
+            excess: largest(parts.iter().map(|m| m.excess)),
             evaluations: parts.iter().map(|m| m.evaluations).sum(),
         }
     }
+}
+
+/// The largest of `values`, 0 for none.
+fn largest(values: impl Iterator<Item = f64>) -> f64 {
+    values.fold(0.0, f64::max)
 }
 
 /// `√(total/n)`, 0 for no points.

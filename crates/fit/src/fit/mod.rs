@@ -36,7 +36,7 @@
 //! | [`fit_piecewise`], [`fit_segment_count`], [`fit_adaptive`] | whole outlines, closed smoothly or C⁰ ([`Closing`]) |
 //! | [`fit_independent`] | every segment of a reference fit as its own problem |
 //! | [`densify`] | points inserted into a span too short for its function |
-//! | [`SegmentMetrics`], [`FitMetrics`] | E, RMS, orthogonal max and RMS distance, evaluations |
+//! | [`SegmentMetrics`], [`FitMetrics`] | E, RMS, data → curve and curve → data distances (Hausdorff), evaluations |
 //! | [`outline_trace`] | the best-so-far E of a whole fit |
 //!
 //! ```
@@ -61,6 +61,7 @@
 //! # Ok::<(), metabezier_core::geometry::GeometryError>(())
 //! ```
 
+mod adaptive;
 mod chain;
 mod controls;
 mod error;
@@ -76,6 +77,7 @@ mod solver;
 mod span;
 mod trace;
 
+pub use adaptive::{fit_adaptive, SplitOptions};
 pub use error::FitError;
 pub use function::FunctionType;
 pub use linear::linear_fit;
@@ -87,8 +89,8 @@ pub use options::{
     SearchSpaceOptions, ALPHA_SIZE, MARGIN, PT,
 };
 pub use piecewise::{
-    equal_arc_breaks, fit_adaptive, fit_breaks, fit_independent, fit_piecewise, fit_segment_count,
-    ClosingJoint, PiecewiseFit, SplitOptions,
+    equal_arc_breaks, fit_breaks, fit_independent, fit_piecewise, fit_segment_count, ClosingJoint,
+    PiecewiseFit,
 };
 pub use problem::{tangent_meet, End, SegmentProblem, Start};
 pub use segment::Segment;

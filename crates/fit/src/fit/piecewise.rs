@@ -34,13 +34,10 @@
 //! problem, joined to the reference's neighbours (the per-segment mode).
 
 use super::chain::{solve_joint, Fitted};
-use super::metrics::{outline_distance, FitMetrics, SegmentMetrics};
-use super::span::{fit_one, Outline, Piece};
-#[cfg(doc)]
-use super::OutlineDistance;
+use super::metrics::{FitMetrics, SegmentMetrics};
+use super::span::{fit_guarded, fit_one, Outline, Piece};
 use super::{
-    outline_trace, Chain, Closing, End, ErrorMeasure, FitError, FitOptions, FittedSegment,
-    SegmentSolver, Start,
+    outline_trace, Chain, Closing, End, FitError, FitOptions, FittedSegment, SegmentSolver, Start,
 };
 use crate::geometry::{check_join, Continuity, Curve, Point};
 use crate::optim::lm::LevenbergMarquardt;
@@ -109,12 +106,18 @@ pub struct PiecewiseFit {
     /// Evaluations of the joint solve (included in `metrics.evaluations`;
     /// the segments' own count their sequential fits).
     pub chain_evaluations: u64,
-    /// The largest two-sided distance between a segment and the outline
-    /// polyline of its data ([`outline_distance`]), measured by
-    /// [`fit_adaptive`], which holds it within its tolerance plus the
-    /// polyline's own sagitta ([`OutlineDistance::excess`]: 0 on straight
-    /// runs); `None` for the other methods.
-    pub outline_distance: Option<f64>,
+    /// Rational weights at a bound of the search box's weight range
+    /// ([`crate::fit::SearchSpaceOptions::weight_range`], within 10⁻⁹
+    /// relative): a segment whose shape the box, not the data, decided.
+    pub weights_at_bounds: usize,
+    /// The tolerance the fit was held to ([`fit_adaptive`]): every
+    /// segment's two-sided distance beyond the staircase's allowance
+    /// (`metrics.excess`) is within it. `None` for the other methods.
+    pub tolerance: Option<f64>,
+    /// Whether the tolerance allowed curve samples the staircase's sagitta
+    /// ([`crate::fit::SplitOptions::staircase`]): `metrics.excess` is what
+    /// it holds, else `metrics.hausdorff`.
+    pub staircase: bool,
     /// The totals.
     pub metrics: FitMetrics,
 }
@@ -148,13 +151,13 @@ impl PiecewiseFit {
 }
 
 /// The start of the next segment after `previous` at a joint of `join`.
-fn start_after(previous: Option<&FittedSegment>, join: Continuity) -> Start {
+pub(super) fn start_after(previous: Option<&FittedSegment>, join: Continuity) -> Start {
     previous.map_or(Start::Free, |p| Start::after(&p.segment, join))
 }
 
 /// The end join of a segment that closes the chain before `first`: the
 /// first segment's start tangent (G¹) or derivative (C¹).
-fn end_before(first: &FittedSegment, continuity: Continuity) -> End {
+pub(super) fn end_before(first: &FittedSegment, continuity: Continuity) -> End {
     let d = first.segment.deriv(0.0);
     match continuity {
         Continuity::C0 => End::Free,
@@ -165,13 +168,18 @@ fn end_before(first: &FittedSegment, continuity: Continuity) -> End {
 
 /// Assembles the result; `at_corner` says whether the chain starts (and
 /// closes) at a corner.
-fn finish(
+pub(super) fn finish(
     outline: &Outline<'_>,
     segments: Vec<FittedSegment>,
     discarded: u64,
     at_corner: bool,
     joint: Option<u64>,
+    options: &FitOptions,
 ) -> PiecewiseFit {
+    let weights_at_bounds = segments
+        .iter()
+        .map(|s| weights_at_bounds(&s.segment, options.search.weight_range))
+        .sum();
     let per: Vec<SegmentMetrics> = segments.iter().map(|s| s.metrics).collect();
     let mut metrics = FitMetrics::total(&per, outline.len());
     let chain_evaluations = joint.unwrap_or(0);
@@ -200,47 +208,67 @@ fn finish(
             Chain::Sequential
         },
         chain_evaluations,
-        outline_distance: None,
+        weights_at_bounds,
+        tolerance: None,
+        staircase: false,
         metrics,
     }
 }
 
-/// How far a fitted segment strays from its part of the outline
-/// ([`stray`]).
-#[derive(Clone, Copy, Debug)]
-struct Stray {
-    /// What a tolerance is held to: the larger of its data points' distance
-    /// to the curve and the sampled two-sided distance between the curve and
-    /// the data's polyline beyond the polyline's own sagitta
-    /// ([`OutlineDistance::excess`]).
-    split: f64,
-    /// The local index of a data point to split at.
-    at: usize,
-    /// The strict two-sided distance.
-    strict: f64,
+/// How many of `segment`'s free weights (all but the ends') lie at a bound
+/// of `range`, within 10⁻⁹ relative.
+fn weights_at_bounds(segment: &super::Segment, range: (f64, f64)) -> usize {
+    let w = segment.weights();
+    let at = |x: f64, b: f64| (x - b).abs() <= 1e-9 * b;
+    let inner = &w[1..w.len() - 1];
+    match segment.function() {
+        super::FunctionType::RationalQuadratic | super::FunctionType::RationalCubic => inner
+            .iter()
+            .filter(|&&x| at(x, range.0) || at(x, range.1))
+            .count(),
+        _ => 0,
+    }
 }
 
-/// How far `fit`, the segment of `outline` from `first` to `last`, strays.
-fn stray(outline: &Outline<'_>, fit: &FittedSegment, first: usize, last: usize) -> Stray {
-    let o = outline_distance(&fit.segment, &outline.gather(first, last));
-    let strict = o.distance.max(fit.metrics.max_distance);
-    if o.excess > fit.metrics.max_distance {
-        Stray {
-            split: o.excess,
-            at: o.gap + 1,
-            strict,
+/// The largest two-sided distance beyond the staircase's allowance of
+/// `segments` (`metrics.excess`).
+fn worst_excess(segments: &[FittedSegment]) -> f64 {
+    segments
+        .iter()
+        .map(|s| s.metrics.excess)
+        .fold(0.0, f64::max)
+}
+
+/// The joint solve's result, or the sequential `segments` where the joint
+/// one strays further from the outline: its `worst` two-sided distance
+/// (beyond the staircase in a chain of fixed count, [`worst_excess`])
+/// above `limit` (a tolerance) and above the sequential chain's own. The joint solve minimises the data's distances
+/// only, so it can park curve past a corner where no data point is (a
+/// whisker); the sequential chain, fitted piece by piece with
+/// [`fit_guarded`], is the fallback. Returns the segments and the joint
+/// evaluations (`None` when the sequential ones are kept).
+pub(super) fn keep_joint_unless_it_strays(
+    outline: &Outline<'_>,
+    segments: Vec<FittedSegment>,
+    options: &FitOptions,
+    limit: f64,
+    worst: impl Fn(&[FittedSegment]) -> f64,
+) -> Result<(Vec<FittedSegment>, Option<u64>, u64), FitError> {
+    let spans = spans_of(outline, &segments);
+    match joint_chain(outline, &segments, &spans, options)? {
+        Some((refit, used)) => {
+            if worst(&refit) <= limit.max(worst(&segments)) {
+                Ok((refit, Some(used), 0))
+            } else {
+                Ok((segments, None, used))
+            }
         }
-    } else {
-        Stray {
-            split: fit.metrics.max_distance,
-            at: fit.metrics.max_index,
-            strict,
-        }
+        None => Ok((segments, None, 0)),
     }
 }
 
 /// The spans of `segments` on `outline`, wrapping indices kept increasing.
-fn spans_of(outline: &Outline<'_>, segments: &[FittedSegment]) -> Vec<(usize, usize)> {
+pub(super) fn spans_of(outline: &Outline<'_>, segments: &[FittedSegment]) -> Vec<(usize, usize)> {
     let n = outline.len();
     segments
         .iter()
@@ -261,7 +289,7 @@ fn spans_of(outline: &Outline<'_>, segments: &[FittedSegment]) -> Vec<(usize, us
 /// sequential fit was given). Returns the refitted segments and the joint
 /// evaluations, or `None` when the chain is sequential or the joint
 /// variables cannot describe it (a straight quadratic).
-fn joint_chain(
+pub(super) fn joint_chain(
     outline: &Outline<'_>,
     segments: &[FittedSegment],
     spans: &[(usize, usize)],
@@ -290,10 +318,10 @@ fn joint_chain(
 
 /// The spans of a chain in fitting order, the continuity at each start,
 /// and whether the first starts at a corner.
-struct Plan {
-    spans: Vec<(usize, usize)>,
-    joins: Vec<Continuity>,
-    at_corner: bool,
+pub(super) struct Plan {
+    pub(super) spans: Vec<(usize, usize)>,
+    pub(super) joins: Vec<Continuity>,
+    pub(super) at_corner: bool,
 }
 
 impl Plan {
@@ -302,7 +330,7 @@ impl Plan {
     /// first segment free. A closed outline closed smoothly starts at its
     /// first corner, if any (the spans rotated, wrapping indices kept
     /// increasing); otherwise the chain starts at the first span.
-    fn new(
+    pub(super) fn new(
         outline: &Outline<'_>,
         spans: Vec<(usize, usize)>,
         corner: &[bool],
@@ -349,7 +377,11 @@ impl Plan {
     /// Whether the last segment of a split fit ([`fit_adaptive`]) joins the
     /// first one's start: a closed outline closed smoothly, not at a
     /// corner, with a smooth continuity.
-    fn closes_smoothly_split(&self, outline: &Outline<'_>, options: &FitOptions) -> bool {
+    pub(super) fn closes_smoothly_split(
+        &self,
+        outline: &Outline<'_>,
+        options: &FitOptions,
+    ) -> bool {
         outline.closed
             && options.closing == Closing::Smooth
             && !self.at_corner
@@ -374,6 +406,7 @@ fn fit_chain<S: SegmentSolver + ?Sized>(
     let close = chain.closes_smoothly(outline, options);
     let n = chain.spans.len();
     let mut segments: Vec<FittedSegment> = Vec::with_capacity(n);
+    let mut discarded = 0;
     for (k, (&(first, last), &join)) in chain.spans.iter().zip(&chain.joins).enumerate() {
         let end = match segments.first() {
             Some(f) if close && k + 1 == n => end_before(f, options.continuity),
@@ -386,14 +419,20 @@ fn fit_chain<S: SegmentSolver + ?Sized>(
             start: start_after(segments.last(), join),
             end,
         };
-        segments.push(fit_one(outline, piece, options, solver)?);
+        let (fit, spent) = fit_guarded(outline, piece, options, solver)?;
+        discarded += spent;
+        segments.push(fit);
     }
-    Ok(
-        match joint_chain(outline, &segments, &spans_of(outline, &segments), options)? {
-            Some((refit, used)) => finish(outline, refit, 0, chain.at_corner, Some(used)),
-            None => finish(outline, segments, 0, chain.at_corner, None),
-        },
-    )
+    let (segments, joint, rejected) =
+        keep_joint_unless_it_strays(outline, segments, options, 0.0, worst_excess)?;
+    Ok(finish(
+        outline,
+        segments,
+        discarded + rejected,
+        chain.at_corner,
+        joint,
+        options,
+    ))
 }
 
 /// Fits `options.function` to `points` split at `breaks`, every interior
@@ -549,158 +588,6 @@ pub fn fit_segment_count<S: SegmentSolver + ?Sized>(
     fit_chain(&outline, &chain, options, solver)
 }
 
-/// The stopping rule of [`fit_adaptive`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SplitOptions {
-    /// Split while the largest orthogonal distance exceeds this (data
-    /// units, `> 0`).
-    pub tolerance: f64,
-    /// How many times the fit starting at one data point may be rejected
-    /// and split (the left part starts at the same point, the rest starts
-    /// afresh at the split point); default 8.
-    pub max_depth: u32,
-    /// The fewest points a segment made by a split may have; the function's
-    /// own minimum applies if that is larger. Default 0.
-    pub min_points: usize,
-}
-
-impl SplitOptions {
-    /// Splitting to `tolerance` with the default depth and size limits.
-    pub fn new(tolerance: f64) -> SplitOptions {
-        SplitOptions {
-            tolerance,
-            max_depth: 8,
-            min_points: 0,
-        }
-    }
-}
-
-/// Schneider-style adaptive fitting: each span between `corners` is fitted
-/// as one segment; while its largest orthogonal distance exceeds
-/// `split.tolerance` (and the depth and size limits allow), it is split at
-/// the data point of largest distance and the left part is refitted, then
-/// the right part, in sequence so every joint keeps its continuity.
-/// Corners are C⁰ joints. Fails if the tolerance is not finite and positive.
-///
-/// The limits can stop the splitting above the tolerance; the result then
-/// says so through `metrics.max_distance`. This happens in particular with
-/// C¹ joins of polynomial functions: each segment runs on its own `[0, 1]`,
-/// so the derivative a short segment inherits from a long one fixes a first
-/// leg proportional to the long one, which only a rational function can
-/// compensate (through `w′₁`). G¹ joins do not have this problem.
-pub fn fit_adaptive<S: SegmentSolver + ?Sized>(
-    points: &[Point],
-    closed: bool,
-    corners: &[usize],
-    split: &SplitOptions,
-    options: &FitOptions,
-    solver: &mut S,
-) -> Result<PiecewiseFit, FitError> {
-    if !(split.tolerance.is_finite() && split.tolerance > 0.0) {
-        return Err(FitError::InvalidTolerance(split.tolerance));
-    }
-    options.validate()?;
-    let outline = Outline::new(points, closed, options.function.min_points())?;
-    let spans = outline.spans(corners)?;
-    let corner: Vec<bool> = spans
-        .iter()
-        .map(|&(a, _)| corners.contains(&(a % points.len())))
-        .collect();
-    let chain = Plan::new(&outline, spans, &corner, options);
-    // A corner-free contour is one span, which the splits cut into several
-    // segments: it closes smoothly too (the last piece joins the first
-    // segment's start once that exists).
-    let close = chain.closes_smoothly_split(&outline, options);
-    let closing_point = chain.spans.last().map_or(0, |s| s.1);
-    let min_pts = split.min_points.max(options.function.min_points());
-    let mut segments: Vec<FittedSegment> = Vec::new();
-    // How far each kept segment strays, measured once.
-    let mut strays: Vec<Stray> = Vec::new();
-    let mut discarded = 0u64;
-    for &(a, b) in &chain.spans {
-        // Pending pieces, the next one on top: (first, last, depth).
-        let mut stack = vec![(a, b, 0u32)];
-        while let Some((p, q, depth)) = stack.pop() {
-            let join = if segments.is_empty() || p == a {
-                Continuity::C0
-            } else {
-                options.continuity
-            };
-            let end = match segments.first() {
-                Some(f) if close && q == closing_point => end_before(f, options.continuity),
-                _ => End::Free,
-            };
-            let piece = Piece {
-                first: p,
-                last: q,
-                join,
-                start: start_after(segments.last(), join),
-                end,
-            };
-            let fit = fit_one(&outline, piece, options, solver)?;
-            let lo = p + min_pts - 1;
-            let hi = q + 1 - min_pts.min(q + 1);
-            let measured = stray(&outline, &fit, p, q);
-            let distance = measured.split;
-            if distance > split.tolerance && depth < split.max_depth && lo <= hi {
-                let m = (p + measured.at).clamp(lo, hi);
-                discarded += fit.metrics.evaluations;
-                // The rest starts afresh at m; the piece starting at p has
-                // been rejected once more.
-                stack.push((m, q, 0));
-                stack.push((p, m, depth + 1));
-            } else if distance > split.tolerance && options.error == ErrorMeasure::Orthogonal {
-                // A piece the limits keep whole that strays between its data
-                // points (a short rational segment under the orthogonal
-                // error can loop out between them, its data still on it):
-                // the fixed-parameter E spreads the curve along its data at
-                // their parameters; the one that strays less is kept.
-                let fixed = FitOptions {
-                    error: ErrorMeasure::Fixed,
-                    ..*options
-                };
-                let other = fit_one(&outline, piece, &fixed, solver)?;
-                let other_measured = stray(&outline, &other, p, q);
-                if other_measured.split < distance {
-                    discarded += fit.metrics.evaluations;
-                    segments.push(other);
-                    strays.push(other_measured);
-                } else {
-                    discarded += other.metrics.evaluations;
-                    segments.push(fit);
-                    strays.push(measured);
-                }
-            } else {
-                segments.push(fit);
-                strays.push(measured);
-            }
-        }
-    }
-    let spans = spans_of(&outline, &segments);
-    let within = |s: &[Stray]| s.iter().all(|d| d.split <= split.tolerance);
-    let (segments, strays, joint) = match joint_chain(&outline, &segments, &spans, options)? {
-        Some((refit, used)) => {
-            let refit_strays: Vec<Stray> = refit
-                .iter()
-                .zip(&spans)
-                .map(|(s, &(a, b))| stray(&outline, s, a, b))
-                .collect();
-            // The joint result is kept unless it strays beyond the
-            // tolerance where the sequential one did not.
-            if within(&strays) && !within(&refit_strays) {
-                (segments, strays, None)
-            } else {
-                (refit, refit_strays, Some(used))
-            }
-        }
-        None => (segments, strays, None),
-    };
-    let worst = strays.iter().map(|d| d.strict).fold(0.0, f64::max);
-    let mut fit = finish(&outline, segments, discarded, chain.at_corner, joint);
-    fit.outline_distance = Some(worst);
-    Ok(fit)
-}
-
 /// Fits every segment of `reference` again as its own problem: the same
 /// data span, the same joins, but each segment's start joined to the
 /// *reference's* previous segment (and a smoothly closing last segment to
@@ -743,7 +630,7 @@ where
         segments.push(fit_one(&outline, piece, options, &mut solver_for(k))?);
     }
     let at_corner = reference.closing.is_some_and(|c| c.at_corner);
-    Ok(finish(&outline, segments, 0, at_corner, None))
+    Ok(finish(&outline, segments, 0, at_corner, None, options))
 }
 
 #[cfg(test)]

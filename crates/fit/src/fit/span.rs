@@ -13,7 +13,7 @@ use super::{
     End, ErrorMeasure, FitError, FitOptions, Segment, SegmentProblem, SegmentSolver, Solution,
     Start,
 };
-use crate::geometry::{Continuity, Point};
+use crate::geometry::{Continuity, Curve, Point};
 use crate::optim::TracePoint;
 use crate::problem::Problem;
 
@@ -293,6 +293,53 @@ pub(super) fn fit_one<S: SegmentSolver + ?Sized>(
         solution,
         trace,
         metrics,
+    })
+}
+
+/// How far beyond its data's own largest distance a segment's curve may run
+/// from the outline polyline (beyond the staircase's allowance) before
+/// [`fit_guarded`] calls it a whisker and tries the fixed-parameter error.
+pub(super) const WHISKER_RATIO: f64 = 1.5;
+
+/// Whether `fit` leaves the outline where its data does not: its two-sided
+/// distance beyond the staircase ([`SegmentMetrics::excess`]) more than
+/// [`WHISKER_RATIO`] times its data points' largest distance, and more
+/// than rounding (10⁻⁹ of its chord).
+pub(super) fn strays(fit: &FittedSegment) -> bool {
+    let m = &fit.metrics;
+    let chord = fit.segment.start().distance(fit.segment.end());
+    m.excess > WHISKER_RATIO * m.max_distance && m.excess > 1e-9 * chord.max(1.0)
+}
+
+/// [`fit_one`], guarded against whiskers: under the orthogonal error a
+/// rational segment can park curve past a corner or loop out between its
+/// data points, every data point still on it ([`strays`]). The
+/// fixed-parameter error spreads the curve along its data at their
+/// parameters and cannot do that; where the orthogonal fit strays, the
+/// segment is fitted again with it and the one whose two-sided distance
+/// beyond the staircase is smaller is kept. Returns the segment and the
+/// evaluations of the fit not kept (0 when there was none).
+pub(super) fn fit_guarded<S: SegmentSolver + ?Sized>(
+    outline: &Outline<'_>,
+    piece: Piece,
+    options: &FitOptions,
+    solver: &mut S,
+) -> Result<(FittedSegment, u64), FitError> {
+    let fit = fit_one(outline, piece, options, solver)?;
+    if options.error != ErrorMeasure::Orthogonal || !strays(&fit) {
+        return Ok((fit, 0));
+    }
+    let fixed = FitOptions {
+        error: ErrorMeasure::Fixed,
+        ..*options
+    };
+    let other = fit_one(outline, piece, &fixed, solver)?;
+    Ok(if other.metrics.excess < fit.metrics.excess {
+        let spent = fit.metrics.evaluations;
+        (other, spent)
+    } else {
+        let spent = other.metrics.evaluations;
+        (fit, spent)
     })
 }
 

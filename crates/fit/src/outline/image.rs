@@ -45,10 +45,61 @@ pub enum Foreground {
     Dark,
     /// Pixels above the threshold (a light shape on a dark background).
     Light,
-    /// The class with fewer pixels (a shape is usually smaller than its
-    /// background); the dark class on a tie.
+    /// The class that does not touch the image's border (the background
+    /// surrounds the shape); if both do, the one with fewer pixels on the
+    /// border; on a tie, the class with fewer pixels, then dark. So a dark
+    /// shape covering most of the image is still the shape, and the image
+    /// frame never becomes a contour of its own.
     #[default]
     Auto,
+}
+
+impl Foreground {
+    /// The names accepted on the command line, in the order of the enum.
+    pub const NAMES: [&'static str; 3] = ["dark", "light", "auto"];
+
+    /// The foreground called `name`.
+    pub fn from_name(name: &str) -> Option<Foreground> {
+        match name {
+            "dark" => Some(Foreground::Dark),
+            "light" => Some(Foreground::Light),
+            "auto" => Some(Foreground::Auto),
+            _ => None,
+        }
+    }
+
+    /// Its name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Foreground::Dark => "dark",
+            Foreground::Light => "light",
+            Foreground::Auto => "auto",
+        }
+    }
+}
+
+/// Whether the dark class (`≤ t`) is the shape under [`Foreground::Auto`]:
+/// the class with fewer pixels on the image's border, then the one with
+/// fewer pixels, then dark.
+fn dark_is_auto_shape(grey: &GreyImage, t: u8) -> bool {
+    let (w, h) = (grey.width, grey.height);
+    let dark_at = |x: usize, y: usize| grey.pixels[y * w + x] <= t;
+    let mut border = 0usize;
+    let mut dark_border = 0usize;
+    for y in 0..h {
+        for x in 0..w {
+            if y == 0 || y + 1 == h || x == 0 || x + 1 == w {
+                border += 1;
+                dark_border += usize::from(dark_at(x, y));
+            }
+        }
+    }
+    let light_border = border - dark_border;
+    if dark_border != light_border {
+        return dark_border < light_border;
+    }
+    let dark = grey.pixels.iter().filter(|&&v| v <= t).count();
+    2 * dark <= grey.pixels.len()
 }
 
 /// How the grey levels are split into two classes.
@@ -293,11 +344,10 @@ pub fn binarize(grey: &GreyImage, options: &ImageOptions) -> Option<(BinaryImage
         Threshold::Otsu => otsu_threshold(&histogram(&grey.pixels))?,
         Threshold::Level(t) => t,
     };
-    let dark = grey.pixels.iter().filter(|&&v| v <= t).count();
     let dark_is_shape = match options.foreground {
         Foreground::Dark => true,
         Foreground::Light => false,
-        Foreground::Auto => 2 * dark <= grey.pixels.len(),
+        Foreground::Auto => dark_is_auto_shape(grey, t),
     };
     let data = grey
         .pixels
@@ -564,7 +614,7 @@ mod tests {
 
     #[test]
     fn foreground_choice() {
-        // Dark is the majority here, so Auto picks the light square.
+        // Dark touches the border here, so Auto picks the light square.
         let g = grey(&["####", "#..#", "#..#", "####"]);
         let opts = ImageOptions {
             min_area: 0.0,
@@ -587,6 +637,20 @@ mod tests {
             binarize(&g, &fixed).unwrap(),
             (BinaryImage::from_fn(4, 4, |_, _| false), 10)
         );
+        // A dark shape covering most of the image, on a light frame: the
+        // dark class is the majority but does not touch the border, so it
+        // is the shape (the minority rule traced the frame).
+        let big = grey(&["......", ".####.", ".####.", ".####.", "......"]);
+        let (b, _) = binarize(&big, &opts).unwrap();
+        assert_eq!(b.count(), 12);
+        let outlines = select_outlines(&b, &opts);
+        assert_eq!(outlines.len(), 1);
+        // Both classes on the border: the one with fewer border pixels.
+        let half = grey(&["##....", "##....", "##...."]);
+        assert_eq!(binarize(&half, &opts).unwrap().0.count(), 6);
+        for n in Foreground::NAMES {
+            assert_eq!(Foreground::from_name(n).unwrap().name(), n);
+        }
     }
 
     #[test]

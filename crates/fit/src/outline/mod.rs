@@ -30,6 +30,7 @@ mod error;
 mod glyph;
 mod image;
 mod input;
+mod noise;
 mod otsu;
 mod svg;
 
@@ -51,6 +52,7 @@ pub use glyph::{
     MAX_GLYPH_COMPONENTS, MAX_GLYPH_CONTOURS, MAX_GLYPH_SAMPLES, MAX_GLYPH_SEGMENTS,
 };
 pub use input::{load, parse_glyph, parse_input, Input, Options};
+pub use noise::noise_level;
 pub use otsu::{histogram, otsu_threshold};
 pub use svg::{load_svg, svg_from_str, SvgError, SvgPaths, SvgProblem, NON_RENDERED};
 

@@ -37,7 +37,7 @@ pub use drawing::{cubic_pieces, save_shape, shape_raster, shape_svg};
 pub use dxf::shape_dxf;
 pub use overlay::{OverlayCurve, OverlayFigure, OverlayPanel};
 pub use score::{score, segment_distance, Distances, Score, ScoreError, MAX_SCORE_COORDINATE};
-pub use shape::{ContourFit, ShapeFit};
+pub use shape::{ContourFit, PartialShapeFit, ShapeFit};
 pub use source::{ContourChoice, LoadOptions, Source, SourceContour, SourceError};
 
 /// How a segment problem is solved.
@@ -196,14 +196,26 @@ impl FitMode {
     }
 }
 
+/// The tolerance of a plain `metabezier fit` (data units; pixels for an
+/// image): 1. A traced image's outline is a staircase of pixel edges whose
+/// points lie up to about half a pixel off any smooth outline through them,
+/// so a tolerance of one pixel follows the shape and not the pixels, and
+/// is still below what an eye sees at 1:1 scale; it is also potrace's
+/// order of accuracy (0.90 px on the horse). For CSV and glyph input, in
+/// their own units, give `--tolerance` to suit them.
+pub const DEFAULT_TOLERANCE: f64 = 1.0;
+
 /// How an outline is cut into segments.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Segmentation {
     /// This many segments per contour: split at the corners, then at equal
-    /// arc length.
+    /// arc length. A count below a contour's span count (one segment per
+    /// span between corners) is raised to it ([`ContourFit::raised_from`]).
     Count(usize),
-    /// Schneider's recursive split until every segment's largest orthogonal
-    /// distance is at most this (data units), per contour.
+    /// Fit to this tolerance (data units), per contour ([`fit_adaptive`]):
+    /// every segment's two-sided distance to the outline beyond the
+    /// staircase's allowance within it, with as few segments as the split
+    /// and merge passes find, or the contour fails.
     Tolerance(f64),
     /// A glyph's own break points on each contour, C⁰ at its corners.
     TrueBreaks,
@@ -256,26 +268,79 @@ impl Reconstruction<'_> {
         self.fit_with(method.solver(seed).as_mut())
     }
 
-    /// Fits every contour with any segment solver, contour after contour.
+    /// Fits every contour with any segment solver, contour after contour;
+    /// fails with the first contour that cannot be fitted.
     pub fn fit_with<S: SegmentSolver + ?Sized>(
         &self,
         solver: &mut S,
     ) -> Result<ShapeFit, FitError> {
         let mut contours = Vec::with_capacity(self.source.contours.len());
         for c in &self.source.contours {
-            let fit = self
-                .fit_contour(c, &mut *solver)
-                .map_err(|e| FitError::in_contour(c.index, e))?;
-            contours.push(ContourFit {
-                contour: c.index,
-                orientation: c.orientation(),
-                fit,
-            });
+            contours.push(
+                self.fit_one_contour(c, &mut *solver)
+                    .map_err(|e| FitError::in_contour(c.index, e))?,
+            );
         }
         Ok(ShapeFit::new(contours))
     }
 
-    /// Fits one contour with `solver`.
+    /// Fits every contour with `method`'s solver seeded with `seed` (one
+    /// stream over all contours, in order), keeping going past a contour
+    /// that cannot be fitted: the fitted ones, and the others with why.
+    pub fn fit_each(&self, method: &Method, seed: u64) -> PartialShapeFit {
+        let mut solver = method.solver(seed);
+        let mut contours = Vec::with_capacity(self.source.contours.len());
+        let mut failed = Vec::new();
+        for c in &self.source.contours {
+            match self.fit_one_contour(c, solver.as_mut()) {
+                Ok(fit) => contours.push(fit),
+                Err(e) => failed.push((c.index, FitError::in_contour(c.index, e))),
+            }
+        }
+        PartialShapeFit {
+            fit: ShapeFit::new(contours),
+            failed,
+        }
+    }
+
+    /// One contour's fit with its number, orientation and any raised
+    /// segment count.
+    fn fit_one_contour<S: SegmentSolver + ?Sized>(
+        &self,
+        c: &SourceContour,
+        solver: &mut S,
+    ) -> Result<ContourFit, FitError> {
+        let (fit, raised_from) = match self.fit_contour(c, &mut *solver) {
+            Err(FitError::TooFewSegments { requested, minimum }) => {
+                (self.fit_count(c, minimum, solver)?, Some(requested))
+            }
+            other => (other?, None),
+        };
+        Ok(ContourFit {
+            contour: c.index,
+            orientation: c.orientation(),
+            fit,
+            raised_from,
+        })
+    }
+
+    /// `contour` fitted in exactly `count` segments (corners first).
+    fn fit_count<S: SegmentSolver + ?Sized>(
+        &self,
+        contour: &SourceContour,
+        count: usize,
+        solver: &mut S,
+    ) -> Result<PiecewiseFit, FitError> {
+        let points = &contour.outline.points;
+        let corners = self.corner_indices(contour);
+        let closed = contour.outline.closed;
+        fit_segment_count(points, closed, &corners, count, &self.options, solver)
+    }
+
+    /// Fits one contour with `solver`. A segment count below the
+    /// contour's span count fails here ([`FitError::TooFewSegments`]);
+    /// [`Reconstruction::fit`] raises it to the span count instead
+    /// ([`ContourFit::raised_from`]).
     pub fn fit_contour<S: SegmentSolver + ?Sized>(
         &self,
         contour: &SourceContour,
@@ -293,13 +358,16 @@ impl Reconstruction<'_> {
                 let corners = contour.true_corners.clone().unwrap_or_default();
                 fit_breaks(points, closed, &breaks, &corners, options, solver)
             }
-            Segmentation::Count(n) => {
-                let corners = self.corner_indices(contour);
-                fit_segment_count(points, closed, &corners, *n, options, solver)
-            }
+            Segmentation::Count(n) => self.fit_count(contour, *n, solver),
             Segmentation::Tolerance(t) => {
                 let corners = self.corner_indices(contour);
-                let split = SplitOptions::new(*t);
+                // The staircase's allowance is for traced images only:
+                // points sampled from exact curves (glyphs) or given as
+                // they are (CSV) turn sharply only at corners of the shape.
+                let split = SplitOptions {
+                    staircase: self.source.is_image(),
+                    ..SplitOptions::new(*t)
+                };
                 fit_adaptive(points, closed, &corners, &split, options, solver)
             }
         }
@@ -352,6 +420,7 @@ impl Reconstruction<'_> {
                 contour: c.index,
                 orientation: c.orientation(),
                 fit,
+                raised_from: None,
             });
         }
         Ok(ShapeFit::new(contours))

@@ -1,6 +1,6 @@
 //! A fitted shape: every contour's piecewise fit with the totals.
 
-use crate::fit::{outline_trace, FitMetrics, FittedSegment, PiecewiseFit};
+use crate::fit::{outline_trace, FitError, FitMetrics, FittedSegment, PiecewiseFit};
 use crate::geometry::Orientation;
 use crate::optim::TracePoint;
 
@@ -13,6 +13,20 @@ pub struct ContourFit {
     pub orientation: Orientation,
     /// The fit.
     pub fit: PiecewiseFit,
+    /// The segment count asked for, where it was below the contour's span
+    /// count (one segment per span between corners) and so raised to it
+    /// ([`crate::reconstruction::Segmentation::Count`]); `None` otherwise.
+    pub raised_from: Option<usize>,
+}
+
+/// A fit of every contour that could be fitted, and why the others could
+/// not ([`crate::reconstruction::Reconstruction::fit_each`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PartialShapeFit {
+    /// The contours fitted.
+    pub fit: ShapeFit,
+    /// The contours not fitted: their numbers and errors, in order.
+    pub failed: Vec<(usize, FitError)>,
 }
 
 /// A fitted shape: its contours in order, with the totals.

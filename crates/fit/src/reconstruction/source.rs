@@ -207,6 +207,11 @@ impl Source {
         matches!(self.parsed, Input::Glyph { .. })
     }
 
+    /// Whether the source is a traced image (its outlines pixel staircases).
+    pub fn is_image(&self) -> bool {
+        matches!(self.parsed, Input::Image(_))
+    }
+
     /// The parameterisation `auto` stands for: the samples' own parameters
     /// where they are known — a glyph cut at its true breaks is sampled at
     /// uniform `t` on each exact segment, so uniform parameters are exact —

@@ -1,0 +1,390 @@
+//! Fitting to a tolerance: Schneider's recursive split (Schneider 1990, "An
+//! algorithm for automatically fitting digitized curves", *Graphics Gems*),
+//! held to the two-sided distance, then a merge pass for fewer segments.
+//!
+//! 1. **Split.** Each span between corners is fitted as one segment; while
+//!    its two-sided distance to the outline beyond the staircase's
+//!    allowance ([`crate::fit::SegmentMetrics::excess`]) exceeds the
+//!    tolerance, it is split where that distance is largest and the left
+//!    part refitted, then the right part, in sequence so every joint keeps
+//!    its continuity. A closed contour without corners is first cut at half
+//!    its arc length: one segment cannot close on itself.
+//! 2. **Merge.** The split leaves more segments than needed where a split
+//!    point fell badly (a circle: 3 where 2 rational cubics are exact). The
+//!    chain is fitted again over the split's breaks, each segment reaching
+//!    over as many of them as its fit stays within the tolerance (greedy,
+//!    never across a corner); a piece that no longer fits is split again.
+//!    The merged chain is kept when it has fewer segments.
+//! 3. **Joint.** With [`Chain::Joint`] all segments are solved at once and
+//!    the result kept where it stays within the tolerance
+//!    ([`keep_joint_unless_it_strays`]).
+//! 4. **Guarantee.** Every segment ends within the tolerance, or the fit
+//!    fails with [`FitError::ToleranceNotMet`] naming the segment and where.
+//!
+//! The staircase's allowance is computed, not a constant: a sample of the
+//! curve in the gap between data points `i` and `i + 1` may lie the
+//! polyline's sagitta `σᵢ = max(|Δ²Rᵢ|, |Δ²Rᵢ₊₁|)/8` further from the
+//! polyline than the tolerance, the distance by which a chord of a smooth
+//! curve through those points misses it ([`crate::fit::OutlineDistance`]).
+//! Data points themselves get no allowance.
+
+use super::piecewise::{end_before, finish, keep_joint_unless_it_strays, start_after, Plan};
+use super::span::{fit_guarded, Outline, Piece};
+#[cfg(doc)]
+use super::Chain;
+use super::{End, FitError, FitOptions, FittedSegment, PiecewiseFit, SegmentSolver};
+use crate::geometry::{Continuity, Point};
+
+/// The stopping rule of [`fit_adaptive`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SplitOptions {
+    /// Split while a segment's two-sided distance beyond the staircase's
+    /// allowance exceeds this (data units, `> 0`).
+    pub tolerance: f64,
+    /// How many times the fit starting at one data point may be rejected
+    /// and split (the left part starts at the same point, the rest starts
+    /// afresh at the split point); default 32. Reaching it above the
+    /// tolerance fails the fit.
+    pub max_depth: u32,
+    /// The fewest points a segment made by a split may have; the function's
+    /// own minimum applies if that is larger. Default 0.
+    pub min_points: usize,
+    /// Whether the merge pass runs (default `true`).
+    pub merge: bool,
+    /// Whether a curve sample may lie the polyline's sagitta further from
+    /// it than the tolerance (see the module notes): for a pixel outline,
+    /// whose staircase is not the shape (default `true`). Without it the
+    /// tolerance holds the plain two-sided distance
+    /// ([`crate::fit::SegmentMetrics::hausdorff`]): for points sampled
+    /// from exact curves, where a sharp turn is a corner of the shape and
+    /// its sagitta no allowance.
+    pub staircase: bool,
+}
+
+impl SplitOptions {
+    /// Splitting to `tolerance` with the default depth and size limits and
+    /// the merge pass.
+    pub fn new(tolerance: f64) -> SplitOptions {
+        SplitOptions {
+            tolerance,
+            max_depth: 32,
+            min_points: 0,
+            merge: true,
+            staircase: true,
+        }
+    }
+}
+
+/// A chain being built: its segments in order, their spans (indices
+/// increasing along the chain, past the outline's length after a wrap),
+/// whether each starts at a corner, and the evaluations of fits that were
+/// discarded.
+#[derive(Default)]
+struct Built {
+    segments: Vec<FittedSegment>,
+    spans: Vec<(usize, usize)>,
+    corner: Vec<bool>,
+    discarded: u64,
+}
+
+impl Built {
+    /// Appends a kept segment.
+    fn push(&mut self, fit: FittedSegment, span: (usize, usize), corner: bool) {
+        self.segments.push(fit);
+        self.spans.push(span);
+        self.corner.push(corner);
+    }
+}
+
+/// The fixed context of one adaptive fit.
+struct Splitter<'a, 'p, S: ?Sized> {
+    outline: &'a Outline<'p>,
+    options: &'a FitOptions,
+    split: &'a SplitOptions,
+    /// The fewest points of a segment.
+    min_pts: usize,
+    /// Whether the piece ending at `closing_point` joins the first
+    /// segment's start.
+    close: bool,
+    closing_point: usize,
+    solver: &'a mut S,
+}
+
+impl<S: SegmentSolver + ?Sized> Splitter<'_, '_, S> {
+    /// Fits `p..=q` after the chain built so far (C⁰ after a corner), with
+    /// the fit not kept by [`fit_guarded`] counted as discarded.
+    fn fit(
+        &mut self,
+        built: &mut Built,
+        p: usize,
+        q: usize,
+        corner: bool,
+    ) -> Result<FittedSegment, FitError> {
+        let join = if built.segments.is_empty() || corner {
+            Continuity::C0
+        } else {
+            self.options.continuity
+        };
+        let end = match built.segments.first() {
+            Some(f) if self.close && q == self.closing_point => {
+                end_before(f, self.options.continuity)
+            }
+            _ => End::Free,
+        };
+        let piece = Piece {
+            first: p,
+            last: q,
+            join,
+            start: start_after(built.segments.last(), join),
+            end,
+        };
+        let (fit, spent) = fit_guarded(self.outline, piece, self.options, &mut *self.solver)?;
+        built.discarded += spent;
+        Ok(fit)
+    }
+
+    /// Fits `a..=b` (starting at a corner if `corner`), split while a piece
+    /// is beyond the tolerance and the limits allow; appends the pieces.
+    fn split(
+        &mut self,
+        built: &mut Built,
+        a: usize,
+        b: usize,
+        corner: bool,
+    ) -> Result<(), FitError> {
+        // Pending pieces, the next one on top: (first, last, depth, whether
+        // it starts at a corner).
+        let mut stack = vec![(a, b, 0u32, corner)];
+        while let Some((p, q, depth, corner)) = stack.pop() {
+            let fit = self.fit(built, p, q, corner)?;
+            let lo = p + self.min_pts - 1;
+            let hi = q + 1 - self.min_pts.min(q + 1);
+            if self.split.measure(&fit) <= self.split.tolerance {
+                built.push(fit, (p, q), corner);
+            } else if depth < self.split.max_depth && lo <= hi {
+                let m = (p + self.split.split_at(&fit)).clamp(lo, hi);
+                built.discarded += fit.metrics.evaluations;
+                // The rest starts afresh at m; the piece starting at p has
+                // been rejected once more.
+                stack.push((m, q, 0, false));
+                stack.push((p, m, depth + 1, corner));
+            } else if let Some(m) = self.corner_split(&fit, p, q, corner) {
+                // Too short to split smoothly: the turn inside it is a
+                // corner the detector missed.
+                built.discarded += fit.metrics.evaluations;
+                stack.push((m, q, 0, true));
+                stack.push((p, m, depth + 1, corner));
+            } else {
+                built.push(fit, (p, q), corner);
+            }
+        }
+        Ok(())
+    }
+
+    /// Where to cut a piece `p..=q` that is beyond the tolerance and too
+    /// short to split with a smooth joint: at the point after the gap where
+    /// it strays furthest, made a C⁰ joint (a corner the detector missed;
+    /// the shorter parts get points inserted, [`super::densify`]). `None`
+    /// when the piece has a single gap, or already starts at a corner and
+    /// strays at its start.
+    fn corner_split(&self, fit: &FittedSegment, p: usize, q: usize, corner: bool) -> Option<usize> {
+        if q - p < 2 {
+            return None;
+        }
+        let m = (p + self.split.split_at(fit)).clamp(p + 1, q - 1);
+        (!corner || m > p).then_some(m)
+    }
+
+    /// The chain fitted again over the breaks of `first`, each segment
+    /// reaching over as many of them as stays within the tolerance.
+    fn merge(&mut self, first: &Built) -> Result<Built, FitError> {
+        let spans = &first.spans;
+        let mut built = Built::default();
+        let n = spans.len();
+        let mut i = 0;
+        while i < n {
+            let mut best: Option<(usize, FittedSegment)> = None;
+            let mut j = i + 1;
+            while j < n && !first.corner[j] {
+                let fit = self.fit(&mut built, spans[i].0, spans[j].1, first.corner[i])?;
+                if self.split.measure(&fit) > self.split.tolerance {
+                    built.discarded += fit.metrics.evaluations;
+                    break;
+                }
+                if let Some((_, old)) = best.replace((j, fit)) {
+                    built.discarded += old.metrics.evaluations;
+                }
+                j += 1;
+            }
+            match best {
+                Some((j, fit)) => {
+                    built.push(fit, (spans[i].0, spans[j].1), first.corner[i]);
+                    i = j + 1;
+                }
+                None => {
+                    self.split(&mut built, spans[i].0, spans[i].1, first.corner[i])?;
+                    i += 1;
+                }
+            }
+        }
+        Ok(built)
+    }
+}
+
+impl SplitOptions {
+    /// What the tolerance holds for `fit`: its two-sided distance, beyond
+    /// the staircase's allowance if [`SplitOptions::staircase`].
+    pub(super) fn measure(&self, fit: &FittedSegment) -> f64 {
+        if self.staircase {
+            fit.metrics.excess
+        } else {
+            fit.metrics.hausdorff
+        }
+    }
+
+    /// The local index to split a rejected `fit` at: the data point of
+    /// largest distance, or the point after the gap where the curve strays
+    /// furthest.
+    fn split_at(&self, fit: &FittedSegment) -> usize {
+        let m = &fit.metrics;
+        let (d, gap) = if self.staircase {
+            (m.excess, m.excess_gap)
+        } else {
+            (m.hausdorff, m.hausdorff_gap)
+        };
+        if d > m.max_distance {
+            gap + 1
+        } else {
+            m.max_index
+        }
+    }
+
+    /// The largest [`SplitOptions::measure`] over `segments`.
+    fn worst(&self, segments: &[FittedSegment]) -> f64 {
+        segments.iter().map(|s| self.measure(s)).fold(0.0, f64::max)
+    }
+}
+
+/// The initial pieces of `chain`: its spans, a full loop (a closed contour
+/// without corners) cut at half its arc length.
+fn initial_pieces(outline: &Outline<'_>, chain: &Plan) -> Vec<(usize, usize, bool)> {
+    let n = outline.len();
+    let mut pieces = Vec::with_capacity(chain.spans.len() + 1);
+    for (k, &(a, b)) in chain.spans.iter().enumerate() {
+        let corner = k > 0 && chain.joins[k] == Continuity::C0;
+        if outline.closed && b - a == n && n >= 4 {
+            let cum = outline.cumulative(a, b);
+            let half = cum[n] / 2.0;
+            let m = (1..n)
+                .min_by(|&i, &j| (cum[i] - half).abs().total_cmp(&(cum[j] - half).abs()))
+                .unwrap_or(n / 2);
+            pieces.push((a, a + m, corner));
+            pieces.push((a + m, b, false));
+        } else {
+            pieces.push((a, b, corner));
+        }
+    }
+    pieces
+}
+
+/// Fits `points` to a tolerance (see the module notes): split, merge,
+/// joint solve, and the guarantee that every segment's two-sided distance
+/// to the outline beyond the staircase's allowance is within
+/// `split.tolerance`, or [`FitError::ToleranceNotMet`]. Corners are C⁰
+/// joints. Fails if the tolerance is not finite and positive.
+///
+/// With C¹ joins of polynomial functions the split can reach its limits
+/// above the tolerance: each segment runs on its own `[0, 1]`, so the
+/// derivative a short segment inherits from a long one fixes a first leg
+/// proportional to the long one, which only a rational function can
+/// compensate (through `w′₁`). G¹ joins do not have this problem.
+pub fn fit_adaptive<S: SegmentSolver + ?Sized>(
+    points: &[Point],
+    closed: bool,
+    corners: &[usize],
+    split: &SplitOptions,
+    options: &FitOptions,
+    solver: &mut S,
+) -> Result<PiecewiseFit, FitError> {
+    if !(split.tolerance.is_finite() && split.tolerance > 0.0) {
+        return Err(FitError::InvalidTolerance(split.tolerance));
+    }
+    options.validate()?;
+    let outline = Outline::new(points, closed, options.function.min_points())?;
+    let spans = outline.spans(corners)?;
+    let corner: Vec<bool> = spans
+        .iter()
+        .map(|&(a, _)| corners.contains(&(a % points.len())))
+        .collect();
+    let chain = Plan::new(&outline, spans, &corner, options);
+    let mut splitter = Splitter {
+        outline: &outline,
+        options,
+        split,
+        min_pts: split.min_points.max(options.function.min_points()),
+        // A corner-free contour is one span, which the splits cut into
+        // several segments: it closes smoothly too (the last piece joins
+        // the first segment's start once that exists).
+        close: chain.closes_smoothly_split(&outline, options),
+        closing_point: chain.spans.last().map_or(0, |s| s.1),
+        solver,
+    };
+    let mut first = Built::default();
+    for (a, b, corner) in initial_pieces(&outline, &chain) {
+        splitter.split(&mut first, a, b, corner)?;
+    }
+    let mut built = first;
+    if split.merge && built.segments.len() > 1 {
+        let mut merged = splitter.merge(&built)?;
+        let fewer = merged.segments.len() < built.segments.len();
+        if fewer && split.worst(&merged.segments) <= split.tolerance {
+            merged.discarded += built.discarded + evaluations(&built.segments);
+            built = merged;
+        } else {
+            built.discarded += merged.discarded + evaluations(&merged.segments);
+        }
+    }
+    let (segments, joint, rejected) = keep_joint_unless_it_strays(
+        &outline,
+        built.segments,
+        options,
+        split.tolerance,
+        |s: &[FittedSegment]| split.worst(s),
+    )?;
+    if let Some((k, s)) = segments
+        .iter()
+        .enumerate()
+        .find(|(_, s)| split.measure(s) > split.tolerance)
+    {
+        let gap = if split.staircase {
+            s.metrics.excess_gap
+        } else {
+            s.metrics.hausdorff_gap
+        };
+        return Err(FitError::ToleranceNotMet {
+            tolerance: split.tolerance,
+            excess: split.measure(s),
+            segment: k,
+            first: s.first,
+            last: s.last,
+            at: points[(s.first + gap) % points.len()],
+        });
+    }
+    let discarded = built.discarded + rejected;
+    let mut fit = finish(
+        &outline,
+        segments,
+        discarded,
+        chain.at_corner,
+        joint,
+        options,
+    );
+    fit.tolerance = Some(split.tolerance);
+    fit.staircase = split.staircase;
+    Ok(fit)
+}
+
+/// The evaluations of `segments`' own fits.
+fn evaluations(segments: &[FittedSegment]) -> u64 {
+    segments.iter().map(|s| s.metrics.evaluations).sum()
+}
