@@ -191,8 +191,8 @@ struct FitArgs {
     /// A fixed number of segments per contour (split at corners, then at
     /// equal arc length); a count below a contour's corner spans is raised
     /// to them, with a note.
-    #[arg(long, conflicts_with_all = ["tolerance", "true_breaks"])]
-    segments: Option<usize>,
+    #[arg(long, conflicts_with_all = ["tolerance", "true_breaks"], value_parser = clap::value_parser!(u64).range(1..))]
+    segments: Option<u64>,
     /// Fit to this two-sided (Hausdorff) distance between curve and outline:
     /// every data point within PX of the curve and the curve within PX of
     /// the outline polyline (plus the pixel staircase's sagitta), with as
@@ -812,7 +812,7 @@ impl FitArgs {
     /// breaks, or the default tolerance ([`DEFAULT_TOLERANCE`]).
     fn segmentation(&self, source: &Source) -> Result<Segmentation, UsageError> {
         Ok(match (self.segments, self.tolerance, self.true_breaks) {
-            (Some(n), _, _) => Segmentation::Count(n),
+            (Some(n), _, _) => Segmentation::Count(usize::try_from(n).unwrap_or(usize::MAX)),
             (_, Some(t), _) => {
                 if !(t.is_finite() && t > 0.0) {
                     return Err(UsageError::Tolerance(t));
@@ -887,7 +887,9 @@ impl FitArgs {
             Segmentation::Count(n) => (format!("segments {n}"), String::new()),
             Segmentation::Tolerance(t) => ("tolerance".to_owned(), t.to_string()),
             Segmentation::TrueBreaks => ("true-breaks".to_owned(), String::new()),
-            Segmentation::Breaks { .. } => ("breaks".to_owned(), String::new()),
+            Segmentation::Breaks { .. } | Segmentation::PerContour(_) => {
+                ("breaks".to_owned(), String::new())
+            }
         };
         let foreground = match parse_input(&self.input) {
             Ok(Input::Image(_)) => self.foreground.clone().unwrap_or_else(|| "auto".into()),
@@ -964,6 +966,15 @@ fn say_fit(w: &mut String, label: &str, fit: &ShapeFit, wall: f64, paths: &[Path
             crate::fit::OUTLINE_SAMPLES
         );
     }
+    for c in &fit.contours {
+        if let Some(d) = c.fit.joint_rejected {
+            say!(
+                w,
+                "  contour {}: the joint solve strayed {d:.4e} from the outline (curve where no data point is), so the sequential chain was kept",
+                c.contour
+            );
+        }
+    }
     let at_bounds: usize = fit.contours.iter().map(|c| c.fit.weights_at_bounds).sum();
     if at_bounds > 0 {
         say!(
@@ -1021,6 +1032,12 @@ fn score_curves(a: ScoreArgs, w: &mut String) -> Result<(), Error> {
     );
     say!(
         w,
+        "  curve -> data {:.6} (the curves sampled against the outline polylines); Hausdorff distance {:.6}",
+        s.curve_distance,
+        s.hausdorff
+    );
+    say!(
+        w,
         "  {:<8} {:>8} {:>14} {:>14}",
         "contour",
         "points",
@@ -1056,6 +1073,16 @@ fn score_curves(a: ScoreArgs, w: &mut String) -> Result<(), Error> {
             },
             d.max_distance.to_string(),
             d.rms_distance.to_string(),
+            if name == "all" {
+                s.curve_distance.to_string()
+            } else {
+                String::new()
+            },
+            if name == "all" {
+                s.hausdorff.to_string()
+            } else {
+                String::new()
+            },
         ]);
     }
     if let Some(dir) = &a.out {
@@ -1071,6 +1098,8 @@ fn score_curves(a: ScoreArgs, w: &mut String) -> Result<(), Error> {
             "segments",
             "max_distance",
             "rms_distance",
+            "curve_distance",
+            "hausdorff",
         ];
         crate::files::write_atomic(&path, &crate::files::csv_bytes(&header, rows))?;
         say!(w, "  wrote {}", path.display());

@@ -339,12 +339,11 @@ fn fit_cases() -> Vec<Case> {
             "--true-breaks: c.csv is not a glyph",
         )
         .with("c.csv", circle(40)),
-        refused(
+        c(
             "zero segments",
-            "fit c.csv --segments 0",
-            "0 segment(s) requested",
-        )
-        .with("c.csv", circle(40)),
+            "--segments 0",
+            "invalid value '0' for '--segments <SEGMENTS>'",
+        ),
         refused(
             "unknown algorithm",
             "fit c.csv --algorithm sa",
@@ -354,7 +353,7 @@ fn fit_cases() -> Vec<Case> {
         refused(
             "zero tolerance",
             "fit c.csv --tolerance 0",
-            "--tolerance: expected a distance > 0",
+            "--tolerance: expected a finite distance > 0",
         )
         .with("c.csv", circle(40)),
         refused(
@@ -386,7 +385,7 @@ fn fit_cases() -> Vec<Case> {
         refused(
             "negative tolerance",
             "fit c.csv --tolerance -1",
-            "--tolerance: expected a distance > 0 (data units), found -1",
+            "--tolerance: expected a finite distance > 0 (data units), found -1",
         )
         .with("c.csv", circle(40)),
         c("unknown function", "--function quartic", "quartic"),

@@ -41,6 +41,7 @@ fn the_joint_chain_never_loses_and_keeps_every_join() {
         (FunctionType::Quadratic, Continuity::G1),
     ];
     let mut gains = Vec::new();
+    let mut rejected = Vec::new();
     for closed in [true, false] {
         let points = blob(240, closed);
         for (function, continuity) in cases {
@@ -52,6 +53,15 @@ fn the_joint_chain_never_loses_and_keeps_every_join() {
                 let seq = fit(&points, closed, &options, Chain::Sequential);
                 let joint = fit(&points, closed, &options, Chain::Joint);
                 assert_eq!(seq.chain, Chain::Sequential);
+                if let Some(strayed) = joint.joint_rejected {
+                    // The joint solve left the outline further than the
+                    // sequential chain: the sequential chain is kept.
+                    assert_eq!(joint.chain, Chain::Sequential, "{label}");
+                    assert_eq!(joint.segments, seq.segments, "{label}");
+                    assert!(strayed > seq.metrics.excess, "{label}: {strayed}");
+                    rejected.push(label);
+                    continue;
+                }
                 assert_eq!(joint.chain, Chain::Joint, "{label}");
                 assert_eq!(joint.breaks(), seq.breaks(), "{label}");
                 assert!(
@@ -80,6 +90,8 @@ fn the_joint_chain_never_loses_and_keeps_every_join() {
             }
         }
     }
+    // The joint solve is kept almost everywhere.
+    assert!(rejected.len() <= 2, "{rejected:?}");
     // Not a formality: solving the joins together lowers E, by at least 5 %
     // in most cases.
     let better = gains.iter().filter(|(_, g)| *g < 0.95).count();

@@ -369,7 +369,7 @@ fn a_campaign_whose_records_exceed_the_limit_is_refused() {
         .unwrap_err()
         .to_string();
     assert!(
-        err.contains("1620000 runs and an estimated 4.1 GiB of results"),
+        err.contains("1620000 runs and an estimated 4.2 GiB of results"),
         "{err}"
     );
     // As 2 shards, each is held to its own runs and admitted.

@@ -85,7 +85,12 @@ fn the_tolerance_holds_between_the_data_points() {
         };
         let shape = r.fit(&Method::Exact, 1).unwrap();
         let fit = &shape.contours[0].fit;
-        let own = fit.outline_distance.unwrap();
+        let own = fit.metrics.hausdorff;
+        assert!(
+            fit.metrics.excess <= tolerance,
+            "{tolerance}: {:?}",
+            fit.metrics
+        );
         let checked = brute_force(fit, &points);
         // Every data point within the tolerance; the two-sided distance
         // within it plus the sagitta, by the fit's own measure and by the

@@ -15,7 +15,8 @@ use std::path::Path;
 
 use super::records::{
     data, parse, parse_real, parse_transform, record_from_fields, run_fields, DataProblem,
-    FitDetail, ReadError, Real, RunRecord, FIT_FIELDS, FIT_FIELDS_CURRENT, RUNS_HEADER,
+    FitDetail, ReadError, Real, RunRecord, FIT_FIELDS, FIT_FIELDS_CURRENT, FIT_FIELDS_RMS,
+    RUNS_HEADER,
 };
 use super::segments::{FIT_SEGMENT_HEADER, SEGMENT_HEADER};
 use crate::files::{fmt_real, IoError};
@@ -161,7 +162,7 @@ fn fit_field(detail: &FitDetail) -> String {
 fn fit_from_field(path: &Path, line: u64, text: &str) -> Result<FitDetail, ReadError> {
     let mut parts = text.split('|');
     let head: Vec<&str> = parts.next().unwrap_or("").split(';').collect();
-    let current = head.len() == FIT_FIELDS_CURRENT.len();
+    let current = head.len() == FIT_FIELDS_CURRENT.len() || head.len() == FIT_FIELDS_RMS.len();
     if head.len() != FIT_FIELDS.len() && !current {
         return Err(data(path, line, DataProblem::Malformed("fit detail")));
     }

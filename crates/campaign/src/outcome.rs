@@ -17,6 +17,10 @@ pub struct FitDetail {
     /// The RMS of the orthogonal distances, with the current fitting records
     /// (`None` in the legacy layout, which has no such column).
     pub rms_distance: Option<f64>,
+    /// Curve → data and the two-sided (Hausdorff) distance
+    /// ([`crate::fit::FitMetrics::curve_distance`], `hausdorff`), with the
+    /// current fitting records (`None` in the older layouts).
+    pub two_sided: Option<(f64, f64)>,
     /// On closed outlines, the largest tangent angle at a closing joint
     /// (degrees).
     pub closing_angle_degrees: Option<f64>,
@@ -40,6 +44,7 @@ impl FitDetail {
             rms: fit.metrics.rms,
             max_distance: fit.metrics.max_distance,
             rms_distance: current.then_some(fit.metrics.rms_distance),
+            two_sided: current.then_some((fit.metrics.curve_distance, fit.metrics.hausdorff)),
             closing_angle_degrees: fit.closing_angle_degrees(),
             closing_relative_derivative_gap: gap,
             segments: segment_rows(fit, current),

@@ -250,12 +250,16 @@ pub struct RunRecord {
 
 impl FitDetail {
     /// The run-level columns of `fits.csv` after the run key: those of
-    /// [`FIT_FIELDS_CURRENT`] with `rms_distance`, else of [`FIT_FIELDS`].
+    /// [`FIT_FIELDS_CURRENT`] with `rms_distance` (the two-sided columns
+    /// empty for a run journalled before they existed), else of
+    /// [`FIT_FIELDS`].
     pub(super) fn fields(&self) -> Vec<String> {
         let opt = |x: Option<f64>| x.map_or(String::new(), fmt_real);
         let mut out = vec![fmt_real(self.rms), fmt_real(self.max_distance)];
         if let Some(d) = self.rms_distance {
             out.push(fmt_real(d));
+            out.push(opt(self.two_sided.map(|t| t.0)));
+            out.push(opt(self.two_sided.map(|t| t.1)));
         }
         out.push(opt(self.closing_angle_degrees));
         out.push(opt(self.closing_relative_derivative_gap));
@@ -271,16 +275,27 @@ impl FitDetail {
                 parse(path, line, name, t).map(Some)
             }
         };
-        let current = f.len() == FIT_FIELDS_CURRENT.len();
-        let at = usize::from(current);
+        // 4 fields (legacy), 5 (with rms_distance) or 7 (and the two sides).
+        let with_rms = f.len() >= FIT_FIELDS_RMS.len();
+        let two_sided = f.len() == FIT_FIELDS_CURRENT.len();
+        let at = usize::from(with_rms) + 2 * usize::from(two_sided);
+        let two = if two_sided {
+            match (opt("curve_distance", f[3])?, opt("hausdorff", f[4])?) {
+                (Some(c), Some(h)) => Some((c, h)),
+                _ => None,
+            }
+        } else {
+            None
+        };
         Ok(FitDetail {
             rms: parse(path, line, "rms", f[0])?,
             max_distance: parse(path, line, "max_distance", f[1])?,
-            rms_distance: if current {
+            rms_distance: if with_rms {
                 Some(parse(path, line, "rms_distance", f[2])?)
             } else {
                 None
             },
+            two_sided: two,
             closing_angle_degrees: opt("closing_angle_degrees", f[2 + at])?,
             closing_relative_derivative_gap: opt("closing_relative_derivative_gap", f[3 + at])?,
             segments: Vec::new(),
@@ -350,12 +365,26 @@ pub(super) const FIT_FIELDS: [&str; 4] = [
     "closing_relative_derivative_gap",
 ];
 
-/// The run-level columns of `fits.csv` with the current fitting records:
-/// the orthogonal `rms_distance` next to `max_distance`.
-pub(super) const FIT_FIELDS_CURRENT: [&str; 5] = [
+/// The run-level columns of `fits.csv` written before the two-sided
+/// distances: the orthogonal `rms_distance` next to `max_distance` (read,
+/// no longer written).
+pub(super) const FIT_FIELDS_RMS: [&str; 5] = [
     "rms",
     "max_distance",
     "rms_distance",
+    "closing_angle_degrees",
+    "closing_relative_derivative_gap",
+];
+
+/// The run-level columns of `fits.csv` with the current fitting records:
+/// the orthogonal `rms_distance` next to `max_distance` (data → curve),
+/// then `curve_distance` (curve → data) and `hausdorff` (the larger).
+pub(super) const FIT_FIELDS_CURRENT: [&str; 7] = [
+    "rms",
+    "max_distance",
+    "rms_distance",
+    "curve_distance",
+    "hausdorff",
     "closing_angle_degrees",
     "closing_relative_derivative_gap",
 ];
@@ -1095,11 +1124,13 @@ pub fn read_results(dir: &Path) -> Result<Vec<RunRecord>, ReadError> {
     if dir.join("fits.csv").exists() {
         let path = dir.join("fits.csv");
         let current = header_has(&path, "rms_distance")?;
-        let (fit_rest, segment_rest): (&[&'static str], &[&'static str]) = if current {
-            (&FIT_FIELDS_CURRENT, &FIT_SEGMENT_HEADER)
-        } else {
-            (&FIT_FIELDS, &SEGMENT_HEADER)
-        };
+        let two_sided = header_has(&path, "hausdorff")?;
+        let (fit_rest, segment_rest): (&[&'static str], &[&'static str]) =
+            match (current, two_sided) {
+                (true, true) => (&FIT_FIELDS_CURRENT, &FIT_SEGMENT_HEADER),
+                (true, false) => (&FIT_FIELDS_RMS, &FIT_SEGMENT_HEADER),
+                _ => (&FIT_FIELDS, &SEGMENT_HEADER),
+            };
         read_keyed(&path, fit_rest, &records, |k, f, line| {
             if fits[k]
                 .replace(FitDetail::from_fields(&path, line, f)?)

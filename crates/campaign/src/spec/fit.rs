@@ -7,6 +7,7 @@
 //! continuity = ["c1", "g1"]                # c0, c1, g1
 //! segments = 24                            # or "true-breaks" for glyphs
 //! # free_parameters = 60                   # instead of segments: equal unknowns
+//! # tolerance = 1.0                        # instead of segments: the exact fit's to 1 px
 //! search_space = "technique"               # or "bounding-box", or both in a list
 //! budget = 5000                            # evaluations per segment (or a list)
 //! # contour = "all"                        # or an index (default 0, the largest)
@@ -35,6 +36,13 @@
 //! with C1 joins add none and are refused. Each input is loaded and each problem's segmentation is checked
 //! when the spec loads, so a missing image, a glyph absent from its font or
 //! an impossible segmentation is reported before anything runs.
+//!
+//! **A tolerance.** `tolerance = T` replaces `segments`: each case's
+//! segments are those of the exact (Levenberg–Marquardt) fit held to the
+//! two-sided distance `T` ([`Segmentation::Tolerance`]), found when the
+//! spec loads (a spec whose exact fit cannot hold `T` is refused there);
+//! every method then fits those same segments, a paired design, and
+//! `fits.csv` records each fit's two-sided distance next to `T`.
 //!
 //! **Keys stay.** The keys and values that came with the smooth closing
 //! (`closing`, `mode`, `contour = "all"`, a list of `alpha_size`,
@@ -72,13 +80,14 @@ use crate::reconstruction::{
     ContourChoice, FitMode, LoadOptions, Method, Reconstruction, Segmentation, ShapeFit, Source,
 };
 
-const FIT_KEYS: [&str; 20] = [
+const FIT_KEYS: [&str; 21] = [
     "input",
     "contour",
     "function",
     "continuity",
     "segments",
     "free_parameters",
+    "tolerance",
     "corner_angle",
     "corner_k",
     "search_space",
@@ -505,10 +514,29 @@ impl Parser<'_> {
             let source_name = label.clone().unwrap_or_else(|| source.label());
             let source = Arc::new(source);
             let mut references: HashMap<(FunctionType, Continuity), Arc<ShapeFit>> = HashMap::new();
+            let mut held = HashMap::new();
             for options in settings.options(&source, &segments) {
-                let segmentation = match free_parameters {
-                    Some(p) => self.count_for(&segments, p, &options)?,
-                    None => segmentation.clone(),
+                let segmentation = match (free_parameters, segments.kind) {
+                    (Some(p), _) => self.count_for(&segments, p, &options)?,
+                    (None, Segs::Tolerance(t)) => {
+                        let key = (options.function, options.continuity);
+                        match held.get(&key) {
+                            Some(s) => Segmentation::clone(s),
+                            None => {
+                                let s = self.tolerance_breaks(
+                                    &source,
+                                    &source_name,
+                                    &settings,
+                                    &options,
+                                    t,
+                                    &segments,
+                                )?;
+                                held.insert(key, s.clone());
+                                s
+                            }
+                        }
+                    }
+                    (None, _) => segmentation.clone(),
                 };
                 let mut case = FitCase {
                     name: String::new(),
@@ -900,6 +928,9 @@ impl Parser<'_> {
                 field,
             });
         }
+        if let Some(found) = self.fit_tolerance(table, section)? {
+            return Ok(found);
+        }
         let value = self.required(table, section, "segments", entry.span())?;
         let field = format!("{section}.segments");
         let kind = match raw_string(value) {
@@ -944,8 +975,9 @@ impl Parser<'_> {
     ) -> Result<Segmentation, SpecError> {
         match segments.kind {
             Segs::Count(n) => Ok(Segmentation::Count(n)),
-            // Set per function and continuity by `count_for`.
-            Segs::FreeParameters(_) => Ok(Segmentation::Count(1)),
+            // Set per function and continuity by `count_for` and
+            // `tolerance_breaks`.
+            Segs::FreeParameters(_) | Segs::Tolerance(_) => Ok(Segmentation::Count(1)),
             Segs::TrueBreaks => source.true_segmentation().ok_or_else(|| {
                 self.error(
                     segments.value.span(),
@@ -1030,7 +1062,7 @@ impl Parser<'_> {
 }
 
 /// The keys of a `[[fit]]` section shared by all its problems.
-struct FitSettings {
+pub(super) struct FitSettings {
     /// Evaluations per segment, one problem each.
     budgets: Vec<u64>,
     /// Whether the budgets were listed (a budget grid).
@@ -1040,7 +1072,7 @@ struct FitSettings {
     /// What to combine.
     choices: FitChoices,
     /// The corner detector.
-    corners: Option<CornerOptions>,
+    pub(super) corners: Option<CornerOptions>,
     /// Search-space settings given in the section.
     search: SearchOverrides,
     /// Whether α_size is listed (a design factor).
@@ -1066,7 +1098,7 @@ impl FitSettings {
                 .map(|f| f.min_points() - 1)
                 .max()
                 .unwrap_or(1),
-            Segs::Count(_) | Segs::FreeParameters(_) => 1,
+            Segs::Count(_) | Segs::FreeParameters(_) | Segs::Tolerance(_) => 1,
         };
         LoadOptions {
             contour: self.contour,
@@ -1168,7 +1200,7 @@ impl SearchOverrides {
 
 /// How a section's outlines are cut into segments.
 #[derive(Clone, Copy)]
-enum Segs {
+pub(super) enum Segs {
     /// This many segments.
     Count(usize),
     /// A glyph's own break points.
@@ -1176,14 +1208,16 @@ enum Segs {
     /// As many segments as give each function and continuity this many
     /// free parameters.
     FreeParameters(usize),
+    /// The segments of the exact fit to this tolerance.
+    Tolerance(f64),
 }
 
 /// The `segments` key of a section, with its value and field for errors
 /// found later (a non-glyph input, a segment that cannot be fitted).
-struct FitSegments<'t, 'i> {
-    kind: Segs,
-    value: &'t Value<'i>,
-    field: String,
+pub(super) struct FitSegments<'t, 'i> {
+    pub(super) kind: Segs,
+    pub(super) value: &'t Value<'i>,
+    pub(super) field: String,
 }
 
 fn raw_string(v: &Value<'_>) -> Option<String> {

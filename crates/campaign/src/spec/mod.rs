@@ -47,6 +47,7 @@ use crate::rng::run_rng;
 
 mod bbob;
 mod fit;
+mod fit_tolerance;
 
 pub use metabezier_spec::SpecError;
 pub(crate) use metabezier_spec::{choices_hint, raw, Table, Value};

@@ -370,7 +370,7 @@ pub fn fit_adaptive<S: SegmentSolver + ?Sized>(
             at: points[(s.first + gap) % points.len()],
         });
     }
-    let discarded = built.discarded + rejected;
+    let discarded = built.discarded + rejected.map_or(0, |r| r.0);
     let mut fit = finish(
         &outline,
         segments,
@@ -381,6 +381,7 @@ pub fn fit_adaptive<S: SegmentSolver + ?Sized>(
     );
     fit.tolerance = Some(split.tolerance);
     fit.staircase = split.staircase;
+    fit.joint_rejected = rejected.map(|r| r.1);
     Ok(fit)
 }
 

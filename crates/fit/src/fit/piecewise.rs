@@ -114,6 +114,11 @@ pub struct PiecewiseFit {
     /// segment's two-sided distance beyond the staircase's allowance
     /// (`metrics.excess`) is within it. `None` for the other methods.
     pub tolerance: Option<f64>,
+    /// When the joint solve was asked for and rejected because it strayed
+    /// from the outline ([`Chain::Joint`]; see `keep_joint_unless_it_strays`):
+    /// its largest two-sided distance, against which the sequential chain
+    /// was kept.
+    pub joint_rejected: Option<f64>,
     /// Whether the tolerance allowed curve samples the staircase's sagitta
     /// ([`crate::fit::SplitOptions::staircase`]): `metrics.excess` is what
     /// it holds, else `metrics.hausdorff`.
@@ -210,6 +215,7 @@ pub(super) fn finish(
         chain_evaluations,
         weights_at_bounds,
         tolerance: None,
+        joint_rejected: None,
         staircase: false,
         metrics,
     }
@@ -245,25 +251,27 @@ fn worst_excess(segments: &[FittedSegment]) -> f64 {
 /// above `limit` (a tolerance) and above the sequential chain's own. The joint solve minimises the data's distances
 /// only, so it can park curve past a corner where no data point is (a
 /// whisker); the sequential chain, fitted piece by piece with
-/// [`fit_guarded`], is the fallback. Returns the segments and the joint
-/// evaluations (`None` when the sequential ones are kept).
+/// [`fit_guarded`], is the fallback. Returns the segments, the joint
+/// evaluations (`None` when the sequential ones are kept) and, for a
+/// rejected joint solve, its evaluations and its `worst` distance.
 pub(super) fn keep_joint_unless_it_strays(
     outline: &Outline<'_>,
     segments: Vec<FittedSegment>,
     options: &FitOptions,
     limit: f64,
     worst: impl Fn(&[FittedSegment]) -> f64,
-) -> Result<(Vec<FittedSegment>, Option<u64>, u64), FitError> {
+) -> Result<(Vec<FittedSegment>, Option<u64>, Option<(u64, f64)>), FitError> {
     let spans = spans_of(outline, &segments);
     match joint_chain(outline, &segments, &spans, options)? {
         Some((refit, used)) => {
-            if worst(&refit) <= limit.max(worst(&segments)) {
-                Ok((refit, Some(used), 0))
+            let strayed = worst(&refit);
+            if strayed <= limit.max(worst(&segments)) {
+                Ok((refit, Some(used), None))
             } else {
-                Ok((segments, None, used))
+                Ok((segments, None, Some((used, strayed))))
             }
         }
-        None => Ok((segments, None, 0)),
+        None => Ok((segments, None, None)),
     }
 }
 
@@ -425,14 +433,16 @@ fn fit_chain<S: SegmentSolver + ?Sized>(
     }
     let (segments, joint, rejected) =
         keep_joint_unless_it_strays(outline, segments, options, 0.0, worst_excess)?;
-    Ok(finish(
+    let mut fit = finish(
         outline,
         segments,
-        discarded + rejected,
+        discarded + rejected.map_or(0, |r| r.0),
         chain.at_corner,
         joint,
         options,
-    ))
+    );
+    fit.joint_rejected = rejected.map(|r| r.1);
+    Ok(fit)
 }
 
 /// Fits `options.function` to `points` split at `breaks`, every interior

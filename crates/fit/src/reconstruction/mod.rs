@@ -210,7 +210,8 @@ pub const DEFAULT_TOLERANCE: f64 = 1.0;
 pub enum Segmentation {
     /// This many segments per contour: split at the corners, then at equal
     /// arc length. A count below a contour's span count (one segment per
-    /// span between corners) is raised to it ([`ContourFit::raised_from`]).
+    /// span between corners) is refused by [`Reconstruction::fit`] and raised
+    /// to it by [`Reconstruction::fit_each`] ([`ContourFit::raised_from`]).
     Count(usize),
     /// Fit to this tolerance (data units), per contour ([`fit_adaptive`]):
     /// every segment's two-sided distance to the outline beyond the
@@ -227,6 +228,55 @@ pub enum Segmentation {
         /// The breaks that are corners.
         corners: Vec<usize>,
     },
+    /// Break indices of each contour, taken from a reference fit
+    /// ([`Segmentation::of_fit`]): how a campaign fits every method to the
+    /// segments the exact fit found for a tolerance.
+    PerContour(Vec<ContourBreaks>),
+}
+
+/// One contour's break indices and which of them are corners (C⁰ joints).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContourBreaks {
+    /// The contour's number in its input.
+    pub contour: usize,
+    /// Break indices into its outline, sorted.
+    pub breaks: Vec<usize>,
+    /// The breaks that are corners.
+    pub corners: Vec<usize>,
+}
+
+impl Segmentation {
+    /// The segmentation of `fit`: every contour's segment starts as breaks,
+    /// and as corners those joined C⁰ (and the chain's start where the
+    /// chain closes at a corner), so that [`fit_breaks`] poses the same
+    /// segments with the same joins.
+    pub fn of_fit(fit: &ShapeFit) -> Segmentation {
+        let contours = fit
+            .contours
+            .iter()
+            .map(|c| {
+                let segments = &c.fit.segments;
+                let at_corner = c.fit.closing.is_some_and(|j| j.at_corner);
+                let mut corners: Vec<usize> = segments
+                    .iter()
+                    .enumerate()
+                    .filter(|(k, s)| {
+                        s.join == crate::geometry::Continuity::C0 && (*k > 0 || at_corner)
+                    })
+                    .map(|(_, s)| s.first)
+                    .collect();
+                let mut breaks: Vec<usize> = segments.iter().map(|s| s.first).collect();
+                breaks.sort_unstable();
+                corners.sort_unstable();
+                ContourBreaks {
+                    contour: c.contour,
+                    breaks,
+                    corners,
+                }
+            })
+            .collect();
+        Segmentation::PerContour(contours)
+    }
 }
 
 impl Source {
@@ -257,7 +307,13 @@ impl Reconstruction<'_> {
     /// The corner indices `contour` is split at first.
     pub fn corner_indices(&self, contour: &SourceContour) -> Vec<usize> {
         match (&self.segmentation, self.corners) {
-            (Segmentation::Breaks { .. } | Segmentation::TrueBreaks, _) | (_, None) => Vec::new(),
+            (
+                Segmentation::Breaks { .. }
+                | Segmentation::TrueBreaks
+                | Segmentation::PerContour(_),
+                _,
+            )
+            | (_, None) => Vec::new(),
             (_, Some(c)) => find_corners(&contour.outline, &c),
         }
     }
@@ -277,7 +333,7 @@ impl Reconstruction<'_> {
         let mut contours = Vec::with_capacity(self.source.contours.len());
         for c in &self.source.contours {
             contours.push(
-                self.fit_one_contour(c, &mut *solver)
+                self.fit_one_contour(c, &mut *solver, false)
                     .map_err(|e| FitError::in_contour(c.index, e))?,
             );
         }
@@ -286,13 +342,16 @@ impl Reconstruction<'_> {
 
     /// Fits every contour with `method`'s solver seeded with `seed` (one
     /// stream over all contours, in order), keeping going past a contour
-    /// that cannot be fitted: the fitted ones, and the others with why.
+    /// that cannot be fitted: the fitted ones, and the others with why. A
+    /// segment count below a contour's span count is raised to it
+    /// ([`ContourFit::raised_from`]; [`Reconstruction::fit`] refuses it,
+    /// as a campaign's design should not change behind its back).
     pub fn fit_each(&self, method: &Method, seed: u64) -> PartialShapeFit {
         let mut solver = method.solver(seed);
         let mut contours = Vec::with_capacity(self.source.contours.len());
         let mut failed = Vec::new();
         for c in &self.source.contours {
-            match self.fit_one_contour(c, solver.as_mut()) {
+            match self.fit_one_contour(c, solver.as_mut(), true) {
                 Ok(fit) => contours.push(fit),
                 Err(e) => failed.push((c.index, FitError::in_contour(c.index, e))),
             }
@@ -303,15 +362,16 @@ impl Reconstruction<'_> {
         }
     }
 
-    /// One contour's fit with its number, orientation and any raised
-    /// segment count.
+    /// One contour's fit with its number, orientation and, if `raise`, a
+    /// segment count below its span count raised to it.
     fn fit_one_contour<S: SegmentSolver + ?Sized>(
         &self,
         c: &SourceContour,
         solver: &mut S,
+        raise: bool,
     ) -> Result<ContourFit, FitError> {
         let (fit, raised_from) = match self.fit_contour(c, &mut *solver) {
-            Err(FitError::TooFewSegments { requested, minimum }) => {
+            Err(FitError::TooFewSegments { requested, minimum }) if raise => {
                 (self.fit_count(c, minimum, solver)?, Some(requested))
             }
             other => (other?, None),
@@ -339,7 +399,7 @@ impl Reconstruction<'_> {
 
     /// Fits one contour with `solver`. A segment count below the
     /// contour's span count fails here ([`FitError::TooFewSegments`]);
-    /// [`Reconstruction::fit`] raises it to the span count instead
+    /// [`Reconstruction::fit_each`] raises it to the span count instead
     /// ([`ContourFit::raised_from`]).
     pub fn fit_contour<S: SegmentSolver + ?Sized>(
         &self,
@@ -359,6 +419,13 @@ impl Reconstruction<'_> {
                 fit_breaks(points, closed, &breaks, &corners, options, solver)
             }
             Segmentation::Count(n) => self.fit_count(contour, *n, solver),
+            Segmentation::PerContour(list) => {
+                let own = list.iter().find(|b| b.contour == contour.index);
+                let (breaks, corners) = own.map_or((&[][..], &[][..]), |b| {
+                    (b.breaks.as_slice(), b.corners.as_slice())
+                });
+                fit_breaks(points, closed, breaks, corners, options, solver)
+            }
             Segmentation::Tolerance(t) => {
                 let corners = self.corner_indices(contour);
                 // The staircase's allowance is for traced images only:

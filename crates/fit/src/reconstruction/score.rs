@@ -71,6 +71,16 @@ pub struct Distances {
 pub struct Score {
     /// The number of curve segments scored.
     pub segments: usize,
+    /// Curve → data: the largest distance from a sample of the curves to
+    /// the nearest outline polyline of the source (its contours' points in
+    /// order, closed ones closed), the curves sampled at least
+    /// [`crate::fit::OUTLINE_SAMPLES`] times per mean data gap along their
+    /// control polygons' length, as `metabezier fit` samples its own.
+    pub curve_distance: f64,
+    /// The two-sided distance: the larger of `total.max_distance` (data →
+    /// curve) and `curve_distance`, the measure `metabezier fit` reports as
+    /// its Hausdorff distance.
+    pub hausdorff: f64,
     /// Per contour of the source: its number and its distances.
     pub contours: Vec<(usize, Distances)>,
     /// Over all the source's data points.
@@ -228,8 +238,11 @@ pub fn score(source: &Source, curves: &[Vec<Segment>]) -> Result<Score, ScoreErr
     } else {
         (sum_sq / points as f64).sqrt()
     };
+    let curve_distance = curve_to_outline(curves, source);
     Ok(Score {
         segments: boxes.len(),
+        curve_distance,
+        hausdorff: curve_distance.max(max),
         contours,
         total: Distances {
             points,
@@ -237,6 +250,65 @@ pub fn score(source: &Source, curves: &[Vec<Segment>]) -> Result<Score, ScoreErr
             rms_distance: rms,
         },
     })
+}
+
+/// The largest distance from samples of `curves` to the nearest edge of
+/// any outline polyline of `source` (see [`Score::curve_distance`]).
+fn curve_to_outline(curves: &[Vec<Segment>], source: &Source) -> f64 {
+    let mut edges: Vec<(Point, Point)> = Vec::new();
+    let mut length = 0.0;
+    for c in &source.contours {
+        let pts = &c.outline.points;
+        let closing = c.outline.closed.then(|| (pts[pts.len() - 1], pts[0]));
+        for (a, b) in pts.windows(2).map(|w| (w[0], w[1])).chain(closing) {
+            length += a.distance(b);
+            edges.push((a, b));
+        }
+    }
+    if edges.is_empty() {
+        return 0.0;
+    }
+    let gap = (length / edges.len() as f64).max(f64::MIN_POSITIVE);
+    let mut worst = 0.0f64;
+    for s in curves.iter().flatten() {
+        let polygon: f64 = control_points(s)
+            .windows(2)
+            .map(|w| w[0].distance(w[1]))
+            .sum();
+        let per = crate::fit::OUTLINE_SAMPLES as f64 * polygon / gap;
+        let samples = per.ceil().clamp(16.0, 1e5) as usize;
+        for j in 0..=samples {
+            let q = eval_segment(s, j as f64 / samples as f64);
+            let d2 = edges
+                .iter()
+                .map(|&(a, b)| edge_distance_squared(q, a, b))
+                .fold(f64::INFINITY, f64::min);
+            worst = worst.max(d2.sqrt());
+        }
+    }
+    worst
+}
+
+/// The point of a scored segment at parameter `t`.
+fn eval_segment(s: &Segment, t: f64) -> Point {
+    use crate::geometry::Curve;
+    match s {
+        Segment::Line(a, b) => a.lerp(*b, t),
+        Segment::Quad(q) => q.eval(t),
+        Segment::Cubic(c) => c.eval(t),
+    }
+}
+
+/// The squared distance from `q` to the edge `[a, b]`.
+fn edge_distance_squared(q: Point, a: Point, b: Point) -> f64 {
+    let d = b - a;
+    let l2 = d.hypot2();
+    let t = if l2 > 0.0 {
+        ((q - a).dot(d) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a + d * t - q).hypot2()
 }
 
 #[cfg(test)]
