@@ -968,9 +968,14 @@ fn say_fit(w: &mut String, label: &str, fit: &ShapeFit, wall: f64, paths: &[Path
     }
     for c in &fit.contours {
         if let Some(d) = c.fit.joint_rejected {
+            let why = if c.fit.tolerance.is_some() {
+                "beyond the tolerance"
+            } else {
+                "curve where no data point is"
+            };
             say!(
                 w,
-                "  contour {}: the joint solve strayed {d:.4e} from the outline (curve where no data point is), so the sequential chain was kept",
+                "  contour {}: the joint solve strayed {d:.4e} from the outline ({why}), so the sequential chain was kept",
                 c.contour
             );
         }

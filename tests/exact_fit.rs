@@ -471,6 +471,40 @@ fn the_command_line_defaults_recover_an_ellipse_and_a_hyperbola_arc() {
 }
 
 #[test]
+fn a_tolerance_fits_a_circle_and_an_ellipse_with_two_exact_segments() {
+    // A circle sampled unevenly (400 points, denser in two places) and the
+    // rotated, off-centre ellipse: two rational cubics (two half arcs) hold
+    // each exactly, so `--tolerance` must find two, not three or more.
+    let place = Place {
+        angle: 0.4,
+        scale: 1.0,
+        offset: Point::new(200.0, 150.0),
+    };
+    let circle: Vec<Point> = (0..400)
+        .map(|k| {
+            let u = k as f64 / 400.0;
+            let phi = TAU * (u + 0.08 * (TAU * u).sin().powi(2));
+            place.apply(Point::new(100.0 * phi.cos(), 100.0 * phi.sin()))
+        })
+        .collect();
+    let round = (0..4)
+        .map(|k| ellipse_arc(100.0, 100.0, k as f64 * PI / 2.0, PI / 2.0, place))
+        .collect::<Vec<_>>();
+    let (ellipse_points, quarters) = ellipse(400, place);
+    for (name, points, truth, size) in [
+        ("circle", &circle, &round, 100.0),
+        ("ellipse", &ellipse_points, &quarters, 140.0),
+    ] {
+        for tolerance in ["1", "0.01"] {
+            let fitted = command_line_fit(points, true, &["--tolerance", tolerance]);
+            assert_eq!(fitted.len(), 2, "{name} at {tolerance}");
+            let h = hausdorff_of(&fitted, truth);
+            assert!(h < 1e-9 * size, "{name} at {tolerance}: {h:e}");
+        }
+    }
+}
+
+#[test]
 fn the_thesis_fixed_parameter_error_misses_the_same_ellipse() {
     let place = Place {
         angle: 0.4,

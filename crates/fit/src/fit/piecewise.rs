@@ -35,7 +35,7 @@
 
 use super::chain::{solve_joint, Fitted};
 use super::metrics::{FitMetrics, SegmentMetrics};
-use super::span::{fit_guarded, fit_one, Outline, Piece};
+use super::span::{fit_guarded, fit_one, strays, Outline, Piece};
 use super::{
     outline_trace, Chain, Closing, End, FitError, FitOptions, FittedSegment, SegmentSolver, Start,
 };
@@ -246,14 +246,16 @@ fn worst_excess(segments: &[FittedSegment]) -> f64 {
 }
 
 /// The joint solve's result, or the sequential `segments` where the joint
-/// one strays further from the outline: its `worst` two-sided distance
-/// (beyond the staircase in a chain of fixed count, [`worst_excess`])
-/// above `limit` (a tolerance) and above the sequential chain's own. The joint solve minimises the data's distances
-/// only, so it can park curve past a corner where no data point is (a
-/// whisker); the sequential chain, fitted piece by piece with
-/// [`fit_guarded`], is the fallback. Returns the segments, the joint
-/// evaluations (`None` when the sequential ones are kept) and, for a
-/// rejected joint solve, its evaluations and its `worst` distance.
+/// one strays: its `worst` two-sided distance above `limit` (a tolerance)
+/// and above the sequential chain's own, and, in a chain of fixed count
+/// (`limit` 0), where some segment leaves the outline where no data point
+/// is ([`super::span::strays`]; a marginally larger distance along the data
+/// is the price of the joint solve's lower `E` there). The joint solve
+/// minimises the data's distances only, so it can park curve past a corner
+/// where no data point is (a whisker); the sequential chain, fitted piece
+/// by piece with [`fit_guarded`], is the fallback. Returns the segments,
+/// the joint evaluations (`None` when the sequential ones are kept) and,
+/// for a rejected joint solve, its evaluations and its `worst` distance.
 pub(super) fn keep_joint_unless_it_strays(
     outline: &Outline<'_>,
     segments: Vec<FittedSegment>,
@@ -265,7 +267,8 @@ pub(super) fn keep_joint_unless_it_strays(
     match joint_chain(outline, &segments, &spans, options)? {
         Some((refit, used)) => {
             let strayed = worst(&refit);
-            if strayed <= limit.max(worst(&segments)) {
+            let whisker = limit > 0.0 || refit.iter().any(strays);
+            if !whisker || strayed <= limit.max(worst(&segments)) {
                 Ok((refit, Some(used), None))
             } else {
                 Ok((segments, None, Some((used, strayed))))

@@ -1,0 +1,119 @@
+//! What a fit promises beyond its data points: no curve where there is no
+//! data (whiskers), and the same bytes on every run.
+
+use std::path::Path;
+
+use metabezier::fit::{Chain, ErrorMeasure, FitOptions, FunctionType};
+use metabezier::geometry::Continuity;
+use metabezier::outline::CornerOptions;
+use metabezier::reconstruction::{LoadOptions, Method, Reconstruction, Segmentation, Source};
+
+fn glyph(font: &str, g: char) -> Source {
+    let input = format!(
+        "font:{}:{g}",
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("data/outlines")
+            .join(font)
+            .display()
+    );
+    Source::load(&input, Path::new(""), &LoadOptions::default()).unwrap()
+}
+
+/// `metabezier fit`'s options: rational cubics joined G1, the orthogonal
+/// error, the joint chain.
+fn cli_options() -> FitOptions {
+    FitOptions {
+        error: ErrorMeasure::Orthogonal,
+        chain: Chain::Joint,
+        ..FitOptions::new(FunctionType::RationalCubic, Continuity::G1)
+    }
+}
+
+#[test]
+fn a_joint_solve_that_parks_curve_past_a_corner_is_not_kept() {
+    // DejaVu Sans `Q` to 0.5 font units: the joint solve of the split's
+    // chain parks curve some 200 units past the tail's corner, every data
+    // point still within the tolerance; DejaVu `G` in 20 segments does the
+    // same at its spur (about 110 units).
+    let q = glyph("DejaVuSans.ttf", 'Q');
+    let r = Reconstruction {
+        source: &q,
+        segmentation: Segmentation::Tolerance(0.5),
+        corners: Some(CornerOptions::default()),
+        options: cli_options(),
+    };
+    let fit = r.fit(&Method::Exact, 1).unwrap();
+    let c = &fit.contours[0].fit;
+    let strayed = c.joint_rejected.expect("the joint solve strays here");
+    assert!(strayed > 100.0, "{strayed}");
+    assert_eq!(c.chain, Chain::Sequential);
+    // What is kept holds the tolerance on both sides.
+    for c in &fit.contours {
+        let m = &c.fit.metrics;
+        assert!(m.curve_distance <= 0.5, "{m:?}");
+        assert!(m.hausdorff <= 0.5, "{m:?}");
+    }
+
+    let g = glyph("DejaVuSans.ttf", 'G');
+    let r = Reconstruction {
+        source: &g,
+        segmentation: Segmentation::Count(20),
+        corners: Some(CornerOptions::default()),
+        options: cli_options(),
+    };
+    let fit = r.fit(&Method::Exact, 1).unwrap();
+    let c = &fit.contours[0].fit;
+    assert!(c.joint_rejected.expect("strays") > 50.0);
+    // No whisker left: no segment's curve runs more than half as far again
+    // from the outline as its data do.
+    for s in &c.segments {
+        let m = &s.metrics;
+        assert!(
+            m.curve_distance <= 1.5 * m.max_distance.max(1e-9) + 0.25,
+            "{m:?}"
+        );
+    }
+}
+
+/// A debug dump of a fit: every float printed in its shortest round-trip
+/// form, so two dumps are equal exactly when the fits are bit for bit.
+fn dump(r: &Reconstruction<'_>) -> String {
+    format!("{:?}", r.fit_each(&Method::Exact, 1))
+}
+
+#[test]
+fn a_multi_contour_fit_repeats_bit_for_bit_on_one_and_two_threads() {
+    // The scikit-image logo: 11 contours, the default tolerance. The
+    // reference fit, then 6 repeats in this thread and 2 × 6 in two
+    // threads at once (anything shared between fits, or depending on
+    // timing or allocation, would show).
+    let logo = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/outlines/logo.png");
+    let source = Source::load(
+        &logo.display().to_string(),
+        Path::new(""),
+        &LoadOptions::default(),
+    )
+    .unwrap();
+    assert!(source.contours.len() > 5);
+    let r = Reconstruction {
+        source: &source,
+        segmentation: Segmentation::Tolerance(1.0),
+        corners: Some(CornerOptions::default()),
+        options: cli_options(),
+    };
+    let reference = dump(&r);
+    assert!(reference.contains("failed: []"), "a contour failed");
+    for k in 0..6 {
+        assert_eq!(dump(&r), reference, "repeat {k}");
+    }
+    std::thread::scope(|s| {
+        let runs: Vec<_> = (0..2)
+            .map(|_| s.spawn(|| (0..6).map(|_| dump(&r)).collect::<Vec<_>>()))
+            .collect();
+        for run in runs {
+            for (k, d) in run.join().unwrap().iter().enumerate() {
+                assert_eq!(*d, reference, "threaded repeat {k}");
+            }
+        }
+    });
+}
