@@ -771,6 +771,16 @@ fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
     }
 }
 
+/// `x` as written for a person: plainly in `[10⁻⁴, 10⁶)`, else in
+/// scientific notation (a tolerance of 1e308 is not 309 digits).
+fn short(x: f64) -> String {
+    if (1e-4..1e6).contains(&x.abs()) {
+        x.to_string()
+    } else {
+        format!("{x:e}")
+    }
+}
+
 /// How many times a contour's estimated noise ([`noise_level`]) a
 /// tolerance must be for the fit not to follow the noise: the largest of
 /// a few hundred normal deviates is about 3σ, and a smooth curve through
@@ -799,8 +809,9 @@ fn note_fit(r: &Reconstruction<'_>, fit: &ShapeFit, failed: &[(usize, FitError)]
         if t < NOISE_FACTOR * noise && (failed_here || t < noise) {
             let _ = writeln!(
                 err,
-                "metabezier: note: contour {}: the tolerance {t} is below what its points' noise allows (noise about {noise:.3e}, estimated from their fourth differences): a fit to it follows the noise; a tolerance of {:.3e} or more would not",
+                "metabezier: note: contour {}: the tolerance {} is below what its points' noise allows (noise about {noise:.3e}, estimated from their fourth differences): a fit to it follows the noise; a tolerance of {:.3e} or more would not",
                 c.index,
+                short(t),
                 NOISE_FACTOR * noise
             );
         }
@@ -962,7 +973,8 @@ fn say_fit(w: &mut String, label: &str, fit: &ShapeFit, wall: f64, paths: &[Path
         };
         say!(
             w,
-            "  tolerance {t} held: largest {what} {held:.4e} (curve sampled {} times per point gap)",
+            "  tolerance {} held: largest {what} {held:.4e} (curve sampled {} times per point gap)",
+            short(t),
             crate::fit::OUTLINE_SAMPLES
         );
     }

@@ -113,7 +113,10 @@ pub fn check_output_dir(dir: &Path) -> Result<(), IoError> {
 /// Dropped without `publish`, the staging directory is removed (and the
 /// output directory too, when this created it and it is empty). A staging
 /// directory left by a killed process is removed by the next `Staging` of
-/// the same directory once its process is gone.
+/// the same directory once its process is gone. A staging directory of
+/// another process that still runs refuses the new one: two runs writing
+/// into one directory at once would leave one's records beside the
+/// other's figures (two starting at the same instant both refuse).
 pub struct Staging {
     dir: PathBuf,
     tmp: PathBuf,
@@ -135,12 +138,24 @@ impl Staging {
             ));
             match std::fs::create_dir(&tmp) {
                 Ok(()) => {
-                    return Ok(Staging {
+                    let staging = Staging {
                         dir: dir.to_owned(),
                         tmp,
                         created,
                         published: false,
-                    })
+                    };
+                    return match live_staging(dir) {
+                        // Dropping `staging` removes what it made.
+                        Some(pid) => Err(IoError::new(
+                            "write into it",
+                            dir,
+                            io::Error::other(format!(
+                                "another process (pid {pid}) is writing its results into this \
+                                 directory; give each run its own output directory"
+                            )),
+                        )),
+                        None => Ok(staging),
+                    };
                 }
                 Err(e) if e.kind() == io::ErrorKind::AlreadyExists => continue,
                 Err(e) => return Err(IoError::new("create the directory", &tmp, e)),
@@ -201,30 +216,50 @@ impl Drop for Staging {
     }
 }
 
+/// The process ids of the staging directories in `dir`, with their paths.
+fn staging_dirs(dir: &Path) -> Vec<(u32, PathBuf)> {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return Vec::new();
+    };
+    entries
+        .flatten()
+        .filter_map(|entry| {
+            let pid = entry
+                .file_name()
+                .to_str()
+                .and_then(|n| n.strip_prefix(".staging-"))
+                .and_then(|n| n.split('-').next())
+                .and_then(|p| p.parse::<u32>().ok())?;
+            Some((pid, entry.path()))
+        })
+        .collect()
+}
+
+/// Whether process `pid` runs (`None` without `/proc`, where it cannot be
+/// told).
+fn running(pid: u32) -> Option<bool> {
+    Path::new("/proc/self")
+        .exists()
+        .then(|| Path::new("/proc").join(pid.to_string()).exists())
+}
+
 /// Removes the staging directories in `dir` whose process has ended
 /// (a process that still runs keeps its own; without `/proc`, none is
 /// removed).
 fn remove_stale_staging(dir: &Path) {
-    if !Path::new("/proc/self").exists() {
-        return;
-    }
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return;
-    };
-    for entry in entries.flatten() {
-        let name = entry.file_name();
-        let Some(pid) = name
-            .to_str()
-            .and_then(|n| n.strip_prefix(".staging-"))
-            .and_then(|n| n.split('-').next())
-            .and_then(|p| p.parse::<u32>().ok())
-        else {
-            continue;
-        };
-        if pid != std::process::id() && !Path::new("/proc").join(pid.to_string()).exists() {
-            let _ = std::fs::remove_dir_all(entry.path());
+    for (pid, path) in staging_dirs(dir) {
+        if pid != std::process::id() && running(pid) == Some(false) {
+            let _ = std::fs::remove_dir_all(path);
         }
     }
+}
+
+/// Another running process's staging directory in `dir`, by its pid.
+fn live_staging(dir: &Path) -> Option<u32> {
+    staging_dirs(dir)
+        .into_iter()
+        .map(|(pid, _)| pid)
+        .find(|&pid| pid != std::process::id() && running(pid) == Some(true))
 }
 
 /// The largest text file (spec, template) the readers take: 16 MiB.
@@ -343,6 +378,32 @@ fn random_u64() -> u64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_directory_another_running_process_writes_into_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        std::fs::create_dir(&out).unwrap();
+        // A staging directory of a process that runs (the parent of this
+        // test) refuses a second writer, and nothing of the refused one
+        // is left.
+        let parent = std::os::unix::process::parent_id();
+        let live = out.join(format!(".staging-{parent}-0000000000000001"));
+        std::fs::create_dir(&live).unwrap();
+        let e = Staging::new(&out).err().expect("refused").to_string();
+        assert!(
+            e.contains(&format!("another process (pid {parent}) is writing")),
+            "{e}"
+        );
+        assert_eq!(std::fs::read_dir(&out).unwrap().count(), 1);
+        // One of a process that has ended is removed and the new one runs.
+        std::fs::remove_dir(&live).unwrap();
+        let stale = out.join(".staging-4194303-0000000000000002");
+        std::fs::create_dir(&stale).unwrap();
+        let s = Staging::new(&out).unwrap();
+        assert!(!stale.exists());
+        s.publish().unwrap();
+    }
 
     #[test]
     fn an_atomic_write_leaves_no_temporary_file() {

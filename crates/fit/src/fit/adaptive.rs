@@ -196,16 +196,20 @@ impl<S: SegmentSolver + ?Sized> Splitter<'_, '_, S> {
     }
 
     /// The chain fitted again over the breaks of `first`, each segment
-    /// reaching over as many of them as stays within the tolerance.
+    /// reaching over as many of them as stays within the tolerance (never
+    /// round a whole closed loop, which one segment cannot close). A piece
+    /// that merges with nothing and meets the same neighbours as in `first`
+    /// keeps its fit from there.
     fn merge(&mut self, first: &Built) -> Result<Built, FitError> {
         let spans = &first.spans;
-        let mut built = Built::default();
         let n = spans.len();
+        let loop_len = self.outline.len();
+        let mut built = Built::default();
         let mut i = 0;
         while i < n {
             let mut best: Option<(usize, FittedSegment)> = None;
             let mut j = i + 1;
-            while j < n && !first.corner[j] {
+            while j < n && !first.corner[j] && spans[j].1 - spans[i].0 < loop_len {
                 let fit = self.fit(&mut built, spans[i].0, spans[j].1, first.corner[i])?;
                 if self.split.measure(&fit) > self.split.tolerance {
                     built.discarded += fit.metrics.evaluations;
@@ -221,6 +225,10 @@ impl<S: SegmentSolver + ?Sized> Splitter<'_, '_, S> {
                     built.push(fit, (spans[i].0, spans[j].1), first.corner[i]);
                     i = j + 1;
                 }
+                None if self.same_neighbours(first, &built, i) => {
+                    built.push(first.segments[i].clone(), spans[i], first.corner[i]);
+                    i += 1;
+                }
                 None => {
                     self.split(&mut built, spans[i].0, spans[i].1, first.corner[i])?;
                     i += 1;
@@ -228,6 +236,18 @@ impl<S: SegmentSolver + ?Sized> Splitter<'_, '_, S> {
             }
         }
         Ok(built)
+    }
+
+    /// Whether piece `i` of `first` meets the same joins in `built` as it
+    /// did there: the same previous segment and, for the piece that closes
+    /// the chain, the same first one.
+    fn same_neighbours(&self, first: &Built, built: &Built, i: usize) -> bool {
+        let previous = match i.checked_sub(1) {
+            None => built.segments.is_empty(),
+            Some(p) => built.segments.last() == first.segments.get(p),
+        };
+        let closes = self.close && first.spans[i].1 == self.closing_point;
+        previous && (!closes || built.segments.first() == first.segments.first())
     }
 }
 
