@@ -102,7 +102,7 @@ fn plain_fit_holds_one_unit_on_every_input_of_the_corpus() {
             assert!(hausdorff <= 1.25, "{input}: {hausdorff}");
         }
         let segments: usize = col("segments").parse().unwrap();
-        assert!(segments >= 1 && segments < 200, "{input}: {segments}");
+        assert!((1..200).contains(&segments), "{input}: {segments}");
     }
 }
 

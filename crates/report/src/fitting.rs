@@ -88,7 +88,10 @@ fn quality_frame() -> Table {
              found by any method on that problem (the exact reference LM included), the mean \
              RMS √(E/N) (measured at the parameters sᵢ), the mean RMS of the orthogonal \
              distances (each data point to its segment; with the current fitting records), \
-             the mean largest orthogonal distance of a data point to the curve, and the mean \
+             the mean largest orthogonal distance of a data point to the curve (data → curve), \
+             with the current fitting records the mean largest distance of the curve to the \
+             outline polyline (curve → data, which sees curve where no data point is) and the \
+             mean of the larger of the two (the fit's Hausdorff distance), and the mean \
              tangent angle at the closing joint of a closed outline (the largest over its \
              contours): near 0 where the chain closes smoothly, a kink where it closes C⁰ \
              or at a corner (data units: pixels for images, font units for glyphs)."
@@ -133,6 +136,8 @@ struct Quality {
     rms: f64,
     rms_distance: f64,
     max_distance: f64,
+    curve_distance: f64,
+    hausdorff: f64,
     angle: f64,
 }
 
@@ -163,6 +168,8 @@ impl Quality {
             rms: fit(|d| Some(d.rms)),
             rms_distance: fit(|d| d.rms_distance),
             max_distance: fit(|d| Some(d.max_distance)),
+            curve_distance: fit(|d| d.two_sided.map(|t| t.0)),
+            hausdorff: fit(|d| d.two_sided.map(|t| t.1)),
             angle: fit(|d| d.closing_angle_degrees.filter(|a| a.is_finite())),
         }
     }
@@ -178,6 +185,19 @@ fn quality_table(fr: &FitRuns<'_>, best: &[(f64, String)]) -> Table {
         .values()
         .flatten()
         .any(|r| r.fit.as_ref().is_some_and(|f| f.rms_distance.is_some()));
+    let two_sided = fr
+        .runs
+        .values()
+        .flatten()
+        .any(|r| r.fit.as_ref().is_some_and(|f| f.two_sided.is_some()));
+    if two_sided {
+        // After the mean max distance (data -> curve): curve -> data and
+        // the larger of the two.
+        quality.md_header.insert(8, "Mean curve→data".into());
+        quality.md_header.insert(9, "Mean Hausdorff".into());
+        quality.csv_header.insert(9, "mean_curve_distance".into());
+        quality.csv_header.insert(10, "mean_hausdorff".into());
+    }
     if orthogonal {
         quality.md_header.insert(7, "Mean RMS distance".into());
         quality.csv_header.insert(8, "mean_rms_distance".into());
@@ -215,6 +235,12 @@ fn quality_table(fr: &FitRuns<'_>, best: &[(f64, String)]) -> Table {
                 fmt_real(q.max_distance),
                 fmt_real(q.angle),
             ];
+            if two_sided {
+                md.insert(8, sci(q.curve_distance));
+                md.insert(9, sci(q.hausdorff));
+                csv.insert(9, fmt_real(q.curve_distance));
+                csv.insert(10, fmt_real(q.hausdorff));
+            }
             if orthogonal {
                 md.insert(7, sci(q.rms_distance));
                 csv.insert(8, fmt_real(q.rms_distance));

@@ -364,13 +364,14 @@ pub fn fit_adaptive<S: SegmentSolver + ?Sized>(
             built.discarded += merged.discarded + evaluations(&merged.segments);
         }
     }
-    let (segments, joint, rejected) = keep_joint_unless_it_strays(
+    let kept = keep_joint_unless_it_strays(
         &outline,
         built.segments,
         options,
         split.tolerance,
         |s: &[FittedSegment]| split.worst(s),
     )?;
+    let segments = kept.segments;
     if let Some((k, s)) = segments
         .iter()
         .enumerate()
@@ -390,18 +391,18 @@ pub fn fit_adaptive<S: SegmentSolver + ?Sized>(
             at: points[(s.first + gap) % points.len()],
         });
     }
-    let discarded = built.discarded + rejected.map_or(0, |r| r.0);
+    let discarded = built.discarded + kept.rejected.map_or(0, |r| r.0);
     let mut fit = finish(
         &outline,
         segments,
         discarded,
         chain.at_corner,
-        joint,
+        kept.joint,
         options,
     );
     fit.tolerance = Some(split.tolerance);
     fit.staircase = split.staircase;
-    fit.joint_rejected = rejected.map(|r| r.1);
+    fit.joint_rejected = kept.rejected.map(|r| r.1);
     Ok(fit)
 }
 

@@ -256,26 +256,41 @@ fn worst_excess(segments: &[FittedSegment]) -> f64 {
 /// by piece with [`fit_guarded`], is the fallback. Returns the segments,
 /// the joint evaluations (`None` when the sequential ones are kept) and,
 /// for a rejected joint solve, its evaluations and its `worst` distance.
+pub(super) struct Kept {
+    /// The segments kept.
+    pub(super) segments: Vec<FittedSegment>,
+    /// The joint solve's evaluations, when its result is kept.
+    pub(super) joint: Option<u64>,
+    /// A rejected joint solve's evaluations and `worst` distance.
+    pub(super) rejected: Option<(u64, f64)>,
+}
+
+/// See [`Kept`].
 pub(super) fn keep_joint_unless_it_strays(
     outline: &Outline<'_>,
     segments: Vec<FittedSegment>,
     options: &FitOptions,
     limit: f64,
     worst: impl Fn(&[FittedSegment]) -> f64,
-) -> Result<(Vec<FittedSegment>, Option<u64>, Option<(u64, f64)>), FitError> {
+) -> Result<Kept, FitError> {
     let spans = spans_of(outline, &segments);
-    match joint_chain(outline, &segments, &spans, options)? {
+    let kept = |segments, joint, rejected| Kept {
+        segments,
+        joint,
+        rejected,
+    };
+    Ok(match joint_chain(outline, &segments, &spans, options)? {
         Some((refit, used)) => {
             let strayed = worst(&refit);
             let whisker = limit > 0.0 || refit.iter().any(strays);
             if !whisker || strayed <= limit.max(worst(&segments)) {
-                Ok((refit, Some(used), None))
+                kept(refit, Some(used), None)
             } else {
-                Ok((segments, None, Some((used, strayed))))
+                kept(segments, None, Some((used, strayed)))
             }
         }
-        None => Ok((segments, None, None)),
-    }
+        None => kept(segments, None, None),
+    })
 }
 
 /// The spans of `segments` on `outline`, wrapping indices kept increasing.
@@ -434,17 +449,16 @@ fn fit_chain<S: SegmentSolver + ?Sized>(
         discarded += spent;
         segments.push(fit);
     }
-    let (segments, joint, rejected) =
-        keep_joint_unless_it_strays(outline, segments, options, 0.0, worst_excess)?;
+    let kept = keep_joint_unless_it_strays(outline, segments, options, 0.0, worst_excess)?;
     let mut fit = finish(
         outline,
-        segments,
-        discarded + rejected.map_or(0, |r| r.0),
+        kept.segments,
+        discarded + kept.rejected.map_or(0, |r| r.0),
         chain.at_corner,
-        joint,
+        kept.joint,
         options,
     );
-    fit.joint_rejected = rejected.map(|r| r.1);
+    fit.joint_rejected = kept.rejected.map(|r| r.1);
     Ok(fit)
 }
 

@@ -1,0 +1,449 @@
+//! `metabezier fit`: its arguments, the fit of every contour, the files,
+//! and the summary and notes a person reads.
+
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, UsageError};
+use crate::experiment::fit_files::write_fit_records;
+use crate::files::{check_output_dir, Staging};
+use crate::fit::{Chain, Closing, ErrorMeasure, FitError, FitOptions, FunctionType, SearchSpace};
+use crate::geometry::{Continuity, Parameterisation};
+use crate::outline::{noise_level, parse_input, CornerOptions, Foreground, Input};
+use crate::reconstruction::{
+    save_shape, shape_dxf, ContourChoice, LoadOptions, Method, OverlayFigure, Reconstruction,
+    Segmentation, ShapeFit, Source, DEFAULT_TOLERANCE,
+};
+use crate::report::save_overlay;
+
+/// Arguments of `metabezier fit`.
+#[derive(Debug, clap::Args)]
+pub(super) struct FitArgs {
+    /// A PNG image, a CSV file of x,y points, or font:PATH:GLYPH.
+    input: String,
+    /// The fitting function.
+    #[arg(long, default_value = "rational-cubic", value_parser = clap::builder::PossibleValuesParser::new(FunctionType::NAMES))]
+    function: String,
+    /// Continuity at the joints between segments.
+    #[arg(long, default_value = "g1", value_parser = clap::builder::PossibleValuesParser::new(Continuity::NAMES))]
+    continuity: String,
+    /// hs, ghs, ga, pso, mhs; lm (Levenberg–Marquardt, the exact reference);
+    /// or a metaheuristic polished by LM: hs+lm, …, mhs+lm. Default parameters.
+    #[arg(long, default_value = "lm")]
+    algorithm: String,
+    /// A fixed number of segments per contour (split at corners, then at
+    /// equal arc length); a count below a contour's corner spans is raised
+    /// to them, with a note.
+    #[arg(long, conflicts_with_all = ["tolerance", "true_breaks"], value_parser = clap::value_parser!(u64).range(1..))]
+    segments: Option<u64>,
+    /// Fit to this two-sided (Hausdorff) distance between curve and outline:
+    /// every data point within PX of the curve and the curve within PX of
+    /// the outline polyline (plus the pixel staircase's sagitta), with as
+    /// few segments as found; a contour that cannot be held to it fails
+    /// [default: 1, without --segments or --true-breaks].
+    #[arg(
+        long,
+        value_name = "PX",
+        conflicts_with = "true_breaks",
+        allow_negative_numbers = true
+    )]
+    tolerance: Option<f64>,
+    /// For a glyph: break at the font's own segment ends.
+    #[arg(long)]
+    true_breaks: bool,
+    /// For an image: which class is the shape. auto: the class that does
+    /// not touch the image border (if both do, the one that touches it
+    /// less); dark; light [default: auto].
+    #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(Foreground::NAMES))]
+    foreground: Option<String>,
+    /// Corner threshold: turning angle in degrees over --corner-k points
+    /// (0 disables corner detection).
+    #[arg(long, default_value_t = 60.0, allow_negative_numbers = true, value_parser = corner_angle)]
+    corner_angle: f64,
+    /// Neighbourhood of the corner test, in points.
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u16).range(1..=1000))]
+    corner_k: u16,
+    /// Fit only this contour of the input (0 is the largest); default: every
+    /// contour, outer boundaries and holes.
+    #[arg(long, value_name = "N")]
+    contour: Option<usize>,
+    /// How a closed contour's chain closes: smooth (G1/C1 at the closing
+    /// joint unless it is a corner) or c0.
+    #[arg(long, default_value = "smooth", value_parser = clap::builder::PossibleValuesParser::new(Closing::NAMES))]
+    closing: String,
+    /// Search space: the thesis's technique or the data's bounding box.
+    #[arg(long, default_value = "technique", value_parser = clap::builder::PossibleValuesParser::new(SearchSpace::NAMES))]
+    search_space: String,
+    /// How data points get their curve parameters s_i: auto is uniform for a
+    /// glyph at its true breaks (its samples' own parameters), chord otherwise.
+    #[arg(long, default_value = "auto", value_parser = clap::builder::PossibleValuesParser::new(PARAMETERISATIONS))]
+    parameterisation: String,
+    /// What E measures: orthogonal (the distance from each point to the
+    /// curve, its parameter solved with the fit) or fixed (at the
+    /// parameters s_i, the thesis's E; the default in specs).
+    #[arg(long, default_value = "orthogonal", value_parser = clap::builder::PossibleValuesParser::new(ErrorMeasure::NAMES))]
+    error: String,
+    /// How the segments are solved: joint (the sequential chain, then all
+    /// segments at once by Levenberg–Marquardt with shared joins, so none
+    /// inherits another's error) or sequential (one after another, the
+    /// thesis's; the default in specs).
+    #[arg(long, default_value = "joint", value_parser = clap::builder::PossibleValuesParser::new(Chain::NAMES))]
+    chain: String,
+    /// Rounds of Newton parameter correction after each segment's solve
+    /// (Schneider 1990); each round solves again with a fresh budget.
+    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=100))]
+    reparameterise: u32,
+    /// Seed of the random generator (the multi-lane Xoshiro256++ of every run).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Objective evaluations per segment.
+    #[arg(long, value_name = "EVALS", default_value_t = 10_000, value_parser = clap::value_parser!(u64).range(1..))]
+    budget: u64,
+    /// Allow a budget over 10^10 evaluations per segment.
+    #[arg(long)]
+    allow_large: bool,
+    /// Output directory.
+    #[arg(long, default_value = "results/fit")]
+    out: PathBuf,
+}
+
+/// Parses `--corner-angle`: a turning angle in degrees in [0, 180).
+fn corner_angle(text: &str) -> Result<f64, String> {
+    let angle: f64 = text
+        .parse()
+        .map_err(|_| format!("expected an angle in degrees, found \"{text}\""))?;
+    if (0.0..180.0).contains(&angle) {
+        Ok(angle)
+    } else {
+        Err(format!(
+            "expected an angle in degrees in [0, 180) (0 disables corner detection), found {text}"
+        ))
+    }
+}
+
+/// The `--parameterisation` choices: `auto` and the fixed rules.
+const PARAMETERISATIONS: [&str; 4] = [
+    "auto",
+    Parameterisation::NAMES[0],
+    Parameterisation::NAMES[1],
+    Parameterisation::NAMES[2],
+];
+
+/// `metabezier fit`: load, segment, fit, write the files. Contours that
+/// cannot be fitted are named (exit 1) and the others written.
+pub(super) fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
+    let method = Method::from_name(&a.algorithm).ok_or_else(|| UsageError::UnknownAlgorithm {
+        name: a.algorithm.clone(),
+        choices: Method::names(),
+    })?;
+    if !a.allow_large && a.budget > crate::experiment::spec::MAX_BUDGET {
+        return Err(UsageError::Budget(a.budget).into());
+    }
+    let source = Source::load(&a.input, Path::new(""), &a.load_options()?)?;
+    check_output_dir(&a.out)?;
+    let r = Reconstruction {
+        source: &source,
+        segmentation: a.segmentation(&source)?,
+        corners: a.corners(),
+        options: a.options(&source),
+    };
+    let start = std::time::Instant::now();
+    let outcome = r.fit_each(&method, a.seed);
+    let wall = start.elapsed().as_secs_f64();
+    note_fit(&r, &outcome.fit, &outcome.failed);
+    let fit = outcome.fit;
+    if fit.contours.is_empty() {
+        let (_, first) = outcome
+            .failed
+            .into_iter()
+            .next()
+            .expect("a source has contours");
+        return Err(Error::Fit {
+            input: a.input.clone(),
+            source: first,
+        });
+    }
+    let title = format!(
+        "{}: {} {}, {}",
+        source.label(),
+        r.options.function.name(),
+        r.options.continuity.name().to_uppercase(),
+        method.name()
+    );
+    // Every file is staged and renamed into place once all are written.
+    let staging = Staging::new(&a.out)?;
+    let dir = staging.path();
+    let case = a.case(&r, &method);
+    let mut paths = write_fit_records(dir, &fit, &case, wall)?;
+    let data = source.points();
+    paths.extend(save_shape(&fit, &data, &title, dir, "fit")?);
+    let dxf = dir.join("fit.dxf");
+    crate::files::write_atomic(&dxf, shape_dxf(&fit).as_bytes())?;
+    paths.push(dxf);
+    let figure = OverlayFigure::of_fit(&title, &data, &fit);
+    paths.extend(save_overlay(&figure, dir, "overlay")?);
+    let paths: Vec<PathBuf> = paths.iter().map(|p| staging.final_path(p)).collect();
+    staging.publish()?;
+    say_fit(w, &source.label(), &fit, wall, &paths);
+    if outcome.failed.is_empty() {
+        Ok(())
+    } else {
+        Err(Error::ContoursFailed {
+            input: a.input.clone(),
+            fitted: fit.contours.len(),
+            out: a.out.clone(),
+            failed: outcome.failed.into_iter().map(|(_, e)| e).collect(),
+        })
+    }
+}
+
+/// `x` as written for a person: plainly in `[10⁻⁴, 10⁶)`, else in
+/// scientific notation (a tolerance of 1e308 is not 309 digits).
+fn short(x: f64) -> String {
+    if (1e-4..1e6).contains(&x.abs()) {
+        x.to_string()
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// How many times a contour's estimated noise ([`noise_level`]) a
+/// tolerance must be for the fit not to follow the noise: the largest of
+/// a few hundred normal deviates is about 3σ, and a smooth curve through
+/// the true shape is that far from some point.
+const NOISE_FACTOR: f64 = 3.0;
+
+/// Notes on stderr: segment counts raised to a contour's spans, and a
+/// tolerance below what a contour's noise allows.
+fn note_fit(r: &Reconstruction<'_>, fit: &ShapeFit, failed: &[(usize, FitError)]) {
+    let mut err = std::io::stderr().lock();
+    for c in &fit.contours {
+        if let Some(asked) = c.raised_from {
+            let _ = writeln!(
+                err,
+                "metabezier: note: contour {}: {asked} segment(s) asked for, but its corners make {} spans; fitted {} (one per span)",
+                c.contour, c.fit.metrics.segments, c.fit.metrics.segments
+            );
+        }
+    }
+    let Segmentation::Tolerance(t) = r.segmentation else {
+        return;
+    };
+    for c in &r.source.contours {
+        let noise = noise_level(&c.outline.points, c.outline.closed);
+        let failed_here = failed.iter().any(|(k, _)| *k == c.index);
+        if t < NOISE_FACTOR * noise && (failed_here || t < noise) {
+            let _ = writeln!(
+                err,
+                "metabezier: note: contour {}: the tolerance {} is below what its points' noise allows (noise about {noise:.3e}, estimated from their fourth differences): a fit to it follows the noise; a tolerance of {:.3e} or more would not",
+                c.index,
+                short(t),
+                NOISE_FACTOR * noise
+            );
+        }
+    }
+}
+
+impl FitArgs {
+    /// The segmentation asked for: a count, a tolerance, a glyph's true
+    /// breaks, or the default tolerance ([`DEFAULT_TOLERANCE`]).
+    fn segmentation(&self, source: &Source) -> Result<Segmentation, UsageError> {
+        Ok(match (self.segments, self.tolerance, self.true_breaks) {
+            (Some(n), _, _) => Segmentation::Count(usize::try_from(n).unwrap_or(usize::MAX)),
+            (_, Some(t), _) => {
+                if !(t.is_finite() && t > 0.0) {
+                    return Err(UsageError::Tolerance(t));
+                }
+                Segmentation::Tolerance(t)
+            }
+            (_, _, true) => source
+                .true_segmentation()
+                .ok_or_else(|| UsageError::NotAGlyph(self.input.clone()))?,
+            (None, None, false) => Segmentation::Tolerance(DEFAULT_TOLERANCE),
+        })
+    }
+
+    /// What to load: the contours asked for, the glyph sampling a fit at
+    /// true breaks needs, the foreground of an image (refused for other
+    /// inputs).
+    fn load_options(&self) -> Result<LoadOptions, Error> {
+        let function = FunctionType::from_name(&self.function).expect("clap checked the name");
+        let mut load = LoadOptions {
+            contour: self
+                .contour
+                .map_or(ContourChoice::All, ContourChoice::Index),
+            min_samples_per_segment: if self.true_breaks {
+                function.min_points() - 1
+            } else {
+                1
+            },
+            ..LoadOptions::default()
+        };
+        if let Some(name) = &self.foreground {
+            if !matches!(parse_input(&self.input), Ok(Input::Image(_))) {
+                return Err(UsageError::ForegroundNotImage(self.input.clone()).into());
+            }
+            load.image.foreground = Foreground::from_name(name).expect("clap checked the name");
+        }
+        Ok(load)
+    }
+
+    /// The corner detector (none for an angle of 0).
+    fn corners(&self) -> Option<CornerOptions> {
+        (self.corner_angle > 0.0).then_some(CornerOptions {
+            k: usize::from(self.corner_k),
+            angle_deg: self.corner_angle,
+        })
+    }
+
+    /// Function, continuity, closing, parameterisation (`auto` resolved for
+    /// `source`), search space and budget.
+    fn options(&self, source: &Source) -> FitOptions {
+        let function = FunctionType::from_name(&self.function).expect("clap checked the name");
+        let continuity = Continuity::from_name(&self.continuity).expect("clap checked the name");
+        let mut options = FitOptions::new(function, continuity);
+        options.budget_per_segment = self.budget;
+        options.closing = Closing::from_name(&self.closing).expect("clap checked the name");
+        options.parameterisation = match self.parameterisation.as_str() {
+            "auto" => source.auto_parameterisation(self.true_breaks),
+            name => Parameterisation::from_name(name).expect("clap checked the name"),
+        };
+        options.reparameterise = self.reparameterise;
+        options.error = ErrorMeasure::from_name(&self.error).expect("clap checked the name");
+        options.chain = Chain::from_name(&self.chain).expect("clap checked the name");
+        options.search.kind =
+            SearchSpace::from_name(&self.search_space).expect("clap checked the name");
+        options
+    }
+
+    /// The case columns of the fit's `metrics.csv`: everything that decides
+    /// the fit, so that a file read on its own says what made it.
+    fn case(&self, r: &Reconstruction<'_>, method: &Method) -> Vec<(&'static str, String)> {
+        let options = &r.options;
+        let (segmentation, tolerance) = match &r.segmentation {
+            Segmentation::Count(n) => (format!("segments {n}"), String::new()),
+            Segmentation::Tolerance(t) => ("tolerance".to_owned(), t.to_string()),
+            Segmentation::TrueBreaks => ("true-breaks".to_owned(), String::new()),
+            Segmentation::Breaks { .. } | Segmentation::PerContour(_) => {
+                ("breaks".to_owned(), String::new())
+            }
+        };
+        let foreground = match parse_input(&self.input) {
+            Ok(Input::Image(_)) => self.foreground.clone().unwrap_or_else(|| "auto".into()),
+            _ => String::new(),
+        };
+        vec![
+            ("input", self.input.clone()),
+            ("function", options.function.name().to_owned()),
+            ("continuity", options.continuity.name().to_owned()),
+            ("closing", options.closing.name().to_owned()),
+            ("algorithm", method.name()),
+            ("seed", self.seed.to_string()),
+            ("budget_per_segment", self.budget.to_string()),
+            ("search_space", options.search.kind.name().to_owned()),
+            (
+                "parameterisation",
+                options.parameterisation.name().to_owned(),
+            ),
+            ("reparameterise", self.reparameterise.to_string()),
+            ("error", options.error.name().to_owned()),
+            ("chain", options.chain.name().to_owned()),
+            ("segmentation", segmentation),
+            ("tolerance_asked", tolerance),
+            ("corner_angle", self.corner_angle.to_string()),
+            ("corner_k", self.corner_k.to_string()),
+            ("foreground", foreground),
+            (
+                "contours",
+                self.contour
+                    .map_or(ContourChoice::All, ContourChoice::Index)
+                    .name(),
+            ),
+        ]
+    }
+}
+
+/// The summary of a fit of `label`: its metrics, each contour's closing
+/// joint, and the files written.
+fn say_fit(w: &mut String, label: &str, fit: &ShapeFit, wall: f64, paths: &[PathBuf]) {
+    let m = &fit.metrics;
+    say!(
+        w,
+        "{label}: {} contour(s), {} points, {} segments, Hausdorff distance = {:.4e} (data -> curve {:.4e}, curve -> data {:.4e}), RMS distance = {:.4e}, E = {:.6e}, RMS = {:.4e}, {} evaluations, {:.3} s",
+        fit.contours.len(),
+        m.points,
+        m.segments,
+        m.hausdorff,
+        m.max_distance,
+        m.curve_distance,
+        m.rms_distance,
+        m.sse,
+        m.rms,
+        m.evaluations,
+        wall
+    );
+    if let Some(t) = fit
+        .contours
+        .iter()
+        .filter_map(|c| c.fit.tolerance)
+        .reduce(f64::max)
+    {
+        let staircase = fit.contours.iter().any(|c| c.fit.staircase);
+        let (held, what) = if staircase {
+            (
+                m.excess,
+                "two-sided distance beyond the pixel staircase's sagitta",
+            )
+        } else {
+            (m.hausdorff, "Hausdorff distance")
+        };
+        say!(
+            w,
+            "  tolerance {} held: largest {what} {held:.4e} (curve sampled {} times per point gap)",
+            short(t),
+            crate::fit::OUTLINE_SAMPLES
+        );
+    }
+    for c in &fit.contours {
+        if let Some(d) = c.fit.joint_rejected {
+            let why = if c.fit.tolerance.is_some() {
+                "beyond the tolerance"
+            } else {
+                "curve where no data point is"
+            };
+            say!(
+                w,
+                "  contour {}: the joint solve strayed {d:.4e} from the outline ({why}), so the sequential chain was kept",
+                c.contour
+            );
+        }
+    }
+    let at_bounds: usize = fit.contours.iter().map(|c| c.fit.weights_at_bounds).sum();
+    if at_bounds > 0 {
+        say!(
+            w,
+            "  {at_bounds} rational weight(s) at a bound of the weight range: the search box, not the data, decided them"
+        );
+    }
+    for c in &fit.contours {
+        if let Some(j) = c.fit.closing {
+            let at = if j.at_corner {
+                "at a corner, C0".to_owned()
+            } else {
+                format!("{} imposed", j.imposed.name().to_uppercase())
+            };
+            say!(
+                w,
+                "  contour {} ({} segments): closing joint {at}: tangent angle {:.3e}°, relative derivative gap {:.3e}",
+                c.contour,
+                c.fit.metrics.segments,
+                j.angle_degrees,
+                j.relative_derivative_gap
+            );
+        }
+    }
+    for p in paths {
+        say!(w, "  wrote {}", p.display());
+    }
+}
