@@ -117,3 +117,74 @@ fn a_multi_contour_fit_repeats_bit_for_bit_on_one_and_two_threads() {
         }
     });
 }
+
+/// Runs `metabezier fit` with `args` into a fresh directory: the exit
+/// status, stdout, stderr and the directory.
+fn cli_fit(args: &[&str]) -> (bool, String, String, tempfile::TempDir) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_metabezier"))
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .arg("fit")
+        .args(args)
+        .arg("--out")
+        .arg(dir.path().join("out"))
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8(out.stdout).unwrap(),
+        String::from_utf8(out.stderr).unwrap(),
+        dir,
+    )
+}
+
+#[test]
+fn contours_that_fail_are_named_and_the_others_written_with_exit_1() {
+    // 300 segments per contour: the logo's two large contours take them,
+    // its nine small ones have fewer point gaps than that.
+    let (ok, stdout, stderr, dir) = cli_fit(&["data/outlines/logo.png", "--segments", "300"]);
+    assert!(!ok);
+    assert!(stdout.starts_with("logo: 2 contour(s)"), "{stdout}");
+    assert!(
+        stderr.contains("9 of 11 contour(s) could not be fitted (the other 2 are in"),
+        "{stderr}"
+    );
+    for k in 2..11 {
+        assert!(
+            stderr.contains(&format!("\n  contour {k}: 300 segment(s) requested")),
+            "{stderr}"
+        );
+    }
+    let metrics = std::fs::read_to_string(dir.path().join("out/metrics.csv")).unwrap();
+    let contours: Vec<&str> = metrics
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(18).unwrap())
+        .collect();
+    assert_eq!(contours, ["0", "1", "all"], "{metrics}");
+}
+
+#[test]
+fn a_tolerance_below_the_noise_is_said() {
+    // The logo at 0.1 px follows its pixel staircase: a segment every few
+    // points, or a tolerance below the points' estimated noise; each
+    // contour is named. The default says nothing.
+    let (ok, _, stderr, _dir) = cli_fit(&["data/outlines/logo.png", "--tolerance", "0.1"]);
+    assert!(ok, "{stderr}");
+    for k in 0..11 {
+        let line = stderr
+            .lines()
+            .find(|l| {
+                l.starts_with(&format!(
+                    "metabezier: note: contour {k}: the tolerance 0.1 "
+                ))
+            })
+            .unwrap_or_else(|| panic!("contour {k}: {stderr}"));
+        assert!(
+            line.contains("follows the noise") || line.contains("follows the points' noise"),
+            "{line}"
+        );
+    }
+    let (ok, _, stderr, _dir) = cli_fit(&["data/outlines/logo.png"]);
+    assert!(ok && stderr.is_empty(), "{stderr}");
+}

@@ -233,6 +233,9 @@ fn note_fit(r: &Reconstruction<'_>, fit: &ShapeFit, failed: &[(usize, FitError)]
     for c in &r.source.contours {
         let noise = noise_level(&c.outline.points, c.outline.closed);
         let failed_here = failed.iter().any(|(k, _)| *k == c.index);
+        let fitted = fit.contours.iter().find(|f| f.contour == c.index);
+        let per_segment =
+            fitted.map(|f| f.fit.metrics.points as f64 / f.fit.metrics.segments as f64);
         if t < NOISE_FACTOR * noise && (failed_here || t < noise) {
             let _ = writeln!(
                 err,
@@ -241,9 +244,21 @@ fn note_fit(r: &Reconstruction<'_>, fit: &ShapeFit, failed: &[(usize, FitError)]
                 short(t),
                 NOISE_FACTOR * noise
             );
+        } else if let Some(k) = per_segment.filter(|&k| k < MIN_POINTS_PER_SEGMENT) {
+            let _ = writeln!(
+                err,
+                "metabezier: note: contour {}: the tolerance {} takes a segment every {k:.1} points: the fit follows the points' noise or the pixel staircase; a larger tolerance would follow the shape",
+                c.index,
+                short(t)
+            );
         }
     }
 }
+
+/// Fewer data points per segment than this on average, and a tolerance fit
+/// follows its points rather than a shape: a rational cubic needs 5 to be
+/// determined, and a smooth outline at a sensible tolerance takes dozens.
+const MIN_POINTS_PER_SEGMENT: f64 = 8.0;
 
 impl FitArgs {
     /// The segmentation asked for: a count, a tolerance, a glyph's true
