@@ -142,6 +142,10 @@ pub(super) fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
     }
     let source = Source::load(&a.input, Path::new(""), &a.load_options()?)?;
     check_output_dir(&a.out)?;
+    // Staged from the start: another run writing into the same directory
+    // meanwhile is refused, not mixed with this one. Every file is written
+    // there and renamed into place once all are written.
+    let staging = Staging::new(&a.out)?;
     let r = Reconstruction {
         source: &source,
         segmentation: a.segmentation(&source)?,
@@ -171,8 +175,6 @@ pub(super) fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
         r.options.continuity.name().to_uppercase(),
         method.name()
     );
-    // Every file is staged and renamed into place once all are written.
-    let staging = Staging::new(&a.out)?;
     let dir = staging.path();
     let case = a.case(&r, &method);
     let mut paths = write_fit_records(dir, &fit, &case, wall)?;
@@ -257,8 +259,9 @@ fn note_fit(r: &Reconstruction<'_>, fit: &ShapeFit, failed: &[(usize, FitError)]
 
 /// Fewer data points per segment than this on average, and a tolerance fit
 /// follows its points rather than a shape: a rational cubic needs 5 to be
-/// determined, and a smooth outline at a sensible tolerance takes dozens.
-const MIN_POINTS_PER_SEGMENT: f64 = 8.0;
+/// determined, and a smooth outline at a sensible tolerance takes dozens
+/// (the scikit-image logo at 0.5 px: 7.6 on its smallest letter).
+const MIN_POINTS_PER_SEGMENT: f64 = 6.0;
 
 impl FitArgs {
     /// The segmentation asked for: a count, a tolerance, a glyph's true

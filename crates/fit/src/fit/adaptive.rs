@@ -85,6 +85,9 @@ struct Built {
     spans: Vec<(usize, usize)>,
     corner: Vec<bool>,
     discarded: u64,
+    /// The evaluations of segments taken over from another chain (the
+    /// merge pass's unmerged pieces), spent there and not again.
+    reused: u64,
 }
 
 impl Built {
@@ -226,6 +229,7 @@ impl<S: SegmentSolver + ?Sized> Splitter<'_, '_, S> {
                     i = j + 1;
                 }
                 None if self.same_neighbours(first, &built, i) => {
+                    built.reused += first.segments[i].metrics.evaluations;
                     built.push(first.segments[i].clone(), spans[i], first.corner[i]);
                     i += 1;
                 }
@@ -357,11 +361,13 @@ pub fn fit_adaptive<S: SegmentSolver + ?Sized>(
     if split.merge && built.segments.len() > 1 {
         let mut merged = splitter.merge(&built)?;
         let fewer = merged.segments.len() < built.segments.len();
+        // Every fit counts once: the chain not kept is discarded, less
+        // what the merged chain took over from the split's.
         if fewer && split.worst(&merged.segments) <= split.tolerance {
-            merged.discarded += built.discarded + evaluations(&built.segments);
+            merged.discarded += built.discarded + evaluations(&built.segments) - merged.reused;
             built = merged;
         } else {
-            built.discarded += merged.discarded + evaluations(&merged.segments);
+            built.discarded += merged.discarded + evaluations(&merged.segments) - merged.reused;
         }
     }
     let kept = keep_joint_unless_it_strays(

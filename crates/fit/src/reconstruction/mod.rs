@@ -213,7 +213,7 @@ pub enum Segmentation {
     /// span between corners) is refused by [`Reconstruction::fit`] and raised
     /// to it by [`Reconstruction::fit_each`] ([`ContourFit::raised_from`]).
     Count(usize),
-    /// Fit to this tolerance (data units), per contour ([`fit_adaptive`]):
+    /// Fit to this tolerance (data units), per contour ([`crate::fit::fit_adaptive`]):
     /// every segment's two-sided distance to the outline beyond the
     /// staircase's allowance within it, with as few segments as the split
     /// and merge passes find, or the contour fails.
