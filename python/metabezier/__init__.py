@@ -354,8 +354,11 @@ def fit(
     corner_k: int = 5,
 ) -> FitResult:
     """Fits piecewise (rational) Bézier curves to ``points`` as ``metabezier
-    fit`` fits a CSV of points: ``segments`` of them (default 8), or split
-    until every point is within ``tolerance``; ``algorithm`` is an optimiser,
+    fit`` fits a CSV of points: to ``tolerance`` (default 1, in the points'
+    units: every point within it of the curve and the curve within it of the
+    points' polyline, with as few segments as found), or ``segments`` of
+    them; the metrics include ``max_distance`` (data to curve),
+    ``curve_distance`` (curve to data) and ``hausdorff``; ``algorithm`` is an optimiser,
     ``lm`` (the default), or ``<optimiser>+lm``; ``budget`` counts evaluations
     per segment; ``error`` is ``orthogonal`` (the default: each point's
     distance to the curve) or ``fixed`` (the thesis's E at the parameters);

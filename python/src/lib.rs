@@ -19,7 +19,9 @@ use metabezier::outline::{
     outline_from_points, svg_from_str, CornerOptions, CsvOptions, Outline, MAX_COORDINATE,
 };
 use metabezier::problem::{Bounds, Problem};
-use metabezier::reconstruction::{score, Method, Reconstruction, Segmentation, Source};
+use metabezier::reconstruction::{
+    score, Method, Reconstruction, Segmentation, Source, DEFAULT_TOLERANCE,
+};
 use metabezier::report::{write_report, ReportOptions};
 use metabezier::rng::run_rng;
 use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
@@ -574,7 +576,7 @@ fn fit(
                 "tolerance = {t}: expected a finite distance > 0"
             )))
         }
-        (None, None) => Segmentation::Count(8),
+        (None, None) => Segmentation::Tolerance(DEFAULT_TOLERANCE),
     };
     if budget == 0 {
         return Err(PyValueError::new_err(
@@ -638,6 +640,8 @@ fn fit(
         ("rms".to_owned(), m.rms),
         ("rms_distance".to_owned(), m.rms_distance),
         ("max_distance".to_owned(), m.max_distance),
+        ("curve_distance".to_owned(), m.curve_distance),
+        ("hausdorff".to_owned(), m.hausdorff),
         ("evaluations".to_owned(), m.evaluations as f64),
     ];
     Ok((rows, metrics))

@@ -80,6 +80,17 @@ def test_tolerance_and_score(tmp_path):
     assert abs(shifted["max_distance"] - 5.0) < 0.05, shifted
 
 
+def test_the_default_fits_to_a_tolerance_of_one_on_both_sides():
+    # No segments and no tolerance: a tolerance of 1 (the command line's
+    # default), held by the Hausdorff distance; a circle takes 2 rational
+    # cubics, exact.
+    f = mb.fit(circle(), closed=True)
+    assert f.metrics["segments"] == 2, f.metrics
+    assert f.metrics["hausdorff"] <= 1.0, f.metrics
+    assert f.metrics["hausdorff"] >= max(f.metrics["max_distance"], f.metrics["curve_distance"])
+    assert f.metrics["max_distance"] < 1e-9, f.metrics
+
+
 @pytest.mark.parametrize(
     "kwargs, message",
     [

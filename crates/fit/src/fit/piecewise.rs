@@ -5,7 +5,7 @@
 //! * [`fit_piecewise`]: the caller gives them;
 //! * [`fit_segment_count`]: a fixed number of segments, split at equal arc
 //!   length between corner points;
-//! * [`fit_adaptive`]: Schneider's recursive split (Schneider 1990, "An
+//! * [`super::fit_adaptive`]: Schneider's recursive split (Schneider 1990, "An
 //!   algorithm for automatically fitting digitized curves", *Graphics Gems*):
 //!   fit, and while the largest orthogonal distance exceeds a tolerance,
 //!   split at the point of largest error and refit. A corner-free closed
@@ -27,7 +27,7 @@
 //! [`PiecewiseFit::closing`] reports the closing joint's mismatch either way.
 //!
 //! With [`Chain::Joint`] the sequential chain is the start of one solve of
-//! all its segments with shared joins (see `chain.rs`); [`fit_adaptive`]
+//! all its segments with shared joins (see `chain.rs`); [`super::fit_adaptive`]
 //! keeps the joint result only where it stays within its tolerance.
 //!
 //! [`fit_independent`] refits every segment of a reference fit as its own
@@ -97,7 +97,7 @@ pub struct PiecewiseFit {
     pub closed: bool,
     /// The closing joint's mismatch (closed outlines only).
     pub closing: Option<ClosingJoint>,
-    /// Evaluations spent on fits that [`fit_adaptive`] split and discarded
+    /// Evaluations spent on fits that [`super::fit_adaptive`] split and discarded
     /// (included in `metrics.evaluations`; 0 for the other methods).
     pub discarded_evaluations: u64,
     /// The chain that made the segments: [`Chain::Joint`] when the joint
@@ -110,7 +110,7 @@ pub struct PiecewiseFit {
     /// ([`crate::fit::SearchSpaceOptions::weight_range`], within 10⁻⁹
     /// relative): a segment whose shape the box, not the data, decided.
     pub weights_at_bounds: usize,
-    /// The tolerance the fit was held to ([`fit_adaptive`]): every
+    /// The tolerance the fit was held to ([`super::fit_adaptive`]): every
     /// segment's two-sided distance beyond the staircase's allowance
     /// (`metrics.excess`) is within it. `None` for the other methods.
     pub tolerance: Option<f64>,
@@ -400,7 +400,7 @@ impl Plan {
         }
     }
 
-    /// Whether the last segment of a split fit ([`fit_adaptive`]) joins the
+    /// Whether the last segment of a split fit ([`super::fit_adaptive`]) joins the
     /// first one's start: a closed outline closed smoothly, not at a
     /// corner, with a smooth continuity.
     pub(super) fn closes_smoothly_split(
