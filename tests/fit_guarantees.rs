@@ -156,10 +156,12 @@ fn contours_that_fail_are_named_and_the_others_written_with_exit_1() {
         );
     }
     let metrics = std::fs::read_to_string(dir.path().join("out/metrics.csv")).unwrap();
+    let header: Vec<&str> = metrics.lines().next().unwrap().split(',').collect();
+    let at = header.iter().position(|h| *h == "contour").unwrap();
     let contours: Vec<&str> = metrics
         .lines()
         .skip(1)
-        .map(|l| l.split(',').nth(18).unwrap())
+        .map(|l| l.split(',').nth(at).unwrap())
         .collect();
     assert_eq!(contours, ["0", "1", "all"], "{metrics}");
 }
@@ -187,4 +189,43 @@ fn a_tolerance_below_the_noise_is_said() {
     }
     let (ok, _, stderr, _dir) = cli_fit(&["data/outlines/logo.png"]);
     assert!(ok && stderr.is_empty(), "{stderr}");
+}
+
+#[test]
+fn odd_outlines_get_a_documented_result() {
+    let dir = tempfile::tempdir().unwrap();
+    let write = |name: &str, bytes: &[u8]| {
+        let path = dir.path().join(name);
+        std::fs::write(&path, bytes).unwrap();
+        path.display().to_string()
+    };
+    // A one-pixel image has one grey level: refused, naming the file.
+    let png = metabezier_plot::png::encode_png(&[0, 0, 0], 1, 1).unwrap();
+    let one = write("one.png", &png);
+    let (ok, _, stderr, out) = cli_fit(&[&one]);
+    assert!(
+        !ok && stderr.contains("one.png: every pixel has grey level 0"),
+        "{stderr}"
+    );
+    assert!(!out.path().join("out").exists());
+    // A bow tie is fitted as given, crossing where its points cross.
+    let bow = write("bow.csv", b"x,y\n0,0\n10,10\n10,0\n0,10\n0,0\n");
+    let (ok, stdout, stderr, _out) = cli_fit(&[&bow]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stdout.starts_with("bow: 1 contour(s), 4 points, 4 segments"),
+        "{stdout}"
+    );
+    // A tolerance of 1e308 is a tolerance: one segment per corner span.
+    let square = write(
+        "square.csv",
+        b"x,y\n0,0\n5,0\n10,0\n10,5\n10,10\n5,10\n0,10\n0,5\n0,0\n",
+    );
+    let (ok, stdout, stderr, _out) = cli_fit(&[&square, "--tolerance", "1e308"]);
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("tolerance 1e308 held"), "{stdout}");
+    // As few segments as the corners allow: these 8 points have one
+    // corner, so one span round the loop, which one segment cannot close
+    // smoothly on itself: two.
+    assert!(stdout.contains("8 points, 2 segments,"), "{stdout}");
 }
