@@ -229,3 +229,27 @@ fn odd_outlines_get_a_documented_result() {
     // smoothly on itself: two.
     assert!(stdout.contains("8 points, 2 segments,"), "{stdout}");
 }
+
+#[test]
+fn the_horse_at_101_segments_keeps_its_accuracy_on_both_sides() {
+    // potrace's segment count: the command line's defaults stay within
+    // 0.91 px both ways (potrace's own trace: 1.94 px data -> curve) and
+    // 0.23 px RMS.
+    let horse = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/outlines/horse.png");
+    let source = Source::load(
+        &horse.display().to_string(),
+        Path::new(""),
+        &LoadOptions::default(),
+    )
+    .unwrap();
+    let r = Reconstruction {
+        source: &source,
+        segmentation: Segmentation::Count(101),
+        corners: Some(CornerOptions::default()),
+        options: cli_options(),
+    };
+    let m = r.fit(&Method::Exact, 1).unwrap().metrics;
+    assert_eq!(m.segments, 101);
+    assert!(m.max_distance <= 0.91 && m.hausdorff <= 0.91, "{m:?}");
+    assert!(m.curve_distance <= 0.91 && m.rms_distance <= 0.23, "{m:?}");
+}
