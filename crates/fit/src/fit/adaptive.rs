@@ -8,7 +8,8 @@
 //!    tolerance, it is split where that distance is largest and the left
 //!    part refitted, then the right part, in sequence so every joint keeps
 //!    its continuity. A closed contour without corners is first cut at half
-//!    its arc length: one segment cannot close on itself.
+//!    its arc length (one segment cannot close on itself), and so is any
+//!    piece whose outline turns by more than 270° (one segment would loop).
 //! 2. **Merge.** The split leaves more segments than needed where a split
 //!    point fell badly (a circle: 3 where 2 rational cubics are exact). The
 //!    chain is fitted again over the split's breaks, each segment reaching
@@ -88,6 +89,9 @@ struct Built {
     /// The evaluations of segments taken over from another chain (the
     /// merge pass's unmerged pieces), spent there and not again.
     reused: u64,
+    /// The spans fitted and rejected for the tolerance, each after the
+    /// segments kept before it.
+    rejected: Vec<(usize, usize)>,
 }
 
 impl Built {
@@ -167,6 +171,7 @@ impl<S: SegmentSolver + ?Sized> Splitter<'_, '_, S> {
             } else if depth < self.split.max_depth && lo <= hi {
                 let m = (p + self.split.split_at(&fit)).clamp(lo, hi);
                 built.discarded += fit.metrics.evaluations;
+                built.rejected.push((p, q));
                 // The rest starts afresh at m; the piece starting at p has
                 // been rejected once more.
                 stack.push((m, q, 0, false));
@@ -175,6 +180,7 @@ impl<S: SegmentSolver + ?Sized> Splitter<'_, '_, S> {
                 // Too short to split smoothly: the turn inside it is a
                 // corner the detector missed.
                 built.discarded += fit.metrics.evaluations;
+                built.rejected.push((p, q));
                 stack.push((m, q, 0, true));
                 stack.push((p, m, depth + 1, corner));
             } else {
@@ -213,6 +219,15 @@ impl<S: SegmentSolver + ?Sized> Splitter<'_, '_, S> {
             let mut best: Option<(usize, FittedSegment)> = None;
             let mut j = i + 1;
             while j < n && !first.corner[j] && spans[j].1 - spans[i].0 < loop_len {
+                // A span the split already fitted and rejected after the
+                // same neighbours would be rejected again.
+                let again = (spans[i].0, spans[j].1);
+                if first.rejected.contains(&again) && self.same_neighbours(first, &built, i) {
+                    break;
+                }
+                if turning(self.outline, again.0, again.1).abs() > MAX_TURN {
+                    break;
+                }
                 let fit = self.fit(&mut built, spans[i].0, spans[j].1, first.corner[i])?;
                 if self.split.measure(&fit) > self.split.tolerance {
                     built.discarded += fit.metrics.evaluations;
@@ -289,23 +304,54 @@ impl SplitOptions {
     }
 }
 
-/// The initial pieces of `chain`: its spans, a full loop (a closed contour
-/// without corners) cut at half its arc length.
+/// The most a piece's outline may turn (net, radians) for one segment to be
+/// tried on it: 270°. A cubic segment that turns further closes into a
+/// loop; such a piece is cut at half its arc length first (and never
+/// merged back), which spares a fit that cannot hold any tolerance — on an
+/// open circle of 3·10⁵ points, a solve of all of them.
+const MAX_TURN: f64 = 1.5 * std::f64::consts::PI;
+
+/// The net turning of the outline's polyline over points `a..=b`: the sum
+/// of the signed angles between consecutive edges (radians; a pixel
+/// staircase's steps cancel).
+fn turning(outline: &Outline<'_>, a: usize, b: usize) -> f64 {
+    let pts = outline.gather(a, b);
+    pts.windows(3)
+        .map(|w| {
+            let (u, v) = (w[1] - w[0], w[2] - w[1]);
+            u.cross(v).atan2(u.dot(v))
+        })
+        .sum()
+}
+
+/// The point of `a..=b` nearest half its arc length (local index, in
+/// `1..b − a`).
+fn half_way(outline: &Outline<'_>, a: usize, b: usize) -> usize {
+    let cum = outline.cumulative(a, b);
+    let half = cum[b - a] / 2.0;
+    (1..b - a)
+        .min_by(|&i, &j| (cum[i] - half).abs().total_cmp(&(cum[j] - half).abs()))
+        .unwrap_or((b - a) / 2)
+}
+
+/// The initial pieces of `chain`: its spans, each cut at half its arc
+/// length while it is a whole closed loop or turns more than [`MAX_TURN`]
+/// (down to 8 points a piece).
 fn initial_pieces(outline: &Outline<'_>, chain: &Plan) -> Vec<(usize, usize, bool)> {
     let n = outline.len();
     let mut pieces = Vec::with_capacity(chain.spans.len() + 1);
     for (k, &(a, b)) in chain.spans.iter().enumerate() {
         let corner = k > 0 && chain.joins[k] == Continuity::C0;
-        if outline.closed && b - a == n && n >= 4 {
-            let cum = outline.cumulative(a, b);
-            let half = cum[n] / 2.0;
-            let m = (1..n)
-                .min_by(|&i, &j| (cum[i] - half).abs().total_cmp(&(cum[j] - half).abs()))
-                .unwrap_or(n / 2);
-            pieces.push((a, a + m, corner));
-            pieces.push((a + m, b, false));
-        } else {
-            pieces.push((a, b, corner));
+        let mut stack = vec![(a, b, corner)];
+        while let Some((p, q, corner)) = stack.pop() {
+            let loops = outline.closed && q - p == n;
+            if q - p >= 8 && (loops || turning(outline, p, q).abs() > MAX_TURN) {
+                let m = p + half_way(outline, p, q);
+                stack.push((m, q, false));
+                stack.push((p, m, corner));
+            } else {
+                pieces.push((p, q, corner));
+            }
         }
     }
     pieces
