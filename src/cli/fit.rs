@@ -237,10 +237,10 @@ fn note_fit(r: &Reconstruction<'_>, fit: &ShapeFit, failed: &[(usize, FitError)]
         let failed_here = failed.iter().any(|(k, _)| *k == c.index);
         let fitted = fit.contours.iter().find(|f| f.contour == c.index);
         // Segments beyond one per corner span are the tolerance's doing;
-        // an outline of a few dozen points is a polygon, not noise.
+        // an outline of a couple of dozen points is a polygon, not noise.
         let spans = r.corner_indices(c).len().max(1);
         let per_segment = fitted
-            .filter(|f| f.fit.metrics.segments > spans && f.fit.metrics.points >= 64)
+            .filter(|f| f.fit.metrics.segments > spans && f.fit.metrics.points >= 24)
             .map(|f| f.fit.metrics.points as f64 / f.fit.metrics.segments as f64);
         if t < NOISE_FACTOR * noise && (failed_here || t < noise) {
             let _ = writeln!(
