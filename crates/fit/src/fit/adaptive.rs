@@ -176,7 +176,7 @@ impl<S: SegmentSolver + ?Sized> Splitter<'_, '_, S> {
                 // been rejected once more.
                 stack.push((m, q, 0, false));
                 stack.push((p, m, depth + 1, corner));
-            } else if let Some(m) = self.corner_split(&fit, p, q, corner) {
+            } else if let Some(m) = self.corner_split(&fit, p, q) {
                 // Too short to split smoothly: the turn inside it is a
                 // corner the detector missed.
                 built.discarded += fit.metrics.evaluations;
@@ -192,16 +192,19 @@ impl<S: SegmentSolver + ?Sized> Splitter<'_, '_, S> {
 
     /// Where to cut a piece `p..=q` that is beyond the tolerance and too
     /// short to split with a smooth joint: at the point after the gap where
-    /// it strays furthest, made a C⁰ joint (a corner the detector missed;
-    /// the shorter parts get points inserted, [`super::densify`]). `None`
-    /// when the piece has a single gap, or already starts at a corner and
-    /// strays at its start.
-    fn corner_split(&self, fit: &FittedSegment, p: usize, q: usize, corner: bool) -> Option<usize> {
+    /// it strays furthest, made a C⁰ joint — where the outline turns there
+    /// by at least [`MIN_CORNER_TURN`] over two points each side (a corner
+    /// the detector missed; a staircase's steps cancel in that sum). The
+    /// shorter parts get points inserted ([`super::densify`]). `None` when
+    /// the piece has a single gap or the outline does not turn there: the
+    /// requested continuity is not given up on a smooth stretch.
+    fn corner_split(&self, fit: &FittedSegment, p: usize, q: usize) -> Option<usize> {
         if q - p < 2 {
             return None;
         }
         let m = (p + self.split.split_at(fit)).clamp(p + 1, q - 1);
-        (!corner || m > p).then_some(m)
+        let turn = turning(self.outline, m.saturating_sub(2).max(p), (m + 2).min(q));
+        (turn.abs() >= MIN_CORNER_TURN).then_some(m)
     }
 
     /// The chain fitted again over the breaks of `first`, each segment
@@ -303,6 +306,11 @@ impl SplitOptions {
         segments.iter().map(|s| self.measure(s)).fold(0.0, f64::max)
     }
 }
+
+/// The least turn of the outline (radians, net over two points each side)
+/// at which a piece that cannot meet the tolerance smoothly is cut with a
+/// C⁰ joint: 30°, half the corner detector's default.
+const MIN_CORNER_TURN: f64 = std::f64::consts::PI / 6.0;
 
 /// The most a piece's outline may turn (net, radians) for one segment to be
 /// tried on it: 270°. A cubic segment that turns further closes into a
