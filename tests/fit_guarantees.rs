@@ -8,15 +8,11 @@ use metabezier::geometry::Continuity;
 use metabezier::outline::CornerOptions;
 use metabezier::reconstruction::{LoadOptions, Method, Reconstruction, Segmentation, Source};
 
-fn glyph(font: &str, g: char) -> Source {
-    let input = format!(
-        "font:{}:{g}",
-        Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("data/outlines")
-            .join(font)
-            .display()
-    );
-    Source::load(&input, Path::new(""), &LoadOptions::default()).unwrap()
+/// An input of the repository (`data/outlines/horse.png`,
+/// `font:data/outlines/DejaVuSans.ttf:Q`), loaded as `fit` loads it.
+fn source(input: &str) -> Source {
+    let base = Path::new(env!("CARGO_MANIFEST_DIR"));
+    Source::load(input, base, &LoadOptions::default()).unwrap()
 }
 
 /// `metabezier fit`'s options: rational cubics joined G1, the orthogonal
@@ -35,7 +31,7 @@ fn a_joint_solve_that_parks_curve_past_a_corner_is_not_kept() {
     // chain parks curve some 200 units past the tail's corner, every data
     // point still within the tolerance; DejaVu `G` in 20 segments does the
     // same at its spur (about 110 units).
-    let q = glyph("DejaVuSans.ttf", 'Q');
+    let q = source("font:data/outlines/DejaVuSans.ttf:Q");
     let r = Reconstruction {
         source: &q,
         segmentation: Segmentation::Tolerance(0.5),
@@ -54,7 +50,7 @@ fn a_joint_solve_that_parks_curve_past_a_corner_is_not_kept() {
         assert!(m.hausdorff <= 0.5, "{m:?}");
     }
 
-    let g = glyph("DejaVuSans.ttf", 'G');
+    let g = source("font:data/outlines/DejaVuSans.ttf:G");
     let r = Reconstruction {
         source: &g,
         segmentation: Segmentation::Count(20),
@@ -87,13 +83,7 @@ fn a_multi_contour_fit_repeats_bit_for_bit_on_one_and_two_threads() {
     // reference fit, then 6 repeats in this thread and 2 × 6 in two
     // threads at once (anything shared between fits, or depending on
     // timing or allocation, would show).
-    let logo = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/outlines/logo.png");
-    let source = Source::load(
-        &logo.display().to_string(),
-        Path::new(""),
-        &LoadOptions::default(),
-    )
-    .unwrap();
+    let source = source("data/outlines/logo.png");
     assert!(source.contours.len() > 5);
     let r = Reconstruction {
         source: &source,
@@ -236,13 +226,7 @@ fn the_horse_at_101_segments_keeps_its_accuracy_on_both_sides() {
     // potrace's segment count: the command line's defaults stay within
     // 0.91 px both ways (potrace's own trace: 1.94 px data -> curve) and
     // 0.23 px RMS.
-    let horse = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/outlines/horse.png");
-    let source = Source::load(
-        &horse.display().to_string(),
-        Path::new(""),
-        &LoadOptions::default(),
-    )
-    .unwrap();
+    let source = source("data/outlines/horse.png");
     let r = Reconstruction {
         source: &source,
         segmentation: Segmentation::Count(101),

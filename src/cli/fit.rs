@@ -351,9 +351,10 @@ impl FitArgs {
                 ("breaks".to_owned(), String::new())
             }
         };
-        let foreground = match parse_input(&self.input) {
-            Ok(Input::Image(_)) => self.foreground.clone().unwrap_or_else(|| "auto".into()),
-            _ => String::new(),
+        let foreground = if r.source.is_image() {
+            self.foreground.clone().unwrap_or_else(|| "auto".into())
+        } else {
+            String::new()
         };
         vec![
             ("input", self.input.clone()),

@@ -389,12 +389,7 @@ pub fn fit_adaptive<S: SegmentSolver + ?Sized>(
     }
     options.validate()?;
     let outline = Outline::new(points, closed, options.function.min_points())?;
-    let spans = outline.spans(corners)?;
-    let corner: Vec<bool> = spans
-        .iter()
-        .map(|&(a, _)| corners.contains(&(a % points.len())))
-        .collect();
-    let chain = Plan::new(&outline, spans, &corner, options);
+    let chain = Plan::at_corners(&outline, outline.spans(corners)?, corners, options);
     let mut splitter = Splitter {
         outline: &outline,
         options,

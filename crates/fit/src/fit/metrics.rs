@@ -2,7 +2,7 @@
 //!
 //! Deterministic outputs only; wall time is for the caller to measure.
 
-use crate::geometry::{nearest, Curve, Point};
+use crate::geometry::{nearest, segment_foot, Curve, Point};
 
 /// The quality and cost of one fitted segment.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -198,7 +198,13 @@ fn outline_distance_from<C: Curve + ?Sized>(
     // could raise the result: the true distance is at most the nearby one.
     let nearest_edge = |c: Point, range: std::ops::Range<usize>| {
         let (d2, e) = range
-            .map(|e| (segment_distance_squared(c, points[e], points[e + 1]), e))
+            // Squared, so that the search over edges takes no root per edge.
+            .map(|e| {
+                (
+                    (segment_foot(c, points[e], points[e + 1]).1 - c).hypot2(),
+                    e,
+                )
+            })
             .fold((f64::INFINITY, 0), |a, b| if b.0 < a.0 { b } else { a });
         (d2.sqrt(), e)
     };
@@ -231,19 +237,6 @@ fn note(worst: &mut OutlineDistance, d: f64, gap: usize, allowed: f64) {
         worst.excess = d - allowed;
         worst.gap = gap;
     }
-}
-
-/// The squared distance from `q` to the segment `[a, b]` (squared, so that
-/// the search over edges takes no square root per edge).
-fn segment_distance_squared(q: Point, a: Point, b: Point) -> f64 {
-    let d = b - a;
-    let len2 = d.hypot2();
-    let t = if len2 > 0.0 {
-        ((q - a).dot(d) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (a + d * t - q).hypot2()
 }
 
 /// A local foot parameter of `q` on `curve` near `s0`: Newton's method on

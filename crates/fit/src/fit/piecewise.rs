@@ -400,6 +400,21 @@ impl Plan {
         }
     }
 
+    /// [`Plan::new`] with the spans that start at one of `corners` (outline
+    /// indices) as corners.
+    pub(super) fn at_corners(
+        outline: &Outline<'_>,
+        spans: Vec<(usize, usize)>,
+        corners: &[usize],
+        options: &FitOptions,
+    ) -> Plan {
+        let corner: Vec<bool> = spans
+            .iter()
+            .map(|&(a, _)| corners.contains(&(a % outline.len())))
+            .collect();
+        Plan::new(outline, spans, &corner, options)
+    }
+
     /// Whether the last segment of a split fit ([`super::fit_adaptive`]) joins the
     /// first one's start: a closed outline closed smoothly, not at a
     /// corner, with a smooth continuity.
@@ -495,12 +510,7 @@ pub fn fit_breaks<S: SegmentSolver + ?Sized>(
 ) -> Result<PiecewiseFit, FitError> {
     options.validate()?;
     let outline = Outline::new(points, closed, options.function.min_points())?;
-    let spans = outline.spans(breaks)?;
-    let corner: Vec<bool> = spans
-        .iter()
-        .map(|&(a, _)| corners.contains(&(a % points.len())))
-        .collect();
-    let chain = Plan::new(&outline, spans, &corner, options);
+    let chain = Plan::at_corners(&outline, outline.spans(breaks)?, corners, options);
     fit_chain(&outline, &chain, options, solver)
 }
 

@@ -7,7 +7,7 @@
 //! ±[`MAX_SCORE_COORDINATE`].
 
 use super::Source;
-use crate::geometry::{nearest, Point};
+use crate::geometry::{nearest, segment_foot, Point};
 use crate::outline::Segment;
 
 /// The largest coordinate magnitude [`score`] accepts, for curves (in the
@@ -90,16 +90,7 @@ pub struct Score {
 /// The orthogonal distance from `p` to a segment.
 pub fn segment_distance(s: &Segment, p: Point) -> f64 {
     match s {
-        Segment::Line(a, b) => {
-            let d = *b - *a;
-            let l2 = d.hypot2();
-            let t = if l2 > 0.0 {
-                ((p - *a).dot(d) / l2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            a.lerp(*b, t).distance(p)
-        }
+        Segment::Line(a, b) => segment_foot(p, *a, *b).1.distance(p),
         Segment::Quad(q) => nearest(q, p).1,
         Segment::Cubic(c) => nearest(c, p).1,
     }
@@ -278,37 +269,16 @@ fn curve_to_outline(curves: &[Vec<Segment>], source: &Source) -> f64 {
         let per = crate::fit::OUTLINE_SAMPLES as f64 * polygon / gap;
         let samples = per.ceil().clamp(16.0, 1e5) as usize;
         for j in 0..=samples {
-            let q = eval_segment(s, j as f64 / samples as f64);
+            let q = s.eval(j as f64 / samples as f64);
+            // Squared, so that the search over edges takes no root per edge.
             let d2 = edges
                 .iter()
-                .map(|&(a, b)| edge_distance_squared(q, a, b))
+                .map(|&(a, b)| (segment_foot(q, a, b).1 - q).hypot2())
                 .fold(f64::INFINITY, f64::min);
             worst = worst.max(d2.sqrt());
         }
     }
     worst
-}
-
-/// The point of a scored segment at parameter `t`.
-fn eval_segment(s: &Segment, t: f64) -> Point {
-    use crate::geometry::Curve;
-    match s {
-        Segment::Line(a, b) => a.lerp(*b, t),
-        Segment::Quad(q) => q.eval(t),
-        Segment::Cubic(c) => c.eval(t),
-    }
-}
-
-/// The squared distance from `q` to the edge `[a, b]`.
-fn edge_distance_squared(q: Point, a: Point, b: Point) -> f64 {
-    let d = b - a;
-    let l2 = d.hypot2();
-    let t = if l2 > 0.0 {
-        ((q - a).dot(d) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (a + d * t - q).hypot2()
 }
 
 #[cfg(test)]
