@@ -139,6 +139,11 @@ enum Command {
         /// Output directory [default: results/<spec file stem>].
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Write the implant of the slices that pass the plausibility
+        /// checks as implant.partial.stl (the report's first line names the
+        /// refused slices) instead of refusing the whole design.
+        #[arg(long)]
+        allow_partial: bool,
     },
 }
 
@@ -291,7 +296,11 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
         }
         Command::Fit(args) => fit::fit(*args, w),
         Command::Score(args) => score_curves(args, w),
-        Command::Implant { spec, out } => implant(&spec, out, w),
+        Command::Implant {
+            spec,
+            out,
+            allow_partial,
+        } => implant(&spec, out, allow_partial, w),
         Command::List => {
             list(w);
             Ok(())
@@ -564,7 +573,12 @@ fn list(w: &mut String) {
 
 /// `metabezier implant`: load and check the spec, then run it; nothing is
 /// written when the spec is invalid, and the STL only for a checked mesh.
-fn implant(spec: &Path, out: Option<PathBuf>, w: &mut String) -> Result<(), Error> {
+fn implant(
+    spec: &Path,
+    out: Option<PathBuf>,
+    allow_partial: bool,
+    w: &mut String,
+) -> Result<(), Error> {
     let s = crate::implant::ImplantSpec::load(spec)?;
     let out = out.unwrap_or_else(|| {
         let stem = spec
@@ -573,7 +587,8 @@ fn implant(spec: &Path, out: Option<PathBuf>, w: &mut String) -> Result<(), Erro
         PathBuf::from("results").join(stem)
     });
     check_output_dir(&out)?;
-    let r = crate::implant::run_implant(&s, &out)?;
+    let options = crate::implant::RunOptions { allow_partial };
+    let r = crate::implant::run_implant_with(&s, &out, options)?;
     if let Some(t) = r.pipeline_seconds {
         say!(w, "real defect: load to STL in {t:.2} s");
     }

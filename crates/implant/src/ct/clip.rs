@@ -106,6 +106,23 @@ pub fn clip_to_tissue(
     threshold: i16,
     subdivision: usize,
 ) -> Option<Clipped> {
+    clip_to_tissue_keeping(section, slice, threshold, subdivision, &[])
+}
+
+/// [`clip_to_tissue`], except within the capsules `keep` (the points within
+/// a distance `r` of a segment `pq`, as `(p, q, r)` in mm), where the
+/// section is kept as it is: the last millimetre of the implant's outer
+/// wall at each seat, so that its outer surface meets the bone where it was
+/// designed to rather than where its last fraction of a millimetre dips
+/// below the threshold iso-contour (a feather edge whose direction is not
+/// the wall's; issue 48).
+pub fn clip_to_tissue_keeping(
+    section: &Polyline,
+    slice: &Slice,
+    threshold: i16,
+    subdivision: usize,
+    keep: &[(Point, Point, f64)],
+) -> Option<Clipped> {
     let (lo, hi) = section.bbox()?;
     let s = subdivision.max(1) as f64;
     let (sx, sy) = (slice.sx, slice.sy);
@@ -124,6 +141,13 @@ pub fn clip_to_tissue(
     for j in 0..grid.ny {
         for i in 0..grid.nx {
             let (row, col) = (r0 + j as f64 / s, c0 + i as f64 / s);
+            let node = grid.node(i, j);
+            if keep
+                .iter()
+                .any(|&(p, q, r)| segment_distance(node, p, q) <= r)
+            {
+                continue;
+            }
             let hu = slice.bilinear(row, col, -1024.0);
             let f = &mut field[j * grid.nx + i];
             *f = f.min(threshold as f64 - hu);

@@ -286,9 +286,7 @@ pub enum CtError {
     },
     /// A point that must lie on a contour (A, B, or a mirrored end) is too far
     /// from it.
-    #[error(
-        "{what} is not on the bone contour: {distance_mm:.2} mm away (tolerance {tolerance_mm:.2} mm)"
-    )]
+    #[error("{what} is not on the bone contour: {}", off_contour(*distance_mm, *tolerance_mm))]
     NotOnContour {
         /// Which point.
         what: &'static str,
@@ -793,6 +791,17 @@ fn syntax_label(uid: &str) -> String {
     match NAMES.iter().find(|(u, _)| *u == uid) {
         Some((_, name)) => format!("{uid} ({name})"),
         None => format!("{uid:?}"),
+    }
+}
+
+/// How far a point is from the contour it must lie on: a distance, or, where
+/// no ray from the polar centre meets the contour there (an infinite
+/// distance), that.
+fn off_contour(distance_mm: f64, tolerance_mm: f64) -> String {
+    if distance_mm.is_finite() {
+        format!("{distance_mm:.2} mm away (tolerance {tolerance_mm:.2} mm)")
+    } else {
+        format!("the ray from the polar centre through it meets no outer contour (tolerance {tolerance_mm:.2} mm)")
     }
 }
 

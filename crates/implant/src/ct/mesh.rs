@@ -105,11 +105,83 @@ fn positive(p: &Polyline) -> Polyline {
     }
 }
 
+/// `n` points of the closed polyline `ring` spaced evenly by arc length
+/// between consecutive `anchors` (each anchor's nearest point on the ring
+/// is a sample): a feature the resampling must keep (the seats, where the
+/// implant meets the bone) is not cut off between two samples. Each arc
+/// between anchors gets samples in proportion to its length, at least one;
+/// without anchors (or with more anchors than `n`), [`Polyline::resample`].
+pub fn resample_through(ring: &Polyline, anchors: &[Point], n: usize) -> Polyline {
+    let cum = ring.cumulative_lengths();
+    let total = cum.last().copied().unwrap_or(0.0);
+    let mut at: Vec<f64> = anchors
+        .iter()
+        .filter_map(|&a| ring.nearest(a))
+        .map(|m| {
+            let (p, q) = ring.segment(m.segment);
+            cum[m.segment] + m.t * p.distance(q)
+        })
+        .collect();
+    at.sort_by(f64::total_cmp);
+    at.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+    if at.is_empty() || at.len() > n || total <= 0.0 {
+        return ring.resample(n);
+    }
+    let m = at.len();
+    let lens: Vec<f64> = (0..m)
+        .map(|k| {
+            if k + 1 < m {
+                at[k + 1] - at[k]
+            } else {
+                at[0] + total - at[k]
+            }
+        })
+        .collect();
+    // Largest remainders, at least one sample an arc.
+    let spare = (n - m) as f64;
+    let mut counts: Vec<usize> = lens
+        .iter()
+        .map(|l| 1 + (spare * l / total).floor() as usize)
+        .collect();
+    let mut order: Vec<usize> = (0..m).collect();
+    order.sort_by(|&i, &j| {
+        let f = |k: usize| spare * lens[k] / total - (spare * lens[k] / total).floor();
+        f(j).total_cmp(&f(i)).then(i.cmp(&j))
+    });
+    let mut left = n - counts.iter().sum::<usize>();
+    for &k in order.iter().cycle().take(m * 2) {
+        if left == 0 {
+            break;
+        }
+        counts[k] += 1;
+        left -= 1;
+    }
+    let mut pts = Vec::with_capacity(n);
+    for k in 0..m {
+        for i in 0..counts[k] {
+            let s = (at[k] + lens[k] * i as f64 / counts[k] as f64).rem_euclid(total);
+            pts.push(ring.point_at(s));
+        }
+    }
+    Polyline::closed(pts)
+}
+
 /// The rings of a loft: each section oriented counter-clockwise,
 /// resampled by arc length to `n` points, and its start rotated to best
 /// match the previous ring (least squares over the `n` cyclic shifts, which
 /// avoids twisting). Errors as [`loft`].
 pub fn loft_rings(sections: &[Polyline], zs: &[f64], n: usize) -> Result<Vec<Polyline>, CtError> {
+    loft_rings_through(sections, &[], zs, n)
+}
+
+/// [`loft_rings`] with each section's ring resampled through its
+/// `anchors` ([`resample_through`]; none where `anchors` is shorter).
+pub fn loft_rings_through(
+    sections: &[Polyline],
+    anchors: &[Vec<Point>],
+    zs: &[f64],
+    n: usize,
+) -> Result<Vec<Polyline>, CtError> {
     if sections.len() < 2 || sections.len() != zs.len() {
         return Err(CtError::LoftSections {
             sections: sections.len(),
@@ -132,7 +204,7 @@ pub fn loft_rings(sections: &[Polyline], zs: &[f64], n: usize) -> Result<Vec<Pol
         }
         let mut closed = positive(s);
         closed.closed = true;
-        let r = closed.resample(n).points;
+        let r = resample_through(&closed, anchors.get(k).map_or(&[][..], |a| &a[..]), n).points;
         let r = match rings.last() {
             None => r,
             Some(prev) => {

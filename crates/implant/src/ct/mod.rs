@@ -17,6 +17,7 @@ pub mod defect;
 pub mod dicom;
 pub mod edt;
 pub mod error;
+pub mod hull;
 pub mod inv3;
 pub mod mask;
 pub mod mesh;
@@ -34,7 +35,7 @@ pub use bone::{
     bone_mask_slice, bone_mask_slice_holding, bone_mask_volume, largest_component_2d,
     largest_component_3d, threshold_slice, BONE_THRESHOLD_HU,
 };
-pub use clip::{clip_to_tissue, Clipped};
+pub use clip::{clip_to_tissue, clip_to_tissue_keeping, Clipped};
 pub use contour::{bone_loops, marching_squares, table_contours, TableContours};
 pub use defect::{detect_defect, Defect, DefectParams};
 pub use dicom::{
@@ -42,9 +43,12 @@ pub use dicom::{
 };
 pub use edt::edt_squared;
 pub use error::{CtError, DicomProblem, Inv3Problem};
+pub use hull::ConvexHull;
 pub use inv3::{read_inv3, write_inv3};
 pub use mask::{Mask2, Mask3};
-pub use mesh::{loft, loft_rings, mesh_of_rings, slice_mesh, Mesh};
+pub use mesh::{
+    loft, loft_rings, loft_rings_through, mesh_of_rings, resample_through, slice_mesh, Mesh,
+};
 pub use metrics::{
     boundary_dice, contour_deviation, dice, hd95, percentile, surface, surface_distances,
     ContourDeviation,

@@ -19,21 +19,28 @@
 //! | [`polar`] | the contours about the polar centre: envelope, mirror, local table, thickness |
 //! | [`continuation`] | the template across the midline: both sides continued, G² (beyond the thesis) |
 //! | [`wall`] | one slice's outer and inner wall ([`design_outer`], [`finish_wall`], [`reconstruct_wall`]) |
+//! | [`delivered`] | the STL's ring of each slice measured like the design: kinks at the seats, thickness |
 //! | [`seats`] | the seats A′ and B′ of a stack of slices, chosen jointly (Viterbi) |
 //! | [`smooth`] | thickness and outer-wall smoothing across slices |
 //! | [`pipeline`] | the real defect: slices → mesh → voxels ([`reconstruct_defect`]) |
+//! | [`regions`] | where the method works: validation cases by region (front, back, vertex, skull base) |
 //! | [`validation`] | artificial defects on intact bone, one slice each, AutoImplant metrics |
 //! | [`validation3d`] | patches across slices through the whole pipeline, 3D metrics |
 //! | [`spec`], [`run`] | the TOML experiment and its driver (`metabezier implant`) |
 //! | [`checks`] | the spec checked against its volume before anything is computed or written |
+//! | [`plausibility`] | each designed slice checked before anything is written (width jump, hull, wrap, volume, fit) |
 //! | [`units`] | the independent units of the validation verdicts (slice clusters × positions) |
 //! | [`tables`], [`tables3d`] | its tables: report sections and CSV files |
 //! | [`render`] | its pictures: slice overlays and the 3D preview |
 
 pub mod checks;
 pub mod continuation;
+pub mod delivered;
 pub mod pipeline;
+pub mod plausibility;
 pub mod polar;
+pub mod refusal;
+pub mod regions;
 pub mod seats;
 pub mod slice_error;
 pub mod smooth;
@@ -42,11 +49,12 @@ pub mod wall_input;
 
 pub use continuation::TemplateSource;
 pub use pipeline::{
-    build_mesh, build_mesh_with, check_distinct_ends, index_of, reconstruct_defect,
-    reconstruct_defect_with, reconstruct_from, resolve_midline, slice_context, slice_index,
-    slice_mask, DefectConfig, Ends, Implant, ImplantError, MidlineSpec, SliceContext, SliceResult,
-    SliceSpec, Smoothing, Templates, MIN_MIDLINE_DICE,
+    build_mesh, build_mesh_through, build_mesh_with, check_distinct_ends, index_of,
+    reconstruct_defect, reconstruct_defect_with, reconstruct_from, resolve_midline, slice_context,
+    slice_index, slice_mask, DefectConfig, Ends, Implant, ImplantError, MidlineSpec, SliceContext,
+    SliceResult, SliceSpec, Smoothing, Templates, MIN_MIDLINE_DICE,
 };
+pub use plausibility::{Check, CheckValues, Finding, PlausibilityLimits};
 pub use seats::{choose_seats, SeatProfile, SeatRule};
 pub use slice_error::SliceError;
 pub use smooth::{lipschitz_envelope, roughness, smooth_outer_walls};
@@ -65,7 +73,7 @@ pub mod units;
 pub mod validation;
 pub mod validation3d;
 
-pub use run::{load_volume, run_implant, RunSummary};
+pub use run::{load_volume, run_implant, run_implant_with, RunOptions, RunSummary, PARTIAL_STL};
 pub use spec::{ImplantSpec, Validation3dSpec, ValidationSpec};
 pub use template::{read_templates, templates_csv};
 pub use validation::{

@@ -6,6 +6,9 @@
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
+use super::delivered::{delivered_ring, measure_delivered, Delivered};
+use super::plausibility::{CheckValues, Finding};
+use super::refusal::{accepted_mesh, design_checks, finish_refused, slice_hull, wall_checks};
 use super::seats::choose_seats;
 use super::slice_error::SliceError;
 use super::smooth::{lipschitz_envelope, roughness, smooth_outer_walls};
@@ -15,8 +18,8 @@ use super::wall::{
 };
 use crate::ct::{
     bone_loops, bone_mask_slice, bone_mask_slice_holding, detect_defect, estimate_tilted_midline,
-    loft_rings, voxelise, CtError, DefectParams, Frame, Mask2, Mask3, Mesh, MidLine, Polyline,
-    TableContours, Volume,
+    loft_rings_through, voxelise, CtError, DefectParams, Frame, Mask2, Mask3, Mesh, MidLine,
+    Polyline, TableContours, Volume,
 };
 use crate::files::IoError;
 use crate::fit::SegmentSolver;
@@ -258,6 +261,19 @@ pub enum ImplantError {
         /// The slice.
         z: usize,
     },
+    /// Slices of the design failed a plausibility check
+    /// ([`super::plausibility`]): nothing is written, unless
+    /// `--allow-partial` and some slice passed.
+    #[error("{}", implausible_message(slices, *total, *allow_partial))]
+    Implausible {
+        /// The refused slices and their failed checks.
+        slices: Vec<(usize, String)>,
+        /// The design's slices.
+        total: usize,
+        /// Whether `--allow-partial` was given (then more slices failed
+        /// than `max_refused_fraction` allows).
+        allow_partial: bool,
+    },
     /// A statistic of the validation could not be computed.
     #[error("statistics: {0}")]
     Stats(#[from] StatsError),
@@ -282,6 +298,24 @@ impl ImplantError {
             source: Box::new(source.into()),
         }
     }
+}
+
+/// The message of [`ImplantError::Implausible`]: every refused slice on
+/// its own line, then what to do.
+fn implausible_message(slices: &[(usize, String)], total: usize, allow_partial: bool) -> String {
+    let mut m = format!(
+        "the design failed its plausibility checks on {} of {total} slices; no implant was written:",
+        slices.len()
+    );
+    for (z, why) in slices {
+        m.push_str(&format!("\n  slice z = {z} refused: {why}"));
+    }
+    m.push_str(if allow_partial {
+        "\nToo many slices are refused for the rest to be trusted (more than `max_refused_fraction` in [checks]), so --allow-partial writes nothing either: the defect's detection failed as a whole. Give A and B by hand on these slices ([[defect.end]]), check `threshold` and the defect's slice range, or loosen a limit in [checks] if the design is right."
+    } else {
+        "\nRerun with --allow-partial to write `implant.partial.stl` without these slices (metrics.csv then lists every check), give A and B by hand on them ([[defect.end]]), or loosen a limit in [checks] if the design is right."
+    });
+    m
 }
 
 /// The message of an error on slice `z`.
@@ -320,6 +354,23 @@ pub struct SliceResult {
     /// The same roughness of the templates (the mirrored bone): what the
     /// bone itself has.
     pub template_roughness_mm: Option<f64>,
+    /// The values of the plausibility checks
+    /// ([`super::plausibility`]).
+    pub checks: CheckValues,
+    /// The checks that failed: the slice is refused (no piece of the mesh)
+    /// when there is any.
+    pub findings: Vec<Finding>,
+    /// The slice's ring of the STL measured like the design
+    /// ([`super::delivered`]; `None` for a refused slice).
+    pub delivered: Option<Delivered>,
+}
+
+impl SliceResult {
+    /// Whether the slice passed every plausibility check (it is in the
+    /// mesh).
+    pub fn accepted(&self) -> bool {
+        self.findings.is_empty()
+    }
 }
 
 /// The reconstructed implant.
@@ -341,6 +392,11 @@ pub struct Implant {
 }
 
 impl Implant {
+    /// The slices that failed a plausibility check (not in the mesh).
+    pub fn refused(&self) -> impl Iterator<Item = &SliceResult> {
+        self.slices.iter().filter(|s| !s.accepted())
+    }
+
     /// The mesh in the volume's patient coordinates.
     pub fn patient_mesh(&self) -> Mesh {
         self.frame.mesh_to_patient(&self.mesh)
@@ -595,14 +651,17 @@ pub fn reconstruct_from<S: SegmentSolver + ?Sized>(
     solver: &mut S,
 ) -> Result<Implant, ImplantError> {
     let zs: Vec<usize> = contexts.iter().map(|c| c.z).collect();
-    let mut designs = design_walls(volume, cfg, midline, contexts, kind, solver)?;
-    smooth_outer_walls(&mut designs, &zs, cfg.smoothing.wall_half_width, &cfg.wall)?;
-    let thickness = smoothed_thickness(&designs, &zs, cfg.smoothing.max_thickness_step_mm);
+    let designs = design_walls(volume, cfg, midline, contexts, kind, solver)?;
+    let checks = design_checks(&designs, &zs, &cfg.wall);
+    let walls = finished_walls(volume, cfg, contexts, designs, &checks)?;
     let mut slices = Vec::with_capacity(contexts.len());
-    for ((ctx, design), t) in contexts.iter().zip(designs).zip(thickness) {
-        let slice = volume.slice(ctx.k);
-        let wall = finish_wall(design, t, Some((&slice, cfg.threshold)), &cfg.wall)
-            .map_err(|source| ImplantError::on_slice(ctx.z, source))?;
+    for ((ctx, wall), (pre, _)) in contexts.iter().zip(walls).zip(&checks) {
+        let hull = slice_hull(volume, &ctx.mask, &midline);
+        let (values, findings) = wall_checks(&wall, &hull, pre, &cfg.wall);
+        let delivered = findings.is_empty().then(|| {
+            let ring = delivered_ring(&wall, cfg.ring_points);
+            measure_delivered(&ring, &wall.design)
+        });
         slices.push(SliceResult {
             z: ctx.z,
             ends_mm: ctx.ends,
@@ -614,12 +673,26 @@ pub fn reconstruct_from<S: SegmentSolver + ?Sized>(
             bone_overlap_fraction: 0.0,
             roughness_mm: None,
             template_roughness_mm: None,
+            delivered,
+            checks: values,
+            findings,
         });
     }
     let indices: Vec<usize> = contexts.iter().map(|c| c.k).collect();
     let sections: Vec<Polyline> = slices.iter().map(|s| s.wall.section.clone()).collect();
+    let accepted: Vec<bool> = slices.iter().map(SliceResult::accepted).collect();
     let slab = slab_thickness(volume, cfg, &zs)?;
-    let (mesh, mask) = build_mesh_with(volume, &indices, &sections, cfg.ring_points, slab)?;
+    let seats: Vec<Vec<Point>> = slices
+        .iter()
+        .map(|s| vec![s.wall.design.a, s.wall.design.b])
+        .collect();
+    let (mesh, mask) = accepted_mesh(
+        volume,
+        &indices,
+        (&sections, &seats),
+        &accepted,
+        (cfg.ring_points, slab),
+    )?;
     measure_slices(volume, cfg, &mask, &mut slices);
     Ok(Implant {
         slices,
@@ -629,6 +702,46 @@ pub fn reconstruct_from<S: SegmentSolver + ?Sized>(
         mask,
         frame: volume.frame(),
     })
+}
+
+/// The finished walls of a stack: the designs that pass the design checks
+/// (`checks`) smoothed across slices, their thickness limited between
+/// slices, each finished and clipped; a refused design finished on its own
+/// ([`finish_refused`]) without touching its neighbours.
+fn finished_walls(
+    volume: &Volume,
+    cfg: &DefectConfig,
+    contexts: &[SliceContext],
+    designs: Vec<OuterDesign>,
+    checks: &[(CheckValues, Vec<Finding>)],
+) -> Result<Vec<Wall>, ImplantError> {
+    let kept: Vec<bool> = checks.iter().map(|c| c.1.is_empty()).collect();
+    let (mut good, mut refused): (Vec<_>, Vec<_>) = contexts
+        .iter()
+        .zip(designs)
+        .zip(kept)
+        .partition(|(_, ok)| *ok);
+    let zs: Vec<usize> = good.iter().map(|((c, _), _)| c.z).collect();
+    let mut gd: Vec<OuterDesign> = good.iter().map(|((_, d), _)| d.clone()).collect();
+    smooth_outer_walls(&mut gd, &zs, cfg.smoothing.wall_half_width, &cfg.wall)?;
+    let thickness = smoothed_thickness(&gd, &zs, cfg.smoothing.max_thickness_step_mm);
+    for (((_, g), _), d) in good.iter_mut().zip(gd) {
+        *g = d;
+    }
+    let mut walls: Vec<(usize, Wall)> = Vec::with_capacity(contexts.len());
+    for (((ctx, design), _), t) in good.into_iter().zip(thickness) {
+        let slice = volume.slice(ctx.k);
+        let wall = finish_wall(design, t, Some((&slice, cfg.threshold)), &cfg.wall)
+            .map_err(|source| ImplantError::on_slice(ctx.z, source))?;
+        walls.push((ctx.z, wall));
+    }
+    for ((ctx, design), _) in refused.drain(..) {
+        let slice = volume.slice(ctx.k);
+        let wall = finish_refused(design, Some((&slice, cfg.threshold)), &cfg.wall);
+        walls.push((ctx.z, wall));
+    }
+    walls.sort_by_key(|w| w.0);
+    Ok(walls.into_iter().map(|w| w.1).collect())
 }
 
 /// The seats and the outer design of every slice.
@@ -681,16 +794,22 @@ fn smoothed_thickness(designs: &[OuterDesign], zs: &[usize], step: f64) -> Vec<(
 
 /// Each slice's implant pixels, bone overlap and outer-wall roughness.
 fn measure_slices(volume: &Volume, cfg: &DefectConfig, mask: &Mask3, slices: &mut [SliceResult]) {
-    let walls: Vec<&Polyline> = slices.iter().map(|s| &s.wall.design.outer).collect();
-    let zs: Vec<usize> = slices.iter().map(|s| s.z).collect();
-    let o = slices
+    // Over the accepted slices: a refused wall is no part of the surface.
+    let ok: Vec<&SliceResult> = slices.iter().filter(|s| s.accepted()).collect();
+    let walls: Vec<&Polyline> = ok.iter().map(|s| &s.wall.design.outer).collect();
+    let zs: Vec<usize> = ok.iter().map(|s| s.z).collect();
+    let o = ok.iter().fold(Point::ZERO, |a, s| a + s.wall.design.centre) / ok.len().max(1) as f64;
+    let templates: Vec<&Polyline> = ok.iter().map(|s| &s.wall.design.template).collect();
+    let mut rough = roughness(&walls, &zs, o).into_iter();
+    let mut bone = roughness(&templates, &zs, o).into_iter();
+    let per_slice: Vec<(Option<f64>, Option<f64>)> = slices
         .iter()
-        .fold(Point::ZERO, |a, s| a + s.wall.design.centre)
-        / slices.len().max(1) as f64;
-    let rough = roughness(&walls, &zs, o);
-    let templates: Vec<&Polyline> = slices.iter().map(|s| &s.wall.design.template).collect();
-    let bone = roughness(&templates, &zs, o);
-    for ((s, r), t) in slices.iter_mut().zip(rough).zip(bone) {
+        .map(|s| match s.accepted() {
+            true => (rough.next().flatten(), bone.next().flatten()),
+            false => (None, None),
+        })
+        .collect();
+    for (s, (r, t)) in slices.iter_mut().zip(per_slice) {
         s.template_roughness_mm = t;
         let k = s.z - cfg.first_z;
         let sl = volume.slice(k);
@@ -743,20 +862,35 @@ pub fn build_mesh_with(
     ring_points: usize,
     slab_mm: f64,
 ) -> Result<(Mesh, Mask3), ImplantError> {
+    build_mesh_through(volume, indices, (sections, &[]), ring_points, slab_mm)
+}
+
+/// [`build_mesh_with`] with each ring resampled through its section's
+/// `anchors` (the seats; [`crate::ct::resample_through`]).
+pub fn build_mesh_through(
+    volume: &Volume,
+    indices: &[usize],
+    (sections, anchors): (&[Polyline], &[Vec<Point>]),
+    ring_points: usize,
+    slab_mm: f64,
+) -> Result<(Mesh, Mask3), ImplantError> {
     let sz = volume.spacing.z;
-    let (secs, zs): (Vec<Polyline>, Vec<f64>) = if sections.len() == 1 {
+    let (secs, zs, anchors): (Vec<Polyline>, Vec<f64>, Vec<Vec<Point>>) = if sections.len() == 1 {
         let z = indices[0] as f64 * sz;
+        let a = anchors.first().cloned().unwrap_or_default();
         (
             vec![sections[0].clone(), sections[0].clone()],
             vec![z - 0.5 * slab_mm, z + 0.5 * slab_mm],
+            vec![a.clone(), a],
         )
     } else {
         (
             sections.to_vec(),
             indices.iter().map(|&k| k as f64 * sz).collect(),
+            anchors.to_vec(),
         )
     };
-    let rings = loft_rings(&secs, &zs, ring_points)?;
+    let rings = loft_rings_through(&secs, &anchors, &zs, ring_points)?;
     let mesh = crate::ct::mesh_of_rings(&rings, &zs);
     let vox: Vec<(usize, Polyline)> = if sections.len() == 1 {
         vec![(indices[0], rings[0].clone())]

@@ -219,10 +219,20 @@ impl<'a> Gap<'a> {
     }
 
     /// The same gap with its ends moved to the points `a` and `b` (the
-    /// seats).
+    /// seats). Both angles are unwrapped next to the gap's own, so a seat
+    /// moved across the ray at ±180° keeps the gap's side of the head
+    /// (taking `angle(a)` as it is once made the template run the long
+    /// way round the head there: issue 48).
     pub fn moved(&self, a: Point, b: Point) -> Gap<'a> {
         let o = self.input.centre;
-        let th_a = angle(a, o);
+        let t = angle(a, o);
+        // Unwrapped only where the seat crossed the ray at ±180°, so every
+        // other gap keeps its angle to the last bit.
+        let th_a = if (t - self.th_a).abs() > std::f64::consts::PI {
+            self.th_a + wrap(t - self.th_a)
+        } else {
+            t
+        };
         let th_b = self.th_a + self.span + wrap(angle(b, o) - (self.th_a + self.span));
         Gap {
             input: self.input,

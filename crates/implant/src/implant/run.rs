@@ -16,6 +16,8 @@ use std::time::Instant;
 
 use super::checks::check_inputs;
 use super::pipeline::{reconstruct_defect, resolve_midline, slice_index, ImplantError};
+use super::plausibility::{describe, CheckValues};
+use super::regions::{Region, RegionRule};
 use super::render::{overlay_png, preview_png, validation_figure_of, VALIDATION_FIGURE};
 use super::spec::{ImplantSpec, Validation3dSpec, ValidationSpec};
 use super::tables::{
@@ -84,12 +86,12 @@ impl Outputs {
     fn write_all(&mut self, dir: &Path) -> Result<f64, ImplantError> {
         let staging = Staging::new(dir)?;
         self.files
-            .sort_by_key(|(name, _)| usize::from(name != "implant.stl"));
+            .sort_by_key(|(name, _)| usize::from(!name.ends_with(".stl")));
         let mut stl_seconds = 0.0;
         for (name, bytes) in &self.files {
             let t = Instant::now();
             write_atomic(&staging.path().join(name), bytes)?;
-            if name == "implant.stl" {
+            if name.ends_with(".stl") {
                 stl_seconds = t.elapsed().as_secs_f64();
             }
             self.summary.files.push(dir.join(name));
@@ -104,12 +106,38 @@ impl Outputs {
     }
 }
 
+/// How a run treats a design with refused slices (`metabezier implant`'s
+/// flags).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RunOptions {
+    /// `--allow-partial`: write the implant of the accepted slices as
+    /// `implant.partial.stl` (the report's first line names the refused
+    /// slices) instead of refusing the whole design
+    /// ([`ImplantError::Implausible`]).
+    pub allow_partial: bool,
+}
+
+/// The name of the STL of a design with refused slices.
+pub const PARTIAL_STL: &str = "implant.partial.stl";
+
+/// Runs the whole experiment of `spec` into `out` (created if needed) with
+/// the default [`RunOptions`] (a design with a refused slice is refused).
+pub fn run_implant(spec: &ImplantSpec, out: &Path) -> Result<RunSummary, ImplantError> {
+    run_implant_with(spec, out, RunOptions::default())
+}
+
 /// Runs the whole experiment of `spec` into `out` (created if needed).
 ///
 /// Every input is checked against the volume first ([`check_inputs`]),
 /// then every part is computed in memory, and only then are the files
-/// written: an error anywhere leaves nothing written (no STL, no CSV).
-pub fn run_implant(spec: &ImplantSpec, out: &Path) -> Result<RunSummary, ImplantError> {
+/// written: an error anywhere leaves nothing written (no STL, no CSV). A
+/// design whose slices fail a plausibility check is such an error unless
+/// `options.allow_partial`.
+pub fn run_implant_with(
+    spec: &ImplantSpec,
+    out: &Path,
+    options: RunOptions,
+) -> Result<RunSummary, ImplantError> {
     let t0 = Instant::now();
     let volume = load_volume(&spec.volume)?;
     check_inputs(spec, &volume)?;
@@ -122,8 +150,14 @@ pub fn run_implant(spec: &ImplantSpec, out: &Path) -> Result<RunSummary, Implant
     };
     let header_len = outputs.report.len();
     let mut pipeline = None;
+    let mut partial = None;
     if spec.run_defect {
-        pipeline = Some(run_defect(spec, &volume, t0, &mut outputs)?);
+        let (t, lacks) = run_defect(spec, &volume, (t0, options), &mut outputs)?;
+        pipeline = Some(t);
+        partial = lacks;
+    }
+    if !spec.run_defect {
+        midline_line(spec, &volume, &mut outputs.report)?;
     }
     let mut rows_2d = Vec::new();
     if let Some(val) = &spec.validation {
@@ -152,6 +186,9 @@ pub fn run_implant(spec: &ImplantSpec, out: &Path) -> Result<RunSummary, Implant
         .filter(|n| n.ends_with(".png"))
         .collect();
     report.insert_str(header_len, &report_summary(&outputs.verdicts, &pictures));
+    if let Some(lacks) = partial {
+        report.insert_str(0, &lacks);
+    }
     outputs.add("report.md", report.into_bytes());
     if let Some(t) = pipeline {
         // The STL is written first; its write time completes load → STL.
@@ -167,16 +204,33 @@ pub fn run_implant(spec: &ImplantSpec, out: &Path) -> Result<RunSummary, Implant
 
 /// The real defect: `implant.stl` (once the mesh passes its checks),
 /// `metrics.csv`, the overlays, the 3D preview and the report's section.
-/// Returns the seconds from `t0` (loading) to the STL's bytes.
+/// A design with refused slices is refused
+/// ([`ImplantError::Implausible`]) unless `options.allow_partial`, and then
+/// written as [`PARTIAL_STL`]. Returns the seconds from `t0` (loading) to
+/// the STL's bytes, and for a partial design the report's first line.
 fn run_defect(
     spec: &ImplantSpec,
     volume: &Volume,
-    t0: Instant,
+    (t0, options): (Instant, RunOptions),
     outputs: &mut Outputs,
-) -> Result<f64, ImplantError> {
+) -> Result<(f64, Option<String>), ImplantError> {
     let cfg = &spec.defect_config;
     let mut solver = spec.method.solver(spec.seed);
     let implant = reconstruct_defect(volume, cfg, &mut *solver)?;
+    let refused: Vec<(usize, String)> = implant
+        .refused()
+        .map(|s| (s.z, describe(&s.findings)))
+        .collect();
+    let total = implant.slices.len();
+    let too_many = refused.len() as f64 > cfg.wall.checks.max_refused_fraction * total as f64;
+    if !refused.is_empty() && (!options.allow_partial || too_many) {
+        return Err(ImplantError::Implausible {
+            slices: refused,
+            total,
+            allow_partial: options.allow_partial,
+        });
+    }
+    let lacks = (!refused.is_empty()).then(|| partial_line(&refused, total));
     let (watertight, oriented) = (
         implant.mesh.is_watertight(),
         implant.mesh.is_consistently_oriented(),
@@ -190,7 +244,12 @@ fn run_defect(
         });
     }
     let stl = stl_bytes(&implant.patient_mesh(), &implant.frame.stl_header());
-    outputs.add("implant.stl", stl);
+    let name = if lacks.is_some() {
+        PARTIAL_STL
+    } else {
+        "implant.stl"
+    };
+    outputs.add(name, stl);
     let secs = t0.elapsed().as_secs_f64();
     outputs.add("metrics.csv", defect_csv(&implant));
     let mut zs = spec.overlays.clone();
@@ -205,7 +264,43 @@ fn run_defect(
     }
     outputs.add("preview_3d.png", preview_png(volume, cfg, &implant)?);
     defect_report(&mut outputs.report, spec, &implant);
-    Ok(secs)
+    Ok((secs, lacks))
+}
+
+/// The midline the validation cases are placed about, for a report
+/// without a real defect (whose section states it otherwise).
+fn midline_line(
+    spec: &ImplantSpec,
+    volume: &Volume,
+    report: &mut String,
+) -> Result<(), ImplantError> {
+    if spec.validation.is_none() && spec.validation_3d.is_none() {
+        return Ok(());
+    }
+    let (m, dice) = resolve_midline(volume, &spec.defect_config)?;
+    let _ = writeln!(
+        report,
+        "Midline of the validation cases: x = {:.2} mm at y = {:.2} mm, tilt {:.2}°{}.\n",
+        m.point.x,
+        m.point.y,
+        m.tilt_deg(),
+        dice.map_or(" (given)".to_string(), |d| format!(
+            " (estimated by reflection symmetry, Dice {d:.3})"
+        ))
+    );
+    Ok(())
+}
+
+/// The first line of the report of a partial design: which slices the
+/// STL lacks and why.
+fn partial_line(refused: &[(usize, String)], total: usize) -> String {
+    let zs: Vec<String> = refused.iter().map(|(z, _)| z.to_string()).collect();
+    format!(
+        "**Partial implant (`--allow-partial`): `{PARTIAL_STL}` lacks slices z = {} ({} of {total}), refused by the plausibility checks: {}.**\n\n",
+        zs.join(", "),
+        refused.len(),
+        super::tables3d::refusals(refused)
+    )
 }
 
 /// The artificial-defect validation: `validation.csv`, its time and the
@@ -224,7 +319,7 @@ fn run_validation(
         t1.elapsed().as_secs_f64()
     );
     outputs.add("validation.csv", validation_csv(&rows));
-    let verdicts = validation_report(&mut outputs.report, val, &rows);
+    let verdicts = validation_report(&mut outputs.report, val, &rows, volume.spacing.z);
     outputs.verdicts.extend(verdicts);
     outputs.summary.validation_rows = rows.len();
     Ok(rows)
@@ -241,7 +336,9 @@ fn run_validation_3d(
     outputs: &mut Outputs,
 ) -> Result<Vec<Row3d>, ImplantError> {
     let t1 = Instant::now();
-    let (midline, _) = resolve_midline(volume, &spec.defect_config)?;
+    let cfg = &spec.defect_config;
+    let (midline, _) = resolve_midline(volume, cfg)?;
+    let rule = RegionRule::of(volume, cfg.first_z, cfg.threshold, &midline);
     let mut rows = Vec::new();
     for &range in &val.ranges {
         for &position_deg in &val.positions {
@@ -251,8 +348,9 @@ fn run_validation_3d(
                     position_deg,
                     width_mm,
                 };
-                match prepare_case_3d(volume, &spec.defect_config, case, midline) {
-                    Ok(p) => case_rows_3d(spec, val, &p, &mut rows),
+                let region = rule.region(0.5 * (range.0 + range.1) as f64, position_deg);
+                match prepare_case_3d(volume, cfg, case, midline) {
+                    Ok(p) => case_rows_3d(spec, val, (&p, region), &mut rows),
                     Err(e) => {
                         let e = std::sync::Arc::new(e);
                         let runs = method_runs(spec.seed, &val.methods, val.runs, |_, _| {
@@ -266,6 +364,7 @@ fn run_validation_3d(
                             metrics,
                             template_source: String::new(),
                             half_width_deg: f64::NAN,
+                            region,
                         }));
                     }
                 }
@@ -285,9 +384,18 @@ fn run_validation_3d(
 }
 
 /// The rows of one prepared 3D case ([`method_runs`]).
-fn case_rows_3d(spec: &ImplantSpec, val: &Validation3dSpec, p: &Prepared3d, rows: &mut Vec<Row3d>) {
+fn case_rows_3d(
+    spec: &ImplantSpec,
+    val: &Validation3dSpec,
+    (p, region): (&Prepared3d, Region),
+    rows: &mut Vec<Row3d>,
+) {
     let runs = method_runs(spec.seed, &val.methods, val.runs, |kind, solver| {
-        evaluate_3d(p, kind, val.margin_mm, solver)
+        // A design that fails is a case not built, as one that cannot be cut.
+        evaluate_3d(p, kind, val.margin_mm, solver).map_err(|e| match e {
+            ImplantError::CaseNotBuilt(_) => e,
+            e => ImplantError::CaseNotBuilt(std::sync::Arc::new(e)),
+        })
     });
     rows.extend(runs.into_iter().map(|(method, run, seed, metrics)| {
         Row3d {
@@ -300,6 +408,7 @@ fn case_rows_3d(spec: &ImplantSpec, val: &Validation3dSpec, p: &Prepared3d, rows
                 .map_or(String::new(), |m| m.template_source_name()),
             metrics,
             half_width_deg: p.half_width_deg,
+            region,
         }
     }));
 }
@@ -345,6 +454,7 @@ fn validation_rows(
 ) -> Result<Vec<ValidationRow>, ImplantError> {
     let cfg = &spec.defect_config;
     let (midline, _) = resolve_midline(volume, cfg)?;
+    let rule = RegionRule::of(volume, cfg.first_z, cfg.threshold, &midline);
     let mut rows = Vec::new();
     for &z in &val.slices {
         let index = slice_index(cfg, volume, z, "validation slice")?;
@@ -355,8 +465,9 @@ fn validation_rows(
                     position_deg: pos,
                     width_mm: w,
                 };
+                let region = rule.region(z as f64, pos);
                 match prepare_case(volume, case, midline, cfg.threshold) {
-                    Ok(prepared) => case_rows(spec, val, &prepared, z, &mut rows),
+                    Ok(prepared) => case_rows(spec, val, (&prepared, region), z, &mut rows),
                     Err(e) => {
                         let e = std::sync::Arc::new(e);
                         let runs = method_runs(spec.seed, &val.methods, val.runs, |_, _| ());
@@ -371,6 +482,10 @@ fn validation_rows(
                                 fit_error: f64::NAN,
                                 join_deg: (f64::NAN, f64::NAN),
                                 template_source: None,
+                                checks: CheckValues::default(),
+                                findings: Vec::new(),
+                                half_width_deg: f64::NAN,
+                                region,
                             }
                         }));
                     }
@@ -385,7 +500,7 @@ fn validation_rows(
 fn case_rows(
     spec: &ImplantSpec,
     val: &ValidationSpec,
-    prepared: &PreparedCase,
+    (prepared, region): (&PreparedCase, Region),
     z: usize,
     rows: &mut Vec<ValidationRow>,
 ) {
@@ -395,19 +510,22 @@ fn case_rows(
         evaluate(prepared, kind, wall, val.margin_mm, solver)
     });
     rows.extend(
-        runs.into_iter().map(
-            |(method, run, seed, (metrics, fit_error, join_deg))| ValidationRow {
+        runs.into_iter()
+            .map(|(method, run, seed, e)| ValidationRow {
                 case: prepared.case,
                 z,
                 method,
                 run,
                 seed,
-                metrics,
-                fit_error,
-                join_deg,
+                metrics: e.metrics,
+                fit_error: e.fit_error,
+                join_deg: e.join_deg,
                 template_source,
-            },
-        ),
+                checks: e.checks,
+                findings: e.findings,
+                half_width_deg: prepared.half_width_deg,
+                region,
+            }),
     );
 }
 

@@ -54,6 +54,9 @@
 //! runs = 5
 //! margin_mm = 10
 //! alpha = 0.05
+//!
+//! [checks]                  # plausibility limits (optional; see `spec_checks.rs`)
+//! max_width_jump_mm = 15
 //! ```
 //!
 //! Errors name the file, line, column and field, say what was expected and
@@ -74,6 +77,9 @@ use metabezier_spec::{type_name, SpecError, Table, Value};
 /// (the file's path and text, and the primitives), reached through `Deref`,
 /// with the implant's section readers as methods.
 struct Parser<'a>(metabezier_spec::Parser<'a>);
+
+#[path = "spec_checks.rs"]
+mod checks;
 
 impl<'a> std::ops::Deref for Parser<'a> {
     type Target = metabezier_spec::Parser<'a>;
@@ -389,12 +395,15 @@ impl Parser<'_> {
         self.check_keys(
             root,
             "",
-            &["implant", "defect", "validation", "validation_3d"],
+            &["implant", "defect", "validation", "validation_3d", "checks"],
         )?;
         let imp = self
             .get(root, "implant")
             .ok_or_else(|| self.error(0..0, "implant", "missing section [implant]".into()))?;
         let mut implant = self.implant_section(self.table(imp, "implant")?)?;
+        if let Some(c) = self.get(root, "checks") {
+            self.checks_section(c, &mut implant.config.wall.checks)?;
+        }
         let defect = match self.get(root, "defect") {
             Some(d) => Some(self.defect_section(d, &mut implant.config)?),
             None => None,

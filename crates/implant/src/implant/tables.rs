@@ -8,11 +8,15 @@
 
 use std::fmt::Write as _;
 
+use super::delivered::Delivered;
 use super::pipeline::{Implant, SliceResult};
+use super::plausibility::{check_columns, check_fields, describe, Reading, FAILURE_DISTANCE_MM};
+use super::regions::{region_tables, RegionRow};
 use super::spec::{ImplantSpec, ValidationSpec};
+use super::tables3d::position_unit_text;
 use super::units::{
-    case_differences, decide_families, scoped_rows, slice_clusters, Comparison, Observation,
-    SliceCluster,
+    case_differences, decide_families, position_units, scoped_rows, slice_clusters_within,
+    within_gap, Comparison, Observation, SliceCluster,
 };
 use super::validation::{CaseMetrics, ValidationRow};
 use super::wall_input::ThicknessProfile;
@@ -244,6 +248,19 @@ fn slice_row(s: &SliceResult, step: Option<f64>) -> Vec<String> {
     row.push(dev.map_or("NaN".into(), |d| r(d.mean)));
     row.push(dev.map_or("NaN".into(), |d| r(d.max)));
     row.push(d.template_source.name().into());
+    let nan = Delivered {
+        kinks_deg: [(f64::NAN, f64::NAN); 2],
+        thickness: (f64::NAN, f64::NAN),
+    };
+    let dl = s.delivered.unwrap_or(nan);
+    let [d15, d3] = dl.kinks_deg;
+    row.extend([d15.0, d15.1, d3.0, d3.1, dl.thickness.0, dl.thickness.1].map(r));
+    let bare = contour_deviation(&d.outer, &d.mirror, 0.25).ok();
+    row.push(bare.map_or("NaN".into(), |d| r(d.mean)));
+    row.push(bare.map_or("NaN".into(), |d| r(d.max)));
+    row.push(if s.accepted() { "ok" } else { "refused" }.into());
+    row.extend(check_fields(&s.checks, &s.findings, r));
+    row.push(describe(&s.findings));
     row
 }
 
@@ -313,7 +330,21 @@ pub fn defect_csv(implant: &Implant) -> Vec<u8> {
         "template_dev_mean_mm",
         "template_dev_max_mm",
         "template_source",
+        "kink_delivered_a_1p5mm_deg",
+        "kink_delivered_b_1p5mm_deg",
+        "kink_delivered_a_3mm_deg",
+        "kink_delivered_b_3mm_deg",
+        "thickness_delivered_a_mm",
+        "thickness_delivered_b_mm",
+        "template_dev_bare_mean_mm",
+        "template_dev_bare_max_mm",
+        "status",
     ];
+    let header: Vec<&str> = header
+        .into_iter()
+        .chain(check_columns())
+        .chain(["error"])
+        .collect();
     let steps = thickness_steps(implant);
     let rows = implant
         .slices
@@ -333,21 +364,47 @@ pub struct Seatability {
     pub median_kink_deg: f64,
     /// The largest kink (degrees).
     pub max_kink_deg: f64,
+    /// The largest kink of the designed walls alone (degrees).
+    pub max_design_kink_deg: f64,
+    /// The largest kink of the delivered STL rings alone (degrees).
+    pub max_delivered_kink_deg: f64,
     /// The largest thickness step between adjacent slices (mm).
     pub max_thickness_step_mm: f64,
 }
 
-/// The seatability figures of `implant`.
+/// The 3 mm kinks at A′ and B′ of an accepted slice as they are judged:
+/// at each end the worse of the designed wall and the delivered STL ring
+/// ([`super::delivered`]).
+pub fn judged_kinks_deg(s: &SliceResult) -> (f64, f64) {
+    let (a, b) = s.wall.kinks_deg();
+    match s.delivered {
+        Some(d) => (a.max(d.kinks_deg[1].0), b.max(d.kinks_deg[1].1)),
+        None => (a, b),
+    }
+}
+
+/// The seatability figures of `implant` over its accepted slices, the
+/// kinks the worse of design and delivery at each end.
 pub fn seatability(implant: &Implant) -> Seatability {
-    let kinks: Vec<f64> = implant
-        .slices
-        .iter()
+    let ok = || implant.slices.iter().filter(|s| s.accepted());
+    let kinks: Vec<f64> = ok()
         .flat_map(|s| {
-            let (a, b) = s.wall.kinks_deg();
+            let (a, b) = judged_kinks_deg(s);
             [a, b]
         })
         .collect();
+    let design = ok()
+        .map(|s| {
+            let (a, b) = s.wall.kinks_deg();
+            a.max(b)
+        })
+        .fold(0.0, f64::max);
+    let delivered = ok()
+        .filter_map(|s| s.delivered.map(|d| d.max_kink_3mm()))
+        .fold(0.0, f64::max);
     Seatability {
+        max_design_kink_deg: design,
+        max_delivered_kink_deg: delivered,
         max_overlap: implant
             .slices
             .iter()
@@ -369,8 +426,9 @@ pub fn slices_off_target(implant: &Implant) -> Vec<usize> {
         .slices
         .iter()
         .filter(|s| {
-            let (a, b) = s.wall.kinks_deg();
-            s.bone_overlap_fraction > TARGET_OVERLAP || a.max(b) > TARGET_KINK_MAX_DEG
+            let (a, b) = judged_kinks_deg(s);
+            s.accepted()
+                && (s.bone_overlap_fraction > TARGET_OVERLAP || a.max(b) > TARGET_KINK_MAX_DEG)
         })
         .map(|s| s.z)
         .collect()
@@ -458,10 +516,12 @@ fn seatability_lines(report: &mut String, implant: &Implant) {
     let ok = |b: bool| if b { "met" } else { "missed" };
     let _ = writeln!(
         report,
-        "Seatability: largest bone overlap {:.2} % (target ≤ {:.0} % per slice: {}); kinks against the bone's iso-contour (3 mm secants) median {:.2}°, max {:.2}° (targets ≤ {}° and ≤ {}°: {}, {}); largest thickness step {:.2} mm (target ≤ {} mm: {}).\n",
+        "Seatability: largest bone overlap {:.2} % (target ≤ {:.0} % per slice: {}); kinks against the bone's iso-contour (3 mm secants, at each end the worse of the designed wall and the delivered STL ring: design max {:.2}°, delivered max {:.2}°) median {:.2}°, max {:.2}° (targets ≤ {}° and ≤ {}°: {}, {}); largest thickness step {:.2} mm (target ≤ {} mm: {}).\n",
         100.0 * s.max_overlap,
         100.0 * TARGET_OVERLAP,
         ok(s.max_overlap <= TARGET_OVERLAP),
+        s.max_design_kink_deg,
+        s.max_delivered_kink_deg,
         s.median_kink_deg,
         s.max_kink_deg,
         TARGET_KINK_MEDIAN_DEG,
@@ -472,6 +532,18 @@ fn seatability_lines(report: &mut String, implant: &Implant) {
         TARGET_THICKNESS_STEP_MM,
         ok(s.max_thickness_step_mm <= TARGET_THICKNESS_STEP_MM + STEP_ROUNDING_MM)
     );
+    thickness_line(report, implant);
+    let refused: Vec<String> = implant
+        .refused()
+        .map(|s| format!("z = {} ({})", s.z, describe(&s.findings)))
+        .collect();
+    if !refused.is_empty() {
+        let _ = writeln!(
+            report,
+            "Refused by the plausibility checks (no piece of the implant): {}.\n",
+            refused.join("; ")
+        );
+    }
     let off = slices_off_target(implant);
     if !off.is_empty() {
         let _ = writeln!(
@@ -479,6 +551,32 @@ fn seatability_lines(report: &mut String, implant: &Implant) {
             "Slices that miss a per-slice target (each has its `overlay_zNNN.png`): {off:?}.\n"
         );
     }
+}
+
+/// The designed thickness at the seats against the delivered ring's 3 mm
+/// inside them ([`super::delivered`]), over the accepted slices.
+fn thickness_line(report: &mut String, implant: &Implant) {
+    let ok = || implant.slices.iter().filter(|s| s.accepted());
+    let design: Vec<f64> = ok()
+        .flat_map(|s| [s.wall.thickness.0, s.wall.thickness.1])
+        .collect();
+    let delivered: Vec<f64> = ok()
+        .filter_map(|s| s.delivered)
+        .flat_map(|d| [d.thickness.0, d.thickness.1])
+        .filter(|t| t.is_finite())
+        .collect();
+    if delivered.is_empty() {
+        return;
+    }
+    let min = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min);
+    let _ = writeln!(
+        report,
+        "Thickness: designed at the seats median {:.2} mm (min {:.2}); delivered, on the STL rings 3 mm inside the seats, median {:.2} mm (min {:.2}): near its seats the part is an onlay over the bevelled bone ends, thinner than its design there (the worse of the two is the delivered; `thickness_delivered_*` in `metrics.csv`).\n",
+        median(&design),
+        min(&design),
+        median(&delivered),
+        min(&delivered)
+    );
 }
 
 /// Which wins at a seat, bone or template, and why, for the report's
@@ -567,6 +665,11 @@ pub fn validation_csv(rows: &[ValidationRow]) -> Vec<u8> {
         "template_source",
         "error",
     ];
+    let header: Vec<&str> = header
+        .into_iter()
+        .chain(check_columns())
+        .chain(["region"])
+        .collect();
     let rows = rows.iter().map(|row| {
         let mut v = vec![
             row.z.to_string(),
@@ -578,14 +681,14 @@ pub fn validation_csv(rows: &[ValidationRow]) -> Vec<u8> {
         ];
         match &row.metrics {
             Ok(m) => {
-                v.push("ok".into());
+                v.push(row.status().into());
                 v.extend([m.dice, m.boundary_dice, m.hd95, m.dev_mean, m.dev_max].map(r));
                 v.extend([
                     r(row.fit_error),
                     r(row.join_deg.0),
                     r(row.join_deg.1),
                     source_name(row.template_source),
-                    String::new(),
+                    describe(&row.findings),
                 ]);
             }
             Err(e) => {
@@ -595,6 +698,8 @@ pub fn validation_csv(rows: &[ValidationRow]) -> Vec<u8> {
                 v.push(e.to_string());
             }
         }
+        v.extend(check_fields(&row.checks, &row.findings, r));
+        v.push(row.region.name().into());
         v
     });
     csv_bytes(&header, rows)
@@ -635,6 +740,10 @@ const METRICS: [Metric; 5] = [
 /// The `table` of the one-slice validation's rows in `verdicts.csv`.
 pub const VALIDATION_2D_TABLE: &str = "validation-2d";
 
+/// The `table` of the one-slice validation's verdicts without its
+/// implausible rows.
+pub const VALIDATION_2D_PLAUSIBLE_TABLE: &str = "validation-2d-plausible";
+
 /// The "Validation on perfect data" section of `report.md`: the cases, the
 /// median of every metric by method and width, the verdicts of the curve
 /// fit against the baselines across independent units, and the join
@@ -643,6 +752,7 @@ pub fn validation_report(
     report: &mut String,
     val: &ValidationSpec,
     rows: &[ValidationRow],
+    slice_mm: f64,
 ) -> Vec<VerdictRow> {
     let mut methods: Vec<String> = vec!["template".into(), "straight".into()];
     methods.extend(val.methods.iter().map(|m| format!("curve:{}", m.name())));
@@ -659,7 +769,21 @@ pub fn validation_report(
     for metric in METRICS {
         median_table(report, metric, val, &methods, rows);
     }
-    let verdicts = validation_verdicts(report, val, rows);
+    let _ = writeln!(report, "### By region\n\n{REGION_TEXT}\n");
+    let by_region: Vec<RegionRow<'_>> = rows
+        .iter()
+        .filter_map(|r| {
+            let m = r.metrics.as_ref().ok()?;
+            Some(RegionRow {
+                region: r.region,
+                method: &r.method,
+                case: format!("{}-{}-{}", r.z, r.case.position_deg, r.case.width_mm),
+                values: vec![m.dice, m.hd95],
+            })
+        })
+        .collect();
+    region_tables(report, &["Dice", "HD95 mm"], &methods, &by_region);
+    let verdicts = validation_verdicts(report, val, rows, slice_mm);
     join_summary(report, rows);
     verdicts
 }
@@ -713,24 +837,44 @@ fn median_table(
     let _ = writeln!(report);
 }
 
-/// The observations of one metric: every successful row's value, with its
-/// case and unit (slice cluster × position).
+/// The observations of one metric: every built row's value as `reading`
+/// reads it, with its case and unit (slice cluster × position).
 fn observations<'r>(
     rows: &'r [ValidationRow],
-    clusters: &[SliceCluster],
-    f: MetricFn,
+    (clusters, units): (&[SliceCluster], &[(f64, f64)]),
+    (f, larger_better): (MetricFn, bool),
+    reading: Reading,
 ) -> Vec<Observation<'r>> {
     rows.iter()
         .filter_map(|r| {
             let value = r.metrics.as_ref().ok().map(f)?;
+            let value = reading.value(value, !r.findings.is_empty(), larger_better)?;
             let case = (r.case.position_deg, r.case.width_mm);
-            Some(Observation::at(
-                clusters,
-                (r.z, r.z),
-                case,
-                &r.method,
-                value,
-            ))
+            let mut o = Observation::at(clusters, (r.z, r.z), case, &r.method, value);
+            if let Some(&(_, u)) = units
+                .iter()
+                .find(|(p, _)| p.to_bits() == r.case.position_deg.to_bits())
+            {
+                o.unit.position_deg = u;
+            }
+            Some(o)
+        })
+        .collect()
+}
+
+/// Each position's widest cut over the built rows: `(position_deg,
+/// half_width_deg)` in the spec's order (NaN when none was built).
+fn position_extents_2d(val: &ValidationSpec, rows: &[ValidationRow]) -> Vec<(f64, f64)> {
+    val.positions
+        .iter()
+        .map(|&p| {
+            let h = rows
+                .iter()
+                .filter(|r| r.case.position_deg.to_bits() == p.to_bits())
+                .map(|r| r.half_width_deg)
+                .filter(|h| h.is_finite())
+                .fold(f64::NAN, f64::max);
+            (p, h)
         })
         .collect()
 }
@@ -742,20 +886,28 @@ fn validation_verdicts(
     report: &mut String,
     val: &ValidationSpec,
     rows: &[ValidationRow],
+    slice_mm: f64,
 ) -> Vec<VerdictRow> {
-    let clusters = slice_clusters(&val.slices);
-    let obs: Vec<Vec<Observation<'_>>> = METRICS
-        .iter()
-        .map(|m| observations(rows, &clusters, m.2))
-        .collect();
-    let verdicts = decided_rows(
-        VALIDATION_2D_TABLE,
-        &val.methods,
-        &METRICS,
-        &obs,
-        &val.widths,
-        val.alpha,
-    );
+    let widest = val.widths.iter().copied().fold(0.0, f64::max);
+    let clusters = slice_clusters_within(&val.slices, within_gap(widest, slice_mm));
+    let units = position_units(&position_extents_2d(val, rows));
+    let implausible = rows.iter().filter(|r| r.status() == "implausible").count();
+    let read = |reading: Reading| -> Vec<Vec<Observation<'_>>> {
+        METRICS
+            .iter()
+            .map(|m| observations(rows, (&clusters, &units), (m.2, m.3), reading))
+            .collect()
+    };
+    let obs = read(Reading::AsFailure);
+    if no_case_built(report, &obs) {
+        return Vec::new();
+    }
+    let decide = |table: &str, obs: &[Vec<Observation<'_>>]| {
+        decided_rows(table, &val.methods, &METRICS, obs, &val.widths, val.alpha)
+    };
+    let verdicts = decide(VALIDATION_2D_TABLE, &obs);
+    let without =
+        (implausible > 0).then(|| decide(VALIDATION_2D_PLAUSIBLE_TABLE, &read(Reading::Without)));
     let _ = writeln!(
         report,
         "### What the curve fit adds (verdicts across independent units)\n"
@@ -763,12 +915,14 @@ fn validation_verdicts(
     let cases = verdicts.first().map_or(0, |v| v.0.problems);
     let _ = writeln!(
         report,
-        "The validation cases are not independent: the widths of one position are nested cuts of the same bone, and adjacent slices cut the same region of the vault. A *unit* is one defect position on one slice cluster, a maximal run of consecutive validation slices ({}). {}\n",
+        "The validation cases are not independent: the widths of one position are nested cuts of the same bone, and slices closer than the widest cut ({widest} mm, {} slices of {slice_mm} mm) cut bone one 3D patch of that width would share. A *unit* is one position on one slice cluster, a maximal set of validation slices each at most that far from the next ({}). {} {}\n",
+        within_gap(widest, slice_mm),
         cluster_list(&clusters),
+        position_unit_text(&position_extents_2d(val, rows), &units),
         design_text(
             (
                 clusters.len(),
-                val.positions.len(),
+                unit_count(&units),
                 units_observed(obs.first().map_or(&[][..], |o| &o[..]))
             ),
             cases,
@@ -777,8 +931,49 @@ fn validation_verdicts(
             val.alpha
         )
     );
+    let _ = writeln!(report, "{}\n", implausible_text(implausible, rows.len()));
     verdict_tables(report, &verdicts);
-    verdicts.into_iter().map(|v| v.0).collect()
+    let mut out: Vec<VerdictRow> = verdicts.into_iter().map(|v| v.0).collect();
+    if let Some(w) = without {
+        let _ = writeln!(report, "The same verdicts without the {implausible} implausible rows (table `{VALIDATION_2D_PLAUSIBLE_TABLE}` of `verdicts.csv`):\n");
+        verdict_tables(report, &w);
+        out.extend(w.into_iter().map(|v| v.0));
+    }
+    out
+}
+
+/// What the region tables are and what a slice-wise method cannot do.
+pub(crate) const REGION_TEXT: &str = "Regions (`src/implant/regions.rs`): the vertex is the top 15 mm of the scanned bone and the skull base the lowest 15 mm of the volume (both decided first), the front the positions within 60° of the anterior midline, the back the rest; the straight bridge and the template are beside every curve fit. Limits of a slice-wise method: near the vertex an axial slice runs nearly tangent to the vault, so the ring is wide and flat and its mirror or continuation no guide to the missing bone; at the skull base the ring opens into the face and the foramina, so an automatic defect detection finds natural openings (the plausibility checks refuse them) — both need a 3D template. On the front the forehead and the frontal sinus are less symmetric than the back of the head.";
+
+/// The distinct unit positions of `units` (`(position, unit position)`).
+pub(crate) fn unit_count(units: &[(f64, f64)]) -> usize {
+    let mut u: Vec<u64> = units.iter().map(|x| x.1.to_bits()).collect();
+    u.sort_unstable();
+    u.dedup();
+    u.len()
+}
+
+/// Where no case was built, the verdict section says so and gives no
+/// verdict (a "no detectable difference" over no unit would read as a
+/// finding); returns whether that is so.
+pub(crate) fn no_case_built(report: &mut String, obs: &[Vec<Observation<'_>>]) -> bool {
+    let none = obs.iter().all(|o| units_observed(o) == 0);
+    if none {
+        let _ = writeln!(
+            report,
+            "### Verdicts\n\nNo case was built (every row failed; see the `error` column), so there is no verdict.\n"
+        );
+    }
+    none
+}
+
+/// What the verdicts make of the implausible rows.
+pub(crate) fn implausible_text(implausible: usize, rows: usize) -> String {
+    if implausible == 0 {
+        format!("Every built row of the {rows} passed the plausibility checks (`checks_failed` empty), so no row is read as a failure.")
+    } else {
+        format!("{implausible} of the {rows} rows are `implausible` (a plausibility check failed; `checks_failed` and `error` say which): the design path would have refused them, so the verdicts read them as failures of their method (overlap 0, distance {FAILURE_DISTANCE_MM:.0e} mm); the verdicts without them follow.")
+    }
 }
 
 /// The verdict rows of every curve method in `methods` against both

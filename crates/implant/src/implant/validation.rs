@@ -20,11 +20,13 @@
 //! reconstructed outer wall from the removed outer envelope.
 
 use super::continuation::{source_for, TemplateSource};
+use super::plausibility::{head_hull, measure_wall, CheckValues, Finding};
+use super::regions::Region;
 use super::wall::{envelope_radius, reconstruct_wall, Wall, WallInput, WallKind, WallOptions};
 use super::SliceError;
 use crate::ct::{
-    bone_loops, bone_mask_slice, boundary_dice, contour_deviation, dice, hd95, voxelise, CtError,
-    Mask2, Mask3, MidLine, Polyline, Slice, Spacing, Volume,
+    bone_loops, bone_mask_slice, boundary_dice, contour_deviation, dice, hd95, voxelise,
+    ConvexHull, CtError, Mask2, Mask3, MidLine, Polyline, Slice, Spacing, Volume,
 };
 
 /// The HU value given to the bone removed by an artificial cut (soft
@@ -71,6 +73,14 @@ pub struct PreparedCase {
     pub spacing: (f64, f64),
     /// The bone threshold (HU).
     pub threshold: i16,
+    /// The head's hull on the slice (the defective bone and its mirror
+    /// image), the plausibility checks' outline
+    /// ([`super::plausibility::head_hull`]).
+    pub head: ConvexHull,
+    /// The cut's half-width (degrees about the polar centre): the wedge is
+    /// `position ± half_width_deg` (what decides whether two positions cut
+    /// the same bone, [`super::units::position_units`]).
+    pub half_width_deg: f64,
 }
 
 /// Metrics of one reconstruction.
@@ -156,7 +166,10 @@ pub fn prepare_case(
     if truth.count() == 0 {
         return Err(SliceError::CutRemovedNoBone);
     }
+    let head = head_hull(&defective, (sx, sy), &midline);
     Ok(PreparedCase {
+        head,
+        half_width_deg: half.to_degrees(),
         case,
         outer,
         centre,
@@ -238,7 +251,7 @@ pub fn case_metrics(p: &PreparedCase, wall: &Wall, margin_mm: f64) -> Result<Cas
 #[derive(Debug, thiserror::Error)]
 pub enum CaseError {
     /// The wall could not be reconstructed (see [`reconstruct_case`]).
-    #[error(transparent)]
+    #[error("case not built: {0}")]
     Reconstruct(SliceError),
     /// The wall was reconstructed but could not be measured (see
     /// [`case_metrics`]).
@@ -272,6 +285,27 @@ pub struct ValidationRow {
     /// The template the case's walls are fitted to (`None`: the case was
     /// not built), see [`case_template_source`].
     pub template_source: Option<TemplateSource>,
+    /// The plausibility checks' values.
+    pub checks: CheckValues,
+    /// The checks that failed (`status = implausible`).
+    pub findings: Vec<Finding>,
+    /// The cut's half-width in degrees ([`PreparedCase::half_width_deg`];
+    /// NaN when the case was not built).
+    pub half_width_deg: f64,
+    /// The region of the head the case lies in ([`super::regions`]).
+    pub region: Region,
+}
+
+impl ValidationRow {
+    /// `ok`, `implausible` (built and measured, but a plausibility check
+    /// failed: [`ValidationRow::findings`]) or `error` (not built).
+    pub fn status(&self) -> &'static str {
+        match (&self.metrics, self.findings.is_empty()) {
+            (Err(_), _) => "error",
+            (Ok(_), true) => "ok",
+            (Ok(_), false) => "implausible",
+        }
+    }
 }
 
 /// The template the walls of a prepared case are fitted to under
@@ -292,25 +326,48 @@ pub fn case_template_source(p: &PreparedCase, options: &WallOptions) -> Template
     }
 }
 
-/// Runs `kind` on a prepared case and measures it; a failure becomes the
-/// row's error message.
+/// What [`evaluate`] gives for one method on one case.
+#[derive(Debug)]
+pub struct Evaluation {
+    /// The metrics, or why the case was not built or measured.
+    pub metrics: Result<CaseMetrics, CaseError>,
+    /// The fit's `E` (mm²; NaN when not built).
+    pub fit_error: f64,
+    /// The join angles at A and B (degrees; NaN when not built).
+    pub join_deg: (f64, f64),
+    /// The plausibility checks' values ([`super::plausibility`]; the width
+    /// jump is not measured on one slice).
+    pub checks: CheckValues,
+    /// The checks that failed: the row is `implausible`.
+    pub findings: Vec<Finding>,
+}
+
+/// Runs `kind` on a prepared case, checks its plausibility and measures
+/// it; a failure becomes the row's error message.
 pub fn evaluate<S: SegmentSolver + ?Sized>(
     p: &PreparedCase,
     kind: WallKind,
     options: &WallOptions,
     margin_mm: f64,
     solver: &mut S,
-) -> (Result<CaseMetrics, CaseError>, f64, (f64, f64)) {
+) -> Evaluation {
     match reconstruct_case(p, kind, options, solver) {
-        Ok(w) => (
-            case_metrics(p, &w, margin_mm).map_err(CaseError::Measure),
-            w.design.fit_error,
-            w.join_angles_deg(),
-        ),
-        Err(e) => (
-            Err(CaseError::Reconstruct(e)),
-            f64::NAN,
-            (f64::NAN, f64::NAN),
-        ),
+        Ok(w) => {
+            let checks = measure_wall(&w, &p.head);
+            Evaluation {
+                metrics: case_metrics(p, &w, margin_mm).map_err(CaseError::Measure),
+                fit_error: w.design.fit_error,
+                join_deg: w.join_angles_deg(),
+                findings: checks.findings(&options.checks),
+                checks,
+            }
+        }
+        Err(e) => Evaluation {
+            metrics: Err(CaseError::Reconstruct(e)),
+            fit_error: f64::NAN,
+            join_deg: (f64::NAN, f64::NAN),
+            checks: CheckValues::default(),
+            findings: Vec::new(),
+        },
     }
 }

@@ -21,6 +21,8 @@ use super::pipeline::{
     index_of, reconstruct_from, slice_context, DefectConfig, Ends, Implant, ImplantError,
     SliceContext, SliceSpec,
 };
+use super::plausibility::describe;
+use super::regions::Region;
 use super::validation::{in_wedge, outer_loop, CUT_HU};
 use super::wall::{envelope_radius, WallKind};
 use super::SliceError;
@@ -166,7 +168,7 @@ pub fn prepare_case_3d(
 
 /// The 3D metrics of one reconstruction, as in the AutoImplant challenge
 /// (Li & Egger et al., IEEE TMI 40(9), 2021).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Metrics3d {
     /// Dice of the implant's voxels `R` and the removed bone `T`:
     /// `DSC = 2|R ∩ T| / (|R| + |T|)` (Dice 1945).
@@ -186,6 +188,10 @@ pub struct Metrics3d {
     /// template, the continuation and an explicit file, in that order
     /// ([`super::wall::OuterDesign::template_source`]).
     pub template_sources: [usize; 3],
+    /// The slices the design refused (a plausibility check failed: no
+    /// piece of the implant there, [`super::plausibility`]), each with the
+    /// failed checks; the row is then `implausible`.
+    pub refused: Vec<(usize, String)>,
 }
 
 impl Metrics3d {
@@ -271,6 +277,10 @@ pub fn score_3d(p: &Prepared3d, implant: &Implant, margin_mm: f64) -> Result<Met
         truth_voxels: truth.count(),
         implant_voxels: recon.count(),
         template_sources: source_counts(implant),
+        refused: implant
+            .refused()
+            .map(|s| (s.z, describe(&s.findings)))
+            .collect(),
     })
 }
 
@@ -307,6 +317,9 @@ pub struct Row3d {
     /// The patch's half-width in degrees ([`Prepared3d::half_width_deg`];
     /// NaN when the patch was not built).
     pub half_width_deg: f64,
+    /// The region of the head the patch lies in (its middle slice;
+    /// [`super::regions`]).
+    pub region: Region,
 }
 
 /// Reconstructs a prepared case with walls of `kind` by the whole pipeline

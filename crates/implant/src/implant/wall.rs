@@ -20,7 +20,7 @@ use super::polar::{
 };
 use super::seats::{choose_seats, SeatProfile, SeatRule};
 use super::SliceError;
-use crate::ct::{clip_to_tissue, CtError, Polyline, Slice};
+use crate::ct::{clip_to_tissue_keeping, CtError, Polyline, Slice};
 use crate::fit::{equal_arc_breaks, End, Segment, SegmentProblem, SegmentSolver, Start};
 use crate::geometry::{Continuity, Curve, Parameterisation, Point};
 
@@ -738,6 +738,31 @@ fn filled_section(design: &OuterDesign, inner: &[Point], (t_a, t_b): (f64, f64))
     Polyline::closed(pts)
 }
 
+/// The radius (mm) of the capsules kept from clipping along the wall's
+/// last millimetres at each seat ([`seat_capsules`]): a grid cell and a
+/// half of the clipping field (4 cells per 0.96 mm pixel).
+pub const SEAT_KEEP_RADIUS_MM: f64 = 0.35;
+
+/// The capsules about the outer wall's first and last `length` mm (from
+/// A′ and from B′), radius [`SEAT_KEEP_RADIUS_MM`], that clipping leaves
+/// as designed ([`crate::ct::clip_to_tissue_keeping`]); none for
+/// `length ≤ 0`.
+fn seat_capsules(design: &OuterDesign, length: f64) -> Vec<(Point, Point, f64)> {
+    if length <= 0.0 {
+        return Vec::new();
+    }
+    let w = &design.outer;
+    let r = w.reversed();
+    let mut keep = Vec::new();
+    for (poly, seat) in [(w, design.a), (&r, design.b)] {
+        if let Some(n) = poly.nearest(seat) {
+            let q = walk_along(poly, &n, length, true);
+            keep.push((seat, q, SEAT_KEEP_RADIUS_MM));
+        }
+    }
+    keep
+}
+
 /// The second step: the inner wall at `thickness` (mm at A′ and B′), the
 /// section, and its clipping against `tissue` (the CT slice and bone
 /// threshold; `None` or `options.clip_subdivision = 0`: no clipping).
@@ -778,8 +803,10 @@ pub fn finish_wall(
             } else {
                 raw_section.clone()
             };
-            let c = clip_to_tissue(&to_clip, slice, threshold, options.clip_subdivision)
-                .ok_or(SliceError::ClippedAway)?;
+            let keep = seat_capsules(&design, options.seat_keep_mm);
+            let c =
+                clip_to_tissue_keeping(&to_clip, slice, threshold, options.clip_subdivision, &keep)
+                    .ok_or(SliceError::ClippedAway)?;
             let before = raw_section.area().abs().max(f64::MIN_POSITIVE);
             (c.section, (1.0 - c.area_after / before).max(0.0))
         }

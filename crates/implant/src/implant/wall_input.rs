@@ -106,6 +106,12 @@ pub struct WallOptions {
     /// Grid cells per pixel of the clipping field (default 4; 0 turns the
     /// clipping off).
     pub clip_subdivision: usize,
+    /// The length (mm) of the outer wall's ends at A′ and B′ that clipping
+    /// leaves as designed, in a band of [`super::wall::SEAT_KEEP_RADIUS_MM`]
+    /// (default 1; 0 clips everything): the delivered part's outer surface
+    /// then meets the bone at the designed seats, and its kink there is the
+    /// design's ([`crate::ct::clip_to_tissue_keeping`]; issue 48).
+    pub seat_keep_mm: f64,
     /// The search space of the fit.
     pub search: SearchSpaceOptions,
     /// Which template the wall is fitted to where no explicit one is given:
@@ -124,6 +130,9 @@ pub struct WallOptions {
     /// wall's normal through A′ and B′ (default `false`; beyond the
     /// thesis).
     pub fill_ends: bool,
+    /// The plausibility limits a finished wall is checked against before
+    /// it is accepted (`[checks]` in a spec; [`super::plausibility`]).
+    pub checks: super::plausibility::PlausibilityLimits,
 }
 
 /// How the inner wall's offset `Dis(u)` runs from A′ to B′, as the spec
@@ -190,10 +199,12 @@ impl Default for WallOptions {
             blend_slope_deg: 15.0,
             blend_min_mm: 8.0,
             clip_subdivision: 4,
+            seat_keep_mm: 1.0,
             search: SearchSpaceOptions::default(),
             template: TemplateChoice::Mirror,
             thickness_profile: ThicknessProfile::Linear,
             fill_ends: false,
+            checks: super::plausibility::PlausibilityLimits::default(),
         }
     }
 }

@@ -1,0 +1,150 @@
+//! Which slices of a design are refused, and the mesh of the rest (issue
+//! 48): a slice whose design fails a [`super::plausibility`] check is left
+//! out of the smoothing across slices; a finished slice that fails one is
+//! left out of the mesh. The accepted slices are lofted run by run (a run:
+//! accepted slices adjacent in the design's slice list), so no piece of
+//! implant bridges a refused slice; the runs' closed meshes together are
+//! the implant.
+
+use super::pipeline::{build_mesh_through, ImplantError};
+use super::plausibility::{
+    design_values, head_hull, measure_wall, width_jumps, CheckValues, Finding, DESIGN_CHECKS,
+};
+use super::wall::{finish_wall, OuterDesign, Wall, WallOptions};
+use crate::ct::{ConvexHull, Mask3, Mesh, MidLine, Polyline, Slice, Volume};
+use crate::geometry::Point;
+
+/// The design checks of a stack of outer designs at slices `zs`: each
+/// slice's values (widths against neighbours, template, fit) and what fails.
+pub fn design_checks(
+    designs: &[OuterDesign],
+    zs: &[usize],
+    options: &WallOptions,
+) -> Vec<(CheckValues, Vec<Finding>)> {
+    let widths: Vec<f64> = designs.iter().map(OuterDesign::width).collect();
+    let jumps = width_jumps(&widths, zs);
+    designs
+        .iter()
+        .zip(jumps)
+        .map(|(d, (jump, neighbours))| {
+            let mut v = design_values(d);
+            v.width_jump_mm = jump;
+            v.neighbour_width_mm = neighbours;
+            let f = v.findings_of(&DESIGN_CHECKS, &options.checks);
+            (v, f)
+        })
+        .collect()
+}
+
+/// A refused design finished as well as it goes, for its row of
+/// `metrics.csv`: at its own bone thickness, or with an empty section where
+/// even that fails (a wall wild enough to be clipped away).
+pub fn finish_refused(
+    design: OuterDesign,
+    tissue: Option<(&Slice<'_>, i16)>,
+    options: &WallOptions,
+) -> Wall {
+    let t = design.bone_thickness;
+    match finish_wall(design.clone(), t, tissue, options) {
+        Ok(w) => w,
+        Err(_) => Wall {
+            design,
+            inner: Polyline::open(Vec::new()),
+            raw_section: Polyline::closed(Vec::new()),
+            section: Polyline::closed(Vec::new()),
+            thickness: t,
+            clipped_fraction: f64::NAN,
+        },
+    }
+}
+
+/// Every check of a finished wall: its own values on the head's hull, the
+/// width jump carried over from the design checks.
+pub fn wall_checks(
+    wall: &Wall,
+    hull: &ConvexHull,
+    design: &CheckValues,
+    options: &WallOptions,
+) -> (CheckValues, Vec<Finding>) {
+    let mut v = measure_wall(wall, hull);
+    v.width_jump_mm = design.width_jump_mm;
+    v.neighbour_width_mm = design.neighbour_width_mm;
+    let f = v.findings(&options.checks);
+    (v, f)
+}
+
+/// The head hull of a slice of `volume` with bone mask `mask`.
+pub fn slice_hull(volume: &Volume, mask: &crate::ct::Mask2, midline: &MidLine) -> ConvexHull {
+    head_hull(mask, (volume.spacing.x, volume.spacing.y), midline)
+}
+
+/// The runs of accepted slices: maximal sequences of positions in the
+/// slice list whose slices are all accepted.
+pub fn accepted_runs(accepted: &[bool]) -> Vec<Vec<usize>> {
+    let mut runs: Vec<Vec<usize>> = Vec::new();
+    let mut current = Vec::new();
+    for (i, &ok) in accepted.iter().enumerate() {
+        if ok {
+            current.push(i);
+        } else if !current.is_empty() {
+            runs.push(std::mem::take(&mut current));
+        }
+    }
+    if !current.is_empty() {
+        runs.push(current);
+    }
+    runs
+}
+
+/// The mesh and voxels of the accepted slices (`indices`: volume indices
+/// of the design's slices, `sections` their sections, each ring resampled
+/// through its `seats`): each run lofted on
+/// its own ([`build_mesh_with`]; a run of one slice is a slab `slab_mm`
+/// thick), the meshes concatenated and the voxels united. Empty when no
+/// slice is accepted.
+pub fn accepted_mesh(
+    volume: &Volume,
+    indices: &[usize],
+    (sections, seats): (&[Polyline], &[Vec<Point>]),
+    accepted: &[bool],
+    (ring_points, slab_mm): (usize, f64),
+) -> Result<(Mesh, Mask3), ImplantError> {
+    let mut mesh = Mesh {
+        vertices: Vec::new(),
+        triangles: Vec::new(),
+    };
+    let mut mask = Mask3::new(volume.nx, volume.ny, volume.nz, volume.spacing);
+    for run in accepted_runs(accepted) {
+        let ks: Vec<usize> = run.iter().map(|&i| indices[i]).collect();
+        let secs: Vec<Polyline> = run.iter().map(|&i| sections[i].clone()).collect();
+        let anchors: Vec<Vec<Point>> = run.iter().map(|&i| seats[i].clone()).collect();
+        let (m, v) = build_mesh_through(volume, &ks, (&secs, &anchors), ring_points, slab_mm)?;
+        let offset = mesh.vertices.len();
+        mesh.vertices.extend(m.vertices);
+        mesh.triangles.extend(
+            m.triangles
+                .iter()
+                .map(|t| [t[0] + offset, t[1] + offset, t[2] + offset]),
+        );
+        for &k in &ks {
+            for (r, c) in v.slice(k).pixels() {
+                mask.set(k, r, c, true);
+            }
+        }
+    }
+    Ok((mesh, mask))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn refused_slices_split_the_runs() {
+        assert_eq!(
+            accepted_runs(&[true, true, false, true, false, false, true]),
+            vec![vec![0, 1], vec![3], vec![6]]
+        );
+        assert!(accepted_runs(&[false, false]).is_empty());
+    }
+}
