@@ -67,11 +67,13 @@ pub mod render;
 pub mod run;
 pub mod spec;
 pub mod tables;
+pub mod tables2d;
 pub mod tables3d;
 pub mod template;
 pub mod units;
 pub mod validation;
 pub mod validation3d;
+pub mod verdict_tables;
 
 pub use run::{load_volume, run_implant, run_implant_with, RunOptions, RunSummary, PARTIAL_STL};
 pub use spec::{ImplantSpec, Validation3dSpec, ValidationSpec};

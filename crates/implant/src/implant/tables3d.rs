@@ -7,12 +7,13 @@ use std::fmt::Write as _;
 use super::plausibility::Reading;
 use super::regions::{region_tables, RegionRow};
 use super::spec::Validation3dSpec;
-use super::tables::{
-    cluster_list, decided_rows, design_text, family_size, implausible_text, medians_by_width,
-    no_case_built, r, units_observed, verdict_tables, REGION_TEXT,
-};
+use super::tables::r;
 use super::units::{position_units, range_clusters, smallest_patch_gap, Observation, SliceCluster};
 use super::validation3d::{Metrics3d, Row3d};
+use super::verdict_tables::{
+    cluster_list, decided_rows, design_text, family_size, implausible_text, medians_by_width,
+    no_case_built, units_observed, verdict_tables, REGION_TEXT,
+};
 use crate::files::csv_bytes;
 use crate::markdown::{self, Alignment};
 use crate::stats::VerdictRow;
