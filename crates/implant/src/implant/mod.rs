@@ -33,6 +33,7 @@
 //! | [`tables`], [`tables3d`] | its tables: report sections and CSV files |
 //! | [`render`] | its pictures: slice overlays and the 3D preview |
 
+pub mod check_limits;
 pub mod checks;
 pub mod continuation;
 pub mod delivered;

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 
 use super::delivered::{delivered_ring, measure_delivered, Delivered};
 use super::plausibility::{CheckValues, Finding};
-use super::refusal::{accepted_mesh, design_checks, finish_refused, slice_hull, wall_checks};
+use super::refusal::{accepted_runs, design_checks, finish_refused, slice_hull, wall_checks};
 use super::seats::choose_seats;
 use super::slice_error::SliceError;
 use super::smooth::{lipschitz_envelope, roughness, smooth_outer_walls};
@@ -898,5 +898,44 @@ pub fn build_mesh_through(
         indices.iter().copied().zip(rings).collect()
     };
     let mask = voxelise(&vox, volume.nx, volume.ny, volume.nz, volume.spacing);
+    Ok((mesh, mask))
+}
+
+/// The mesh and voxels of the accepted slices (`indices`: volume indices
+/// of the design's slices, `sections` their sections, each ring resampled
+/// through its `seats`): each run lofted on
+/// its own ([`build_mesh_with`]; a run of one slice is a slab `slab_mm`
+/// thick), the meshes concatenated and the voxels united. Empty when no
+/// slice is accepted.
+pub fn accepted_mesh(
+    volume: &Volume,
+    indices: &[usize],
+    (sections, seats): (&[Polyline], &[Vec<Point>]),
+    accepted: &[bool],
+    (ring_points, slab_mm): (usize, f64),
+) -> Result<(Mesh, Mask3), ImplantError> {
+    let mut mesh = Mesh {
+        vertices: Vec::new(),
+        triangles: Vec::new(),
+    };
+    let mut mask = Mask3::new(volume.nx, volume.ny, volume.nz, volume.spacing);
+    for run in accepted_runs(accepted) {
+        let ks: Vec<usize> = run.iter().map(|&i| indices[i]).collect();
+        let secs: Vec<Polyline> = run.iter().map(|&i| sections[i].clone()).collect();
+        let anchors: Vec<Vec<Point>> = run.iter().map(|&i| seats[i].clone()).collect();
+        let (m, v) = build_mesh_through(volume, &ks, (&secs, &anchors), ring_points, slab_mm)?;
+        let offset = mesh.vertices.len();
+        mesh.vertices.extend(m.vertices);
+        mesh.triangles.extend(
+            m.triangles
+                .iter()
+                .map(|t| [t[0] + offset, t[1] + offset, t[2] + offset]),
+        );
+        for &k in &ks {
+            for (r, c) in v.slice(k).pixels() {
+                mask.set(k, r, c, true);
+            }
+        }
+    }
     Ok((mesh, mask))
 }

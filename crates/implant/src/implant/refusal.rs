@@ -6,13 +6,11 @@
 //! implant bridges a refused slice; the runs' closed meshes together are
 //! the implant.
 
-use super::pipeline::{build_mesh_through, ImplantError};
 use super::plausibility::{
     design_values, head_hull, measure_wall, width_jumps, CheckValues, Finding, DESIGN_CHECKS,
 };
 use super::wall::{finish_wall, OuterDesign, Wall, WallOptions};
-use crate::ct::{ConvexHull, Mask3, Mesh, MidLine, Polyline, Slice, Volume};
-use crate::geometry::Point;
+use crate::ct::{ConvexHull, MidLine, Polyline, Slice, Volume};
 
 /// The design checks of a stack of outer designs at slices `zs`: each
 /// slice's values (widths against neighbours, template, fit) and what fails.
@@ -94,45 +92,6 @@ pub fn accepted_runs(accepted: &[bool]) -> Vec<Vec<usize>> {
         runs.push(current);
     }
     runs
-}
-
-/// The mesh and voxels of the accepted slices (`indices`: volume indices
-/// of the design's slices, `sections` their sections, each ring resampled
-/// through its `seats`): each run lofted on
-/// its own ([`build_mesh_with`]; a run of one slice is a slab `slab_mm`
-/// thick), the meshes concatenated and the voxels united. Empty when no
-/// slice is accepted.
-pub fn accepted_mesh(
-    volume: &Volume,
-    indices: &[usize],
-    (sections, seats): (&[Polyline], &[Vec<Point>]),
-    accepted: &[bool],
-    (ring_points, slab_mm): (usize, f64),
-) -> Result<(Mesh, Mask3), ImplantError> {
-    let mut mesh = Mesh {
-        vertices: Vec::new(),
-        triangles: Vec::new(),
-    };
-    let mut mask = Mask3::new(volume.nx, volume.ny, volume.nz, volume.spacing);
-    for run in accepted_runs(accepted) {
-        let ks: Vec<usize> = run.iter().map(|&i| indices[i]).collect();
-        let secs: Vec<Polyline> = run.iter().map(|&i| sections[i].clone()).collect();
-        let anchors: Vec<Vec<Point>> = run.iter().map(|&i| seats[i].clone()).collect();
-        let (m, v) = build_mesh_through(volume, &ks, (&secs, &anchors), ring_points, slab_mm)?;
-        let offset = mesh.vertices.len();
-        mesh.vertices.extend(m.vertices);
-        mesh.triangles.extend(
-            m.triangles
-                .iter()
-                .map(|t| [t[0] + offset, t[1] + offset, t[2] + offset]),
-        );
-        for &k in &ks {
-            for (r, c) in v.slice(k).pixels() {
-                mask.set(k, r, c, true);
-            }
-        }
-    }
-    Ok((mesh, mask))
 }
 
 #[cfg(test)]

@@ -20,15 +20,14 @@ use super::plausibility::{describe, CheckValues};
 use super::regions::{Region, RegionRule};
 use super::render::{overlay_png, preview_png, validation_figure_of, VALIDATION_FIGURE};
 use super::spec::{ImplantSpec, Validation3dSpec, ValidationSpec};
-use super::tables::{
-    defect_csv, defect_report, report_header, report_summary, slices_off_target, validation_csv,
-    validation_report, verdicts_csv,
-};
+use super::tables::{defect_csv, defect_report, report_header, report_summary, slices_off_target};
+use super::tables2d::{validation_csv, validation_report};
 use super::tables3d::{validation_3d_csv, validation_3d_report};
 use super::validation::{
     case_template_source, evaluate, prepare_case, Case, CaseError, PreparedCase, ValidationRow,
 };
 use super::validation3d::{evaluate_3d, prepare_case_3d, Case3d, Prepared3d, Row3d};
+use super::verdict_tables::verdicts_csv;
 use super::wall::WallKind;
 use crate::ct::{read_dicom_dir, read_inv3, stl_bytes, Volume};
 use crate::files::{write_atomic, Staging};
@@ -185,7 +184,16 @@ pub fn run_implant_with(
         .map(|(name, _)| name.clone())
         .filter(|n| n.ends_with(".png"))
         .collect();
-    report.insert_str(header_len, &report_summary(&outputs.verdicts, &pictures));
+    let alpha = spec
+        .validation
+        .as_ref()
+        .map(|v| v.alpha)
+        .or(spec.validation_3d.as_ref().map(|v| v.alpha))
+        .unwrap_or(crate::stats::DEFAULT_ALPHA);
+    report.insert_str(
+        header_len,
+        &report_summary(&outputs.verdicts, &pictures, alpha),
+    );
     if let Some(lacks) = partial {
         report.insert_str(0, &lacks);
     }

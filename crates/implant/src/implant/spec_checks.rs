@@ -17,7 +17,7 @@
 //! ```
 
 use super::Parser;
-use crate::implant::plausibility::PlausibilityLimits;
+use crate::implant::check_limits::PlausibilityLimits;
 use metabezier_spec::{SpecError, Value};
 
 /// The keys of `[checks]`, in the order of the module's example.

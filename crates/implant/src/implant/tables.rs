@@ -13,6 +13,7 @@ use super::delivered::Delivered;
 use super::pipeline::{Implant, SliceResult};
 use super::plausibility::{check_columns, check_fields, describe};
 use super::spec::ImplantSpec;
+use super::verdict_tables::{VALIDATION_2D_TABLE, VALIDATION_3D_TABLE};
 use super::wall_input::ThicknessProfile;
 use crate::ct::{contour_deviation, Volume};
 use crate::files::{csv_bytes, fmt_real};
@@ -22,6 +23,10 @@ use crate::stats::{median, VerdictRow};
 pub(crate) fn r(x: f64) -> String {
     fmt_real(x)
 }
+
+/// The summary's word for a verdict row whose smallest reachable p is at
+/// least α: not "no detectable difference", which would read as a finding.
+const UNDECIDABLE: &str = "undecidable";
 
 /// The seatability targets of the real defect (issue 13): bone overlap per
 /// slice, and the median and largest kink against the outer table.
@@ -75,7 +80,7 @@ pub fn report_header(spec: &ImplantSpec, volume: &Volume) -> String {
 /// against its baselines (the validation's, 2D and 3D) in one table with a
 /// sentence per baseline, and links to the pictures (`pictures`, file
 /// names beside the report).
-pub fn report_summary(verdicts: &[VerdictRow], pictures: &[String]) -> String {
+pub fn report_summary(verdicts: &[VerdictRow], pictures: &[String], alpha: f64) -> String {
     let mut s = String::from("## Summary\n\n");
     s.push_str(
         "Question: does the curve-fitted outer wall (with its offset inner wall) rebuild \
@@ -108,11 +113,20 @@ pub fn report_summary(verdicts: &[VerdictRow], pictures: &[String]) -> String {
                         v.table == table
                             && v.algorithm == fit
                             && v.reference == against
-                            && v.verdict.as_str() == verdict
+                            && match verdict {
+                                // A row that cannot reject is no finding.
+                                UNDECIDABLE => v.across.p_min >= alpha,
+                                "no detectable difference" => {
+                                    v.verdict.as_str() == verdict && v.across.p_min < alpha
+                                }
+                                _ => v.verdict.as_str() == verdict,
+                            }
                     })
                     .map(|v| {
                         let a = &v.across;
-                        if verdict == "no detectable difference" {
+                        if verdict == UNDECIDABLE {
+                            format!("{} ({} units, p_min {:.2})", v.measure, a.units, a.p_min)
+                        } else if verdict == "no detectable difference" {
                             v.measure.clone()
                         } else {
                             let p = if v.p_adjusted < 0.001 {
@@ -132,7 +146,7 @@ pub fn report_summary(verdicts: &[VerdictRow], pictures: &[String]) -> String {
             };
             let scope = match table {
                 VALIDATION_2D_TABLE => "slice by slice",
-                "validation-3d" => "in 3D",
+                VALIDATION_3D_TABLE => "in 3D",
                 other => other,
             };
             let against = match against {
@@ -142,10 +156,12 @@ pub fn report_summary(verdicts: &[VerdictRow], pictures: &[String]) -> String {
             };
             s.push_str(&format!(
                 "- {scope}, {fit} against the {against}: better on {}; worse on {}; no \
-                 detectable difference on {}.\n",
+                 detectable difference on {}; too few units for any test to decide \
+                 (p_min ≥ α = {alpha}) on {}.\n",
                 of("better"),
                 of("worse"),
-                of("no detectable difference")
+                of("no detectable difference"),
+                of(UNDECIDABLE)
             ));
         }
         s.push_str("\nEvery verdict, per width and slice range too, is in `verdicts.csv`.\n\n");
@@ -636,8 +652,3 @@ fn slice_table(implant: &Implant, tol: f64) -> String {
         .collect();
     markdown::table(&header, &rows, Alignment::Unmarked)
 }
-
-pub use super::tables2d::{
-    validation_csv, validation_report, VALIDATION_2D_PLAUSIBLE_TABLE, VALIDATION_2D_TABLE,
-};
-pub use super::verdict_tables::verdicts_csv;

@@ -16,6 +16,7 @@ use super::validation::{CaseMetrics, ValidationRow};
 use super::verdict_tables::{
     cluster_list, decided_rows, design_text, family_size, implausible_text, medians_by_width,
     no_case_built, unit_count, units_observed, verdict_tables, REGION_TEXT,
+    VALIDATION_2D_PLAUSIBLE_TABLE, VALIDATION_2D_TABLE,
 };
 use crate::files::csv_bytes;
 use crate::markdown::{self, Alignment};
@@ -107,13 +108,6 @@ const METRICS: [Metric; 5] = [
     ),
     ("max deviation mm", "max-deviation-mm", |m| m.dev_max, false),
 ];
-
-/// The `table` of the one-slice validation's rows in `verdicts.csv`.
-pub const VALIDATION_2D_TABLE: &str = "validation-2d";
-
-/// The `table` of the one-slice validation's verdicts without its
-/// implausible rows.
-pub const VALIDATION_2D_PLAUSIBLE_TABLE: &str = "validation-2d-plausible";
 
 /// The "Validation on perfect data" section of `report.md`: the cases, the
 /// median of every metric by method and width, the verdicts of the curve

@@ -12,7 +12,8 @@ use super::units::{position_units, range_clusters, smallest_patch_gap, Observati
 use super::validation3d::{Metrics3d, Row3d};
 use super::verdict_tables::{
     cluster_list, decided_rows, design_text, family_size, implausible_text, medians_by_width,
-    no_case_built, units_observed, verdict_tables, REGION_TEXT,
+    no_case_built, units_observed, verdict_tables, REGION_TEXT, VALIDATION_3D_PLAUSIBLE_TABLE,
+    VALIDATION_3D_TABLE,
 };
 use crate::files::csv_bytes;
 use crate::markdown::{self, Alignment};
@@ -101,13 +102,6 @@ const METRICS_3D: [Metric3d; 3] = [
     ("boundary DSC", "boundary-dice", |m| m.boundary_dice, true),
     ("HD95 mm", "hd95-mm", |m| m.hd95, false),
 ];
-
-/// The `table` of the 3D validation's rows in `verdicts.csv`.
-pub const VALIDATION_3D_TABLE: &str = "validation-3d";
-
-/// The `table` of the 3D validation's verdicts without its implausible
-/// rows.
-pub const VALIDATION_3D_PLAUSIBLE_TABLE: &str = "validation-3d-plausible";
 
 /// The methods of the rows, baselines first.
 fn methods(val: &Validation3dSpec) -> Vec<String> {

@@ -13,6 +13,20 @@ use crate::markdown::{self, Alignment};
 use crate::reconstruction::Method;
 use crate::stats::{median, smallest_signed_rank_p, VerdictRow, VERDICT_COLUMNS};
 
+/// The `table` of the one-slice validation's rows in `verdicts.csv`.
+pub const VALIDATION_2D_TABLE: &str = "validation-2d";
+
+/// The `table` of the one-slice validation's verdicts without its
+/// implausible rows.
+pub const VALIDATION_2D_PLAUSIBLE_TABLE: &str = "validation-2d-plausible";
+
+/// The `table` of the 3D validation's rows in `verdicts.csv`.
+pub const VALIDATION_3D_TABLE: &str = "validation-3d";
+
+/// The `table` of the 3D validation's verdicts without its implausible
+/// rows.
+pub const VALIDATION_3D_PLAUSIBLE_TABLE: &str = "validation-3d-plausible";
+
 /// `verdicts.csv`: every verdict row of the validations, in the columns
 /// [`VERDICT_COLUMNS`] shared with `metabezier report`.
 pub fn verdicts_csv(rows: &[VerdictRow]) -> Vec<u8> {

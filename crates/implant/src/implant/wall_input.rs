@@ -132,7 +132,7 @@ pub struct WallOptions {
     pub fill_ends: bool,
     /// The plausibility limits a finished wall is checked against before
     /// it is accepted (`[checks]` in a spec; [`super::plausibility`]).
-    pub checks: super::plausibility::PlausibilityLimits,
+    pub checks: super::check_limits::PlausibilityLimits,
 }
 
 /// How the inner wall's offset `Dis(u)` runs from A′ to B′, as the spec
@@ -204,7 +204,7 @@ impl Default for WallOptions {
             template: TemplateChoice::Mirror,
             thickness_profile: ThicknessProfile::Linear,
             fill_ends: false,
-            checks: super::plausibility::PlausibilityLimits::default(),
+            checks: super::check_limits::PlausibilityLimits::default(),
         }
     }
 }
