@@ -322,6 +322,21 @@ fn allow_partial_writes_the_accepted_slices_and_names_the_rest() {
         };
         assert_eq!((r[status], r[failed]), (want, checks), "{r:?}");
     }
+    // At the skull base most slices are refused: the detection failed as a
+    // whole, and --allow-partial does not write the rest either.
+    let base = cut(&v, (44, 52), 180.0, 40.0);
+    let spec = cut_spec(&dir, &base, "");
+    let out = dir.join("base");
+    let refused = metabezier(&[
+        "implant",
+        spec.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--allow-partial",
+    ]);
+    let err = String::from_utf8_lossy(&refused.stderr);
+    assert!(!refused.status.success() && !out.exists(), "{err}");
+    assert!(err.contains("max_refused_fraction"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -351,61 +366,4 @@ fn the_checks_section_sets_the_limits_and_names_bad_keys() {
         assert!(e.contains(want) && e.contains("cut.toml"), "{extra}: {e}");
     }
     let _ = std::fs::remove_dir_all(&dir);
-}
-
-#[test]
-#[ignore]
-fn explore_rings() {
-    let v = read_inv3(Path::new(CT0051_PATH)).unwrap();
-    for k in (0..v.nz).step_by(3) {
-        let s = v.slice(k);
-        let n = s.data.iter().filter(|&&x| x >= 300).count();
-        let m = metabezier::ct::bone_mask_slice(&s, 300).unwrap();
-        let px = m.pixels();
-        let (mut lo, mut hi) = ((usize::MAX, usize::MAX), (0, 0));
-        for (r, c) in px {
-            lo = (lo.0.min(r), lo.1.min(c));
-            hi = (hi.0.max(r), hi.1.max(c));
-        }
-        println!(
-            "z {} bone px {} extent {:.0} x {:.0} mm",
-            k + 40,
-            n,
-            (hi.1 - lo.1) as f64 * s.sx,
-            (hi.0 - lo.0) as f64 * s.sy
-        );
-    }
-}
-
-#[test]
-#[ignore]
-fn explore_vertex() {
-    let spec = shipped();
-    let v = read_inv3(Path::new(CT0051_PATH)).unwrap();
-    let (midline, _) = resolve_midline(&v, &spec.defect_config).unwrap();
-    let p = prepare_case(
-        &v,
-        Case {
-            index: 97 - 40,
-            position_deg: 95.0,
-            width_mm: 45.0,
-        },
-        midline,
-        300,
-    )
-    .unwrap();
-    for kind in [WallKind::CurveFit, WallKind::Template, WallKind::Straight] {
-        let e = evaluate(
-            &p,
-            kind,
-            &spec.defect_config.wall,
-            10.0,
-            &mut LmSolver::default(),
-        );
-        println!(
-            "{kind:?} {:?} {:?}",
-            e.metrics.map(|m| (m.dice, m.hd95)),
-            e.findings
-        );
-    }
 }

@@ -126,11 +126,19 @@ pub fn clip_to_tissue_keeping(
     let (lo, hi) = section.bbox()?;
     let s = subdivision.max(1) as f64;
     let (sx, sy) = (slice.sx, slice.sy);
-    // Pixel-aligned box around the section with a two-pixel margin.
-    let c0 = (lo.x / sx).floor() - 2.0;
-    let r0 = (lo.y / sy).floor() - 2.0;
-    let c1 = (hi.x / sx).ceil() + 2.0;
-    let r1 = (hi.y / sy).ceil() + 2.0;
+    // Pixel-aligned box around the section with a two-pixel margin, within
+    // the image and its two-pixel margin: the grid's size is bounded by the
+    // image's whatever the section (a wild wall may run metres away), and
+    // what lies outside the image is cut off (the plausibility checks
+    // measure the section before clipping).
+    let (cmax, rmax) = (slice.nx as f64 + 1.0, slice.ny as f64 + 1.0);
+    let c0 = ((lo.x / sx).floor() - 2.0).max(-2.0);
+    let r0 = ((lo.y / sy).floor() - 2.0).max(-2.0);
+    let c1 = ((hi.x / sx).ceil() + 2.0).min(cmax);
+    let r1 = ((hi.y / sy).ceil() + 2.0).min(rmax);
+    if c1 <= c0 || r1 <= r0 {
+        return None;
+    }
     let grid = Grid {
         origin: Point::new(c0 * sx, r0 * sy),
         h: Point::new(sx / s, sy / s),

@@ -156,14 +156,39 @@ pub fn resample_through(ring: &Polyline, anchors: &[Point], n: usize) -> Polylin
         counts[k] += 1;
         left -= 1;
     }
-    let mut pts = Vec::with_capacity(n);
+    // Arc positions from at[0] on, increasing, within one lap.
+    let mut targets = Vec::with_capacity(n);
     for k in 0..m {
         for i in 0..counts[k] {
-            let s = (at[k] + lens[k] * i as f64 / counts[k] as f64).rem_euclid(total);
-            pts.push(ring.point_at(s));
+            targets.push(at[k] + lens[k] * i as f64 / counts[k] as f64);
         }
     }
-    Polyline::closed(pts)
+    Polyline::closed(points_at_increasing(ring, &cum, &targets))
+}
+
+/// The points of the closed polyline `ring` (cumulative lengths `cum`,
+/// perimeter last) at the increasing arc positions `targets`, which span at
+/// most one lap from a position in `[0, perimeter)`: one walk over at most
+/// two laps of segments.
+fn points_at_increasing(ring: &Polyline, cum: &[f64], targets: &[f64]) -> Vec<Point> {
+    let n = ring.points.len();
+    let total = cum[n];
+    let mut out = Vec::with_capacity(targets.len());
+    let mut i = 0; // segment of the doubled ring: i % n, starting at lap i / n
+    for &t in targets {
+        while i + 1 < 2 * n && (i / n) as f64 * total + cum[i % n + 1] < t {
+            i += 1;
+        }
+        let (a, b) = (ring.points[i % n], ring.points[(i + 1) % n]);
+        let start = (i / n) as f64 * total + cum[i % n];
+        let l = a.distance(b);
+        out.push(if l > 0.0 {
+            a.lerp(b, ((t - start) / l).clamp(0.0, 1.0))
+        } else {
+            a
+        });
+    }
+    out
 }
 
 /// The rings of a loft: each section oriented counter-clockwise,
@@ -311,4 +336,45 @@ pub fn slice_mesh(mesh: &Mesh, h: f64) -> Vec<Polyline> {
         }
     }
     loops
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_ring_resampled_through_anchors_keeps_them_and_its_order() {
+        let sq = Polyline::closed(vec![
+            Point::new(0.0, 0.0),
+            Point::new(4.0, 0.0),
+            Point::new(4.0, 2.0),
+            Point::new(0.0, 2.0),
+        ]);
+        let anchors = [Point::new(4.0, 1.3), Point::new(0.0, 0.5)];
+        let r = resample_through(&sq, &anchors, 24);
+        assert_eq!(r.points.len(), 24);
+        for a in anchors {
+            assert!(r.points.iter().any(|p| p.distance(a) < 1e-12), "{a:?}");
+        }
+        // On the square, counter-clockwise like it, spaced at most the
+        // perimeter over n − 2 apart.
+        assert!(r.signed_area() > 7.9);
+        let on = |p: &Point| {
+            p.x.abs() < 1e-12
+                || (p.x - 4.0).abs() < 1e-12
+                || p.y.abs() < 1e-12
+                || (p.y - 2.0).abs() < 1e-12
+        };
+        assert!(r.points.iter().all(on));
+        let n = r.points.len();
+        let gaps: Vec<f64> = (0..n)
+            .map(|i| r.points[i].distance(r.points[(i + 1) % n]))
+            .collect();
+        assert!(
+            gaps.iter().all(|&g| g > 0.0 && g <= 12.0 / 22.0 + 1e-9),
+            "{gaps:?}"
+        );
+        // Without anchors: the plain resampling.
+        assert_eq!(resample_through(&sq, &[], 10), sq.resample(10));
+    }
 }

@@ -18,8 +18,8 @@ use super::wall::{
 };
 use crate::ct::{
     bone_loops, bone_mask_slice, bone_mask_slice_holding, detect_defect, estimate_tilted_midline,
-    loft_rings_through, voxelise, CtError, DefectParams, Frame, Mask2, Mask3, Mesh, MidLine,
-    Polyline, TableContours, Volume,
+    loft_rings_through, voxelise, ConvexHull, CtError, DefectParams, Frame, Mask2, Mask3, Mesh,
+    MidLine, Polyline, TableContours, Volume,
 };
 use crate::files::IoError;
 use crate::fit::SegmentSolver;
@@ -485,6 +485,9 @@ pub struct SliceContext {
     pub ends: (Point, Point),
     /// The polar centre: the midline at the outer table's mean height.
     pub centre: Point,
+    /// The head's hull on the slice, the plausibility checks' outline
+    /// ([`super::plausibility::head_hull`]).
+    pub head: ConvexHull,
 }
 
 /// The context of one defect slice: bone mask, ends (given or detected),
@@ -520,7 +523,9 @@ pub fn slice_context(
     let loops = bone_loops(&slice, &mask, cfg.threshold);
     let tables = crate::ct::table_contours(&loops, Some((a, b))).map_err(at)?;
     let centre = midline.at_y(tables.vertex_mean().y);
+    let head = slice_hull(volume, &mask, &midline);
     Ok(SliceContext {
+        head,
         z,
         k,
         mask,
@@ -656,8 +661,7 @@ pub fn reconstruct_from<S: SegmentSolver + ?Sized>(
     let walls = finished_walls(volume, cfg, contexts, designs, &checks)?;
     let mut slices = Vec::with_capacity(contexts.len());
     for ((ctx, wall), (pre, _)) in contexts.iter().zip(walls).zip(&checks) {
-        let hull = slice_hull(volume, &ctx.mask, &midline);
-        let (values, findings) = wall_checks(&wall, &hull, pre, &cfg.wall);
+        let (values, findings) = wall_checks(&wall, &ctx.head, pre, &cfg.wall);
         let delivered = findings.is_empty().then(|| {
             let ring = delivered_ring(&wall, cfg.ring_points);
             measure_delivered(&ring, &wall.design)
@@ -736,9 +740,7 @@ fn finished_walls(
         walls.push((ctx.z, wall));
     }
     for ((ctx, design), _) in refused.drain(..) {
-        let slice = volume.slice(ctx.k);
-        let wall = finish_refused(design, Some((&slice, cfg.threshold)), &cfg.wall);
-        walls.push((ctx.z, wall));
+        walls.push((ctx.z, finish_refused(design, &cfg.wall)));
     }
     walls.sort_by_key(|w| w.0);
     Ok(walls.into_iter().map(|w| w.1).collect())

@@ -5,26 +5,33 @@
 //! with the removed bone, so the same checks serve the real defect and the
 //! validation.
 //!
+//! With `w` the chord A′B′ between the seats (mm):
+//!
 //! | check | value | refused when (defaults) |
 //! |---|---|---|
-//! | `width_jump` | `w − max(w` of the defect slices within ±2`)` (mm) | `> max(15 mm, 0.5·max)` |
-//! | `outside_head` | largest distance of the section outside the head's hull (mm) | `> max(3 mm, 0.5·|A′B′|)` |
-//! | `template_wrap` | template length / `|A′B′|` | `> 1.5` |
-//! | `volume` | section area / (`|A′B′|` · mean thickness) | `> 3` |
-//! | `fit_rms` | RMS of the wall against its template (mm) | `> max(5 mm, 0.1·|A′B′|)` |
+//! | `width_jump` | `w` − the largest `w` of the defect slices within ±2 (mm) | `> max(15 mm, 0.5 × theirs)` |
+//! | `outside_head` | largest distance of the designed section outside the head's hull (mm) | `> max(3 mm, 0.5 w)` |
+//! | `template_wrap` | template length / `w` | `> 1.5` |
+//! | `volume` | section area / (`w` × mean thickness) | `> 3` |
+//! | `fit_rms` | RMS of the wall against its template (mm) | `> max(5 mm, 0.1 w)` |
 //! | `template_join` | the bare template's turn against the bone at A′, B′ over 3 mm (degrees) | `> 120°` |
 //!
 //! Where the defaults come from: on the shipped CT 0051 design (z = 56–84)
-//! the defect width changes by at most 3.5 mm between slices, the wall's
-//! length is 1.01–1.04 `|A′B′|`, the section's area 0.47–0.84 of
-//! `|A′B′|`·thickness and the fit RMS at most 0.67 mm; on the 2D and 3D
-//! validations of both patients every built case lies within the limits
-//! except the ones the issue names (a template wrapped the wrong way round
-//! the head: length 8 `|A′B′|`, join 178°; a skull-base "defect" that is
-//! the face's natural opening: fit RMS up to 1,588 mm; a detected width of
-//! 118.6 mm between neighbours of 22–26 mm). The limits are loose by a
-//! factor 1.5–4 over what a good design shows, and each is a key of the
-//! spec's `[checks]` section.
+//! the width changes by at most 3.5 mm between slices, the wall is
+//! 1.01–1.04 `w` long, the designed section's area 0.91–1.04 of `w` ×
+//! thickness and the fit RMS at most 0.67 mm; on the 2D and 3D validations
+//! of both patients (3,834 rows of CT 0051, 390 of CQ500) no built row fails
+//! a check. What they refuse (issue 48's cases, cut in code in
+//! `tests/implant_plausibility.rs`): a skull-base "defect" that is the
+//! face's natural opening (walls up to 4.3 m outside the head, templates up
+//! to 81 `|A′B′|`), a detected width of 118.6 mm between neighbours of
+//! 22–26 mm, a template round the wrong side of the head (8 `|A′B′|`, join
+//! 178°). A first set (fit RMS 2 mm, hull 0.25 `|A′B′|`) flagged good 3D
+//! patches (DSC 0.92, the continuation across the forehead 13.4 mm outside
+//! the hull): the limits are loose by a factor 1.5–4 over what a good
+//! design shows, and each is a key of the spec's `[checks]` section.
+//! `outside_head` and `volume` are measured on the designed section before
+//! it is clipped to the tissue that is not bone.
 
 use std::fmt;
 
@@ -309,16 +316,25 @@ pub const SECTION_CHECKS: [Check; 2] = [Check::OutsideHead, Check::Volume];
 
 /// The head's outer outline a design can know on one slice: the convex
 /// hull of the bone pixels' corners and their mirror images across
-/// `midline` (the defect side is covered by the intact side's bone).
+/// `midline` (the defect side is covered by the intact side's bone). Only
+/// each row's outermost pixels can be hull vertices, so only their corners
+/// are taken: the hull of a set and its mirror image is the hull of both
+/// sets' hulls.
 pub fn head_hull(mask: &Mask2, (sx, sy): (f64, f64), midline: &MidLine) -> ConvexHull {
-    let mut pts = Vec::new();
+    let mut ends: Vec<Option<(usize, usize)>> = vec![None; mask.ny];
     for (r, c) in mask.pixels() {
-        // Only a ring pixel's outer corners can be hull vertices, but every
-        // pixel is cheap enough: the hull sorts them once.
-        for (dr, dc) in [(-0.5, -0.5), (-0.5, 0.5), (0.5, 0.5), (0.5, -0.5)] {
-            let p = Point::new((c as f64 + dc) * sx, (r as f64 + dr) * sy);
-            pts.push(p);
-            pts.push(midline.reflect(p));
+        let e = ends[r].get_or_insert((c, c));
+        *e = (e.0.min(c), e.1.max(c));
+    }
+    let mut pts = Vec::new();
+    for (r, e) in ends.iter().enumerate() {
+        let Some((c0, c1)) = *e else { continue };
+        for c in [c0, c1] {
+            for (dr, dc) in [(-0.5, -0.5), (-0.5, 0.5), (0.5, 0.5), (0.5, -0.5)] {
+                let p = Point::new((c as f64 + dc) * sx, (r as f64 + dr) * sy);
+                pts.push(p);
+                pts.push(midline.reflect(p));
+            }
         }
     }
     ConvexHull::of(&pts)
@@ -340,20 +356,22 @@ pub fn design_values(d: &OuterDesign) -> CheckValues {
 
 /// The values of the checks of one finished wall that need no other slice
 /// (the width jump is left `NaN`; [`width_jumps`] fills it): the design's
-/// ([`design_values`]), how far the section leaves `hull`, and its area
-/// against `|A′B′|` times the mean thickness.
+/// ([`design_values`]), how far the designed section (before clipping)
+/// leaves `hull`, and its area against `|A′B′|` times the mean thickness.
 pub fn measure_wall(wall: &Wall, hull: &ConvexHull) -> CheckValues {
     let v = design_values(&wall.design);
     let mean_t = 0.5 * (wall.thickness.0 + wall.thickness.1);
-    let outside = wall
-        .section
+    // The designed section, before clipping: clipping removes bone, not
+    // implausibility (and cuts off what leaves the image).
+    let section = &wall.raw_section;
+    let outside = section
         .points
         .iter()
         .map(|&p| hull.outside_distance(p))
         .fold(0.0, f64::max);
     CheckValues {
         outside_head_mm: outside,
-        volume_ratio: wall.section.signed_area().abs() / (v.width_mm * mean_t),
+        volume_ratio: section.signed_area().abs() / (v.width_mm * mean_t),
         ..v
     }
 }

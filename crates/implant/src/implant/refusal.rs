@@ -10,7 +10,7 @@ use super::plausibility::{
     design_values, head_hull, measure_wall, width_jumps, CheckValues, Finding, DESIGN_CHECKS,
 };
 use super::wall::{finish_wall, OuterDesign, Wall, WallOptions};
-use crate::ct::{ConvexHull, MidLine, Polyline, Slice, Volume};
+use crate::ct::{ConvexHull, MidLine, Polyline, Volume};
 
 /// The design checks of a stack of outer designs at slices `zs`: each
 /// slice's values (widths against neighbours, template, fit) and what fails.
@@ -35,15 +35,12 @@ pub fn design_checks(
 }
 
 /// A refused design finished as well as it goes, for its row of
-/// `metrics.csv`: at its own bone thickness, or with an empty section where
-/// even that fails (a wall wild enough to be clipped away).
-pub fn finish_refused(
-    design: OuterDesign,
-    tissue: Option<(&Slice<'_>, i16)>,
-    options: &WallOptions,
-) -> Wall {
+/// `metrics.csv`: at its own bone thickness and not clipped (it goes into
+/// no mesh, and a wild wall's clipping grid is what a design must not pay
+/// for), or with an empty section where even that fails.
+pub fn finish_refused(design: OuterDesign, options: &WallOptions) -> Wall {
     let t = design.bone_thickness;
-    match finish_wall(design.clone(), t, tissue, options) {
+    match finish_wall(design.clone(), t, None, options) {
         Ok(w) => w,
         Err(_) => Wall {
             design,
