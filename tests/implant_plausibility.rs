@@ -13,7 +13,7 @@ use metabezier::ct::{read_inv3, write_inv3, Polyline, Volume, CT0051_PATH};
 use metabezier::fit::LmSolver;
 use metabezier::geometry::Point;
 use metabezier::implant::plausibility::{measure_wall, Check};
-use metabezier::implant::tables2d::validation_csv;
+use metabezier::implant::tables2d::{self, validation_csv};
 use metabezier::implant::*;
 
 fn shipped() -> ImplantSpec {
@@ -187,16 +187,25 @@ fn a_template_that_wraps_the_wrong_way_makes_an_implausible_row() {
         ..spec.defect_config.wall
     };
     let mut rows = Vec::new();
-    for kind in [WallKind::Template, WallKind::CurveFit] {
+    for (kind, method) in [
+        (WallKind::Template, "template"),
+        (WallKind::CurveFit, "curve:lm"),
+        (WallKind::Straight, "straight"),
+    ] {
         let wall = reconstruct_wall(&input, kind, &options, &mut LmSolver::default()).unwrap();
-        let checks = measure_wall(&wall, &p.head);
+        let checks = measure_wall(&wall, &p.head, kind);
         let findings = checks.findings(&options.checks);
         let names: Vec<Check> = findings.iter().map(|f| f.check).collect();
-        assert!(names.contains(&Check::TemplateWrap), "{kind:?}: {checks:?}");
+        // The straight bridge does not follow the template: it is plausible.
+        assert_eq!(
+            names.contains(&Check::TemplateWrap),
+            kind != WallKind::Straight,
+            "{kind:?}: {checks:?}"
+        );
         rows.push(ValidationRow {
             case,
             z: 88,
-            method: format!("{kind:?}"),
+            method: method.into(),
             run: 0,
             seed: 0,
             metrics: Ok(case_metrics(&p, &wall, 10.0).unwrap()),
@@ -209,7 +218,46 @@ fn a_template_that_wraps_the_wrong_way_makes_an_implausible_row() {
             region: metabezier::implant::regions::Region::Back,
         });
     }
-    assert!(rows.iter().all(|r| r.status() == "implausible"));
+    let status: Vec<&str> = rows.iter().map(ValidationRow::status).collect();
+    assert_eq!(status, ["implausible", "implausible", "ok"]);
+    // The verdicts read them as failures of their method (Dice 0), and
+    // again without them.
+    let val = ValidationSpec {
+        slices: vec![88],
+        positions: vec![210.0],
+        widths: vec![40.0],
+        methods: vec![metabezier::reconstruction::Method::from_name("lm").unwrap()],
+        runs: 1,
+        margin_mm: 10.0,
+        alpha: 0.05,
+    };
+    let mut report = String::new();
+    let verdicts = tables2d::validation_report(&mut report, &val, &rows, 1.5);
+    assert!(
+        report.contains("2 of the 3 rows are `implausible`"),
+        "{report}"
+    );
+    let dice = |table: &str| {
+        verdicts
+            .iter()
+            .find(|v| v.table == table && v.reference == "straight" && v.measure == "dice")
+            .map(|v| (v.across.units, v.across.effect_size))
+            .unwrap()
+    };
+    let (units, effect) = dice("validation-2d");
+    assert!(
+        units == 1 && effect < -0.5,
+        "read as a failure: {units} {effect}"
+    );
+    assert_eq!(
+        dice("validation-2d-plausible").0,
+        0,
+        "no plausible pair is left"
+    );
+    let rows: Vec<ValidationRow> = rows
+        .into_iter()
+        .filter(|r| r.method != "straight")
+        .collect();
     let csv = String::from_utf8(validation_csv(&rows)).unwrap();
     let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
     let status = header.iter().position(|h| *h == "status").unwrap();

@@ -657,11 +657,11 @@ pub fn reconstruct_from<S: SegmentSolver + ?Sized>(
 ) -> Result<Implant, ImplantError> {
     let zs: Vec<usize> = contexts.iter().map(|c| c.z).collect();
     let designs = design_walls(volume, cfg, midline, contexts, kind, solver)?;
-    let checks = design_checks(&designs, &zs, &cfg.wall);
+    let checks = design_checks(&designs, &zs, (&cfg.wall, kind));
     let walls = finished_walls(volume, cfg, contexts, designs, &checks)?;
     let mut slices = Vec::with_capacity(contexts.len());
     for ((ctx, wall), (pre, _)) in contexts.iter().zip(walls).zip(&checks) {
-        let (values, findings) = wall_checks(&wall, &ctx.head, pre, &cfg.wall);
+        let (values, findings) = wall_checks((&wall, kind), &ctx.head, pre, &cfg.wall);
         let delivered = findings.is_empty().then(|| {
             let ring = delivered_ring(&wall, cfg.ring_points);
             measure_delivered(&ring, &wall.design)

@@ -36,7 +36,7 @@
 use std::fmt;
 
 use super::polar::{angle_deg, walk_along};
-use super::wall::{OuterDesign, Wall, ISO_SECANTS_MM};
+use super::wall::{OuterDesign, Wall, WallKind, ISO_SECANTS_MM};
 use crate::ct::{ConvexHull, Mask2, MidLine};
 
 pub use super::check_limits::PlausibilityLimits;
@@ -341,15 +341,26 @@ pub fn head_hull(mask: &Mask2, (sx, sy): (f64, f64), midline: &MidLine) -> Conve
 }
 
 /// The values of the checks that need the outer design only: the width,
-/// the template's length and join, the fit's RMS.
-pub fn design_values(d: &OuterDesign) -> CheckValues {
+/// the template's length and join, the fit's RMS. A wall of `kind`
+/// [`WallKind::Straight`] does not follow its template, so the template's
+/// checks are not measured for it (`NaN`).
+pub fn design_values(d: &OuterDesign, kind: WallKind) -> CheckValues {
     let n = d.template.points.len().max(1) as f64;
     let width = d.width();
+    let follows = kind != WallKind::Straight;
     CheckValues {
         width_mm: width,
-        template_ratio: d.template.length() / width,
+        template_ratio: if follows {
+            d.template.length() / width
+        } else {
+            f64::NAN
+        },
         fit_rms_mm: (d.fit_error / n).sqrt(),
-        template_join_deg: template_join_deg(&d.mirror, d.tangents),
+        template_join_deg: if follows {
+            template_join_deg(&d.mirror, d.tangents)
+        } else {
+            f64::NAN
+        },
         ..CheckValues::default()
     }
 }
@@ -358,8 +369,8 @@ pub fn design_values(d: &OuterDesign) -> CheckValues {
 /// (the width jump is left `NaN`; [`width_jumps`] fills it): the design's
 /// ([`design_values`]), how far the designed section (before clipping)
 /// leaves `hull`, and its area against `|A′B′|` times the mean thickness.
-pub fn measure_wall(wall: &Wall, hull: &ConvexHull) -> CheckValues {
-    let v = design_values(&wall.design);
+pub fn measure_wall(wall: &Wall, hull: &ConvexHull, kind: WallKind) -> CheckValues {
+    let v = design_values(&wall.design, kind);
     let mean_t = 0.5 * (wall.thickness.0 + wall.thickness.1);
     // The designed section, before clipping: clipping removes bone, not
     // implausibility (and cuts off what leaves the image).
@@ -441,6 +452,18 @@ mod tests {
         };
         assert!(wide.findings(&l).is_empty());
         assert!(width_jumps(&[30.0], &[5])[0].0.is_nan());
+    }
+
+    #[test]
+    fn an_implausible_row_reads_as_a_failure_or_not_at_all() {
+        assert_eq!(Reading::AsFailure.value(0.93, true, true), Some(0.0));
+        assert_eq!(
+            Reading::AsFailure.value(1.5, true, false),
+            Some(FAILURE_DISTANCE_MM)
+        );
+        assert_eq!(Reading::Without.value(0.93, true, true), None);
+        assert_eq!(Reading::Without.value(0.93, false, true), Some(0.93));
+        assert_eq!(Reading::AsFailure.value(0.93, false, true), Some(0.93));
     }
 
     #[test]

@@ -9,7 +9,7 @@
 use super::plausibility::{
     design_values, head_hull, measure_wall, width_jumps, CheckValues, Finding, DESIGN_CHECKS,
 };
-use super::wall::{finish_wall, OuterDesign, Wall, WallOptions};
+use super::wall::{finish_wall, OuterDesign, Wall, WallKind, WallOptions};
 use crate::ct::{ConvexHull, MidLine, Polyline, Volume};
 
 /// The design checks of a stack of outer designs at slices `zs`: each
@@ -17,7 +17,7 @@ use crate::ct::{ConvexHull, MidLine, Polyline, Volume};
 pub fn design_checks(
     designs: &[OuterDesign],
     zs: &[usize],
-    options: &WallOptions,
+    (options, kind): (&WallOptions, WallKind),
 ) -> Vec<(CheckValues, Vec<Finding>)> {
     let widths: Vec<f64> = designs.iter().map(OuterDesign::width).collect();
     let jumps = width_jumps(&widths, zs);
@@ -25,7 +25,7 @@ pub fn design_checks(
         .iter()
         .zip(jumps)
         .map(|(d, (jump, neighbours))| {
-            let mut v = design_values(d);
+            let mut v = design_values(d, kind);
             v.width_jump_mm = jump;
             v.neighbour_width_mm = neighbours;
             let f = v.findings_of(&DESIGN_CHECKS, &options.checks);
@@ -56,12 +56,12 @@ pub fn finish_refused(design: OuterDesign, options: &WallOptions) -> Wall {
 /// Every check of a finished wall: its own values on the head's hull, the
 /// width jump carried over from the design checks.
 pub fn wall_checks(
-    wall: &Wall,
+    (wall, kind): (&Wall, WallKind),
     hull: &ConvexHull,
     design: &CheckValues,
     options: &WallOptions,
 ) -> (CheckValues, Vec<Finding>) {
-    let mut v = measure_wall(wall, hull);
+    let mut v = measure_wall(wall, hull, kind);
     v.width_jump_mm = design.width_jump_mm;
     v.neighbour_width_mm = design.neighbour_width_mm;
     let f = v.findings(&options.checks);

@@ -353,7 +353,7 @@ pub fn evaluate<S: SegmentSolver + ?Sized>(
 ) -> Evaluation {
     match reconstruct_case(p, kind, options, solver) {
         Ok(w) => {
-            let checks = measure_wall(&w, &p.head);
+            let checks = measure_wall(&w, &p.head, kind);
             Evaluation {
                 metrics: case_metrics(p, &w, margin_mm).map_err(CaseError::Measure),
                 fit_error: w.design.fit_error,
