@@ -240,10 +240,12 @@ pub fn overlay_png(
     Ok(canvas.png()?)
 }
 
-/// The title of a slice picture: slice, width, thickness, kinks, overlap.
+/// The title of a slice picture: slice, width, thickness, kinks (at each
+/// end the worse of design and delivery, as the report judges them),
+/// overlap.
 fn overlay_title(s: &SliceResult, on_bone: usize) -> String {
     let d = &s.wall.design;
-    let (ka, kb) = d.kinks_deg();
+    let (ka, kb) = super::tables::judged_kinks_deg(s);
     format!(
         "z = {}   |A′B′| = {:.1} mm   thickness {:.1} / {:.1} mm   kinks {:.1}° / {:.1}°   implant on bone {} of {} px ({:.1} %)   midline tilt {:.2}°",
         s.z,
