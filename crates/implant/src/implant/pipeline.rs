@@ -371,6 +371,17 @@ impl SliceResult {
     pub fn accepted(&self) -> bool {
         self.findings.is_empty()
     }
+
+    /// The 3 mm kinks at A′ and B′ as they are judged: at each end the
+    /// worse of the designed wall and the delivered STL ring
+    /// ([`super::delivered`]).
+    pub fn judged_kinks_deg(&self) -> (f64, f64) {
+        let (a, b) = self.wall.kinks_deg();
+        match self.delivered {
+            Some(d) => (a.max(d.kinks_deg[1].0), b.max(d.kinks_deg[1].1)),
+            None => (a, b),
+        }
+    }
 }
 
 /// The reconstructed implant.

@@ -245,7 +245,7 @@ pub fn overlay_png(
 /// overlap.
 fn overlay_title(s: &SliceResult, on_bone: usize) -> String {
     let d = &s.wall.design;
-    let (ka, kb) = super::tables::judged_kinks_deg(s);
+    let (ka, kb) = s.judged_kinks_deg();
     format!(
         "z = {}   |A′B′| = {:.1} mm   thickness {:.1} / {:.1} mm   kinks {:.1}° / {:.1}°   implant on bone {} of {} px ({:.1} %)   midline tilt {:.2}°",
         s.z,

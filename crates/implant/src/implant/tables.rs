@@ -381,24 +381,13 @@ pub struct Seatability {
     pub max_thickness_step_mm: f64,
 }
 
-/// The 3 mm kinks at A′ and B′ of an accepted slice as they are judged:
-/// at each end the worse of the designed wall and the delivered STL ring
-/// ([`super::delivered`]).
-pub fn judged_kinks_deg(s: &SliceResult) -> (f64, f64) {
-    let (a, b) = s.wall.kinks_deg();
-    match s.delivered {
-        Some(d) => (a.max(d.kinks_deg[1].0), b.max(d.kinks_deg[1].1)),
-        None => (a, b),
-    }
-}
-
 /// The seatability figures of `implant` over its accepted slices, the
 /// kinks the worse of design and delivery at each end.
 pub fn seatability(implant: &Implant) -> Seatability {
     let ok = || implant.slices.iter().filter(|s| s.accepted());
     let kinks: Vec<f64> = ok()
         .flat_map(|s| {
-            let (a, b) = judged_kinks_deg(s);
+            let (a, b) = s.judged_kinks_deg();
             [a, b]
         })
         .collect();
@@ -435,7 +424,7 @@ pub fn slices_off_target(implant: &Implant) -> Vec<usize> {
         .slices
         .iter()
         .filter(|s| {
-            let (a, b) = judged_kinks_deg(s);
+            let (a, b) = s.judged_kinks_deg();
             s.accepted()
                 && (s.bone_overlap_fraction > TARGET_OVERLAP || a.max(b) > TARGET_KINK_MAX_DEG)
         })
