@@ -739,7 +739,7 @@ fn filled_section(design: &OuterDesign, inner: &[Point], (t_a, t_b): (f64, f64))
 }
 
 /// The radius (mm) of the capsules kept from clipping along the wall's
-/// last millimetres at each seat ([`seat_capsules`]): a grid cell and a
+/// last millimetres at each seat (`seat_capsules`): a grid cell and a
 /// half of the clipping field (4 cells per 0.96 mm pixel).
 pub const SEAT_KEEP_RADIUS_MM: f64 = 0.35;
 
