@@ -11,7 +11,10 @@ use super::regions::{region_tables, RegionRow};
 use super::spec::ValidationSpec;
 use super::tables::r;
 use super::tables3d::position_unit_text;
-use super::units::{position_units, slice_clusters_within, within_gap, Observation, SliceCluster};
+use super::units::{
+    position_extents, position_units, slice_clusters_within, unit_position, within_gap,
+    Observation, SliceCluster,
+};
 use super::validation::{CaseMetrics, ValidationRow};
 use super::verdict_tables::{
     cluster_list, decided_rows, design_text, family_size, implausible_text, medians_by_width,
@@ -193,30 +196,10 @@ fn observations<'r>(
             let value = reading.value(value, !r.findings.is_empty(), larger_better)?;
             let case = (r.case.position_deg, r.case.width_mm);
             let mut o = Observation::at(clusters, (r.z, r.z), case, &r.method, value);
-            if let Some(&(_, u)) = units
-                .iter()
-                .find(|(p, _)| p.to_bits() == r.case.position_deg.to_bits())
-            {
+            if let Some(u) = unit_position(units, r.case.position_deg) {
                 o.unit.position_deg = u;
             }
             Some(o)
-        })
-        .collect()
-}
-
-/// Each position's widest cut over the built rows: `(position_deg,
-/// half_width_deg)` in the spec's order (NaN when none was built).
-fn position_extents_2d(val: &ValidationSpec, rows: &[ValidationRow]) -> Vec<(f64, f64)> {
-    val.positions
-        .iter()
-        .map(|&p| {
-            let h = rows
-                .iter()
-                .filter(|r| r.case.position_deg.to_bits() == p.to_bits())
-                .map(|r| r.half_width_deg)
-                .filter(|h| h.is_finite())
-                .fold(f64::NAN, f64::max);
-            (p, h)
         })
         .collect()
 }
@@ -232,7 +215,11 @@ fn validation_verdicts(
 ) -> Vec<VerdictRow> {
     let widest = val.widths.iter().copied().fold(0.0, f64::max);
     let clusters = slice_clusters_within(&val.slices, within_gap(widest, slice_mm));
-    let units = position_units(&position_extents_2d(val, rows));
+    let extents = position_extents(
+        &val.positions,
+        rows.iter().map(|r| (r.case.position_deg, r.half_width_deg)),
+    );
+    let units = position_units(&extents);
     let implausible = rows.iter().filter(|r| r.status() == "implausible").count();
     let read = |reading: Reading| -> Vec<Vec<Observation<'_>>> {
         METRICS
@@ -260,7 +247,7 @@ fn validation_verdicts(
         "The validation cases are not independent: the widths of one position are nested cuts of the same bone, and slices closer than the widest cut ({widest} mm, {} slices of {slice_mm} mm) cut bone one 3D patch of that width would share. A *unit* is one position on one slice cluster, a maximal set of validation slices each at most that far from the next ({}). {} {}\n",
         within_gap(widest, slice_mm),
         cluster_list(&clusters),
-        position_unit_text(&position_extents_2d(val, rows), &units),
+        position_unit_text(&extents, &units),
         design_text(
             (
                 clusters.len(),

@@ -8,12 +8,15 @@ use super::plausibility::Reading;
 use super::regions::{region_tables, RegionRow};
 use super::spec::Validation3dSpec;
 use super::tables::r;
-use super::units::{position_units, range_clusters, smallest_patch_gap, Observation, SliceCluster};
+use super::units::{
+    position_extents, position_units, range_clusters, smallest_patch_gap, unit_position,
+    Observation, SliceCluster,
+};
 use super::validation3d::{Metrics3d, Row3d};
 use super::verdict_tables::{
     cluster_list, decided_rows, design_text, family_size, implausible_text, medians_by_width,
-    no_case_built, units_observed, verdict_tables, REGION_TEXT, VALIDATION_3D_PLAUSIBLE_TABLE,
-    VALIDATION_3D_TABLE,
+    no_case_built, unit_count, units_observed, verdict_tables, REGION_TEXT,
+    VALIDATION_3D_PLAUSIBLE_TABLE, VALIDATION_3D_TABLE,
 };
 use crate::files::csv_bytes;
 use crate::markdown::{self, Alignment};
@@ -204,31 +207,10 @@ fn observations_3d<'r>(
             let value = reading.value(f(m), !m.refused.is_empty(), larger_better)?;
             let case = (r.case.position_deg, r.case.width_mm);
             let mut o = Observation::at(clusters, r.case.range, case, &r.method, value);
-            if let Some(&(_, u)) = units
-                .iter()
-                .find(|(p, _)| p.to_bits() == r.case.position_deg.to_bits())
-            {
+            if let Some(u) = unit_position(units, r.case.position_deg) {
                 o.unit.position_deg = u;
             }
             Some(o)
-        })
-        .collect()
-}
-
-/// Each position's widest patch over the rows: `(position_deg,
-/// half_width_deg)` in the spec's order (NaN when no patch of it was
-/// built).
-fn position_extents(val: &Validation3dSpec, rows: &[Row3d]) -> Vec<(f64, f64)> {
-    val.positions
-        .iter()
-        .map(|&p| {
-            let h = rows
-                .iter()
-                .filter(|r| r.case.position_deg.to_bits() == p.to_bits())
-                .map(|r| r.half_width_deg)
-                .filter(|h| h.is_finite())
-                .fold(f64::NAN, f64::max);
-            (p, h)
         })
         .collect()
 }
@@ -280,7 +262,10 @@ fn source_counts(rows: &[Row3d]) -> String {
 /// spec's α; and their part of `report.md`.
 fn verdicts_3d(report: &mut String, val: &Validation3dSpec, rows: &[Row3d]) -> Vec<VerdictRow> {
     let clusters = range_clusters(&val.ranges);
-    let extents = position_extents(val, rows);
+    let extents = position_extents(
+        &val.positions,
+        rows.iter().map(|r| (r.case.position_deg, r.half_width_deg)),
+    );
     let units = position_units(&extents);
     let read = |reading: Reading| -> Vec<Vec<Observation<'_>>> {
         METRICS_3D
@@ -296,9 +281,6 @@ fn verdicts_3d(report: &mut String, val: &Validation3dSpec, rows: &[Row3d]) -> V
         .iter()
         .filter(|r| r.metrics.as_ref().is_ok_and(|m| !m.refused.is_empty()))
         .count();
-    let mut unit_positions: Vec<f64> = units.iter().map(|u| u.1).collect();
-    unit_positions.sort_by(f64::total_cmp);
-    unit_positions.dedup_by(|a, b| a.to_bits() == b.to_bits());
     let verdicts = decided_rows(
         VALIDATION_3D_TABLE,
         &val.methods,
@@ -316,7 +298,7 @@ fn verdicts_3d(report: &mut String, val: &Validation3dSpec, rows: &[Row3d]) -> V
         design_text(
             (
                 clusters.len(),
-                unit_positions.len(),
+                unit_count(&units),
                 units_observed(obs.first().map_or(&[][..], |o| &o[..]))
             ),
             cases,

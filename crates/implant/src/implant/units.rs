@@ -155,6 +155,35 @@ pub fn position_units(extents: &[(f64, f64)]) -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// Each of `positions` with the half-width (degrees) of its widest patch
+/// among `cells` (`(position_deg, half_width_deg)` of every built case),
+/// NaN when none of it was built: the extents [`position_units`] reads.
+pub fn position_extents(
+    positions: &[f64],
+    cells: impl Iterator<Item = (f64, f64)> + Clone,
+) -> Vec<(f64, f64)> {
+    positions
+        .iter()
+        .map(|&p| {
+            let h = cells
+                .clone()
+                .filter(|(q, h)| q.to_bits() == p.to_bits() && h.is_finite())
+                .map(|c| c.1)
+                .fold(f64::NAN, f64::max);
+            (p, h)
+        })
+        .collect()
+}
+
+/// The unit position of `position` under `units` ([`position_units`]),
+/// `None` where it is not listed.
+pub fn unit_position(units: &[(f64, f64)], position: f64) -> Option<f64> {
+    units
+        .iter()
+        .find(|(p, _)| p.to_bits() == position.to_bits())
+        .map(|u| u.1)
+}
+
 /// The smallest gap (degrees) between the widest patches of two distinct
 /// positions (`(position_deg, half_width_deg)`): the circular distance of
 /// their centres minus both half-widths; negative when two overlap, `None`
