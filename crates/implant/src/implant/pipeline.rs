@@ -730,27 +730,24 @@ fn finished_walls(
     designs: Vec<OuterDesign>,
     checks: &[(CheckValues, Vec<Finding>)],
 ) -> Result<Vec<Wall>, ImplantError> {
-    let kept: Vec<bool> = checks.iter().map(|c| c.1.is_empty()).collect();
-    let (mut good, mut refused): (Vec<_>, Vec<_>) = contexts
+    let (good, refused): (Vec<_>, Vec<_>) = contexts
         .iter()
         .zip(designs)
-        .zip(kept)
-        .partition(|(_, ok)| *ok);
-    let zs: Vec<usize> = good.iter().map(|((c, _), _)| c.z).collect();
-    let mut gd: Vec<OuterDesign> = good.iter().map(|((_, d), _)| d.clone()).collect();
-    smooth_outer_walls(&mut gd, &zs, cfg.smoothing.wall_half_width, &cfg.wall)?;
-    let thickness = smoothed_thickness(&gd, &zs, cfg.smoothing.max_thickness_step_mm);
-    for (((_, g), _), d) in good.iter_mut().zip(gd) {
-        *g = d;
-    }
+        .zip(checks)
+        .partition(|(_, c)| c.1.is_empty());
+    let (ctxs, mut kept): (Vec<&SliceContext>, Vec<OuterDesign>) =
+        good.into_iter().map(|(cd, _)| cd).unzip();
+    let zs: Vec<usize> = ctxs.iter().map(|c| c.z).collect();
+    smooth_outer_walls(&mut kept, &zs, cfg.smoothing.wall_half_width, &cfg.wall)?;
+    let thickness = smoothed_thickness(&kept, &zs, cfg.smoothing.max_thickness_step_mm);
     let mut walls: Vec<(usize, Wall)> = Vec::with_capacity(contexts.len());
-    for (((ctx, design), _), t) in good.into_iter().zip(thickness) {
+    for ((ctx, design), t) in ctxs.into_iter().zip(kept).zip(thickness) {
         let slice = volume.slice(ctx.k);
         let wall = finish_wall(design, t, Some((&slice, cfg.threshold)), &cfg.wall)
             .map_err(|source| ImplantError::on_slice(ctx.z, source))?;
         walls.push((ctx.z, wall));
     }
-    for ((ctx, design), _) in refused.drain(..) {
+    for ((ctx, design), _) in refused {
         walls.push((ctx.z, finish_refused(design, &cfg.wall)));
     }
     walls.sort_by_key(|w| w.0);
