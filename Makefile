@@ -3,7 +3,7 @@ CARGO ?= cargo
 BIN := target/release/metabezier
 SPECS := experiments
 
-.PHONY: help build quick test test-browser test-python test-dxf python-bench examples peer-kurbo fuzz test-cluster bench overhead speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 cq500 reproduce-all check-reports fmt lint clean-results
+.PHONY: help build quick test test-browser test-python test-dxf citation python-bench examples peer-kurbo fuzz test-cluster bench overhead speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 cq500 reproduce-all check-reports fmt lint clean-results
 
 help:
 	@echo "make build          the release binary, target/release/metabezier (cargo build --release --locked)"
@@ -11,6 +11,7 @@ help:
 	@echo "make test           the whole test suite, rustfmt check and clippy -D warnings"
 	@echo "make test-browser   report.html of a quick campaign, an implant run and a fit campaign in headless Chromium (Debian's; installed if missing)"
 	@echo "make test-python    the Python package: pip install ./python in a venv, then its pytest suite (PyPI)"
+	@echo "make citation       CITATION.cff validated against the Citation File Format schema by cffconvert (pinned in ci/cff-requirements.txt, in a venv; PyPI)"
 	@echo "make test-dxf       fit.dxf read back by ezdxf (pinned in ci/dxf-requirements.txt, in a venv): exact control points and weights (PyPI)"
 	@echo "make python-bench   cost per evaluation of a Python objective called from metabezier, against Rust and numpy (after test-python)"
 	@echo "make examples       the library examples (examples/*.rs): your own optimiser and problem in a campaign"
@@ -84,6 +85,19 @@ test-python: build
 # ci/check-dxf.py compares every SPLINE with fit.csv (rational cubics,
 # rational quadratics, and a glyph's quadratics).
 DXF_VENV := target/dxf-venv
+# CITATION.cff against the Citation File Format 1.2.0 schema with cffconvert
+# (pinned in ci/cff-requirements.txt, in a venv under target/); a copy
+# without its authors must be refused, so the check can fail.
+CFF_VENV := target/cff-venv
+citation:
+	test -x $(CFF_VENV)/bin/python || python3 -m venv $(CFF_VENV)
+	$(CFF_VENV)/bin/python -m pip install --quiet --disable-pip-version-check -r ci/cff-requirements.txt
+	$(CFF_VENV)/bin/cffconvert --validate -i CITATION.cff
+	@set -e; bad=$$(mktemp -d); grep -v -e '^authors:' -e 'The metabezier developers' CITATION.cff > $$bad/CITATION.cff; \
+	  if $(CFF_VENV)/bin/cffconvert --validate -i $$bad/CITATION.cff > /dev/null 2>&1; then \
+	    echo "make citation: a CITATION.cff without authors was accepted" >&2; rm -rf $$bad; exit 1; fi; \
+	  rm -rf $$bad; echo "make citation: a CITATION.cff without authors is refused"
+
 test-dxf: build
 	test -x $(DXF_VENV)/bin/python || python3 -m venv $(DXF_VENV)
 	$(DXF_VENV)/bin/python -m pip install --quiet --disable-pip-version-check -r ci/dxf-requirements.txt
