@@ -31,7 +31,10 @@ fn field(text: &str, section: &str, key: &str) -> Option<String> {
 fn the_version_is_one_number_everywhere() {
     let version = env!("CARGO_PKG_VERSION");
     let pyproject = read("python/pyproject.toml");
-    assert_eq!(field(&pyproject, "[project]", "version").as_deref(), Some(version));
+    assert_eq!(
+        field(&pyproject, "[project]", "version").as_deref(),
+        Some(version)
+    );
     let cff = read("CITATION.cff");
     assert_eq!(field(&cff, "", "version").as_deref(), Some(version));
     let changelog = read("CHANGELOG.md");
@@ -54,7 +57,10 @@ fn the_licence_is_the_same_in_every_file() {
     let apache = read("LICENSE-APACHE");
     assert!(apache.contains("Apache License") && apache.contains("Version 2.0, January 2004"));
     let cff = read("CITATION.cff");
-    assert!(cff.contains("  - MIT\n") && cff.contains("  - Apache-2.0\n"), "{cff}");
+    assert!(
+        cff.contains("  - MIT\n") && cff.contains("  - Apache-2.0\n"),
+        "{cff}"
+    );
     // The thesis is cited by what is known of it, and no author is invented.
     assert!(cff.contains(
         "title: \"Curve Reconstruction by Metaheuristics Algorithms on Cubic Rational Bézier Function\""
