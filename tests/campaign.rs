@@ -546,7 +546,7 @@ fn oversized_campaigns_and_thread_counts_are_refused_before_anything_runs() {
     };
     let err = run_campaign(&huge, &opts).unwrap_err().to_string();
     assert!(
-        err.contains("runs and an estimated") && err.contains("pass --allow-large"),
+        err.contains("exceed the limit") && err.contains("pass --allow-large"),
         "{err}"
     );
     assert!(!out.exists(), "nothing is written before the check");

@@ -368,8 +368,10 @@ fn a_campaign_whose_records_exceed_the_limit_is_refused() {
     let err = check_limits(&spec, &RunOptions::default())
         .unwrap_err()
         .to_string();
+    // Only the memory is over its limit, and only it is named.
     assert!(
-        err.contains("1620000 runs and an estimated 4.2 GiB of results"),
+        err.contains("an estimated 4.2 GiB of results in memory exceed the limit of 4 GiB")
+            && !err.contains("runs exceed"),
         "{err}"
     );
     // As 2 shards, each is held to its own runs and admitted.

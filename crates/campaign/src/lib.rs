@@ -222,12 +222,9 @@ pub enum CampaignError {
         /// Its lock file.
         lock: PathBuf,
     },
-    /// The campaign is larger than the limits without `--allow-large`.
-    #[error(
-        "{spec}: {runs} runs and an estimated {gib:.1} GiB of results in memory exceed the limits of {max_runs} runs and 4 GiB; split the campaign into shards, or pass --allow-large",
-        spec = spec.display(),
-        max_runs = MAX_RUNS
-    )]
+    /// The campaign is larger than the limits without `--allow-large`; the
+    /// message names the limit it exceeds (or both).
+    #[error("{}: {}; split the campaign into shards, or pass --allow-large", spec.display(), too_large(*runs, *gib))]
     TooLarge {
         /// The spec.
         spec: PathBuf,
@@ -267,6 +264,22 @@ pub enum CampaignError {
         /// The journal that holds the finished runs.
         journal: PathBuf,
     },
+}
+
+/// What a too large campaign exceeds: its runs over [`MAX_RUNS`], its
+/// estimated memory over 4 GiB, or both, each with its limit.
+fn too_large(runs: u128, gib: f64) -> String {
+    let over_runs = runs > MAX_RUNS;
+    let over_memory = gib > 4.0;
+    match (over_runs, over_memory) {
+        (true, false) => format!("{runs} runs exceed the limit of {MAX_RUNS} runs"),
+        (false, true) => {
+            format!("an estimated {gib:.1} GiB of results in memory exceed the limit of 4 GiB")
+        }
+        _ => format!(
+            "{runs} runs and an estimated {gib:.1} GiB of results in memory exceed the limits of {MAX_RUNS} runs and 4 GiB"
+        ),
+    }
 }
 
 /// The most runs a campaign may have without `--allow-large`.
@@ -320,5 +333,47 @@ impl From<ReadError> for ExperimentError {
             ReadError::Io(e) => ExperimentError::Io(e),
             ReadError::Data(e) => ExperimentError::Data(e),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_too_large_campaign_names_only_the_limit_it_exceeds() {
+        let spec = PathBuf::from("big.toml");
+        let memory = CampaignError::TooLarge {
+            spec: spec.clone(),
+            runs: 1_000,
+            gib: 5.5,
+        }
+        .to_string();
+        assert!(
+            memory.contains("5.5 GiB") && memory.contains("limit of 4 GiB"),
+            "{memory}"
+        );
+        assert!(!memory.contains("runs exceed"), "{memory}");
+        let runs = CampaignError::TooLarge {
+            spec: spec.clone(),
+            runs: 20_000_000,
+            gib: 0.5,
+        }
+        .to_string();
+        assert!(
+            runs.contains("20000000 runs exceed the limit of 10000000 runs"),
+            "{runs}"
+        );
+        assert!(!runs.contains("GiB"), "{runs}");
+        let both = CampaignError::TooLarge {
+            spec,
+            runs: 20_000_000,
+            gib: 9.0,
+        }
+        .to_string();
+        assert!(
+            both.contains("limits of 10000000 runs and 4 GiB") && both.starts_with("big.toml: "),
+            "{both}"
+        );
     }
 }
