@@ -166,22 +166,6 @@ fn a_template_that_wraps_the_wrong_way_makes_an_implausible_row() {
     let p = prepare_case(&v, case, midline, 300).unwrap();
     let wrapped = long_way(&p.outer, p.a, p.b);
     assert!(wrapped.length() > 5.0 * p.a.distance(p.b));
-    let (sx, sy) = p.spacing;
-    let is_bone = |q: Point| {
-        let (r, c) = ((q.y / sy).round(), (q.x / sx).round());
-        r >= 0.0 && c >= 0.0 && p.defective.get_or_false(r as i64, c as i64)
-    };
-    let outer = [&p.outer];
-    let input = WallInput {
-        outer: &outer,
-        is_bone: &is_bone,
-        centre: p.centre,
-        midline: p.midline,
-        a: p.a,
-        b: p.b,
-        template: Some(&wrapped),
-        tissue: None,
-    };
     let options = WallOptions {
         mirror_tolerance_mm: 50.0,
         ..spec.defect_config.wall
@@ -192,7 +176,9 @@ fn a_template_that_wraps_the_wrong_way_makes_an_implausible_row() {
         (WallKind::CurveFit, "curve:lm"),
         (WallKind::Straight, "straight"),
     ] {
-        let wall = reconstruct_wall(&input, kind, &options, &mut LmSolver::default()).unwrap();
+        let wall =
+            reconstruct_case_with(&p, Some(&wrapped), kind, &options, &mut LmSolver::default())
+                .unwrap();
         let checks = measure_wall(&wall, &p.head, kind);
         let findings = checks.findings(&options.checks);
         let names: Vec<Check> = findings.iter().map(|f| f.check).collect();

@@ -80,8 +80,8 @@ pub use run::{load_volume, run_implant, run_implant_with, RunOptions, RunSummary
 pub use spec::{ImplantSpec, Validation3dSpec, ValidationSpec};
 pub use template::{read_templates, templates_csv};
 pub use validation::{
-    case_metrics, evaluate, prepare_case, reconstruct_case, Case, CaseError, CaseMetrics,
-    PreparedCase, ValidationRow,
+    case_metrics, evaluate, prepare_case, reconstruct_case, reconstruct_case_with, Case, CaseError,
+    CaseMetrics, PreparedCase, ValidationRow,
 };
 pub use validation3d::{
     evaluate_3d, prepare_case_3d, score_3d, Case3d, Metrics3d, Prepared3d, Row3d,

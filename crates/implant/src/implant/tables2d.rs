@@ -17,9 +17,9 @@ use super::units::{
 };
 use super::validation::{CaseMetrics, ValidationRow};
 use super::verdict_tables::{
-    cluster_list, decided_rows, design_text, family_size, implausible_text, medians_by_width,
-    no_case_built, unit_count, units_observed, verdict_tables, REGION_TEXT,
-    VALIDATION_2D_PLAUSIBLE_TABLE, VALIDATION_2D_TABLE,
+    both_readings, cluster_list, decided_rows, design_text, family_size, medians_by_width,
+    no_case_built, unit_count, units_observed, REGION_TEXT, VALIDATION_2D_PLAUSIBLE_TABLE,
+    VALIDATION_2D_TABLE,
 };
 use crate::files::csv_bytes;
 use crate::markdown::{self, Alignment};
@@ -235,8 +235,10 @@ fn validation_verdicts(
         decided_rows(table, &val.methods, &METRICS, obs, &val.widths, val.alpha)
     };
     let verdicts = decide(VALIDATION_2D_TABLE, &obs);
-    let without =
-        (implausible > 0).then(|| decide(VALIDATION_2D_PLAUSIBLE_TABLE, &read(Reading::Without)));
+    let without = (implausible > 0).then(|| {
+        let w = decide(VALIDATION_2D_PLAUSIBLE_TABLE, &read(Reading::Without));
+        (VALIDATION_2D_PLAUSIBLE_TABLE, w)
+    });
     let _ = writeln!(
         report,
         "### What the curve fit adds (verdicts across independent units)\n"
@@ -260,15 +262,7 @@ fn validation_verdicts(
             val.alpha
         )
     );
-    let _ = writeln!(report, "{}\n", implausible_text(implausible, rows.len()));
-    verdict_tables(report, &verdicts);
-    let mut out: Vec<VerdictRow> = verdicts.into_iter().map(|v| v.0).collect();
-    if let Some(w) = without {
-        let _ = writeln!(report, "The same verdicts without the {implausible} implausible rows (table `{VALIDATION_2D_PLAUSIBLE_TABLE}` of `verdicts.csv`):\n");
-        verdict_tables(report, &w);
-        out.extend(w.into_iter().map(|v| v.0));
-    }
-    out
+    both_readings(report, (implausible, rows.len()), verdicts, without)
 }
 
 /// The join quality of the fitted walls: median and max join angle.

@@ -14,9 +14,9 @@ use super::units::{
 };
 use super::validation3d::{Metrics3d, Row3d};
 use super::verdict_tables::{
-    cluster_list, decided_rows, design_text, family_size, implausible_text, medians_by_width,
-    no_case_built, unit_count, units_observed, verdict_tables, REGION_TEXT,
-    VALIDATION_3D_PLAUSIBLE_TABLE, VALIDATION_3D_TABLE,
+    both_readings, cluster_list, decided_rows, design_text, family_size, medians_by_width,
+    no_case_built, unit_count, units_observed, REGION_TEXT, VALIDATION_3D_PLAUSIBLE_TABLE,
+    VALIDATION_3D_TABLE,
 };
 use crate::files::csv_bytes;
 use crate::markdown::{self, Alignment};
@@ -307,21 +307,17 @@ fn verdicts_3d(report: &mut String, val: &Validation3dSpec, rows: &[Row3d]) -> V
             val.alpha
         )
     );
-    let _ = writeln!(report, "{}\n", implausible_text(implausible, rows.len()));
-    verdict_tables(report, &verdicts);
-    let mut out: Vec<VerdictRow> = verdicts.into_iter().map(|v| v.0).collect();
-    if implausible > 0 {
+    let without = (implausible > 0).then(|| {
+        let obs = read(Reading::Without);
         let w = decided_rows(
             VALIDATION_3D_PLAUSIBLE_TABLE,
             &val.methods,
             &METRICS_3D,
-            &read(Reading::Without),
+            &obs,
             &val.widths,
             val.alpha,
         );
-        let _ = writeln!(report, "The same verdicts without the {implausible} implausible rows (table `{VALIDATION_3D_PLAUSIBLE_TABLE}` of `verdicts.csv`):\n");
-        verdict_tables(report, &w);
-        out.extend(w.into_iter().map(|v| v.0));
-    }
-    out
+        (VALIDATION_3D_PLAUSIBLE_TABLE, w)
+    });
+    both_readings(report, (implausible, rows.len()), verdicts, without)
 }

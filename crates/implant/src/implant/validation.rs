@@ -193,6 +193,18 @@ pub fn reconstruct_case<S: SegmentSolver + ?Sized>(
     options: &WallOptions,
     solver: &mut S,
 ) -> Result<Wall, SliceError> {
+    reconstruct_case_with(p, None, kind, options, solver)
+}
+
+/// [`reconstruct_case`] with an explicit template in place of the mirror
+/// image (`None`: the mirror or the continuation, as `options` choose).
+pub fn reconstruct_case_with<S: SegmentSolver + ?Sized>(
+    p: &PreparedCase,
+    template: Option<&Polyline>,
+    kind: WallKind,
+    options: &WallOptions,
+    solver: &mut S,
+) -> Result<Wall, SliceError> {
     let (sx, sy) = p.spacing;
     let is_bone = |q: Point| {
         let (r, c) = ((q.y / sy).round(), (q.x / sx).round());
@@ -214,7 +226,7 @@ pub fn reconstruct_case<S: SegmentSolver + ?Sized>(
         midline: p.midline,
         a: p.a,
         b: p.b,
-        template: None,
+        template,
         tissue: Some((&slice, p.threshold)),
     };
     reconstruct_wall(&input, kind, options, solver)

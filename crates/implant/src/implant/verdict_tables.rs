@@ -81,6 +81,28 @@ pub(crate) fn no_case_built(report: &mut String, obs: &[Vec<Observation<'_>>]) -
     none
 }
 
+/// The verdict tables of both readings of the implausible rows
+/// ([`super::plausibility::Reading`]): what they make of them, the tables
+/// that read them as failures, and, where any row is implausible, the
+/// tables `without` them (already decided, in table `without.0`). Returns
+/// every verdict row, the primary reading's first.
+pub(crate) fn both_readings(
+    report: &mut String,
+    (implausible, rows): (usize, usize),
+    verdicts: Vec<(VerdictRow, usize)>,
+    without: Option<(&str, Vec<(VerdictRow, usize)>)>,
+) -> Vec<VerdictRow> {
+    let _ = writeln!(report, "{}\n", implausible_text(implausible, rows));
+    verdict_tables(report, &verdicts);
+    let mut out: Vec<VerdictRow> = verdicts.into_iter().map(|v| v.0).collect();
+    if let Some((table, w)) = without {
+        let _ = writeln!(report, "The same verdicts without the {implausible} implausible rows (table `{table}` of `verdicts.csv`):\n");
+        verdict_tables(report, &w);
+        out.extend(w.into_iter().map(|v| v.0));
+    }
+    out
+}
+
 /// What the verdicts make of the implausible rows.
 pub(crate) fn implausible_text(implausible: usize, rows: usize) -> String {
     if implausible == 0 {
