@@ -164,6 +164,9 @@ overhead:
 	$(CARGO) bench --locked --bench overhead -- $(OVERHEAD_ARGS)
 
 CH4 := ch4_tuning ch4_benchmarks ch4_scalability ch4_robustness
+# Every reproduce target's report answers the thesis's claims of its
+# campaign with their primary rows first (experiments/claims.toml, issue 50).
+CLAIMS := --claims $(SPECS)/claims.toml
 # Extra `report` arguments per experiment: the tuning grid has 81 MHS cells,
 # so its tests compare each setting with classical HS.
 REPORT_ARGS_ch4_tuning := --reference "HS (hms=5, hmcr=0.9, bw=0.01)"
@@ -177,7 +180,7 @@ CHECK_TUNED := sh ci/check-tuned.sh results/ch4_tuning
 # Each campaign resumes where an interrupted one stopped; the report is
 # regenerated from the finished results.
 reproduce-ch4: build
-	$(foreach e,$(CH4),$(BIN) run $(SPECS)/$(e).toml --resume && $(BIN) report results/$(e) $(REPORT_ARGS_$(e)) &&) true
+	$(foreach e,$(CH4),$(BIN) run $(SPECS)/$(e).toml --resume && $(BIN) report results/$(e) $(REPORT_ARGS_$(e)) $(CLAIMS) &&) true
 	$(CHECK_TUNED) $(addprefix results/,$(TUNED_CH4))
 
 CH5 := ch5_outlines ch5_search_space ch5_mhs ch5_errors ch5_errors_segments
@@ -185,7 +188,7 @@ CH5 := ch5_outlines ch5_search_space ch5_mhs ch5_errors ch5_errors_segments
 # The check needs the tuning's picks: ch4_tuning is resumed (nothing to do
 # once it is complete) and reported first.
 reproduce-ch5: build
-	$(foreach e,$(CH5),$(BIN) run $(SPECS)/$(e).toml --resume && $(BIN) report results/$(e) $(REPORT_ARGS_$(e)) &&) true
+	$(foreach e,$(CH5),$(BIN) run $(SPECS)/$(e).toml --resume && $(BIN) report results/$(e) $(REPORT_ARGS_$(e)) $(CLAIMS) &&) true
 	$(BIN) run $(SPECS)/ch4_tuning.toml --resume && $(BIN) report results/ch4_tuning $(REPORT_ARGS_ch4_tuning)
 	$(CHECK_TUNED) $(addprefix results/,$(TUNED_CH5))
 
@@ -229,7 +232,7 @@ speedup: build
 # logs for cocopp in results/bbob/coco/ (see the README).
 bbob: build
 	$(BIN) run $(SPECS)/bbob.toml --resume --coco-log results/bbob/coco
-	$(BIN) report results/bbob
+	$(BIN) report results/bbob $(CLAIMS)
 
 # COCO's own post-processing of the logs `make bbob` wrote: a virtual
 # environment under target/ with cocopp and every package it imports, pinned

@@ -118,6 +118,16 @@ enum Command {
         /// The correction of the post-hoc tests after Friedman's test.
         #[arg(long, default_value = "holm", value_parser = clap::builder::PossibleValuesParser::new(crate::report::PostHoc::NAMES))]
         post_hoc: String,
+        /// The region of practical equivalence of a measure's Bayesian
+        /// signed-rank test, `MEASURE=HALF-WIDTH` (repeatable): final-error
+        /// in decades [default 0.3, or the spec's `[report]`], anytime-auc
+        /// [default 0.05]. A verdict is `equivalent` where P(rope) ≥ 0.95.
+        #[arg(long, value_name = "MEASURE=HALF-WIDTH", value_parser = rope_arg)]
+        rope: Vec<(String, f64)>,
+        /// A claims file (experiments/claims.toml): the summary answers each
+        /// thesis claim of this campaign with its primary row first.
+        #[arg(long, value_name = "TOML")]
+        claims: Option<PathBuf>,
         /// Exit 0 even when figures the results should allow could not be
         /// drawn (the report is written and names them either way).
         #[arg(long)]
@@ -284,6 +294,8 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
             alpha,
             external,
             post_hoc,
+            rope,
+            claims,
             keep_going,
         } => {
             let opts = ReportOptions {
@@ -291,6 +303,9 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
                 alpha,
                 external,
                 post_hoc: crate::report::PostHoc::from_name(&post_hoc).unwrap_or_default(),
+                ropes: rope,
+                families: crate::report::Families::default(),
+                claims,
             };
             write_report(&dir, &opts, keep_going, w)
         }
@@ -703,4 +718,24 @@ fn score_curves(a: ScoreArgs, w: &mut String) -> Result<(), Error> {
         say!(w, "  wrote {}", path.display());
     }
     Ok(())
+}
+
+/// A `--rope` value, `MEASURE=HALF-WIDTH`: a measure of
+/// [`crate::report::Ropes::NAMES`] and a finite half-width ≥ 0, checked
+/// once here.
+fn rope_arg(text: &str) -> Result<(String, f64), String> {
+    let (measure, value) = text.split_once('=').ok_or_else(|| {
+        format!(
+            "expected MEASURE=HALF-WIDTH, such as final-error=0.3; the measures are {}",
+            crate::report::Ropes::NAMES.join(", ")
+        )
+    })?;
+    let x: f64 = value
+        .trim()
+        .parse()
+        .map_err(|_| format!("\"{value}\" is not a number (expected MEASURE=HALF-WIDTH)"))?;
+    crate::report::Ropes::default()
+        .set(measure.trim(), x)
+        .map_err(|e| e.to_string())?;
+    Ok((measure.trim().to_owned(), x))
 }

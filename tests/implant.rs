@@ -296,9 +296,15 @@ fn cli_writes_byte_identical_csv_and_a_valid_stl() {
             "{r:?}"
         );
         assert_eq!((r["units"].as_str(), r["problems"].as_str()), ("1", "1"));
-        // One unit: p_min = 1, so nothing can reject.
+        // One unit: p_min = 1, so nothing can reject, and one unit is too
+        // few for equivalence (stats::EQUIVALENCE_MIN_UNITS); its interval
+        // is unbounded.
         assert_eq!(r["p_min"], "1");
-        assert_eq!(r["verdict"], "no detectable difference");
+        assert_eq!(r["verdict"], "undecided");
+        assert_eq!(
+            (r["effect_ci_low"].as_str(), r["effect_ci_high"].as_str()),
+            ("-inf", "inf")
+        );
     }
     let (ok, err) = run_spec(&dir, &text);
     assert!(ok, "{err}");

@@ -216,6 +216,7 @@ fn a_template_that_wraps_the_wrong_way_makes_an_implausible_row() {
         runs: 1,
         margin_mm: 10.0,
         alpha: 0.05,
+        ropes: metabezier::implant::units::ImplantRopes::default(),
     };
     let mut report = String::new();
     let verdicts = tables2d::validation_report(&mut report, &val, &rows, 1.5);

@@ -40,7 +40,7 @@ const CRATES: [Floor; 10] = [
         package: "metabezier-core",
         src: "crates/core/src",
         leaves: &["files", "linalg", "simd"],
-        order: &["geometry", "stats", "rng", "problem", "functions", "optim"],
+        order: &["rng", "geometry", "stats", "problem", "functions", "optim"],
     },
     Floor {
         package: "metabezier-files",

@@ -469,3 +469,46 @@ fn external_runs_enter_the_anytime_plots_with_their_directory_or_are_left_out_an
         "{md}"
     );
 }
+
+#[test]
+fn a_registered_optimiser_leaves_the_thesis_family_unchanged() {
+    // Issue 50: the family of a comparison is declared where its optimiser
+    // is registered. The (1+1)-ES of the example is registered without a
+    // family, so it is beyond the thesis: its verdict against MHS is in
+    // `state-of-the-art`, and HS's row of `reference` (its family, its
+    // adjusted p) is the same with the ES in the campaign as without it.
+    use metabezier::experiment::{run_campaign, RunOptions};
+    use metabezier::report::{write_report, ReportOptions};
+    let tmp = tempfile::tempdir().unwrap();
+    let with_es = tmp.path().join("with");
+    custom_optimiser::campaign(&with_es, Some(2)).unwrap();
+    let without_text = custom_optimiser::SPEC
+        .replace("[[algorithm]]\nname = \"es11\"\nlabel = \"(1+1)-ES\"\n", "");
+    assert_ne!(without_text, custom_optimiser::SPEC);
+    let spec = spec_in(Registry::builtin(), &without_text).unwrap();
+    let without = tmp.path().join("without");
+    let opts = RunOptions {
+        out: Some(without.clone()),
+        threads: Some(2),
+        ..RunOptions::default()
+    };
+    run_campaign(&spec, &opts).unwrap();
+    let reference_rows = |dir: &Path| -> Vec<String> {
+        write_report(dir, &ReportOptions::default()).unwrap();
+        let csv = std::fs::read_to_string(dir.join("tables/verdicts.csv")).unwrap();
+        csv.lines()
+            .filter(|l| l.starts_with("reference,"))
+            .map(str::to_owned)
+            .collect()
+    };
+    let a = reference_rows(&with_es);
+    let b = reference_rows(&without);
+    assert!(!a.is_empty());
+    assert_eq!(a, b, "the reference family changed with the ES");
+    let csv = std::fs::read_to_string(with_es.join("tables/verdicts.csv")).unwrap();
+    assert!(
+        csv.lines()
+            .any(|l| l.starts_with("state-of-the-art,final-error,(1+1)-ES,MHS,all,")),
+        "{csv}"
+    );
+}

@@ -192,16 +192,18 @@ fn report_of_a_small_campaign() {
     let verdicts = read(&dir.join("tables/verdicts.csv"));
     assert!(verdicts.starts_with(
         "table,measure,algorithm,reference,scope,units,problems,better,equal,worse,test,\
-         p_value,p_adjusted,p_min,family,effect_size,verdict\n"
+         p_value,p_adjusted,p_min,family,effect_size,effect_hl,effect_ci_low,effect_ci_high,\
+         rope,prob_better,prob_equivalent,prob_worse,verdict\n"
     ));
     // Two functions are the units (each at two dimensions): p_min = 0.5,
-    // so every verdict is "no detectable difference" by construction.
+    // so no verdict is better or worse by construction (two units are too
+    // few for equivalence too: undecided).
     let all_hs = verdicts
         .lines()
         .find(|l| l.starts_with("reference,final-error,HS,MHS,all,2,4,"))
         .unwrap_or_else(|| panic!("{verdicts}"));
     assert!(
-        all_hs.contains(",wilcoxon-signed-rank,") && all_hs.ends_with(",no detectable difference"),
+        all_hs.contains(",wilcoxon-signed-rank,") && all_hs.ends_with(",undecided"),
         "{all_hs}"
     );
     assert!(verdicts
@@ -631,7 +633,12 @@ fn verdicts_across_functions_have_known_answers() {
     assert_eq!(x[13], "0.125");
     assert_eq!(x[14], "2", "a family of two rows");
     assert_eq!(x[15], "-1.5");
-    assert_eq!(x[16], "no detectable difference");
+    // Walsh averages: 10 at 0, 16 at −1.5, 10 at −3: HL −1.5; eight units
+    // give a finite 95 % interval.
+    assert_eq!(x[16], "-1.5");
+    assert_eq!((x[17].as_str(), x[18].as_str()), ("-3", "0"), "{x:?}");
+    assert_eq!(x[19], "0.3");
+    assert_eq!(x[23], "undecided");
     // Y: eight of eight better, p = 2/256 (SciPy: wilcoxon([-3] * 8)), Holm
     // over the family of the two rows doubles it: 0.015625 < 0.05.
     let y = row("Y", "wilcoxon-signed-rank");
@@ -640,13 +647,13 @@ fn verdicts_across_functions_have_known_answers() {
     assert_eq!(y[12], "0.015625");
     assert_eq!(y[13], "0.0078125");
     assert_eq!(y[15], "-3");
-    assert_eq!(y[16], "better");
+    assert_eq!(y[23], "better");
     // Friedman over the three, Holm post-hoc against R: average ranks R 2.75,
     // X 2.0, Y 1.25 on 8 blocks, SE 0.5; z(Y) = 3, z(X) = 1.5.
     let y = row("Y", "friedman-holm");
-    assert_eq!(y[16], "better");
+    assert_eq!(y[23], "better");
     let x = row("X", "friedman-holm");
-    assert_eq!(x[16], "no detectable difference");
+    assert_eq!(x[23], "undecided");
     // 2(1 − Φ(1.5)) = 0.13361440253771617 (scipy.stats.norm.sf(1.5) * 2)
     assert!(
         (x[11].parse::<f64>().unwrap() - 0.13361440253771617).abs() < 1e-9,
@@ -654,7 +661,7 @@ fn verdicts_across_functions_have_known_answers() {
     );
     let md = read(&dir.join("report.md"));
     assert!(
-        md.contains("| X | R | final-error | wilcoxon-signed-rank | 4/4/0 |"),
+        md.contains("| X | R | final-error | 4/4/0 | -1.50 [-3.00, 0] |"),
         "{md}"
     );
 }
@@ -876,4 +883,62 @@ label = "GA"
     assert!(md.contains("(plots/scalability_2.png)"), "{md}");
     assert!(md.contains("### Convergence (2 pages)"), "{md}");
     assert!(!md.contains("### Convergence (2 of 2)"), "{md}");
+}
+
+#[test]
+fn a_newcomers_summary_says_what_n_allows_and_the_best_per_problem() {
+    // Issue 50: `make quick`'s three problems can never give a verdict
+    // across problems (p_min = 0.25); the summary says so before its
+    // rows, names the best algorithm per problem, lists each comparison
+    // once (Friedman's rows only where they disagree), shows the
+    // six-hump camel's −2.2e-16 as 0, and reads its ropes from the spec.
+    let tmp = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("experiments/quick.toml")).unwrap();
+    let text = text + "\n[report]\nrope_anytime_auc = 0.02\n";
+    let dir = campaign(tmp.path(), "quick", &text);
+    write_report(&dir, &ReportOptions::default()).unwrap();
+    let md = read(&dir.join("report.md"));
+    let summary = &md[..md.find("## Plots").unwrap()];
+    assert!(
+        summary.contains("no test across problems can reject at α = 0.05, whatever the data")
+            && summary.contains("(3 unit(s): p_min = 0.250, family of 4: 4 × p_min = 1.000)"),
+        "{summary}"
+    );
+    assert!(
+        summary.contains("Best per problem (lowest median final error"),
+        "{summary}"
+    );
+    assert!(
+        summary.contains("six_hump_camel, D = 2: GA, PSO, MHS (0)"),
+        "{summary}"
+    );
+    assert!(!summary.contains("-2.2e-16"), "{summary}");
+    let wilcoxon_rows = summary
+        .lines()
+        .filter(|l| l.starts_with("| HS | MHS | final-error |"))
+        .count();
+    assert_eq!(wilcoxon_rows, 1, "{summary}");
+    let verdicts = read(&dir.join("tables/verdicts.csv"));
+    assert!(verdicts
+        .lines()
+        .any(|l| l.contains(",anytime-auc,") && l.contains(",0.02,")));
+    assert!(!verdicts.contains("no detectable difference"));
+    // Without an MHS and without --reference the first cell is the
+    // reference, and the report says so.
+    let no_mhs = text.replace("[[algorithm]]\nname = \"mhs\"\nlabel = \"MHS\"\n", "");
+    assert_ne!(no_mhs, text);
+    let dir = campaign(tmp.path(), "quick_no_mhs", &no_mhs);
+    write_report(&dir, &ReportOptions::default()).unwrap();
+    assert!(read(&dir.join("report.md"))
+        .contains("no configuration is labelled MHS: the reference is the first configuration"));
+    // A bad rope in the spec is refused where the campaign reads it.
+    let bad = text.replace("rope_anytime_auc = 0.02", "rope_anytime_auc = -1");
+    let e = metabezier::experiment::Spec::parse(Path::new("q.toml"), &bad)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("report.rope_anytime_auc") && e.contains("[0, 10]"),
+        "{e}"
+    );
 }

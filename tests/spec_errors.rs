@@ -133,7 +133,7 @@ fn unknown_names_list_the_valid_choices() {
     assert_eq!(
         error_of(&format!("{BASE}\n[[algorithms]]\nname = \"ga\"\n")),
         "spec.toml:14:3: algorithms: unknown section; did you mean \"algorithm\"? \
-         Valid choices: \"experiment\", \"problem\", \"fit\" or \"algorithm\""
+         Valid choices: \"experiment\", \"problem\", \"fit\", \"algorithm\" or \"report\""
     );
 }
 

@@ -16,9 +16,9 @@
 //! | # | room | what lives there |
 //! |---|---|---|
 //! | 0 | [`files`], [`linalg`], [`simd`] | leaves: CSV bytes and reals; the Cholesky solve; the vector instruction sets |
-//! | 1 | [`geometry`] | Bernstein basis, Bézier and rational Bézier curves, joins, offsets (thesis ch. 3) |
-//! | 2 | [`stats`] | descriptive statistics and significance tests |
-//! | 3 | [`rng`] | seed derivation and the random streams |
+//! | 1 | [`rng`] | seed derivation and the random streams |
+//! | 2 | [`geometry`] | Bernstein basis, Bézier and rational Bézier curves, joins, offsets (thesis ch. 3) |
+//! | 3 | [`stats`] | descriptive statistics and significance tests (the Bayesian signed-rank test draws from [`rng`]) |
 //! | 4 | [`problem`] | the [`problem::Problem`] an optimiser minimises |
 //! | 5 | [`functions`] | the ten benchmark functions (thesis ch. 4) |
 //! | 6 | [`optim`] | HS, GHS, GA, PSO, MHS, CMA-ES, L-SHADE, random search and Levenberg–Marquardt |
@@ -30,10 +30,10 @@ pub mod files;
 pub mod linalg;
 pub mod simd;
 
+pub mod rng;
+
 pub mod geometry;
 pub mod stats;
-
-pub mod rng;
 
 pub mod problem;
 

@@ -74,6 +74,44 @@ pub fn sci_opt(x: Option<f64>) -> String {
     x.map_or_else(|| "\u{2014}".to_owned(), sci)
 }
 
+/// An effect in a table cell: two decimals from 0.095 up, two significant
+/// digits in scientific notation below; `∞` and `−∞` for an unbounded end
+/// of an interval, `—` for NaN.
+pub fn effect(x: f64) -> String {
+    if x.is_nan() {
+        "\u{2014}".into()
+    } else if x.is_infinite() {
+        if x > 0.0 {
+            "\u{221e}"
+        } else {
+            "\u{2212}\u{221e}"
+        }
+        .into()
+    } else if x == 0.0 {
+        "0".into()
+    } else if (0.095..1e4).contains(&x.abs()) {
+        format!("{x:.2}")
+    } else {
+        sci_digits(x, 2)
+    }
+}
+
+/// A Hodges–Lehmann estimate with its confidence interval:
+/// `-0.30 [-0.57, -0.04]` ([`effect`] for each).
+pub fn effect_interval(estimate: f64, low: f64, high: f64) -> String {
+    format!("{} [{}, {}]", effect(estimate), effect(low), effect(high))
+}
+
+/// Three posterior probabilities (better, within the rope, worse) to two
+/// decimals: `0.98/0.02/0.00`; `—` when unknown.
+pub fn posterior(better: f64, within: f64, worse: f64) -> String {
+    if better.is_nan() || within.is_nan() || worse.is_nan() {
+        "\u{2014}".into()
+    } else {
+        format!("{better:.2}/{within:.2}/{worse:.2}")
+    }
+}
+
 /// A p-value: three significant digits in scientific notation below 0.001,
 /// else three decimals.
 pub fn p_value(p: f64) -> String {

@@ -172,6 +172,9 @@ pub(crate) struct Dataset {
     pub total_runs: usize,
     /// Remarks about the input, shown in the report.
     pub notes: Vec<String>,
+    /// The comparison families of the cells' optimisers
+    /// ([`crate::ReportOptions::families`]).
+    pub families: crate::families::Families,
 }
 
 impl Dataset {
@@ -291,6 +294,7 @@ impl Dataset {
             ));
         }
         Dataset {
+            families: crate::families::Families::default(),
             cells,
             problems,
             runs,
@@ -567,6 +571,9 @@ pub(crate) struct Provenance {
     pub spec_found: bool,
     /// Whether `meta.toml` was found and parsed.
     pub meta_found: bool,
+    /// The keys of the spec's `[report]` section with their values (NaN
+    /// where a value is not a number), for [`crate::effective_ropes`].
+    pub report_keys: Vec<(String, f64)>,
     /// The sessions of `provenance.toml` (version, commit, date, threads,
     /// SIMD level, CPU), oldest first; empty when it is missing.
     pub sessions: Vec<crate::experiment::provenance::Session>,
@@ -631,6 +638,19 @@ pub(crate) fn provenance(dir: &Path) -> Provenance {
                 toml::Value::Integer(i) => Some(*i as f64),
                 _ => None,
             });
+        }
+        if let Some(report) = spec.get("report").and_then(|v| v.as_table()) {
+            p.report_keys = report
+                .iter()
+                .map(|(k, v)| {
+                    let x = match v {
+                        toml::Value::Float(f) => *f,
+                        toml::Value::Integer(i) => *i as f64,
+                        _ => f64::NAN,
+                    };
+                    (k.clone(), x)
+                })
+                .collect();
         }
     }
     p.sessions = crate::experiment::provenance::read(dir);

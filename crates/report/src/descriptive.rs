@@ -128,10 +128,31 @@ fn fitting_vocabulary(t: &mut Table) {
     }
 }
 
+/// How far below 0 a final error f − f* may be and still be read as the
+/// rounding of f at the optimum (or of the tabulated f*), not as a wrong
+/// f*: the six-hump camel's f(x*) rounds 2.2·10⁻¹⁶ below f* in f64.
+pub(crate) const BELOW_OPTIMUM_ROUNDING: f64 = 1e-12;
+
+/// A final error as the report shows it: an error in
+/// (−[`BELOW_OPTIMUM_ROUNDING`], 0) is 0 (the CSV keeps the value).
+pub(crate) fn shown_error(x: f64) -> f64 {
+    if x < 0.0 && x > -BELOW_OPTIMUM_ROUNDING {
+        0.0
+    } else {
+        x
+    }
+}
+
+/// A final error in a table cell ([`shown_error`], three digits).
+fn error_cell(x: Option<f64>) -> String {
+    sci_opt(x.map(shown_error))
+}
+
 /// The descriptive table: one row per (problem, cell).
 pub(crate) fn table(ds: &Dataset, stats: &[Vec<Option<CellStats>>]) -> Table {
     let mut t = frame();
     let mut nan = false;
+    let mut below = 0.0_f64;
     for (p, problem) in ds.problems.iter().enumerate() {
         for (c, cell) in ds.cells.iter().enumerate() {
             let Some(Some(s)) = stats.get(p).and_then(|row| row.get(c)) else {
@@ -140,16 +161,21 @@ pub(crate) fn table(ds: &Dataset, stats: &[Vec<Option<CellStats>>]) -> Table {
             nan |= s.summary.is_none();
             let sm = s.summary.as_ref();
             let sc = s.success.as_ref();
+            if let Some(x) = sm {
+                if shown_error(x.best) != x.best {
+                    below = below.min(x.best);
+                }
+            }
             t.md_rows.push(vec![
                 problem.short(),
                 problem.dim.to_string(),
                 cell.name.clone(),
                 s.runs.to_string(),
-                sci_opt(sm.map(|x| x.best)),
-                sci_opt(sm.map(|x| x.worst)),
-                sci_opt(sm.map(|x| x.mean)),
+                error_cell(sm.map(|x| x.best)),
+                error_cell(sm.map(|x| x.worst)),
+                error_cell(sm.map(|x| x.mean)),
                 sci_opt(sm.and_then(|x| x.std_dev)),
-                sci_opt(sm.map(|x| x.median)),
+                error_cell(sm.map(|x| x.median)),
                 sc.map_or_else(|| "\u{2014}".into(), |x| percent(x.success_rate)),
                 evaluations(sc.and_then(|x| x.mean_evaluations_to_success)),
                 evaluations(sc.and_then(|x| x.average_runtime)),
@@ -181,6 +207,14 @@ pub(crate) fn table(ds: &Dataset, stats: &[Vec<Option<CellStats>>]) -> Table {
     if nan {
         t.intro
             .push("Some final errors are NaN: their summaries are left empty (—).".into());
+    }
+    if below < 0.0 {
+        t.intro.push(format!(
+            "Some runs end below the tabulated optimum, by at most {} (the rounding of f \
+             at the optimum in floating point, or of the tabulated f*): such errors are \
+             shown as 0 here, and kept as they are in the CSV and in runs.csv.",
+            sci(-below)
+        ));
     }
     t.intro.push(format!(
         "SD is — for a single run; numbers are rounded to three significant digits \

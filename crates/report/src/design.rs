@@ -252,6 +252,16 @@ pub(crate) fn scopes(points: &[Levels]) -> Vec<Levels> {
 /// The independent unit of a problem: the benchmark function (a bbob
 /// problem's function index, `bbob_f008`), or the fitted outline's source.
 /// `None` for a per-segment fitting problem, whose units are its segments.
+///
+/// The pooling rule, the same for every suite: each (function, instance,
+/// dimension, budget, transform) is a problem of its own at the first
+/// level (a test of its runs), and the problems of one unit within a
+/// scope are pooled into one summary by their median before the test
+/// across units. So the thesis's ten functions give at most 10 units
+/// whatever their instances and transforms (ch4), bbob's 24 functions at
+/// most 24 whatever their instances 1–5 and dimensions (their instances
+/// are not independent problems: one function, shifted and rotated), and
+/// a fitting campaign as many as its outlines or segments.
 pub(crate) fn unit(p: &Problem) -> Option<String> {
     if p.is_fit() {
         let case = split(&p.function)?;

@@ -18,6 +18,17 @@ pub enum ReportError {
     /// The significance level is not in (0, 1).
     #[error("--alpha: the significance level must lie strictly between 0 and 1, found {0}")]
     Alpha(f64),
+    /// A rope (region of practical equivalence) is not one the report can use.
+    #[error("{origin}: {error}")]
+    Rope {
+        /// Where it was set: the spec's `[report]` key or `--rope`.
+        origin: String,
+        /// What is wrong with it.
+        error: crate::verdicts::RopeError,
+    },
+    /// The claims file does not load, or a claim's primary row is missing.
+    #[error(transparent)]
+    Claims(#[from] crate::claims::ClaimError),
     /// The requested reference algorithm is not in the results.
     #[error(
         "the reference algorithm \"{requested}\" is not in the results; the algorithms are: {}",

@@ -191,6 +191,8 @@ pub(crate) struct FitRuns<'r> {
     pub cells: Vec<String>,
     /// (problem, cell) → its runs.
     pub runs: BTreeMap<(usize, usize), Vec<&'r RunRecord>>,
+    /// The comparison families of the methods' optimisers.
+    pub families: crate::families::Families,
 }
 
 impl<'r> FitRuns<'r> {
@@ -215,6 +217,7 @@ impl<'r> FitRuns<'r> {
             runs.entry((p, c)).or_default().push(r);
         }
         FitRuns {
+            families: ds.families.clone(),
             problems,
             cells,
             runs,

@@ -18,7 +18,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use super::design::{fit_levels, restrict, varying, without, Levels};
 use super::fit_runs::{same_seeds, split, two_sample_test, FitRuns};
 use super::format::{p_value, sci, Table};
-use super::verdicts::{comparison_set, find, pair_set, Measure, Observation, Standing};
+use super::verdicts::{find, Measure, Observation, Standing};
 use crate::experiment::segments::FIT_SEGMENT_HEADER;
 use crate::files::fmt_real;
 use crate::fit::ALPHA_SIZE;
@@ -245,7 +245,7 @@ pub(crate) fn observations(
                     let Some(cr) = unit_runs(fr, p, c) else {
                         continue;
                     };
-                    let table = comparison_set(kind(c), kind(r));
+                    let table = fr.families.comparison_set(kind(c), kind(r));
                     for (unit, e) in &cr {
                         standings.push(Standing {
                             table,
@@ -275,7 +275,7 @@ pub(crate) fn observations(
                 for (j, b) in units.iter().enumerate().skip(i + 1) {
                     if let (Some(a), Some(b)) = (a, b) {
                         let names = (fr.cells[i].clone(), fr.cells[j].clone());
-                        let table = pair_set(kind(i), kind(j));
+                        let table = fr.families.pair_set(kind(i), kind(j));
                         observe(&mut obs, table, names, &levels, a, b);
                     }
                 }
@@ -533,7 +533,7 @@ fn methods_table(
                 let (x, y) = (&fr.cells[i], &fr.cells[j]);
                 let v = find(
                     rows,
-                    pair_set(kind(i), kind(j)),
+                    fr.families.pair_set(kind(i), kind(j)),
                     Measure::FinalError,
                     x,
                     y,
@@ -578,7 +578,8 @@ fn verdict_lines(keys: &[Keyed], name: impl Fn(&(String, String)) -> String) -> 
             let mut parts = Vec::new();
             for v in [
                 Verdict::Better,
-                Verdict::NoDetectableDifference,
+                Verdict::Equivalent,
+                Verdict::Undecided,
                 Verdict::Worse,
             ] {
                 let l: Vec<String> = at

@@ -677,11 +677,11 @@ fn overlays(
 /// reference instead, so adding them leaves these verdicts as they were.
 pub(crate) fn treatment_observations(fr: &FitRuns<'_>) -> Vec<Observation> {
     use super::design::{Level, Levels};
-    use super::verdicts::{beyond_the_thesis, Measure};
+    use super::verdicts::Measure;
     let thesis: Vec<bool> = fr
         .kinds()
         .iter()
-        .map(|k| !beyond_the_thesis(k.as_deref().unwrap_or("")))
+        .map(|k| !fr.families.beyond_the_thesis(k.as_deref().unwrap_or("")))
         .collect();
     // Cases of whole outlines by (source, space level, budget, variant).
     type CaseKey = (String, String, Option<u64>, String);

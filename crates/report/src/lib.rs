@@ -23,10 +23,12 @@
 
 mod anytime;
 mod best2009;
+pub mod claims;
 mod data;
 mod descriptive;
 mod design;
 mod error;
+mod families;
 mod fit_runs;
 mod fit_units;
 mod fitting;
@@ -38,6 +40,7 @@ pub(crate) mod plots;
 pub(crate) mod render;
 mod robustness;
 mod significance;
+mod summary;
 mod tuning;
 mod verdicts;
 
@@ -57,7 +60,7 @@ use self::format::Table;
 pub use self::html::write_html;
 pub use self::overlay::save_overlay;
 use self::plots::Plot;
-pub use self::verdicts::PostHoc;
+pub use self::verdicts::{Families, PostHoc, RopeError, Ropes};
 
 /// How to build a report.
 #[derive(Clone, Debug, PartialEq)]
@@ -75,6 +78,19 @@ pub struct ReportOptions {
     pub external: Option<PathBuf>,
     /// The correction of the post-hoc tests after Friedman's test.
     pub post_hoc: PostHoc,
+    /// The command line's ropes (`--rope final-error=0.3`): (measure,
+    /// half-width) of the region of practical equivalence of the Bayesian
+    /// signed-rank test beside every verdict. They override the spec's
+    /// `[report]` section, which overrides [`Ropes::default`]
+    /// ([`effective_ropes`]).
+    pub ropes: Vec<(String, f64)>,
+    /// A claims file (`experiments/claims.toml`): the primary row of each
+    /// thesis claim ([`claims::read_claims`]); the summary answers the
+    /// claims of this campaign first.
+    pub claims: Option<PathBuf>,
+    /// The comparison families of the optimisers of a library user's
+    /// registry ([`Families::of`]); the built-ins' by default.
+    pub families: Families,
 }
 
 impl Default for ReportOptions {
@@ -84,8 +100,44 @@ impl Default for ReportOptions {
             alpha: crate::stats::DEFAULT_ALPHA,
             external: None,
             post_hoc: PostHoc::Holm,
+            ropes: Vec::new(),
+            families: Families::default(),
+            claims: None,
         }
     }
+}
+
+/// The ropes a report uses: [`Ropes::default`], then the spec's
+/// `[report]` keys (`rope_final_error`, `rope_anytime_auc`), then the
+/// command line's; an unknown key or a bad value is an error naming where
+/// it came from.
+pub fn effective_ropes(
+    spec_keys: &[(String, f64)],
+    options: &ReportOptions,
+) -> Result<Ropes, ReportError> {
+    let mut ropes = Ropes::default();
+    for (key, value) in spec_keys {
+        let measure =
+            crate::experiment::spec::rope_measure(key).ok_or_else(|| ReportError::Rope {
+                origin: format!("spec.toml [report] key \"{key}\""),
+                error: RopeError::Measure(key.clone()),
+            })?;
+        ropes
+            .set(&measure, *value)
+            .map_err(|error| ReportError::Rope {
+                origin: format!("spec.toml [report] {key}"),
+                error,
+            })?;
+    }
+    for (measure, value) in &options.ropes {
+        ropes
+            .set(measure, *value)
+            .map_err(|error| ReportError::Rope {
+                origin: "--rope".into(),
+                error,
+            })?;
+    }
+    Ok(ropes)
 }
 
 /// What [`write_report`] wrote.
@@ -146,6 +198,19 @@ fn resolve_reference(
             cell.label, cell.name
         )
     });
+    // Without --reference and without an MHS cell the first cell is the
+    // reference: said, never silent.
+    let first = (requested.is_none() && by_label("MHS").is_none()).then(|| {
+        format!(
+            "No reference was given (--reference) and no configuration is labelled MHS: the \
+             reference is the first configuration of the results, {}.",
+            cell.name
+        )
+    });
+    let note = match (first, note) {
+        (Some(a), Some(b)) => Some(format!("{a} {b}")),
+        (a, b) => a.or(b),
+    };
     Ok((found, note))
 }
 
@@ -273,6 +338,7 @@ fn tests(
     notes: &mut Vec<String>,
 ) -> Result<Tests, ReportError> {
     let alpha = options.alpha;
+    let ropes = effective_ropes(&provenance.report_keys, options)?;
     if ds.cells.len() < 2 {
         if let Some(r) = &options.reference {
             // Still check the name, so that a typo is not silently ignored.
@@ -294,6 +360,7 @@ fn tests(
                 alpha,
                 post_hoc: options.post_hoc,
                 reference: None,
+                ropes,
             },
         );
         let verdict_table =
@@ -338,6 +405,7 @@ fn tests(
             alpha,
             post_hoc: options.post_hoc,
             reference: Some(&ref_name),
+            ropes,
         },
     );
     let noun = design::unit_noun(ds);
@@ -426,6 +494,8 @@ struct Sections {
     setup: [Table; 2],
     /// The descriptive table.
     results: Table,
+    /// The descriptive statistics, `stats[problem][cell]`.
+    stats: Vec<Vec<Option<descriptive::CellStats>>>,
     /// The statistical tests.
     tests: Tests,
     /// The average runtime to each target.
@@ -460,134 +530,6 @@ impl Sections {
             .chain(&self.tuning)
             .chain(&self.tuning_overview)
             .chain(&self.fitting)
-    }
-
-    /// The `## Summary` that opens the report: the question, the verdicts
-    /// over all problems with the counts of units on either side (their
-    /// range), the best setting of every tuned grid, and links to the
-    /// figures and to the parts skipped.
-    fn summary(&self, question: &str) -> String {
-        let mut md = String::from("## Summary\n\n");
-        md.push_str(&markdown::paragraph(&format!("Question: {question}")));
-        match &self.tests.verdict_table {
-            Some(t) => {
-                let shown = summary_verdicts(t);
-                if shown.md_rows.is_empty() {
-                    md.push_str(&markdown::paragraph("No verdict over all problems."));
-                } else {
-                    let at_points = shown.md_header.iter().any(|h| h == "Scope");
-                    md.push_str(&markdown::paragraph(if at_points {
-                        "Verdicts at each design point, against the reference (the fixed and \
-                         the orthogonal error, and equal segments and equal free parameters, \
-                         measure different things, so no verdict here pools them; units +/=/− \
-                         counts the units that favour the algorithm, tie, or favour the \
-                         reference; effect is their median summary):"
-                    } else {
-                        "Verdicts over all problems against the reference (units +/=/− \
-                         counts the units that favour the algorithm, tie, or favour the \
-                         reference; effect is their median summary):"
-                    }));
-                    md.push_str(&shown.markdown());
-                    md.push('\n');
-                    let count = |v: &str| {
-                        t.md_rows
-                            .iter()
-                            .filter(|r| r.last().is_some_and(|x| x == v))
-                            .count()
-                    };
-                    md.push_str(&markdown::paragraph(&format!(
-                        "{} verdicts shown of {} (all scopes: {} better, {} worse, the others \
-                         no detectable difference); all are in tables/verdicts.csv.",
-                        shown.md_rows.len(),
-                        t.md_rows.len(),
-                        count("better"),
-                        count("worse")
-                    )));
-                }
-            }
-            None => md.push_str(&markdown::paragraph(
-                "There is a single algorithm configuration: there is no verdict to state.",
-            )),
-        }
-        let picks: Vec<String> = self
-            .tuning
-            .iter()
-            .filter(|t| t.stem.starts_with("tuning_picks_"))
-            .filter_map(|t| {
-                let row = t.md_rows.first()?;
-                let runner = t.md_header.iter().position(|h| h == "Runner-up");
-                let grid = t
-                    .title
-                    .strip_prefix("Parameter tuning of ")
-                    .and_then(|r| r.split(':').next())
-                    .unwrap_or("");
-                Some(format!(
-                    "- {}: {} (mean rank {}){}; [`tables/{}.csv`](tables/{}.csv)\n",
-                    metabezier_plot::markdown::escape(grid),
-                    metabezier_plot::markdown::escape(&row[0]),
-                    metabezier_plot::markdown::escape(row.get(1).map_or("", String::as_str)),
-                    runner
-                        .and_then(|i| row.get(i))
-                        .map_or_else(String::new, |r| format!(
-                            ", runner-up {}",
-                            metabezier_plot::markdown::escape(r)
-                        )),
-                    t.stem,
-                    t.stem
-                ))
-            })
-            .collect();
-        if !picks.is_empty() {
-            md.push_str("Best settings (lowest mean rank over the problems):\n\n");
-            picks.iter().for_each(|p| md.push_str(p));
-            md.push('\n');
-        }
-        if !self.figures.is_empty() {
-            // The figures that answer the question first, then the others.
-            let (answers, others): (Vec<&Plot>, Vec<&Plot>) = self
-                .figures
-                .iter()
-                .filter(|p| p.page.index == 1)
-                .partition(|p| plots::fit_factors::ANSWER_STEMS.contains(&p.stem.as_str()));
-            let link = |p: &&Plot| {
-                format!(
-                    "[{}](plots/{}.png)",
-                    metabezier_plot::markdown::escape(&p.figure_heading()),
-                    p.stem
-                )
-            };
-            let answers: Vec<String> = answers.iter().map(link).collect();
-            let links: Vec<String> = others.iter().map(link).collect();
-            let answer = if answers.is_empty() {
-                String::new()
-            } else {
-                format!(
-                    "The figure that answers the question: {}. ",
-                    answers.join("; ")
-                )
-            };
-            let others = match (answers.is_empty(), links.is_empty()) {
-                (_, true) => String::new(),
-                (true, false) => format!("Figures: {}.", links.join(", ")),
-                (false, false) => format!("Other figures: {}.", links.join(", ")),
-            };
-            md.push_str(&format!("{}\n\n", format!("{answer}{others}").trim_end()));
-        }
-        if !self.faults.is_empty() {
-            md.push_str(&markdown::paragraph(&format!(
-                "Warning: {} figure(s) could not be drawn from these results, which should \
-                 allow them: {}.",
-                self.faults.len(),
-                self.faults.join("; ")
-            )));
-        }
-        if !self.notes.is_empty() {
-            md.push_str(&markdown::paragraph(&format!(
-                "{} part(s) were skipped or limited: see the last section.",
-                self.notes.len()
-            )));
-        }
-        md
     }
 
     /// The figures, after the summary.
@@ -678,71 +620,6 @@ impl Sections {
     }
 }
 
-/// The verdicts over all problems in the summary: the algorithm, the
-/// reference, the measure, the units on either side, the effect, the
-/// adjusted p and the verdict, at most [`SUMMARY_VERDICTS`] rows (the
-/// decided ones first).
-fn summary_verdicts(t: &Table) -> Table {
-    let col = |name: &str| t.md_header.iter().position(|h| h == name);
-    let keep = [
-        "Algorithm",
-        "Reference",
-        "Measure",
-        "Test",
-        "Units +/=/−",
-        "Effect",
-        "p (adjusted)",
-        "Verdict",
-    ];
-    let scope = col("Scope");
-    let verdict = col("Verdict");
-    // Scopes that pool the two errors or the two sizes (equal segments,
-    // equal free parameters) pool measures of different things: such a
-    // campaign's summary states its verdicts at the design points.
-    let pools = |key: &str| {
-        scope.is_some_and(|i| t.md_rows.iter().any(|r| r[i].contains(&format!("{key}="))))
-    };
-    let by_point = pools("error") || pools("size");
-    let parts = |r: &Vec<String>| scope.map_or(0, |i| r[i].split(';').count());
-    let most = t.md_rows.iter().map(parts).max().unwrap_or(0);
-    let mut keep = keep.to_vec();
-    if by_point {
-        keep.insert(2, "Scope");
-    }
-    let idx: Vec<usize> = keep.iter().filter_map(|k| col(k)).collect();
-    let mut rows: Vec<&Vec<String>> = t
-        .md_rows
-        .iter()
-        .filter(|r| match scope {
-            Some(i) if by_point => parts(r) == most && r[i] != "all",
-            Some(i) => r[i] == "all",
-            None => true,
-        })
-        .collect();
-    if by_point {
-        rows.truncate(SUMMARY_POINT_VERDICTS);
-    } else {
-        // Decided verdicts first; the order is otherwise the table's.
-        rows.sort_by_key(|r| verdict.is_some_and(|i| !(r[i] == "better" || r[i] == "worse")));
-        rows.truncate(SUMMARY_VERDICTS);
-    }
-    Table {
-        md_header: idx.iter().map(|&i| t.md_header[i].clone()).collect(),
-        md_rows: rows
-            .into_iter()
-            .map(|r| idx.iter().map(|&i| r[i].clone()).collect())
-            .collect(),
-        ..t.clone()
-    }
-}
-
-/// The most verdicts the summary lists.
-const SUMMARY_VERDICTS: usize = 12;
-
-/// The most verdicts the summary lists at design points (when its scopes
-/// pool the errors or the sizes).
-const SUMMARY_POINT_VERDICTS: usize = 20;
-
 /// The question a report answers, from what its results hold.
 fn question(s: &Sections, ds: &data::Dataset) -> String {
     let reference = s.tests.reference.as_deref().unwrap_or("the reference");
@@ -828,6 +705,7 @@ fn sections(
     Ok(Sections {
         setup,
         results,
+        stats,
         tests,
         anytime,
         tuning,
@@ -923,7 +801,8 @@ pub fn write_report(dir: &Path, options: &ReportOptions) -> Result<ReportSummary
         return Err(ReportError::Alpha(options.alpha));
     }
     integrity::check_finished(dir)?;
-    let ds = data::load(dir, options.external.as_deref())?;
+    let mut ds = data::load(dir, options.external.as_deref())?;
+    ds.families = options.families.clone();
     let provenance = data::provenance(dir);
     let mut s = sections(dir, &ds, &provenance, options)?;
     let (table_paths, plot_paths) = write_tables_and_plots(dir, &mut s)?;
@@ -941,7 +820,23 @@ pub fn write_report(dir: &Path, options: &ReportOptions) -> Result<ReportSummary
         dir_name: dir.file_name().map(|n| n.to_string_lossy().into_owned()),
     };
     let mut md = markdown::title(&header);
-    md.push_str(&s.summary(&question(&s, &ds)));
+    let claims = match &options.claims {
+        Some(path) => claims::section(
+            path,
+            &claims::read_claims(path).map_err(claims::ClaimError::from)?,
+            provenance.name.as_deref().unwrap_or(""),
+            &s.tests.verdicts,
+            options.alpha,
+        )?,
+        None => String::new(),
+    };
+    md.push_str(&summary::summary(
+        &s,
+        &ds,
+        (&question(&s, &ds), &claims),
+        options.alpha,
+        provenance.threshold,
+    ));
     md.push_str(&s.figures_markdown());
     md.push_str(&markdown::provenance(&header));
     md.push_str(&s.markdown());

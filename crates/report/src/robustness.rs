@@ -109,7 +109,8 @@ fn verdict_lines(
                 let parts: Vec<String> = [
                     Verdict::Better,
                     Verdict::Worse,
-                    Verdict::NoDetectableDifference,
+                    Verdict::Equivalent,
+                    Verdict::Undecided,
                 ]
                 .into_iter()
                 .filter_map(|v| {
@@ -501,6 +502,7 @@ mod tests {
                 alpha: 0.05,
                 post_hoc: PostHoc::Holm,
                 reference: Some("A"),
+                ropes: crate::verdicts::Ropes::default(),
             },
         );
         let t = tables(&ds, &s, &rows, "function", None);
@@ -523,18 +525,16 @@ mod tests {
         assert_eq!(ds.problems.len(), 4, "{:?}", ds.problems);
         assert_eq!(t[0].md_rows[0][0], "budget 1000");
         assert!(
-            t[0].md_rows[0][1].starts_with("marks 2/0/0; no detectable difference (2/0/0"),
+            t[0].md_rows[0][1].starts_with("marks 2/0/0; undecided (2/0/0"),
             "{}",
             t[0].md_rows[0][1]
         );
-        assert!(t[0].md_rows[1][1].starts_with("marks 0/0/2; no detectable difference (0/0/2"));
+        assert!(t[0].md_rows[1][1].starts_with("marks 0/0/2; undecided (0/0/2"));
         let scopes: Vec<&str> = rows.iter().map(|r| r.scope.as_str()).collect();
         assert_eq!(scopes, ["all", "budget=1000", "budget=10000"]);
         assert!(rows.iter().all(|r| r.across.p_min == 0.5));
         assert!(
-            t[0].intro[1].starts_with(
-                "B against A, final-error: no detectable difference over all 2 functions"
-            ),
+            t[0].intro[1].starts_with("B against A, final-error: undecided over all 2 functions"),
             "{}",
             t[0].intro[1]
         );
@@ -548,7 +548,7 @@ mod tests {
         let (_, t, _) = report(records);
         assert_eq!(t[0].md_rows.len(), 1);
         assert_eq!(t[0].md_rows[0][0], "all problems");
-        assert!(t[0].md_rows[0][1].starts_with("marks 0/1/0; no detectable difference"));
+        assert!(t[0].md_rows[0][1].starts_with("marks 0/1/0; undecided"));
         assert!(t[1].md_rows.is_empty());
     }
 }

@@ -34,7 +34,7 @@ use super::data::{Dataset, Run};
 use super::descriptive::{mean_sd, CellStats};
 use super::design::{factors, unit, Levels};
 use super::format::{csv_opt, csv_real, fixed2, p_value, sci, Table};
-use super::verdicts::{comparison_set, Measure, Observation, Standing, STATE_OF_THE_ART};
+use super::verdicts::{Measure, Observation, Standing, STATE_OF_THE_ART};
 
 /// Resamples of every bootstrap interval.
 pub(crate) const BOOTSTRAP_RESAMPLES: usize = 1000;
@@ -415,7 +415,9 @@ pub(crate) fn observations(ds: &Dataset, s: &Significance) -> (Vec<Observation>,
                 };
                 if !value.is_nan() {
                     standings.push(Standing {
-                        table: comparison_set(&ds.cells[c].kind, &ds.cells[s.reference].kind),
+                        table: ds
+                            .families
+                            .comparison_set(&ds.cells[c].kind, &ds.cells[s.reference].kind),
                         measure,
                         algorithm: ds.cells[c].name.clone(),
                         unit: u.clone(),
@@ -433,7 +435,9 @@ pub(crate) fn observations(ds: &Dataset, s: &Significance) -> (Vec<Observation>,
                     continue;
                 }
                 obs.push(Observation {
-                    table: comparison_set(&ds.cells[r.cell].kind, &ds.cells[s.reference].kind),
+                    table: ds
+                        .families
+                        .comparison_set(&ds.cells[r.cell].kind, &ds.cells[s.reference].kind),
                     measure,
                     algorithm: ds.cells[r.cell].name.clone(),
                     reference: reference.clone(),

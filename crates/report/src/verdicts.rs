@@ -12,20 +12,31 @@
 //! table, and, where three or more algorithms share the units, Friedman's
 //! test with the z-test of average ranks against the reference, Holm- or
 //! Finner-corrected (Demšar 2006, JMLR 7:1–30; García & Herrera 2008, JMLR
-//! 9:2677–2694). A verdict is `better` or `worse` only where the corrected
-//! test rejects; otherwise `no detectable difference`, with the counts and
-//! the smallest p the units allow beside it.
+//! 9:2677–2694). Beside every row: the Hodges–Lehmann estimate of the
+//! per-unit summaries with its exact signed-rank 95 % interval, and the
+//! Bayesian signed-rank test with a region of practical equivalence per
+//! measure ([`Ropes`]; Benavoli, Corani, Demšar & Zaffalon 2017, JMLR
+//! 18(77)). A verdict is `equivalent` where P(rope) ≥ 0.95, `better` or
+//! `worse` where the corrected test rejects, `undecided` otherwise, with
+//! the counts and the smallest p the units allow beside it.
+//!
+//! The units: ch4's campaigns keep each function instance a problem and
+//! pool a function's instances (and its dimensions and budgets within the
+//! scope) into one unit by their median; bbob's campaign pools likewise,
+//! its 24 functions being the units (its instances 1–5 of one function are
+//! not independent problems); fitting campaigns use the outline or the
+//! segment ([`super::design::unit_noun`]).
 
 use std::collections::BTreeMap;
 
 use crate::stats::{
     across_units, decide_family, finner, friedman, friedman_control_posthoc, holm_bonferroni,
-    median, smallest_friedman_control_p, AcrossUnits, Verdict, VerdictRow, VerdictTest,
-    VERDICT_COLUMNS,
+    median, smallest_friedman_control_p, AcrossUnits, Equivalence, ShiftInterval, Verdict,
+    VerdictRow, VerdictTest, VERDICT_COLUMNS,
 };
 
 use super::design::{scopes, varying, Levels};
-use super::format::{p_value, sci, Table};
+use super::format::{effect, effect_interval, p_value, posterior, sci, Table};
 
 /// What a comparison measures.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -51,6 +62,18 @@ impl Measure {
     /// Whether a lower value of the measure is the better.
     pub fn lower_is_better(self) -> bool {
         self == Measure::FinalError
+    }
+
+    /// The default half-width of the region of practical equivalence of
+    /// the measure's per-unit summaries: ±0.3 decades of the error ratio
+    /// (a factor of 2, the resolution a reader of a log-scale convergence
+    /// plot distinguishes), ±0.05 of the anytime AUC (5 % of the targets
+    /// reached, about 2½ of COCO's 51).
+    pub fn default_rope(self) -> f64 {
+        match self {
+            Measure::FinalError => 0.3,
+            Measure::AnytimeAuc => 0.05,
+        }
     }
 
     /// How the effect size reads: `median log10 ratio` or `median AUC
@@ -94,53 +117,8 @@ impl PostHoc {
     }
 }
 
-/// The comparison set of the algorithms beyond the thesis (CMA-ES, L-SHADE,
-/// random search) against the reference: a family of its own, so that
-/// adding the state of the art to a campaign leaves the Holm families and
-/// the Friedman post-hoc test of the thesis's comparisons (table
-/// `reference`) as they were; each question is corrected within its own
-/// family (Bender & Lange 2001, "Adjusting for multiple testing — when and
-/// how?", J. Clin. Epidemiol. 54(4):343–349).
-pub(crate) const STATE_OF_THE_ART: &str = "state-of-the-art";
-
-/// The spec names of the algorithms whose comparisons go to
-/// [`STATE_OF_THE_ART`] (a fitting method `cmaes+lm` by its optimiser).
-pub(crate) const STATE_OF_THE_ART_KINDS: [&str; 3] = ["cmaes", "lshade", "random"];
-
-/// The comparison set of a cell of kind `kind` against the reference:
-/// [`STATE_OF_THE_ART`] for the algorithms beyond the thesis, else
-/// `reference`.
-/// When the reference itself is beyond the thesis (`--reference CMA-ES`),
-/// every comparison is in `reference`.
-pub(crate) fn comparison_set(kind: &str, reference_kind: &str) -> &'static str {
-    if beyond_the_thesis(kind) && !beyond_the_thesis(reference_kind) {
-        STATE_OF_THE_ART
-    } else {
-        "reference"
-    }
-}
-
-/// The comparisons of two fitting methods of which at least one is beyond
-/// the thesis: a family of its own beside `method-pairs`, for the reason
-/// of [`STATE_OF_THE_ART`].
-pub(crate) const STATE_OF_THE_ART_PAIRS: &str = "state-of-the-art-pairs";
-
-/// Whether a cell of kind `kind` (`cmaes+lm` by its optimiser) is one of
-/// [`STATE_OF_THE_ART_KINDS`].
-pub(crate) fn beyond_the_thesis(kind: &str) -> bool {
-    STATE_OF_THE_ART_KINDS.contains(&kind.split('+').next().unwrap_or(kind))
-}
-
-/// The comparison set of the pair of methods of kinds `a` and `b`:
-/// [`STATE_OF_THE_ART_PAIRS`] when either is beyond the thesis, else
-/// `method-pairs`.
-pub(crate) fn pair_set(a: &str, b: &str) -> &'static str {
-    if beyond_the_thesis(a) || beyond_the_thesis(b) {
-        STATE_OF_THE_ART_PAIRS
-    } else {
-        "method-pairs"
-    }
-}
+pub use super::families::Families;
+pub(crate) use super::families::STATE_OF_THE_ART;
 
 /// One problem's summary of a comparison, with the unit and the design
 /// levels it belongs to.
@@ -181,6 +159,65 @@ pub(crate) struct Standing {
     pub value: f64,
 }
 
+/// The half-widths of the regions of practical equivalence of the
+/// measures (the `rope` of the Bayesian signed-rank test beside every
+/// verdict; Benavoli et al. 2017, JMLR 18(77), §5). In a fitting campaign
+/// the final error is the fitting error E, so `final_error` is its rope.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ropes {
+    /// Decades of the ratio of median final errors (default 0.3).
+    pub final_error: f64,
+    /// Difference of the median anytime AUC (default 0.05).
+    pub anytime_auc: f64,
+}
+
+impl Default for Ropes {
+    fn default() -> Self {
+        Ropes {
+            final_error: Measure::FinalError.default_rope(),
+            anytime_auc: Measure::AnytimeAuc.default_rope(),
+        }
+    }
+}
+
+impl Ropes {
+    /// The measures' names as the command line and the spec write them.
+    pub const NAMES: [&'static str; 2] = ["final-error", "anytime-auc"];
+
+    /// The rope of `measure`.
+    pub(crate) fn of(&self, measure: Measure) -> f64 {
+        match measure {
+            Measure::FinalError => self.final_error,
+            Measure::AnytimeAuc => self.anytime_auc,
+        }
+    }
+
+    /// Sets the rope of the measure named `name` (one of [`Ropes::NAMES`])
+    /// to `value` (finite, ≥ 0); the error says what was expected.
+    pub fn set(&mut self, name: &str, value: f64) -> Result<(), RopeError> {
+        if !(value.is_finite() && value >= 0.0) {
+            return Err(RopeError::Value(name.to_owned(), value));
+        }
+        match name {
+            "final-error" => self.final_error = value,
+            "anytime-auc" => self.anytime_auc = value,
+            _ => return Err(RopeError::Measure(name.to_owned())),
+        }
+        Ok(())
+    }
+}
+
+/// Why a rope cannot be set.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum RopeError {
+    /// The measure is not one of [`Ropes::NAMES`].
+    #[error("no measure \"{0}\" has a rope: expected one of \"final-error\", \"anytime-auc\"")]
+    Measure(String),
+    /// The half-width is negative or not finite.
+    #[error("the rope of {0} must be a finite number ≥ 0, got {1}")]
+    Value(String, f64),
+}
+
 /// What the engine needs besides the observations.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Settings<'a> {
@@ -191,6 +228,8 @@ pub(crate) struct Settings<'a> {
     /// The reference of the `reference` table (the control of Friedman's
     /// post-hoc test).
     pub reference: Option<&'a str>,
+    /// The regions of practical equivalence.
+    pub ropes: Ropes,
 }
 
 /// The per-unit medians of the observations of one comparison within a
@@ -265,7 +304,7 @@ pub(crate) fn verdicts(
                 let Ok(across) = across_units(&d, measure.lower_is_better()) else {
                     continue;
                 };
-                family.push(VerdictRow {
+                let mut row = VerdictRow {
                     table: key.0.to_owned(),
                     measure: measure.name().to_owned(),
                     algorithm: alg.to_owned(),
@@ -276,8 +315,12 @@ pub(crate) fn verdicts(
                     across,
                     p_adjusted: f64::NAN,
                     family: 0,
-                    verdict: Verdict::NoDetectableDifference,
-                });
+                    shift: ShiftInterval::unknown(),
+                    equivalence: Equivalence::unknown(f64::NAN),
+                    verdict: Verdict::Undecided,
+                };
+                row.weigh(&d, measure.lower_is_better(), settings.ropes.of(measure));
+                family.push(row);
             }
             decide_family(&mut family, settings.alpha);
             rows.extend(family);
@@ -375,7 +418,7 @@ fn friedman_rows(
             };
             let better = d.iter().filter(|&&x| favours(x)).count();
             let equal = d.iter().filter(|&&x| x == 0.0).count();
-            VerdictRow {
+            let mut row = VerdictRow {
                 table: table.to_owned(),
                 measure: measure.name().to_owned(),
                 algorithm: alg.to_owned(),
@@ -395,8 +438,13 @@ fn friedman_rows(
                 },
                 p_adjusted: pa,
                 family: post.len(),
-                verdict: Verdict::from_p(pa, settings.alpha, c.z),
-            }
+                shift: ShiftInterval::unknown(),
+                equivalence: Equivalence::unknown(f64::NAN),
+                verdict: Verdict::Undecided,
+            };
+            row.weigh(&d, measure.lower_is_better(), settings.ropes.of(measure));
+            row.verdict = Verdict::decide(pa, settings.alpha, c.z, &row.equivalence);
+            row
         })
         .collect()
 }
@@ -423,16 +471,28 @@ pub(crate) fn find<'v>(
     })
 }
 
-/// A verdict in a table cell: `better (6/0/2, p_Holm 0.012)`.
+/// A verdict in a table cell: `better (6/0/2, p_Holm 0.012, HL -0.30)`.
 pub(crate) fn short(r: &VerdictRow) -> String {
     format!(
-        "{} ({}/{}/{}, p_Holm {})",
+        "{} ({}/{}/{}, p_Holm {}, HL {})",
         r.verdict,
         r.across.better,
         r.across.equal,
         r.across.worse,
-        p_value(r.p_adjusted)
+        p_value(r.p_adjusted),
+        effect(r.shift.estimate)
     )
+}
+
+/// The row's Hodges–Lehmann estimate and 95 % interval in a cell.
+pub(crate) fn interval_cell(r: &VerdictRow) -> String {
+    effect_interval(r.shift.estimate, r.shift.low, r.shift.high)
+}
+
+/// The row's posterior P(better)/P(rope)/P(worse) in a cell.
+pub(crate) fn posterior_cell(r: &VerdictRow) -> String {
+    let e = &r.equivalence;
+    posterior(e.better, e.within, e.worse)
 }
 
 /// The `verdicts` table: every verdict row, with its Markdown rendering.
@@ -455,8 +515,18 @@ pub(crate) fn table(rows: &[VerdictRow], unit_noun: &str, alpha: f64) -> Table {
             ),
             format!(
                 "better/equal/worse count the {unit_noun}s whose summary favours the algorithm, \
-                 is exactly zero, or favours the reference; effect is the median summary. \
-                 A verdict is better or worse only where the corrected p is below α = {alpha}; \
+                 is exactly zero, or favours the reference; effect is the median summary, and \
+                 HL [95 % CI] the Hodges–Lehmann estimate of the summaries (the median of their \
+                 Walsh averages) with its exact signed-rank 95 % confidence interval (Hollander, \
+                 Wolfe & Chicken 2014, §3.3; ∞ where {unit_noun}s are too few for one). \
+                 P(better/≈/worse) is the posterior of the Bayesian signed-rank test (Benavoli, \
+                 Corani, Demšar & Zaffalon 2017; 50,000 seeded samples, prior 0.5 at 0) with the \
+                 region of practical equivalence (rope) in the rope column: ±0.3 decades of the \
+                 error ratio and ±0.05 of the anytime AUC unless the spec's [report] or --rope \
+                 says otherwise. The verdict is decided in this order: equivalent where \
+                 P(rope) ≥ 0.95, even where a tiny difference is significant; better or worse \
+                 where the corrected p is below α = {alpha}; otherwise undecided (the test did \
+                 not reject: no detectable difference, which is not a verdict of equality). \
                  p_min is the smallest p the number of units allows (2/2ⁿ for the signed-rank \
                  test with n non-zero units), and family is the number of rows corrected \
                  together: no adjusted p can fall below family × the family's smallest p_min, \
@@ -473,10 +543,13 @@ pub(crate) fn table(rows: &[VerdictRow], unit_noun: &str, alpha: f64) -> Table {
             "Test",
             "Units +/=/−",
             "Effect",
+            "HL [95 % CI]",
             "p",
             "p (adjusted)",
             "p_min",
             "Family",
+            "Rope",
+            "P(better/≈/worse)",
             "Verdict",
         ]
         .map(String::from)
@@ -495,10 +568,13 @@ pub(crate) fn table(rows: &[VerdictRow], unit_noun: &str, alpha: f64) -> Table {
             r.test.as_str().to_owned(),
             format!("{}/{}/{}", r.across.better, r.across.equal, r.across.worse),
             sci(r.across.effect_size),
+            interval_cell(r),
             p_value(r.across.p_value),
             p_value(r.p_adjusted),
             p_value(r.across.p_min),
             r.family.to_string(),
+            effect(r.equivalence.rope),
+            posterior_cell(r),
             r.verdict.to_string(),
         ]);
     }
@@ -539,16 +615,86 @@ mod tests {
                 alpha: 0.05,
                 post_hoc: PostHoc::Holm,
                 reference: Some("R"),
+                ropes: Ropes::default(),
             },
         );
         assert_eq!(rows.len(), 2, "one scope, two rows: {rows:?}");
         let x = &rows[0];
         assert_eq!((x.across.better, x.across.equal, x.across.worse), (4, 4, 0));
         assert!((x.across.p_value - 0.125).abs() < 1e-12);
-        assert_eq!(x.verdict, Verdict::NoDetectableDifference);
+        assert_eq!(x.verdict, Verdict::Undecided);
         let y = &rows[1];
         assert!((y.p_adjusted - 0.015625).abs() < 1e-12, "{}", y.p_adjusted);
         assert_eq!(y.verdict, Verdict::Better);
+    }
+
+    #[test]
+    fn known_answers_equivalent_and_better_on_24_functions() {
+        // Issue 50: an algorithm within ±0.02 decades of the reference on
+        // 24 functions is equivalent (rope ±0.3); one 10^0.5 better on 16
+        // of 24 and equal on 8 is better, with an HL interval below 0.
+        let mut o = Vec::new();
+        for i in 0..24 {
+            let f = format!("f{i:02}");
+            let wobble = 0.02 * ((f64::from(i) * 1.7).sin());
+            o.push(obs("Same", &f, 1000, wobble));
+            o.push(obs("Better", &f, 1000, if i < 16 { -0.5 } else { 0.0 }));
+        }
+        let settings = Settings {
+            alpha: 0.05,
+            post_hoc: PostHoc::Holm,
+            reference: None,
+            ropes: Ropes::default(),
+        };
+        let rows = verdicts(&o, &[], settings);
+        let same = rows.iter().find(|r| r.algorithm == "Same").unwrap();
+        assert_eq!(same.verdict, Verdict::Equivalent, "{same:?}");
+        assert!(same.equivalence.within > 0.99, "{:?}", same.equivalence);
+        assert!(
+            same.shift.low > -0.02 && same.shift.high < 0.02,
+            "{:?}",
+            same.shift
+        );
+        let better = rows.iter().find(|r| r.algorithm == "Better").unwrap();
+        assert_eq!(better.verdict, Verdict::Better, "{better:?}");
+        assert!(better.shift.high < 0.0, "{:?}", better.shift);
+        // Walsh averages: 136 at −0.5, 128 at −0.25, 36 at 0; median −0.25.
+        assert_eq!(better.shift.estimate, -0.25);
+        // The Bayesian test judges Walsh averages against the rope: half
+        // the pairs (−0.5 with 0) fall within ±0.3, so it does not call
+        // this one better, but never worse; the verdict is the test's.
+        assert!(better.equivalence.worse < 0.01, "{:?}", better.equivalence);
+        // The same rows from the same data: the seeded posterior is
+        // bit-identical, and independent of the other rows.
+        let again = verdicts(&o[1..], &[], settings);
+        let b2 = again.iter().find(|r| r.algorithm == "Better").unwrap();
+        assert_eq!(
+            b2.equivalence.better.to_bits(),
+            better.equivalence.better.to_bits()
+        );
+        // A rope of 0 leaves no room for equivalence.
+        let strict = Settings {
+            ropes: Ropes {
+                final_error: 0.0,
+                anytime_auc: 0.0,
+            },
+            ..settings
+        };
+        let rows = verdicts(&o, &[], strict);
+        let same = rows.iter().find(|r| r.algorithm == "Same").unwrap();
+        assert_eq!(same.verdict, Verdict::Undecided);
+    }
+
+    #[test]
+    fn ropes_are_checked_by_name_and_value() {
+        let mut r = Ropes::default();
+        assert_eq!((r.final_error, r.anytime_auc), (0.3, 0.05));
+        r.set("anytime-auc", 0.1).unwrap();
+        assert_eq!(r.anytime_auc, 0.1);
+        let e = r.set("dice", 0.1).unwrap_err().to_string();
+        assert!(e.contains("\"final-error\", \"anytime-auc\""), "{e}");
+        assert!(r.set("final-error", -1.0).is_err());
+        assert!(r.set("final-error", f64::NAN).is_err());
     }
 
     #[test]
@@ -567,6 +713,7 @@ mod tests {
                 alpha: 0.05,
                 post_hoc: PostHoc::Holm,
                 reference: None,
+                ropes: Ropes::default(),
             },
         );
         let scopes: Vec<&str> = rows.iter().map(|r| r.scope.as_str()).collect();
@@ -576,24 +723,44 @@ mod tests {
         // The unit's summary at scope all is the median of its ten values.
         assert_eq!(rows[0].across.effect_size, 0.0);
         assert_eq!(rows[1].across.effect_size, -3.0);
-        assert!(rows
-            .iter()
-            .all(|r| r.verdict == Verdict::NoDetectableDifference));
+        assert!(rows.iter().all(|r| r.verdict == Verdict::Undecided));
     }
+
+    use crate::families::STATE_OF_THE_ART_PAIRS;
+    use crate::optim::{ComparisonFamily, Optimisers};
 
     #[test]
     fn the_state_of_the_art_is_a_family_of_its_own_unless_it_is_the_reference() {
-        assert_eq!(comparison_set("cmaes", "mhs"), STATE_OF_THE_ART);
-        assert_eq!(comparison_set("lshade", "mhs"), STATE_OF_THE_ART);
-        assert_eq!(comparison_set("random", "hs"), STATE_OF_THE_ART);
-        assert_eq!(comparison_set("cmaes+lm", "mhs"), STATE_OF_THE_ART);
-        assert_eq!(comparison_set("hs", "mhs"), "reference");
-        assert_eq!(comparison_set("mhs+lm", "mhs"), "reference");
-        assert_eq!(pair_set("hs", "mhs"), "method-pairs");
-        assert_eq!(pair_set("mhs+lm", "lm"), "method-pairs");
-        assert_eq!(pair_set("mhs", "cmaes+lm"), STATE_OF_THE_ART_PAIRS);
-        assert_eq!(pair_set("lshade", "cmaes"), STATE_OF_THE_ART_PAIRS);
-        assert_eq!(comparison_set("hs", "cmaes"), "reference");
-        assert_eq!(comparison_set("lshade", "cmaes"), "reference");
+        let f = Families::default();
+        assert_eq!(f.comparison_set("cmaes", "mhs"), STATE_OF_THE_ART);
+        assert_eq!(f.comparison_set("lshade", "mhs"), STATE_OF_THE_ART);
+        assert_eq!(f.comparison_set("random", "hs"), STATE_OF_THE_ART);
+        assert_eq!(f.comparison_set("cmaes+lm", "mhs"), STATE_OF_THE_ART);
+        assert_eq!(f.comparison_set("hs", "mhs"), "reference");
+        assert_eq!(f.comparison_set("mhs+lm", "mhs"), "reference");
+        assert_eq!(f.pair_set("hs", "mhs"), "method-pairs");
+        assert_eq!(f.pair_set("mhs+lm", "lm"), "method-pairs");
+        assert_eq!(f.pair_set("mhs", "cmaes+lm"), STATE_OF_THE_ART_PAIRS);
+        assert_eq!(f.pair_set("lshade", "cmaes"), STATE_OF_THE_ART_PAIRS);
+        assert_eq!(f.comparison_set("hs", "cmaes"), "reference");
+        assert_eq!(f.comparison_set("lshade", "cmaes"), "reference");
+        // An optimiser no registry knows (an external runs.csv's) is beyond
+        // the thesis.
+        assert_eq!(f.comparison_set("their-es", "mhs"), STATE_OF_THE_ART);
+    }
+
+    #[test]
+    fn a_registered_optimiser_declares_its_family() {
+        use crate::optim::{random, OptimiserDef, RandomSearch};
+        let mut reg = Optimisers::with_builtins();
+        let def = OptimiserDef::new("my-hs", &random::PARAMS, "", RandomSearch::from_params);
+        reg.register(def.in_family(ComparisonFamily::Thesis))
+            .unwrap();
+        let f = Families::of(&reg);
+        assert_eq!(f.comparison_set("my-hs", "mhs"), "reference");
+        assert_eq!(
+            Families::default().comparison_set("my-hs", "mhs"),
+            STATE_OF_THE_ART
+        );
     }
 }

@@ -48,12 +48,14 @@ use crate::rng::run_rng;
 mod bbob;
 mod fit;
 mod fit_tolerance;
+mod report;
 
 pub use metabezier_spec::SpecError;
 pub(crate) use metabezier_spec::{choices_hint, raw, Table, Value};
 
 pub use bbob::{Bbob, NO_COCO};
 pub use fit::FitCase;
+pub use report::{rope_measure, REPORT_KEYS};
 
 /// One problem of a spec, with its budget: a benchmark function at a
 /// dimension (possibly a shifted or rotated instance), or an
@@ -454,6 +456,9 @@ pub struct Spec {
     /// The problem factors left out of the seed derivation (`paired`), so
     /// that runs differing only in them share their random numbers.
     pub paired: Vec<Factor>,
+    /// The ropes of the optional `[report]` section, (measure, half-width),
+    /// which the campaign's report reads from its copy of the spec.
+    pub ropes: Vec<(String, f64)>,
 }
 
 /// One run of a campaign: indices into the spec and the run number.
@@ -656,7 +661,7 @@ const EXPERIMENT_KEYS: [&str; 9] = [
     "checkpoints_per_decade",
     "paired",
 ];
-const SECTIONS: [&str; 4] = ["experiment", "problem", "fit", "algorithm"];
+const SECTIONS: [&str; 5] = ["experiment", "problem", "fit", "algorithm", "report"];
 /// The largest instance count, and instance number, of a `[[problem]]` of
 /// the thesis's functions.
 const MAX_INSTANCES: u64 = 10_000;
@@ -680,6 +685,7 @@ impl<'a> Parser<'a> {
         let benchmarks = problems.iter().any(|p| !p.kind.least_squares());
         let cells = self.cells(root, doc.span(), benchmarks, (problems.len(), header.runs))?;
         let paired = self.paired(root, &problems)?;
+        let ropes = self.report_section(root)?;
         Ok(Spec {
             path: self.path.to_owned(),
             text: self.text.to_owned(),
@@ -691,6 +697,7 @@ impl<'a> Parser<'a> {
             problems,
             cells,
             paired,
+            ropes,
         })
     }
 

@@ -51,7 +51,8 @@ pub use params::{
 pub use pso::ParticleSwarm;
 pub use random::RandomSearch;
 pub use registry::{
-    Algorithm, DynOptimiser, Factory, OptimiserDef, Optimisers, RegistryError, Runs,
+    Algorithm, ComparisonFamily, DynOptimiser, Factory, OptimiserDef, Optimisers, RegistryError,
+    Runs,
 };
 
 use crate::problem::{BoundPolicy, Bounds, Problem};
@@ -165,11 +166,11 @@ pub fn policy_param(p: &ParamSet) -> BoundPolicy {
 /// one line here.
 fn builtin_optimisers() -> Vec<OptimiserDef> {
     vec![
-        OptimiserDef::new("hs", &hs::PARAMS, "Geem, Kim & Loganathan 2001", HarmonySearch::from_params),
-        OptimiserDef::new("ghs", &ghs::PARAMS, "Omran & Mahdavi 2008", GlobalBestHarmonySearch::from_params),
-        OptimiserDef::new("ga", &ga::PARAMS, "real-coded GA (Goldberg 1989; Eshelman & Schaffer 1993)", GeneticAlgorithm::from_params),
-        OptimiserDef::new("pso", &pso::PARAMS, "Kennedy & Eberhart 1995; Shi & Eberhart 1998", ParticleSwarm::from_params),
-        OptimiserDef::new("mhs", &mhs::PARAMS, "the thesis's Modified HS (reconstructed)", ModifiedHarmonySearch::from_params),
+        OptimiserDef::new("hs", &hs::PARAMS, "Geem, Kim & Loganathan 2001", HarmonySearch::from_params).in_family(ComparisonFamily::Thesis),
+        OptimiserDef::new("ghs", &ghs::PARAMS, "Omran & Mahdavi 2008", GlobalBestHarmonySearch::from_params).in_family(ComparisonFamily::Thesis),
+        OptimiserDef::new("ga", &ga::PARAMS, "real-coded GA (Goldberg 1989; Eshelman & Schaffer 1993)", GeneticAlgorithm::from_params).in_family(ComparisonFamily::Thesis),
+        OptimiserDef::new("pso", &pso::PARAMS, "Kennedy & Eberhart 1995; Shi & Eberhart 1998", ParticleSwarm::from_params).in_family(ComparisonFamily::Thesis),
+        OptimiserDef::new("mhs", &mhs::PARAMS, "the thesis's Modified HS (reconstructed)", ModifiedHarmonySearch::from_params).in_family(ComparisonFamily::Thesis),
         OptimiserDef::new("cmaes", &cmaes::PARAMS, "Hansen & Ostermeier 2001; Hansen 2016; IPOP/BIPOP restarts (Auger & Hansen 2005; Hansen 2009)", CmaEs::from_params),
         OptimiserDef::new("lshade", &lshade::PARAMS, "Tanabe & Fukunaga 2014", Lshade::from_params),
         OptimiserDef::new("random", &random::PARAMS, "uniform random search (Brooks 1958)", RandomSearch::from_params),

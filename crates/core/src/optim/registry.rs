@@ -156,8 +156,37 @@ impl<P: Problem + Any> Runs<P, RunRng> for Algorithm {
 /// parameters do not go together.
 pub type Factory = dyn Fn(&ParamSet) -> Result<Arc<dyn DynOptimiser>, ParamError> + Send + Sync;
 
-/// One registered optimiser: its name, its parameters and the factory that
-/// configures it.
+/// The family of comparisons an optimiser's verdicts against the reference
+/// are corrected with. Each question is corrected within its own family
+/// (Bender & Lange 2001, "Adjusting for multiple testing — when and how?",
+/// J. Clin. Epidemiol. 54(4):343–349), so adding an algorithm beyond the
+/// thesis to a campaign leaves the Holm families of the thesis's
+/// comparisons as they were.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ComparisonFamily {
+    /// The thesis's own algorithms (HS, GHS, GA, PSO, MHS): the report's
+    /// table `reference`.
+    Thesis,
+    /// Every other optimiser (the state of the art, the floor, a library
+    /// user's own): the report's table `state-of-the-art`. The default of a
+    /// newly registered optimiser.
+    #[default]
+    BeyondTheThesis,
+}
+
+impl ComparisonFamily {
+    /// The report's table of the family's comparisons against the
+    /// reference: `reference` or `state-of-the-art`.
+    pub fn table(self) -> &'static str {
+        match self {
+            ComparisonFamily::Thesis => "reference",
+            ComparisonFamily::BeyondTheThesis => "state-of-the-art",
+        }
+    }
+}
+
+/// One registered optimiser: its name, its parameters, its comparison
+/// family and the factory that configures it.
 #[derive(Clone)]
 pub struct OptimiserDef {
     /// The name specs use (`[[algorithm]] name = "…"`).
@@ -166,6 +195,9 @@ pub struct OptimiserDef {
     pub params: &'static [ParamDef],
     /// The paper or book it implements, shown by `metabezier list`.
     pub source: String,
+    /// The family its verdicts against the reference are corrected in
+    /// (default [`ComparisonFamily::BeyondTheThesis`]).
+    pub family: ComparisonFamily,
     factory: Arc<Factory>,
 }
 
@@ -175,6 +207,7 @@ impl fmt::Debug for OptimiserDef {
             .field("name", &self.name)
             .field("params", &self.params.len())
             .field("source", &self.source)
+            .field("family", &self.family)
             .finish()
     }
 }
@@ -198,10 +231,17 @@ impl OptimiserDef {
             name: name.to_owned(),
             params,
             source: source.to_owned(),
+            family: ComparisonFamily::default(),
             factory: Arc::new(move |p: &ParamSet| {
                 build(p).map(|o| Arc::new(o) as Arc<dyn DynOptimiser>)
             }),
         }
+    }
+
+    /// The same optimiser in comparison family `family`.
+    pub fn in_family(mut self, family: ComparisonFamily) -> Self {
+        self.family = family;
+        self
     }
 
     /// The optimiser configured by `p` (a set made from [`Self::params`]).

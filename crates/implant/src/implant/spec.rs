@@ -68,6 +68,7 @@ use toml::de::DeValue;
 
 use super::pipeline::{DefectConfig, Ends, MidlineSpec, SliceSpec, Smoothing};
 use super::template::read_templates;
+use super::units::ImplantRopes;
 use super::wall::WallOptions;
 use super::wall_input::{TemplateChoice, ThicknessProfile};
 use crate::ct::MidLine;
@@ -111,6 +112,9 @@ pub struct ValidationSpec {
     /// The significance level α of the verdicts against the baselines
     /// (default [`crate::stats::DEFAULT_ALPHA`] = 0.05).
     pub alpha: f64,
+    /// The regions of practical equivalence of the verdicts' Bayesian
+    /// signed-rank tests (`rope_overlap`, `rope_mm`).
+    pub ropes: ImplantRopes,
 }
 
 /// The 3D validation part: patches cut out of intact bone across slices.
@@ -131,6 +135,9 @@ pub struct Validation3dSpec {
     /// The significance level α of the verdicts against the baselines
     /// (default [`crate::stats::DEFAULT_ALPHA`] = 0.05).
     pub alpha: f64,
+    /// The regions of practical equivalence of the verdicts' Bayesian
+    /// signed-rank tests (`rope_overlap`, `rope_mm`).
+    pub ropes: ImplantRopes,
 }
 
 /// A loaded chapter-6 spec.
@@ -191,7 +198,7 @@ const DEFECT_KEYS: [&str; 7] = [
     "end",
     "template",
 ];
-const VALIDATION_3D_KEYS: [&str; 7] = [
+const VALIDATION_3D_KEYS: [&str; 9] = [
     "ranges",
     "positions",
     "widths",
@@ -199,9 +206,11 @@ const VALIDATION_3D_KEYS: [&str; 7] = [
     "runs",
     "margin_mm",
     "alpha",
+    "rope_overlap",
+    "rope_mm",
 ];
 const END_KEYS: [&str; 3] = ["z", "a", "b"];
-const VALIDATION_KEYS: [&str; 7] = [
+const VALIDATION_KEYS: [&str; 9] = [
     "slices",
     "positions",
     "widths",
@@ -209,6 +218,8 @@ const VALIDATION_KEYS: [&str; 7] = [
     "runs",
     "margin_mm",
     "alpha",
+    "rope_overlap",
+    "rope_mm",
 ];
 
 fn quoted(names: &[&str]) -> String {
@@ -271,6 +282,33 @@ impl Parser<'_> {
                 format!("expected a real number, found {}", self.show(v)),
             )
         })
+    }
+
+    /// The optional ropes `rope_overlap` (Dice, in [0, 1]) and `rope_mm`
+    /// (distances, in [0, 100] mm) of `section`, by default
+    /// [`ImplantRopes::default`].
+    fn ropes(&self, t: &Table<'_>, section: &str) -> Result<ImplantRopes, SpecError> {
+        let mut ropes = ImplantRopes::default();
+        for (key, hi, slot) in [
+            ("rope_overlap", 1.0, &mut ropes.overlap),
+            ("rope_mm", 100.0, &mut ropes.distance_mm),
+        ] {
+            let Some(v) = self.get(t, key) else { continue };
+            let field = format!("{section}.{key}");
+            let x = self.finite_real(v, &field)?;
+            if !(0.0..=hi).contains(&x) {
+                return Err(self.error(
+                    v.span(),
+                    &field,
+                    format!(
+                        "expected a rope half-width in [0, {hi}], found {}",
+                        self.show(v)
+                    ),
+                ));
+            }
+            *slot = x;
+        }
+        Ok(ropes)
     }
 
     /// The optional significance level `field` of table `t`: a real
@@ -844,6 +882,7 @@ impl Parser<'_> {
             runs,
             margin_mm,
             alpha: self.alpha(t, "validation.alpha")?,
+            ropes: self.ropes(t, "validation")?,
         })
     }
 }
@@ -924,6 +963,7 @@ impl Parser<'_> {
                 Some(x) => self.finite_real(x, "validation_3d.margin_mm")?,
             },
             alpha: self.alpha(t, "validation_3d.alpha")?,
+            ropes: self.ropes(t, "validation_3d")?,
         })
     }
 }

@@ -25,7 +25,8 @@ pub(crate) fn r(x: f64) -> String {
 }
 
 /// The summary's word for a verdict row whose smallest reachable p is at
-/// least α: not "no detectable difference", which would read as a finding.
+/// least α and that is not equivalent: not "undecided", which would read as
+/// a failure of the data rather than of the design.
 const UNDECIDABLE: &str = "undecidable";
 
 /// The seatability targets of the real defect (issue 13): bone overlap per
@@ -95,8 +96,10 @@ pub fn report_summary(verdicts: &[VerdictRow], pictures: &[String], alpha: f64) 
     } else {
         s.push_str(
             "Verdicts over all units (Wilcoxon signed-rank test across independent units, \
-             Holm-corrected; a decided verdict gives the units that favour the fit, tie and \
-             favour the baseline, and the adjusted p):\n\n",
+             Holm-corrected, beside the Bayesian signed-rank test with a region of practical \
+             equivalence of ±0.01 Dice and ±0.5 mm unless the spec sets `rope_overlap` and \
+             `rope_mm`; equivalent where P(rope) ≥ 0.95; a decided verdict gives the units \
+             that favour the fit, tie and favour the baseline, and the adjusted p):\n\n",
         );
         let mut pairs: Vec<(&str, &str, &str)> = Vec::new();
         for v in &all {
@@ -115,8 +118,10 @@ pub fn report_summary(verdicts: &[VerdictRow], pictures: &[String], alpha: f64) 
                             && v.reference == against
                             && match verdict {
                                 // A row that cannot reject is no finding.
-                                UNDECIDABLE => v.across.p_min >= alpha,
-                                "no detectable difference" => {
+                                UNDECIDABLE => {
+                                    v.across.p_min >= alpha && v.verdict.as_str() == "undecided"
+                                }
+                                "undecided" => {
                                     v.verdict.as_str() == verdict && v.across.p_min < alpha
                                 }
                                 _ => v.verdict.as_str() == verdict,
@@ -126,8 +131,12 @@ pub fn report_summary(verdicts: &[VerdictRow], pictures: &[String], alpha: f64) 
                         let a = &v.across;
                         if verdict == UNDECIDABLE {
                             format!("{} ({} units, p_min {:.2})", v.measure, a.units, a.p_min)
-                        } else if verdict == "no detectable difference" {
-                            v.measure.clone()
+                        } else if verdict == "undecided" || verdict == "equivalent" {
+                            let e = &v.equivalence;
+                            format!(
+                                "{} (P(better/≈/worse) {:.2}/{:.2}/{:.2})",
+                                v.measure, e.better, e.within, e.worse
+                            )
                         } else {
                             let p = if v.p_adjusted < 0.001 {
                                 "p < 0.001".to_owned()
@@ -155,12 +164,13 @@ pub fn report_summary(verdicts: &[VerdictRow], pictures: &[String], alpha: f64) 
                 other => other,
             };
             s.push_str(&format!(
-                "- {scope}, {fit} against the {against}: better on {}; worse on {}; no \
-                 detectable difference on {}; too few units for any test to decide \
-                 (p_min ≥ α = {alpha}) on {}.\n",
+                "- {scope}, {fit} against the {against}: better on {}; worse on {}; \
+                 equivalent on {}; undecided (no detectable difference, no equivalence) on {}; \
+                 too few units for any test to decide (p_min ≥ α = {alpha}) on {}.\n",
                 of("better"),
                 of("worse"),
-                of("no detectable difference"),
+                of("equivalent"),
+                of("undecided"),
                 of(UNDECIDABLE)
             ));
         }

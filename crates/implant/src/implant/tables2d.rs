@@ -232,7 +232,14 @@ fn validation_verdicts(
         return Vec::new();
     }
     let decide = |table: &str, obs: &[Vec<Observation<'_>>]| {
-        decided_rows(table, &val.methods, &METRICS, obs, &val.widths, val.alpha)
+        decided_rows(
+            table,
+            &val.methods,
+            &METRICS,
+            obs,
+            &val.widths,
+            (val.alpha, val.ropes),
+        )
     };
     let verdicts = decide(VALIDATION_2D_TABLE, &obs);
     let without = (implausible > 0).then(|| {

@@ -287,7 +287,7 @@ fn verdicts_3d(report: &mut String, val: &Validation3dSpec, rows: &[Row3d]) -> V
         &METRICS_3D,
         &obs,
         &val.widths,
-        val.alpha,
+        (val.alpha, val.ropes),
     );
     let cases = verdicts.first().map_or(0, |v| v.0.problems);
     let _ = writeln!(
@@ -315,7 +315,7 @@ fn verdicts_3d(report: &mut String, val: &Validation3dSpec, rows: &[Row3d]) -> V
             &METRICS_3D,
             &obs,
             &val.widths,
-            val.alpha,
+            (val.alpha, val.ropes),
         );
         (VALIDATION_3D_PLAUSIBLE_TABLE, w)
     });

@@ -20,8 +20,8 @@ use std::fmt;
 
 use crate::files::fmt_real;
 use crate::stats::{
-    across_units, decide_family, median, smallest_signed_rank_p, AcrossUnits, Verdict, VerdictRow,
-    VerdictTest,
+    across_units, decide_family, median, smallest_signed_rank_p, AcrossUnits, Equivalence,
+    ShiftInterval, Verdict, VerdictRow, VerdictTest,
 };
 
 /// A slice cluster: the slices `first..=last` (original numbering), a
@@ -435,6 +435,46 @@ pub struct Comparison<'a> {
     pub reference: &'a str,
     /// Whether a lower value of the measure is better.
     pub lower_is_better: bool,
+    /// The half-width of the measure's region of practical equivalence
+    /// ([`ImplantRopes::of`]).
+    pub rope: f64,
+}
+
+/// The regions of practical equivalence of the validation's measures, for
+/// the Bayesian signed-rank test beside every verdict (Benavoli, Corani,
+/// Demšar & Zaffalon 2017, JMLR 18(77):1–36): the spec's `rope_overlap`
+/// and `rope_mm` of `[validation]` and `[validation_3d]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ImplantRopes {
+    /// Dice and boundary Dice (default 0.01: one hundredth of the overlap,
+    /// below the spread between expert segmentations of bone, e.g. Dice
+    /// 0.95–0.98 in the AutoImplant challenge's inter-rater comparison).
+    pub overlap: f64,
+    /// HD95 and the mean and maximum deviations in mm (default 0.5 mm:
+    /// half the in-plane pixel of a head CT and below a printed implant's
+    /// manufacturing tolerance).
+    pub distance_mm: f64,
+}
+
+impl Default for ImplantRopes {
+    fn default() -> Self {
+        ImplantRopes {
+            overlap: 0.01,
+            distance_mm: 0.5,
+        }
+    }
+}
+
+impl ImplantRopes {
+    /// The rope of the measure named `measure` in `verdicts.csv`: an
+    /// overlap (`dice`, `boundary-dice`) or a distance (the others, in mm).
+    pub fn of(&self, measure: &str) -> f64 {
+        if measure.ends_with("dice") {
+            self.overlap
+        } else {
+            self.distance_mm
+        }
+    }
 }
 
 /// The verdict row of `cmp` at `scope` over the case differences `diffs`
@@ -454,7 +494,7 @@ pub fn verdict_row(cmp: &Comparison<'_>, scope: &str, diffs: &[CaseDifference]) 
         effect_size: f64::NAN,
         improvement: f64::NAN,
     });
-    VerdictRow {
+    let mut row = VerdictRow {
         table: cmp.table.to_owned(),
         measure: cmp.measure.to_owned(),
         algorithm: cmp.algorithm.to_owned(),
@@ -465,8 +505,12 @@ pub fn verdict_row(cmp: &Comparison<'_>, scope: &str, diffs: &[CaseDifference]) 
         across,
         p_adjusted: f64::NAN,
         family: 0,
-        verdict: Verdict::NoDetectableDifference,
-    }
+        shift: ShiftInterval::unknown(),
+        equivalence: Equivalence::unknown(cmp.rope),
+        verdict: Verdict::Undecided,
+    };
+    row.weigh(&s, cmp.lower_is_better, cmp.rope);
+    row
 }
 
 /// The scope of one width: `width_mm=20`.
@@ -532,7 +576,7 @@ pub fn decide_families(rows: &mut [VerdictRow], alpha: f64) {
         }
         for i in untested {
             rows[i].p_adjusted = f64::NAN;
-            rows[i].verdict = Verdict::NoDetectableDifference;
+            rows[i].verdict = Verdict::Undecided;
         }
     }
 }
@@ -682,6 +726,7 @@ mod tests {
             algorithm: "curve:x",
             reference: "base",
             lower_is_better: false,
+            rope: 0.01,
         };
         let rows = scoped_rows(&cmp, &d, &[20.0, 30.0]);
         let scopes: Vec<&str> = rows.iter().map(|r| r.0.scope.as_str()).collect();
@@ -750,6 +795,7 @@ mod tests {
             algorithm: "a",
             reference: "r",
             lower_is_better: true,
+            rope: 0.5,
         };
         let mut rows: Vec<VerdictRow> = Vec::new();
         // Eight units, all better: p = 2/256 each; two measures in one
@@ -772,9 +818,9 @@ mod tests {
             assert_eq!(r.verdict, Verdict::Better);
         }
         assert!(rows[2].p_adjusted.is_nan() && rows[2].across.units == 0);
-        assert_eq!(rows[2].verdict, Verdict::NoDetectableDifference);
+        assert_eq!(rows[2].verdict, Verdict::Undecided);
         // At α = 0.01 the same family does not reject.
         decide_families(&mut rows, 0.01);
-        assert_eq!(rows[0].verdict, Verdict::NoDetectableDifference);
+        assert_eq!(rows[0].verdict, Verdict::Undecided);
     }
 }

@@ -6,12 +6,14 @@ use std::fmt::Write as _;
 
 use super::plausibility::FAILURE_DISTANCE_MM;
 use super::units::{
-    case_differences, decide_families, scoped_rows, Comparison, Observation, SliceCluster,
+    case_differences, decide_families, scoped_rows, Comparison, ImplantRopes, Observation,
+    SliceCluster,
 };
 use crate::files::csv_bytes;
 use crate::markdown::{self, Alignment};
 use crate::reconstruction::Method;
 use crate::stats::{median, smallest_signed_rank_p, VerdictRow, VERDICT_COLUMNS};
+use metabezier_plot::format::{effect_interval, posterior};
 
 /// The `table` of the one-slice validation's rows in `verdicts.csv`.
 pub const VALIDATION_2D_TABLE: &str = "validation-2d";
@@ -68,8 +70,8 @@ pub(crate) fn unit_count(units: &[(f64, f64)]) -> usize {
 }
 
 /// Where no case was built, the verdict section says so and gives no
-/// verdict (a "no detectable difference" over no unit would read as a
-/// finding); returns whether that is so.
+/// verdict (an "undecided" over no unit would read as a finding); returns
+/// whether that is so.
 pub(crate) fn no_case_built(report: &mut String, obs: &[Vec<Observation<'_>>]) -> bool {
     let none = obs.iter().all(|o| units_observed(o) == 0);
     if none {
@@ -123,7 +125,7 @@ pub(crate) fn decided_rows<F>(
     metrics: &[(&'static str, &'static str, F, bool)],
     obs: &[Vec<Observation<'_>>],
     widths: &[f64],
-    alpha: f64,
+    (alpha, ropes): (f64, ImplantRopes),
 ) -> Vec<(VerdictRow, usize)> {
     let mut verdicts = Vec::new();
     for cm in methods.iter().map(|m| format!("curve:{}", m.name())) {
@@ -136,6 +138,7 @@ pub(crate) fn decided_rows<F>(
                     algorithm: cm,
                     reference: base,
                     lower_is_better: !larger_better,
+                    rope: ropes.of(measure),
                 };
                 let diffs = case_differences(obs, cm, base);
                 verdicts.extend(scoped_rows(&cmp, &diffs, widths));
@@ -207,12 +210,12 @@ pub(crate) fn design_text(
         count(n, "unit")
     };
     let unreachable = if p_min >= alpha {
-        format!(" Here p_min = {p_min:.3} ≥ α = {alpha}: no row can reject, whatever the data; the verdicts are all `no detectable difference` by design, and the rows are descriptive.")
+        format!(" Here p_min = {p_min:.3} ≥ α = {alpha}: no row can reject, whatever the data; no verdict can be `better` or `worse` by design, only `equivalent` (the Bayesian signed-rank test) or `undecided`.")
     } else {
         String::new()
     };
     format!(
-        "{} × {} = **{units}: the effective n** (the {cases} cases are pooled into them). Per case d = the curve fit's median over its runs − the baseline's value; a unit's summary is the median of d over its cases ({within}; in a `width_mm=…` scope only the cases of that width). Two-sided Wilcoxon signed-rank test of the unit summaries against zero (`stats::across_units`), Holm-corrected within each family: the {family} rows of one scope. With n non-zero units no p can fall below p_min = 2/2ⁿ ({units}: {p_min:.2e}), which bounds every p. A verdict is `better` or `worse` only where the Holm-corrected p is below α = {alpha}; otherwise it is `no detectable difference`.{unreachable} `better/equal/worse` count units; `cases better` counts cases where the curve fit is strictly better and is a description, not a test. Every row is in `verdicts.csv`.",
+        "{} × {} = **{units}: the effective n** (the {cases} cases are pooled into them). Per case d = the curve fit's median over its runs − the baseline's value; a unit's summary is the median of d over its cases ({within}; in a `width_mm=…` scope only the cases of that width). Two-sided Wilcoxon signed-rank test of the unit summaries against zero (`stats::across_units`), Holm-corrected within each family: the {family} rows of one scope. With n non-zero units no p can fall below p_min = 2/2ⁿ ({units}: {p_min:.2e}), which bounds every p. Beside it, the Hodges–Lehmann estimate of the unit summaries with its exact 95 % interval, and the Bayesian signed-rank test (Benavoli et al. 2017) with a region of practical equivalence (rope) per metric. A verdict is `equivalent` where P(rope) ≥ 0.95, `better` or `worse` where the Holm-corrected p is below α = {alpha}, `undecided` otherwise (no detectable difference, which is not equality).{unreachable} `better/equal/worse` count units; `cases better` counts cases where the curve fit is strictly better and is a description, not a test. Every row is in `verdicts.csv`.",
         count(clusters, "slice cluster"),
         count(positions, "position"),
     )
@@ -247,6 +250,9 @@ pub(crate) fn verdict_tables(report: &mut String, rows: &[(VerdictRow, usize)]) 
         "p",
         "p (Holm)",
         "p_min",
+        "HL [95 % CI]",
+        "rope",
+        "P(better/≈/worse)",
         "verdict",
         "cases better (descriptive)",
     ]
@@ -284,6 +290,13 @@ pub(crate) fn verdict_tables(report: &mut String, rows: &[(VerdictRow, usize)]) 
                     format!("{:.2e}", a.p_value),
                     format!("{:.2e}", v.p_adjusted),
                     format!("{:.2e}", a.p_min),
+                    effect_interval(v.shift.estimate, v.shift.low, v.shift.high),
+                    format!("±{}", v.equivalence.rope),
+                    posterior(
+                        v.equivalence.better,
+                        v.equivalence.within,
+                        v.equivalence.worse,
+                    ),
                     v.verdict.to_string(),
                     format!("{cases_better}/{}", v.problems),
                 ]
@@ -328,7 +341,8 @@ pub(crate) fn verdict_tables(report: &mut String, rows: &[(VerdictRow, usize)]) 
                         |(v, _)| {
                             let a = &v.across;
                             let word = match v.verdict.as_str() {
-                                "no detectable difference" => "n.d.",
+                                "undecided" => "und.",
+                                "equivalent" => "equiv.",
                                 w => w,
                             };
                             format!("{word} {}/{}/{}", a.better, a.equal, a.worse)
@@ -340,7 +354,7 @@ pub(crate) fn verdict_tables(report: &mut String, rows: &[(VerdictRow, usize)]) 
         .collect();
     let _ = writeln!(
         report,
-        "Per scope (verdict and units better/equal/worse; n.d. = no detectable difference; \
+        "Per scope (verdict and units better/equal/worse; und. = undecided, equiv. = equivalent; \
          every p and effect is in `verdicts.csv`):\n"
     );
     report.push_str(&markdown::table(&pivot_header, &pivot, Alignment::Unmarked));

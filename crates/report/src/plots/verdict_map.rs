@@ -2,8 +2,8 @@
 //! are the design points (every combination of the factors that vary other
 //! than the algorithm, the function and the run) under the verdict over all
 //! problems; columns are the algorithms; a cell is coloured by the verdict
-//! of the test across the units there (better, worse, no detectable
-//! difference) and carries its units (functions, outlines or segments)
+//! of the comparison across the units there (better, worse, equivalent,
+//! undecided) and carries its units (functions, outlines or segments)
 //! better/equal/worse.
 
 use plotters::coord::Shift;
@@ -44,8 +44,10 @@ fn better() -> RGBColor {
 fn worse() -> RGBColor {
     base_colour("mhs")
 }
-/// Colour of "no detectable difference".
+/// Colour of "undecided" (the test did not reject; no equivalence either).
 const TIE: RGBColor = RGBColor(228, 228, 228);
+/// Colour of "equivalent" (Okabe & Ito's sky blue, lightened).
+const EQUIVALENT: RGBColor = RGBColor(170, 215, 242);
 
 impl VerdictMap {
     fn label_width(&self) -> u32 {
@@ -73,7 +75,8 @@ impl VerdictMap {
                 "better than the reference".into(),
                 SeriesStyle::solid(better()),
             ),
-            ("no detectable difference".into(), SeriesStyle::solid(TIE)),
+            ("equivalent".into(), SeriesStyle::solid(EQUIVALENT)),
+            ("undecided".into(), SeriesStyle::solid(TIE)),
             ("worse".into(), SeriesStyle::solid(worse())),
         ]
     }
@@ -113,6 +116,7 @@ impl Draw for VerdictMap {
                 let (fill, ink) = match m.verdict.as_str() {
                     "better" => (better(), WHITE),
                     "worse" => (worse(), WHITE),
+                    "equivalent" => (EQUIVALENT, BLACK),
                     _ => (TIE, BLACK),
                 };
                 area.draw(&Rectangle::new(cell, fill.filled()))?;
@@ -236,7 +240,8 @@ pub(super) fn verdict_map(t: &Table, measure: &str, shown: &[&str]) -> Option<Pl
              function and the run) under the verdict over all of them, one column per \
              algorithm. A cell is green where the Holm-corrected test across the units \
              at that design point finds the algorithm better than the reference, vermillion \
-             where worse, grey where there is no detectable difference; it reads the \
+             where worse, light blue where the Bayesian signed-rank test finds them \
+             equivalent (P(rope) ≥ 0.95), grey where undecided; it reads the \
              units (functions, outlines or segments) better/equal/worse. The same verdicts, with p-values and effect \
              sizes, are in tables/verdicts.csv."
         ),
