@@ -29,6 +29,8 @@
 
 use std::collections::BTreeMap;
 
+use rayon::prelude::*;
+
 use crate::stats::{
     across_units, decide_family, finner, friedman, friedman_control_posthoc, holm_bonferroni,
     median, smallest_friedman_control_p, AcrossUnits, Equivalence, ShiftInterval, Verdict,
@@ -291,37 +293,39 @@ pub(crate) fn verdicts(
         }
         for (si, scope) in scope_list.iter().enumerate() {
             let key: FamilyKey = (table, measure, si);
-            let mut family = Vec::new();
-            for &(alg, reference) in &pairs {
-                let in_scope = obs.iter().copied().filter(|o| {
-                    o.algorithm == alg && o.reference == reference && scope.within(&o.levels)
-                });
-                let (units, n) = unit_summaries(in_scope);
-                if units.is_empty() {
-                    continue;
-                }
-                let d: Vec<f64> = units.iter().map(|u| u.1).collect();
-                let Ok(across) = across_units(&d, measure.lower_is_better()) else {
-                    continue;
-                };
-                let mut row = VerdictRow {
-                    table: key.0.to_owned(),
-                    measure: measure.name().to_owned(),
-                    algorithm: alg.to_owned(),
-                    reference: reference.to_owned(),
-                    scope: scope.scope(),
-                    problems: n,
-                    test: VerdictTest::WilcoxonSignedRank,
-                    across,
-                    p_adjusted: f64::NAN,
-                    family: 0,
-                    shift: ShiftInterval::unknown(),
-                    equivalence: Equivalence::unknown(f64::NAN),
-                    verdict: Verdict::Undecided,
-                };
-                row.weigh(&d, measure.lower_is_better(), settings.ropes.of(measure));
-                family.push(row);
-            }
+            // Each row's evidence is seeded by its own names, so the rows
+            // are weighed in parallel with the same bits as one by one.
+            let mut family: Vec<VerdictRow> = pairs
+                .par_iter()
+                .filter_map(|&(alg, reference)| {
+                    let in_scope = obs.iter().copied().filter(|o| {
+                        o.algorithm == alg && o.reference == reference && scope.within(&o.levels)
+                    });
+                    let (units, n) = unit_summaries(in_scope);
+                    if units.is_empty() {
+                        return None;
+                    }
+                    let d: Vec<f64> = units.iter().map(|u| u.1).collect();
+                    let across = across_units(&d, measure.lower_is_better()).ok()?;
+                    let mut row = VerdictRow {
+                        table: key.0.to_owned(),
+                        measure: measure.name().to_owned(),
+                        algorithm: alg.to_owned(),
+                        reference: reference.to_owned(),
+                        scope: scope.scope(),
+                        problems: n,
+                        test: VerdictTest::WilcoxonSignedRank,
+                        across,
+                        p_adjusted: f64::NAN,
+                        family: 0,
+                        shift: ShiftInterval::unknown(),
+                        equivalence: Equivalence::unknown(f64::NAN),
+                        verdict: Verdict::Undecided,
+                    };
+                    row.weigh(&d, measure.lower_is_better(), settings.ropes.of(measure));
+                    Some(row)
+                })
+                .collect();
             decide_family(&mut family, settings.alpha);
             rows.extend(family);
             if table == "reference" {
@@ -397,7 +401,7 @@ fn friedman_rows(
     }
     .unwrap_or_else(|_| vec![f64::NAN; raw.len()]);
     let p_min = smallest_friedman_control_p(k, units.len());
-    post.iter()
+    post.par_iter()
         .zip(adjusted)
         .map(|(c, pa)| {
             let alg = algorithms[c.treatment];
