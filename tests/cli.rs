@@ -140,6 +140,57 @@ fn run_writes_the_result_files_and_check_describes_the_plan() {
         err.contains("XYZ") && err.contains("mhs (hmcr=0.8)"),
         "{err}"
     );
+    // --rope: a measure's rope, parsed once; an unknown measure or a bad
+    // value is a usage error naming the measures.
+    let rope = metabezier()
+        .current_dir(tmp.path())
+        .args(["report", "results/small", "--rope", "final-error=0.2"])
+        .output()
+        .unwrap();
+    assert!(
+        rope.status.success(),
+        "{}",
+        String::from_utf8_lossy(&rope.stderr)
+    );
+    let verdicts = std::fs::read_to_string(dir.join("tables/verdicts.csv")).unwrap();
+    assert!(verdicts
+        .lines()
+        .any(|l| l.contains(",final-error,") && l.contains(",0.2,")));
+    for bad in ["dice=0.1", "final-error=-1", "final-error"] {
+        let out = metabezier()
+            .current_dir(tmp.path())
+            .args(["report", "results/small", "--rope", bad])
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "{bad}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains("--rope") && err.contains("final-error"),
+            "{bad}: {err}"
+        );
+    }
+    // --claims: a claim of this campaign whose row is missing stops the
+    // report with the claims file's line.
+    let claims = tmp.path().join("claims.toml");
+    std::fs::write(
+        &claims,
+        "[[claim]]\nid = \"x\"\nclaim = \"x\"\nsource = \"x\"\ncampaign = \"small\"\n\
+         table = \"reference\"\nmeasure = \"final-error\"\nalgorithm = \"nobody\"\n\
+         reference = \"mhs\"\nscope = \"all\"\nholds_if = \"worse\"\n",
+    )
+    .unwrap();
+    let out = metabezier()
+        .current_dir(tmp.path())
+        .args(["report", "results/small", "--claims"])
+        .arg(&claims)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("claims.toml:1: claim \"x\"") && err.contains("algorithm=nobody"),
+        "{err}"
+    );
 }
 
 #[test]
