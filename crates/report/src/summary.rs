@@ -16,7 +16,7 @@ const SUMMARY_VERDICTS: usize = 12;
 
 /// The most verdicts the summary lists at design points (when its scopes
 /// pool the errors or the sizes).
-const SUMMARY_POINT_VERDICTS: usize = 20;
+const SUMMARY_POINT_VERDICTS: usize = 15;
 
 /// The most problems the summary names one by one; beyond it, the counts
 /// of problems each algorithm is best on (one line).
