@@ -287,6 +287,51 @@ fn list_shows_every_algorithm_and_function() {
 }
 
 #[test]
+fn check_refuses_a_cmaes_whose_state_does_not_fit_and_runs_a_large_hs() {
+    // Issue 49: the optimiser's state is sized before it is allocated, in
+    // `check` as in `run`: CMA-ES at D = 30,000 is refused with the cell,
+    // the algorithm, D and the bytes; HS at D = 10⁶ is linear and passes.
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = |name: &str, dim: u64| {
+        format!(
+            "[experiment]\nname = \"big\"\nseed = 1\nruns = 1\nbudget = 1000\n\n\
+             [[problem]]\nfunction = \"sphere\"\ndim = {dim}\n\n[[algorithm]]\nname = \"{name}\"\n"
+        )
+    };
+    std::fs::write(tmp.path().join("cmaes.toml"), spec("cmaes", 30_000)).unwrap();
+    let out = metabezier()
+        .current_dir(tmp.path())
+        .args(["check", "cmaes.toml"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("cmaes.toml: algorithm \"cmaes\" (cmaes) at D = 30000 needs an estimated")
+            && err.contains("GiB of optimiser state for one run, over the limit of 4 GiB"),
+        "{err}"
+    );
+    let run = metabezier()
+        .current_dir(tmp.path())
+        .args(["run", "cmaes.toml"])
+        .output()
+        .unwrap();
+    assert_eq!(run.status.code(), Some(1));
+    assert!(!tmp.path().join("results/big/runs.csv").exists());
+    std::fs::write(tmp.path().join("hs.toml"), spec("hs", 1_000_000)).unwrap();
+    let out = metabezier()
+        .current_dir(tmp.path())
+        .args(["check", "hs.toml"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
 fn usage_errors_exit_with_two() {
     let out = metabezier()
         .args(["run", "x.toml", "--shard", "5/3"])

@@ -491,3 +491,26 @@ fn random_search_is_the_floor() {
         );
     }
 }
+
+#[test]
+fn every_optimiser_sizes_its_state_before_it_allocates() {
+    // Issue 49: CMA-ES at D = 30,000 needs its 7.2 GB covariance twice
+    // over; L-SHADE's population is r^N_init · D, so its state is
+    // quadratic in D; HS at D = 10⁶ stays linear and small.
+    use metabezier::optim::{Algorithm, MAX_STATE_BYTES};
+    let cmaes = Algorithm::default_for("cmaes").unwrap();
+    let d = 30_000u128;
+    assert!(cmaes.state_bytes(30_000, 100_000) >= 2 * d * d * 8);
+    assert!(cmaes.state_bytes(30_000, 100_000) > MAX_STATE_BYTES);
+    // Restart growth raises the bound with the budget.
+    assert!(cmaes.state_bytes(100, 10_000_000) > cmaes.state_bytes(100, 1_000));
+    let lshade = Algorithm::default_for("lshade").unwrap();
+    assert!(lshade.state_bytes(1000, 1000) > 4 * lshade.state_bytes(500, 1000) - 1_000_000);
+    let hs = Algorithm::default_for("hs").unwrap();
+    assert!(hs.state_bytes(1_000_000, 1000) < 100 << 20);
+    for name in Algorithm::names() {
+        let a = Algorithm::default_for(name).unwrap();
+        let b = a.state_bytes(10, 1000);
+        assert!(b > 0 && b < 1 << 30, "{name}: {b}");
+    }
+}

@@ -24,7 +24,7 @@ use metabezier::reconstruction::{
 };
 use metabezier::report::{write_report, ReportOptions};
 use metabezier::rng::run_rng;
-use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
+use pyo3::exceptions::{PyMemoryError, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyList};
 
@@ -226,11 +226,14 @@ fn param_set(algorithm: &str, params: Option<&Bound<'_, PyDict>>) -> PyResult<Pa
 }
 
 /// The registered optimiser `algorithm` with `params`, for a run of
-/// `budget` (at least 1) evaluations.
+/// `budget` (at least 1) evaluations at dimension `dim`; a `MemoryError`
+/// naming the algorithm, D and the bytes where one run's state would be
+/// over [`metabezier::optim::MAX_STATE_BYTES`] (as `metabezier check`).
 fn configured(
     algorithm: &str,
     params: Option<&Bound<'_, PyDict>>,
     budget: u64,
+    dim: usize,
 ) -> PyResult<metabezier::optim::Algorithm> {
     if budget == 0 {
         return Err(PyValueError::new_err(
@@ -238,9 +241,20 @@ fn configured(
         ));
     }
     let set = param_set(algorithm, params)?;
-    Optimisers::builtin()
+    let alg = Optimisers::builtin()
         .build(algorithm, &set)
-        .map_err(|e| PyValueError::new_err(format!("{algorithm}: {e}")))
+        .map_err(|e| PyValueError::new_err(format!("{algorithm}: {e}")))?;
+    let bytes = alg.state_bytes(dim, budget);
+    if bytes > metabezier::optim::MAX_STATE_BYTES {
+        return Err(PyMemoryError::new_err(format!(
+            "{algorithm} at D = {dim} needs an estimated {:.1} GiB of state for one run, over \
+             the limit of {} GiB (its matrices and populations grow with D); lower D or its \
+             population",
+            bytes as f64 / f64::from(1u32 << 30),
+            metabezier::optim::MAX_STATE_BYTES >> 30
+        )));
+    }
+    Ok(alg)
 }
 
 /// One run's result for Python: (best x, its value, evaluations used,
@@ -279,7 +293,7 @@ fn minimize(
     params: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<RunResult> {
     let bounds = bounds_of(&bounds)?;
-    let alg = configured(algorithm, params, budget)?;
+    let alg = configured(algorithm, params, budget, bounds.len())?;
     let problem = PyProblem {
         name: "fun".into(),
         fun,
@@ -322,7 +336,7 @@ fn benchmark(
     })?;
     let problem = metabezier::functions::TestProblem::new(f, dim)
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
-    let alg = configured(algorithm, params, budget)?;
+    let alg = configured(algorithm, params, budget, dim)?;
     let outcome = py.detach(|| alg.run(&problem, budget, &mut run_rng(seed)));
     Ok(run_result(outcome))
 }

@@ -125,3 +125,16 @@ def test_unknown_algorithm_and_parameter_name_the_choices():
         mb.minimize(sphere, [(-1, 1)], algorithm="hs", hmcr=2)
     with pytest.raises(ValueError, match="budget"):
         mb.minimize(sphere, [(-1, 1)], budget=0)
+
+
+def test_optimiser_state_is_sized_before_it_is_allocated():
+    # Issue 49: CMA-ES at D = 10**6 would need terabytes for its covariance;
+    # the call raises a MemoryError naming the algorithm and D before
+    # allocating anything. HS at D = 10**6 is linear in D and runs.
+    wide = [(-1.0, 1.0)] * 1_000_000
+    with pytest.raises(MemoryError, match=r"cmaes at D = 1000000 needs an estimated .* GiB"):
+        mb.minimize(lambda x: 0.0, wide, algorithm="cmaes", budget=10)
+    with pytest.raises(MemoryError, match=r"cmaes at D = 30000"):
+        mb.benchmark("sphere", 30_000, algorithm="cmaes", budget=10)
+    r = mb.minimize(lambda x: 0.0, wide, algorithm="hs", budget=6)
+    assert r.nfev == 6

@@ -233,6 +233,23 @@ pub enum CampaignError {
         /// Estimated memory of its records, in GiB.
         gib: f64,
     },
+    /// One run's optimiser state is over the limit without `--allow-large`.
+    #[error(
+        "{}: algorithm \"{cell}\" ({algorithm}) at D = {dim} needs an estimated {:.1} GiB of optimiser state for one run, over the limit of {} GiB per run (its matrices and populations grow with D); lower D or its population, or pass --allow-large on a machine with the memory",
+        spec.display(), *bytes as f64 / f64::from(1u32 << 30), crate::optim::MAX_STATE_BYTES >> 30
+    )]
+    StateTooLarge {
+        /// The spec.
+        spec: PathBuf,
+        /// The cell's label.
+        cell: String,
+        /// Its optimiser's name.
+        algorithm: String,
+        /// The problem's dimension.
+        dim: usize,
+        /// The bytes one run would allocate.
+        bytes: u128,
+    },
     /// More worker threads than a sane multiple of the cores.
     #[error("--threads {asked}: at most {max} (4 × the {cores} cores of this machine)")]
     TooManyThreads {

@@ -22,6 +22,8 @@ use super::records::{self, RunKey, RunRecord};
 use super::spec::{FitCase, RunId, Spec};
 use super::{CampaignAction, CampaignError, ExperimentError};
 use crate::files::{create_dir, csv_bytes, fmt_real, write_atomic, IoError};
+use crate::optim::MAX_STATE_BYTES;
+use crate::reconstruction::Method;
 use crate::rng::{derive_seed, fnv1a64, RNG_NAME};
 
 /// One slice `K/N` of a campaign: the runs whose index `i` has `i mod N = K − 1`.
@@ -232,6 +234,9 @@ pub fn check_limits(spec: &Spec, opts: &RunOptions) -> Result<(), CampaignError>
             gib: bytes as f64 / f64::from(1u32 << 30),
         });
     }
+    if !opts.allow_large {
+        state_within_limit(spec)?;
+    }
     if let Some(asked) = opts.threads {
         let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
         if asked > 4 * cores {
@@ -240,6 +245,33 @@ pub fn check_limits(spec: &Spec, opts: &RunOptions) -> Result<(), CampaignError>
                 max: 4 * cores,
                 cores,
             });
+        }
+    }
+    Ok(())
+}
+
+/// Refuses a campaign one of whose runs would allocate more than
+/// [`MAX_STATE_BYTES`] of optimiser state ([`crate::optim::Algorithm::state_bytes`]: CMA-ES's
+/// covariance at D = 30,000 is 7.2 GB), naming the cell, its algorithm, D
+/// and the bytes. Fitting problems are left out: their optimisers search
+/// one segment's few parameters.
+fn state_within_limit(spec: &Spec) -> Result<(), CampaignError> {
+    for cell in &spec.cells {
+        let algorithm = match &cell.method {
+            Method::Metaheuristic(a) | Method::Hybrid(a) => a,
+            Method::Exact => continue,
+        };
+        for p in spec.problems.iter().filter(|p| !p.kind.least_squares()) {
+            let bytes = algorithm.state_bytes(p.dim, p.budget);
+            if bytes > MAX_STATE_BYTES {
+                return Err(CampaignError::StateTooLarge {
+                    spec: spec.path.clone(),
+                    cell: cell.label.clone(),
+                    algorithm: algorithm.name().to_owned(),
+                    dim: p.dim,
+                    bytes,
+                });
+            }
         }
     }
     Ok(())

@@ -997,6 +997,31 @@ impl CmaEs {
 }
 
 impl Optimiser for CmaEs {
+    /// The covariance matrix and its eigenvectors (2 D²), the sampled and
+    /// mapped populations (2 λ D) at the largest λ a restart can reach
+    /// within the budget (IPOP and BIPOP multiply λ by `inc_popsize` up to
+    /// [`LAMBDA_MAX`]; the run before a restart spent at least one
+    /// generation, λ / inc_popsize evaluations, so λ ≤ inc_popsize · budget),
+    /// and a few D-vectors. An upper bound: runs that converge slowly never
+    /// reach it.
+    fn state_bytes(&self, dim: usize, budget: u64) -> u128 {
+        let base = self.base_lambda(dim);
+        let lambda = match self.restarts {
+            Restarts::None => base,
+            _ => {
+                let reach = (budget as f64 * self.inc_popsize).max(base as f64);
+                let cap = (LAMBDA_MAX as f64).min(reach);
+                let mut l = base as f64;
+                while l * self.inc_popsize <= cap && self.inc_popsize > 1.0 {
+                    l *= self.inc_popsize;
+                }
+                l as usize
+            }
+        };
+        let d = dim as u128;
+        2 * d * d * 8 + super::vectors_bytes(2 * lambda + 16, dim)
+    }
+
     fn minimise<P: Problem + ?Sized, R: Words + ?Sized>(
         &self,
         eval: &mut Evaluator<'_, P>,

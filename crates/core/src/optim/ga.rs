@@ -424,6 +424,11 @@ fn by_value(values: &[f64]) -> impl Fn(&usize, &usize) -> Ordering + '_ {
 }
 
 impl Optimiser for GeneticAlgorithm {
+    /// Parents and offspring (2 × pop × D) and a few D-vectors.
+    fn state_bytes(&self, dim: usize, _budget: u64) -> u128 {
+        super::vectors_bytes(2 * self.pop + 4, dim)
+    }
+
     fn minimise<P: Problem + ?Sized, R: Words + ?Sized>(
         &self,
         eval: &mut Evaluator<'_, P>,

@@ -124,6 +124,11 @@ impl GlobalBestHarmonySearch {
 }
 
 impl Optimiser for GlobalBestHarmonySearch {
+    /// The harmony memory (HMS × D) and a few D-vectors.
+    fn state_bytes(&self, dim: usize, _budget: u64) -> u128 {
+        super::vectors_bytes(self.hms + 4, dim)
+    }
+
     fn minimise<P: Problem + ?Sized, R: Words + ?Sized>(
         &self,
         eval: &mut Evaluator<'_, P>,

@@ -343,6 +343,14 @@ struct TrialDraws {
 }
 
 impl Optimiser for Lshade {
+    /// The initial population, its trial vectors and the archive at its
+    /// capacity ((2 N_init + ⌈r^arc N_init⌉) × D, N_init = r^N_init · D:
+    /// quadratic in D), and a few D-vectors.
+    fn state_bytes(&self, dim: usize, _budget: u64) -> u128 {
+        let n = self.initial_population(dim);
+        super::vectors_bytes(2 * n + self.archive_capacity(n) + 4, dim)
+    }
+
     fn minimise<P: Problem + ?Sized, R: Words + ?Sized>(
         &self,
         eval: &mut Evaluator<'_, P>,

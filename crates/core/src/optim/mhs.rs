@@ -339,6 +339,12 @@ impl ModifiedHarmonySearch {
 }
 
 impl Optimiser for ModifiedHarmonySearch {
+    /// The harmony memory (HMS × D), the L temporary harmonies and a few
+    /// D-vectors.
+    fn state_bytes(&self, dim: usize, _budget: u64) -> u128 {
+        super::vectors_bytes(self.hms + self.l + 4, dim)
+    }
+
     fn minimise<P: Problem + ?Sized, R: Words + ?Sized>(
         &self,
         eval: &mut Evaluator<'_, P>,

@@ -106,6 +106,17 @@ pub trait Optimiser {
         rng: &mut R,
     );
 
+    /// The most bytes of state this optimiser allocates for one run on a
+    /// problem of dimension `dim` with `budget` evaluations (populations,
+    /// matrices, archives, restart growth up to the budget), so that a
+    /// caller can refuse a run before it allocates ([`Algorithm::state_bytes`]). The
+    /// default, for an optimiser that does not say, is 16 vectors of `dim`
+    /// reals.
+    fn state_bytes(&self, dim: usize, budget: u64) -> u128 {
+        let _ = budget;
+        vectors_bytes(16, dim)
+    }
+
     /// Minimises `problem` with `budget` evaluations and returns the outcome.
     fn run<P: Problem + ?Sized, R: Words + ?Sized>(
         &self,
@@ -118,6 +129,15 @@ pub trait Optimiser {
         eval.finish()
     }
 }
+
+/// The bytes of `count` vectors of `dim` reals (f64).
+pub fn vectors_bytes(count: usize, dim: usize) -> u128 {
+    count as u128 * dim as u128 * 8
+}
+
+/// The most bytes a run's optimiser state may take without `--allow-large`
+/// (per worker): 4 GiB, the campaign's memory limit.
+pub const MAX_STATE_BYTES: u128 = 4 << 30;
 
 /// A parameter combination that is invalid as a whole (each value may be
 /// in range on its own), naming the parameter to change.

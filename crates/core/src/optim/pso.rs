@@ -232,6 +232,12 @@ impl ParticleSwarm {
 }
 
 impl Optimiser for ParticleSwarm {
+    /// Positions, velocities and personal bests (3 × swarm × D) and a few
+    /// D-vectors.
+    fn state_bytes(&self, dim: usize, _budget: u64) -> u128 {
+        super::vectors_bytes(3 * self.swarm + 4, dim)
+    }
+
     fn minimise<P: Problem + ?Sized, R: Words + ?Sized>(
         &self,
         eval: &mut Evaluator<'_, P>,

@@ -40,6 +40,11 @@ impl RandomSearch {
 }
 
 impl Optimiser for RandomSearch {
+    /// A candidate and the best (2 × D).
+    fn state_bytes(&self, dim: usize, _budget: u64) -> u128 {
+        super::vectors_bytes(2, dim)
+    }
+
     fn minimise<P: Problem + ?Sized, R: Words + ?Sized>(
         &self,
         eval: &mut Evaluator<'_, P>,

@@ -36,6 +36,9 @@ pub trait DynOptimiser: Send + Sync + fmt::Debug {
     /// Minimises a built-in benchmark function, with the problem's type
     /// known to the optimiser's loop.
     fn minimise_benchmark(&self, eval: &mut Evaluator<'_, TestProblem>, rng: &mut RunRng);
+
+    /// [`Optimiser::state_bytes`].
+    fn state_bytes_dyn(&self, dim: usize, budget: u64) -> u128;
 }
 
 impl<O: Optimiser + Send + Sync + fmt::Debug> DynOptimiser for O {
@@ -45,6 +48,10 @@ impl<O: Optimiser + Send + Sync + fmt::Debug> DynOptimiser for O {
 
     fn minimise_benchmark(&self, eval: &mut Evaluator<'_, TestProblem>, rng: &mut RunRng) {
         self.minimise(eval, rng)
+    }
+
+    fn state_bytes_dyn(&self, dim: usize, budget: u64) -> u128 {
+        self.state_bytes(dim, budget)
     }
 }
 
@@ -103,6 +110,13 @@ impl Algorithm {
     /// The registered name of this optimiser.
     pub fn name(&self) -> &str {
         &self.name
+    }
+
+    /// The most bytes of state one run allocates at dimension `dim` with
+    /// `budget` evaluations ([`Optimiser::state_bytes`]): CMA-ES's 2 D²,
+    /// L-SHADE's r^N_init · D², a population's size × D.
+    pub fn state_bytes(&self, dim: usize, budget: u64) -> u128 {
+        self.optimiser.state_bytes_dyn(dim, budget)
     }
 
     /// Minimises `eval`'s problem, of any type, until its budget is spent.
