@@ -6,6 +6,11 @@ fn metabezier() -> Command {
     Command::new(env!("CARGO_BIN_EXE_metabezier"))
 }
 
+/// `metabezier ARGS` run in `dir`, its output.
+fn in_dir(dir: &std::path::Path, args: &[&str]) -> std::process::Output {
+    metabezier().current_dir(dir).args(args).output().unwrap()
+}
+
 #[test]
 fn a_bad_spec_fails_with_its_message_and_writes_nothing() {
     let tmp = tempfile::tempdir().unwrap();
@@ -15,11 +20,7 @@ fn a_bad_spec_fails_with_its_message_and_writes_nothing() {
         "[experiment]\nname = \"bad\"\nseed = 1\nruns = 1\nbudget = 10\n\n[[problem]]\nfunction = \"sphere\"\ndim = 2\n\n[[algorithm]]\nname = \"hs\"\nhmcr = 2\n",
     )
     .unwrap();
-    let out = metabezier()
-        .current_dir(tmp.path())
-        .args(["run", "bad.toml"])
-        .output()
-        .unwrap();
+    let out = in_dir(tmp.path(), &["run", "bad.toml"]);
     assert_eq!(out.status.code(), Some(1));
     let stderr = String::from_utf8(out.stderr).unwrap();
     assert_eq!(
@@ -40,11 +41,7 @@ fn run_writes_the_result_files_and_check_describes_the_plan() {
         "[experiment]\nname = \"small\"\nseed = 7\nruns = 2\nbudget = 300\n\n[[problem]]\nfunction = \"sphere\"\ndim = 3\n\n[[algorithm]]\nname = \"mhs\"\nhmcr = [0.8, 0.9]\n",
     )
     .unwrap();
-    let check = metabezier()
-        .current_dir(tmp.path())
-        .args(["check", "small.toml"])
-        .output()
-        .unwrap();
+    let check = in_dir(tmp.path(), &["check", "small.toml"]);
     assert!(check.status.success());
     let text = String::from_utf8(check.stdout).unwrap();
     assert!(
@@ -52,11 +49,10 @@ fn run_writes_the_result_files_and_check_describes_the_plan() {
         "{text}"
     );
 
-    let out = metabezier()
-        .current_dir(tmp.path())
-        .args(["run", "small.toml", "--threads", "2", "--quiet"])
-        .output()
-        .unwrap();
+    let out = in_dir(
+        tmp.path(),
+        &["run", "small.toml", "--threads", "2", "--quiet"],
+    );
     assert!(
         out.status.success(),
         "{}",
@@ -100,20 +96,12 @@ fn run_writes_the_result_files_and_check_describes_the_plan() {
     assert!(s.threads == 2 && !s.cpu.is_empty() && s.runs > 0, "{s:?}");
 
     // A second run without --resume refuses to touch the finished campaign.
-    let again = metabezier()
-        .current_dir(tmp.path())
-        .args(["run", "small.toml"])
-        .output()
-        .unwrap();
+    let again = in_dir(tmp.path(), &["run", "small.toml"]);
     assert_eq!(again.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&again.stderr).contains("pass --resume"));
 
     // `report` turns the directory into report.md, tables and plots.
-    let report = metabezier()
-        .current_dir(tmp.path())
-        .args(["report", "results/small"])
-        .output()
-        .unwrap();
+    let report = in_dir(tmp.path(), &["report", "results/small"]);
     assert!(
         report.status.success(),
         "{}",
@@ -129,11 +117,10 @@ fn run_writes_the_result_files_and_check_describes_the_plan() {
         assert!(dir.join(f).exists(), "{f} missing");
     }
     // An unknown reference names the algorithms that exist.
-    let bad = metabezier()
-        .current_dir(tmp.path())
-        .args(["report", "results/small", "--reference", "XYZ"])
-        .output()
-        .unwrap();
+    let bad = in_dir(
+        tmp.path(),
+        &["report", "results/small", "--reference", "XYZ"],
+    );
     assert_eq!(bad.status.code(), Some(1));
     let err = String::from_utf8_lossy(&bad.stderr);
     assert!(
@@ -142,11 +129,10 @@ fn run_writes_the_result_files_and_check_describes_the_plan() {
     );
     // --rope: a measure's rope, parsed once; an unknown measure or a bad
     // value is a usage error naming the measures.
-    let rope = metabezier()
-        .current_dir(tmp.path())
-        .args(["report", "results/small", "--rope", "final-error=0.2"])
-        .output()
-        .unwrap();
+    let rope = in_dir(
+        tmp.path(),
+        &["report", "results/small", "--rope", "final-error=0.2"],
+    );
     assert!(
         rope.status.success(),
         "{}",
@@ -157,11 +143,7 @@ fn run_writes_the_result_files_and_check_describes_the_plan() {
         .lines()
         .any(|l| l.contains(",final-error,") && l.contains(",0.2,")));
     for bad in ["dice=0.1", "final-error=-1", "final-error"] {
-        let out = metabezier()
-            .current_dir(tmp.path())
-            .args(["report", "results/small", "--rope", bad])
-            .output()
-            .unwrap();
+        let out = in_dir(tmp.path(), &["report", "results/small", "--rope", bad]);
         assert_eq!(out.status.code(), Some(2), "{bad}");
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(
@@ -196,11 +178,7 @@ fn run_writes_the_result_files_and_check_describes_the_plan() {
 #[test]
 fn report_of_a_missing_directory_names_the_file() {
     let tmp = tempfile::tempdir().unwrap();
-    let out = metabezier()
-        .current_dir(tmp.path())
-        .args(["report", "nowhere"])
-        .output()
-        .unwrap();
+    let out = in_dir(tmp.path(), &["report", "nowhere"]);
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("nowhere/runs.csv"), "{err}");
@@ -299,11 +277,7 @@ fn check_refuses_a_cmaes_whose_state_does_not_fit_and_runs_a_large_hs() {
         )
     };
     std::fs::write(tmp.path().join("cmaes.toml"), spec("cmaes", 30_000)).unwrap();
-    let out = metabezier()
-        .current_dir(tmp.path())
-        .args(["check", "cmaes.toml"])
-        .output()
-        .unwrap();
+    let out = in_dir(tmp.path(), &["check", "cmaes.toml"]);
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
@@ -311,19 +285,11 @@ fn check_refuses_a_cmaes_whose_state_does_not_fit_and_runs_a_large_hs() {
             && err.contains("GiB of optimiser state for one run, over the limit of 4 GiB"),
         "{err}"
     );
-    let run = metabezier()
-        .current_dir(tmp.path())
-        .args(["run", "cmaes.toml"])
-        .output()
-        .unwrap();
+    let run = in_dir(tmp.path(), &["run", "cmaes.toml"]);
     assert_eq!(run.status.code(), Some(1));
     assert!(!tmp.path().join("results/big/runs.csv").exists());
     std::fs::write(tmp.path().join("hs.toml"), spec("hs", 1_000_000)).unwrap();
-    let out = metabezier()
-        .current_dir(tmp.path())
-        .args(["check", "hs.toml"])
-        .output()
-        .unwrap();
+    let out = in_dir(tmp.path(), &["check", "hs.toml"]);
     assert!(
         out.status.success(),
         "{}",
@@ -349,11 +315,7 @@ fn check_of_a_campaign_over_the_limits_refuses_it_as_run_does() {
         "[experiment]\nname = \"huge\"\nseed = 1\nruns = 4294967295\nbudget = 100\n\n[[problem]]\nfunction = \"sphere\"\ndim = 2\n\n[[algorithm]]\nname = \"hs\"\n",
     )
     .unwrap();
-    let out = metabezier()
-        .current_dir(tmp.path())
-        .args(["check", "huge.toml"])
-        .output()
-        .unwrap();
+    let out = in_dir(tmp.path(), &["check", "huge.toml"]);
     assert_eq!(out.status.code(), Some(1));
     let stderr = String::from_utf8(out.stderr).unwrap();
     assert!(
@@ -361,11 +323,7 @@ fn check_of_a_campaign_over_the_limits_refuses_it_as_run_does() {
         "{stderr}"
     );
     // Under --allow-large, check describes it.
-    let out = metabezier()
-        .current_dir(tmp.path())
-        .args(["check", "huge.toml", "--allow-large"])
-        .output()
-        .unwrap();
+    let out = in_dir(tmp.path(), &["check", "huge.toml", "--allow-large"]);
     assert_eq!(out.status.code(), Some(0));
     let stdout = String::from_utf8(out.stdout).unwrap();
     assert!(
