@@ -942,3 +942,78 @@ fn a_newcomers_summary_says_what_n_allows_and_the_best_per_problem() {
         "{e}"
     );
 }
+
+#[test]
+fn external_runs_are_checked_like_our_own() {
+    // Issue 49: `report --external` refuses what the campaign's reader
+    // would, naming the file and line, and the directory's own runs.csv.
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("base");
+    std::fs::create_dir_all(&dir).unwrap();
+    let ours: Vec<(&str, &str, u32, f64, Option<u64>)> =
+        (0..5).map(|r| ("MHS", "sphere", r, 1e-3, None)).collect();
+    std::fs::write(dir.join("runs.csv"), hand_made(&ours)).unwrap();
+    let good: Vec<(&str, &str, u32, f64, Option<u64>)> =
+        (0..5).map(|r| ("ES", "sphere", r, 1e-4, None)).collect();
+    let good = hand_made(&good);
+    let report = |name: &str, text: &str| {
+        let ext = tmp.path().join(name);
+        std::fs::write(&ext, text).unwrap();
+        write_report(
+            &dir,
+            &ReportOptions {
+                external: Some(ext),
+                ..ReportOptions::default()
+            },
+        )
+        .map(|_| ())
+        .map_err(|e| e.to_string())
+    };
+    report("good.csv", &good).unwrap();
+    let third = |from: &str, to: &str| {
+        let mut lines: Vec<String> = good.lines().map(str::to_owned).collect();
+        lines[3] = lines[3].replacen(from, to, 1);
+        lines.join("\n") + "\n"
+    };
+    for (text, want) in [
+        (
+            third(",0.0001,0.0001,", ",NaN,NaN,"),
+            "nan.csv:4: error NaN of run 2 of ES",
+        ),
+        (third(",0.0001,0.0001,", ",-1,-1,"), "error -1 of run 2"),
+        (
+            third(",2,1000,", ",2,2000,"),
+            "problem sphere-2 at budget 2000 is not one of",
+        ),
+        (
+            third(",1000,,false", ",5000,,false"),
+            "used 5000 evaluations, over its budget of 1000",
+        ),
+        (
+            third("ES,", "=1+1,"),
+            "label \"=1+1\" starts like a spreadsheet formula",
+        ),
+        (
+            good.clone() + good.lines().nth(1).unwrap() + "\n",
+            "appears twice",
+        ),
+    ] {
+        let name = if want.starts_with("nan") {
+            "nan.csv"
+        } else {
+            "bad.csv"
+        };
+        let e = report(name, &text).unwrap_err();
+        assert!(e.contains("--external") && e.contains(want), "{want}: {e}");
+    }
+    let e = write_report(
+        &dir,
+        &ReportOptions {
+            external: Some(dir.join("runs.csv")),
+            ..ReportOptions::default()
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("is the results directory's own runs.csv"), "{e}");
+}

@@ -490,6 +490,7 @@ pub(crate) fn load(dir: &Path, external: Option<&Path>) -> Result<Dataset, Repor
                 read_runs(ext)?
             }
         };
+        super::external::check_external(dir, ext, all.iter().map(|(r, _)| r), &ext_records)?;
         let mut renamed: std::collections::BTreeSet<String> = Default::default();
         for mut r in ext_records {
             if internal_labels.contains(&r.algorithm) {

@@ -4,6 +4,7 @@
 use crate::stats::{success_summary, summarize, RunOutcome, SuccessSummary, Summary};
 
 use super::data::{Dataset, Run};
+use super::external::BELOW_OPTIMUM_ROUNDING;
 use super::format::{csv_opt, evaluations, percent, sci, sci_opt, Table};
 
 /// The statistics of one (cell, problem).
@@ -127,11 +128,6 @@ fn fitting_vocabulary(t: &mut Table) {
         row.truncate(keep);
     }
 }
-
-/// How far below 0 a final error f − f* may be and still be read as the
-/// rounding of f at the optimum (or of the tabulated f*), not as a wrong
-/// f*: the six-hump camel's f(x*) rounds 2.2·10⁻¹⁶ below f* in f64.
-pub(crate) const BELOW_OPTIMUM_ROUNDING: f64 = 1e-12;
 
 /// A final error as the report shows it: an error in
 /// (−[`BELOW_OPTIMUM_ROUNDING`], 0) is 0 (the CSV keeps the value).

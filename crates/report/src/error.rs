@@ -29,6 +29,17 @@ pub enum ReportError {
     /// The claims file does not load, or a claim's primary row is missing.
     #[error(transparent)]
     Claims(#[from] crate::claims::ClaimError),
+    /// An external runs.csv that a campaign's own reader would refuse: its
+    /// file, line and what is wrong.
+    #[error("{}: {message}", located(path, *line))]
+    External {
+        /// The external file.
+        path: PathBuf,
+        /// The line of the offending row (0: the file as a whole).
+        line: usize,
+        /// What is wrong and what was expected.
+        message: String,
+    },
     /// The requested reference algorithm is not in the results.
     #[error(
         "the reference algorithm \"{requested}\" is not in the results; the algorithms are: {}",
@@ -69,6 +80,15 @@ pub enum ReportError {
         /// The plotting library's message.
         message: String,
     },
+}
+
+/// `path:line`, or `path` alone for line 0.
+fn located(path: &std::path::Path, line: usize) -> String {
+    if line == 0 {
+        format!("--external {}", path.display())
+    } else {
+        format!("--external {}:{line}", path.display())
+    }
 }
 
 impl From<DataError> for ReportError {

@@ -28,6 +28,7 @@ mod data;
 mod descriptive;
 mod design;
 mod error;
+mod external;
 mod families;
 mod fit_runs;
 mod fit_units;
