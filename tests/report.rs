@@ -1017,3 +1017,44 @@ fn external_runs_are_checked_like_our_own() {
     .to_string();
     assert!(e.contains("is the results directory's own runs.csv"), "{e}");
 }
+
+#[cfg(unix)]
+#[test]
+fn a_report_never_writes_through_a_link_out_of_its_directory() {
+    // Issue 49: `tables/` or `plots/` linked elsewhere is refused before
+    // anything is computed, and nothing lands at the link's target; a link
+    // within the directory is followed.
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("base");
+    std::fs::create_dir_all(&dir).unwrap();
+    let rows: Vec<(&str, &str, u32, f64, Option<u64>)> = (0..5)
+        .flat_map(|r| {
+            [
+                ("MHS", "sphere", r, 1e-3, None),
+                ("HS", "sphere", r, 1e-2, None),
+            ]
+        })
+        .collect();
+    std::fs::write(dir.join("runs.csv"), hand_made(&rows)).unwrap();
+    let outside = tmp.path().join("outside");
+    std::fs::create_dir_all(&outside).unwrap();
+    for name in ["tables", "plots"] {
+        std::os::unix::fs::symlink(&outside, dir.join(name)).unwrap();
+        let e = write_report(&dir, &ReportOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(&format!("{name} is a symbolic link to"))
+                && e.contains("outside the results directory"),
+            "{e}"
+        );
+        assert_eq!(std::fs::read_dir(&outside).unwrap().count(), 0);
+        assert!(!dir.join("report.md").exists());
+        std::fs::remove_file(dir.join(name)).unwrap();
+    }
+    // Within the directory: followed.
+    std::fs::create_dir_all(dir.join("mine")).unwrap();
+    std::os::unix::fs::symlink(dir.join("mine"), dir.join("tables")).unwrap();
+    write_report(&dir, &ReportOptions::default()).unwrap();
+    assert!(dir.join("mine/verdicts.csv").exists() || dir.join("mine/descriptive.csv").exists());
+}

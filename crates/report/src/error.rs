@@ -51,6 +51,19 @@ pub enum ReportError {
         /// The configurations in the results.
         names: Vec<String>,
     },
+    /// A place the report writes is a symbolic link out of the results
+    /// directory.
+    #[error(
+        "{} is a symbolic link to {}, outside the results directory; the report writes only inside it: remove the link",
+        path.display(),
+        target.display()
+    )]
+    LinkOut {
+        /// The link.
+        path: PathBuf,
+        /// Where it points.
+        target: PathBuf,
+    },
     /// The campaign in the directory is not finished.
     #[error(
         "{}: campaign unfinished (a journal.csv and no runs.csv): run `metabezier run SPEC --resume` to finish it",

@@ -52,6 +52,32 @@ pub enum RowProblem {
     },
 }
 
+/// The places a report writes in its results directory.
+const WRITTEN: [&str; 4] = ["tables", "plots", "report.md", "report.html"];
+
+/// Refuses, before anything is computed, a results directory where a place
+/// the report writes (`tables/`, `plots/`, `report.md`, `report.html`) is a
+/// symbolic link that leads out of the directory: the report writes only
+/// inside it. A link within the directory is followed as before.
+pub(crate) fn check_written_inside(dir: &Path) -> Result<(), ReportError> {
+    let Ok(root) = std::fs::canonicalize(dir) else {
+        return Ok(());
+    };
+    for name in WRITTEN {
+        let path = dir.join(name);
+        let is_link = std::fs::symlink_metadata(&path).is_ok_and(|m| m.file_type().is_symlink());
+        if !is_link {
+            continue;
+        }
+        let target = std::fs::read_link(&path).unwrap_or_default();
+        let inside = std::fs::canonicalize(&path).is_ok_and(|t| t.starts_with(&root));
+        if !inside {
+            return Err(ReportError::LinkOut { path, target });
+        }
+    }
+    Ok(())
+}
+
 /// Refuses a directory whose campaign is unfinished: a journal and no
 /// `runs.csv`.
 pub(crate) fn check_finished(dir: &Path) -> Result<(), ReportError> {

@@ -802,6 +802,7 @@ pub fn write_report(dir: &Path, options: &ReportOptions) -> Result<ReportSummary
         return Err(ReportError::Alpha(options.alpha));
     }
     integrity::check_finished(dir)?;
+    integrity::check_written_inside(dir)?;
     let mut ds = data::load(dir, options.external.as_deref())?;
     ds.families = options.families.clone();
     let provenance = data::provenance(dir);
