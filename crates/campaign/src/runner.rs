@@ -256,19 +256,27 @@ pub fn check_limits(spec: &Spec, opts: &RunOptions) -> Result<(), CampaignError>
 /// and the bytes. Fitting problems are left out: their optimisers search
 /// one segment's few parameters.
 fn state_within_limit(spec: &Spec) -> Result<(), CampaignError> {
+    // Each distinct (D, budget) once, in spec order: the functions,
+    // transforms and instances of one D and budget size a state alike.
+    let mut sizes: Vec<(usize, u64)> = Vec::new();
+    for p in spec.problems.iter().filter(|p| !p.kind.least_squares()) {
+        if !sizes.contains(&(p.dim, p.budget)) {
+            sizes.push((p.dim, p.budget));
+        }
+    }
     for cell in &spec.cells {
         let algorithm = match &cell.method {
             Method::Metaheuristic(a) | Method::Hybrid(a) => a,
             Method::Exact => continue,
         };
-        for p in spec.problems.iter().filter(|p| !p.kind.least_squares()) {
-            let bytes = algorithm.state_bytes(p.dim, p.budget);
+        for &(dim, budget) in &sizes {
+            let bytes = algorithm.state_bytes(dim, budget);
             if bytes > MAX_STATE_BYTES {
                 return Err(CampaignError::StateTooLarge {
                     spec: spec.path.clone(),
                     cell: cell.label.clone(),
                     algorithm: algorithm.name().to_owned(),
-                    dim: p.dim,
+                    dim,
                     bytes,
                 });
             }

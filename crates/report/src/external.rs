@@ -6,11 +6,12 @@
 //! formulas (OWASP, "CSV Injection"), and the results directory's problems
 //! at its budgets. A refusal names the file, the line and what is wrong.
 
-use std::collections::{BTreeSet, HashSet};
+use std::collections::BTreeSet;
 use std::path::Path;
 
 use crate::experiment::records::RunRecord;
 
+use super::integrity::runs_once;
 use crate::ReportError;
 
 /// How far below 0 a final error f − f* may be and still be read as the
@@ -48,13 +49,13 @@ pub(crate) fn check_external<'r>(
         }
     }
     let problems: BTreeSet<(String, u64)> = ours.map(|r| (r.match_key(), r.budget)).collect();
-    let mut seen = HashSet::new();
+    let repeat = runs_once(theirs).err();
     for (i, r) in theirs.iter().enumerate() {
         let line = i + 2;
         if let Some(why) = row_problem(r) {
             return Err(refuse(line, why));
         }
-        if !seen.insert(r.key()) {
+        if repeat == Some(i) {
             return Err(refuse(
                 line,
                 format!(

@@ -148,6 +148,16 @@ fn check_run_numbers(
     )))
 }
 
+/// The runs (cell, problem, budget, run number) of `records`, each once;
+/// or the index of the first record whose run an earlier one already gave.
+pub(crate) fn runs_once(records: &[RunRecord]) -> Result<HashSet<RunKey>, usize> {
+    let mut seen: HashSet<RunKey> = HashSet::new();
+    match records.iter().position(|r| !seen.insert(r.key())) {
+        Some(i) => Err(i),
+        None => Ok(seen),
+    }
+}
+
 /// Checks the rows of `runs.csv` in `dir`: no run twice, and, when the
 /// directory's `spec.toml` loads, exactly the runs it defines. Returns a
 /// note when the spec could not be loaded here (a fitting spec whose
@@ -159,16 +169,14 @@ pub(crate) fn check_rows(dir: &Path, records: &[RunRecord]) -> Result<Option<Str
         path: path.clone(),
         problem,
     };
-    let mut seen: HashSet<RunKey> = HashSet::new();
-    for r in records {
-        if !seen.insert(r.key()) {
-            return Err(rows(RowProblem::Duplicate {
-                run: r.run,
-                cell: r.cell_key(),
-                problem: r.match_key(),
-            }));
-        }
-    }
+    let seen = runs_once(records).map_err(|i| {
+        let r = &records[i];
+        rows(RowProblem::Duplicate {
+            run: r.run,
+            cell: r.cell_key(),
+            problem: r.match_key(),
+        })
+    })?;
     let spec_path: PathBuf = dir.join("spec.toml");
     if !spec_path.exists() {
         return Ok(None);

@@ -376,28 +376,32 @@ fn summary_tables(t: &Table) -> (Table, Table, (usize, usize)) {
     )
 }
 
+/// `rows` grouped by their value in column `col` (all in one group
+/// without it), the groups in the order their values first appear.
+fn grouped<'r>(
+    rows: impl IntoIterator<Item = &'r Vec<String>>,
+    col: Option<usize>,
+) -> Vec<Vec<&'r Vec<String>>> {
+    let mut groups: Vec<Vec<&Vec<String>>> = Vec::new();
+    for r in rows {
+        let same = |g: &&mut Vec<&Vec<String>>| col.is_none_or(|i| g[0][i] == r[i]);
+        match groups.iter_mut().find(same) {
+            Some(g) => g.push(r),
+            None => groups.push(vec![r]),
+        }
+    }
+    groups
+}
+
 /// The Markdown of `t`, one table per measure (each under the report's
 /// 15-row limit), each followed by a blank line.
 fn by_measure(t: &Table) -> String {
-    let Some(m) = t.md_header.iter().position(|h| h == "Measure") else {
-        return format!("{}\n", t.markdown());
-    };
-    let mut measures: Vec<&str> = Vec::new();
-    for r in &t.md_rows {
-        if !measures.contains(&r[m].as_str()) {
-            measures.push(&r[m]);
-        }
-    }
-    measures
-        .iter()
-        .map(|measure| {
+    let m = t.md_header.iter().position(|h| h == "Measure");
+    grouped(&t.md_rows, m)
+        .into_iter()
+        .map(|rows| {
             let part = Table {
-                md_rows: t
-                    .md_rows
-                    .iter()
-                    .filter(|r| r[m] == *measure)
-                    .cloned()
-                    .collect(),
+                md_rows: rows.into_iter().cloned().collect(),
                 ..t.clone()
             };
             format!("{}\n", part.markdown())
@@ -412,21 +416,14 @@ fn per_measure(
     measure: Option<usize>,
     verdict: Option<usize>,
 ) -> Vec<&Vec<String>> {
-    let key = |r: &Vec<String>| measure.map_or(String::new(), |i| r[i].clone());
-    let mut measures: Vec<String> = Vec::new();
-    for r in &rows {
-        if !measures.contains(&key(r)) {
-            measures.push(key(r));
-        }
-    }
-    let mut out = Vec::new();
-    for m in measures {
-        let mut of: Vec<&Vec<String>> = rows.iter().copied().filter(|r| key(r) == m).collect();
-        of.sort_by_key(|r| verdict.is_some_and(|i| r[i] == "undecided"));
-        of.truncate(SUMMARY_VERDICTS);
-        out.extend(of);
-    }
-    out
+    grouped(rows, measure)
+        .into_iter()
+        .flat_map(|mut of| {
+            of.sort_by_key(|r| verdict.is_some_and(|i| r[i] == "undecided"));
+            of.truncate(SUMMARY_VERDICTS);
+            of
+        })
+        .collect()
 }
 
 /// The best setting of every tuned grid (lowest mean rank), with its

@@ -55,7 +55,7 @@ pub use success::{
 pub use verdict::{
     across_units, decide_family, smallest_signed_rank_p, unit_evidence, verdict_seed, AcrossUnits,
     Equivalence, Verdict, VerdictRow, VerdictTest, EFFECT_CONFIDENCE, EQUIVALENCE_MIN_UNITS,
-    EQUIVALENCE_PRIOR, EQUIVALENCE_PROBABILITY, EQUIVALENCE_SAMPLES, VERDICT_COLUMNS,
+    EQUIVALENCE_PROBABILITY, VERDICT_COLUMNS,
 };
 pub use wilcoxon::{
     wilcoxon, wilcoxon_signed_rank, wilcoxon_signed_rank_with, WilcoxonResult,

@@ -109,11 +109,6 @@ impl Verdict {
             Verdict::Undecided => Self::NAMES[3],
         }
     }
-
-    /// Whether the verdict is `better` or `worse`.
-    pub fn is_difference(self) -> bool {
-        matches!(self, Verdict::Better | Verdict::Worse)
-    }
 }
 
 impl fmt::Display for Verdict {
@@ -238,15 +233,6 @@ impl ShiftInterval {
     }
 }
 
-/// The Monte Carlo samples of every verdict's Bayesian signed-rank test
-/// (baycomp's default; the Monte Carlo error of a probability is at most
-/// 0.5/√50,000 ≈ 0.0022).
-pub const EQUIVALENCE_SAMPLES: usize = 50_000;
-
-/// The strength of the Dirichlet process prior's pseudo-observation at 0
-/// (baycomp's default, Benavoli et al. 2017, §5.2).
-pub const EQUIVALENCE_PRIOR: f64 = 0.5;
-
 /// The confidence of the Hodges–Lehmann interval beside every verdict.
 pub const EFFECT_CONFIDENCE: f64 = 0.95;
 
@@ -270,7 +256,9 @@ pub fn verdict_seed(row: &VerdictRow) -> u64 {
 /// measure's own sign: the Hodges–Lehmann estimate with its exact
 /// signed-rank 95 % interval ([`hodges_lehmann_interval`]) and the
 /// Bayesian signed-rank posterior with rope ±`rope` ([`bayesian_signed_rank`],
-/// [`EQUIVALENCE_SAMPLES`] samples from `seed`), turned to the algorithm's
+/// baycomp's prior and its 50,000 samples, [`BayesSignedRank::with_rope`],
+/// from `seed`; the Monte Carlo error of a probability is at most
+/// 0.5/√50,000 ≈ 0.0022), turned to the algorithm's
 /// point of view by `lower_is_better`. Empty or NaN summaries give NaN
 /// evidence.
 pub fn unit_evidence(
@@ -282,10 +270,8 @@ pub fn unit_evidence(
     let shift =
         hodges_lehmann_interval(d, EFFECT_CONFIDENCE).unwrap_or_else(|_| ShiftInterval::unknown());
     let test = BayesSignedRank {
-        rope,
-        prior: EQUIVALENCE_PRIOR,
-        samples: EQUIVALENCE_SAMPLES,
         seed,
+        ..BayesSignedRank::with_rope(rope)
     };
     let equivalence = match bayesian_signed_rank(d, &test) {
         Ok(p) => {
