@@ -8,6 +8,9 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use common::hand_made;
+use metabezier::report::{write_report, ReportOptions};
+
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_metabezier"))
 }
@@ -468,4 +471,120 @@ fn implant_results_appear_whole_or_not_at_all() {
         "{names:?}"
     );
     assert!(names.iter().all(|n| !n.starts_with('.')), "{names:?}");
+}
+
+#[test]
+fn external_runs_are_checked_like_our_own() {
+    // Issue 49: `report --external` refuses what the campaign's reader
+    // would, naming the file and line, and the directory's own runs.csv.
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("base");
+    std::fs::create_dir_all(&dir).unwrap();
+    let ours: Vec<(&str, &str, u32, f64, Option<u64>)> =
+        (0..5).map(|r| ("MHS", "sphere", r, 1e-3, None)).collect();
+    std::fs::write(dir.join("runs.csv"), hand_made(&ours)).unwrap();
+    let good: Vec<(&str, &str, u32, f64, Option<u64>)> =
+        (0..5).map(|r| ("ES", "sphere", r, 1e-4, None)).collect();
+    let good = hand_made(&good);
+    let report = |name: &str, text: &str| {
+        let ext = tmp.path().join(name);
+        std::fs::write(&ext, text).unwrap();
+        write_report(
+            &dir,
+            &ReportOptions {
+                external: Some(ext),
+                ..ReportOptions::default()
+            },
+        )
+        .map(|_| ())
+        .map_err(|e| e.to_string())
+    };
+    report("good.csv", &good).unwrap();
+    let third = |from: &str, to: &str| {
+        let mut lines: Vec<String> = good.lines().map(str::to_owned).collect();
+        lines[3] = lines[3].replacen(from, to, 1);
+        lines.join("\n") + "\n"
+    };
+    for (text, want) in [
+        (
+            third(",0.0001,0.0001,", ",NaN,NaN,"),
+            "nan.csv:4: error NaN of run 2 of ES",
+        ),
+        (third(",0.0001,0.0001,", ",-1,-1,"), "error -1 of run 2"),
+        (
+            third(",2,1000,", ",2,2000,"),
+            "problem sphere-2 at budget 2000 is not one of",
+        ),
+        (
+            third(",1000,,false", ",5000,,false"),
+            "used 5000 evaluations, over its budget of 1000",
+        ),
+        (
+            third("ES,", "=1+1,"),
+            "label \"=1+1\" starts like a spreadsheet formula",
+        ),
+        (
+            good.clone() + good.lines().nth(1).unwrap() + "\n",
+            "appears twice",
+        ),
+    ] {
+        let name = if want.starts_with("nan") {
+            "nan.csv"
+        } else {
+            "bad.csv"
+        };
+        let e = report(name, &text).unwrap_err();
+        assert!(e.contains("--external") && e.contains(want), "{want}: {e}");
+    }
+    let e = write_report(
+        &dir,
+        &ReportOptions {
+            external: Some(dir.join("runs.csv")),
+            ..ReportOptions::default()
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("is the results directory's own runs.csv"), "{e}");
+}
+
+#[cfg(unix)]
+#[test]
+fn a_report_never_writes_through_a_link_out_of_its_directory() {
+    // Issue 49: `tables/` or `plots/` linked elsewhere is refused before
+    // anything is computed, and nothing lands at the link's target; a link
+    // within the directory is followed.
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("base");
+    std::fs::create_dir_all(&dir).unwrap();
+    let rows: Vec<(&str, &str, u32, f64, Option<u64>)> = (0..5)
+        .flat_map(|r| {
+            [
+                ("MHS", "sphere", r, 1e-3, None),
+                ("HS", "sphere", r, 1e-2, None),
+            ]
+        })
+        .collect();
+    std::fs::write(dir.join("runs.csv"), hand_made(&rows)).unwrap();
+    let outside = tmp.path().join("outside");
+    std::fs::create_dir_all(&outside).unwrap();
+    for name in ["tables", "plots"] {
+        std::os::unix::fs::symlink(&outside, dir.join(name)).unwrap();
+        let e = write_report(&dir, &ReportOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(&format!("{name} is a symbolic link to"))
+                && e.contains("outside the results directory"),
+            "{e}"
+        );
+        assert_eq!(std::fs::read_dir(&outside).unwrap().count(), 0);
+        assert!(!dir.join("report.md").exists());
+        std::fs::remove_file(dir.join(name)).unwrap();
+    }
+    // Within the directory: followed.
+    std::fs::create_dir_all(dir.join("mine")).unwrap();
+    std::os::unix::fs::symlink(dir.join("mine"), dir.join("tables")).unwrap();
+    write_report(&dir, &ReportOptions::default()).unwrap();
+    assert!(dir.join("mine/verdicts.csv").exists() || dir.join("mine/descriptive.csv").exists());
 }

@@ -115,3 +115,62 @@ fn a_robustness_report_is_short_and_answers_first() {
     let summary = md.split("\n## Plots").next().unwrap();
     assert!(summary.contains("| HS | MHS | final-error |"), "{summary}");
 }
+
+#[test]
+fn a_newcomers_summary_says_what_n_allows_and_the_best_per_problem() {
+    // Issue 50: `make quick`'s three problems can never give a verdict
+    // across problems (p_min = 0.25); the summary says so before its
+    // rows, names the best algorithm per problem, lists each comparison
+    // once (Friedman's rows only where they disagree), shows the
+    // six-hump camel's −2.2e-16 as 0, and reads its ropes from the spec.
+    let tmp = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("experiments/quick.toml")).unwrap();
+    let text = text + "\n[report]\nrope_anytime_auc = 0.02\n";
+    let dir = common::campaign(tmp.path(), "quick", &text);
+    write_report(&dir, &ReportOptions::default()).unwrap();
+    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    let summary = &md[..md.find("## Plots").unwrap()];
+    assert!(
+        summary.contains("no test across problems can reject at α = 0.05, whatever the data")
+            && summary.contains("(3 unit(s): p_min = 0.250, family of 4: 4 × p_min = 1.000)"),
+        "{summary}"
+    );
+    assert!(
+        summary.contains("Best per problem (lowest median final error"),
+        "{summary}"
+    );
+    assert!(
+        summary.contains("six_hump_camel, D = 2: GA, PSO, MHS (0)"),
+        "{summary}"
+    );
+    assert!(!summary.contains("-2.2e-16"), "{summary}");
+    let wilcoxon_rows = summary
+        .lines()
+        .filter(|l| l.starts_with("| HS | MHS | final-error |"))
+        .count();
+    assert_eq!(wilcoxon_rows, 1, "{summary}");
+    let verdicts = std::fs::read_to_string(dir.join("tables/verdicts.csv")).unwrap();
+    assert!(verdicts
+        .lines()
+        .any(|l| l.contains(",anytime-auc,") && l.contains(",0.02,")));
+    assert!(!verdicts.contains("no detectable difference"));
+    // Without an MHS and without --reference the first cell is the
+    // reference, and the report says so.
+    let no_mhs = text.replace("[[algorithm]]\nname = \"mhs\"\nlabel = \"MHS\"\n", "");
+    assert_ne!(no_mhs, text);
+    let dir = common::campaign(tmp.path(), "quick_no_mhs", &no_mhs);
+    write_report(&dir, &ReportOptions::default()).unwrap();
+    assert!(std::fs::read_to_string(dir.join("report.md"))
+        .unwrap()
+        .contains("no configuration is labelled MHS: the reference is the first configuration"));
+    // A bad rope in the spec is refused where the campaign reads it.
+    let bad = text.replace("rope_anytime_auc = 0.02", "rope_anytime_auc = -1");
+    let e = metabezier::experiment::Spec::parse(Path::new("q.toml"), &bad)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("report.rope_anytime_auc") && e.contains("[0, 10]"),
+        "{e}"
+    );
+}

@@ -143,3 +143,20 @@ pub fn implant(dir: &std::path::Path, text: &str) -> (bool, String) {
         String::from_utf8_lossy(&out.stderr).into_owned(),
     )
 }
+
+/// The columns of a hand-made `runs.csv` (no instances).
+pub const HEADER: &str = "algorithm,kind,params,problem,dim,budget,run,seed,best,error,evaluations,evaluations_to_target,success\n";
+
+/// A runs.csv written by hand: `rows` of (algorithm, problem, run, error,
+/// evaluations to target).
+pub fn hand_made(rows: &[(&str, &str, u32, f64, Option<u64>)]) -> String {
+    let mut s = HEADER.to_owned();
+    for (alg, problem, run, error, ett) in rows {
+        s.push_str(&format!(
+            "{alg},hs,hms=5,{problem},2,1000,{run},{run},{error},{error},1000,{},{}\n",
+            ett.map_or(String::new(), |e| e.to_string()),
+            ett.is_some()
+        ));
+    }
+    s
+}
