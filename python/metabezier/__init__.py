@@ -16,6 +16,8 @@ seed gives the same bits as the library and the ``metabezier`` command line.
 from __future__ import annotations
 
 import csv
+import math
+import operator
 import os
 from dataclasses import dataclass, field
 from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
@@ -23,6 +25,9 @@ from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
 from . import _core
 
 __version__ = _core.__version__
+
+#: The most evaluations one run may have, as in a spec (``MAX_BUDGET``).
+MAX_BUDGET: int = _core.MAX_BUDGET
 
 __all__ = [
     "Algorithm",
@@ -82,6 +87,36 @@ class OptimizeResult:
         return getattr(self, key)
 
 
+def _integer(value: Any, name: str, low: int, high: int, what: str) -> int:
+    """``value`` as an int in ``[low, high]``, or a ``ValueError`` naming
+    ``name`` (a bool, a float or anything out of range is refused)."""
+    if not isinstance(value, bool):
+        try:
+            n = operator.index(value)
+        except TypeError:
+            n = None
+        if n is not None and low <= n <= high:
+            return n
+    raise ValueError(f"{name} = {value!r}: expected {what}, an integer from {low} to {high}")
+
+
+def _budget(budget: Any, name: str = "budget") -> int:
+    return _integer(budget, name, 1, MAX_BUDGET, "a number of evaluations")
+
+
+def _seed(seed: Any) -> int:
+    return _integer(seed, "seed", 0, 2**64 - 1, "a seed")
+
+
+def _verdict(best: float, nfev: int) -> Tuple[bool, str]:
+    """``success`` and ``message`` of a run whose best value is ``best``."""
+    if math.isnan(best) or best == math.inf:
+        return False, f"no finite value of fun was seen in {nfev} evaluations (each was NaN or inf)"
+    if best == -math.inf:
+        return False, "fun returned -inf: the problem is unbounded below where it was evaluated"
+    return True, "budget spent"
+
+
 def _bounds_pairs(bounds: Any) -> List[Tuple[float, float]]:
     """``bounds`` as a list of ``(lower, upper)`` floats, or a ``ValueError``."""
     try:
@@ -137,23 +172,23 @@ def minimize(
     ``params`` are the algorithm's parameters, named as in
     :func:`algorithms` (``metabezier list``). The same ``seed`` gives the
     same result, bit for bit. An exception raised in ``fun`` stops the run
-    and propagates.
+    at once and propagates with its traceback; Ctrl-C raises
+    ``KeyboardInterrupt``. ``success`` is ``False`` (with a ``message``)
+    when no finite value was seen.
 
     >>> r = minimize(lambda x: sum(v * v for v in x), [(-5, 5)] * 3, budget=2000, seed=7)
     >>> r.fun < 1e-2, r.nfev
     (True, 2000)
     """
     pairs = _bounds_pairs(bounds)
-    if isinstance(budget, bool) or not isinstance(budget, int) or budget < 1:
-        raise ValueError(f"budget = {budget!r}: expected an integer number of evaluations >= 1")
-    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2**64:
-        raise ValueError(f"seed = {seed!r}: expected an integer in [0, 2**64)")
+    budget, seed = _budget(budget), _seed(seed)
     if not callable(fun):
         raise ValueError("fun: expected a callable")
     target = _batch_adapter(fun, len(pairs)) if batch else fun
     x, best, nfev, trace = _core.minimize(
-        target, pairs, algorithm, budget, seed, bool(batch), params or None
+        target, pairs, str(algorithm), budget, seed, bool(batch), params or None
     )
+    success, message = _verdict(best, nfev)
     return OptimizeResult(
         x=list(x),
         fun=best,
@@ -163,6 +198,8 @@ def minimize(
         algorithm=algorithm,
         seed=seed,
         params=dict(params),
+        success=success,
+        message=message,
     )
 
 
@@ -177,11 +214,15 @@ def benchmark(
     """One run on a built-in benchmark function (``sphere``, ``rastrigin``,
     ... as ``metabezier list`` names them) at dimension ``dim``, entirely in
     Rust: the same run a spec makes with the same seed. ``fun`` is the
-    objective value."""
-    x, best, nfev, trace = _core.benchmark(function, int(dim), algorithm, int(budget), int(seed), params or None)
+    objective value. Ctrl-C raises ``KeyboardInterrupt``."""
+    dim = _integer(dim, "dim", 1, 2**32, "a dimension")
+    budget, seed = _budget(budget), _seed(seed)
+    x, best, nfev, trace = _core.benchmark(str(function), dim, str(algorithm), budget, seed, params or None)
+    success, message = _verdict(best, nfev)
     return OptimizeResult(
         x=list(x), fun=best, nfev=nfev, nit=None, trace=list(trace),
         algorithm=algorithm, seed=seed, params=dict(params),
+        success=success, message=message,
     )
 
 
@@ -236,9 +277,14 @@ def run(
     ``results/<name>``), ``threads`` the workers (default all cores; the
     results are the same for any number), ``resume`` reuses finished runs,
     ``shard`` is ``"K/N"``. Problems registered with
-    :func:`register_problem` may be named."""
+    :func:`register_problem` may be named. Ctrl-C raises
+    ``KeyboardInterrupt`` within a few evaluations of every run in
+    progress; the finished runs are kept, and ``resume=True`` finishes the
+    others."""
     text = os.fspath(spec)
     directory = None if out is None else os.fspath(out)
+    if threads is not None:
+        threads = _integer(threads, "threads", 1, 2**32, "a number of worker threads")
     result = _core.run(text, directory, threads, bool(resume), shard, bool(allow_large))
     return RunSummary(*result)
 
@@ -366,10 +412,13 @@ def fit(
     shared joins) or ``sequential`` (one after another, the thesis's).
     The names are those of the command line. As in a CSV of points, the
     outline is closed when its last point repeats the first (that point is
-    dropped), unless ``closed`` says otherwise."""
+    dropped), unless ``closed`` says otherwise. Ctrl-C raises
+    ``KeyboardInterrupt``."""
     pts = _points(points)
-    if segments is not None and (isinstance(segments, bool) or not isinstance(segments, int)):
-        raise ValueError(f"segments = {segments!r}: expected an integer")
+    if segments is not None:
+        segments = _integer(segments, "segments", 1, 2**32, "a number of segments")
+    budget, seed = _budget(budget), _seed(seed)
+    corner_k = _integer(corner_k, "corner_k", 1, 2**32, "a number of neighbours")
     rows, metrics = _core.fit(
         pts,
         None if closed is None else bool(closed),
@@ -378,15 +427,15 @@ def fit(
         segments,
         None if tolerance is None else float(tolerance),
         algorithm,
-        int(budget),
-        int(seed),
+        budget,
+        seed,
         closing,
         search_space,
         parameterisation,
         error,
         chain,
         float(corner_angle),
-        int(corner_k),
+        corner_k,
     )
     segs = [
         Segment(c, f, [tuple(p) for p in cp], list(w), first, last)

@@ -5,16 +5,28 @@
 //! Python exception (`ValueError` for bad arguments, `RuntimeError` for a
 //! campaign or fit that fails, and the user's own exception when `fun`
 //! raises).
+//!
+//! Python behaves like Python here: a call that runs Rust code for long
+//! (`benchmark`, `run`, `fit`) runs it on a worker thread while the calling
+//! thread looks for signals every [`SIGNAL_POLL`] and, on Ctrl-C, asks
+//! every run to end ([`interrupt::request`]) and raises `KeyboardInterrupt`;
+//! `minimize` calls Python for every evaluation and looks for signals after
+//! each call. The first exception of a Python objective stops its run at
+//! once: the problem unwinds out of the optimiser with
+//! [`std::panic::resume_unwind`], which runs no panic hook, so nothing but
+//! the exception reaches the user.
 
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, OnceLock};
+use std::time::Duration;
 
+use metabezier::experiment::spec::MAX_BUDGET;
 use metabezier::experiment::{
     run_campaign, ProblemDef, Registry, RunOptions, Spec, SpecLimits, Summary,
 };
 use metabezier::fit::{Chain, Closing, ErrorMeasure, FitOptions, FunctionType, SearchSpace};
 use metabezier::geometry::{Continuity, Parameterisation, Point};
-use metabezier::optim::{Optimisers, ParamSet, Raw};
+use metabezier::optim::{interrupt, Optimisers, ParamSet, Raw};
 use metabezier::outline::{
     outline_from_points, svg_from_str, CornerOptions, CsvOptions, Outline, MAX_COORDINATE,
 };
@@ -34,17 +46,18 @@ use pyo3::types::{PyBytes, PyDict, PyList};
 /// mode calls the package's adapter with the row-major bytes of `n` points
 /// and `n`, once per [`Problem::objective_batch`] (a generation of GA,
 /// CMA-ES or L-SHADE), and reads `n` little-endian `f64` back. The first
-/// exception `fun` raises is kept; every later evaluation returns `+∞`
-/// without calling Python, and the caller re-raises it when the run ends
-/// (or, in a campaign, the run stops by panicking, which the runner reports
-/// with finished runs kept).
+/// exception `fun` raises (a `KeyboardInterrupt` from a signal seen after a
+/// call too) is kept and the run unwinds at once ([`PyProblem::fail`]):
+/// `minimize` re-raises it, a campaign's runner reports the run as stopped
+/// with the finished runs kept.
 struct PyProblem {
     name: String,
     fun: Py<PyAny>,
     bounds: Vec<Bounds>,
     batch: bool,
-    /// Panic on the first exception (campaigns) instead of recording it.
-    stop_on_error: bool,
+    /// A campaign's problem: its exception goes to [`CAMPAIGN_ERROR`], and
+    /// an interrupt of the campaign ends its run at the next call.
+    in_campaign: bool,
     error: Mutex<Option<PyErr>>,
 }
 
@@ -52,21 +65,26 @@ struct PyProblem {
 static CAMPAIGN_ERROR: Mutex<Option<PyErr>> = Mutex::new(None);
 
 impl PyProblem {
-    fn failed(&self) -> bool {
-        self.error.lock().map_or(true, |e| e.is_some())
+    /// Keeps `err` and ends the run at once: unwinds out of the optimiser
+    /// without running the panic hook (no Rust text on stderr), to the
+    /// `catch_unwind` of `minimize` or of the campaign runner.
+    fn fail(&self, err: PyErr) -> ! {
+        let message = format!("the Python function of problem {}: {err}", self.name);
+        let slot = if self.in_campaign {
+            &CAMPAIGN_ERROR
+        } else {
+            &self.error
+        };
+        if let Ok(mut slot) = slot.lock() {
+            slot.get_or_insert(err);
+        }
+        std::panic::resume_unwind(Box::new(message))
     }
 
-    /// Keeps `err` (or stops the campaign run with it).
-    fn fail(&self, py: Python<'_>, err: PyErr) {
-        if self.stop_on_error {
-            let message = format!("the Python function of problem {}: {err}", self.name);
-            if let Ok(mut slot) = CAMPAIGN_ERROR.lock() {
-                slot.get_or_insert(err.clone_ref(py));
-            }
-            panic!("{message}");
-        }
-        if let Ok(mut slot) = self.error.lock() {
-            slot.get_or_insert(err);
+    /// Ends a campaign's run at once when the campaign was interrupted.
+    fn stop_if_interrupted(&self) {
+        if self.in_campaign && interrupt::requested() {
+            std::panic::resume_unwind(Box::new(String::from("interrupted")))
         }
     }
 
@@ -77,6 +95,9 @@ impl PyProblem {
     fn call_scalar(&self, py: Python<'_>, x: &[f64]) -> PyResult<f64> {
         let list = PyList::new(py, x)?;
         let y = self.fun.bind(py).call1((list,))?;
+        // A builtin `fun` runs no bytecode, where Python would handle a
+        // signal: look for one after every call (a flag test when none).
+        py.check_signals()?;
         y.extract::<f64>().map_err(|_| {
             PyTypeError::new_err(format!(
                 "fun must return a real number, returned {}",
@@ -93,6 +114,7 @@ impl PyProblem {
             .fun
             .bind(py)
             .call1((PyBytes::new(py, &bytes), out.len()))?;
+        py.check_signals()?;
         let y = y.cast::<PyBytes>().map_err(|_| {
             PyTypeError::new_err("the batch adapter must return bytes (internal error)")
         })?;
@@ -128,16 +150,11 @@ impl Problem for PyProblem {
             self.objective_batch(x, &mut out);
             return out[0];
         }
-        if self.failed() {
-            return f64::INFINITY;
-        }
-        Python::attach(|py| match self.call_scalar(py, x) {
+        self.stop_if_interrupted();
+        match Python::attach(|py| self.call_scalar(py, x)) {
             Ok(y) => y,
-            Err(e) => {
-                self.fail(py, e);
-                f64::INFINITY
-            }
-        })
+            Err(e) => self.fail(e),
+        }
     }
 
     fn objective_batch(&self, xs: &[f64], out: &mut [f64]) {
@@ -145,16 +162,51 @@ impl Problem for PyProblem {
             metabezier::problem::objective_rows(self, xs, out);
             return;
         }
-        if self.failed() {
-            out.fill(f64::INFINITY);
-            return;
+        self.stop_if_interrupted();
+        if let Err(e) = Python::attach(|py| self.call_batch(py, xs, out)) {
+            self.fail(e)
         }
-        Python::attach(|py| {
-            if let Err(e) = self.call_batch(py, xs, out) {
-                self.fail(py, e);
-                out.fill(f64::INFINITY);
+    }
+}
+
+/// How often a call running Rust code on a worker thread looks for signals.
+const SIGNAL_POLL: Duration = Duration::from_millis(20);
+
+/// Runs `work` on a worker thread while this thread looks for signals every
+/// [`SIGNAL_POLL`], without the GIL; on a signal's exception (Ctrl-C's
+/// `KeyboardInterrupt`) every run is asked to end ([`interrupt::request`]),
+/// the worker is joined (its runs end within [`interrupt::POLL_EVALUATIONS`]
+/// evaluations) and the exception is raised: whatever `work` returned is not
+/// a result.
+fn interruptible<T: Send>(py: Python<'_>, work: impl FnOnce() -> T + Send) -> PyResult<T> {
+    let _watch = interrupt::Watch::begin();
+    let caller = std::thread::current();
+    let mut signal: Option<PyErr> = None;
+    let joined = py.detach(|| {
+        std::thread::scope(|s| {
+            let worker = s.spawn(|| {
+                let out = work();
+                caller.unpark();
+                out
+            });
+            while !worker.is_finished() {
+                std::thread::park_timeout(SIGNAL_POLL);
+                if signal.is_none() && !worker.is_finished() {
+                    if let Err(e) = Python::attach(|py| py.check_signals()) {
+                        interrupt::request();
+                        signal = Some(e);
+                    }
+                }
             }
-        });
+            worker.join()
+        })
+    });
+    if let Some(e) = signal {
+        return Err(e);
+    }
+    match joined {
+        Ok(out) => Ok(out),
+        Err(panic) => std::panic::resume_unwind(panic),
     }
 }
 
@@ -235,11 +287,7 @@ fn configured(
     budget: u64,
     dim: usize,
 ) -> PyResult<metabezier::optim::Algorithm> {
-    if budget == 0 {
-        return Err(PyValueError::new_err(
-            "budget: expected at least 1 evaluation",
-        ));
-    }
+    check_budget("budget", budget)?;
     let set = param_set(algorithm, params)?;
     let alg = Optimisers::builtin()
         .build(algorithm, &set)
@@ -255,6 +303,18 @@ fn configured(
         )));
     }
     Ok(alg)
+}
+
+/// `budget` (named `name`) checked as a spec's: from 1 to
+/// [`MAX_BUDGET`] evaluations.
+fn check_budget(name: &str, budget: u64) -> PyResult<()> {
+    if (1..=MAX_BUDGET).contains(&budget) {
+        return Ok(());
+    }
+    Err(PyValueError::new_err(format!(
+        "{name} = {budget}: expected from 1 to {MAX_BUDGET} evaluations (the limit of a spec's \
+         budget, MAX_BUDGET)"
+    )))
 }
 
 /// One run's result for Python: (best x, its value, evaluations used,
@@ -299,14 +359,17 @@ fn minimize(
         fun,
         bounds,
         batch,
-        stop_on_error: false,
+        in_campaign: false,
         error: Mutex::new(None),
     };
-    let outcome = alg.run(&problem, budget, &mut run_rng(seed));
-    if let Some(e) = problem.take_error() {
-        return Err(e);
+    let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        alg.run(&problem, budget, &mut run_rng(seed))
+    }));
+    match (run, problem.take_error()) {
+        (Ok(outcome), _) => Ok(run_result(outcome)),
+        (Err(_), Some(e)) => Err(e),
+        (Err(panic), None) => std::panic::resume_unwind(panic),
     }
-    Ok(run_result(outcome))
 }
 
 /// `benchmark`: one run of a registered optimiser on a built-in benchmark
@@ -337,7 +400,7 @@ fn benchmark(
     let problem = metabezier::functions::TestProblem::new(f, dim)
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
     let alg = configured(algorithm, params, budget, dim)?;
-    let outcome = py.detach(|| alg.run(&problem, budget, &mut run_rng(seed)));
+    let outcome = interruptible(py, || alg.run(&problem, budget, &mut run_rng(seed)))?;
     Ok(run_result(outcome))
 }
 
@@ -406,7 +469,7 @@ fn register_problem(
                 fun: Python::attach(|py| fun.clone_ref(py)),
                 bounds: b,
                 batch,
-                stop_on_error: true,
+                in_campaign: true,
                 error: Mutex::new(None),
             })
         },
@@ -468,9 +531,10 @@ fn run(
     if let Ok(mut slot) = CAMPAIGN_ERROR.lock() {
         *slot = None;
     }
-    // Detached, so that the workers can call Python functions.
+    // On a worker thread without the GIL, so that the workers can call
+    // Python functions and Ctrl-C ends the campaign, resumable.
     let result: Result<Summary, String> =
-        py.detach(|| run_campaign(&spec, &opts).map_err(|e| e.to_string()));
+        interruptible(py, || run_campaign(&spec, &opts).map_err(|e| e.to_string()))?;
     match result {
         Ok(s) => Ok((
             s.out.display().to_string(),
@@ -592,11 +656,7 @@ fn fit(
         }
         (None, None) => Segmentation::Tolerance(DEFAULT_TOLERANCE),
     };
-    if budget == 0 {
-        return Err(PyValueError::new_err(
-            "budget: expected at least 1 evaluation",
-        ));
-    }
+    check_budget("budget", budget)?;
     if !(0.0..180.0).contains(&corner_angle) || corner_k == 0 {
         return Err(PyValueError::new_err(
             "corner_angle: expected degrees in [0, 180) (0 finds no corners); corner_k: at least 1",
@@ -626,8 +686,7 @@ fn fit(
         }),
         options,
     };
-    let shape = py
-        .detach(|| r.fit(&method, seed))
+    let shape = interruptible(py, || r.fit(&method, seed))?
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
     let rows = shape
         .segments()
@@ -703,5 +762,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fit, m)?)?;
     m.add_function(wrap_pyfunction!(score_svg, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("MAX_BUDGET", MAX_BUDGET)?;
     Ok(())
 }

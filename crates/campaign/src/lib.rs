@@ -281,6 +281,17 @@ pub enum CampaignError {
         /// The journal that holds the finished runs.
         journal: PathBuf,
     },
+    /// The host asked every run to end ([`crate::optim::interrupt::request`]:
+    /// Ctrl-C in Python): no new run started, the runs in progress were
+    /// discarded, and the finished ones are kept in the journal.
+    #[error(
+        "interrupted: every run finished before the interrupt is kept in {}; pass --resume (resume=True) to finish the others",
+        journal.display()
+    )]
+    Interrupted {
+        /// The journal that holds the finished runs.
+        journal: PathBuf,
+    },
 }
 
 /// What a too large campaign exceeds: its runs over [`MAX_RUNS`], its

@@ -22,7 +22,7 @@ use super::records::{self, RunKey, RunRecord};
 use super::spec::{FitCase, RunId, Spec};
 use super::{CampaignAction, CampaignError, ExperimentError};
 use crate::files::{create_dir, csv_bytes, fmt_real, write_atomic, IoError};
-use crate::optim::MAX_STATE_BYTES;
+use crate::optim::{interrupt, MAX_STATE_BYTES};
 use crate::reconstruction::Method;
 use crate::rng::{derive_seed, fnv1a64, RNG_NAME};
 
@@ -772,6 +772,12 @@ fn execute_journalled(
     // vectors, so the records' memory is what `estimated_bytes` counts.
     let stop = std::sync::atomic::AtomicBool::new(false);
     let failed: Mutex<Option<ExperimentError>> = Mutex::new(None);
+    let interrupted = || {
+        CampaignError::Interrupted {
+            journal: journal_path.to_owned(),
+        }
+        .into()
+    };
     let fail = |e: ExperimentError| {
         stop.store(true, std::sync::atomic::Ordering::Relaxed);
         let mut first = failed.lock().unwrap_or_else(|p| p.into_inner());
@@ -784,12 +790,23 @@ fn execute_journalled(
                 if stop.load(std::sync::atomic::Ordering::Relaxed) {
                     return None;
                 }
+                if interrupt::requested() {
+                    fail(interrupted());
+                    return None;
+                }
                 // A panic in an optimiser's or a problem's code (a library
                 // user's own, say) stops the campaign with the run named;
                 // the finished runs stay in the journal.
                 let id = spec.run_id(i);
                 let run =
                     std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| execute(spec, id)));
+                // A run the host interrupted ended early (or unwound from a
+                // Python objective): it is not a result, and is redone on
+                // resume.
+                if interrupt::requested() {
+                    fail(interrupted());
+                    return None;
+                }
                 let mut rec = match run {
                     Ok(rec) => rec,
                     Err(payload) => {

@@ -6,6 +6,7 @@
 //! evaluations for every algorithm alike, and the trace is recorded the same
 //! way for all of them.
 
+use super::interrupt;
 use crate::problem::{Bounds, Problem};
 
 /// The best-so-far value after a given number of evaluations.
@@ -101,6 +102,9 @@ pub fn sanitise(value: f64) -> f64 {
 pub struct Evaluator<'p, P: Problem + ?Sized> {
     problem: &'p P,
     budget: u64,
+    /// Where the run ends: the budget, or the evaluation at which an
+    /// interrupt was seen ([`interrupt::requested`]).
+    end: u64,
     used: u64,
     best_value: f64,
     best_x: Vec<f64>,
@@ -123,6 +127,7 @@ impl<'p, P: Problem + ?Sized> Evaluator<'p, P> {
         Self {
             problem,
             budget,
+            end: budget,
             used: 0,
             best_value: f64::INFINITY,
             best_x: vec![f64::NAN; dim],
@@ -194,10 +199,16 @@ impl<'p, P: Problem + ?Sized> Evaluator<'p, P> {
         self.used
     }
 
-    /// Evaluations left in the budget.
+    /// Evaluations left in the budget (none once an interrupt was seen).
     #[inline]
     pub fn remaining(&self) -> u64 {
-        self.budget - self.used
+        self.end.saturating_sub(self.used)
+    }
+
+    /// Whether the run was ended early by [`interrupt::request`]: its
+    /// outcome is not a result.
+    pub fn interrupted(&self) -> bool {
+        self.end < self.budget
     }
 
     /// The fraction of the budget used, `t/NI` in the thesis's notation.
@@ -221,7 +232,7 @@ impl<'p, P: Problem + ?Sized> Evaluator<'p, P> {
     #[inline]
     pub fn evaluate(&mut self, x: &[f64]) -> f64 {
         debug_assert_eq!(x.len(), self.problem.dim());
-        if self.used >= self.budget {
+        if self.used >= self.end {
             return f64::INFINITY;
         }
         let value = sanitise(self.problem.objective(x));
@@ -256,6 +267,9 @@ impl<'p, P: Problem + ?Sized> Evaluator<'p, P> {
     #[inline]
     fn record(&mut self, x: &[f64], value: f64) -> f64 {
         self.used += 1;
+        if self.used & (interrupt::POLL_EVALUATIONS - 1) == 0 && interrupt::requested() {
+            self.end = self.end.min(self.used);
+        }
         if value < self.best_value {
             self.best_value = value;
             self.best_x.copy_from_slice(x);

@@ -191,6 +191,9 @@ impl LevenbergMarquardt {
             if s.e <= self.value_tol {
                 return Termination::Value;
             }
+            if super::interrupt::requested() {
+                return Termination::Budget;
+            }
             if s.iterations >= self.max_iterations {
                 return Termination::Iterations;
             }

@@ -25,6 +25,7 @@ pub mod ga;
 pub mod ghs;
 pub mod harmony;
 pub mod hs;
+pub mod interrupt;
 pub mod lm;
 pub mod lshade;
 pub mod mhs;
