@@ -116,21 +116,6 @@ pub(crate) fn header_has(path: &Path, name: &str) -> Result<bool, ReadError> {
     Ok(header.iter().any(|h| h == name))
 }
 
-/// A cell's text as an error quotes it (from a file whose header is right):
-/// at most 40 characters, control characters escaped, `…` where cut.
-pub(crate) fn shortened(text: &str) -> String {
-    const MAX: usize = 40;
-    let mut out: String = text
-        .chars()
-        .take(MAX)
-        .flat_map(char::escape_debug)
-        .collect();
-    if text.chars().nth(MAX).is_some() {
-        out.push('…');
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -163,13 +148,5 @@ mod tests {
         let mut rest = String::new();
         reader.into_inner().read_to_string(&mut rest).unwrap();
         assert!(rest.is_empty());
-    }
-
-    #[test]
-    fn quoted_cells_are_cut_and_escaped() {
-        assert_eq!(shortened("1.5e"), "1.5e");
-        assert_eq!(shortened("a\u{7}b"), "a\\u{7}b");
-        let long = "x".repeat(100);
-        assert_eq!(shortened(&long), format!("{}…", "x".repeat(40)));
     }
 }

@@ -21,10 +21,10 @@ use std::io::{self, Write};
 use std::path::Path;
 
 pub use super::outcome::{default_targets, FitDetail};
-use super::reading::{open_csv, read_header, shortened, RESULT_LIMITS, RUNS_LIMITS};
+use super::reading::{open_csv, read_header, RESULT_LIMITS, RUNS_LIMITS};
 use super::segments::{FIT_SEGMENT_HEADER, SEGMENT_HEADER};
 use super::spec::{factor_suffix, Spec};
-use crate::files::{fmt_real, write_atomic_with, IoError};
+use crate::files::{excerpt, fmt_real, write_atomic_with, IoError};
 use crate::functions::Transform;
 use crate::optim::{TargetHit, TracePoint};
 
@@ -32,7 +32,7 @@ use crate::optim::{TargetHit, TracePoint};
 #[derive(Debug, thiserror::Error)]
 pub enum DataProblem {
     /// A cell cannot be read as its column's type.
-    #[error("column {column}: cannot read \"{}\"", shortened(text))]
+    #[error("column {column}: cannot read \"{}\"", excerpt(text))]
     Cell {
         /// The column.
         column: String,
@@ -40,7 +40,7 @@ pub enum DataProblem {
         text: String,
     },
     /// The `success` column holds neither `true` nor `false`.
-    #[error("column success: expected true or false, found \"{}\"", shortened(.0))]
+    #[error("column success: expected true or false, found \"{}\"", excerpt(.0))]
     Success(String),
     /// A row has too few columns.
     #[error("expected {expected} columns, found {found}")]
@@ -55,7 +55,7 @@ pub enum DataProblem {
     WrongColumnCount,
     /// The header is not the file's schema: the file is not of this
     /// format (its first line is not quoted: it may be any file).
-    #[error("expected the header {} ({} columns), but the first line is not that header (it has {found} columns): this file is not in that format", expected.join(","), expected.len())]
+    #[error("expected the header {} ({} columns), but the first line is not that header (it has {found} column{}): this file is not in that format", expected.join(","), expected.len(), if *found == 1 { "" } else { "s" })]
     Header {
         /// The schema's columns.
         expected: Vec<String>,
@@ -82,7 +82,7 @@ pub enum DataProblem {
     NoRuns,
     /// A real is not of the kind its column needs (a NaN, say, where the
     /// tool never writes one).
-    #[error("column {column}: expected {expected}, found \"{}\"", shortened(text))]
+    #[error("column {column}: expected {expected}, found \"{}\"", excerpt(text))]
     NotFinite {
         /// The column.
         column: String,

@@ -8,7 +8,7 @@
 //! `files::write_atomic` are found in one place above the core.
 #![warn(missing_docs)]
 
-pub use metabezier_core::files::{csv_bytes, fmt_real};
+pub use metabezier_core::files::{csv_bytes, excerpt, fmt_real};
 
 use std::io;
 use std::path::{Path, PathBuf};
