@@ -12,7 +12,8 @@ use metabezier::experiment::{merge, run_campaign, RunOptions, Shard, Spec};
 use metabezier::report::{write_report, ReportOptions};
 
 /// The first lines of a file that is not ours at all.
-const PASSWD: &str = "root:x:0:0:root:/root:/bin/bash\ndaemon:x:1:1:daemon:/usr/sbin:/usr/sbin/nologin\n";
+const PASSWD: &str =
+    "root:x:0:0:root:/root:/bin/bash\ndaemon:x:1:1:daemon:/usr/sbin:/usr/sbin/nologin\n";
 
 const SPEC: &str = r#"
 [experiment]
@@ -60,7 +61,10 @@ fn sparse(path: &Path, bytes: u64) {
 
 fn assert_line_cap(e: &str, file: &Path) {
     assert!(
-        e.contains(&format!("{}:1: line 1 is longer than the 64 MiB", file.display())),
+        e.contains(&format!(
+            "{}:1: line 1 is longer than the 64 MiB",
+            file.display()
+        )),
         "{e}"
     );
 }
@@ -134,7 +138,10 @@ fn a_file_of_another_format_is_named_never_quoted() {
     // An external runs file, then the directory's own runs.csv.
     let e = refused(report(&dir, Some(passwd.clone())), &passwd);
     assert!(e.contains(":1: expected the header algorithm,kind,"), "{e}");
-    assert!(e.contains("(it has 1 column): this file is not in that format"), "{e}");
+    assert!(
+        e.contains("(it has 1 column): this file is not in that format"),
+        "{e}"
+    );
     let own = dir.join("runs.csv");
     std::fs::write(&own, PASSWD).unwrap();
     refused(report(&dir, None), &own);

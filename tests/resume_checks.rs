@@ -128,7 +128,7 @@ fn an_edited_journal_row_is_redone_and_the_results_are_the_uninterrupted_ones() 
     for (name, edit, want) in cases {
         let out = tmp.path().join(name);
         assert!(!run(&spec, &out, Some(5), false).complete);
-        let journal = edit_second_line(&out, &edit(&out));
+        let journal = edit_second_line(&out, edit(&out));
         let s = run(&spec, &out, None, true);
         assert!(s.complete, "{name}");
         assert_eq!((s.reused, s.executed), (4, total - 4), "{name}");

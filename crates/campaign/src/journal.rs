@@ -16,8 +16,8 @@
 
 use std::path::Path;
 
-pub use super::journal_check::RowProblem;
 use super::journal_check::{check_row, checksum};
+pub use super::journal_check::{JournalRow, RowProblem};
 #[cfg(test)]
 use super::reading::MAX_RESULT_LINE_BYTES;
 use super::reading::{open_csv, JOURNAL_LIMITS};
@@ -66,19 +66,6 @@ pub fn journal_line(r: &RunRecord) -> Vec<u8> {
         .from_writer(Vec::new());
     w.write_record(&fields).expect("writing to memory");
     w.into_inner().expect("writing to memory")
-}
-
-/// One complete line of a journal, read.
-#[derive(Clone, Debug, PartialEq)]
-pub struct JournalRow {
-    /// Its line in the journal, from 1.
-    pub line: u64,
-    /// The run it records.
-    pub record: RunRecord,
-    /// Where the line disagrees with itself (its checksum, or for a line
-    /// written before checksums its trace), if it does: such a row is not
-    /// to be trusted and its run is to be redone.
-    pub problem: Option<RowProblem>,
 }
 
 /// Reads the records of a journal, ignoring an incomplete last line (the

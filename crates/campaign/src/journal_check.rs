@@ -11,9 +11,9 @@
 //! is not a fit, its `best` and `evaluations` must be the trace's last
 //! point, which the evaluator always ends a run with (a fit's trace ends
 //! before its chain's last evaluations, so an old fit row has only the
-//! spec's checks). Against the spec ([`check_against_spec`]), every row's
-//! `seed` must be the one derived for its run ([`run_seed`]), and its
-//! `error` must be `best − f*` of its problem.
+//! spec's checks). Against the spec, every row's `seed` must be the one
+//! derived for its run ([`crate::runner::run_seed`]), and its `error` must
+//! be `best − f*` of its problem.
 //!
 //! A row that disagrees is not an error: it is dropped, its run is redone,
 //! and the resume names the journal, the line and the field
@@ -23,11 +23,20 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use crate::files::fmt_real;
-use crate::journal::JournalRow;
 use crate::records::RunRecord;
-use crate::runner::{foreign_run, run_seed, RunIndex};
-use crate::spec::Spec;
-use crate::{CampaignAction, CampaignError};
+
+/// One complete line of a journal, read.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JournalRow {
+    /// Its line in the journal, from 1.
+    pub line: u64,
+    /// The run it records.
+    pub record: RunRecord,
+    /// Where the line disagrees with itself (its checksum, or for a line
+    /// written before checksums its trace), if it does: such a row is not
+    /// to be trusted and its run is to be redone.
+    pub problem: Option<RowProblem>,
+}
 
 /// Where a journal row disagrees with itself or with the spec.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
@@ -105,16 +114,10 @@ fn trace_problem(r: &RunRecord) -> Option<RowProblem> {
     })
 }
 
-/// Whether run `r`, at position `position` of `spec`'s runs, disagrees
-/// with the spec: its seed with the one derived for it, or its error with
-/// `best − f*` of its problem.
-pub(crate) fn check_against_spec(
-    spec: &Spec,
-    position: usize,
-    r: &RunRecord,
-) -> Option<RowProblem> {
-    let id = spec.run_id(position);
-    let seed = run_seed(spec, id);
+/// Whether run `r` disagrees with what the spec gives its run: its seed
+/// with `seed`, the one derived for it ([`crate::runner::run_seed`]), or
+/// its error with `best − optimum`.
+fn check_against_spec(r: &RunRecord, seed: u64, optimum: f64) -> Option<RowProblem> {
     if r.seed != seed {
         return Some(RowProblem::new(
             "seed",
@@ -124,7 +127,7 @@ pub(crate) fn check_against_spec(
             ),
         ));
     }
-    let error = r.best - spec.problems[id.problem].optimum_value();
+    let error = r.best - optimum;
     (r.error != error).then(|| {
         RowProblem::new(
             "error",
@@ -138,22 +141,26 @@ pub(crate) fn check_against_spec(
 }
 
 /// The runs of `rows` (read from the journal at `journal`) that a resume
-/// keeps, by position in `spec`'s fixed order, and a located message for
-/// each row dropped because it disagrees with itself or the spec. A row
-/// of a run the spec does not define is an error, unless the row also
-/// disagrees with itself (then its key may be what was damaged).
+/// keeps, by their position in the spec's fixed order (`position`), and a
+/// located message for each row dropped because it disagrees with itself
+/// or with what the spec gives its run (`expected`: the derived seed and
+/// `f*` of a position). A row of a run the spec does not define is the
+/// error, returned as its record, unless the row also disagrees with
+/// itself (then its key may be what was damaged).
 pub(crate) fn trusted_rows(
-    spec: &Spec,
-    index: &RunIndex,
-    out: &Path,
-    journal: &Path,
     rows: Vec<JournalRow>,
-) -> Result<(HashMap<usize, RunRecord>, Vec<String>), CampaignError> {
+    journal: &Path,
+    position: impl Fn(&RunRecord) -> Option<usize>,
+    expected: impl Fn(usize) -> (u64, f64),
+) -> Result<(HashMap<usize, RunRecord>, Vec<String>), Box<RunRecord>> {
     let mut done = HashMap::new();
     let mut dropped = Vec::new();
     for row in rows {
-        let position = index.get(&row.record.key());
-        let against_spec = position.and_then(|i| check_against_spec(spec, i, &row.record));
+        let position = position(&row.record);
+        let against_spec = position.and_then(|i| {
+            let (seed, optimum) = expected(i);
+            check_against_spec(&row.record, seed, optimum)
+        });
         // The most telling field: the checksum says only that some field
         // changed, the spec's checks say which.
         let problem = match (row.problem, against_spec) {
@@ -169,7 +176,7 @@ pub(crate) fn trusted_rows(
             (Some(i), None) => {
                 done.insert(i, row.record);
             }
-            (None, None) => return Err(foreign_run(CampaignAction::Resume, out, &row.record)),
+            (None, None) => return Err(Box::new(row.record)),
         }
     }
     Ok((done, dropped))

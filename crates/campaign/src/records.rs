@@ -21,7 +21,7 @@ use std::io::{self, Write};
 use std::path::Path;
 
 pub use super::outcome::{default_targets, FitDetail};
-use super::reading::{open_csv, read_header, RESULT_LIMITS, RUNS_LIMITS};
+use super::reading::{open_csv, CsvFile, RESULT_LIMITS, RUNS_LIMITS};
 use super::segments::{FIT_SEGMENT_HEADER, SEGMENT_HEADER};
 use super::spec::{factor_suffix, Spec};
 use crate::files::{excerpt, fmt_real, write_atomic_with, IoError};
@@ -895,6 +895,40 @@ fn record_from(path: &Path, line: u64, f: &[&str]) -> Result<RunRecord, ReadErro
     })
 }
 
+/// The header of `reader`, checked by `schema_of` (which gives the schema
+/// the header belongs to); `expected` names the legacy layout in the error,
+/// which says how many columns the first line has but never quotes it.
+fn read_header(
+    path: &Path,
+    reader: &mut CsvFile,
+    expected: &[&str],
+    schema_of: impl Fn(&[&str]) -> Option<Schema>,
+) -> Result<Schema, ReadError> {
+    let header = reader
+        .headers()
+        .map_err(|e| data(path, 1, DataProblem::Csv(e)))?;
+    let found: Vec<&str> = header.iter().collect();
+    schema_of(&found).ok_or_else(|| {
+        data(
+            path,
+            1,
+            DataProblem::Header {
+                expected: expected.iter().map(|c| c.to_string()).collect(),
+                found: found.len(),
+            },
+        )
+    })
+}
+
+/// Whether the header line of the CSV file at `path` has the column `name`.
+fn header_has(path: &Path, name: &str) -> Result<bool, ReadError> {
+    let mut reader = open_csv(path, RESULT_LIMITS, true)?;
+    let header = reader
+        .headers()
+        .map_err(|e| data(path, 1, DataProblem::Csv(e)))?;
+    Ok(header.iter().any(|h| h == name))
+}
+
 /// Reads `runs.csv` alone (traces empty, wall time 0): the input of reports,
 /// which may also come from outside this tool.
 pub fn read_runs(path: &Path) -> Result<Vec<RunRecord>, ReadError> {
@@ -1084,8 +1118,8 @@ pub fn read_results(dir: &Path) -> Result<Vec<RunRecord>, ReadError> {
     let mut fits: Vec<Option<FitDetail>> = vec![None; records.len()];
     if dir.join("fits.csv").exists() {
         let path = dir.join("fits.csv");
-        let current = super::reading::header_has(&path, "rms_distance")?;
-        let two_sided = super::reading::header_has(&path, "hausdorff")?;
+        let current = header_has(&path, "rms_distance")?;
+        let two_sided = header_has(&path, "hausdorff")?;
         let (fit_rest, segment_rest): (&[&'static str], &[&'static str]) =
             match (current, two_sided) {
                 (true, true) => (&FIT_FIELDS_CURRENT, &FIT_SEGMENT_HEADER),

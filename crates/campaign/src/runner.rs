@@ -709,13 +709,13 @@ fn recover(
     let journal_path = out.join("journal.csv");
     if journal_path.exists() {
         let rows = journal::read_journal_rows(&journal_path)?;
-        return Ok(journal_check::trusted_rows(
-            spec,
-            index,
-            out,
-            &journal_path,
-            rows,
-        )?);
+        let expected = |i: usize| {
+            let id = spec.run_id(i);
+            let optimum = spec.problems[id.problem].optimum_value();
+            (run_seed(spec, id), optimum)
+        };
+        return journal_check::trusted_rows(rows, &journal_path, |r| index.get(&r.key()), expected)
+            .map_err(|r| foreign_run(CampaignAction::Resume, out, &r).into());
     }
     let mut done = HashMap::new();
     for r in records::read_results(out)? {
