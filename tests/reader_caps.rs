@@ -15,20 +15,9 @@ use metabezier::report::{write_report, ReportOptions};
 const PASSWD: &str =
     "root:x:0:0:root:/root:/bin/bash\ndaemon:x:1:1:daemon:/usr/sbin:/usr/sbin/nologin\n";
 
-const SPEC: &str = r#"
-[experiment]
-name = "capped"
-seed = 3
-runs = 2
-budget = 300
-
-[[problem]]
-function = "sphere"
-dim = 2
-
-[[algorithm]]
-name = "hs"
-"#;
+/// Two runs of HS on Sphere-2.
+const SPEC: &str = "[experiment]\nname = \"capped\"\nseed = 3\nruns = 2\nbudget = 300\n\
+                    [[problem]]\nfunction = \"sphere\"\ndim = 2\n[[algorithm]]\nname = \"hs\"\n";
 
 fn spec(dir: &Path) -> Spec {
     let path = dir.join("spec.toml");
@@ -57,6 +46,24 @@ fn report(dir: &Path, external: Option<PathBuf>) -> String {
 /// A sparse file of `bytes` NUL bytes at `path` (no disk used).
 fn sparse(path: &Path, bytes: u64) {
     std::fs::File::create(path).unwrap().set_len(bytes).unwrap();
+}
+
+/// A campaign of `spec` stopped after one run in `tmp/stopped`: its
+/// journal's path and the options that resume it.
+fn stopped(spec: &Spec, tmp: &Path) -> (PathBuf, RunOptions) {
+    let out = tmp.join("stopped");
+    let opts = RunOptions {
+        out: Some(out.clone()),
+        max_runs: Some(1),
+        ..RunOptions::default()
+    };
+    assert!(!run_campaign(spec, &opts).unwrap().complete);
+    let resume = RunOptions {
+        resume: true,
+        max_runs: None,
+        ..opts
+    };
+    (out.join("journal.csv"), resume)
 }
 
 fn assert_line_cap(e: &str, file: &Path) {
@@ -106,20 +113,8 @@ fn a_shards_runs_file_and_a_journal_without_end_are_refused_at_their_cap() {
         .to_string();
     assert_line_cap(&e, &runs);
 
-    let out = tmp.path().join("stopped");
-    let opts = RunOptions {
-        out: Some(out.clone()),
-        max_runs: Some(1),
-        ..RunOptions::default()
-    };
-    assert!(!run_campaign(&spec, &opts).unwrap().complete);
-    let journal = out.join("journal.csv");
+    let (journal, resume) = stopped(&spec, tmp.path());
     sparse(&journal, (64 << 20) + 1);
-    let resume = RunOptions {
-        resume: true,
-        max_runs: None,
-        ..opts
-    };
     let e = run_campaign(&spec, &resume).unwrap_err().to_string();
     assert_line_cap(&e, &journal);
 }
@@ -147,19 +142,8 @@ fn a_file_of_another_format_is_named_never_quoted() {
     refused(report(&dir, None), &own);
     // A journal.
     let spec = spec(tmp.path());
-    let out = tmp.path().join("stopped");
-    let opts = RunOptions {
-        out: Some(out.clone()),
-        max_runs: Some(1),
-        ..RunOptions::default()
-    };
-    assert!(!run_campaign(&spec, &opts).unwrap().complete);
-    let journal = out.join("journal.csv");
+    let (journal, resume) = stopped(&spec, tmp.path());
     std::fs::write(&journal, PASSWD).unwrap();
-    let resume = RunOptions {
-        resume: true,
-        ..opts
-    };
     let e = refused(
         run_campaign(&spec, &resume).unwrap_err().to_string(),
         &journal,

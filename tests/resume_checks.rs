@@ -9,24 +9,10 @@ use std::path::{Path, PathBuf};
 use metabezier::experiment::journal::{journal_line, read_journal};
 use metabezier::experiment::{run_campaign, RunOptions, Spec, Summary};
 
-const SPEC: &str = r#"
-[experiment]
-name = "checked"
-seed = 5
-runs = 3
-budget = 400
-
-[[problem]]
-function = ["sphere", "rastrigin"]
-dim = 3
-
-[[algorithm]]
-name = "hs"
-
-[[algorithm]]
-name = "pso"
-swarm = 10
-"#;
+/// Three runs of HS and PSO on Sphere-3 and Rastrigin-3.
+const SPEC: &str = "[experiment]\nname = \"checked\"\nseed = 5\nruns = 3\nbudget = 400\n\
+                    [[problem]]\nfunction = [\"sphere\", \"rastrigin\"]\ndim = 3\n\
+                    [[algorithm]]\nname = \"hs\"\n[[algorithm]]\nname = \"pso\"\nswarm = 10\n";
 
 fn spec(dir: &Path) -> Spec {
     let path = dir.join("spec.toml");
