@@ -140,6 +140,10 @@ fn check_against_spec(r: &RunRecord, seed: u64, optimum: f64) -> Option<RowProbl
     })
 }
 
+/// The runs a resume keeps, by position in the spec's fixed order, and a
+/// located message for each journal row it dropped.
+pub(crate) type Recovered = (HashMap<usize, RunRecord>, Vec<String>);
+
 /// The runs of `rows` (read from the journal at `journal`) that a resume
 /// keeps, by their position in the spec's fixed order (`position`), and a
 /// located message for each row dropped because it disagrees with itself
@@ -152,7 +156,7 @@ pub(crate) fn trusted_rows(
     journal: &Path,
     position: impl Fn(&RunRecord) -> Option<usize>,
     expected: impl Fn(usize) -> (u64, f64),
-) -> Result<(HashMap<usize, RunRecord>, Vec<String>), Box<RunRecord>> {
+) -> Result<Recovered, Box<RunRecord>> {
     let mut done = HashMap::new();
     let mut dropped = Vec::new();
     for row in rows {

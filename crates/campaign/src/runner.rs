@@ -678,7 +678,7 @@ fn recover(
     shard: Option<Shard>,
     out: &Path,
     index: &RunIndex,
-) -> Result<(HashMap<usize, RunRecord>, Vec<String>), ExperimentError> {
+) -> Result<journal_check::Recovered, ExperimentError> {
     let spec_copy = out.join("spec.toml");
     if let Ok(old) = read_text_limited(&spec_copy, MAX_TEXT_BYTES, "a spec") {
         if old != spec.text {
