@@ -355,6 +355,9 @@ fn run(
         s.reused,
         s.executed
     );
+    for dropped in &s.dropped {
+        say!(w, "  warning: {dropped}");
+    }
     if let Some(dir) = coco_log {
         if s.complete {
             for folder in coco_log::write_coco_log(&spec, opts.shard, dir)? {

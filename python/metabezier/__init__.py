@@ -19,6 +19,7 @@ import csv
 import math
 import operator
 import os
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
 
@@ -285,7 +286,10 @@ def run(
     directory = None if out is None else os.fspath(out)
     if threads is not None:
         threads = _integer(threads, "threads", 1, 2**32, "a number of worker threads")
-    result = _core.run(text, directory, threads, bool(resume), shard, bool(allow_large))
+    *result, dropped = _core.run(text, directory, threads, bool(resume), shard, bool(allow_large))
+    for message in dropped:
+        # A journal row that disagrees with itself: its run was redone.
+        warnings.warn(message, RuntimeWarning, stacklevel=2)
     return RunSummary(*result)
 
 

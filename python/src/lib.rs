@@ -494,7 +494,8 @@ fn load_spec(spec: &str, allow_large: bool, reg: &Registry) -> PyResult<Spec> {
 }
 
 /// `run`: a campaign exactly as `metabezier run` runs it. Returns
-/// `(output directory, total, reused, executed, complete)`.
+/// `(output directory, total, reused, executed, complete, dropped)`, with
+/// `dropped` the journal rows a resume refused (their runs were redone).
 #[pyfunction]
 #[pyo3(signature = (spec, out, threads, resume, shard, allow_large))]
 fn run(
@@ -505,7 +506,7 @@ fn run(
     resume: bool,
     shard: Option<String>,
     allow_large: bool,
-) -> PyResult<(String, usize, usize, usize, bool)> {
+) -> PyResult<(String, usize, usize, usize, bool, Vec<String>)> {
     let spec = {
         let reg = registry()
             .lock()
@@ -542,6 +543,7 @@ fn run(
             s.reused,
             s.executed,
             s.complete,
+            s.dropped,
         )),
         Err(message) => {
             let cause = CAMPAIGN_ERROR.lock().ok().and_then(|mut e| e.take());

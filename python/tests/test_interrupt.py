@@ -17,9 +17,10 @@ import metabezier as mb
 CHILD = pathlib.Path(__file__).with_name("interrupt_child.py")
 
 
-def interrupt(case, out, after=0.6):
+def interrupt(case, out, after=0.6, ready=lambda: True):
     """Starts the child on ``case``, sends SIGINT ``after`` seconds after it
-    is ready, and returns (its output, seconds from the signal to its exit)."""
+    is ready and once ``ready()`` holds (polled for up to 60 s), and returns
+    (its output, seconds from the signal to its exit)."""
     p = subprocess.Popen(
         [sys.executable, str(CHILD), case, str(out)],
         stdout=subprocess.PIPE,
@@ -29,6 +30,9 @@ def interrupt(case, out, after=0.6):
     try:
         assert p.stdout.readline().strip() == "ready"
         time.sleep(after)
+        deadline = time.monotonic() + 60
+        while not ready() and time.monotonic() < deadline:
+            time.sleep(0.01)
         sent = time.monotonic()
         p.send_signal(signal.SIGINT)
         out_text, err_text = p.communicate(timeout=60)
@@ -48,14 +52,25 @@ def test_sigint_raises_keyboard_interrupt_within_two_seconds(case, tmp_path):
 
 
 def test_an_interrupted_campaign_resumes_to_the_uninterrupted_bits(tmp_path):
-    output, _ = interrupt("run-resumable", tmp_path / "cut", after=0.35)
-    assert "KeyboardInterrupt" in output, output
     journal = tmp_path / "cut" / "journal.csv"
-    assert journal.exists() and not (tmp_path / "cut" / "runs.csv").exists()
+
+    def two_runs_finished():
+        return journal.exists() and journal.read_text().count("\n") >= 2
+
+    output, _ = interrupt("run-resumable", tmp_path / "cut", after=0.0, ready=two_runs_finished)
+    assert "KeyboardInterrupt" in output, output
+    lines = journal.read_text().splitlines()
+    assert 2 <= len(lines) < 6 and not (tmp_path / "cut" / "runs.csv").exists()
+    # A seed edited in the journal: the resume warns, names it, and redoes the run.
+    fields = lines[0].split(",")
+    fields[7] = "12345"
+    journal.write_text("\n".join([",".join(fields)] + lines[1:]) + "\n")
     from interrupt_child import SPEC
 
     spec = SPEC.format(budget=3 * 10**6)
-    mb.run(spec, out=tmp_path / "cut", threads=1, resume=True)
+    with pytest.warns(RuntimeWarning, match="field seed: 12345 is not the seed"):
+        s = mb.run(spec, out=tmp_path / "cut", threads=1, resume=True)
+    assert (s.reused, s.executed) == (len(lines) - 1, 6 - len(lines) + 1)
     mb.run(spec, out=tmp_path / "whole", threads=1)
     for name in ("runs.csv", "convergence.csv"):
         assert (tmp_path / "cut" / name).read_bytes() == (tmp_path / "whole" / name).read_bytes()

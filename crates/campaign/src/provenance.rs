@@ -12,7 +12,7 @@
 
 use std::path::Path;
 
-use crate::files::{write_atomic, IoError};
+use crate::files::{read_text_limited, write_atomic, IoError, MAX_TEXT_BYTES};
 use crate::simd::{simd, Simd};
 
 /// The file name.
@@ -97,9 +97,10 @@ pub fn write(dir: &Path, sessions: &[Session]) -> Result<(), IoError> {
 }
 
 /// The sessions of `dir/provenance.toml`, oldest first; empty when the file
-/// is missing or is not a list of sessions.
+/// is missing, over [`MAX_TEXT_BYTES`] or is not a list of sessions.
 pub fn read(dir: &Path) -> Vec<Session> {
-    let Ok(text) = std::fs::read_to_string(dir.join(PROVENANCE_FILE)) else {
+    let path = dir.join(PROVENANCE_FILE);
+    let Ok(text) = read_text_limited(&path, MAX_TEXT_BYTES, "a provenance.toml") else {
         return Vec::new();
     };
     let Ok(value) = text.parse::<toml::Table>() else {

@@ -21,9 +21,10 @@ use std::io::{self, Write};
 use std::path::Path;
 
 pub use super::outcome::{default_targets, FitDetail};
+use super::reading::{open_csv, CsvFile, RESULT_LIMITS, RUNS_LIMITS};
 use super::segments::{FIT_SEGMENT_HEADER, SEGMENT_HEADER};
 use super::spec::{factor_suffix, Spec};
-use crate::files::{fmt_real, write_atomic_with, IoError};
+use crate::files::{excerpt, fmt_real, write_atomic_with, IoError};
 use crate::functions::Transform;
 use crate::optim::{TargetHit, TracePoint};
 
@@ -31,7 +32,7 @@ use crate::optim::{TargetHit, TracePoint};
 #[derive(Debug, thiserror::Error)]
 pub enum DataProblem {
     /// A cell cannot be read as its column's type.
-    #[error("column {column}: cannot read \"{text}\"")]
+    #[error("column {column}: cannot read \"{}\"", excerpt(text))]
     Cell {
         /// The column.
         column: String,
@@ -39,7 +40,7 @@ pub enum DataProblem {
         text: String,
     },
     /// The `success` column holds neither `true` nor `false`.
-    #[error("column success: expected true or false, found \"{0}\"")]
+    #[error("column success: expected true or false, found \"{}\"", excerpt(.0))]
     Success(String),
     /// A row has too few columns.
     #[error("expected {expected} columns, found {found}")]
@@ -52,13 +53,14 @@ pub enum DataProblem {
     /// A row's column count differs from the header's.
     #[error("wrong number of columns")]
     WrongColumnCount,
-    /// The header is not the file's schema.
-    #[error("expected the columns {}, found {}", expected.join(","), found.join(","))]
+    /// The header is not the file's schema: the file is not of this
+    /// format (its first line is not quoted: it may be any file).
+    #[error("expected the header {} ({} columns), but the first line is not that header (it has {found} column{}): this file is not in that format", expected.join(","), expected.len(), if *found == 1 { "" } else { "s" })]
     Header {
         /// The schema's columns.
         expected: Vec<String>,
-        /// The columns found.
-        found: Vec<String>,
+        /// How many columns the first line has.
+        found: usize,
     },
     /// The CSV syntax is broken.
     #[error("{0}")]
@@ -80,7 +82,7 @@ pub enum DataProblem {
     NoRuns,
     /// A real is not of the kind its column needs (a NaN, say, where the
     /// tool never writes one).
-    #[error("column {column}: expected {expected}, found \"{text}\"")]
+    #[error("column {column}: expected {expected}, found \"{}\"", excerpt(text))]
     NotFinite {
         /// The column.
         column: String,
@@ -893,19 +895,12 @@ fn record_from(path: &Path, line: u64, f: &[&str]) -> Result<RunRecord, ReadErro
     })
 }
 
-fn open_csv(path: &Path) -> Result<csv::Reader<std::fs::File>, ReadError> {
-    let file = std::fs::File::open(path).map_err(|e| IoError::new("read", path, e))?;
-    Ok(csv::ReaderBuilder::new()
-        .has_headers(true)
-        .flexible(true)
-        .from_reader(file))
-}
-
 /// The header of `reader`, checked by `schema_of` (which gives the schema
-/// the header belongs to); `expected` names the legacy layout in the error.
+/// the header belongs to); `expected` names the legacy layout in the error,
+/// which says how many columns the first line has but never quotes it.
 fn read_header(
     path: &Path,
-    reader: &mut csv::Reader<std::fs::File>,
+    reader: &mut CsvFile,
     expected: &[&str],
     schema_of: impl Fn(&[&str]) -> Option<Schema>,
 ) -> Result<Schema, ReadError> {
@@ -919,10 +914,19 @@ fn read_header(
             1,
             DataProblem::Header {
                 expected: expected.iter().map(|c| c.to_string()).collect(),
-                found: found.iter().map(|c| c.to_string()).collect(),
+                found: found.len(),
             },
         )
     })
+}
+
+/// Whether the header line of the CSV file at `path` has the column `name`.
+fn header_has(path: &Path, name: &str) -> Result<bool, ReadError> {
+    let mut reader = open_csv(path, RESULT_LIMITS, true)?;
+    let header = reader
+        .headers()
+        .map_err(|e| data(path, 1, DataProblem::Csv(e)))?;
+    Ok(header.iter().any(|h| h == name))
 }
 
 /// Reads `runs.csv` alone (traces empty, wall time 0): the input of reports,
@@ -934,7 +938,7 @@ pub fn read_runs(path: &Path) -> Result<Vec<RunRecord>, ReadError> {
 /// Reads `runs.csv`; `strict` (the file of a campaign of this tool, which
 /// never writes a NaN objective) refuses a NaN `best` or `error`.
 fn read_runs_with(path: &Path, strict: bool) -> Result<Vec<RunRecord>, ReadError> {
-    let mut reader = open_csv(path)?;
+    let mut reader = open_csv(path, RUNS_LIMITS, true)?;
     let schema = read_header(path, &mut reader, &RUNS_HEADER, Schema::from_runs_header)?;
     let mut out = Vec::new();
     let mut row = csv::StringRecord::new();
@@ -1032,7 +1036,7 @@ fn read_keyed(
     records: &[RunRecord],
     mut row: impl FnMut(usize, &[&str], u64) -> Result<(), ReadError>,
 ) -> Result<(), ReadError> {
-    let mut reader = open_csv(path)?;
+    let mut reader = open_csv(path, RESULT_LIMITS, true)?;
     let legacy = Schema::default().keyed_header(rest);
     let schema = read_header(path, &mut reader, &legacy, |h| {
         Schema::from_keyed_header(h, rest)
@@ -1056,15 +1060,6 @@ fn read_keyed(
         row(k, &fields, line)?;
     }
     Ok(())
-}
-
-/// Whether the header line of the CSV file at `path` has the column `name`.
-fn header_has(path: &Path, name: &str) -> Result<bool, ReadError> {
-    let mut reader = open_csv(path)?;
-    let header = reader
-        .headers()
-        .map_err(|e| data(path, 1, DataProblem::Csv(e)))?;
-    Ok(header.iter().any(|h| h == name))
 }
 
 /// Reads a finished campaign directory's `runs.csv`, `convergence.csv`,

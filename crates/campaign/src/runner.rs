@@ -17,11 +17,14 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::journal;
 use super::records::{self, RunKey, RunRecord};
 use super::spec::{FitCase, RunId, Spec};
+use super::{journal, journal_check};
 use super::{CampaignAction, CampaignError, ExperimentError};
-use crate::files::{create_dir, csv_bytes, fmt_real, write_atomic, IoError};
+use crate::files::{
+    create_dir, csv_bytes, fmt_real, read_text_limited, remove_stale_temporaries, write_atomic,
+    IoError, MAX_TEXT_BYTES,
+};
 use crate::optim::{interrupt, MAX_STATE_BYTES};
 use crate::reconstruction::Method;
 use crate::rng::{derive_seed, fnv1a64, RNG_NAME};
@@ -328,6 +331,11 @@ pub struct Summary {
     pub executed: usize,
     /// Whether every run is finished and the result files are written.
     pub complete: bool,
+    /// The journal rows a resume dropped because they disagree with
+    /// themselves or with the spec ([`crate::journal_check`]), each a
+    /// message naming the journal, the line and the field; their runs were
+    /// redone.
+    pub dropped: Vec<String>,
 }
 
 /// The seed of run `id`: derived from the master seed, the cell key, the
@@ -440,7 +448,7 @@ pub fn shard_dir(parent: &Path, s: Shard) -> PathBuf {
 
 /// The shard (`K/N`) that `dir/meta.toml` says the directory holds, if any.
 pub(super) fn recorded_shard(dir: &Path) -> Option<String> {
-    let meta = std::fs::read_to_string(dir.join("meta.toml")).ok()?;
+    let meta = read_text_limited(&dir.join("meta.toml"), MAX_TEXT_BYTES, "a meta.toml").ok()?;
     meta.lines()
         .find_map(|l| l.strip_prefix("shard = \""))
         .map(|s| s.trim_end_matches('"').to_owned())
@@ -586,11 +594,15 @@ pub fn run_campaign_built(
         return Err(CampaignError::AlreadyHoldsRuns { out }.into());
     }
 
+    if opts.resume {
+        // Under the lock: no other writer of `out` runs.
+        remove_stale_temporaries(&out)?;
+    }
     let index = RunIndex::of(spec);
-    let mut done = if has_state {
+    let (mut done, dropped) = if has_state {
         recover(spec, opts.shard, &out, &index)?
     } else {
-        HashMap::new()
+        (HashMap::new(), Vec::new())
     };
     // Positions, not run ids or keys: 8 bytes per run of the shard before
     // the first run starts.
@@ -653,20 +665,22 @@ pub fn run_campaign_built(
         reused,
         executed,
         complete,
+        dropped,
     })
 }
 
 /// The finished runs of an interrupted campaign in `out`, by position in
 /// the fixed order, after checking that it was started from the same spec
-/// and as the same `shard`.
+/// and as the same `shard`; with the journal rows dropped as untrustworthy
+/// ([`journal_check::trusted_rows`]).
 fn recover(
     spec: &Spec,
     shard: Option<Shard>,
     out: &Path,
     index: &RunIndex,
-) -> Result<HashMap<usize, RunRecord>, ExperimentError> {
+) -> Result<journal_check::Recovered, ExperimentError> {
     let spec_copy = out.join("spec.toml");
-    if let Ok(old) = std::fs::read_to_string(&spec_copy) {
+    if let Ok(old) = read_text_limited(&spec_copy, MAX_TEXT_BYTES, "a spec") {
         if old != spec.text {
             return Err(CampaignError::SpecChanged {
                 spec: spec.path.clone(),
@@ -693,26 +707,31 @@ fn recover(
     // or a disk full, while it wrote them). It is removed only once every
     // result file is written.
     let journal_path = out.join("journal.csv");
-    let found = if journal_path.exists() {
-        journal::read_journal(&journal_path)?
-    } else {
-        records::read_results(out)?
-    };
+    if journal_path.exists() {
+        let rows = journal::read_journal_rows(&journal_path)?;
+        let expected = |i: usize| {
+            let id = spec.run_id(i);
+            let optimum = spec.problems[id.problem].optimum_value();
+            (run_seed(spec, id), optimum)
+        };
+        return journal_check::trusted_rows(rows, &journal_path, |r| index.get(&r.key()), expected)
+            .map_err(|r| foreign_run(CampaignAction::Resume, out, &r).into());
+    }
     let mut done = HashMap::new();
-    for r in found {
+    for r in records::read_results(out)? {
         let i = index
             .get(&r.key())
             .ok_or_else(|| foreign_run(CampaignAction::Resume, out, &r))?;
         done.insert(i, r);
     }
-    Ok(done)
+    Ok((done, Vec::new()))
 }
 
 /// Refuses to resume a campaign whose `meta.toml` records the hash of
 /// another spec (the check that still holds when `spec.toml` is gone).
 fn check_spec_hash(spec: &Spec, out: &Path) -> Result<(), CampaignError> {
     let meta = out.join("meta.toml");
-    let Ok(text) = std::fs::read_to_string(&meta) else {
+    let Ok(text) = read_text_limited(&meta, MAX_TEXT_BYTES, "a meta.toml") else {
         return Ok(());
     };
     let recorded = text

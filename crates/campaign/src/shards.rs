@@ -279,6 +279,7 @@ pub fn merge_found(
         reused: ids.len(),
         executed: 0,
         complete: true,
+        dropped: Vec::new(),
     })
 }
 
@@ -312,7 +313,8 @@ fn refuse_other_campaign(spec: &Spec, out: &Path) -> Result<(), CampaignError> {
     let holds_results = ["runs.csv", "report.md"]
         .iter()
         .any(|f| out.join(f).exists());
-    let same_spec = std::fs::read_to_string(out.join("spec.toml")).is_ok_and(|t| t == spec.text);
+    let same_spec = read_text_limited(&out.join("spec.toml"), MAX_TEXT_BYTES, "a spec")
+        .is_ok_and(|t| t == spec.text);
     if holds_results && !same_spec {
         return Err(CampaignError::OtherCampaign {
             dir: out.to_owned(),

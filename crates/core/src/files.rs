@@ -1,7 +1,8 @@
 //! The formatting half of writing result files: reals in shortest
 //! round-trip form and CSV bytes (RFC 4180), computed in memory. The
 //! writing half (atomic writes, the I/O error that names its file) is the
-//! `metabezier-files` crate, which re-exports these two.
+//! `metabezier-files` crate, which re-exports them. And the excerpt of a
+//! cell an error quotes when it reads such a file back.
 //!
 //! A leaf of the crate: it imports nothing of it, so every room may use it.
 
@@ -37,6 +38,23 @@ where
     w.into_inner().expect("writing to memory")
 }
 
+/// A cell's text as an error quotes it: at most 40 characters, control
+/// characters escaped, `…` where cut. Only a cell of a file known to be of
+/// its format (its header read) is quoted at all: the first line of a file
+/// that is not may be anything (`/etc/passwd` through a link, say).
+pub fn excerpt(text: &str) -> String {
+    const MAX: usize = 40;
+    let mut out: String = text
+        .chars()
+        .take(MAX)
+        .flat_map(char::escape_debug)
+        .collect();
+    if text.chars().nth(MAX).is_some() {
+        out.push('…');
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -65,5 +83,13 @@ mod tests {
     fn csv_quotes_and_allows_ragged_rows() {
         let bytes = csv_bytes(&["a", "b"], [vec!["1,5", "x"], vec!["2"]]);
         assert_eq!(String::from_utf8(bytes).unwrap(), "a,b\n\"1,5\",x\n2\n");
+    }
+
+    #[test]
+    fn quoted_cells_are_cut_and_escaped() {
+        assert_eq!(excerpt("1.5e"), "1.5e");
+        assert_eq!(excerpt("a\u{7}b"), "a\\u{7}b");
+        let long = "x".repeat(100);
+        assert_eq!(excerpt(&long), format!("{}…", "x".repeat(40)));
     }
 }

@@ -8,10 +8,13 @@
 //! `files::write_atomic` are found in one place above the core.
 #![warn(missing_docs)]
 
-pub use metabezier_core::files::{csv_bytes, fmt_real};
+pub use metabezier_core::files::{csv_bytes, excerpt, fmt_real};
 
 use std::io;
 use std::path::{Path, PathBuf};
+
+mod limited;
+pub use limited::{size_text, LimitedReader, ReadLimits};
 
 /// A file or directory could not be read, written, created or renamed.
 #[derive(Debug, thiserror::Error)]
@@ -283,10 +286,7 @@ pub fn read_text_limited(path: &Path, limit: u64, what: &str) -> io::Result<Stri
     if bytes.len() as u64 > limit {
         return Err(io::Error::new(
             io::ErrorKind::FileTooLarge,
-            format!(
-                "it is larger than the {} MiB {what} may be",
-                limit as f64 / f64::from(1u32 << 20)
-            ),
+            format!("it is larger than the {} {what} may be", size_text(limit)),
         ));
     }
     String::from_utf8(bytes).map_err(|e| {
@@ -360,6 +360,54 @@ fn create_temporary(path: &Path) -> io::Result<(std::fs::File, PathBuf)> {
     }
 }
 
+/// Whether `name` is that of a temporary file [`create_temporary`] makes
+/// and a kill between its creation and its rename leaves behind:
+/// `.NAME.PID.RANDOM.tmp`, `NAME` not empty, `PID` decimal digits and
+/// `RANDOM` exactly 16 lowercase hexadecimal digits. Returns the `PID`.
+pub fn stale_temporary_pid(name: &str) -> Option<u32> {
+    let rest = name.strip_prefix('.')?.strip_suffix(".tmp")?;
+    let (rest, random) = rest.rsplit_once('.')?;
+    let (target, pid) = rest.rsplit_once('.')?;
+    let hex = |c: char| c.is_ascii_digit() || ('a'..='f').contains(&c);
+    let valid = !target.is_empty()
+        && random.len() == 16
+        && random.chars().all(hex)
+        && !pid.is_empty()
+        && pid.chars().all(|c| c.is_ascii_digit());
+    valid.then(|| pid.parse().ok()).flatten()
+}
+
+/// Removes from `dir` (not its subdirectories) the temporary files that
+/// [`write_atomic`] of another process left there when it was killed
+/// between writing and renaming: regular files, never symbolic links or
+/// directories, named as [`stale_temporary_pid`] says, whose process is not
+/// this one. Returns the paths removed.
+///
+/// Call it only while holding the directory's lock, so that no other
+/// writer of the directory runs: a temporary of a live writer is then
+/// either this process's own (kept) or of a process that cannot be
+/// writing here.
+pub fn remove_stale_temporaries(dir: &Path) -> Result<Vec<PathBuf>, IoError> {
+    let read = |e| IoError::new("read the directory", dir, e);
+    let mut removed = Vec::new();
+    for entry in std::fs::read_dir(dir).map_err(read)? {
+        let entry = entry.map_err(read)?;
+        let stale = entry
+            .file_name()
+            .to_str()
+            .and_then(stale_temporary_pid)
+            .is_some_and(|pid| pid != std::process::id());
+        // `file_type` does not follow a symbolic link.
+        if stale && entry.file_type().map_err(read)?.is_file() {
+            let path = entry.path();
+            std::fs::remove_file(&path).map_err(|e| IoError::new("remove", &path, e))?;
+            removed.push(path);
+        }
+    }
+    removed.sort();
+    Ok(removed)
+}
+
 /// 64 random bits: the standard library's per-process random hash keys
 /// (drawn from the operating system), mixed with a counter and the clock.
 fn random_u64() -> u64 {
@@ -403,6 +451,65 @@ mod tests {
         let s = Staging::new(&out).unwrap();
         assert!(!stale.exists());
         s.publish().unwrap();
+    }
+
+    #[test]
+    fn only_the_exact_temporary_pattern_is_stale() {
+        let random = "0123456789abcdef";
+        assert_eq!(
+            stale_temporary_pid(&format!(".runs.csv.42.{random}.tmp")),
+            Some(42)
+        );
+        for name in [
+            format!("runs.csv.42.{random}.tmp"),
+            format!(".runs.csv.42.{random}.tmp~"),
+            format!("..42.{random}.tmp"),
+            format!(".runs.csv..{random}.tmp"),
+            format!(".runs.csv.4x2.{random}.tmp"),
+            format!(".runs.csv.42.{}.tmp", &random[1..]),
+            format!(".runs.csv.42.{random}0.tmp"),
+            ".runs.csv.42.0123456789ABCDEF.tmp".into(),
+            ".runs.csv.42.0123456789abcdeg.tmp".into(),
+            format!(".runs.csv.99999999999.{random}.tmp"),
+            ".staging-42-0123456789abcdef".into(),
+            "notes.tmp".into(),
+        ] {
+            assert_eq!(stale_temporary_pid(&name), None, "{name}");
+        }
+        // The name written by `create_temporary` matches.
+        let dir = tempfile::tempdir().unwrap();
+        let (_, tmp) = create_temporary(&dir.path().join("runs.csv")).unwrap();
+        let name = tmp.file_name().unwrap().to_str().unwrap();
+        assert_eq!(stale_temporary_pid(name), Some(std::process::id()));
+    }
+
+    #[test]
+    fn stale_temporaries_of_other_processes_go_and_nothing_else() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        let stale = d.join(".runs.csv.4194303.0123456789abcdef.tmp");
+        std::fs::write(&stale, "x").unwrap();
+        let (_, own) = create_temporary(&d.join("fits.csv")).unwrap();
+        let kept = [
+            d.join("runs.csv"),
+            d.join(".runs.csv.4194303.0123456789abcdeX.tmp"),
+        ];
+        for k in &kept {
+            std::fs::write(k, "x").unwrap();
+        }
+        // A link of the pattern is not followed or removed, nor its target;
+        // neither is a directory of the pattern.
+        let target = d.join("target.txt");
+        std::fs::write(&target, "x").unwrap();
+        let link = d.join(".link.7.0123456789abcdef.tmp");
+        std::os::unix::fs::symlink(&target, &link).unwrap();
+        let sub = d.join(".sub.7.0123456789abcdef.tmp");
+        std::fs::create_dir(&sub).unwrap();
+        assert_eq!(remove_stale_temporaries(d).unwrap(), vec![stale.clone()]);
+        assert!(!stale.exists());
+        for k in kept.iter().chain([&own, &target, &link, &sub]) {
+            assert!(std::fs::symlink_metadata(k).is_ok(), "{}", k.display());
+        }
     }
 
     #[test]

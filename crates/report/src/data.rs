@@ -9,6 +9,7 @@ use super::ReportError;
 use crate::experiment::records::{read_results, read_runs, RunRecord, Schema};
 use crate::experiment::spec::factor_suffix;
 use crate::experiment::{DataError, DataProblem};
+use crate::files::{read_text_limited, MAX_TEXT_BYTES};
 use crate::functions::Transform;
 
 /// One run, reduced to what the report uses.
@@ -590,7 +591,7 @@ fn value_text(v: &toml::Value) -> String {
 }
 
 fn read_toml(path: &Path, notes: &mut Vec<String>) -> Option<toml::Table> {
-    let text = match std::fs::read_to_string(path) {
+    let text = match read_text_limited(path, MAX_TEXT_BYTES, "a TOML file of a results directory") {
         Ok(t) => t,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
             notes.push(format!("{} not found.", file_name(path)));

@@ -95,7 +95,7 @@ fn row_problem(r: &RunRecord) -> Option<String> {
         return Some(format!(
             "label \"{}\" starts like a spreadsheet formula ({}); a label starts with a \
              letter or a digit",
-            r.algorithm.escape_default(),
+            crate::files::excerpt(&r.algorithm),
             "=, +, -, @, a tab or a carriage return"
         ));
     }

@@ -19,6 +19,7 @@ use super::fit_runs::{cell_name, same_seeds, split, two_sample_test, Case, FitRu
 use super::format::{sci, Table};
 use super::plots::{Figure, Page, Plot};
 use super::verdicts::Observation;
+use crate::experiment::reading::{open_csv, RESULT_LIMITS};
 use crate::experiment::records::{read_results, FitDetail, RunRecord};
 use crate::experiment::segments::segment_from_row;
 use crate::experiment::{DataError, DataProblem, ReadError};
@@ -59,8 +60,7 @@ fn read_outlines(dir: &Path) -> Result<BTreeMap<String, Vec<Point>>, ReadError> 
     if !path.exists() {
         return Ok(out);
     }
-    let mut reader =
-        csv::Reader::from_path(&path).map_err(|e| DataError::new(&path, 0, DataProblem::Csv(e)))?;
+    let mut reader = open_csv(&path, RESULT_LIMITS, true)?;
     for (i, row) in reader.records().enumerate() {
         let line = i as u64 + 2;
         let row = row.map_err(|e| DataError::new(&path, line, DataProblem::Csv(e)))?;

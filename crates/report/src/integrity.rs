@@ -10,6 +10,7 @@ use super::ReportError;
 use crate::experiment::records::RunKey;
 use crate::experiment::runner::RunIndex;
 use crate::experiment::{RunRecord, Spec};
+use crate::files::{read_text_limited, MAX_TEXT_BYTES};
 
 /// What is wrong with the rows of `runs.csv`.
 #[derive(Debug, thiserror::Error)]
@@ -100,7 +101,7 @@ fn check_run_numbers(
     records: &[RunRecord],
     why: &crate::experiment::SpecError,
 ) -> Result<Option<String>, ReportError> {
-    let runs = std::fs::read_to_string(spec_path)
+    let runs = read_text_limited(spec_path, MAX_TEXT_BYTES, "a spec")
         .ok()
         .and_then(|t| t.parse::<toml::Table>().ok())
         .and_then(|t| t.get("experiment")?.get("runs")?.as_integer());

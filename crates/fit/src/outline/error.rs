@@ -406,8 +406,9 @@ impl OutlineError {
                 let axis = if *column == 1 { "x" } else { "y" };
                 write!(
                     f,
-                    "{}:{line}: column {column} ({axis}): expected a finite number, found \"{text}\"",
-                    path.display()
+                    "{}:{line}: column {column} ({axis}): expected a finite number, found \"{}\"",
+                    path.display(),
+                    crate::files::excerpt(text)
                 )
             }
             Self::CsvLimit {
