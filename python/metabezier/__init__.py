@@ -19,9 +19,12 @@ import csv
 import math
 import operator
 import os
+import secrets
 import warnings
 from dataclasses import dataclass, field
 from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
+
+import numpy as np
 
 from . import _core
 
@@ -40,6 +43,7 @@ __all__ = [
     "fit",
     "load",
     "minimize",
+    "recommended",
     "register_problem",
     "report",
     "run",
@@ -73,7 +77,7 @@ class OptimizeResult:
     ``[(evaluations, best), ...]``, ending at the last evaluation.
     """
 
-    x: List[float]
+    x: Any  # a NumPy array of D floats
     fun: float
     nfev: int
     nit: Optional[int]
@@ -139,14 +143,61 @@ def _bounds_pairs(bounds: Any) -> List[Tuple[float, float]]:
     return out
 
 
-def _batch_adapter(fun: Callable, dim: int) -> Callable:
+def _floats(values: Any, name: str) -> List[float]:
+    """``values`` as a list of floats, or a ``ValueError`` naming ``name``."""
+    try:
+        return [float(v) for v in np.asarray(values, dtype=float).reshape(-1)]
+    except (TypeError, ValueError):
+        raise ValueError(f"{name}: expected a sequence of numbers") from None
+
+
+def _real(value: Any, name: str) -> float:
+    """``value`` as a float (not NaN), or a ``ValueError`` naming ``name``."""
+    if not isinstance(value, bool):
+        try:
+            x = float(value)
+        except (TypeError, ValueError):
+            x = math.nan
+        if not math.isnan(x):
+            return x
+    raise ValueError(f"{name} = {value!r}: expected a number")
+
+
+def _scalar_adapter(fun: Callable, args: tuple) -> Callable:
+    """Wraps ``fun(x, *args)`` for the Rust side, which passes ``x`` as a
+    list: ``fun`` gets a NumPy array of its own, as in SciPy."""
+
+    def call(x: List[float]) -> Any:
+        return fun(np.array(x, dtype=float), *args)
+
+    return call
+
+
+def _callback_adapter(callback: Callable, algorithm: str, seed: int, params: Dict[str, Any]) -> Callable:
+    """Wraps SciPy's ``callback(intermediate_result)`` for the Rust side,
+    which passes the best point, its value and the evaluations so far and
+    reads ``True`` as "stop" (a ``StopIteration`` too)."""
+
+    def call(x: List[float], best: float, nfev: int) -> bool:
+        result = OptimizeResult(
+            x=np.array(x, dtype=float), fun=best, nfev=nfev, nit=None, trace=[],
+            algorithm=algorithm, seed=seed, params=dict(params), message="in progress",
+        )
+        try:
+            return bool(callback(result))
+        except StopIteration:
+            return True
+
+    return call
+
+
+def _batch_adapter(fun: Callable, dim: int, args: tuple = ()) -> Callable:
     """Wraps a vectorised ``fun`` (an ``(n, D)`` array in, ``n`` values out)
     for the Rust side, which passes the rows as bytes."""
-    import numpy as np
 
     def call(buf: bytes, n: int) -> bytes:
         xs = np.frombuffer(buf, dtype=np.float64).reshape(n, dim)
-        y = np.asarray(fun(xs), dtype=np.float64).reshape(-1)
+        y = np.asarray(fun(xs, *args), dtype=np.float64).reshape(-1)
         if y.shape[0] != n:
             raise ValueError(f"fun returned {y.shape[0]} values for a batch of {n} points")
         return y.tobytes()
@@ -157,41 +208,79 @@ def _batch_adapter(fun: Callable, dim: int) -> Callable:
 def minimize(
     fun: Callable,
     bounds: Sequence[Tuple[float, float]],
-    algorithm: str = "mhs",
+    x0: Optional[Sequence[float]] = None,
+    args: Any = (),
+    algorithm: Optional[str] = None,
     budget: int = 10_000,
-    seed: int = 1,
+    seed: Optional[int] = None,
+    callback: Optional[Callable] = None,
+    target: Optional[float] = None,
     batch: bool = False,
     **params: Any,
 ) -> OptimizeResult:
-    """Minimises ``fun`` over the box ``bounds`` with a registered optimiser.
+    """Minimises ``fun`` over the box ``bounds`` with a registered optimiser,
+    in the shape of ``scipy.optimize.minimize`` and ``differential_evolution``.
 
-    ``fun(x)`` gets ``x`` as a list of ``D`` floats and returns a number.
-    With ``batch=True`` it gets an ``(n, D)`` numpy array and returns ``n``
-    values: one call per generation for the optimisers that evaluate a
-    population at once (``ga``, ``cmaes``, ``lshade``, ``random``); the
-    others call it with one row at a time. ``budget`` counts evaluations;
-    ``params`` are the algorithm's parameters, named as in
-    :func:`algorithms` (``metabezier list``). The same ``seed`` gives the
-    same result, bit for bit. An exception raised in ``fun`` stops the run
-    at once and propagates with its traceback; Ctrl-C raises
-    ``KeyboardInterrupt``. ``success`` is ``False`` (with a ``message``)
-    when no finite value was seen.
+    ``fun(x, *args)`` gets ``x`` as a NumPy array of ``D`` floats and
+    returns a number. With ``batch=True`` it gets an ``(n, D)`` array and
+    returns ``n`` values: one call per generation for the optimisers that
+    evaluate a population at once (``ga``, ``cmaes``, ``lshade``,
+    ``random``); the others call it with one row at a time.
 
-    >>> r = minimize(lambda x: sum(v * v for v in x), [(-5, 5)] * 3, budget=2000, seed=7)
+    - ``x0``: a start point inside the bounds, the run's first evaluation
+      (the first member of the initial population, as SciPy's
+      ``differential_evolution`` places it; CMA-ES's first mean, as pycma's).
+    - ``algorithm``: a name of :func:`algorithms`; ``None`` takes
+      :func:`recommended` for ``D`` and ``budget``, the project's rule from
+      its own results.
+    - ``budget`` counts evaluations (at most ``MAX_BUDGET``).
+    - ``seed``: ``None`` draws fresh entropy, as SciPy does; the seed used is
+      ``result.seed``, and passing it again gives the same result, bit for
+      bit.
+    - ``callback(intermediate_result)`` is called at every checkpoint of the
+      trace (10 a decade of evaluations) with an :class:`OptimizeResult` of
+      the best so far; returning ``True`` or raising ``StopIteration`` stops
+      the run (``success=False``, as SciPy).
+    - ``target``: stop at the first evaluation with ``fun <= target``
+      (``success=True``).
+    - ``params`` are the algorithm's parameters, named as in
+      :func:`algorithms` (``metabezier list``).
+
+    An exception raised in ``fun`` or ``callback`` stops the run at once and
+    propagates with its traceback; Ctrl-C raises ``KeyboardInterrupt``.
+    ``success`` is ``False`` (with a ``message``) when no finite value was
+    seen.
+
+    >>> r = minimize(lambda x: float((x * x).sum()), [(-5, 5)] * 3, algorithm="mhs", budget=2000, seed=7)
     >>> r.fun < 1e-2, r.nfev
     (True, 2000)
     """
     pairs = _bounds_pairs(bounds)
-    budget, seed = _budget(budget), _seed(seed)
+    budget = _budget(budget)
+    seed = secrets.randbits(64) if seed is None else _seed(seed)
     if not callable(fun):
         raise ValueError("fun: expected a callable")
-    target = _batch_adapter(fun, len(pairs)) if batch else fun
-    x, best, nfev, trace = _core.minimize(
-        target, pairs, str(algorithm), budget, seed, bool(batch), params or None
+    if callback is not None and not callable(callback):
+        raise ValueError("callback: expected a callable or None")
+    args = args if isinstance(args, tuple) else (args,)
+    start = None if x0 is None else _floats(x0, "x0")
+    goal = None if target is None else _real(target, "target")
+    if algorithm is None:
+        algorithm = _core.recommended(len(pairs), budget)
+    algorithm = str(algorithm)
+    objective = _batch_adapter(fun, len(pairs), args) if batch else _scalar_adapter(fun, args)
+    observe = None if callback is None else _callback_adapter(callback, algorithm, seed, params)
+    (x, best, nfev, trace), ended = _core.minimize(
+        objective, pairs, algorithm, budget, seed, bool(batch), params or None, start, goal, observe
     )
-    success, message = _verdict(best, nfev)
+    if ended == "callback":
+        success, message = False, f"stopped by callback after {nfev} evaluations"
+    elif ended == "target":
+        success, message = True, f"target {goal!r} reached after {nfev} evaluations"
+    else:
+        success, message = _verdict(best, nfev)
     return OptimizeResult(
-        x=list(x),
+        x=np.array(x, dtype=float),
         fun=best,
         nfev=nfev,
         nit=None,
@@ -204,24 +293,36 @@ def minimize(
     )
 
 
+def recommended(dim: int, budget: int) -> str:
+    """The optimiser the project's own results recommend for ``budget``
+    evaluations at dimension ``dim``, the default of :func:`minimize`:
+    ``lshade`` where ``dim <= 10`` and ``budget >= 10**4 * dim``, else
+    ``cmaes`` where one run's state fits in 4 GiB, else ``mhs``
+    (the evidence: the Rust documentation of ``optim::recommend``)."""
+    return _core.recommended(_integer(dim, "dim", 1, 2**32, "a dimension"), _budget(budget))
+
+
 def benchmark(
     function: str,
     dim: int,
-    algorithm: str = "mhs",
+    algorithm: Optional[str] = None,
     budget: int = 10_000,
-    seed: int = 1,
+    seed: Optional[int] = None,
     **params: Any,
 ) -> OptimizeResult:
     """One run on a built-in benchmark function (``sphere``, ``rastrigin``,
     ... as ``metabezier list`` names them) at dimension ``dim``, entirely in
     Rust: the same run a spec makes with the same seed. ``fun`` is the
-    objective value. Ctrl-C raises ``KeyboardInterrupt``."""
+    objective value; ``algorithm`` and ``seed`` default as in
+    :func:`minimize`. Ctrl-C raises ``KeyboardInterrupt``."""
     dim = _integer(dim, "dim", 1, 2**32, "a dimension")
-    budget, seed = _budget(budget), _seed(seed)
-    x, best, nfev, trace = _core.benchmark(str(function), dim, str(algorithm), budget, seed, params or None)
+    budget = _budget(budget)
+    seed = secrets.randbits(64) if seed is None else _seed(seed)
+    algorithm = _core.recommended(dim, budget) if algorithm is None else str(algorithm)
+    x, best, nfev, trace = _core.benchmark(str(function), dim, algorithm, budget, seed, params or None)
     success, message = _verdict(best, nfev)
     return OptimizeResult(
-        x=list(x), fun=best, nfev=nfev, nit=None, trace=list(trace),
+        x=np.array(x, dtype=float), fun=best, nfev=nfev, nit=None, trace=list(trace),
         algorithm=algorithm, seed=seed, params=dict(params),
         success=success, message=message,
     )

@@ -26,7 +26,9 @@ use metabezier::experiment::{
 };
 use metabezier::fit::{Chain, Closing, ErrorMeasure, FitOptions, FunctionType, SearchSpace};
 use metabezier::geometry::{Continuity, Parameterisation, Point};
-use metabezier::optim::{interrupt, Optimisers, ParamSet, Raw};
+use metabezier::optim::{
+    interrupt, recommended, EarlyEnd, Evaluator, Observer, Optimisers, ParamSet, Raw,
+};
 use metabezier::outline::{
     outline_from_points, svg_from_str, CornerOptions, CsvOptions, Outline, MAX_COORDINATE,
 };
@@ -339,10 +341,55 @@ fn run_result(outcome: metabezier::optim::Outcome) -> RunResult {
 /// An optimiser for Python: (name, source, [(parameter, default, admits)]).
 type AlgorithmRow = (String, String, Vec<(String, String, String)>);
 
-/// `minimize`: one run of a registered optimiser on a Python function.
-/// Returns `(x, fun, nfev, trace)` with the trace as `(evaluations, best)`.
+/// `x0` checked against `bounds`: one finite value per variable, inside.
+fn start_of(x0: Vec<f64>, bounds: &[Bounds]) -> PyResult<Vec<f64>> {
+    if x0.len() != bounds.len() {
+        return Err(PyValueError::new_err(format!(
+            "x0: expected {} values (one per variable of bounds), got {}",
+            bounds.len(),
+            x0.len()
+        )));
+    }
+    for (i, (&x, b)) in x0.iter().zip(bounds).enumerate() {
+        if !b.contains(x) {
+            return Err(PyValueError::new_err(format!(
+                "x0[{i}] = {x}: expected a number inside bounds[{i}] = ({}, {})",
+                b.lower, b.upper
+            )));
+        }
+    }
+    Ok(x0)
+}
+
+/// The observer of a run for a Python `callback`: the package's adapter
+/// gets `(x, fun, nfev)` at every checkpoint and returns `True` to stop;
+/// its exception is kept in `slot` and ends the run at once.
+fn observer_of(callback: Py<PyAny>, slot: std::sync::Arc<Mutex<Option<PyErr>>>) -> Observer {
+    Box::new(move |nfev, best, x| {
+        match Python::attach(|py| {
+            callback
+                .bind(py)
+                .call1((x.to_vec(), best, nfev))?
+                .is_truthy()
+        }) {
+            Ok(stop) => !stop,
+            Err(e) => {
+                if let Ok(mut s) = slot.lock() {
+                    s.get_or_insert(e);
+                }
+                std::panic::resume_unwind(Box::new(String::from("callback raised")))
+            }
+        }
+    })
+}
+
+/// `minimize`: one run of a registered optimiser on a Python function,
+/// from `x0` if given, stopped at `target` or by `callback` if given.
+/// Returns `(x, fun, nfev, trace, ended)` with the trace as `(evaluations,
+/// best)` and `ended` `"target"`, `"callback"` or `None` (the budget).
 #[pyfunction]
-#[pyo3(signature = (fun, bounds, algorithm, budget, seed, batch, params=None))]
+#[pyo3(signature = (fun, bounds, algorithm, budget, seed, batch, params=None, x0=None, target=None, callback=None))]
+#[allow(clippy::too_many_arguments)]
 fn minimize(
     fun: Py<PyAny>,
     bounds: Vec<(f64, f64)>,
@@ -351,9 +398,18 @@ fn minimize(
     seed: u64,
     batch: bool,
     params: Option<&Bound<'_, PyDict>>,
-) -> PyResult<RunResult> {
+    x0: Option<Vec<f64>>,
+    target: Option<f64>,
+    callback: Option<Py<PyAny>>,
+) -> PyResult<(RunResult, Option<&'static str>)> {
     let bounds = bounds_of(&bounds)?;
     let alg = configured(algorithm, params, budget, bounds.len())?;
+    let x0 = x0.map(|x| start_of(x, &bounds)).transpose()?;
+    if let Some(t) = target.filter(|t| t.is_nan()) {
+        return Err(PyValueError::new_err(format!(
+            "target = {t}: expected a number (a value of fun at which to stop)"
+        )));
+    }
     let problem = PyProblem {
         name: "fun".into(),
         fun,
@@ -362,14 +418,43 @@ fn minimize(
         in_campaign: false,
         error: Mutex::new(None),
     };
+    let slot = std::sync::Arc::new(Mutex::new(None));
+    let mut eval = Evaluator::new(&problem as &dyn Problem, budget);
+    if let Some(x0) = x0 {
+        eval = eval.with_start(x0);
+    }
+    if let Some(t) = target {
+        eval = eval.with_target(t).stop_at_target();
+    }
+    if let Some(cb) = callback {
+        eval = eval.with_observer(observer_of(cb, std::sync::Arc::clone(&slot)));
+    }
     let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        alg.run(&problem, budget, &mut run_rng(seed))
+        alg.minimise(&mut eval, &mut run_rng(seed));
     }));
-    match (run, problem.take_error()) {
-        (Ok(outcome), _) => Ok(run_result(outcome)),
+    let kept = problem
+        .take_error()
+        .or_else(|| slot.lock().ok().and_then(|mut s| s.take()));
+    match (run, kept) {
+        (Ok(()), _) => {
+            let ended = match eval.ended_early() {
+                Some(EarlyEnd::Target) => Some("target"),
+                Some(EarlyEnd::Observer) => Some("callback"),
+                _ => None,
+            };
+            Ok((run_result(eval.finish()), ended))
+        }
         (Err(_), Some(e)) => Err(e),
         (Err(panic), None) => std::panic::resume_unwind(panic),
     }
+}
+
+/// `recommended`: the optimiser the project's results recommend for a run
+/// of `budget` evaluations at dimension `dim` ([`recommended`]).
+#[pyfunction]
+#[pyo3(name = "recommended")]
+fn recommended_algorithm(dim: usize, budget: u64) -> &'static str {
+    recommended(dim, budget)
 }
 
 /// `benchmark`: one run of a registered optimiser on a built-in benchmark
@@ -757,6 +842,7 @@ fn score_svg(
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(minimize, m)?)?;
     m.add_function(wrap_pyfunction!(benchmark, m)?)?;
+    m.add_function(wrap_pyfunction!(recommended_algorithm, m)?)?;
     m.add_function(wrap_pyfunction!(algorithms, m)?)?;
     m.add_function(wrap_pyfunction!(register_problem, m)?)?;
     m.add_function(wrap_pyfunction!(run, m)?)?;

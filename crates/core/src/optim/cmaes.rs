@@ -715,6 +715,25 @@ impl Work {
         }
     }
 
+    /// The mean of a new run, uniform in the unit box; a start point
+    /// ([`Evaluator::with_start`]) is the first run's mean (pycma's `x0`)
+    /// and, so that the best is never worse than it, its first evaluation.
+    fn draw_mean<P: Problem + ?Sized, R: Words + ?Sized>(
+        &mut self,
+        eval: &mut Evaluator<'_, P>,
+        rng: &mut R,
+    ) {
+        for m in self.mean.iter_mut() {
+            *m = rng.unit();
+        }
+        if let Some(x0) = eval.start().map(<[f64]>::to_vec) {
+            for ((m, &x), b) in self.mean.iter_mut().zip(&x0).zip(eval.bounds()) {
+                *m = b.normalise(x);
+            }
+            eval.evaluate(&x0);
+        }
+    }
+
     /// One run from a uniform mean until a termination criterion fires or
     /// the budget is spent.
     #[inline(always)]
@@ -730,9 +749,7 @@ impl Work {
         let bounds = eval.bounds();
         let lambda = setup.lambda;
         let sigma0 = setup.sigma0;
-        for m in self.mean.iter_mut() {
-            *m = rng.unit();
-        }
+        self.draw_mean(eval, rng);
         let rows = lambda.min(usize::try_from(eval.remaining()).unwrap_or(usize::MAX));
         self.reset(rows);
         let s = Strategy::new(n, lambda);

@@ -83,6 +83,23 @@ pub fn sanitise(value: f64) -> f64 {
     }
 }
 
+/// Why a run ended before its budget was spent ([`Evaluator::ended_early`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EarlyEnd {
+    /// The best value reached the target and the run was asked to stop
+    /// there ([`Evaluator::stop_at_target`]), as COCO's experiments stop at
+    /// their final target.
+    Target,
+    /// The observer asked for the end ([`Evaluator::with_observer`]).
+    Observer,
+    /// A host asked every run to end ([`interrupt::request`]).
+    Interrupt,
+}
+
+/// What an observer of a run sees at each checkpoint: the evaluations so
+/// far, the best value and its point; it returns `false` to end the run.
+pub type Observer = Box<dyn FnMut(u64, f64, &[f64]) -> bool>;
+
 /// Counts evaluations against a budget, tracks the best-so-far and records
 /// the trace. Optimisers call [`Evaluator::evaluate`] for every objective
 /// value and stop when [`Evaluator::remaining`] is zero.
@@ -117,6 +134,10 @@ pub struct Evaluator<'p, P: Problem + ?Sized> {
     precisions: Vec<f64>,
     next_precision: usize,
     hits: Vec<TargetHit>,
+    start: Option<Vec<f64>>,
+    stop_at_target: bool,
+    observer: Option<Observer>,
+    early: Option<EarlyEnd>,
 }
 
 impl<'p, P: Problem + ?Sized> Evaluator<'p, P> {
@@ -140,7 +161,68 @@ impl<'p, P: Problem + ?Sized> Evaluator<'p, P> {
             precisions: Vec::new(),
             next_precision: 0,
             hits: Vec::new(),
+            start: None,
+            stop_at_target: false,
+            observer: None,
+            early: None,
         }
+    }
+
+    /// Starts the run at `x0` (inside the bounds, `dim` values): the
+    /// optimiser's first evaluated point is `x0` (the first member of an
+    /// initial population or memory, as SciPy's `differential_evolution`
+    /// places it, drawn after the same random numbers as without it, so the
+    /// rest of the initial population is unchanged; CMA-ES's first mean, as
+    /// pycma's `x0`, evaluated once before the first generation).
+    pub fn with_start(mut self, x0: Vec<f64>) -> Self {
+        debug_assert_eq!(x0.len(), self.problem.dim());
+        self.start = Some(x0);
+        self
+    }
+
+    /// Ends the run at the first evaluation whose value reaches the target
+    /// of [`Evaluator::with_target`] (COCO's experiments stop at their final
+    /// target; Hansen et al. 2021).
+    pub fn stop_at_target(mut self) -> Self {
+        self.stop_at_target = true;
+        self
+    }
+
+    /// Calls `observer` at every checkpoint of the trace (log-spaced, 10 a
+    /// decade by default, and the budget) with the evaluations, the best
+    /// value and its point; `false` ends the run there, as SciPy's
+    /// `callback` returning `True` does.
+    pub fn with_observer(mut self, observer: Observer) -> Self {
+        self.observer = Some(observer);
+        self
+    }
+
+    /// The start point while nothing has been evaluated, else `None` (a
+    /// restart draws its own).
+    #[inline]
+    pub fn start(&self) -> Option<&[f64]> {
+        self.start.as_deref().filter(|_| self.used == 0)
+    }
+
+    /// Writes the start point into `row` if nothing has been evaluated yet;
+    /// optimisers call it on the first point they draw.
+    #[inline]
+    pub fn place_start(&self, row: &mut [f64]) {
+        if let Some(s) = self.start() {
+            row.copy_from_slice(s);
+        }
+    }
+
+    /// Why the run ended before its budget, if it did.
+    pub fn ended_early(&self) -> Option<EarlyEnd> {
+        self.early
+    }
+
+    /// Ends the run at the current evaluation for `why` (the first reason
+    /// is kept).
+    fn end_early(&mut self, why: EarlyEnd) {
+        self.end = self.end.min(self.used);
+        self.early.get_or_insert(why);
     }
 
     /// Records the first evaluation at which the best value is within each
@@ -208,7 +290,7 @@ impl<'p, P: Problem + ?Sized> Evaluator<'p, P> {
     /// Whether the run was ended early by [`interrupt::request`]: its
     /// outcome is not a result.
     pub fn interrupted(&self) -> bool {
-        self.end < self.budget
+        self.early == Some(EarlyEnd::Interrupt)
     }
 
     /// The fraction of the budget used, `t/NI` in the thesis's notation.
@@ -268,13 +350,16 @@ impl<'p, P: Problem + ?Sized> Evaluator<'p, P> {
     fn record(&mut self, x: &[f64], value: f64) -> f64 {
         self.used += 1;
         if self.used & (interrupt::POLL_EVALUATIONS - 1) == 0 && interrupt::requested() {
-            self.end = self.end.min(self.used);
+            self.end_early(EarlyEnd::Interrupt);
         }
         if value < self.best_value {
             self.best_value = value;
             self.best_x.copy_from_slice(x);
             if self.hit.is_none() && value <= self.target {
                 self.hit = Some(self.used);
+                if self.stop_at_target {
+                    self.end_early(EarlyEnd::Target);
+                }
             }
             while let Some(&p) = self.precisions.get(self.next_precision) {
                 if value - self.f_star > p {
@@ -293,6 +378,11 @@ impl<'p, P: Problem + ?Sized> Evaluator<'p, P> {
                 best: self.best_value,
             });
             self.next_checkpoint += 1;
+            if let Some(observe) = self.observer.as_mut().filter(|_| self.early.is_none()) {
+                if !observe(self.used, self.best_value, &self.best_x) {
+                    self.end_early(EarlyEnd::Observer);
+                }
+            }
         }
         value
     }

@@ -42,6 +42,7 @@ impl HarmonyMemory {
             let start = harmonies.len();
             rng.units(&mut u);
             harmonies.extend(bounds.iter().zip(&u).map(|(b, &u)| b.lerp(u)));
+            eval.place_start(&mut harmonies[start..]);
             values.push(eval.evaluate(&harmonies[start..]));
         }
         let mut hm = Self {

@@ -32,6 +32,7 @@ pub mod mhs;
 pub mod params;
 pub mod pso;
 pub mod random;
+pub mod recommend;
 pub mod registry;
 
 use std::fmt;
@@ -39,7 +40,7 @@ use std::fmt;
 use crate::rng::Words;
 
 pub use cmaes::CmaEs;
-pub use evaluator::{Evaluator, Outcome, TargetHit, TracePoint};
+pub use evaluator::{EarlyEnd, Evaluator, Observer, Outcome, TargetHit, TracePoint};
 pub use ga::GeneticAlgorithm;
 pub use ghs::GlobalBestHarmonySearch;
 pub use hs::HarmonySearch;
@@ -51,6 +52,7 @@ pub use params::{
 };
 pub use pso::ParticleSwarm;
 pub use random::RandomSearch;
+pub use recommend::recommended;
 pub use registry::{
     Algorithm, ComparisonFamily, DynOptimiser, Factory, OptimiserDef, Optimisers, RegistryError,
     Runs,

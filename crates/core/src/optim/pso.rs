@@ -364,6 +364,7 @@ fn scatter<P: Problem + ?Sized, R: Words + ?Sized>(
             *xj = b.lerp(u[0]);
             *vj = -vm + u[1] * (vm + vm);
         }
+        eval.place_start(xi);
         pval[i] = eval.evaluate(xi);
         pi.copy_from_slice(xi);
     }
