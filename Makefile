@@ -3,7 +3,7 @@ CARGO ?= cargo
 BIN := target/release/metabezier
 SPECS := experiments
 
-.PHONY: help build quick test test-browser test-python test-dxf citation python-bench examples peer-kurbo fuzz test-cluster bench overhead speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 cq500 reproduce-all check-reports fmt lint clean-results
+.PHONY: help build quick test test-browser test-python wheel test-dxf citation python-bench examples peer-kurbo fuzz test-cluster bench overhead speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 cq500 reproduce-all check-reports fmt lint clean-results
 
 help:
 	@echo "make build          the release binary, target/release/metabezier (cargo build --release --locked)"
@@ -13,6 +13,7 @@ help:
 	@echo "make test-python    the Python package: pip install ./python in a venv, then its pytest suite (PyPI)"
 	@echo "make citation       CITATION.cff validated against the Citation File Format schema by cffconvert (pinned in ci/cff-requirements.txt, in a venv; PyPI)"
 	@echo "make test-dxf       fit.dxf read back by ezdxf (pinned in ci/dxf-requirements.txt, in a venv): exact control points and weights (PyPI)"
+	@echo "make wheel          an abi3 wheel of the Python package (maturin), installed and run in a fresh venv without the Rust toolchain"
 	@echo "make python-bench   cost per evaluation of a Python objective called from metabezier, against Rust and numpy (after test-python)"
 	@echo "make examples       the library examples (examples/*.rs): your own optimiser and problem in a campaign"
 	@echo "make peer-kurbo     kurbo's curve fitting on the horse and the coin, scored by metabezier score"
@@ -73,6 +74,20 @@ test-browser: build
 # isolation, so the pinned maturin builds it), rustfmt and clippy on its
 # Rust side, and its pytest suite, which compares with the binary $(BIN).
 PY_VENV := target/python-venv
+# An abi3 wheel (one for every CPython >= 3.9) by maturin, then installed
+# into a fresh venv with only NumPy beside it and run with no Rust
+# toolchain on PATH (python/wheel_check/check_wheel.py).
+WHEEL_VENV := target/wheel-venv
+wheel:
+	test -x $(PY_VENV)/bin/python || python3 -m venv $(PY_VENV)
+	$(PY_VENV)/bin/python -m pip install --quiet --disable-pip-version-check -r python/requirements-test.txt
+	rm -rf target/wheels $(WHEEL_VENV)
+	cd python && PATH="$(CURDIR)/$(PY_VENV)/bin:$$PATH" maturin build --release --locked --out ../target/wheels
+	python3 -m venv $(WHEEL_VENV)
+	$(WHEEL_VENV)/bin/python -m pip install --quiet --disable-pip-version-check $$(grep '^numpy==' python/requirements-test.txt)
+	$(WHEEL_VENV)/bin/python -m pip install --quiet --disable-pip-version-check --no-index --find-links target/wheels metabezier
+	cd /tmp && env -i HOME="$$HOME" PATH=/usr/bin:/bin $(CURDIR)/$(WHEEL_VENV)/bin/python $(CURDIR)/python/wheel_check/check_wheel.py
+
 test-python: build
 	test -x $(PY_VENV)/bin/python || python3 -m venv $(PY_VENV)
 	$(PY_VENV)/bin/python -m pip install --quiet --disable-pip-version-check -r python/requirements-test.txt
