@@ -204,12 +204,14 @@ impl<'p, P: Problem + ?Sized> Evaluator<'p, P> {
         self.start.as_deref().filter(|_| self.used == 0)
     }
 
-    /// Writes the start point into `row` if nothing has been evaluated yet;
-    /// optimisers call it on the first point they draw.
+    /// Writes the start point over the first point of `points` (row-major,
+    /// [`Evaluator::dim`] values a point) if nothing has been evaluated yet
+    /// and `points` holds one; optimisers call it on the first points they
+    /// draw.
     #[inline]
-    pub fn place_start(&self, row: &mut [f64]) {
-        if let Some(s) = self.start() {
-            row.copy_from_slice(s);
+    pub fn place_start(&self, points: &mut [f64]) {
+        if let (Some(s), Some(first)) = (self.start(), points.get_mut(..self.dim())) {
+            first.copy_from_slice(s);
         }
     }
 

@@ -474,7 +474,7 @@ impl GeneticAlgorithm {
                 *x = b.lerp(*x);
             }
         }
-        eval.place_start(&mut cur[..dim]);
+        eval.place_start(&mut cur);
         if eval.evaluate_batch(&cur[..pop * dim], &mut cur_val) < pop {
             return;
         }

@@ -439,7 +439,7 @@ impl Lshade {
                 *x = b.lerp(*x);
             }
         }
-        eval.place_start(&mut pop[..dim]);
+        eval.place_start(&mut pop);
         if eval.evaluate_batch(&pop, &mut val) < n_init || eval.remaining() == 0 {
             return;
         }

@@ -73,7 +73,7 @@ impl Optimiser for RandomSearch {
                             row[j] = clamp(b, lower[j] + row[j] * width[j]);
                         }
                     }
-                    eval.place_start(&mut block[..dim]);
+                    eval.place_start(block);
                     eval.evaluate_batch(block, &mut values[..m]);
                 }
             },
