@@ -207,6 +207,42 @@ pub(super) fn ecdf(
     }
 }
 
+/// The runtime ECDFs `compare` overlays for one cell of several campaigns
+/// (the cells of `ds`): to the success threshold ([`ecdf`], one per
+/// dimension) and, where the runs carry their target hits, over all 51
+/// targets (one per dimension, or one over all problems); a note for each
+/// that cannot be drawn.
+pub(crate) fn overlaid_ecdfs(
+    ds: &Dataset,
+    shown: &SeriesSet,
+    threshold: Option<f64>,
+) -> (Vec<Plot>, Vec<String>) {
+    let mut notes = Vec::new();
+    let mut plots = ecdf(ds, shown, threshold).unwrap_or_else(|n| {
+        notes.push(n.to_string());
+        Vec::new()
+    });
+    let hits = (0..ds.problems.len())
+        .any(|p| (0..ds.cells.len()).any(|c| ds.runs(p, c).iter().any(|r| !r.hits.is_empty())));
+    if hits {
+        let dims = dimensions(ds);
+        let scopes: Vec<Scope<'_>> = if dims.len() > 1 {
+            dims.iter().map(|&d| Scope::Dim(d)).collect()
+        } else {
+            vec![Scope::All]
+        };
+        let targets = crate::experiment::records::default_targets();
+        plots.extend(
+            scopes
+                .into_iter()
+                .map(|scope| target_ecdf(ds, shown, &targets, None, scope)),
+        );
+    } else {
+        notes.push(NoPlot::NoHits.to_string());
+    }
+    (plots, notes)
+}
+
 /// The runtime ECDF of the problems of `scope`, or `None` when no run
 /// there reached the target.
 fn threshold_ecdf(
