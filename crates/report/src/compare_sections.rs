@@ -73,9 +73,10 @@ pub(crate) fn document(
         })
         .collect();
     let (spec_table, spec_notes) = spec_differences(sides);
+    let mut spec_table = spec_table;
+    spec_table.intro.extend(spec_notes);
     let mut head = title(sides);
     head.push_str(&summary(sides, shared, analysis));
-    head.push_str(&paragraph(&spec_notes.join(" ")));
     let mut verdict_table = verdicts::table(&analysis.verdicts, "function", alpha);
     verdict_table.intro.insert(0, verdicts_intro(sides, shared, analysis));
     let (figures, curves, figure_notes) = figures(sides, shared, analysis);
@@ -173,7 +174,7 @@ fn summary(sides: &[Side], shared: &[Shared], analysis: &Analysis) -> String {
                     } else {
                         row.map_or_else(|| "no verdict".into(), verdicts::short)
                     };
-                    format!("{}: {v}", shared[i].cell)
+                    format!("{}: {v}", md_escape(&shared[i].cell))
                 })
                 .collect();
             text.push_str(&parts.join("; "));
@@ -188,7 +189,9 @@ fn summary(sides: &[Side], shared: &[Shared], analysis: &Analysis) -> String {
                 other.letter
             ));
         }
-        md.push_str(&paragraph(&text));
+        // The text is Markdown already (bold, escaped names).
+        md.push_str(&text);
+        md.push_str("\n\n");
     }
     md
 }
