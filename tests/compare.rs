@@ -120,7 +120,12 @@ fn a_campaign_and_its_rerun_on_two_threads_read_identical_and_reproducibly() {
     assert!(said.contains("identical runs"), "{said}");
     let md = std::fs::read_to_string(out.join("compare.md")).unwrap();
     assert!(md.contains("**Identical runs**"), "{md}");
-    for section in ["## Summary", "## Provenance", "## Spec differences", "## Plots"] {
+    for section in [
+        "## Summary",
+        "## Provenance",
+        "## Spec differences",
+        "## Plots",
+    ] {
         assert!(md.contains(section), "{section} missing:\n{md}");
     }
     assert!(md.contains("the same spec text"), "{md}");
@@ -128,7 +133,9 @@ fn a_campaign_and_its_rerun_on_two_threads_read_identical_and_reproducibly() {
     // No test on identical runs: every design identical, no verdict row.
     let (h, rows) = table(&out.join("tables/tests.csv"));
     assert!(!rows.is_empty());
-    assert!(column(&h, &rows, "design").iter().all(|d| *d == "identical"));
+    assert!(column(&h, &rows, "design")
+        .iter()
+        .all(|d| *d == "identical"));
     assert!(column(&h, &rows, "p_value").iter().all(|p| p.is_empty()));
     let (_, verdicts) = table(&out.join("tables/verdicts.csv"));
     assert!(verdicts.is_empty(), "{verdicts:?}");
@@ -160,7 +167,11 @@ fn a_campaign_and_its_rerun_on_two_threads_read_identical_and_reproducibly() {
     }
     // The same directory twice is a usage error, not an identical reading.
     let o = metabezier(&["compare", c.a.to_str().unwrap(), c.a.to_str().unwrap()]);
-    assert!(!o.status.success() && text(&o).contains("given twice"), "{}", text(&o));
+    assert!(
+        !o.status.success() && text(&o).contains("given twice"),
+        "{}",
+        text(&o)
+    );
 }
 
 #[test]
@@ -219,7 +230,10 @@ fn a_directory_without_runs_or_with_an_unfinished_journal_is_refused_by_name() {
     let o = metabezier(&["compare", c.a.to_str().unwrap(), empty.to_str().unwrap()]);
     assert!(!o.status.success());
     let e = text(&o);
-    assert!(e.contains(empty.to_str().unwrap()) && e.contains("no runs.csv"), "{e}");
+    assert!(
+        e.contains(empty.to_str().unwrap()) && e.contains("no runs.csv"),
+        "{e}"
+    );
 
     let unfinished = c.root.join("unfinished");
     std::fs::create_dir_all(&unfinished).unwrap();

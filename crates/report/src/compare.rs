@@ -210,13 +210,18 @@ fn shared_cells(a: &Side, other: &Side, side: usize) -> Vec<Shared> {
 
 /// A few of a campaign's configurations, for the error of nothing shared.
 fn some_cells(s: &Side) -> Vec<String> {
-    let mut names: Vec<String> = s
-        .ds
-        .cells
-        .iter()
-        .take(5)
-        .map(|c| format!("{} (params `{}`)", c.label, crate::files::excerpt(&c.params)))
-        .collect();
+    let mut names: Vec<String> =
+        s.ds.cells
+            .iter()
+            .take(5)
+            .map(|c| {
+                format!(
+                    "{} (params `{}`)",
+                    c.label,
+                    crate::files::excerpt(&c.params)
+                )
+            })
+            .collect();
     if s.ds.cells.len() > 5 {
         names.push(format!("… ({} in all)", s.ds.cells.len()));
     }

@@ -9,10 +9,10 @@ use plotters::prelude::*;
 
 use crate::cumulative_difference::CumulativeDifference;
 use crate::data::Dataset;
-use crate::plots::{overlaid_ecdfs, Figure, Page, Plot, SeriesSet};
+use crate::plots::{framed_chart, overlaid_ecdfs, Axes, Chart, Figure, Page, Plot, SeriesSet};
 use crate::render::{draw_line, font, Draw, DrawResult};
 use crate::style::{LegendEntry, SeriesStyle};
-use metabezier_plot::layout::{frame, frame_height, AXIS_FONT, TICK_FONT};
+use metabezier_plot::layout::{frame_height, TICK_FONT};
 
 /// The colours of the campaigns A, B, C, … (Tol's bright scheme: blue,
 /// red, green, yellow, cyan, purple; Tol 2021), B onwards dashed.
@@ -134,26 +134,24 @@ impl Draw for DifferenceFigure {
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult {
-        let area = frame(root, &self.title, &self.legend)?;
-        let mut chart = ChartBuilder::on(&area)
-            .margin(12)
-            .margin_right(30)
-            .x_label_area_size(56)
-            .y_label_area_size(80)
-            .build_cartesian_2d(0f64..1.0, -1.05f64..1.05)?;
-        chart
-            .configure_mesh()
-            .x_desc("position in the pooled ranking of the errors (0 best, 1 worst)")
-            .y_desc("F_A(x) − F_other(x)")
-            .x_label_formatter(&|v| format!("{v:.1}"))
-            .y_label_formatter(&|v| format!("{v:.1}"))
-            .x_labels(11)
-            .y_labels(11)
-            .label_style(font(TICK_FONT))
-            .axis_desc_style(font(AXIS_FONT))
-            .light_line_style(TRANSPARENT)
-            .bold_line_style(RGBColor(225, 225, 225))
-            .draw()?;
+        let axes = Axes {
+            x: (0.0, 1.0),
+            y: (-1.05, 1.05),
+            x_desc: "position in the pooled ranking of the errors (0 best, 1 worst)",
+            y_desc: "F_A(x) − F_other(x)",
+            x_labels: 11,
+            x_tick: &|v| format!("{v:.1}"),
+            y_tick: &|v| format!("{:.1}", if v.abs() < 1e-9 { 0.0 } else { v }),
+        };
+        framed_chart(root, &self.title, &self.legend, &axes, |chart| {
+            self.draw_curve(chart)
+        })
+    }
+}
+
+impl DifferenceFigure {
+    /// The range, the band, the zero line, the curve and the labels.
+    fn draw_curve<DB: DrawingBackend>(&self, chart: &mut Chart<'_, DB>) -> DrawResult {
         chart.draw_series(std::iter::once(Polygon::new(
             vec![(0.0, 0.0), (0.5, 1.0), (1.0, 0.0), (0.5, -1.0)],
             RANGE.filled(),
@@ -163,7 +161,7 @@ impl Draw for DifferenceFigure {
         band.extend(c.x.iter().copied().zip(c.low.iter().copied()).rev());
         chart.draw_series(std::iter::once(Polygon::new(band, BAND.mix(0.7).filled())))?;
         draw_line(
-            &mut chart,
+            chart,
             vec![(0.0, 0.0), (1.0, 0.0)],
             SeriesStyle {
                 colour: RGBColor(90, 90, 90),
@@ -172,7 +170,7 @@ impl Draw for DifferenceFigure {
             1,
         )?;
         let pts: Vec<(f64, f64)> = c.x.iter().copied().zip(c.diff.iter().copied()).collect();
-        draw_line(&mut chart, pts, SeriesStyle::solid(RGBColor(0, 0, 0)), 2)?;
+        draw_line(chart, pts, SeriesStyle::solid(RGBColor(0, 0, 0)), 2)?;
         for (text, y) in [(&self.above, 0.92), (&self.below, -0.92)] {
             chart.draw_series(std::iter::once(Text::new(
                 text.clone(),

@@ -43,7 +43,11 @@ impl Document {
             ("Tests per problem", &["tests", "cumulative_difference"][..]),
         ] {
             md.push_str(&format!("## {heading}\n\n"));
-            for t in self.tables.iter().filter(|t| stems.contains(&t.stem.as_str())) {
+            for t in self
+                .tables
+                .iter()
+                .filter(|t| stems.contains(&t.stem.as_str()))
+            {
                 md.push_str(&table_section(t, 3));
             }
         }
@@ -78,7 +82,9 @@ pub(crate) fn document(
     let mut head = title(sides);
     head.push_str(&summary(sides, shared, analysis));
     let mut verdict_table = verdicts::table(&analysis.verdicts, "function", alpha);
-    verdict_table.intro.insert(0, verdicts_intro(sides, shared, analysis));
+    verdict_table
+        .intro
+        .insert(0, verdicts_intro(sides, shared, analysis));
     let (figures, curves, figure_notes) = figures(sides, shared, analysis);
     notes.extend(figure_notes);
     Document {
@@ -110,7 +116,13 @@ fn title(sides: &[Side]) -> String {
         .collect();
     let dirs: Vec<String> = sides
         .iter()
-        .map(|s| format!("{} `{}`", s.letter, s.dir.display().to_string().replace('`', "'")))
+        .map(|s| {
+            format!(
+                "{} `{}`",
+                s.letter,
+                s.dir.display().to_string().replace('`', "'")
+            )
+        })
         .collect();
     format!(
         "# Compare: {}\n\n{}\n\n",
@@ -200,12 +212,7 @@ fn summary(sides: &[Side], shared: &[Shared], analysis: &Analysis) -> String {
 fn verdicts_intro(sides: &[Side], shared: &[Shared], analysis: &Analysis) -> String {
     let identical: Vec<String> = (0..shared.len())
         .filter(|&i| analysis.identical[i])
-        .map(|i| {
-            format!(
-                "{} (A vs {})",
-                shared[i].cell, sides[shared[i].side].letter
-            )
-        })
+        .map(|i| format!("{} (A vs {})", shared[i].cell, sides[shared[i].side].letter))
         .collect();
     let mut s = String::from(
         "Here the algorithm is a configuration in A and the reference the same configuration \
@@ -233,16 +240,37 @@ fn provenance_table(sides: &[Side]) -> Table {
              its runs (build, date, threads, SIMD level, CPU)."
                 .into(),
         ],
-        md_header: ["Campaign", "Directory", "Experiment", "Seed", "Runs", "Spec hash"]
-            .into_iter()
-            .chain(["meta.toml hash", "Tool", "Made by"])
-            .map(String::from)
-            .collect(),
-        csv_header: ["campaign", "dir", "experiment", "seed", "runs", "spec_fnv1a64"]
-            .into_iter()
-            .chain(["meta_fnv1a64", "tool", "commits", "threads", "dates", "cpus"])
-            .map(String::from)
-            .collect(),
+        md_header: [
+            "Campaign",
+            "Directory",
+            "Experiment",
+            "Seed",
+            "Runs",
+            "Spec hash",
+        ]
+        .into_iter()
+        .chain(["meta.toml hash", "Tool", "Made by"])
+        .map(String::from)
+        .collect(),
+        csv_header: [
+            "campaign",
+            "dir",
+            "experiment",
+            "seed",
+            "runs",
+            "spec_fnv1a64",
+        ]
+        .into_iter()
+        .chain([
+            "meta_fnv1a64",
+            "tool",
+            "commits",
+            "threads",
+            "dates",
+            "cpus",
+        ])
+        .map(String::from)
+        .collect(),
         ..Table::default()
     };
     for s in sides {
@@ -288,8 +316,12 @@ fn spec_differences(sides: &[Side]) -> (Table, Vec<String>) {
              lacks (—)."
                 .into(),
         ],
-        md_header: ["Campaigns", "Key", "A", "Other"].map(String::from).to_vec(),
-        csv_header: ["comparison", "key", "a", "other"].map(String::from).to_vec(),
+        md_header: ["Campaigns", "Key", "A", "Other"]
+            .map(String::from)
+            .to_vec(),
+        csv_header: ["comparison", "key", "a", "other"]
+            .map(String::from)
+            .to_vec(),
         ..Table::default()
     };
     let mut notes = Vec::new();
@@ -345,17 +377,37 @@ fn tests_table(sides: &[Side], shared: &[Shared], analysis: &Analysis) -> Table 
              better, − worse, ≈ no significant difference.",
             sci(analysis.floor)
         )],
-        md_header: ["Campaigns", "Algorithm", "Problem", "Measure", "Design", "Runs"]
-            .into_iter()
-            .chain(["Median A", "Median other", "Summary", "p", "p_holm", "Mark"])
-            .map(String::from)
-            .collect(),
-        csv_header: ["comparison", "algorithm", "problem", "dim", "measure", "design"]
-            .into_iter()
-            .chain(["runs_a", "runs_other", "median_a", "median_other", "summary"])
-            .chain(["test", "statistic", "p_value", "p_holm", "mark"])
-            .map(String::from)
-            .collect(),
+        md_header: [
+            "Campaigns",
+            "Algorithm",
+            "Problem",
+            "Measure",
+            "Design",
+            "Runs",
+        ]
+        .into_iter()
+        .chain(["Median A", "Median other", "Summary", "p", "p_holm", "Mark"])
+        .map(String::from)
+        .collect(),
+        csv_header: [
+            "comparison",
+            "algorithm",
+            "problem",
+            "dim",
+            "measure",
+            "design",
+        ]
+        .into_iter()
+        .chain([
+            "runs_a",
+            "runs_other",
+            "median_a",
+            "median_other",
+            "summary",
+        ])
+        .chain(["test", "statistic", "p_value", "p_holm", "mark"])
+        .map(String::from)
+        .collect(),
         ..Table::default()
     };
     for x in &analysis.tests {
@@ -405,22 +457,6 @@ fn tests_table(sides: &[Side], shared: &[Shared], analysis: &Analysis) -> Table 
     t
 }
 
-/// A file-name part from a configuration's name.
-fn slug(name: &str) -> String {
-    let s: String = name
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() {
-                c.to_ascii_lowercase()
-            } else {
-                '_'
-            }
-        })
-        .collect();
-    let s = s.trim_matches('_');
-    s.chars().take(40).collect()
-}
-
 /// The figures of every shared cell (the first [`MAX_FIGURED`]), the table
 /// of the cumulative differences, and the notes.
 fn figures(
@@ -441,9 +477,13 @@ fn figures(
             break;
         }
         let letter = &sides[s.side].letter;
-        let prefix = format!("{:02}_{}_{letter}", i + 1, slug(&s.cell));
+        let name: String = crate::tuning::slug(&s.cell).chars().take(40).collect();
+        let prefix = format!("{:02}_{name}_{letter}", i + 1);
         let legend = vec![
-            (s.ds.cells[0].name.clone(), crate::compare_plots::side_style(0)),
+            (
+                s.ds.cells[0].name.clone(),
+                crate::compare_plots::side_style(0),
+            ),
             (
                 s.ds.cells[1].name.clone(),
                 crate::compare_plots::side_style(s.side),

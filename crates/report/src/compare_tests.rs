@@ -35,7 +35,9 @@ use std::collections::BTreeMap;
 
 use crate::compare::{Shared, Side};
 use crate::design::{factors, unit};
-use crate::significance::{design_test, floor_of, min_budget, paired_by_design, values, TestResult};
+use crate::significance::{
+    design_test, floor_of, min_budget, paired_by_design, values, TestResult,
+};
 use crate::stats::{
     holm_bonferroni, median, ratio_of_medians, Mark, StatsError, Verdict, VerdictRow,
 };

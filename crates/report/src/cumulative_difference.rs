@@ -77,7 +77,11 @@ pub(crate) fn cumulative_difference(
         .iter()
         .filter(|s| !s.a.is_empty() && !s.b.is_empty())
         .collect();
-    if used.is_empty() || used.iter().any(|s| s.a.iter().chain(&s.b).any(|v| v.is_nan())) {
+    if used.is_empty()
+        || used
+            .iter()
+            .any(|s| s.a.iter().chain(&s.b).any(|v| v.is_nan()))
+    {
         return None;
     }
     let x: Vec<f64> = (0..GRID).map(|k| k as f64 / (GRID - 1) as f64).collect();
@@ -85,8 +89,7 @@ pub(crate) fn cumulative_difference(
     let mut rng = run_rng(seed);
     let mut replicates: Vec<Vec<f64>> = vec![Vec::with_capacity(resamples); GRID];
     for _ in 0..resamples {
-        let drawn: Vec<(Vec<f64>, Vec<f64>)> =
-            used.iter().map(|s| resample(s, &mut rng)).collect();
+        let drawn: Vec<(Vec<f64>, Vec<f64>)> = used.iter().map(|s| resample(s, &mut rng)).collect();
         for (column, d) in replicates
             .iter_mut()
             .zip(mean_difference(drawn.into_iter(), &x))
@@ -203,9 +206,16 @@ pub(crate) fn curves_table() -> Table {
              The CSV file holds every curve at x = 0, 0.01, …, 1 with its band."
                 .into(),
         ],
-        md_header: ["Campaigns", "Algorithm", "Area", "Max", "Min", "Band excludes 0"]
-            .map(String::from)
-            .to_vec(),
+        md_header: [
+            "Campaigns",
+            "Algorithm",
+            "Area",
+            "Max",
+            "Min",
+            "Band excludes 0",
+        ]
+        .map(String::from)
+        .to_vec(),
         csv_header: ["comparison", "algorithm", "x", "diff", "low", "high"]
             .map(String::from)
             .to_vec(),
@@ -308,7 +318,12 @@ mod tests {
             paired: false,
         };
         let c = cumulative_difference(&[s], 0.05, 10, 1).unwrap();
-        assert!((c.area - (p - 0.5)).abs() < 1e-3, "{} vs {}", c.area, p - 0.5);
+        assert!(
+            (c.area - (p - 0.5)).abs() < 1e-3,
+            "{} vs {}",
+            c.area,
+            p - 0.5
+        );
         let again = cumulative_difference(&[c_samples(&a, &b)], 0.05, 10, 1).unwrap();
         assert_eq!(again.low, c.low, "the band is seeded");
     }

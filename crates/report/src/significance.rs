@@ -178,11 +178,7 @@ pub(crate) fn paired_by_design(a: &[Run], r: &[Run]) -> bool {
 }
 
 /// The test of `a` against `r` that matches the design.
-pub(crate) fn design_test(
-    a: &[f64],
-    r: &[f64],
-    paired: bool,
-) -> Result<TestResult, StatsError> {
+pub(crate) fn design_test(a: &[f64], r: &[f64], paired: bool) -> Result<TestResult, StatsError> {
     if paired {
         let w = wilcoxon(a, r, Alternative::TwoSided)?;
         Ok(TestResult {

@@ -30,7 +30,7 @@ use metabezier_plot::style::{cell_styles, LegendEntry, SeriesStyle};
 
 pub(crate) use self::boxes::Boxes;
 pub(crate) use self::convergence::Convergence;
-pub(crate) use self::ecdf::{overlaid_ecdfs, Ecdf};
+pub(crate) use self::ecdf::{framed_chart, overlaid_ecdfs, Axes, Chart, Ecdf};
 pub(crate) use self::heat_map::Heat;
 pub(crate) use self::scalability::Scalability;
 pub(crate) use self::verdict_map::VerdictMap;
