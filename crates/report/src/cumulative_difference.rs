@@ -87,7 +87,7 @@ pub(crate) fn cumulative_difference(
     let x: Vec<f64> = (0..GRID).map(|k| k as f64 / (GRID - 1) as f64).collect();
     let diff = mean_difference(used.iter().map(|s| (s.a.clone(), s.b.clone())), &x);
     let mut rng = run_rng(seed);
-    let mut replicates: Vec<Vec<f64>> = vec![Vec::with_capacity(resamples); GRID];
+    let mut replicates: Vec<Vec<f64>> = (0..GRID).map(|_| Vec::with_capacity(resamples)).collect();
     for _ in 0..resamples {
         let drawn: Vec<(Vec<f64>, Vec<f64>)> = used.iter().map(|s| resample(s, &mut rng)).collect();
         for (column, d) in replicates
