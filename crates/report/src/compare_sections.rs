@@ -2,7 +2,7 @@
 //! and spec differences, the verdict and test tables, the figures, and
 //! `compare.md` from them all.
 
-use crate::compare::{Shared, Side};
+use crate::compare_sides::{Shared, Side};
 use crate::compare_tests::{decisive, table_name, Analysis, Design, ProblemTest};
 use crate::cumulative_difference::{cumulative_difference, Samples};
 use crate::format::{csv_real, p_value, sci, Table};

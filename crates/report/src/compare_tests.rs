@@ -33,7 +33,7 @@
 
 use std::collections::BTreeMap;
 
-use crate::compare::{Shared, Side};
+use crate::compare_sides::{Shared, Side};
 use crate::design::{factors, unit};
 use crate::significance::{
     design_test, floor_of, min_budget, paired_by_design, values, TestResult,

@@ -27,6 +27,7 @@ pub mod claims;
 mod compare;
 mod compare_plots;
 mod compare_sections;
+mod compare_sides;
 mod compare_spec;
 mod compare_tests;
 mod cumulative_difference;

@@ -9,6 +9,7 @@
 
 mod boxes;
 mod convergence;
+pub(crate) mod cumulative_difference;
 mod ecdf;
 use metabezier_plot::factor_lines;
 pub(crate) mod fit_factors;
@@ -30,6 +31,7 @@ use metabezier_plot::style::{cell_styles, LegendEntry, SeriesStyle};
 
 pub(crate) use self::boxes::Boxes;
 pub(crate) use self::convergence::Convergence;
+pub(crate) use self::cumulative_difference::DifferenceFigure;
 pub(crate) use self::ecdf::{framed_chart, overlaid_ecdfs, Axes, Chart, Ecdf};
 pub(crate) use self::heat_map::Heat;
 pub(crate) use self::scalability::Scalability;
@@ -132,7 +134,7 @@ pub(crate) enum Figure {
     FactorLines(factor_lines::FactorLines),
     /// The cumulative difference of two campaigns' rank distributions
     /// (`compare`).
-    CumulativeDifference(crate::compare_plots::DifferenceFigure),
+    CumulativeDifference(DifferenceFigure),
 }
 
 impl Draw for Figure {
