@@ -26,6 +26,7 @@ macro_rules! say {
     };
 }
 
+mod compare;
 mod fit;
 
 use fit::FitArgs;
@@ -133,6 +134,9 @@ enum Command {
         #[arg(long)]
         keep_going: bool,
     },
+    /// Compare two or more campaigns' results directories side by side:
+    /// compare.md, compare.html, tables/ and plots/ (A against the others).
+    Compare(compare::CompareArgs),
     /// Fit piecewise (rational) Bézier curves to an outline.
     Fit(Box<FitArgs>),
     /// Score the paths of an SVG file (another tool's curves) against the
@@ -309,6 +313,7 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
             };
             write_report(&dir, &opts, keep_going, w)
         }
+        Command::Compare(args) => compare::compare(args, w),
         Command::Fit(args) => fit::fit(*args, w),
         Command::Score(args) => score_curves(args, w),
         Command::Implant {

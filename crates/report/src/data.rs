@@ -308,6 +308,31 @@ impl Dataset {
         }
     }
 
+    /// A dataset of `cells` over `problems` with the runs
+    /// `runs[problem][cell]` (each sorted by run number), taking its flags
+    /// (convergence, timing, hits) and families from `like`: the view of
+    /// chosen cells of several campaigns side by side (`compare`).
+    pub fn from_parts(
+        cells: Vec<Cell>,
+        problems: Vec<Problem>,
+        runs: Vec<Vec<Vec<Run>>>,
+        like: &Dataset,
+    ) -> Dataset {
+        let total_runs = runs.iter().flatten().map(Vec::len).sum();
+        Dataset {
+            cells,
+            problems,
+            runs,
+            has_convergence: like.has_convergence,
+            has_timing: like.has_timing,
+            has_hits: like.has_hits,
+            external_anytime: false,
+            total_runs,
+            notes: Vec::new(),
+            families: like.families.clone(),
+        }
+    }
+
     /// Forgets the wall times (when `timing.csv` was not read, the records
     /// carry a placeholder 0).
     fn clear_timing(&mut self) {

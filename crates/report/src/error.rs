@@ -82,6 +82,39 @@ pub enum ReportError {
         #[source]
         problem: super::integrity::RowProblem,
     },
+    /// A directory given to `compare` is not a finished campaign's: no
+    /// `runs.csv`, or a `journal.csv` (an unfinished or interrupted run).
+    #[error("{}: {why}", dir.display())]
+    CompareInput {
+        /// The directory.
+        dir: PathBuf,
+        /// What is wrong with it.
+        why: String,
+    },
+    /// Two campaigns given to `compare` share no (cell, problem): there is
+    /// nothing to compare.
+    #[error(
+        "{} and {} share no algorithm configuration (algorithm label and parameters) on a \
+         problem at the same budget, so there is nothing to compare; the first has {}, the \
+         second {}",
+        a.display(),
+        b.display(),
+        a_cells.join(", "),
+        b_cells.join(", ")
+    )]
+    NothingShared {
+        /// The first campaign's directory.
+        a: PathBuf,
+        /// The other campaign's directory.
+        b: PathBuf,
+        /// A few of the first campaign's (cell, problem) pairs.
+        a_cells: Vec<String>,
+        /// A few of the other campaign's (cell, problem) pairs.
+        b_cells: Vec<String>,
+    },
+    /// `compare` was given fewer than two directories, or one twice.
+    #[error("compare: {0}")]
+    CompareUsage(String),
     /// The embedded font could not be registered.
     #[error(transparent)]
     Font(#[from] FontError),

@@ -16,10 +16,16 @@ use metabezier_plot::markdown::html::markdown_to_html;
 /// [`MAX_TEXT_BYTES`]) or `report.html` cannot be written; a missing figure
 /// or table is named in the page instead.
 pub fn write_html(dir: &Path) -> Result<PathBuf, ReportError> {
-    let md = dir.join("report.md");
+    write_html_of(dir, "report")
+}
+
+/// Writes `<dir>/<stem>.html` from `<dir>/<stem>.md` as [`write_html`]
+/// does (`compare.md` → `compare.html`); returns its path.
+pub(crate) fn write_html_of(dir: &Path, stem: &str) -> Result<PathBuf, ReportError> {
+    let md = dir.join(format!("{stem}.md"));
     let markdown = read_text_limited(&md, MAX_TEXT_BYTES, "a report")
         .map_err(|e| IoError::new("read", &md, e))?;
-    let path = dir.join("report.html");
+    let path = dir.join(format!("{stem}.html"));
     write_atomic(&path, markdown_to_html(&markdown, dir).as_bytes())?;
     Ok(path)
 }

@@ -61,10 +61,17 @@ const WRITTEN: [&str; 4] = ["tables", "plots", "report.md", "report.html"];
 /// symbolic link that leads out of the directory: the report writes only
 /// inside it. A link within the directory is followed as before.
 pub(crate) fn check_written_inside(dir: &Path) -> Result<(), ReportError> {
+    check_inside(dir, &WRITTEN)
+}
+
+/// Refuses an output directory `dir` where one of the places `names` that
+/// a command writes is a symbolic link leading out of it (the check of
+/// [`check_written_inside`], for any list of places).
+pub(crate) fn check_inside(dir: &Path, names: &[&str]) -> Result<(), ReportError> {
     let Ok(root) = std::fs::canonicalize(dir) else {
         return Ok(());
     };
-    for name in WRITTEN {
+    for name in names {
         let path = dir.join(name);
         let is_link = std::fs::symlink_metadata(&path).is_ok_and(|m| m.file_type().is_symlink());
         if !is_link {

@@ -24,6 +24,13 @@
 mod anytime;
 mod best2009;
 pub mod claims;
+mod compare;
+mod compare_plots;
+mod compare_sections;
+mod compare_sides;
+mod compare_spec;
+mod compare_tests;
+mod cumulative_difference;
 mod data;
 mod descriptive;
 mod design;
@@ -56,6 +63,7 @@ use std::path::{Path, PathBuf};
 use crate::experiment::records::default_targets;
 use crate::files::{create_dir, write_atomic};
 
+pub use self::compare::{write_compare, CompareOptions, CompareSummary};
 pub use self::error::ReportError;
 use self::format::Table;
 pub use self::html::write_html;

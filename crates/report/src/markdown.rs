@@ -157,7 +157,7 @@ fn spec_bullets(s: &mut String, h: &Header<'_>) {
 
 /// The sessions of `provenance.toml` in a sentence each: build, date,
 /// threads, SIMD level, CPU and runs.
-fn sessions_text(sessions: &[crate::experiment::provenance::Session]) -> String {
+pub(crate) fn sessions_text(sessions: &[crate::experiment::provenance::Session]) -> String {
     if sessions.is_empty() {
         return "not recorded (no provenance.toml, or one that cannot be read)".into();
     }

@@ -170,7 +170,7 @@ pub(crate) fn floor_of(threshold: Option<f64>) -> f64 {
 
 /// The runs of two cells on one problem, aligned by run number when they
 /// are paired by design: same run numbers, and equal seeds run by run.
-fn paired_by_design(a: &[Run], r: &[Run]) -> bool {
+pub(crate) fn paired_by_design(a: &[Run], r: &[Run]) -> bool {
     a.len() == r.len()
         && a.iter()
             .zip(r)
@@ -178,7 +178,7 @@ fn paired_by_design(a: &[Run], r: &[Run]) -> bool {
 }
 
 /// The test of `a` against `r` that matches the design.
-fn design_test(a: &[f64], r: &[f64], paired: bool) -> Result<TestResult, StatsError> {
+pub(crate) fn design_test(a: &[f64], r: &[f64], paired: bool) -> Result<TestResult, StatsError> {
     if paired {
         let w = wilcoxon(a, r, Alternative::TwoSided)?;
         Ok(TestResult {
@@ -208,7 +208,13 @@ fn design_test(a: &[f64], r: &[f64], paired: bool) -> Result<TestResult, StatsEr
 
 /// The values a measure compares of one cell's runs on a problem;
 /// `budget` bounds the anytime measure (the smaller budget of the two).
-fn values(runs: &[Run], measure: Measure, dim: usize, budget: u64, targets: usize) -> Vec<f64> {
+pub(crate) fn values(
+    runs: &[Run],
+    measure: Measure,
+    dim: usize,
+    budget: u64,
+    targets: usize,
+) -> Vec<f64> {
     match measure {
         Measure::FinalError => runs.iter().map(|r| r.error).collect(),
         Measure::AnytimeAuc => runs
@@ -219,7 +225,7 @@ fn values(runs: &[Run], measure: Measure, dim: usize, budget: u64, targets: usiz
 }
 
 /// The smallest budget of some runs.
-fn min_budget<'r>(runs: impl IntoIterator<Item = &'r Run>) -> u64 {
+pub(crate) fn min_budget<'r>(runs: impl IntoIterator<Item = &'r Run>) -> u64 {
     runs.into_iter().map(|r| r.budget).min().unwrap_or(0)
 }
 

@@ -42,7 +42,9 @@ impl Grid {
     }
 }
 
-fn slug(label: &str) -> String {
+/// A file-name part from a label: lower-case letters and digits, `_` for
+/// the rest (`grid` when nothing is left).
+pub(crate) fn slug(label: &str) -> String {
     let s: String = label
         .chars()
         .map(|c| {

@@ -5,6 +5,7 @@
 
 use std::collections::BTreeSet;
 
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -36,27 +37,80 @@ impl Draw for Ecdf {
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult {
-        let area = frame(root, &self.title, &self.legend)?;
-        let mut chart = ChartBuilder::on(&area)
-            .margin(12)
-            .margin_right(30)
-            .x_label_area_size(56)
-            .y_label_area_size(80)
-            .build_cartesian_2d(self.x.0..self.x.1, -0.02f64..1.02)?;
-        chart
-            .configure_mesh()
-            .x_desc(self.x_desc)
-            .y_desc(self.y_desc)
-            .x_label_formatter(&|v| decade_tick(*v, self.x))
-            .y_label_formatter(&|v| format!("{v:.1}"))
-            .x_labels(decade_labels(self.x))
-            .y_labels(11)
-            .label_style(font(TICK_FONT))
-            .axis_desc_style(font(AXIS_FONT))
-            .light_line_style(TRANSPARENT)
-            .bold_line_style(RGBColor(215, 215, 215))
-            .draw()?;
-        draw_minor_decades(&mut chart, self.x, (-0.02, 1.02), true, false)?;
+        let axes = Axes {
+            x: self.x,
+            y: (-0.02, 1.02),
+            x_desc: self.x_desc,
+            y_desc: self.y_desc,
+            x_labels: decade_labels(self.x),
+            x_tick: &|v| decade_tick(v, self.x),
+            y_tick: &|v| format!("{v:.1}"),
+        };
+        framed_chart(root, &self.title, &self.legend, &axes, |chart| {
+            self.draw_curves(chart)
+        })
+    }
+}
+
+/// The axes of a chart of [`framed_chart`]: ranges, descriptions, the
+/// number of x labels and the tick texts (11 y labels).
+pub(crate) struct Axes<'a> {
+    /// The x range.
+    pub x: (f64, f64),
+    /// The y range.
+    pub y: (f64, f64),
+    /// The x axis' description.
+    pub x_desc: &'a str,
+    /// The y axis' description.
+    pub y_desc: &'a str,
+    /// How many x labels.
+    pub x_labels: usize,
+    /// The text of an x tick.
+    pub x_tick: &'a dyn Fn(f64) -> String,
+    /// The text of a y tick.
+    pub y_tick: &'a dyn Fn(f64) -> String,
+}
+
+/// The chart of a one-panel figure (the runtime ECDF, `compare`'s
+/// cumulative difference): `root` framed with `title` and `legend`, a
+/// mesh of light grey lines on `axes`, and `body` drawing into it.
+pub(crate) fn framed_chart<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+    legend: &[LegendEntry],
+    axes: &Axes<'_>,
+    body: impl FnOnce(&mut Chart<'_, DB>) -> DrawResult,
+) -> DrawResult {
+    let area = frame(root, title, legend)?;
+    let mut chart = ChartBuilder::on(&area)
+        .margin(12)
+        .margin_right(30)
+        .x_label_area_size(56)
+        .y_label_area_size(80)
+        .build_cartesian_2d(axes.x.0..axes.x.1, axes.y.0..axes.y.1)?;
+    chart
+        .configure_mesh()
+        .x_desc(axes.x_desc)
+        .y_desc(axes.y_desc)
+        .x_label_formatter(&|v| (axes.x_tick)(*v))
+        .y_label_formatter(&|v| (axes.y_tick)(*v))
+        .x_labels(axes.x_labels)
+        .y_labels(11)
+        .label_style(font(TICK_FONT))
+        .axis_desc_style(font(AXIS_FONT))
+        .light_line_style(TRANSPARENT)
+        .bold_line_style(RGBColor(215, 215, 215))
+        .draw()?;
+    body(&mut chart)
+}
+
+/// A chart of real x and y.
+pub(crate) type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+impl Ecdf {
+    /// The minor decades, the reference curve and the curves.
+    fn draw_curves<DB: DrawingBackend>(&self, chart: &mut Chart<'_, DB>) -> DrawResult {
+        draw_minor_decades(chart, self.x, (-0.02, 1.02), true, false)?;
         if let Some(pts) = &self.reference {
             chart.draw_series(LineSeries::new(
                 pts.iter().copied(),
@@ -64,7 +118,7 @@ impl Draw for Ecdf {
             ))?;
         }
         for (style, pts) in &self.series {
-            draw_line(&mut chart, pts.clone(), *style, 2)?;
+            draw_line(chart, pts.clone(), *style, 2)?;
         }
         Ok(())
     }
@@ -205,6 +259,42 @@ pub(super) fn ecdf(
     } else {
         Ok(plots)
     }
+}
+
+/// The runtime ECDFs `compare` overlays for one cell of several campaigns
+/// (the cells of `ds`): to the success threshold ([`ecdf`], one per
+/// dimension) and, where the runs carry their target hits, over all 51
+/// targets (one per dimension, or one over all problems); a note for each
+/// that cannot be drawn.
+pub(crate) fn overlaid_ecdfs(
+    ds: &Dataset,
+    shown: &SeriesSet,
+    threshold: Option<f64>,
+) -> (Vec<Plot>, Vec<String>) {
+    let mut notes = Vec::new();
+    let mut plots = ecdf(ds, shown, threshold).unwrap_or_else(|n| {
+        notes.push(n.to_string());
+        Vec::new()
+    });
+    let hits = (0..ds.problems.len())
+        .any(|p| (0..ds.cells.len()).any(|c| ds.runs(p, c).iter().any(|r| !r.hits.is_empty())));
+    if hits {
+        let dims = dimensions(ds);
+        let scopes: Vec<Scope<'_>> = if dims.len() > 1 {
+            dims.iter().map(|&d| Scope::Dim(d)).collect()
+        } else {
+            vec![Scope::All]
+        };
+        let targets = crate::experiment::records::default_targets();
+        plots.extend(
+            scopes
+                .into_iter()
+                .map(|scope| target_ecdf(ds, shown, &targets, None, scope)),
+        );
+    } else {
+        notes.push(NoPlot::NoHits.to_string());
+    }
+    (plots, notes)
 }
 
 /// The runtime ECDF of the problems of `scope`, or `None` when no run

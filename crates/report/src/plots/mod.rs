@@ -9,6 +9,7 @@
 
 mod boxes;
 mod convergence;
+pub(crate) mod cumulative_difference;
 mod ecdf;
 use metabezier_plot::factor_lines;
 pub(crate) mod fit_factors;
@@ -30,7 +31,8 @@ use metabezier_plot::style::{cell_styles, LegendEntry, SeriesStyle};
 
 pub(crate) use self::boxes::Boxes;
 pub(crate) use self::convergence::Convergence;
-pub(crate) use self::ecdf::Ecdf;
+pub(crate) use self::cumulative_difference::DifferenceFigure;
+pub(crate) use self::ecdf::{framed_chart, overlaid_ecdfs, Axes, Chart, Ecdf};
 pub(crate) use self::heat_map::Heat;
 pub(crate) use self::scalability::Scalability;
 pub(crate) use self::verdict_map::VerdictMap;
@@ -130,6 +132,9 @@ pub(crate) enum Figure {
     /// A measure's median and interquartile range over a design factor's
     /// levels, one line per method.
     FactorLines(factor_lines::FactorLines),
+    /// The cumulative difference of two campaigns' rank distributions
+    /// (`compare`).
+    CumulativeDifference(DifferenceFigure),
 }
 
 impl Draw for Figure {
@@ -143,6 +148,7 @@ impl Draw for Figure {
             Figure::Overlay(f) => super::overlay::Overlay(f).size(),
             Figure::Verdicts(f) => f.size(),
             Figure::FactorLines(f) => f.size(),
+            Figure::CumulativeDifference(f) => f.size(),
         }
     }
 
@@ -156,6 +162,7 @@ impl Draw for Figure {
             Figure::Overlay(f) => super::overlay::Overlay(f).draw(root),
             Figure::Verdicts(f) => f.draw(root),
             Figure::FactorLines(f) => f.draw(root),
+            Figure::CumulativeDifference(f) => f.draw(root),
         }
     }
 }
@@ -347,6 +354,17 @@ impl SeriesSet {
             left_out: n - cells.len(),
             cells,
             entries,
+        }
+    }
+
+    /// Every cell of a dataset drawn with the given legend entries, one per
+    /// cell in order (the sides of `compare`, whose styles tell the
+    /// campaigns apart rather than the optimisers).
+    pub(crate) fn explicit(entries: Vec<LegendEntry>) -> SeriesSet {
+        SeriesSet {
+            cells: (0..entries.len()).collect(),
+            entries: entries.into_iter().map(Some).collect(),
+            left_out: 0,
         }
     }
 
