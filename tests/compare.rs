@@ -8,11 +8,13 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::sync::OnceLock;
 
-/// A small spec: two configurations, three functions at D = 2, 15 runs.
+/// A small spec: two configurations, eight functions at D = 2 (enough
+/// units for a verdict across functions to reach `better` or `worse`: the
+/// smallest two-sided signed-rank p over 8 units is 2/256), 15 runs.
 fn spec(seed: u64, algorithms: &str) -> String {
     format!(
         "[experiment]\nname = \"cmp\"\nseed = {seed}\nruns = 15\nbudget = 600\nthreshold = 1e-3\n\n\
-         [[problem]]\nfunction = [\"sphere\", \"rastrigin\", \"rosenbrock\"]\ndim = 2\n\n{algorithms}"
+         [[problem]]\nfunction = [\"sphere\", \"rastrigin\", \"rosenbrock\", \"ackley\", \"griewank\", \"step\", \"schwefel_2_22\", \"schwefel_1_2\"]\ndim = 2\n\n{algorithms}"
     )
 }
 
