@@ -26,8 +26,10 @@ macro_rules! say {
     };
 }
 
+mod archive;
 mod fit;
 
+use archive::ArchiveArgs;
 use fit::FitArgs;
 
 /// metabezier: curve reconstruction by metaheuristics, and a reproducible
@@ -133,6 +135,10 @@ enum Command {
         #[arg(long)]
         keep_going: bool,
     },
+    /// Bundle a results directory (one campaign, or a results/ directory of
+    /// several) into a reproducible .tar.gz with CITATION.cff, SHA256SUMS
+    /// and Zenodo's .zenodo.json; or check one with --verify.
+    Archive(ArchiveArgs),
     /// Fit piecewise (rational) Bézier curves to an outline.
     Fit(Box<FitArgs>),
     /// Score the paths of an SVG file (another tool's curves) against the
@@ -309,6 +315,7 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
             };
             write_report(&dir, &opts, keep_going, w)
         }
+        Command::Archive(args) => archive::archive(args, w),
         Command::Fit(args) => fit::fit(*args, w),
         Command::Score(args) => score_curves(args, w),
         Command::Implant {

@@ -1,0 +1,457 @@
+//! `metabezier archive`: a results directory as a reproducible `.tar.gz`
+//! with SHA256SUMS, CITATION.cff and .zenodo.json, checked by `--verify`;
+//! and the directories it refuses.
+
+use std::collections::BTreeMap;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use metabezier::experiment::archive::{
+    verify_archive_capped, write_archive_capped, ArchiveError, SOFTWARE,
+};
+use metabezier::experiment::runner::DirLock;
+use metabezier::experiment::{run_campaign, RunOptions, Spec};
+use metabezier::report::{write_report, ReportOptions};
+use sha2::{Digest, Sha256};
+
+/// Held by every test of this file: a campaign's lock is an `flock`, and
+/// a child that another test thread forks (to run the binary) holds a copy
+/// of every open descriptor until it execs, so a lock just released by one
+/// test could still look held to the next. One test at a time, none does.
+fn serial() -> std::sync::MutexGuard<'static, ()> {
+    static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    SERIAL.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_metabezier"))
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A campaign `name` of HS on Sphere-2 in `dir/name`, with `max_runs` of
+/// its 4 runs (all when `None`) and a report when `report`.
+fn campaign(dir: &Path, name: &str, max_runs: Option<usize>, report: bool) -> PathBuf {
+    let spec_path = dir.join(format!("{name}.toml"));
+    std::fs::write(
+        &spec_path,
+        format!(
+            "[experiment]\nname = \"{name}\"\nseed = 7\nruns = 4\nbudget = 300\n\n\
+             [[problem]]\nfunction = \"sphere\"\ndim = 2\n\n[[algorithm]]\nname = \"hs\"\n\n\
+             [[algorithm]]\nname = \"mhs\"\n"
+        ),
+    )
+    .unwrap();
+    let spec = Spec::load(&spec_path).unwrap();
+    let out = dir.join(name);
+    let opts = RunOptions {
+        out: Some(out.clone()),
+        threads: Some(1),
+        max_runs,
+        progress: false,
+        ..RunOptions::default()
+    };
+    let s = run_campaign(&spec, &opts).unwrap();
+    assert_eq!(s.complete, max_runs.is_none());
+    if report {
+        write_report(&out, &ReportOptions::default()).unwrap();
+    }
+    out
+}
+
+fn archive(dir: &Path, out: &Path) -> Output {
+    bin()
+        .arg("archive")
+        .arg(dir)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .unwrap()
+}
+
+fn verify(file: &Path) -> Output {
+    bin()
+        .arg("archive")
+        .arg("--verify")
+        .arg(file)
+        .output()
+        .unwrap()
+}
+
+fn sha256(bytes: &[u8]) -> String {
+    Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+/// The entries of a `.tar.gz`: path to (mode, mtime, uid, gid, data, user
+/// name), directories with a trailing `/` and no data.
+fn entries(file: &Path) -> BTreeMap<String, (u32, u64, u64, u64, Vec<u8>, String)> {
+    let gz = flate2::read::GzDecoder::new(std::fs::File::open(file).unwrap());
+    let mut out = BTreeMap::new();
+    for entry in tar::Archive::new(gz).entries().unwrap() {
+        let mut e = entry.unwrap();
+        let path = String::from_utf8(e.path_bytes().into_owned()).unwrap();
+        let h = e.header().clone();
+        let mut data = Vec::new();
+        e.read_to_end(&mut data).unwrap();
+        let user = h.username().unwrap().unwrap_or("").to_owned();
+        let row = (
+            h.mode().unwrap(),
+            h.mtime().unwrap(),
+            h.uid().unwrap(),
+            h.gid().unwrap(),
+            data,
+            user,
+        );
+        out.insert(path, row);
+    }
+    out
+}
+
+/// Every regular file below `dir`, by its path relative to it.
+fn files_below(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    let mut out = BTreeMap::new();
+    let mut stack = vec![dir.to_owned()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                let rel = p.strip_prefix(dir).unwrap().to_string_lossy().into_owned();
+                out.insert(rel, std::fs::read(&p).unwrap());
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn an_archive_round_trips_and_its_sums_check() {
+    let _serial = serial();
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = campaign(tmp.path(), "trip", None, true);
+    let file = tmp.path().join("trip.tar.gz");
+    let o = archive(&dir, &file);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stdout(&o).contains("1 campaign(s) (trip)"),
+        "{}",
+        stdout(&o)
+    );
+    let o = verify(&file);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout(&o).contains(": OK, "), "{}", stdout(&o));
+
+    // The gzip header: no mtime, no file name, the "unknown" system.
+    let gz = std::fs::read(&file).unwrap();
+    assert_eq!(gz[..4], [0x1f, 0x8b, 8, 0]);
+    assert_eq!(gz[4..8], [0, 0, 0, 0]);
+    assert_eq!(gz[9], 255);
+
+    let all = entries(&file);
+    for (path, (mode, mtime, uid, gid, _, user)) in &all {
+        let want = if path.ends_with('/') { 0o755 } else { 0o644 };
+        assert_eq!((*mode, *mtime, *uid, *gid), (want, 0, 0, 0), "{path}");
+        assert_eq!(user, "", "{path}");
+    }
+    // Sorted, under one top directory named as the campaign's.
+    let paths: Vec<&String> = all.keys().collect();
+    assert_eq!(paths[0], "trip/");
+    // Every campaign file is there, byte for byte, except the lock.
+    let originals = files_below(&dir);
+    assert!(originals.contains_key(".lock"));
+    for (rel, bytes) in &originals {
+        if rel != ".lock" {
+            assert_eq!(&all[&format!("trip/{rel}")].4, bytes, "{rel}");
+        }
+    }
+    assert!(!all.contains_key("trip/.lock"));
+    for rel in [
+        "runs.csv",
+        "spec.toml",
+        "meta.toml",
+        "provenance.toml",
+        "report.md",
+    ] {
+        assert!(all.contains_key(&format!("trip/{rel}")), "{rel}");
+    }
+    assert!(all.keys().any(|k| k.starts_with("trip/plots/")));
+    // CITATION.cff is the repository's.
+    let cff = std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("CITATION.cff")).unwrap();
+    assert_eq!(all["trip/CITATION.cff"].4, cff);
+    // SHA256SUMS lists every other file, sorted, with its digest.
+    let sums = String::from_utf8(all["trip/SHA256SUMS"].4.clone()).unwrap();
+    let listed: Vec<(&str, &str)> = sums.lines().map(|l| (&l[66..], &l[..64])).collect();
+    let mut sorted = listed.clone();
+    sorted.sort();
+    assert_eq!(listed, sorted);
+    let files: Vec<&str> = all
+        .keys()
+        .filter(|k| !k.ends_with('/') && *k != "trip/SHA256SUMS")
+        .map(|k| &k["trip/".len()..])
+        .collect();
+    assert_eq!(listed.iter().map(|l| l.0).collect::<Vec<_>>(), files);
+    for (path, hex) in &listed {
+        assert_eq!(sha256(&all[&format!("trip/{path}")].4), *hex, "{path}");
+    }
+    // .zenodo.json: what CITATION.cff and the crate say, nothing made up.
+    let zenodo = String::from_utf8(all["trip/.zenodo.json"].4.clone()).unwrap();
+    for part in [
+        "\"title\": \"trip: results of metabezier ".to_owned(),
+        "\"upload_type\": \"dataset\"".to_owned(),
+        "\"creators\": [{\"name\": \"The metabezier developers\"}]".to_owned(),
+        format!("\"version\": \"{}\"", env!("CARGO_PKG_VERSION")),
+        "\"license\": \"MIT\"".to_owned(),
+        "\"keywords\": [\"Bézier curves\"".to_owned(),
+        "trip (8 runs)".to_owned(),
+    ] {
+        assert!(zenodo.contains(&part), "{part} not in {zenodo}");
+    }
+
+    // `sha256sum -c` agrees, where coreutils are installed.
+    let x = tmp.path().join("x");
+    std::fs::create_dir(&x).unwrap();
+    tar::Archive::new(flate2::read::GzDecoder::new(
+        std::fs::File::open(&file).unwrap(),
+    ))
+    .unpack(&x)
+    .unwrap();
+    if let Ok(o) = Command::new("sha256sum")
+        .args(["-c", "--quiet", "SHA256SUMS"])
+        .current_dir(x.join("trip"))
+        .output()
+    {
+        assert!(o.status.success(), "{}", stdout(&o));
+    }
+}
+
+#[test]
+fn the_same_directory_gives_the_same_bytes() {
+    let _serial = serial();
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = campaign(tmp.path(), "twice", None, false);
+    let (a, b) = (tmp.path().join("a.tar.gz"), tmp.path().join("b.tar.gz"));
+    let o = archive(&dir, &a);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // A later modification time changes nothing.
+    let runs = std::fs::File::options()
+        .append(true)
+        .open(dir.join("runs.csv"))
+        .unwrap();
+    runs.set_modified(std::time::SystemTime::now() + std::time::Duration::from_secs(3600))
+        .unwrap();
+    drop(runs);
+    let o = archive(&dir, &b);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+}
+
+#[test]
+fn a_flipped_byte_is_refused_with_its_file_named() {
+    let _serial = serial();
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = campaign(tmp.path(), "flip", None, false);
+    let file = tmp.path().join("flip.tar.gz");
+    assert!(archive(&dir, &file).status.success());
+    // Flip one byte of runs.csv's data in the tar stream, and recompress.
+    let mut tar_bytes = Vec::new();
+    flate2::read::GzDecoder::new(std::fs::File::open(&file).unwrap())
+        .read_to_end(&mut tar_bytes)
+        .unwrap();
+    let at = tar::Archive::new(&tar_bytes[..])
+        .entries()
+        .unwrap()
+        .map(Result::unwrap)
+        .find(|e| e.path_bytes().as_ref() == b"flip/runs.csv")
+        .map(|e| e.raw_file_position() as usize)
+        .unwrap();
+    tar_bytes[at + 10] ^= 0x01;
+    let bad = tmp.path().join("bad.tar.gz");
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    std::io::Write::write_all(&mut gz, &tar_bytes).unwrap();
+    std::fs::write(&bad, gz.finish().unwrap()).unwrap();
+    let o = verify(&bad);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains(&format!(
+            "{}: flip/runs.csv: differs from SHA256SUMS: its SHA-256 is ",
+            bad.display()
+        )),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn an_unfinished_or_running_campaign_is_refused_and_nothing_is_written() {
+    let _serial = serial();
+    let tmp = tempfile::tempdir().unwrap();
+    let half = campaign(tmp.path(), "half", Some(3), false);
+    let out_dir = tmp.path().join("out");
+    std::fs::create_dir(&out_dir).unwrap();
+    let file = out_dir.join("half.tar.gz");
+    let o = archive(&half, &file);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains(&format!(
+            "{}: the campaign did not finish (its journal remains); finish it with `metabezier run SPEC --out DIR --resume`",
+            half.join("journal.csv").display()
+        )),
+        "{}",
+        stderr(&o)
+    );
+    // A campaign running (its lock held by this process) is refused too.
+    let done = campaign(tmp.path(), "done", None, false);
+    let lock = DirLock::take(&done).unwrap();
+    let o = archive(&done, &file);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains(&format!(
+            "{}: a campaign is running in it (another process holds {}); wait for it to finish, then archive",
+            done.display(),
+            done.join(".lock").display()
+        )),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(std::fs::read_dir(&out_dir).unwrap().count(), 0);
+    drop(lock);
+    assert!(archive(&done, &file).status.success());
+}
+
+#[test]
+fn other_directories_are_refused_with_the_file_named() {
+    let _serial = serial();
+    let tmp = tempfile::tempdir().unwrap();
+    let file = tmp.path().join("x.tar.gz");
+    // No runs.csv.
+    let empty = tmp.path().join("empty");
+    std::fs::create_dir(&empty).unwrap();
+    let o = archive(&empty, &file);
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains(&format!("{}: holds no runs.csv", empty.display())),
+        "{}",
+        stderr(&o)
+    );
+    // A symbolic link is refused, not followed.
+    let dir = campaign(tmp.path(), "linked", None, false);
+    let link = dir.join("elsewhere.csv");
+    std::os::unix::fs::symlink("/etc/hostname", &link).unwrap();
+    let o = archive(&dir, &file);
+    assert!(
+        stderr(&o).contains(&format!(
+            "{}: is a symbolic link (to /etc/hostname), which an archive does not follow",
+            link.display()
+        )),
+        "{}",
+        stderr(&o)
+    );
+    std::fs::remove_file(&link).unwrap();
+    // The archive inside the directory it archives.
+    let o = archive(&dir, &dir.join("self.tar.gz"));
+    assert!(
+        stderr(&o).contains("so the archive would hold itself"),
+        "{}",
+        stderr(&o)
+    );
+    // A file with the name of one the archive adds.
+    std::fs::write(dir.join("SHA256SUMS"), "").unwrap();
+    let o = archive(&dir, &file);
+    assert!(
+        stderr(&o).contains("SHA256SUMS: has the name of a file the archive adds"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!file.exists());
+}
+
+#[test]
+fn the_size_cap_is_stated_and_refuses_with_the_size_named() {
+    let _serial = serial();
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = campaign(tmp.path(), "capped", None, false);
+    let file = tmp.path().join("capped.tar.gz");
+    let e = write_archive_capped(&dir, &file, &SOFTWARE, 10 << 10).unwrap_err();
+    assert!(matches!(e, ArchiveError::TooLarge { .. }), "{e}");
+    let text = e.to_string();
+    assert!(
+        text.starts_with(&format!("{}: its archive would hold ", dir.display()))
+            && text.contains("bytes (0.00 GiB), over the cap of 10 KiB (MAX_ARCHIVE_BYTES)"),
+        "{text}"
+    );
+    assert!(!file.exists());
+    // Under a cap it fits, and --verify stops reading at a lower one.
+    let w = write_archive_capped(&dir, &file, &SOFTWARE, 1 << 20).unwrap();
+    assert_eq!(
+        verify_archive_capped(&file, 1 << 20).unwrap().files,
+        w.files
+    );
+    let e = verify_archive_capped(&file, 10 << 10)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("it is larger than the 10 KiB an archive may be"),
+        "{e}"
+    );
+    assert_eq!(metabezier::experiment::archive::MAX_ARCHIVE_BYTES, 4 << 30);
+}
+
+#[test]
+fn a_results_directory_of_two_campaigns_is_one_archive() {
+    let _serial = serial();
+    let tmp = tempfile::tempdir().unwrap();
+    let results = tmp.path().join("results");
+    std::fs::create_dir(&results).unwrap();
+    campaign(&results, "first", None, false);
+    campaign(&results, "second", None, false);
+    for spec in ["first.toml", "second.toml"] {
+        std::fs::remove_file(results.join(spec)).unwrap();
+    }
+    std::fs::write(results.join("README.md"), "two campaigns\n").unwrap();
+    let file = tmp.path().join("results.tar.gz");
+    let o = archive(&results, &file);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stdout(&o).contains("2 campaign(s) (first, second)"),
+        "{}",
+        stdout(&o)
+    );
+    assert!(verify(&file).status.success());
+    let all = entries(&file);
+    for path in [
+        "results/first/runs.csv",
+        "results/second/runs.csv",
+        "results/README.md",
+    ] {
+        assert!(all.contains_key(path), "{path}");
+    }
+    let zenodo = String::from_utf8(all["results/.zenodo.json"].4.clone()).unwrap();
+    assert!(
+        zenodo.contains("\"title\": \"first, second: results of metabezier"),
+        "{zenodo}"
+    );
+    // A subdirectory that is no campaign is named.
+    let stray = results.join("stray");
+    std::fs::create_dir(&stray).unwrap();
+    let o = archive(&results, &tmp.path().join("y.tar.gz"));
+    assert!(
+        stderr(&o).contains(&format!(
+            "{}: holds no runs.csv, so {} is not a directory of campaigns only",
+            stray.display(),
+            results.display()
+        )),
+        "{}",
+        stderr(&o)
+    );
+}
