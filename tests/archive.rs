@@ -92,9 +92,18 @@ fn sha256(bytes: &[u8]) -> String {
         .collect()
 }
 
-/// The entries of a `.tar.gz`: path to (mode, mtime, uid, gid, data, user
-/// name), directories with a trailing `/` and no data.
-fn entries(file: &Path) -> BTreeMap<String, (u32, u64, u64, u64, Vec<u8>, String)> {
+/// One entry of a `.tar.gz` as its header and data give it.
+struct Entry {
+    mode: u32,
+    mtime: u64,
+    uid: u64,
+    gid: u64,
+    user: String,
+    data: Vec<u8>,
+}
+
+/// The entries of a `.tar.gz` by path, directories with a trailing `/`.
+fn entries(file: &Path) -> BTreeMap<String, Entry> {
     let gz = flate2::read::GzDecoder::new(std::fs::File::open(file).unwrap());
     let mut out = BTreeMap::new();
     for entry in tar::Archive::new(gz).entries().unwrap() {
@@ -103,15 +112,14 @@ fn entries(file: &Path) -> BTreeMap<String, (u32, u64, u64, u64, Vec<u8>, String
         let h = e.header().clone();
         let mut data = Vec::new();
         e.read_to_end(&mut data).unwrap();
-        let user = h.username().unwrap().unwrap_or("").to_owned();
-        let row = (
-            h.mode().unwrap(),
-            h.mtime().unwrap(),
-            h.uid().unwrap(),
-            h.gid().unwrap(),
+        let row = Entry {
+            mode: h.mode().unwrap(),
+            mtime: h.mtime().unwrap(),
+            uid: h.uid().unwrap(),
+            gid: h.gid().unwrap(),
+            user: h.username().unwrap().unwrap_or("").to_owned(),
             data,
-            user,
-        );
+        };
         out.insert(path, row);
     }
     out
@@ -159,10 +167,10 @@ fn an_archive_round_trips_and_its_sums_check() {
     assert_eq!(gz[9], 255);
 
     let all = entries(&file);
-    for (path, (mode, mtime, uid, gid, _, user)) in &all {
+    for (path, e) in &all {
         let want = if path.ends_with('/') { 0o755 } else { 0o644 };
-        assert_eq!((*mode, *mtime, *uid, *gid), (want, 0, 0, 0), "{path}");
-        assert_eq!(user, "", "{path}");
+        assert_eq!((e.mode, e.mtime, e.uid, e.gid), (want, 0, 0, 0), "{path}");
+        assert_eq!(e.user, "", "{path}");
     }
     // Sorted, under one top directory named as the campaign's.
     let paths: Vec<&String> = all.keys().collect();
@@ -172,7 +180,7 @@ fn an_archive_round_trips_and_its_sums_check() {
     assert!(originals.contains_key(".lock"));
     for (rel, bytes) in &originals {
         if rel != ".lock" {
-            assert_eq!(&all[&format!("trip/{rel}")].4, bytes, "{rel}");
+            assert_eq!(&all[&format!("trip/{rel}")].data, bytes, "{rel}");
         }
     }
     assert!(!all.contains_key("trip/.lock"));
@@ -188,9 +196,9 @@ fn an_archive_round_trips_and_its_sums_check() {
     assert!(all.keys().any(|k| k.starts_with("trip/plots/")));
     // CITATION.cff is the repository's.
     let cff = std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("CITATION.cff")).unwrap();
-    assert_eq!(all["trip/CITATION.cff"].4, cff);
+    assert_eq!(all["trip/CITATION.cff"].data, cff);
     // SHA256SUMS lists every other file, sorted, with its digest.
-    let sums = String::from_utf8(all["trip/SHA256SUMS"].4.clone()).unwrap();
+    let sums = String::from_utf8(all["trip/SHA256SUMS"].data.clone()).unwrap();
     let listed: Vec<(&str, &str)> = sums.lines().map(|l| (&l[66..], &l[..64])).collect();
     let mut sorted = listed.clone();
     sorted.sort();
@@ -202,17 +210,20 @@ fn an_archive_round_trips_and_its_sums_check() {
         .collect();
     assert_eq!(listed.iter().map(|l| l.0).collect::<Vec<_>>(), files);
     for (path, hex) in &listed {
-        assert_eq!(sha256(&all[&format!("trip/{path}")].4), *hex, "{path}");
+        assert_eq!(sha256(&all[&format!("trip/{path}")].data), *hex, "{path}");
     }
     // .zenodo.json: what CITATION.cff and the crate say, nothing made up.
-    let zenodo = String::from_utf8(all["trip/.zenodo.json"].4.clone()).unwrap();
+    let zenodo = String::from_utf8(all["trip/.zenodo.json"].data.clone()).unwrap();
+    // CITATION.cff names no repository: no related identifier is made up.
+    assert!(!zenodo.contains("related_identifiers"), "{zenodo}");
     for part in [
-        "\"title\": \"trip: results of metabezier ".to_owned(),
+        "\"title\": \"trip: results of a metabezier ".to_owned(),
         "\"upload_type\": \"dataset\"".to_owned(),
         "\"creators\": [{\"name\": \"The metabezier developers\"}]".to_owned(),
         format!("\"version\": \"{}\"", env!("CARGO_PKG_VERSION")),
         "\"license\": \"MIT\"".to_owned(),
         "\"keywords\": [\"Bézier curves\"".to_owned(),
+        "\"access_right\": \"open\"".to_owned(),
         "trip (8 runs)".to_owned(),
     ] {
         assert!(zenodo.contains(&part), "{part} not in {zenodo}");
@@ -436,7 +447,7 @@ fn a_results_directory_of_two_campaigns_is_one_archive() {
     ] {
         assert!(all.contains_key(path), "{path}");
     }
-    let zenodo = String::from_utf8(all["results/.zenodo.json"].4.clone()).unwrap();
+    let zenodo = String::from_utf8(all["results/.zenodo.json"].data.clone()).unwrap();
     assert!(
         zenodo.contains("\"title\": \"first, second: results of metabezier"),
         "{zenodo}"

@@ -43,7 +43,7 @@ pub fn collect(dir: &Path) -> Result<Collected, ArchiveError> {
     // has no runs.csv yet) before the directory is judged by its runs.csv.
     let mut walk = Walk::default();
     walk.dir(dir, "")?;
-    walk.entries.sort_by(|a, b| sort_key(a).cmp(&sort_key(b)));
+    walk.entries.sort_by_cached_key(sort_key);
     let campaign_dirs = if is_campaign(dir) {
         vec![(String::new(), dir.to_owned())]
     } else {

@@ -22,12 +22,14 @@ const OWN_KEYWORDS: [&str; 3] = ["metabezier", "benchmark results", "seeded camp
 
 /// The text of `.zenodo.json` for `campaigns`, written by `software`, whose
 /// citation is `citation`: title, upload type, creators, version, licence,
-/// description, related identifiers and keywords.
+/// description, related identifiers (when the citation names a
+/// repository) and keywords.
 pub fn zenodo_json(software: &Software, citation: &Citation, campaigns: &[CampaignInfo]) -> String {
     let names: Vec<&str> = campaigns.iter().map(|c| c.name.as_str()).collect();
     let title = format!(
-        "{}: results of {} {} campaign{}",
+        "{}: results of {}{} {} campaign{}",
         names.join(", "),
+        if names.len() == 1 { "a " } else { "" },
         software.name,
         software.version,
         if names.len() == 1 { "" } else { "s" }
@@ -54,7 +56,7 @@ pub fn zenodo_json(software: &Software, citation: &Citation, campaigns: &[Campai
             keywords.push(own);
         }
     }
-    let fields = [
+    let mut fields = vec![
         ("title", string(&title)),
         ("upload_type", string("dataset")),
         ("creators", list(&creators)),
@@ -65,12 +67,15 @@ pub fn zenodo_json(software: &Software, citation: &Citation, campaigns: &[Campai
             "description",
             string(&description(software, citation, campaigns)),
         ),
-        ("related_identifiers", list(&related)),
         (
             "keywords",
             list(&keywords.iter().map(|k| string(k)).collect::<Vec<_>>()),
         ),
     ];
+    // Only with an identifier: the CITATION.cff may name no repository.
+    if !related.is_empty() {
+        fields.insert(7, ("related_identifiers", list(&related)));
+    }
     let body: Vec<String> = fields
         .iter()
         .map(|(key, value)| format!("  \"{key}\": {value}"))
@@ -160,7 +165,7 @@ mod tests {
         }];
         let json = zenodo_json(&software, &citation, &campaigns);
         for part in [
-            "\"title\": \"ch4: results of metabezier 9.9.9 campaign\"",
+            "\"title\": \"ch4: results of a metabezier 9.9.9 campaign\"",
             "\"creators\": [{\"name\": \"Doe, Jane\"}]",
             "\"version\": \"9.9.9\"",
             "\"license\": \"MIT\"",
