@@ -7,11 +7,12 @@ use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+mod common;
+
 use metabezier::experiment::archive::{
     verify_archive_capped, write_archive_capped, ArchiveError, SOFTWARE,
 };
 use metabezier::experiment::runner::DirLock;
-use metabezier::experiment::{run_campaign, RunOptions, Spec};
 use metabezier::report::{write_report, ReportOptions};
 use sha2::{Digest, Sha256};
 
@@ -36,30 +37,16 @@ fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
-/// A campaign `name` of HS on Sphere-2 in `dir/name`, with `max_runs` of
-/// its 4 runs (all when `None`) and a report when `report`.
+/// A campaign `name` of HS and MHS on Sphere-2 in `dir/name`, with
+/// `max_runs` of its 8 runs (all when `None`) and a report when `report`.
 fn campaign(dir: &Path, name: &str, max_runs: Option<usize>, report: bool) -> PathBuf {
-    let spec_path = dir.join(format!("{name}.toml"));
-    std::fs::write(
-        &spec_path,
-        format!(
-            "[experiment]\nname = \"{name}\"\nseed = 7\nruns = 4\nbudget = 300\n\n\
-             [[problem]]\nfunction = \"sphere\"\ndim = 2\n\n[[algorithm]]\nname = \"hs\"\n\n\
-             [[algorithm]]\nname = \"mhs\"\n"
-        ),
-    )
-    .unwrap();
-    let spec = Spec::load(&spec_path).unwrap();
-    let out = dir.join(name);
-    let opts = RunOptions {
-        out: Some(out.clone()),
-        threads: Some(1),
-        max_runs,
-        progress: false,
-        ..RunOptions::default()
-    };
-    let s = run_campaign(&spec, &opts).unwrap();
-    assert_eq!(s.complete, max_runs.is_none());
+    let text = format!(
+        "[experiment]\nname = \"{name}\"\nseed = 7\nruns = 4\nbudget = 300\n\n\
+         [[problem]]\nfunction = \"sphere\"\ndim = 2\n\n[[algorithm]]\nname = \"hs\"\n\n\
+         [[algorithm]]\nname = \"mhs\"\n"
+    );
+    let out = common::campaign_runs(dir, name, &text, max_runs);
+    assert_eq!(out.join("runs.csv").exists(), max_runs.is_none());
     if report {
         write_report(&out, &ReportOptions::default()).unwrap();
     }
@@ -74,6 +61,32 @@ fn archive(dir: &Path, out: &Path) -> Output {
         .arg(out)
         .output()
         .unwrap()
+}
+
+/// Archives `dir` into `out`, which must succeed and say `says`.
+fn archived(dir: &Path, out: &Path, says: &str) {
+    let o = archive(dir, out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout(&o).contains(says), "{}", stdout(&o));
+}
+
+/// A finished campaign `name` in a new temporary directory, archived into
+/// `name.tar.gz` beside it: the directory, the campaign and the archive.
+fn archived_campaign(name: &str, report: bool) -> (tempfile::TempDir, PathBuf, PathBuf) {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = campaign(tmp.path(), name, None, report);
+    let file = tmp.path().join(format!("{name}.tar.gz"));
+    archived(&dir, &file, &format!("1 campaign(s) ({name})"));
+    (tmp, dir, file)
+}
+
+/// Archives `dir` into `out`, which must fail, say `says` and write
+/// nothing.
+fn refused(dir: &Path, out: &Path, says: &str) {
+    let o = archive(dir, out);
+    assert!(!o.status.success(), "{}", stdout(&o));
+    assert!(stderr(&o).contains(says), "{says} not in {}", stderr(&o));
+    assert!(!out.exists(), "{}", out.display());
 }
 
 fn verify(file: &Path) -> Output {
@@ -125,37 +138,10 @@ fn entries(file: &Path) -> BTreeMap<String, Entry> {
     out
 }
 
-/// Every regular file below `dir`, by its path relative to it.
-fn files_below(dir: &Path) -> BTreeMap<String, Vec<u8>> {
-    let mut out = BTreeMap::new();
-    let mut stack = vec![dir.to_owned()];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(&d).unwrap() {
-            let p = e.unwrap().path();
-            if p.is_dir() {
-                stack.push(p);
-            } else {
-                let rel = p.strip_prefix(dir).unwrap().to_string_lossy().into_owned();
-                out.insert(rel, std::fs::read(&p).unwrap());
-            }
-        }
-    }
-    out
-}
-
 #[test]
 fn an_archive_round_trips_and_its_sums_check() {
     let _serial = serial();
-    let tmp = tempfile::tempdir().unwrap();
-    let dir = campaign(tmp.path(), "trip", None, true);
-    let file = tmp.path().join("trip.tar.gz");
-    let o = archive(&dir, &file);
-    assert!(o.status.success(), "{}", stderr(&o));
-    assert!(
-        stdout(&o).contains("1 campaign(s) (trip)"),
-        "{}",
-        stdout(&o)
-    );
+    let (tmp, dir, file) = archived_campaign("trip", true);
     let o = verify(&file);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stdout(&o).contains(": OK, "), "{}", stdout(&o));
@@ -176,11 +162,13 @@ fn an_archive_round_trips_and_its_sums_check() {
     let paths: Vec<&String> = all.keys().collect();
     assert_eq!(paths[0], "trip/");
     // Every campaign file is there, byte for byte, except the lock.
-    let originals = files_below(&dir);
-    assert!(originals.contains_key(".lock"));
-    for (rel, bytes) in &originals {
+    let originals = common::files_under(&dir);
+    assert!(originals.contains(Path::new(".lock")));
+    for rel in originals.iter().filter(|r| dir.join(r).is_file()) {
+        let rel = rel.to_str().unwrap();
         if rel != ".lock" {
-            assert_eq!(&all[&format!("trip/{rel}")].data, bytes, "{rel}");
+            let bytes = std::fs::read(dir.join(rel)).unwrap();
+            assert_eq!(all[&format!("trip/{rel}")].data, bytes, "{rel}");
         }
     }
     assert!(!all.contains_key("trip/.lock"));
@@ -249,11 +237,8 @@ fn an_archive_round_trips_and_its_sums_check() {
 #[test]
 fn the_same_directory_gives_the_same_bytes() {
     let _serial = serial();
-    let tmp = tempfile::tempdir().unwrap();
-    let dir = campaign(tmp.path(), "twice", None, false);
-    let (a, b) = (tmp.path().join("a.tar.gz"), tmp.path().join("b.tar.gz"));
-    let o = archive(&dir, &a);
-    assert!(o.status.success(), "{}", stderr(&o));
+    let (tmp, dir, a) = archived_campaign("twice", false);
+    let b = tmp.path().join("b.tar.gz");
     // A later modification time changes nothing.
     let runs = std::fs::File::options()
         .append(true)
@@ -262,18 +247,14 @@ fn the_same_directory_gives_the_same_bytes() {
     runs.set_modified(std::time::SystemTime::now() + std::time::Duration::from_secs(3600))
         .unwrap();
     drop(runs);
-    let o = archive(&dir, &b);
-    assert!(o.status.success(), "{}", stderr(&o));
+    archived(&dir, &b, "twice");
     assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
 }
 
 #[test]
 fn a_flipped_byte_is_refused_with_its_file_named() {
     let _serial = serial();
-    let tmp = tempfile::tempdir().unwrap();
-    let dir = campaign(tmp.path(), "flip", None, false);
-    let file = tmp.path().join("flip.tar.gz");
-    assert!(archive(&dir, &file).status.success());
+    let (tmp, _, file) = archived_campaign("flip", false);
     // Flip one byte of runs.csv's data in the tar stream, and recompress.
     let mut tar_bytes = Vec::new();
     flate2::read::GzDecoder::new(std::fs::File::open(&file).unwrap())
@@ -311,30 +292,20 @@ fn an_unfinished_or_running_campaign_is_refused_and_nothing_is_written() {
     let out_dir = tmp.path().join("out");
     std::fs::create_dir(&out_dir).unwrap();
     let file = out_dir.join("half.tar.gz");
-    let o = archive(&half, &file);
-    assert!(!o.status.success());
-    assert!(
-        stderr(&o).contains(&format!(
-            "{}: the campaign did not finish (its journal remains); finish it with `metabezier run SPEC --out DIR --resume`",
-            half.join("journal.csv").display()
-        )),
-        "{}",
-        stderr(&o)
+    let says = format!(
+        "{}: the campaign did not finish (its journal remains); finish it with `metabezier run SPEC --out DIR --resume`",
+        half.join("journal.csv").display()
     );
+    refused(&half, &file, &says);
     // A campaign running (its lock held by this process) is refused too.
     let done = campaign(tmp.path(), "done", None, false);
     let lock = DirLock::take(&done).unwrap();
-    let o = archive(&done, &file);
-    assert!(!o.status.success());
-    assert!(
-        stderr(&o).contains(&format!(
-            "{}: a campaign is running in it (another process holds {}); wait for it to finish, then archive",
-            done.display(),
-            done.join(".lock").display()
-        )),
-        "{}",
-        stderr(&o)
+    let says = format!(
+        "{}: a campaign is running in it (another process holds {}); wait for it to finish, then archive",
+        done.display(),
+        done.join(".lock").display()
     );
+    refused(&done, &file, &says);
     assert_eq!(std::fs::read_dir(&out_dir).unwrap().count(), 0);
     drop(lock);
     assert!(archive(&done, &file).status.success());
@@ -348,41 +319,36 @@ fn other_directories_are_refused_with_the_file_named() {
     // No runs.csv.
     let empty = tmp.path().join("empty");
     std::fs::create_dir(&empty).unwrap();
-    let o = archive(&empty, &file);
-    assert!(!o.status.success());
-    assert!(
-        stderr(&o).contains(&format!("{}: holds no runs.csv", empty.display())),
-        "{}",
-        stderr(&o)
+    refused(
+        &empty,
+        &file,
+        &format!("{}: holds no runs.csv", empty.display()),
     );
     // A symbolic link is refused, not followed.
     let dir = campaign(tmp.path(), "linked", None, false);
     let link = dir.join("elsewhere.csv");
     std::os::unix::fs::symlink("/etc/hostname", &link).unwrap();
-    let o = archive(&dir, &file);
-    assert!(
-        stderr(&o).contains(&format!(
+    refused(
+        &dir,
+        &file,
+        &format!(
             "{}: is a symbolic link (to /etc/hostname), which an archive does not follow",
             link.display()
-        )),
-        "{}",
-        stderr(&o)
+        ),
     );
     std::fs::remove_file(&link).unwrap();
     // The archive inside the directory it archives.
-    let o = archive(&dir, &dir.join("self.tar.gz"));
-    assert!(
-        stderr(&o).contains("so the archive would hold itself"),
-        "{}",
-        stderr(&o)
+    refused(
+        &dir,
+        &dir.join("self.tar.gz"),
+        "so the archive would hold itself",
     );
     // A file with the name of one the archive adds.
     std::fs::write(dir.join("SHA256SUMS"), "").unwrap();
-    let o = archive(&dir, &file);
-    assert!(
-        stderr(&o).contains("SHA256SUMS: has the name of a file the archive adds"),
-        "{}",
-        stderr(&o)
+    refused(
+        &dir,
+        &file,
+        "SHA256SUMS: has the name of a file the archive adds",
     );
     assert!(!file.exists());
 }
@@ -412,7 +378,9 @@ fn the_size_cap_is_stated_and_refuses_with_the_size_named() {
         .unwrap_err()
         .to_string();
     assert!(
-        e.contains("it is larger than the 10 KiB an archive may be"),
+        e.contains(
+            "it is larger than the 10 KiB an archive (uncompressed, MAX_ARCHIVE_BYTES) may be"
+        ),
         "{e}"
     );
     assert_eq!(metabezier::experiment::archive::MAX_ARCHIVE_BYTES, 4 << 30);
@@ -431,13 +399,7 @@ fn a_results_directory_of_two_campaigns_is_one_archive() {
     }
     std::fs::write(results.join("README.md"), "two campaigns\n").unwrap();
     let file = tmp.path().join("results.tar.gz");
-    let o = archive(&results, &file);
-    assert!(o.status.success(), "{}", stderr(&o));
-    assert!(
-        stdout(&o).contains("2 campaign(s) (first, second)"),
-        "{}",
-        stdout(&o)
-    );
+    archived(&results, &file, "2 campaign(s) (first, second)");
     assert!(verify(&file).status.success());
     let all = entries(&file);
     for path in [
@@ -455,14 +417,13 @@ fn a_results_directory_of_two_campaigns_is_one_archive() {
     // A subdirectory that is no campaign is named.
     let stray = results.join("stray");
     std::fs::create_dir(&stray).unwrap();
-    let o = archive(&results, &tmp.path().join("y.tar.gz"));
-    assert!(
-        stderr(&o).contains(&format!(
+    refused(
+        &results,
+        &tmp.path().join("y.tar.gz"),
+        &format!(
             "{}: holds no runs.csv, so {} is not a directory of campaigns only",
             stray.display(),
             results.display()
-        )),
-        "{}",
-        stderr(&o)
+        ),
     );
 }

@@ -206,6 +206,14 @@ pub enum ArchiveError {
     /// A file or the archive could not be read or written.
     #[error(transparent)]
     Io(#[from] IoError),
+    /// The archive is not a readable `.tar.gz`, or passes its cap.
+    #[error("{}: {problem}", archive.display())]
+    Unreadable {
+        /// The archive.
+        archive: PathBuf,
+        /// Why it cannot be read.
+        problem: String,
+    },
     /// An entry of the archive does not check.
     #[error("{}: {entry}: {problem}", archive.display())]
     Verify {

@@ -32,11 +32,11 @@ pub fn verify(path: &Path, cap: u64) -> Result<Verified, ArchiveError> {
     let limits = ReadLimits {
         file_bytes: cap,
         line_bytes: u64::MAX,
-        what: "an archive",
-        advice: "an archive of this tool is never larger",
+        what: "an archive (uncompressed, MAX_ARCHIVE_BYTES)",
+        advice: "an archive this tool writes is never larger",
     };
     let stream = LimitedReader::new(flate2::read::GzDecoder::new(file), limits);
-    let found = read_entries(tar::Archive::new(stream), &fail)?;
+    let found = read_entries(path, tar::Archive::new(stream), &fail)?;
     let top = found
         .top
         .ok_or_else(|| fail(SHA256SUMS, "the archive is empty".into()))?;
@@ -83,15 +83,16 @@ pub fn verify(path: &Path, cap: u64) -> Result<Verified, ArchiveError> {
 /// Reads every entry of `archive`: each regular file hashed, `SHA256SUMS`
 /// kept as text; a link, device or unsafe path refused.
 fn read_entries<R: Read>(
+    path: &Path,
     mut archive: tar::Archive<R>,
     fail: &dyn Fn(&str, String) -> ArchiveError,
 ) -> Result<Found, ArchiveError> {
-    let unreadable = |e: std::io::Error| {
-        let problem = match e.kind() {
+    let unreadable = |e: std::io::Error| ArchiveError::Unreadable {
+        archive: path.to_owned(),
+        problem: match e.kind() {
             std::io::ErrorKind::FileTooLarge => e.to_string(),
             _ => format!("not a readable .tar.gz: {e}"),
-        };
-        fail("(the archive)", problem)
+        },
     };
     let mut found = Found::default();
     for entry in archive.entries().map_err(unreadable)? {
