@@ -22,7 +22,8 @@
 //!   so that `sha256sum -c SHA256SUMS` in the extracted top directory
 //!   checks it.
 //!
-//! The same directory always gives the same bytes ([`tarball`]).
+//! The same directory always gives the same bytes: sorted entries, fixed
+//! headers and a gzip header without time or name.
 //! [`write_archive`] refuses a directory whose campaign runs (its `.lock`
 //! held) or has not finished (a `journal.csv` remains), one without
 //! `runs.csv`, and one whose archive would pass [`MAX_ARCHIVE_BYTES`];

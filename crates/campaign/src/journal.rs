@@ -39,7 +39,7 @@ const EXTRA_BEFORE_INSTANCES: usize = 3;
 
 /// One journal line (no header): the `runs.csv` fields, the trace as
 /// `evaluations:best|...`, the fit detail, the wall time, the transform,
-/// the instance, the hits, the checksum of these fields ([`checksum`]),
+/// the instance, the hits, the checksum of these fields (`checksum`),
 /// and the sentinel `ok` that marks the line as complete.
 pub fn journal_line(r: &RunRecord) -> Vec<u8> {
     let mut fields = run_fields(r);
@@ -80,7 +80,7 @@ pub fn read_journal(path: &Path) -> Result<Vec<RunRecord>, ReadError> {
 }
 
 /// Reads every complete line of a journal, each checked against itself
-/// ([`check_row`]), ignoring an incomplete last line (the trace of an
+/// (`check_row`), ignoring an incomplete last line (the trace of an
 /// interruption); a malformed line elsewhere is an error. The file is read
 /// a line at a time (one line ahead, to know the last) under
 /// [`JOURNAL_LIMITS`], so a resume holds the records, not the journal's

@@ -360,7 +360,7 @@ fn create_temporary(path: &Path) -> io::Result<(std::fs::File, PathBuf)> {
     }
 }
 
-/// Whether `name` is that of a temporary file [`create_temporary`] makes
+/// Whether `name` is that of a temporary file `create_temporary` makes
 /// and a kill between its creation and its rename leaves behind:
 /// `.NAME.PID.RANDOM.tmp`, `NAME` not empty, `PID` decimal digits and
 /// `RANDOM` exactly 16 lowercase hexadecimal digits. Returns the `PID`.
