@@ -26,9 +26,11 @@ macro_rules! say {
     };
 }
 
+mod archive;
 mod compare;
 mod fit;
 
+use archive::ArchiveArgs;
 use fit::FitArgs;
 
 /// metabezier: curve reconstruction by metaheuristics, and a reproducible
@@ -137,6 +139,10 @@ enum Command {
     /// Compare two or more campaigns' results directories side by side:
     /// compare.md, compare.html, tables/ and plots/ (A against the others).
     Compare(compare::CompareArgs),
+    /// Bundle a results directory (one campaign, or a results/ directory of
+    /// several) into a reproducible .tar.gz with CITATION.cff, SHA256SUMS
+    /// and Zenodo's .zenodo.json; or check one with --verify.
+    Archive(ArchiveArgs),
     /// Fit piecewise (rational) Bézier curves to an outline.
     Fit(Box<FitArgs>),
     /// Score the paths of an SVG file (another tool's curves) against the
@@ -314,6 +320,7 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
             write_report(&dir, &opts, keep_going, w)
         }
         Command::Compare(args) => compare::compare(args, w),
+        Command::Archive(args) => archive::archive(args, w),
         Command::Fit(args) => fit::fit(*args, w),
         Command::Score(args) => score_curves(args, w),
         Command::Implant {

@@ -4,6 +4,7 @@
 //! [`std::error::Error::source`]) and adds the command line's own argument
 //! errors ([`UsageError`]).
 
+use crate::experiment::archive::ArchiveError;
 use crate::experiment::{ExperimentError, ReadError, SpecError};
 use crate::files::IoError;
 use crate::fit::FitError;
@@ -17,6 +18,9 @@ pub enum Error {
     /// A campaign failed: its spec, its files or its resume or merge.
     #[error(transparent)]
     Experiment(#[from] ExperimentError),
+    /// An archive could not be written, or does not check.
+    #[error(transparent)]
+    Archive(#[from] ArchiveError),
     /// A report could not be written.
     #[error(transparent)]
     Report(#[from] ReportError),
@@ -115,6 +119,9 @@ pub enum UsageError {
         max = crate::experiment::spec::MAX_BUDGET
     )]
     Budget(u64),
+    /// `archive` given neither `DIR --out FILE` nor `--verify FILE` alone.
+    #[error("archive: give DIR --out FILE.tar.gz to write an archive, or --verify FILE alone to check one")]
+    ArchiveMode,
 }
 
 impl From<SpecError> for Error {

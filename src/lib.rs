@@ -162,6 +162,21 @@ pub mod experiment {
         pub const GIT_COMMIT: &str = env!("METABEZIER_GIT_COMMIT");
     }
 
+    /// Archives of results directories (`metabezier-campaign`'s), and the
+    /// software that writes them as this binary names it.
+    pub mod archive {
+        pub use metabezier_campaign::archive::*;
+
+        /// This binary as its archives name it: its name, its crate
+        /// version, and the repository's `CITATION.cff`, embedded at build
+        /// time so that an archive is made from the binary alone.
+        pub const SOFTWARE: Software<'static> = Software {
+            name: env!("CARGO_PKG_NAME"),
+            version: env!("CARGO_PKG_VERSION"),
+            citation_cff: include_str!("../CITATION.cff"),
+        };
+    }
+
     /// [`metabezier_campaign::run_campaign`] with this build's commit
     /// ([`provenance::GIT_COMMIT`]) recorded in `provenance.toml`.
     pub fn run_campaign(spec: &Spec, opts: &RunOptions) -> Result<Summary, ExperimentError> {

@@ -5,9 +5,12 @@
 //! that nothing is left behind: after the run the directory holds exactly
 //! the files the case put there.
 
-use std::collections::BTreeSet;
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
+
+use common::files_under;
 
 /// One bad input and what the binary must say about it.
 struct Case {
@@ -591,22 +594,6 @@ fn implant_cases() -> Vec<Case> {
         .with(ct, "x")
         .with("out", "x"),
     ]
-}
-
-/// Every file under `dir`, relative to it.
-fn files_under(dir: &Path) -> BTreeSet<PathBuf> {
-    let mut out = BTreeSet::new();
-    let mut stack = vec![dir.to_owned()];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(&d).unwrap() {
-            let p = e.unwrap().path();
-            if p.is_dir() {
-                stack.push(p.clone());
-            }
-            out.insert(p.strip_prefix(dir).unwrap().to_owned());
-        }
-    }
-    out
 }
 
 /// Runs one case; `Err` says how it failed.

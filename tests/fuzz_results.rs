@@ -5,14 +5,16 @@
 //! (`report::load_results`) and the way a resume and a merge do
 //! (`records::read_results`, `journal::read_journal`): no panic, no hang,
 //! and no allocation beyond a small multiple of the files' size.
+mod common;
 mod fuzz_common;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use metabezier::experiment::journal::read_journal;
 use metabezier::experiment::records::read_results;
-use metabezier::experiment::{run_campaign, RunOptions, Spec};
 use metabezier::report::load_results;
+
+use common::campaign_runs as campaign;
 
 #[global_allocator]
 static ALLOC: fuzz_common::CountingAlloc = fuzz_common::CountingAlloc;
@@ -46,23 +48,6 @@ label = "HS, tuned"
 name = "pso"
 swarm = 10
 "#;
-
-/// A campaign of `text` run into `dir/name` (only `max_runs` of its runs
-/// when given, so that a journal remains).
-fn campaign(dir: &Path, name: &str, text: &str, max_runs: Option<usize>) -> PathBuf {
-    let path = dir.join(format!("{name}.toml"));
-    std::fs::write(&path, text).unwrap();
-    let spec = Spec::load(&path).unwrap();
-    let out = dir.join(name);
-    let opts = RunOptions {
-        out: Some(out.clone()),
-        threads: Some(1),
-        max_runs,
-        ..RunOptions::default()
-    };
-    run_campaign(&spec, &opts).unwrap();
-    out
-}
 
 fn fitting() -> String {
     let coin = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/outlines/coin.png");

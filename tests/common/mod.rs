@@ -112,6 +112,23 @@ pub fn unreadable(dir: &std::path::Path) -> Vec<String> {
 /// Runs the spec `text`, written to `tmp/<name>.toml`, into `tmp/<name>` on
 /// two threads and returns that results directory.
 pub fn campaign(tmp: &std::path::Path, name: &str, text: &str) -> std::path::PathBuf {
+    let out = campaign_runs(tmp, name, text, None);
+    assert!(
+        out.join("runs.csv").exists(),
+        "{} is not complete",
+        out.display()
+    );
+    out
+}
+
+/// [`campaign`] stopped after `max_runs` runs when given, so that a
+/// journal remains.
+pub fn campaign_runs(
+    tmp: &std::path::Path,
+    name: &str,
+    text: &str,
+    max_runs: Option<usize>,
+) -> std::path::PathBuf {
     use metabezier::experiment::{run_campaign, RunOptions, Spec};
     let path = tmp.join(format!("{name}.toml"));
     std::fs::write(&path, text).unwrap();
@@ -120,9 +137,10 @@ pub fn campaign(tmp: &std::path::Path, name: &str, text: &str) -> std::path::Pat
     let opts = RunOptions {
         out: Some(out.clone()),
         threads: Some(2),
+        max_runs,
         ..RunOptions::default()
     };
-    assert!(run_campaign(&spec, &opts).unwrap().complete);
+    run_campaign(&spec, &opts).unwrap();
     out
 }
 
@@ -159,4 +177,20 @@ pub fn hand_made(rows: &[(&str, &str, u32, f64, Option<u64>)]) -> String {
         ));
     }
     s
+}
+
+/// Every file and directory under `dir`, relative to it.
+pub fn files_under(dir: &std::path::Path) -> std::collections::BTreeSet<std::path::PathBuf> {
+    let mut out = std::collections::BTreeSet::new();
+    let mut stack = vec![dir.to_owned()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p.clone());
+            }
+            out.insert(p.strip_prefix(dir).unwrap().to_owned());
+        }
+    }
+    out
 }

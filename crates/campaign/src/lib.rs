@@ -19,6 +19,7 @@ use metabezier_core::{functions, geometry, optim, problem, rng, simd};
 use metabezier_files as files;
 use metabezier_fit::{fit, outline, reconstruction};
 
+pub mod archive;
 pub mod coco_log;
 pub mod fit_files;
 pub mod journal;
