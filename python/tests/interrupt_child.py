@@ -4,6 +4,7 @@ to interrupt from outside (a real SIGINT, as Ctrl-C sends): prints
 Not collected by pytest (no ``test_`` prefix)."""
 
 import math
+import signal
 import sys
 
 import metabezier as mb
@@ -50,6 +51,11 @@ def call(case, out):
 
 
 if __name__ == "__main__":
+    # Python raises KeyboardInterrupt on SIGINT only if SIGINT was not
+    # ignored when it started, and a shell ignores it for a job started in
+    # the background (`.ci/run &`): install Python's handler, as an
+    # interactive session has it.
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     print("ready", flush=True)
     try:
         call(sys.argv[1], sys.argv[2])
