@@ -20,7 +20,7 @@ help:
 	@echo "make fuzz           the seeded fuzz loops of tests/fuzz_*.rs with 100,000 mutants per reader (minutes)"
 	@echo "make test-cluster   a campaign as a Slurm array job on a private one-node Slurm (root; installs slurm-wlm, munge)"
 	@echo "make bench          criterion benchmarks: optimiser overhead per evaluation, cost of E per fitting function"
-	@echo "make overhead       each optimiser's CPU time per evaluation against a bare Sphere-30 loop in the same process (seconds; run it idle)"
+	@echo "make overhead       each optimiser's CPU time per evaluation against a bare Sphere-30 loop in the same process, and in the first and last tenth of a 2e6-evaluation run (seconds; run it idle)"
 	@echo "make memory         the memory guard's estimate against the peak RSS of three campaigns at 1 and 2 threads (minutes; run it idle)"
 	@echo "make speedup        1 -> 2 thread speed-up of a 60-run campaign (five alternating runs; run it idle)"
 	@echo "make reproduce-ch4  chapter 4: benchmarks, scalability, MHS tuning, with reports (results/ch4_*/)"

@@ -23,9 +23,16 @@
 //! Options (after `--`; `make overhead OVERHEAD_ARGS="..."`): `--function
 //! F` (`sphere`; a name of `metabezier list`), `--dim D` (30, at most
 //! 1,000), `--evals N` (20,000 a run, as `benches/optimisers.rs`), `--runs
-//! K` (10 a sample), `--rounds R` (9), `--algorithms a,b,...` (all). Run without `--bench` (as `cargo test
+//! K` (10 a sample), `--rounds R` (9), `--algorithms a,b,...` (all), `--long N`
+//! (2,000,000). Run without `--bench` (as `cargo test
 //! --benches` does), it measures a tiny budget once and checks that its
-//! table is well formed.
+//! tables are well formed.
+//!
+//! A second table gives each optimiser's CPU time per evaluation in the
+//! first and in the last tenth of one long run (`--long` evaluations, seed
+//! 1), read by the evaluator's observer at the checkpoints N/10 and 9N/10:
+//! an optimiser whose late evaluations cost more than its early ones
+//! (subnormal numbers as its steps shrink, say) shows a ratio above 1.
 
 #[allow(dead_code)]
 #[path = "common/mod.rs"]
@@ -37,7 +44,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use metabezier::functions::{Function, TestProblem};
-use metabezier::optim::Algorithm;
+use metabezier::optim::{Algorithm, Evaluator};
 use metabezier::problem::Problem;
 use metabezier::rng::run_rng;
 use metabezier::stats::median;
@@ -60,6 +67,8 @@ pub struct Options {
     pub rounds: usize,
     /// The optimisers, by registry name.
     pub algorithms: Vec<String>,
+    /// Evaluations of the long run whose first and last tenths are timed.
+    pub long: u64,
 }
 
 impl Default for Options {
@@ -71,6 +80,7 @@ impl Default for Options {
             runs: 10,
             rounds: 9,
             algorithms: Algorithm::names().into_iter().map(String::from).collect(),
+            long: 2_000_000,
         }
     }
 }
@@ -83,6 +93,7 @@ impl Options {
             evals: 2_000,
             runs: 1,
             rounds: 1,
+            long: 20_000,
             ..Options::default()
         }
     }
@@ -122,6 +133,7 @@ impl Options {
                 "--evals" => o.evals = positive(arg, &value()?)?,
                 "--runs" => o.runs = positive(arg, &value()?)?,
                 "--rounds" => o.rounds = positive(arg, &value()?)? as usize,
+                "--long" => o.long = positive(arg, &value()?)?.max(10),
                 "--algorithms" => {
                     let names = Algorithm::names();
                     o.algorithms = Vec::new();
@@ -138,7 +150,7 @@ impl Options {
                 _ => {
                     return Err(format!(
                         "unknown argument {arg:?}; the options are --function F, --dim D, \
-                         --evals N, --runs K, --rounds R, --algorithms a,b,..."
+                         --evals N, --runs K, --rounds R, --algorithms a,b,..., --long N"
                     ))
                 }
             }
@@ -333,6 +345,67 @@ impl Measurement {
     }
 }
 
+/// The calling thread's CPU time in ns, or the wall clock's since the
+/// first call where there is no CPU clock.
+fn now_ns() -> u64 {
+    static EPOCH: std::sync::OnceLock<Instant> = std::sync::OnceLock::new();
+    cpu_ns().unwrap_or_else(|| EPOCH.get_or_init(Instant::now).elapsed().as_nanos() as u64)
+}
+
+/// Per optimiser of `o`: (name, ns per evaluation in the first tenth, in
+/// the last tenth) of one run of `o.long` evaluations with seed 1, timed at
+/// the checkpoints N/10 and 9N/10 by the evaluator's observer (no cost per
+/// evaluation; a generation evaluated as one batch is timed whole).
+pub fn tenths(o: &Options) -> Vec<(String, f64, f64)> {
+    let problem = TestProblem::new(o.function, o.dim).expect("checked by Options::parse");
+    let n = o.long;
+    let tenth = n / 10;
+    o.algorithms
+        .iter()
+        .map(|name| {
+            let algo = Algorithm::default_for(name).expect("names checked by Options::parse");
+            let marks = std::sync::Arc::new(std::sync::Mutex::new(Vec::with_capacity(3)));
+            let seen = std::sync::Arc::clone(&marks);
+            let mut eval = Evaluator::new(&problem, n)
+                .with_checkpoints(vec![tenth, n - tenth, n])
+                .with_observer(Box::new(move |_, _, _| {
+                    seen.lock().expect("one thread").push(now_ns());
+                    true
+                }));
+            let start = now_ns();
+            algo.minimise_benchmark(&mut eval, &mut run_rng(1));
+            black_box(eval.finish());
+            let m = marks.lock().expect("one thread").clone();
+            let per = |a: u64, b: u64| b.saturating_sub(a) as f64 / tenth as f64;
+            match m[..] {
+                [first, late, last] => (name.clone(), per(start, first), per(late, last)),
+                _ => (name.clone(), f64::NAN, f64::NAN),
+            }
+        })
+        .collect()
+}
+
+/// The table of [`tenths`]: one row per optimiser with its ns per
+/// evaluation in the first and the last tenth of the long run and their
+/// ratio.
+pub fn tenths_table(o: &Options, rows: &[(String, f64, f64)]) -> String {
+    let mut out = format!(
+        "\n{}, D = {}: one run of {} evaluations (seed 1), CPU time per evaluation in its \
+         first and last tenth\n\n| optimiser | first tenth ns/eval | last tenth ns/eval | last / first |\n\
+         |---|---:|---:|---:|\n",
+        o.function.title(),
+        o.dim,
+        o.long
+    );
+    for (name, first, last) in rows {
+        out.push_str(&format!(
+            "| {name} | {first:.1} | {last:.1} | {:.2} |\n",
+            last / first
+        ));
+    }
+    out
+}
+
 /// Checks the shape of a [`Measurement::table`]: a heading, a table head
 /// of six columns, and one row per optimiser in `names` whose five figures
 /// are positive numbers (the range `lo–hi` with `lo ≤ hi`).
@@ -382,6 +455,15 @@ fn main() -> ExitCode {
         };
         let table = measure(&tiny).table();
         print!("{table}");
+        let rows = tenths(&tiny);
+        print!("{}", tenths_table(&tiny, &rows));
+        if let Some((name, ..)) = rows
+            .iter()
+            .find(|(_, a, b)| !(a.is_finite() && b.is_finite() && *a >= 0.0 && *b >= 0.0))
+        {
+            eprintln!("overhead: {name}: the long run's tenths were not both timed");
+            return ExitCode::FAILURE;
+        }
         return match check_table(&table, &tiny.algorithms) {
             Ok(()) => ExitCode::SUCCESS,
             Err(e) => {
@@ -391,5 +473,6 @@ fn main() -> ExitCode {
         };
     }
     print!("{}", measure(&options).table());
+    print!("{}", tenths_table(&options, &tenths(&options)));
     ExitCode::SUCCESS
 }
