@@ -17,7 +17,7 @@
 //! the exception reaches the user.
 
 use std::path::{Path, PathBuf};
-use std::sync::{Mutex, OnceLock};
+use std::sync::{Arc, Mutex, OnceLock};
 use std::time::Duration;
 
 use metabezier::experiment::spec::MAX_BUDGET;
@@ -60,7 +60,8 @@ struct PyProblem {
     /// A campaign's problem: its exception goes to [`CAMPAIGN_ERROR`], and
     /// an interrupt of the campaign ends its run at the next call.
     in_campaign: bool,
-    error: Mutex<Option<PyErr>>,
+    /// The first exception of `fun` or of a `callback` observing its run.
+    error: Arc<Mutex<Option<PyErr>>>,
 }
 
 /// The exception of the last failed campaign run, for `run` to re-raise.
@@ -75,7 +76,7 @@ impl PyProblem {
         let slot = if self.in_campaign {
             &CAMPAIGN_ERROR
         } else {
-            &self.error
+            &*self.error
         };
         if let Ok(mut slot) = slot.lock() {
             slot.get_or_insert(err);
@@ -364,7 +365,7 @@ fn start_of(x0: Vec<f64>, bounds: &[Bounds]) -> PyResult<Vec<f64>> {
 /// The observer of a run for a Python `callback`: the package's adapter
 /// gets `(x, fun, nfev)` at every checkpoint and returns `True` to stop;
 /// its exception is kept in `slot` and ends the run at once.
-fn observer_of(callback: Py<PyAny>, slot: std::sync::Arc<Mutex<Option<PyErr>>>) -> Observer {
+fn observer_of(callback: Py<PyAny>, slot: Arc<Mutex<Option<PyErr>>>) -> Observer {
     Box::new(move |nfev, best, x| {
         match Python::attach(|py| {
             callback
@@ -416,9 +417,8 @@ fn minimize(
         bounds,
         batch,
         in_campaign: false,
-        error: Mutex::new(None),
+        error: Arc::default(),
     };
-    let slot = std::sync::Arc::new(Mutex::new(None));
     let mut eval = Evaluator::new(&problem as &dyn Problem, budget);
     if let Some(x0) = x0 {
         eval = eval.with_start(x0);
@@ -427,15 +427,12 @@ fn minimize(
         eval = eval.with_target(t).stop_at_target();
     }
     if let Some(cb) = callback {
-        eval = eval.with_observer(observer_of(cb, std::sync::Arc::clone(&slot)));
+        eval = eval.with_observer(observer_of(cb, Arc::clone(&problem.error)));
     }
     let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         alg.minimise(&mut eval, &mut run_rng(seed));
     }));
-    let kept = problem
-        .take_error()
-        .or_else(|| slot.lock().ok().and_then(|mut s| s.take()));
-    match (run, kept) {
+    match (run, problem.take_error()) {
         (Ok(()), _) => {
             let ended = match eval.ended_early() {
                 Some(EarlyEnd::Target) => Some("target"),
@@ -555,7 +552,7 @@ fn register_problem(
                 bounds: b,
                 batch,
                 in_campaign: true,
-                error: Mutex::new(None),
+                error: Arc::default(),
             })
         },
         move |_| optimum,
