@@ -21,13 +21,17 @@
 //! * [`Function::eval`] expects a non-empty slice (`x.len() == 2` for the
 //!   camel-back, which panics otherwise); [`TestProblem`] guarantees both.
 
+mod formulas;
 mod instance;
 
-use std::f64::consts::{E, TAU};
 use std::fmt;
 use std::sync::Arc;
 
 use crate::problem::{objective_rows, Bounds, Problem};
+use formulas::{
+    ackley, griewank, rastrigin, rosenbrock, schwefel_1_2, schwefel_2_22, schwefel_2_26,
+    six_hump_camel, sphere, step,
+};
 
 pub use instance::{instance_seed, Instance, Transform, MAX_ROTATION_DIM};
 
@@ -257,108 +261,6 @@ impl fmt::Display for Function {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.name())
     }
-}
-
-// ---------------------------------------------------------------------------
-// The evaluations. Each is one left-to-right fold over the slice: no
-// allocation, no indexing (hence no bounds checks), no reassociation.
-
-#[inline]
-fn sphere(x: &[f64]) -> f64 {
-    x.iter().fold(0.0, |s, &v| s + v * v)
-}
-
-#[inline]
-fn schwefel_2_22(x: &[f64]) -> f64 {
-    let (sum, prod) = x.iter().fold((0.0, 1.0), |(s, p), &v| {
-        let a = v.abs();
-        (s + a, p * a)
-    });
-    sum + prod
-}
-
-#[inline]
-fn rosenbrock(x: &[f64]) -> f64 {
-    let Some((_, next)) = x.split_first() else {
-        return 0.0;
-    };
-    x.iter().zip(next).fold(0.0, |s, (&a, &b)| {
-        let t = b - a * a;
-        let u = a - 1.0;
-        s + (100.0 * t * t + u * u)
-    })
-}
-
-/// `⌊x + ½⌋` without rounding the sum: `(x + 0.5).floor()` gives 1 at
-/// `x = 0.49999999999999994` because `x + 0.5` rounds up to 1.0. Here
-/// `x − ⌊x⌋` is exact for every finite `x`, so the comparison is exact.
-#[inline]
-fn floor_half_up(x: f64) -> f64 {
-    let r = x.floor();
-    if x - r >= 0.5 {
-        r + 1.0
-    } else {
-        r
-    }
-}
-
-#[inline]
-fn step(x: &[f64]) -> f64 {
-    x.iter().fold(0.0, |s, &v| {
-        let r = floor_half_up(v);
-        s + r * r
-    })
-}
-
-#[inline]
-fn schwefel_1_2(x: &[f64]) -> f64 {
-    // The running prefix sum is bit-identical to recomputing Σ_{j≤i} x_j left
-    // to right for each i, in O(D) instead of O(D²).
-    let (sum, _) = x.iter().fold((0.0, 0.0), |(s, prefix), &v| {
-        let p = prefix + v;
-        (s + p * p, p)
-    });
-    sum
-}
-
-#[inline]
-fn schwefel_2_26(x: &[f64]) -> f64 {
-    x.iter().fold(0.0, |s, &v| {
-        s + (SCHWEFEL_226_OFFSET - v * v.abs().sqrt().sin())
-    })
-}
-
-#[inline]
-fn rastrigin(x: &[f64]) -> f64 {
-    x.iter()
-        .fold(0.0, |s, &v| s + (v * v + 10.0 * (1.0 - (TAU * v).cos())))
-}
-
-#[inline]
-fn ackley(x: &[f64]) -> f64 {
-    let (sq, cs) = x.iter().fold((0.0, 0.0), |(sq, cs), &v| {
-        (sq + v * v, cs + (TAU * v).cos())
-    });
-    let n = x.len() as f64;
-    20.0 * (1.0 - (-0.2 * (sq / n).sqrt()).exp()) + (E - (cs / n).exp())
-}
-
-#[inline]
-fn griewank(x: &[f64]) -> f64 {
-    let (sq, prod) = x.iter().enumerate().fold((0.0, 1.0), |(sq, p), (i, &v)| {
-        (sq + v * v, p * (v / ((i + 1) as f64).sqrt()).cos())
-    });
-    sq / 4000.0 + (1.0 - prod)
-}
-
-#[inline]
-fn six_hump_camel(x: &[f64]) -> f64 {
-    let &[a, b] = x else {
-        panic!("six_hump_camel takes exactly 2 variables, got {}", x.len());
-    };
-    let a2 = a * a;
-    let b2 = b * b;
-    4.0 * a2 - 2.1 * a2 * a2 + a2 * a2 * a2 / 3.0 + a * b - 4.0 * b2 + 4.0 * b2 * b2
 }
 
 // ---------------------------------------------------------------------------
@@ -608,6 +510,7 @@ impl Problem for TestProblem {
 
 #[cfg(test)]
 mod tests {
+    use super::formulas::floor_half_up;
     use super::*;
     use std::f64::consts::{PI, SQRT_2};
 

@@ -5,12 +5,14 @@ use std::cell::Cell;
 use crate::problem::{Bounds, Problem};
 
 /// `Σ (x_i − c_i)²` on asymmetric per-variable bounds, counting calls and
-/// evaluations outside the box, NaN where `x_0 > nan_above`.
+/// evaluations outside the box and points with a coordinate in
+/// `(0, 10⁻¹⁵⁴)` (whose square is subnormal), NaN where `x_0 > nan_above`.
 pub(crate) struct Bowl {
     pub(crate) bounds: Vec<Bounds>,
     pub(crate) centre: Vec<f64>,
     pub(crate) outside: Cell<u64>,
     pub(crate) calls: Cell<u64>,
+    pub(crate) tiny: Cell<u64>,
     pub(crate) nan_above: f64,
 }
 
@@ -25,6 +27,7 @@ impl Bowl {
             centre,
             outside: Cell::new(0),
             calls: Cell::new(0),
+            tiny: Cell::new(0),
             nan_above: f64::INFINITY,
         }
     }
@@ -41,6 +44,9 @@ impl Problem for Bowl {
         self.calls.set(self.calls.get() + 1);
         if x.iter().zip(&self.bounds).any(|(v, b)| !b.contains(*v)) {
             self.outside.set(self.outside.get() + 1);
+        }
+        if x.iter().any(|v| v.abs() > 0.0 && v.abs() < 1e-154) {
+            self.tiny.set(self.tiny.get() + 1);
         }
         if x.first().is_some_and(|&v| v > self.nan_above) {
             return f64::NAN;
