@@ -744,3 +744,54 @@ fn a_resume_refuses_a_timing_file_without_a_row_of_each_run() {
     std::fs::write(out.join("timing.csv"), &timing).unwrap();
     assert_eq!(resume(), "");
 }
+
+/// `stop = "target"` ends each run at its first evaluation within the
+/// threshold: the same runs succeed after the same evaluations as with the
+/// whole budget, a successful run stops there (a generation evaluated as one
+/// batch is counted whole), and an unsuccessful one spends its budget.
+#[test]
+fn stop_at_target_ends_successful_runs_at_their_target() {
+    let whole_dir = tempfile::tempdir().unwrap();
+    let stop_dir = tempfile::tempdir().unwrap();
+    let whole = spec(whole_dir.path());
+    let path = stop_dir.path().join("spec.toml");
+    std::fs::write(
+        &path,
+        SPEC.replace("threshold = 1e-2", "threshold = 1e-2\nstop = \"target\""),
+    )
+    .unwrap();
+    let stopping = Spec::load(&path).unwrap();
+    assert_eq!(stopping.stop, metabezier::experiment::spec::Stop::Target);
+    let a = run(&whole, whole_dir.path().join("out"), 2);
+    let b = run(&stopping, stop_dir.path().join("out"), 2);
+    let runs = |d: &Path| metabezier::experiment::records::read_runs(&d.join("runs.csv")).unwrap();
+    let (full, stopped) = (runs(&a), runs(&b));
+    assert_eq!(full.len(), stopped.len());
+    let mut ended_early = 0;
+    for (f, s) in full.iter().zip(&stopped) {
+        let what = format!("{} on {} run {}", f.algorithm, f.problem, f.run);
+        assert_eq!((f.seed, f.success), (s.seed, s.success), "{what}");
+        assert_eq!(f.evaluations_to_target, s.evaluations_to_target, "{what}");
+        match s.evaluations_to_target {
+            Some(hit) => {
+                assert!(
+                    s.evaluations >= hit && s.evaluations < hit + 64,
+                    "{what}: {}",
+                    s.evaluations
+                );
+                assert!(s.error <= 1e-2, "{what}");
+                ended_early += usize::from(s.evaluations < s.budget);
+            }
+            None => assert_eq!(s.evaluations, s.budget, "{what}"),
+        }
+    }
+    assert!(ended_early > 10, "only {ended_early} runs ended early");
+    // The report says so, and a report of the whole-budget campaign does not.
+    let says = |d: &Path| {
+        metabezier::report::write_report(d, &metabezier::report::ReportOptions::default()).unwrap();
+        String::from_utf8(read(d, "report.md"))
+            .unwrap()
+            .contains("**Runs end:** at their target")
+    };
+    assert!(says(&b) && !says(&a));
+}

@@ -105,3 +105,24 @@ fn a_tolerance_beside_segments_or_out_of_range_is_refused() {
         assert!(e.message.contains(message), "{body}: {}", e.message);
     }
 }
+
+/// `stop = "target"` is for benchmark runs: a spec with `[[fit]]` problems,
+/// which have no target, is refused at the `stop` line.
+#[test]
+fn stop_at_target_is_refused_for_fits() {
+    let tmp = tempfile::tempdir().unwrap();
+    let path = write_spec(tmp.path(), "tolerance = 0.5");
+    let text = std::fs::read_to_string(&path).unwrap();
+    std::fs::write(
+        &path,
+        text.replace("budget = 400\n", "budget = 400\nstop = \"target\"\n"),
+    )
+    .unwrap();
+    let e = Spec::load(&path).unwrap_err();
+    assert_eq!((e.field.as_str(), e.line), ("experiment.stop", 6), "{e}");
+    assert!(
+        e.to_string()
+            .contains("[[fit]] problems, which have no target"),
+        "{e}"
+    );
+}

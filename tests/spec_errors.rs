@@ -124,7 +124,12 @@ fn unknown_names_list_the_valid_choices() {
         error_of(&BASE.replace("budget = 100", "budjet = 100")),
         "spec.toml:5:1: experiment.budjet: unknown field; did you mean \"budget\"? Valid choices: \
          \"name\", \"description\", \"seed\", \"runs\", \"budget\", \"budget_per_dim\", \"threshold\", \
-         \"checkpoints_per_decade\" or \"paired\""
+         \"checkpoints_per_decade\", \"paired\" or \"stop\""
+    );
+    assert_eq!(
+        error_of(&BASE.replace("budget = 100", "budget = 100\nstop = \"tagret\"")),
+        "spec.toml:6:8: experiment.stop: expected where a run ends, found \"tagret\"; did you mean \
+         \"target\"? Valid choices: \"budget\" or \"target\""
     );
     assert_eq!(
         error_of(&with_line("bounds = \"wrap\"")),

@@ -588,6 +588,8 @@ pub(crate) struct Provenance {
     pub budget: Option<String>,
     /// Success threshold on `f − f*`.
     pub threshold: Option<f64>,
+    /// `experiment.stop` when the spec sets it (`"budget"` or `"target"`).
+    pub stop: Option<String>,
     /// `tool version` from meta.toml.
     pub tool: Option<String>,
     /// Hash of the spec text from meta.toml.
@@ -665,6 +667,7 @@ pub(crate) fn provenance(dir: &Path) -> Provenance {
                 toml::Value::Integer(i) => Some(*i as f64),
                 _ => None,
             });
+            p.stop = exp.get("stop").map(value_text);
         }
         if let Some(report) = spec.get("report").and_then(|v| v.as_table()) {
             p.report_keys = report

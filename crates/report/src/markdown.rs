@@ -144,6 +144,15 @@ fn spec_bullets(s: &mut String, h: &Header<'_>) {
                 |t| format!("f − f\\* ≤ {}", sci_digits(t, 2)),
             ),
         );
+        if p.stop.as_deref() == Some("target") {
+            bullet(
+                s,
+                "Runs end",
+                "at their target (`stop = \"target\"`, as COCO's experiments): a successful \
+                 run's final error is only known to be within the threshold, so compare \
+                 evaluations to target and success rates, not final errors",
+            );
+        }
     }
     bullet(
         s,

@@ -7,6 +7,7 @@
 //! runs = 5                  # independent runs per (algorithm cell, problem)
 //! budget = 20000            # objective evaluations per run (or budget_per_dim)
 //! threshold = 1e-8          # success when f − f* ≤ threshold
+//! # stop = "target"         # end a run at its target (default "budget")
 //!
 //! [[problem]]
 //! function = ["sphere", "rastrigin"]   # a name or a list of names
@@ -49,6 +50,7 @@ mod bbob;
 mod fit;
 mod fit_tolerance;
 mod report;
+mod stop;
 
 pub use metabezier_spec::SpecError;
 pub(crate) use metabezier_spec::{choices_hint, raw, Table, Value};
@@ -56,6 +58,7 @@ pub(crate) use metabezier_spec::{choices_hint, raw, Table, Value};
 pub use bbob::{Bbob, NO_COCO};
 pub use fit::FitCase;
 pub use report::{rope_measure, REPORT_KEYS};
+pub use stop::Stop;
 
 /// One problem of a spec, with its budget: a benchmark function at a
 /// dimension (possibly a shifted or rotated instance), or an
@@ -193,10 +196,14 @@ pub fn benchmark_evaluator<'p, P: Problem + ?Sized>(
     problem: &'p P,
     f_star: f64,
 ) -> Evaluator<'p, P> {
-    Evaluator::new(problem, entry.budget)
+    let eval = Evaluator::new(problem, entry.budget)
         .with_target(f_star + spec.threshold)
         .with_targets(f_star, default_targets())
-        .with_checkpoints(log_checkpoints(entry.budget, spec.checkpoints_per_decade))
+        .with_checkpoints(log_checkpoints(entry.budget, spec.checkpoints_per_decade));
+    match spec.stop {
+        Stop::Budget => eval,
+        Stop::Target => eval.stop_at_target(),
+    }
 }
 
 /// Minimises `problem`, reached through `dyn Problem` (COCO's bbob, a
@@ -449,6 +456,8 @@ pub struct Spec {
     pub threshold: f64,
     /// Convergence checkpoints per decade of evaluations.
     pub checkpoints_per_decade: u32,
+    /// Where a benchmark run ends: at its budget (the default) or its target.
+    pub stop: Stop,
     /// The problems, in spec order.
     pub problems: Vec<ProblemEntry>,
     /// The algorithm cells, in spec order (grids expanded).
@@ -650,7 +659,7 @@ impl<'a> std::ops::Deref for Parser<'a> {
     }
 }
 
-const EXPERIMENT_KEYS: [&str; 9] = [
+const EXPERIMENT_KEYS: [&str; 10] = [
     "name",
     "description",
     "seed",
@@ -660,6 +669,7 @@ const EXPERIMENT_KEYS: [&str; 9] = [
     "threshold",
     "checkpoints_per_decade",
     "paired",
+    "stop",
 ];
 const SECTIONS: [&str; 5] = ["experiment", "problem", "fit", "algorithm", "report"];
 /// The largest instance count, and instance number, of a `[[problem]]` of
@@ -683,6 +693,16 @@ impl<'a> Parser<'a> {
         let header = self.experiment(root, doc.span())?;
         let problems = self.all_problems(root, header.budget.as_ref(), doc.span())?;
         let benchmarks = problems.iter().any(|p| !p.kind.least_squares());
+        if header.stop.0 == Stop::Target && problems.iter().any(|p| !p.kind.has_targets()) {
+            return Err(self.error(
+                header.stop.1.clone(),
+                "experiment.stop",
+                "stop = \"target\" ends a benchmark run at f − f* ≤ threshold, but this spec \
+                 has [[fit]] problems, which have no target: remove `stop` (a fit ends at its \
+                 budget or its `tolerance`) or put the fits in a spec of their own"
+                    .into(),
+            ));
+        }
         let cells = self.cells(root, doc.span(), benchmarks, (problems.len(), header.runs))?;
         let paired = self.paired(root, &problems)?;
         let ropes = self.report_section(root)?;
@@ -694,6 +714,7 @@ impl<'a> Parser<'a> {
             runs: header.runs,
             threshold: header.threshold,
             checkpoints_per_decade: header.checkpoints_per_decade,
+            stop: header.stop.0,
             problems,
             cells,
             paired,
@@ -822,6 +843,7 @@ impl<'a> Parser<'a> {
         if let Some(v) = self.get(experiment, "description") {
             self.string(v, "experiment.description")?;
         }
+        let stop = self.stop(experiment)?;
         Ok(Header {
             name,
             seed,
@@ -829,7 +851,28 @@ impl<'a> Parser<'a> {
             budget,
             threshold,
             checkpoints_per_decade,
+            stop,
         })
+    }
+
+    /// The optional `experiment.stop` ([`Stop`]), with its span (the empty
+    /// span when absent).
+    fn stop(&self, experiment: &Table<'_>) -> Result<WithSpan<Stop>, SpecError> {
+        let Some(v) = self.get(experiment, "stop") else {
+            return Ok((Stop::default(), 0..0));
+        };
+        let name = self.string(v, "experiment.stop")?;
+        let stop = Stop::from_name(&name).ok_or_else(|| {
+            self.error(
+                v.span(),
+                "experiment.stop",
+                format!(
+                    "expected where a run ends, found \"{name}\"; {}",
+                    choices_hint(&name, &Stop::NAMES)
+                ),
+            )
+        })?;
+        Ok((stop, v.span()))
     }
 
     /// The required `experiment.name`, which names the results directory.
@@ -1669,6 +1712,8 @@ struct Header {
     budget: Option<Budget>,
     threshold: f64,
     checkpoints_per_decade: u32,
+    /// `experiment.stop` and its span.
+    stop: WithSpan<Stop>,
 }
 
 /// A budget as written in a spec: one value or a grid of values.
