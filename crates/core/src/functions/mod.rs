@@ -23,6 +23,7 @@
 
 mod formulas;
 mod instance;
+mod panels;
 
 use std::fmt;
 use std::sync::Arc;
