@@ -117,9 +117,9 @@ test-dxf: build
 	test -x $(DXF_VENV)/bin/python || python3 -m venv $(DXF_VENV)
 	$(DXF_VENV)/bin/python -m pip install --quiet --disable-pip-version-check -r ci/dxf-requirements.txt
 	@set -e; out=$$(mktemp -d); \
-	  $(BIN) fit data/outlines/horse.png --segments 101 --out $$out/horse > /dev/null; \
-	  $(BIN) fit data/outlines/coin.png --function rational-quadratic --segments 6 --out $$out/coin > /dev/null; \
-	  $(BIN) fit font:data/outlines/DejaVuSans.ttf:S --function quadratic --true-breaks --out $$out/S > /dev/null; \
+	  $(BIN) fit data/outlines/horse.png --segments 101 --outputs csv,dxf --out $$out/horse > /dev/null; \
+	  $(BIN) fit data/outlines/coin.png --function rational-quadratic --segments 6 --outputs csv,dxf --out $$out/coin > /dev/null; \
+	  $(BIN) fit font:data/outlines/DejaVuSans.ttf:S --function quadratic --true-breaks --outputs csv,dxf --out $$out/S > /dev/null; \
 	  $(DXF_VENV)/bin/python ci/check-dxf.py $$out/horse $$out/coin $$out/S; \
 	  rm -rf $$out
 

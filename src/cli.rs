@@ -29,6 +29,7 @@ macro_rules! say {
 mod archive;
 mod compare;
 mod fit;
+mod fit_outputs;
 
 use archive::ArchiveArgs;
 use fit::FitArgs;

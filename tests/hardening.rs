@@ -395,6 +395,8 @@ fn fit_results_appear_whole_or_not_at_all() {
             // A seeded method, so that another seed gives another fit.
             "--algorithm".as_ref(),
             "mhs".as_ref(),
+            "--outputs".as_ref(),
+            "all".as_ref(),
         ];
         match limit {
             Some(kib) => with_file_limit(kib, &args),

@@ -115,6 +115,10 @@ fn a_metaheuristic_fit_of_the_horse_keeps_every_joint() {
 
 /// `metabezier fit` of the coin with PSO, 6 segments, seed 3, into `out`.
 fn fit_coin(out: &Path) -> std::process::Output {
+    fit_coin_with(out, &[])
+}
+
+fn fit_coin_with(out: &Path, extra: &[&str]) -> std::process::Output {
     metabezier()
         .args([
             "fit",
@@ -130,6 +134,7 @@ fn fit_coin(out: &Path) -> std::process::Output {
             "--out",
         ])
         .arg(out)
+        .args(extra)
         .output()
         .unwrap()
 }
@@ -178,9 +183,17 @@ fn fit_writes_its_files() {
         )),
         "{svg}"
     );
-    assert!(tmp.path().join("overlay.png").exists());
+    // The rasters, the DXF and the overlay only on request (`--outputs`).
+    for absent in ["fit.png", "fit.dxf", "overlay.svg", "overlay.png"] {
+        assert!(!tmp.path().join(absent).exists(), "{absent}");
+    }
+    let rasters = tmp.path().join("rasters");
+    let out = fit_coin_with(&rasters, &["--outputs", "png,overlay,dxf"]);
+    assert!(out.status.success());
+    assert!(rasters.join("overlay.png").exists() && rasters.join("fit.dxf").exists());
+    assert!(!rasters.join("fit.csv").exists() && !rasters.join("fit.svg").exists());
     assert_eq!(
-        &std::fs::read(tmp.path().join("fit.png")).unwrap()[1..4],
+        &std::fs::read(rasters.join("fit.png")).unwrap()[1..4],
         b"PNG"
     );
 

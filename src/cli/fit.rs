@@ -5,6 +5,7 @@ use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
+use super::fit_outputs::{write_drawings, Drawings, FitOutput};
 use crate::error::{Error, UsageError};
 use crate::experiment::fit_files::write_fit_records;
 use crate::files::{check_output_dir, Staging};
@@ -12,10 +13,9 @@ use crate::fit::{Chain, Closing, ErrorMeasure, FitError, FitOptions, FunctionTyp
 use crate::geometry::{Continuity, Parameterisation};
 use crate::outline::{noise_level, parse_input, CornerOptions, Foreground, Input};
 use crate::reconstruction::{
-    save_shape, shape_dxf, ContourChoice, LoadOptions, Method, OverlayFigure, Reconstruction,
-    Segmentation, ShapeFit, Source, DEFAULT_TOLERANCE,
+    ContourChoice, LoadOptions, Method, Reconstruction, Segmentation, ShapeFit, Source,
+    DEFAULT_TOLERANCE,
 };
-use crate::report::save_overlay;
 
 /// Arguments of `metabezier fit`.
 #[derive(Debug, clap::Args)]
@@ -106,6 +106,16 @@ pub(super) struct FitArgs {
     /// Output directory.
     #[arg(long, default_value = "results/fit")]
     out: PathBuf,
+    /// The files to write, a comma-separated list: csv (fit.csv,
+    /// metrics.csv, timing.csv), svg (fit.svg), png (fit.png), dxf
+    /// (fit.dxf, exact), overlay (overlay.svg, overlay.png), all.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "csv,svg",
+        value_name = "LIST"
+    )]
+    outputs: Vec<FitOutput>,
 }
 
 /// Parses `--corner-angle`: a turning angle in degrees in [0, 180).
@@ -177,14 +187,17 @@ pub(super) fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
     );
     let dir = staging.path();
     let case = a.case(&r, &method);
-    let mut paths = write_fit_records(dir, &fit, &case, wall)?;
+    let mut paths = if FitOutput::Csv.in_list(&a.outputs) {
+        write_fit_records(dir, &fit, &case, wall)?
+    } else {
+        Vec::new()
+    };
     let data = source.points();
-    paths.extend(save_shape(&fit, &data, &title, dir, "fit")?);
-    let dxf = dir.join("fit.dxf");
-    crate::files::write_atomic(&dxf, shape_dxf(&fit).as_bytes())?;
-    paths.push(dxf);
-    let figure = OverlayFigure::of_fit(&title, &data, &fit);
-    paths.extend(save_overlay(&figure, dir, "overlay")?);
+    let drawings = Drawings {
+        title: &title,
+        data: &data,
+    };
+    paths.extend(write_drawings(&a.outputs, &fit, &drawings, dir)?);
     let paths: Vec<PathBuf> = paths.iter().map(|p| staging.final_path(p)).collect();
     staging.publish()?;
     say_fit(w, &source.label(), &fit, wall, &paths);

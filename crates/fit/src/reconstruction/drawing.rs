@@ -223,7 +223,7 @@ fn crossings(polygons: &[Vec<Point>], y: f64) -> Vec<f64> {
 }
 
 /// Writes `<dir>/<stem>.svg` ([`shape_svg`]) and `<dir>/<stem>.png`
-/// ([`shape_raster`], 800 pixels); returns the two paths.
+/// ([`save_shape_png`]); returns the two paths.
 pub fn save_shape(
     fit: &ShapeFit,
     data: &[Point],
@@ -231,8 +231,33 @@ pub fn save_shape(
     dir: &Path,
     stem: &str,
 ) -> Result<Vec<PathBuf>, IoError> {
+    Ok(vec![
+        save_shape_svg(fit, data, title, dir, stem)?,
+        save_shape_png(fit, data, dir, stem)?,
+    ])
+}
+
+/// Writes `<dir>/<stem>.svg` ([`shape_svg`]); returns its path.
+pub fn save_shape_svg(
+    fit: &ShapeFit,
+    data: &[Point],
+    title: &str,
+    dir: &Path,
+    stem: &str,
+) -> Result<PathBuf, IoError> {
     let svg = dir.join(format!("{stem}.svg"));
     write_atomic(&svg, shape_svg(fit, data, title).as_bytes())?;
+    Ok(svg)
+}
+
+/// Writes `<dir>/<stem>.png`, the fit's raster ([`shape_raster`], 800
+/// pixels); returns its path.
+pub fn save_shape_png(
+    fit: &ShapeFit,
+    data: &[Point],
+    dir: &Path,
+    stem: &str,
+) -> Result<PathBuf, IoError> {
     let png = dir.join(format!("{stem}.png"));
     let (rgb, w, h) = shape_raster(fit, data, 800);
     let mut bytes = Vec::new();
@@ -243,7 +268,7 @@ pub fn save_shape(
             .map_err(|e| IoError::new("encode", &png, std::io::Error::other(e)))?;
     }
     write_atomic(&png, &bytes)?;
-    Ok(vec![svg, png])
+    Ok(png)
 }
 
 #[cfg(test)]
