@@ -3,7 +3,7 @@ CARGO ?= cargo
 BIN := target/release/metabezier
 SPECS := experiments
 
-.PHONY: help build quick test test-browser test-python wheel test-dxf citation python-bench examples peer-kurbo fuzz test-cluster bench overhead speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 cq500 reproduce-all check-reports fmt lint clean-results
+.PHONY: help build quick test test-browser test-python wheel test-dxf citation python-bench examples peer-kurbo peer-potrace fuzz test-cluster bench overhead speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 cq500 reproduce-all check-reports fmt lint clean-results
 
 help:
 	@echo "make build          the release binary, target/release/metabezier (cargo build --release --locked)"
@@ -17,6 +17,7 @@ help:
 	@echo "make python-bench   cost per evaluation of a Python objective called from metabezier, against Rust and numpy (after test-python)"
 	@echo "make examples       the library examples (examples/*.rs): your own optimiser and problem in a campaign"
 	@echo "make peer-kurbo     kurbo's curve fitting on the horse and the coin, scored by metabezier score"
+	@echo "make peer-potrace   potrace (Debian's; installed if missing) against fit on the horse, the coin and the logo: segments, two-sided distance, RMS, CPU ratio"
 	@echo "make fuzz           the seeded fuzz loops of tests/fuzz_*.rs with 100,000 mutants per reader (minutes)"
 	@echo "make test-cluster   a campaign as a Slurm array job on a private one-node Slurm (root; installs slurm-wlm, munge)"
 	@echo "make bench          criterion benchmarks: optimiser overhead per evaluation, cost of E per fitting function"
@@ -151,6 +152,14 @@ peer-kurbo: build
 	  $(BIN) score $$i $$out/k.svg | tee $$out/score.txt | tail -1; \
 	  awk -v a=$$a '$$1 == "all" { if ($$3 > 1.1 * a) { print "kurbo strays " $$3 " > 1.1 x " a; exit 1 } }' $$out/score.txt; \
 	done; done; rm -rf $$out
+
+# potrace on the shape fit traces (examples/shape_pbm.rs writes it as a
+# PBM), scored by `metabezier score`, against `fit` at potrace's two-sided
+# distance and at its segment count, with the CPU time of whole processes
+# (ci/peer-potrace.sh; timing, so not in `make test`).
+peer-potrace: build
+	$(CARGO) build --release --locked --example shape_pbm
+	ci/peer-potrace.sh $(BIN) target/release/examples/shape_pbm
 
 # The fuzz loops of `make test` (a few thousand mutants per reader), longer.
 FUZZ_MUTANTS ?= 100000
