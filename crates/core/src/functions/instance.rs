@@ -162,7 +162,7 @@ impl Instance {
     /// with a rotation `scratch` (at least D long; unused otherwise) holds
     /// `x − o`, computed once rather than once per row. Each sum
     /// `Σ_j M_ij (x_j − o_j)` runs left to right, `j = 0, 1, …`; the sums
-    /// advance together in panels of rows held in registers ([`Panels`]:
+    /// advance together in panels of rows held in registers (panels of `M`:
     /// the same bits as one row after the other).
     #[inline]
     pub fn map_into(&self, x: &[f64], scratch: &mut [f64], y: &mut [f64]) {
