@@ -61,15 +61,33 @@ pub enum TemplateSource {
     Continuation,
     /// An explicit template file (`[defect] template`).
     File,
+    /// The outer table mirrored across the 3D mid-sagittal plane
+    /// ([`super::surface_template`]; beyond the thesis).
+    Mirror3d,
+    /// The rim fill: a sphere and a thin-plate spline through the bone
+    /// around the defect ([`super::rim_fill`]; beyond the thesis).
+    Rim,
 }
 
 impl TemplateSource {
-    /// The name in tables: `mirror`, `continuation`, `file`.
+    /// Every source, in the order of the tables' counts.
+    pub const ALL: [TemplateSource; 5] = [
+        TemplateSource::Mirror,
+        TemplateSource::Continuation,
+        TemplateSource::File,
+        TemplateSource::Mirror3d,
+        TemplateSource::Rim,
+    ];
+
+    /// The name in tables: `mirror`, `continuation`, `file`, `mirror3d`,
+    /// `rim`.
     pub fn name(self) -> &'static str {
         match self {
             TemplateSource::Mirror => "mirror",
             TemplateSource::Continuation => "continuation",
             TemplateSource::File => "file",
+            TemplateSource::Mirror3d => "mirror3d",
+            TemplateSource::Rim => "rim",
         }
     }
 }
@@ -99,13 +117,19 @@ pub fn source_for(
     match options.template {
         _ if has_file => TemplateSource::File,
         TemplateChoice::Continuation => TemplateSource::Continuation,
-        TemplateChoice::Auto if crosses_midline(a, b, line) => TemplateSource::Continuation,
+        TemplateChoice::Auto | TemplateChoice::Auto3d if crosses_midline(a, b, line) => {
+            TemplateSource::Continuation
+        }
         _ => TemplateSource::Mirror,
     }
 }
 
-/// [`source_for`] of a wall input under `options`.
+/// [`source_for`] of a wall input under `options`, or the kind of its 3D
+/// template ([`WallInput::surface`]) when it has one.
 pub fn template_source(input: &WallInput<'_>, options: &WallOptions) -> TemplateSource {
+    if let Some(s) = input.surface {
+        return s.kind;
+    }
     source_for(
         input.a,
         input.b,
@@ -281,7 +305,7 @@ pub(crate) fn template_for(
     match mirrored {
         Ok((ends, data)) => Ok((ends, data, source)),
         Err(e)
-            if options.template == TemplateChoice::Auto
+            if matches!(options.template, TemplateChoice::Auto | TemplateChoice::Auto3d)
                 && source == TemplateSource::Mirror
                 && mirror_failed(&e) =>
         {
@@ -360,6 +384,7 @@ mod tests {
             a: at(250.0),
             b: at(290.0),
             template: None,
+            surface: None,
             tissue: None,
         };
         let options = WallOptions {

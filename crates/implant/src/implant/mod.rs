@@ -31,6 +31,8 @@
 //! | [`plausibility`] | each designed slice checked before anything is written (width jump, hull, wrap, volume, fit) |
 //! | [`units`] | the independent units of the validation verdicts (slice clusters × positions) |
 //! | [`tables`], [`tables3d`] | its tables: report sections and CSV files |
+//! | [`rim_fill`] | the rim fill: a sphere and a thin-plate spline through the bone around a defect, in 3D |
+//! | [`surface_template`] | the 3D templates (`mirror3d`, `rim`) sliced to one outer-wall curve per defect slice |
 //! | [`render`] | its pictures: slice overlays and the 3D preview |
 
 pub mod check_limits;
@@ -41,10 +43,12 @@ pub mod pipeline;
 pub mod plausibility;
 pub mod polar;
 pub mod refusal;
+pub mod rim_fill;
 pub mod regions;
 pub mod seats;
 pub mod slice_error;
 pub mod smooth;
+pub mod surface_template;
 pub mod wall;
 pub mod wall_input;
 

@@ -12,6 +12,7 @@ use super::refusal::{accepted_runs, design_checks, finish_refused, slice_hull, w
 use super::seats::choose_seats;
 use super::slice_error::SliceError;
 use super::smooth::{lipschitz_envelope, roughness, smooth_outer_walls};
+use super::surface_template::{surface_templates, SurfaceTemplates};
 use super::wall::{
     design_outer, finish_wall, seat_profiles, seat_rule, OuterDesign, Wall, WallInput, WallKind,
     WallOptions,
@@ -120,6 +121,10 @@ pub struct DefectConfig {
     pub smoothing: Smoothing,
     /// Explicit templates, replacing the mirror image.
     pub templates: Option<Templates>,
+    /// The 3D mid-sagittal plane for `template_source = "mirror3d"` and
+    /// `"auto3d"`; `None`: estimated from the volume
+    /// ([`crate::ct::mid_sagittal_plane`]) when needed.
+    pub plane: Option<crate::ct::Plane3>,
     /// Points per ring of the lofted mesh.
     pub ring_points: usize,
     /// The slab thickness of a one-slice design (mm; `[defect]
@@ -232,6 +237,15 @@ pub enum ImplantError {
     /// No defect slice.
     #[error("an implant needs at least one defect slice")]
     TooFewSlices,
+    /// A 3D template (`template_source = "mirror3d"`, `"rim"`) could not
+    /// be built.
+    #[error("template_source = \"{choice}\": {message}")]
+    Template3d {
+        /// The spec's choice.
+        choice: &'static str,
+        /// What went wrong, and what to do.
+        message: String,
+    },
     /// The defect slices do not increase strictly.
     #[error("the defect slices must increase strictly in z")]
     SlicesNotIncreasing,
@@ -568,7 +582,7 @@ pub fn check_distinct_ends(
 /// Runs `f` with the wall input of a slice context.
 fn with_input<R>(
     volume: &Volume,
-    cfg: &DefectConfig,
+    (cfg, surfaces): (&DefectConfig, Option<&SurfaceTemplates>),
     ctx: &SliceContext,
     midline: MidLine,
     f: impl FnOnce(&WallInput<'_>) -> R,
@@ -584,6 +598,7 @@ fn with_input<R>(
     // by the defect, ProMED CT 0051 z = 56–57).
     let outer = [&ctx.tables.outer, &ctx.tables.inner];
     let template = cfg.templates.as_ref().and_then(|t| t.slices.get(&ctx.z));
+    let surface = surfaces.and_then(|s| s.slices.get(&ctx.z));
     let input = WallInput {
         outer: &outer,
         is_bone: &is_bone,
@@ -592,6 +607,7 @@ fn with_input<R>(
         a: ctx.ends.0,
         b: ctx.ends.1,
         template,
+        surface,
         tissue: Some((&slice, cfg.threshold)),
     };
     f(&input)
@@ -764,11 +780,13 @@ fn design_walls<S: SegmentSolver + ?Sized>(
     solver: &mut S,
 ) -> Result<Vec<OuterDesign>, ImplantError> {
     let zs: Vec<usize> = contexts.iter().map(|c| c.z).collect();
+    let surfaces = surface_templates(volume, cfg, contexts, &midline)?;
+    let surfaces = surfaces.as_ref();
     let at = |z: usize| move |source: SliceError| ImplantError::on_slice(z, source);
     let bends = contexts
         .iter()
         .map(|ctx| {
-            with_input(volume, cfg, ctx, midline, |input| {
+            with_input(volume, (cfg, surfaces), ctx, midline, |input| {
                 seat_profiles(input, &cfg.wall)
             })
             .map_err(at(ctx.z))
@@ -783,7 +801,7 @@ fn design_walls<S: SegmentSolver + ?Sized>(
         .iter()
         .zip(&seats)
         .map(|(ctx, &seat)| {
-            with_input(volume, cfg, ctx, midline, |input| {
+            with_input(volume, (cfg, surfaces), ctx, midline, |input| {
                 design_outer(input, kind, &cfg.wall, Some(seat), solver)
             })
             .map_err(at(ctx.z))

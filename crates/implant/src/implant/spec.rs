@@ -585,6 +585,7 @@ impl Parser<'_> {
                 wall,
                 smoothing,
                 templates: None,
+                plane: None,
                 ring_points: 160,
                 thickness_mm: None,
             },
