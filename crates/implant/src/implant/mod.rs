@@ -33,6 +33,7 @@
 //! | [`tables`], [`tables3d`] | its tables: report sections and CSV files |
 //! | [`rim_fill`] | the rim fill: a sphere and a thin-plate spline through the bone around a defect, in 3D |
 //! | [`surface_template`] | the 3D templates (`mirror3d`, `rim`) sliced to one outer-wall curve per defect slice |
+//! | [`template_comparison`] | the slice-wise, 3D-mirror, rim-fill and straight templates compared by region as tested verdicts |
 //! | [`render`] | its pictures: slice overlays and the 3D preview |
 
 pub mod check_limits;
@@ -75,6 +76,7 @@ pub mod tables;
 pub mod tables2d;
 pub mod tables3d;
 pub mod template;
+pub mod template_comparison;
 pub mod units;
 pub mod validation;
 pub mod validation3d;
