@@ -414,6 +414,9 @@ pub struct Implant {
     pub mask: Mask3,
     /// The volume's frame.
     pub frame: Frame,
+    /// The 3D templates (`mirror3d`, `rim`, `auto3d`), with each slice's
+    /// reason; `None` for the slice-wise choices.
+    pub templates_3d: Option<SurfaceTemplates>,
 }
 
 impl Implant {
@@ -683,7 +686,7 @@ pub fn reconstruct_from<S: SegmentSolver + ?Sized>(
     solver: &mut S,
 ) -> Result<Implant, ImplantError> {
     let zs: Vec<usize> = contexts.iter().map(|c| c.z).collect();
-    let designs = design_walls(volume, cfg, midline, contexts, kind, solver)?;
+    let (designs, templates_3d) = design_walls(volume, cfg, midline, contexts, kind, solver)?;
     let checks = design_checks(&designs, &zs, (&cfg.wall, kind));
     let walls = finished_walls(volume, cfg, contexts, designs, &checks)?;
     let mut slices = Vec::with_capacity(contexts.len());
@@ -732,6 +735,7 @@ pub fn reconstruct_from<S: SegmentSolver + ?Sized>(
         mesh,
         mask,
         frame: volume.frame(),
+        templates_3d,
     })
 }
 
@@ -770,7 +774,9 @@ fn finished_walls(
     Ok(walls.into_iter().map(|w| w.1).collect())
 }
 
-/// The seats and the outer design of every slice.
+/// The seats and the outer design of every slice, and the 3D templates
+/// they were fitted to ([`surface_templates`]; `None` for the slice-wise
+/// choices).
 fn design_walls<S: SegmentSolver + ?Sized>(
     volume: &Volume,
     cfg: &DefectConfig,
@@ -778,10 +784,10 @@ fn design_walls<S: SegmentSolver + ?Sized>(
     contexts: &[SliceContext],
     kind: WallKind,
     solver: &mut S,
-) -> Result<Vec<OuterDesign>, ImplantError> {
+) -> Result<(Vec<OuterDesign>, Option<SurfaceTemplates>), ImplantError> {
     let zs: Vec<usize> = contexts.iter().map(|c| c.z).collect();
-    let surfaces = surface_templates(volume, cfg, contexts, &midline)?;
-    let surfaces = surfaces.as_ref();
+    let templates_3d = surface_templates(volume, cfg, contexts, &midline)?;
+    let surfaces = templates_3d.as_ref();
     let at = |z: usize| move |source: SliceError| ImplantError::on_slice(z, source);
     let bends = contexts
         .iter()
@@ -806,7 +812,8 @@ fn design_walls<S: SegmentSolver + ?Sized>(
             })
             .map_err(at(ctx.z))
         })
-        .collect()
+        .collect::<Result<Vec<_>, _>>()
+        .map(|d| (d, templates_3d.clone()))
 }
 
 /// The thickness at A′ and B′ of every slice after the Lipschitz envelope.

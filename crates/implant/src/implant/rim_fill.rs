@@ -10,10 +10,13 @@
 //! 1. The sphere `|p − c| = ρ` by the algebraic least-squares fit
 //!    `|p|² = 2c·p + k`, `ρ² = k + |c|²` (Kåsa, "A circle fitting procedure
 //!    and its error analysis", IEEE Trans. Instrum. Meas. 25(1):8–14,
-//!    1976, in 3D).
-//! 2. A chart of directions about `c`: the gnomonic projection about
-//!    `e₀`, the mean direction of the rim from `c`: a unit direction `u`
-//!    maps to `ρ·(u·e₁, u·e₂)/(u·e₀)` (mm), `e₁, e₂ ⊥ e₀`.
+//!    1976, in 3D), fitted again without the points farther from it than
+//!    `1 mm + 3σ̂` (`σ̂ = 1.4826·MAD` of `|p − c| − ρ`, the robust scale of
+//!    Hampel 1974): other bone met by a rim ray does not pull the sphere.
+//! 2. A chart of directions about `c`: the stereographic projection from
+//!    `−e₀`, `e₀` the mean direction of the rim from `c`: a unit direction
+//!    `u` maps to `2ρ·(u·e₁, u·e₂)/(1 + u·e₀)` (mm), `e₁, e₂ ⊥ e₀`
+//!    (conformal, and defined for a rim spanning more than a hemisphere).
 //! 3. The residual `δ_i = |p_i − c| − ρ` at the chart points `x_i` is
 //!    interpolated by the smoothing thin-plate spline (Duchon, "Splines
 //!    minimizing rotation-invariant semi-norms in Sobolev spaces", LNM 571,
@@ -159,6 +162,33 @@ pub fn fit_sphere(points: &[[f64; 3]]) -> Option<([f64; 3], f64)> {
     (r2 > 0.0).then(|| ([c[0] + m[0], c[1] + m[1], c[2] + m[2]], r2.sqrt()))
 }
 
+/// The distance `1 mm + 3·1.4826·MAD` beyond which a point is an outlier
+/// of the sphere `(c, ρ)`.
+fn outlier_cut(points: &[[f64; 3]], c: [f64; 3], rho: f64) -> f64 {
+    let mut r: Vec<f64> = points
+        .iter()
+        .map(|p| (dot(sub(*p, c), sub(*p, c)).sqrt() - rho).abs())
+        .collect();
+    r.sort_by(f64::total_cmp);
+    1.0 + 3.0 * 1.4826 * r[r.len() / 2]
+}
+
+/// [`fit_sphere`] of `points`, then again of the points within
+/// [`outlier_cut`] of it (module documentation).
+pub fn robust_sphere(points: &[[f64; 3]]) -> Option<([f64; 3], f64)> {
+    let (c, rho) = fit_sphere(points)?;
+    let cut = outlier_cut(points, c, rho);
+    let kept: Vec<[f64; 3]> = points
+        .iter()
+        .filter(|p| (dot(sub(**p, c), sub(**p, c)).sqrt() - rho).abs() <= cut)
+        .copied()
+        .collect();
+    if kept.len() < 10 {
+        return Some((c, rho));
+    }
+    fit_sphere(&kept)
+}
+
 impl RimSurface {
     /// Fits the rim surface to `points` with smoothing `lambda` (mm²;
     /// 0 interpolates). Needs at least 10 points; the points should be
@@ -170,7 +200,22 @@ impl RimSurface {
                 needed: 10,
             });
         }
-        let (centre, radius) = fit_sphere(points).ok_or(RimError::Degenerate { what: "sphere" })?;
+        let (centre, radius) = robust_sphere(points).ok_or(RimError::Degenerate { what: "sphere" })?;
+        let points: Vec<[f64; 3]> = {
+            let cut = outlier_cut(points, centre, radius);
+            points
+                .iter()
+                .filter(|p| (dot(sub(**p, centre), sub(**p, centre)).sqrt() - radius).abs() <= cut)
+                .copied()
+                .collect()
+        };
+        let points = &points[..];
+        if points.len() < 10 {
+            return Err(RimError::TooFewPoints {
+                found: points.len(),
+                needed: 10,
+            });
+        }
         let mean = points.iter().fold([0.0; 3], |s, p| {
             let u = unit(sub(*p, centre));
             [s[0] + u[0], s[1] + u[1], s[2] + u[2]]
@@ -226,12 +271,12 @@ impl RimSurface {
         Ok(surface)
     }
 
-    /// The chart point `ρ·(u·e₁, u·e₂)/(u·e₀)` of a unit direction `u`;
-    /// `None` more than 70° from `e₀`.
+    /// The chart point `2ρ·(u·e₁, u·e₂)/(1 + u·e₀)` of a unit direction
+    /// `u`; `None` within 25° of `−e₀`.
     pub fn chart(&self, u: [f64; 3]) -> Option<Point> {
         let [e0, e1, e2] = self.axes;
         let c0 = dot(u, e0);
-        (c0 > 0.34).then(|| Point::new(dot(u, e1), dot(u, e2)) * (self.radius / c0))
+        (c0 > -0.9).then(|| Point::new(dot(u, e1), dot(u, e2)) * (2.0 * self.radius / (1.0 + c0)))
     }
 
     /// The spline residual `δ(x)` at a chart point.
@@ -256,9 +301,11 @@ impl RimSurface {
         Some(l - self.radius - self.residual(x))
     }
 
-    /// Where the ray `origin + t·dir` crosses the surface for `t` in
-    /// `[t_lo, t_hi]`, going outwards (inside at `t_lo`, outside at
-    /// `t_hi`): bisection to 1 µm. `None` when there is no such crossing.
+    /// Where the ray `origin + t·dir` last crosses the surface outwards
+    /// for `t` in `[t_lo, t_hi]`: walking in from `t_hi` (which must be
+    /// outside) in 0.5 mm steps to the first sample inside, then bisection
+    /// to 1 µm. `None` when there is no such crossing or the ray leaves the
+    /// chart first.
     pub fn ray_hit(&self, origin: [f64; 3], dir: [f64; 3], (t_lo, t_hi): (f64, f64)) -> Option<f64> {
         let at = |t: f64| {
             self.signed_distance([
@@ -267,10 +314,15 @@ impl RimSurface {
                 origin[2] + t * dir[2],
             ])
         };
-        let (mut lo, mut hi) = (t_lo, t_hi);
-        if at(lo)? >= 0.0 || at(hi)? <= 0.0 {
+        if at(t_hi)? <= 0.0 {
             return None;
         }
+        let steps = ((t_hi - t_lo) / 0.5).ceil().max(1.0) as usize;
+        let inside = (1..=steps)
+            .map(|k| t_hi - (t_hi - t_lo) * k as f64 / steps as f64)
+            .find(|&t| at(t).is_none_or(|v| v < 0.0))?;
+        at(inside)?;
+        let (mut lo, mut hi) = (inside, inside + (t_hi - t_lo) / steps as f64);
         while hi - lo > 1e-3 {
             let mid = 0.5 * (lo + hi);
             if at(mid)? < 0.0 {

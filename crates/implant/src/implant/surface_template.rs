@@ -165,12 +165,12 @@ fn trilinear(volume: &Volume, p: [f64; 3]) -> Option<f64> {
     Some(v)
 }
 
-/// The outermost `t` in `[0.7 r, 1.3 r]` at which `hu(t) ≥ threshold`,
-/// walking inwards in 0.2 mm steps and interpolating linearly between the
-/// last two samples; `None` when no sample is bone or one is outside the
-/// volume before bone is met.
-fn outer_hit(r: f64, threshold: f64, hu: impl Fn(f64) -> Option<f64>) -> Option<f64> {
-    let (lo, hi) = (0.7 * r, 1.3 * r);
+/// The outermost `t` in `[(1 − band) r, (1 + band) r]` at which
+/// `hu(t) ≥ threshold`, walking inwards in 0.2 mm steps and interpolating
+/// linearly between the last two samples; `None` when no sample is bone or
+/// one is outside the volume before bone is met.
+fn outer_hit(r: f64, band: f64, threshold: f64, hu: impl Fn(f64) -> Option<f64>) -> Option<f64> {
+    let (lo, hi) = ((1.0 - band) * r, (1.0 + band) * r);
     let steps = ((hi - lo) / 0.2).ceil() as usize;
     let mut prev = (hi, hu(hi)?);
     for k in 1..=steps {
@@ -191,7 +191,7 @@ pub(crate) fn mirror3d_template(volume: &Volume, rays: &Rays, plane: &Plane3, th
     let radii = (0..rays.n)
         .map(|i| {
             let th = rays.theta(i);
-            outer_hit(rays.r, f64::from(threshold), |t| {
+            outer_hit(rays.r, 0.3, f64::from(threshold), |t| {
                 trilinear(volume, plane.reflect(rays.point(th, t)))
             })
         })
@@ -199,8 +199,8 @@ pub(crate) fn mirror3d_template(volume: &Volume, rays: &Rays, plane: &Plane3, th
     rays.template(TemplateSource::Mirror3d, radii)
 }
 
-/// The rim points of a defect: the outer table on the rays of each defect
-/// slice outside its gap (1.5 mm of arc clear of the tips, at most
+/// The rim points of a defect: the outer table (within 0.85–1.15× the
+/// ends' radius) on the rays of each defect slice outside its gap (1.5 mm of arc clear of the tips, at most
 /// `rim_mm` beyond them), and on the slices up to `rim_mm` above and below
 /// the defect on the rays of the nearest defect slice, its gap included;
 /// thinned to one mean point per 2.5 mm cell.
@@ -236,7 +236,7 @@ pub(crate) fn rim_points(
             if arc > rim_mm || (inside && arc < 1.5) {
                 continue;
             }
-            let hit = outer_hit(r.r, f64::from(threshold), |t| {
+            let hit = outer_hit(r.r, 0.15, f64::from(threshold), |t| {
                 let p = r.centre + Point::new(th.cos(), th.sin()) * t;
                 Some(slice.bilinear(p.y / slice.sy, p.x / slice.sx, -1000.0))
             });
@@ -435,7 +435,7 @@ pub fn surface_templates(
         };
         if !t.covers(r.th_a, r.span) {
             return Err(fail(format!(
-                "slice z = {}: the {} template misses a ray of the defect (the mirrored or filled outer table is not within 0.7–1.3× the ends' radius {:.1} mm from the polar centre)",
+                "slice z = {}: the {} template misses a ray of the defect (no mirrored outer table within 0.7–1.3×, or filled surface within 0.5–1.5×, the ends' radius {:.1} mm from the polar centre)",
                 ctx.z,
                 t.kind.name(),
                 r.r
