@@ -58,21 +58,44 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     let _ = writeln!(report);
-    let val = spec.validation_3d.as_ref().ok_or("the spec has no [validation_3d]")?;
+    let val = spec
+        .validation_3d
+        .as_ref()
+        .ok_or("the spec has no [validation_3d]")?;
     let mut cases = Vec::new();
-    let ranges = if quick { &val.ranges[..1] } else { &val.ranges[..] };
-    let positions = if quick { &val.positions[..2] } else { &val.positions[..] };
+    let ranges = if quick {
+        &val.ranges[..1]
+    } else {
+        &val.ranges[..]
+    };
+    let positions = if quick {
+        &val.positions[..2]
+    } else {
+        &val.positions[..]
+    };
     for &range in ranges {
         for &position_deg in positions {
             for &width_mm in &val.widths {
-                cases.push(Case3d { range, position_deg, width_mm });
+                cases.push(Case3d {
+                    range,
+                    position_deg,
+                    width_mm,
+                });
             }
             // Small defects: 15 mm.
-            cases.push(Case3d { range, position_deg, width_mm: 15.0 });
+            cases.push(Case3d {
+                range,
+                position_deg,
+                width_mm: 15.0,
+            });
         }
     }
     // The vertex case of issue 56 (z = 90–100, 95°, 45 mm).
-    cases.push(Case3d { range: (90, 100), position_deg: 95.0, width_mm: 45.0 });
+    cases.push(Case3d {
+        range: (90, 100),
+        position_deg: 95.0,
+        width_mm: 45.0,
+    });
     let rule = RegionRule::of(&volume, cfg.first_z, cfg.threshold, &midline);
     let region = |c: &Case3d| rule.region(0.5 * (c.range.0 + c.range.1) as f64, c.position_deg);
     let t1 = std::time::Instant::now();
@@ -80,7 +103,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // plane (a check of the 3D mirror's implementation: it should then
     // follow the slice-wise mirror).
     let plane = if std::env::args().any(|a| a == "--plane-from-midline") {
-        let _ = writeln!(report, "**The 3D mirror uses the per-slice midline's plane (`--plane-from-midline`).**\n");
+        let _ = writeln!(
+            report,
+            "**The 3D mirror uses the per-slice midline's plane (`--plane-from-midline`).**\n"
+        );
         line_plane
     } else {
         sym.plane
@@ -95,7 +121,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let verdicts = comparison_verdicts(&rows, 0.05);
     report.push_str(&comparison_report(&rows, &verdicts));
     let _ = writeln!(report, "\n## Named cases\n");
-    for r in rows.iter().filter(|r| r.case.width_mm == 15.0 || r.case.range == (90, 100)) {
+    for r in rows
+        .iter()
+        .filter(|r| r.case.width_mm == 15.0 || r.case.range == (90, 100))
+    {
         let _ = writeln!(
             report,
             "- {}–{} at {}°, {} mm ({}), {}: {}",
@@ -106,12 +135,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             r.region,
             r.template,
             match &r.metrics {
-                Ok(m) => format!("Dice {:.3}, bDSC {:.3}, HD95 {:.2} mm ({})", m.dice, m.boundary_dice, m.hd95, m.template_source_name()),
+                Ok(m) => format!(
+                    "Dice {:.3}, bDSC {:.3}, HD95 {:.2} mm ({})",
+                    m.dice,
+                    m.boundary_dice,
+                    m.hd95,
+                    m.template_source_name()
+                ),
                 Err(e) => format!("not built: {e}"),
             }
         );
     }
-    let out = Path::new(if plane == sym.plane { "results/templates_3d" } else { "results/templates_3d_line_plane" });
+    let out = Path::new(if plane == sym.plane {
+        "results/templates_3d"
+    } else {
+        "results/templates_3d_line_plane"
+    });
     std::fs::create_dir_all(out)?;
     std::fs::write(out.join("report.md"), &report)?;
     println!("{report}");

@@ -18,7 +18,11 @@ const R_IN: f64 = 68.0;
 /// 1 × 1 × 2 mm voxels, its vertex at z = 85 mm (slice 42.5).
 fn skull() -> Volume {
     let (nx, ny, nz) = (180, 180, 45);
-    let sp = Spacing { x: 1.0, y: 1.0, z: 2.0 };
+    let sp = Spacing {
+        x: 1.0,
+        y: 1.0,
+        z: 2.0,
+    };
     let mut data = vec![-1000i16; nx * ny * nz];
     for z in 0..nz {
         for y in 0..ny {
@@ -101,7 +105,12 @@ fn a_vertex_defect_is_built_by_the_rim_fill() {
     // The whole pipeline builds it from the rim fill, close to the removed
     // bone.
     let m = evaluate_3d(&p, WallKind::CurveFit, 10.0, &mut LmSolver::default()).unwrap();
-    eprintln!("rim: template worst {worst:.3} mm, rim rms {:.3} mm, Dice {:.3}, HD95 {:.2} mm", t.rim_rms_mm.unwrap(), m.dice, m.hd95);
+    eprintln!(
+        "rim: template worst {worst:.3} mm, rim rms {:.3} mm, Dice {:.3}, HD95 {:.2} mm",
+        t.rim_rms_mm.unwrap(),
+        m.dice,
+        m.hd95
+    );
     assert_eq!(m.template_source_name(), "rim");
     assert!(m.refused.is_empty(), "{:?}", m.refused);
     assert!(m.dice > 0.85, "Dice {}", m.dice);
@@ -120,7 +129,12 @@ fn the_3d_mirror_builds_the_same_defect_and_the_plane_is_the_sphere_s() {
     // search starts from x = 90 and must stay there.
     assert!(plane.side(C).abs() < 0.5, "offset {}", plane.side(C));
     let m = evaluate_3d(&p, WallKind::CurveFit, 10.0, &mut LmSolver::default()).unwrap();
-    eprintln!("mirror3d: offset {:.3} mm, Dice {:.3}, HD95 {:.2} mm", plane.side(C), m.dice, m.hd95);
+    eprintln!(
+        "mirror3d: offset {:.3} mm, Dice {:.3}, HD95 {:.2} mm",
+        plane.side(C),
+        m.dice,
+        m.hd95
+    );
     assert_eq!(m.template_source_name(), "mirror3d");
     assert!(m.dice > 0.85, "Dice {}", m.dice);
 }
@@ -132,11 +146,40 @@ fn a_3d_template_on_one_slice_is_refused_with_the_choices() {
     let one = p.cut.sub_z(30, 31);
     let err = surface_templates(&one, &p.config, &p.contexts, &p.midline).unwrap_err();
     let text = err.to_string();
-    assert!(text.contains("\"rim\"") && text.contains("\"mirror\""), "{text}");
+    assert!(
+        text.contains("\"rim\"") && text.contains("\"mirror\""),
+        "{text}"
+    );
     // `auto3d` on one slice chooses as `auto` does: no 3D template.
     let mut cfg = p.config.clone();
     cfg.wall.template = TemplateChoice::Auto3d;
     assert!(surface_templates(&one, &cfg, &p.contexts, &p.midline)
         .unwrap()
         .is_none());
+}
+
+#[test]
+fn the_spec_reads_the_3d_choices_and_names_them_in_its_error() {
+    let spec = |choice: &str| {
+        format!(
+            "[implant]\nvolume = \"../data/ct0051/ct0051_z040-100.inv3\"\nfirst_z = 40\nmidline = 124.0\ntemplate_source = \"{choice}\"\n\n[defect]\nslices = [64, 64]\nends = \"auto\"\n"
+        )
+    };
+    let path = std::path::Path::new("experiments/probe.toml");
+    for (name, choice) in [
+        ("mirror3d", TemplateChoice::Mirror3d),
+        ("rim", TemplateChoice::Rim),
+        ("auto3d", TemplateChoice::Auto3d),
+    ] {
+        let s = ImplantSpec::parse(path, &spec(name)).unwrap();
+        assert_eq!(s.defect_config.wall.template, choice);
+    }
+    let err = ImplantSpec::parse(path, &spec("rimm"))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("implant.template_source"), "{err}");
+    assert!(err.contains("probe.toml:5:"), "{err}");
+    for name in ["\"mirror3d\"", "\"rim\"", "\"auto3d\"", "\"auto\""] {
+        assert!(err.contains(name), "{err}");
+    }
 }

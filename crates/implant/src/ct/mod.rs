@@ -64,7 +64,8 @@ pub use render::{
 };
 pub use stl::{parse_stl, stl_bytes, write_stl};
 pub use symmetry3d::{
-    bone_surface_points, estimate_symmetry_plane, mid_sagittal_plane, IcpOptions, Plane3, SurfacePoints, SymmetryPlane,
+    bone_surface_points, estimate_symmetry_plane, mid_sagittal_plane, IcpOptions, Plane3,
+    SurfacePoints, SymmetryPlane,
 };
 pub use triangulate::ear_clip;
 pub use volume::{

@@ -183,7 +183,11 @@ fn gradient(volume: &Volume, z: usize, y: usize, x: usize) -> [f64; 3] {
             g[2] += at(z + 1, y + a, x + b) - at(z - 1, y + a, x + b);
         }
     }
-    [g[0] / (18.0 * sp.x), g[1] / (18.0 * sp.y), g[2] / (18.0 * sp.z)]
+    [
+        g[0] / (18.0 * sp.x),
+        g[1] / (18.0 * sp.y),
+        g[2] / (18.0 * sp.z),
+    ]
 }
 
 /// The bone-surface voxels of `volume` at `threshold` HU: bone voxels with
@@ -338,7 +342,11 @@ fn pair_plane(pairs: &[([f64; 3], [f64; 3])], previous: &Plane3) -> Option<Plane
 
 /// Two unit vectors completing `n` to an orthonormal frame.
 fn tangents(n: [f64; 3]) -> ([f64; 3], [f64; 3]) {
-    let a = if n[0].abs() < 0.9 { [1.0, 0.0, 0.0] } else { [0.0, 1.0, 0.0] };
+    let a = if n[0].abs() < 0.9 {
+        [1.0, 0.0, 0.0]
+    } else {
+        [0.0, 1.0, 0.0]
+    };
     let cross = |u: [f64; 3], v: [f64; 3]| {
         [
             u[1] * v[2] - u[2] * v[1],
@@ -463,8 +471,11 @@ pub fn mid_sagittal_plane(
     initial: &MidLine,
 ) -> Option<SymmetryPlane> {
     let surface = bone_surface_points(volume, threshold, None);
-    let coarse =
-        estimate_symmetry_plane(&surface, Plane3::from_midline(initial), &IcpOptions::default())?;
+    let coarse = estimate_symmetry_plane(
+        &surface,
+        Plane3::from_midline(initial),
+        &IcpOptions::default(),
+    )?;
     let fine = IcpOptions {
         search_mm: 3.0,
         stride: 2,
@@ -493,7 +504,9 @@ mod tests {
             point: Point::new(50.0, 60.0),
             tilt: 0.1,
         };
-        let t = Plane3::from_midline(&line).trace(7.0, Point::new(50.0, 60.0)).unwrap();
+        let t = Plane3::from_midline(&line)
+            .trace(7.0, Point::new(50.0, 60.0))
+            .unwrap();
         assert!((t.tilt - 0.1).abs() < 1e-12);
         assert!(line.side(t.point).abs() < 1e-9);
     }
@@ -523,7 +536,11 @@ mod tests {
             5,
             5,
             5,
-            Spacing { x: 1.0, y: 1.0, z: 1.0 },
+            Spacing {
+                x: 1.0,
+                y: 1.0,
+                z: 1.0,
+            },
             [0.0; 3],
             (0..125)
                 .map(|i| {
@@ -585,7 +602,11 @@ mod synthetic {
 
     #[test]
     fn the_plane_of_a_synthetic_skull_is_found_to_half_a_degree_and_half_a_millimetre() {
-        let sp = Spacing { x: 1.0, y: 1.0, z: 2.0 };
+        let sp = Spacing {
+            x: 1.0,
+            y: 1.0,
+            z: 2.0,
+        };
         let centre = [80.0, 85.0, 40.0];
         // Yaw 7° and roll 4°: a plane no single slice's line can express.
         let (yaw, roll) = (7f64.to_radians(), 4f64.to_radians());

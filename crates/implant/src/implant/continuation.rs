@@ -305,8 +305,10 @@ pub(crate) fn template_for(
     match mirrored {
         Ok((ends, data)) => Ok((ends, data, source)),
         Err(e)
-            if matches!(options.template, TemplateChoice::Auto | TemplateChoice::Auto3d)
-                && source == TemplateSource::Mirror
+            if matches!(
+                options.template,
+                TemplateChoice::Auto | TemplateChoice::Auto3d
+            ) && source == TemplateSource::Mirror
                 && mirror_failed(&e) =>
         {
             let (ends, data) = continuation_template(gap, options)?;

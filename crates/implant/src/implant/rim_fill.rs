@@ -200,7 +200,8 @@ impl RimSurface {
                 needed: 10,
             });
         }
-        let (centre, radius) = robust_sphere(points).ok_or(RimError::Degenerate { what: "sphere" })?;
+        let (centre, radius) =
+            robust_sphere(points).ok_or(RimError::Degenerate { what: "sphere" })?;
         let points: Vec<[f64; 3]> = {
             let cut = outlier_cut(points, centre, radius);
             points
@@ -221,7 +222,11 @@ impl RimSurface {
             [s[0] + u[0], s[1] + u[1], s[2] + u[2]]
         });
         let e0 = unit(mean);
-        let helper = if e0[0].abs() < 0.9 { [1.0, 0.0, 0.0] } else { [0.0, 1.0, 0.0] };
+        let helper = if e0[0].abs() < 0.9 {
+            [1.0, 0.0, 0.0]
+        } else {
+            [0.0, 1.0, 0.0]
+        };
         let e1 = unit(cross(e0, helper));
         let e2 = cross(e0, e1);
         let mut surface = RimSurface {
@@ -259,7 +264,9 @@ impl RimSurface {
             }
             b[i] = values[i];
         }
-        let x = solve(a, b, m).ok_or(RimError::Degenerate { what: "thin-plate spline" })?;
+        let x = solve(a, b, m).ok_or(RimError::Degenerate {
+            what: "thin-plate spline",
+        })?;
         surface.weights = x[..n].to_vec();
         surface.affine = [x[n], x[n + 1], x[n + 2]];
         surface.nodes = nodes;
@@ -306,7 +313,12 @@ impl RimSurface {
     /// outside) in 0.5 mm steps to the first sample inside, then bisection
     /// to 1 µm. `None` when there is no such crossing or the ray leaves the
     /// chart first.
-    pub fn ray_hit(&self, origin: [f64; 3], dir: [f64; 3], (t_lo, t_hi): (f64, f64)) -> Option<f64> {
+    pub fn ray_hit(
+        &self,
+        origin: [f64; 3],
+        dir: [f64; 3],
+        (t_lo, t_hi): (f64, f64),
+    ) -> Option<f64> {
         let at = |t: f64| {
             self.signed_distance([
                 origin[0] + t * dir[0],
@@ -355,9 +367,8 @@ mod tests {
             let a = inner + (outer - inner) * i as f64 / 5.0;
             for k in 0..48 {
                 let phi = std::f64::consts::TAU * k as f64 / 48.0;
-                let u = [0, 1, 2].map(|j| {
-                    a.cos() * e0[j] + a.sin() * (phi.cos() * e1[j] + phi.sin() * e2[j])
-                });
+                let u = [0, 1, 2]
+                    .map(|j| a.cos() * e0[j] + a.sin() * (phi.cos() * e1[j] + phi.sin() * e2[j]));
                 let r = f(u);
                 out.push([c[0] + r * u[0], c[1] + r * u[1], c[2] + r * u[2]]);
             }
@@ -399,9 +410,8 @@ mod tests {
                 let e0 = unit(axis);
                 let e1 = unit(cross(e0, [0.3, 1.0, 0.2]));
                 let e2 = cross(e0, e1);
-                let u = [0, 1, 2].map(|j| {
-                    a.cos() * e0[j] + a.sin() * (phi.cos() * e1[j] + phi.sin() * e2[j])
-                });
+                let u = [0, 1, 2]
+                    .map(|j| a.cos() * e0[j] + a.sin() * (phi.cos() * e1[j] + phi.sin() * e2[j]));
                 let t = s.ray_hit(c, u, (10.0, 200.0)).unwrap();
                 worst = worst.max((t - r(u)).abs());
             }

@@ -26,9 +26,9 @@ use std::collections::BTreeMap;
 
 use super::continuation::TemplateSource;
 use super::pipeline::{DefectConfig, ImplantError, SliceContext};
-use super::wall_input::TemplateChoice;
 use super::polar::{angle, wrap};
 use super::rim_fill::{RimError, RimSurface};
+use super::wall_input::TemplateChoice;
 use crate::ct::{mid_sagittal_plane, MidLine, Plane3, Volume};
 use crate::geometry::Point;
 
@@ -187,7 +187,12 @@ fn outer_hit(r: f64, band: f64, threshold: f64, hu: impl Fn(f64) -> Option<f64>)
 
 /// The `mirror3d` template of one slice: on each ray the outer table of
 /// the volume mirrored across `plane` (module documentation).
-pub(crate) fn mirror3d_template(volume: &Volume, rays: &Rays, plane: &Plane3, threshold: i16) -> RayTemplate {
+pub(crate) fn mirror3d_template(
+    volume: &Volume,
+    rays: &Rays,
+    plane: &Plane3,
+    threshold: i16,
+) -> RayTemplate {
     let radii = (0..rays.n)
         .map(|i| {
             let th = rays.theta(i);
@@ -399,8 +404,7 @@ pub fn surface_templates(
     let rim = match choice {
         TemplateChoice::Mirror3d => None,
         _ => Some(
-            rim_surface(volume, &rays, RIM_MM, cfg.threshold)
-                .map_err(|e| fail(e.to_string()))?,
+            rim_surface(volume, &rays, RIM_MM, cfg.threshold).map_err(|e| fail(e.to_string()))?,
         ),
     };
     let mut slices = BTreeMap::new();

@@ -211,7 +211,15 @@ pub fn comparison_report(rows: &[ComparisonRow], verdicts: &[(VerdictRow, usize)
                 })
             })
             .collect();
-        let _ = writeln!(report, "- {t}: {}", if failed.is_empty() { "none".into() } else { failed.join("; ") });
+        let _ = writeln!(
+            report,
+            "- {t}: {}",
+            if failed.is_empty() {
+                "none".into()
+            } else {
+                failed.join("; ")
+            }
+        );
     }
     let _ = writeln!(report);
     verdict_tables(&mut report, verdicts);

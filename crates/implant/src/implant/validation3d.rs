@@ -203,10 +203,10 @@ impl Metrics3d {
         TemplateSource::ALL
             .iter()
             .zip(self.template_sources)
-        .filter(|(_, n)| *n > 0)
-        .map(|(s, _)| s.name())
-        .collect::<Vec<_>>()
-        .join("+")
+            .filter(|(_, n)| *n > 0)
+            .map(|(s, _)| s.name())
+            .collect::<Vec<_>>()
+            .join("+")
     }
 }
 

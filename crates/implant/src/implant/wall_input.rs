@@ -289,7 +289,14 @@ pub enum TemplateChoice {
 impl TemplateChoice {
     /// The spec's names, in order: `auto`, `mirror`, `continuation`,
     /// `mirror3d`, `rim`, `auto3d`.
-    pub const NAMES: [&'static str; 6] = ["auto", "mirror", "continuation", "mirror3d", "rim", "auto3d"];
+    pub const NAMES: [&'static str; 6] = [
+        "auto",
+        "mirror",
+        "continuation",
+        "mirror3d",
+        "rim",
+        "auto3d",
+    ];
 
     /// The choice of a spec name ([`TemplateChoice::NAMES`]).
     pub fn from_name(name: &str) -> Option<TemplateChoice> {
