@@ -174,7 +174,7 @@ fn outlier_cut(points: &[[f64; 3]], c: [f64; 3], rho: f64) -> f64 {
 }
 
 /// [`fit_sphere`] of `points`, then again of the points within
-/// [`outlier_cut`] of it (module documentation).
+/// the distance `1 mm + 3·1.4826·MAD` of it (module documentation).
 pub fn robust_sphere(points: &[[f64; 3]]) -> Option<([f64; 3], f64)> {
     let (c, rho) = fit_sphere(points)?;
     let cut = outlier_cut(points, c, rho);

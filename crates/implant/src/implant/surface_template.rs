@@ -257,15 +257,15 @@ pub(crate) fn rim_points(
     thin(&raw, 2.5)
 }
 
-/// One mean point per occupied `cell`-mm cube, the cell doubled until at
-/// most 600 remain.
+/// One mean point per occupied `cell`-mm cube, the cell grown by half
+/// until at most 600 remain.
 fn thin(points: &[[f64; 3]], cell: f64) -> Vec<[f64; 3]> {
     let mut cells: BTreeMap<[i64; 3], ([f64; 3], f64)> = BTreeMap::new();
     for p in points {
         let key = p.map(|v| (v / cell).floor() as i64);
         let e = cells.entry(key).or_insert(([0.0; 3], 0.0));
-        for i in 0..3 {
-            e.0[i] += p[i];
+        for (sum, v) in e.0.iter_mut().zip(p) {
+            *sum += v;
         }
         e.1 += 1.0;
     }
