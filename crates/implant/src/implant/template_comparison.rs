@@ -75,7 +75,7 @@ pub fn compare_templates(
 ) -> Vec<ComparisonRow> {
     let mut rows = Vec::new();
     for &case in cases {
-        let prepared = prepare_case_3d(volume, cfg, case, midline);
+        let prepared = prepare_case_3d(volume, cfg, case, midline).map_err(std::sync::Arc::new);
         for (template, choice, kind) in TEMPLATES {
             let metrics = match &prepared {
                 Ok(p) => {
@@ -84,12 +84,7 @@ pub fn compare_templates(
                     p.config.plane = Some(plane);
                     evaluate_3d(&p, kind, 10.0, &mut LmSolver::default())
                 }
-                Err(e) => Err(ImplantError::CaseNotBuilt(std::sync::Arc::new(
-                    ImplantError::Template3d {
-                        choice: "auto",
-                        message: e.to_string(),
-                    },
-                ))),
+                Err(e) => Err(ImplantError::CaseNotBuilt(e.clone())),
             };
             rows.push(ComparisonRow {
                 case,
