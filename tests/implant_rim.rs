@@ -6,7 +6,7 @@
 
 use metabezier::ct::{MidLine, Spacing, Volume};
 use metabezier::fit::LmSolver;
-use metabezier::implant::surface_template::surface_templates;
+use metabezier::implant::surface_template::{self, SurfaceTemplates, Template3dError};
 use metabezier::implant::*;
 
 /// The sphere's centre (voxel mm) and outer and inner radii.
@@ -42,6 +42,22 @@ fn skull() -> Volume {
         }
     }
     Volume::new(nx, ny, nz, sp, [0.0; 3], data).unwrap()
+}
+
+/// The 3D templates of a prepared case on `volume` with `cfg`.
+fn surface_templates(
+    volume: &Volume,
+    cfg: &DefectConfig,
+    contexts: &[SliceContext],
+    midline: &MidLine,
+) -> Result<Option<SurfaceTemplates>, Template3dError> {
+    let slices: Vec<_> = contexts.iter().map(SliceContext::defect_slice).collect();
+    surface_template::surface_templates(
+        volume,
+        (&cfg.wall, cfg.threshold, cfg.plane),
+        &slices,
+        midline,
+    )
 }
 
 fn config(template: TemplateChoice) -> DefectConfig {

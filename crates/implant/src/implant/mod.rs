@@ -32,6 +32,7 @@
 //! | [`units`] | the independent units of the validation verdicts (slice clusters × positions) |
 //! | [`tables`], [`tables3d`] | its tables: report sections and CSV files |
 //! | [`rim_fill`] | the rim fill: a sphere and a thin-plate spline through the bone around a defect, in 3D |
+//! | [`ray_template`], [`template_source`] | a template as a radius per ray; which template a wall used |
 //! | [`surface_template`] | the 3D templates (`mirror3d`, `rim`) sliced to one outer-wall curve per defect slice |
 //! | [`template_comparison`] | the slice-wise, 3D-mirror, rim-fill and straight templates compared by region as tested verdicts |
 //! | [`render`] | its pictures: slice overlays and the 3D preview |
@@ -43,6 +44,7 @@ pub mod delivered;
 pub mod pipeline;
 pub mod plausibility;
 pub mod polar;
+pub mod ray_template;
 pub mod refusal;
 pub mod regions;
 pub mod rim_fill;
@@ -50,6 +52,7 @@ pub mod seats;
 pub mod slice_error;
 pub mod smooth;
 pub mod surface_template;
+pub mod template_source;
 pub mod wall;
 pub mod wall_input;
 

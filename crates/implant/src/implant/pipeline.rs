@@ -12,7 +12,7 @@ use super::refusal::{accepted_runs, design_checks, finish_refused, slice_hull, w
 use super::seats::choose_seats;
 use super::slice_error::SliceError;
 use super::smooth::{lipschitz_envelope, roughness, smooth_outer_walls};
-use super::surface_template::{surface_templates, SurfaceTemplates};
+use super::surface_template::{surface_templates, DefectSlice, SurfaceTemplates, Template3dError};
 use super::wall::{
     design_outer, finish_wall, seat_profiles, seat_rule, OuterDesign, Wall, WallInput, WallKind,
     WallOptions,
@@ -239,13 +239,8 @@ pub enum ImplantError {
     TooFewSlices,
     /// A 3D template (`template_source = "mirror3d"`, `"rim"`) could not
     /// be built.
-    #[error("template_source = \"{choice}\": {message}")]
-    Template3d {
-        /// The spec's choice.
-        choice: &'static str,
-        /// What went wrong, and what to do.
-        message: String,
-    },
+    #[error(transparent)]
+    Template3d(#[from] Template3dError),
     /// The defect slices do not increase strictly.
     #[error("the defect slices must increase strictly in z")]
     SlicesNotIncreasing,
@@ -518,6 +513,14 @@ pub struct SliceContext {
     pub head: ConvexHull,
 }
 
+impl SliceContext {
+    /// What the 3D templates need of this slice.
+    pub fn defect_slice(&self) -> DefectSlice {
+        let (z, k, centre, ends) = (self.z, self.k, self.centre, self.ends);
+        DefectSlice { z, k, centre, ends }
+    }
+}
+
 /// The context of one defect slice: bone mask, ends (given or detected),
 /// tables and centre.
 pub fn slice_context(
@@ -786,7 +789,9 @@ fn design_walls<S: SegmentSolver + ?Sized>(
     solver: &mut S,
 ) -> Result<(Vec<OuterDesign>, Option<SurfaceTemplates>), ImplantError> {
     let zs: Vec<usize> = contexts.iter().map(|c| c.z).collect();
-    let templates_3d = surface_templates(volume, cfg, contexts, &midline)?;
+    let slices: Vec<DefectSlice> = contexts.iter().map(SliceContext::defect_slice).collect();
+    let options = (&cfg.wall, cfg.threshold, cfg.plane);
+    let templates_3d = surface_templates(volume, options, &slices, &midline)?;
     let surfaces = templates_3d.as_ref();
     let at = |z: usize| move |source: SliceError| ImplantError::on_slice(z, source);
     let bends = contexts

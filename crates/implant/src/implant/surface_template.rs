@@ -25,10 +25,11 @@
 use std::collections::BTreeMap;
 
 use super::continuation::TemplateSource;
-use super::pipeline::{DefectConfig, ImplantError, SliceContext};
 use super::polar::{angle, wrap};
+pub use super::ray_template::RayTemplate;
 use super::rim_fill::{RimError, RimSurface};
 use super::wall_input::TemplateChoice;
+use super::wall_input::WallOptions;
 use crate::ct::{mid_sagittal_plane, MidLine, Plane3, Volume};
 use crate::geometry::Point;
 
@@ -36,49 +37,6 @@ use crate::geometry::Point;
 /// seats lie at most `seat_max_mm` behind the tips; 8 mm more covers the
 /// tangent windows.
 const EXTRA_MM: f64 = 8.0;
-
-/// A template as a radius per ray about a slice's polar centre.
-#[derive(Clone, Debug, PartialEq)]
-pub struct RayTemplate {
-    /// Where it came from ([`TemplateSource::Mirror3d`] or
-    /// [`TemplateSource::Rim`]).
-    pub kind: TemplateSource,
-    /// Why this template serves the slice (the `auto3d` rule, or the
-    /// spec's choice).
-    pub reason: String,
-    /// The polar centre `O` (mm).
-    pub centre: Point,
-    /// The first ray's angle (radians).
-    pub theta0: f64,
-    /// The signed angular step between rays (radians).
-    pub step: f64,
-    /// The radius on each ray (mm); `None` where the ray misses.
-    pub radii: Vec<Option<f64>>,
-}
-
-impl RayTemplate {
-    /// The template point on the ray at `theta`, linear in θ between the
-    /// two nearest rays; `None` outside the sampled rays or where either
-    /// misses.
-    pub fn at(&self, theta: f64) -> Option<Point> {
-        let u = wrap(theta - self.theta0) / self.step;
-        let n = self.radii.len();
-        if !(u >= -1e-9 && u <= (n - 1) as f64 + 1e-9) {
-            return None;
-        }
-        let i = (u.floor() as usize).min(n.saturating_sub(2));
-        let f = (u - i as f64).clamp(0.0, 1.0);
-        let r = self.radii[i]? * (1.0 - f) + self.radii[(i + 1).min(n - 1)]? * f;
-        Some(self.centre + Point::new(theta.cos(), theta.sin()) * r)
-    }
-
-    /// Whether every ray from `th_a` over `span` (radians) meets the
-    /// template (checked every step).
-    pub fn covers(&self, th_a: f64, span: f64) -> bool {
-        let n = (span.abs() / self.step.abs()).ceil() as usize + 1;
-        (0..=n).all(|k| self.at(th_a + span * k as f64 / n as f64).is_some())
-    }
-}
 
 /// One slice's gap and the rays a template is sampled on.
 #[derive(Clone, Copy, Debug)]
@@ -96,7 +54,7 @@ pub(crate) struct Rays {
 impl Rays {
     /// The rays of a slice context: from `EXTRA_MM + seat_max_mm` of arc
     /// before A to as far after B, 0.5 mm of arc apart.
-    pub(crate) fn of(volume: &Volume, ctx: &SliceContext, seat_max_mm: f64) -> Rays {
+    pub(crate) fn of(volume: &Volume, ctx: &DefectSlice, seat_max_mm: f64) -> Rays {
         let o = ctx.centre;
         let (a, b) = ctx.ends;
         let th_a = angle(a, o);
@@ -354,22 +312,47 @@ fn choice_name(choice: TemplateChoice) -> &'static str {
     }
 }
 
+/// What the 3D templates need of one defect slice.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DefectSlice {
+    /// The slice (original numbering).
+    pub z: usize,
+    /// Its volume index.
+    pub k: usize,
+    /// The polar centre `O` (mm).
+    pub centre: Point,
+    /// A and B (mm).
+    pub ends: (Point, Point),
+}
+
+/// A 3D template that could not be built: the spec's choice and what went
+/// wrong.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("template_source = \"{choice}\": {message}")]
+pub struct Template3dError {
+    /// The spec's choice.
+    pub choice: &'static str,
+    /// What went wrong, and what to do.
+    pub message: String,
+}
+
 /// The 3D templates the wall options ask for (`mirror3d`, `rim`, `auto3d`;
 /// `None` for the slice-wise choices, and for `auto3d` on a one-slice
-/// volume, which then chooses as `auto`). The plane is `cfg.plane` or, when
+/// volume, which then chooses as `auto`), of the defect slices `contexts`
+/// at bone `threshold`. The plane is `plane` or, when
 /// `None`, estimated from the volume starting from `midline`.
 ///
-/// Errors ([`ImplantError::Template3d`]): `mirror3d` or `rim` on a volume
+/// Errors ([`Template3dError`]): `mirror3d` or `rim` on a volume
 /// of fewer than 3 slices, a plane that cannot be estimated, a rim that
 /// does not determine a surface, and a slice whose 3D template misses a
 /// ray of its gap (a wrong template is never passed on as a plausible one).
 pub fn surface_templates(
     volume: &Volume,
-    cfg: &DefectConfig,
-    contexts: &[SliceContext],
+    (wall, threshold, plane): (&WallOptions, i16, Option<Plane3>),
+    contexts: &[DefectSlice],
     midline: &MidLine,
-) -> Result<Option<SurfaceTemplates>, ImplantError> {
-    let choice = cfg.wall.template;
+) -> Result<Option<SurfaceTemplates>, Template3dError> {
+    let choice = wall.template;
     if !matches!(
         choice,
         TemplateChoice::Mirror3d | TemplateChoice::Rim | TemplateChoice::Auto3d
@@ -378,7 +361,7 @@ pub fn surface_templates(
         return Ok(None);
     }
     let name = choice_name(choice);
-    let fail = |message: String| ImplantError::Template3d {
+    let fail = |message: String| Template3dError {
         choice: name,
         message,
     };
@@ -390,26 +373,24 @@ pub fn surface_templates(
     }
     let rays: Vec<(usize, Rays)> = contexts
         .iter()
-        .map(|c| (c.k, Rays::of(volume, c, cfg.wall.seat_max_mm)))
+        .map(|c| (c.k, Rays::of(volume, c, wall.seat_max_mm)))
         .collect();
     let plane = match choice {
         TemplateChoice::Rim => None,
-        _ => Some(match cfg.plane {
+        _ => Some(match plane {
             Some(p) => p,
-            None => mid_sagittal_plane(volume, cfg.threshold, midline)
+            None => mid_sagittal_plane(volume, threshold, midline)
                 .ok_or_else(|| fail("the mid-sagittal plane could not be estimated (fewer than 20 mirror pairs of bone-surface points within 8 mm of the midline's plane)".into()))?
                 .plane,
         }),
     };
     let rim = match choice {
         TemplateChoice::Mirror3d => None,
-        _ => Some(
-            rim_surface(volume, &rays, RIM_MM, cfg.threshold).map_err(|e| fail(e.to_string()))?,
-        ),
+        _ => Some(rim_surface(volume, &rays, RIM_MM, threshold).map_err(|e| fail(e.to_string()))?),
     };
     let mut slices = BTreeMap::new();
     for (ctx, (_, r)) in contexts.iter().zip(&rays) {
-        let mirrored = plane.map(|p| (p, mirror3d_template(volume, r, &p, cfg.threshold)));
+        let mirrored = plane.map(|p| (p, mirror3d_template(volume, r, &p, threshold)));
         let t = match (&mirrored, &rim) {
             (Some((_, m)), None) => {
                 let mut m = m.clone();
@@ -422,7 +403,7 @@ pub fn surface_templates(
                 t
             }
             (Some((p, m)), Some(s)) => {
-                match mirror3d_serves(m, r, p, ctx.ends, cfg.wall.mirror_tolerance_mm) {
+                match mirror3d_serves(m, r, p, ctx.ends, wall.mirror_tolerance_mm) {
                     Ok(why) => {
                         let mut m = m.clone();
                         m.reason = why;

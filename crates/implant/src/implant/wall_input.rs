@@ -241,7 +241,7 @@ pub struct WallInput<'a> {
     pub template: Option<&'a Polyline>,
     /// A 3D template sliced to this slice (`mirror3d`, `rim`), used
     /// instead of the slice-wise mirror image.
-    pub surface: Option<&'a super::surface_template::RayTemplate>,
+    pub surface: Option<&'a super::ray_template::RayTemplate>,
     /// The CT slice and bone threshold the section is clipped against
     /// (`None`: no clipping).
     pub tissue: Option<(&'a Slice<'a>, i16)>,
