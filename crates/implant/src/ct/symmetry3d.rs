@@ -621,6 +621,10 @@ mod synthetic {
         let got = mid_sagittal_plane(&v, 300, &start).unwrap();
         let angle = got.plane.angle_deg(&truth);
         let offset = got.plane.side(centre).abs();
+        eprintln!(
+            "plane: {angle:.3}°, {offset:.3} mm, residual {:.3} mm, {} iterations",
+            got.rms_mm, got.iterations
+        );
         assert!(angle < 0.5, "angle {angle}°");
         assert!(offset < 0.5, "offset {offset} mm");
         assert!(got.rms_mm < 1.0, "rms {}", got.rms_mm);

@@ -50,16 +50,7 @@ pub(crate) fn angle(p: Point, o: Point) -> f64 {
     (p.y - o.y).atan2(p.x - o.x)
 }
 
-/// `d` wrapped into `(−π, π]`.
-pub(crate) fn wrap(d: f64) -> f64 {
-    let t = std::f64::consts::TAU;
-    let r = d.rem_euclid(t);
-    if r > std::f64::consts::PI {
-        r - t
-    } else {
-        r
-    }
-}
+pub(crate) use super::ray_template::wrap;
 
 /// The wall's ends on the envelope and their mirror images.
 #[derive(Clone, Copy, Debug)]

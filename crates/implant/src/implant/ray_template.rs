@@ -6,8 +6,9 @@
 use super::template_source::TemplateSource;
 use crate::geometry::Point;
 
-/// `d` wrapped into `(−π, π]`.
-fn wrap(d: f64) -> f64 {
+/// `d` wrapped into `(−π, π]` (the polar reading of a gap,
+/// [`super::polar`], uses it too).
+pub(crate) fn wrap(d: f64) -> f64 {
     let t = std::f64::consts::TAU;
     let r = d.rem_euclid(t);
     if r > std::f64::consts::PI {
