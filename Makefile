@@ -3,7 +3,7 @@ CARGO ?= cargo
 BIN := target/release/metabezier
 SPECS := experiments
 
-.PHONY: help build quick test test-browser test-python wheel test-dxf citation python-bench examples peer-kurbo peer-potrace fuzz test-cluster bench overhead speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 cq500 reproduce-all check-reports fmt lint clean-results
+.PHONY: help build quick test test-browser test-python wheel test-dxf citation python-bench examples peer-kurbo peer-potrace fuzz test-cluster bench overhead speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 templates-3d cq500 reproduce-all check-reports fmt lint clean-results
 
 help:
 	@echo "make build          the release binary, target/release/metabezier (cargo build --release --locked)"
@@ -27,6 +27,7 @@ help:
 	@echo "make reproduce-ch4  chapter 4: benchmarks, scalability, MHS tuning, with reports (results/ch4_*/)"
 	@echo "make reproduce-ch5  chapter 5: curve fitting of real outlines, search-space and MHS studies, both errors (results/ch5_*/)"
 	@echo "make reproduce-ch6  chapter 6: cranial implant from CT 0051, artificial-defect validation (results/ch6_cranial/)"
+	@echo "make templates-3d   issue 56: the slice-wise, 3D-mirror, rim-fill and straight templates by region on CT 0051's 3D patches (results/templates_3d/), and the real defect with auto3d (results/ch6_cranial_3d/)"
 	@echo "make cq500          chapter 6 on a second patient: one-slice validation on the CQ500 slice of pydicom-data (PyPI, in a venv; non-commercial data, not vendored) (results/ch6_cq500/)"
 	@echo "make bbob           COCO's bbob suite: 8 optimisers x 24 functions x D = 2, 5, 10, report and COCO logs (results/bbob/)"
 	@echo "make cocopp         COCO's own post-processing (cocopp, pinned in tools/cocopp-requirements.txt, in a venv) of results/bbob/coco/"
@@ -222,6 +223,13 @@ CH6 := ch6_cranial
 # checked mesh; a rerun overwrites the results.
 reproduce-ch6: build
 	$(BIN) implant $(SPECS)/ch6_cranial.toml --out results/ch6_cranial
+
+# Issue 56: the four templates compared by region on CT 0051's 3D patches
+# (examples/templates_3d.rs, LM fits, about 2 min) and the real defect with
+# template_source = "auto3d" (experiments/ch6_cranial_3d.toml).
+templates-3d: build
+	$(CARGO) run --release --locked --example templates_3d
+	$(BIN) implant $(SPECS)/ch6_cranial_3d.toml --out results/ch6_cranial_3d
 
 # Chapter 6 on a second patient: one-slice validation on the CQ500 head CT
 # slice 693_UNCR.dcm, used from the PyPI package that ships it (pydicom-data

@@ -36,6 +36,7 @@ fn real_config(slices: std::ops::RangeInclusive<usize>) -> DefectConfig {
         wall: WallOptions::default(),
         smoothing: Smoothing::default(),
         templates: None,
+        plane: None,
         ring_points: 120,
         thickness_mm: None,
     }

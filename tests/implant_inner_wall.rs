@@ -28,6 +28,7 @@ fn config(wall: WallOptions, smoothing: Smoothing) -> DefectConfig {
         wall,
         smoothing,
         templates: None,
+        plane: None,
         ring_points: 120,
         thickness_mm: None,
     }

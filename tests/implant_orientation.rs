@@ -58,6 +58,7 @@ fn lps_midline(ny: usize) -> [f64; 3] {
         wall: Default::default(),
         smoothing: Default::default(),
         templates: None,
+        plane: None,
         ring_points: 120,
         thickness_mm: None,
     };

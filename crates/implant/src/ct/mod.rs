@@ -26,6 +26,7 @@ pub mod mirror;
 pub mod plist;
 pub mod render;
 pub mod stl;
+pub mod symmetry3d;
 pub mod triangulate;
 pub mod volume;
 pub mod voxelise;
@@ -62,6 +63,10 @@ pub use render::{
     MeshView, Overlay, SliceView, View, Window,
 };
 pub use stl::{parse_stl, stl_bytes, write_stl};
+pub use symmetry3d::{
+    bone_surface_points, estimate_symmetry_plane, mid_sagittal_plane, IcpOptions, Plane3,
+    SurfacePoints, SymmetryPlane,
+};
 pub use triangulate::ear_clip;
 pub use volume::{
     Anatomy, Frame, FrameSource, PatientDirection, Slice, Spacing, Volume, IDENTITY_AXES,

@@ -45,34 +45,11 @@
 //! continuation, `curve` its fit with the G¹ joins, `straight` the chord.
 
 use super::polar::{angle, least_squares_quadratic, wrap, Gap, Side, WallEnds};
+pub use super::template_source::TemplateSource;
 use super::wall_input::{TemplateChoice, WallInput, WallOptions};
 use super::SliceError;
 use crate::ct::{CtError, MidLine};
 use crate::geometry::Point;
-
-/// Which template a wall was actually fitted to (the `template_source`
-/// columns of `metrics.csv`, `validation.csv` and `validation_3d.csv`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum TemplateSource {
-    /// The mirrored outer envelope `R(θ) = reflect(E(2α − θ))`.
-    Mirror,
-    /// The curvature-continuous continuation of both sides
-    /// (`continuation_template`; beyond the thesis).
-    Continuation,
-    /// An explicit template file (`[defect] template`).
-    File,
-}
-
-impl TemplateSource {
-    /// The name in tables: `mirror`, `continuation`, `file`.
-    pub fn name(self) -> &'static str {
-        match self {
-            TemplateSource::Mirror => "mirror",
-            TemplateSource::Continuation => "continuation",
-            TemplateSource::File => "file",
-        }
-    }
-}
 
 /// Whether the defect ends `a` and `b` lie on opposite sides of (or on)
 /// the mid-sagittal line, so that the mirror image of the gap falls into
@@ -99,13 +76,19 @@ pub fn source_for(
     match options.template {
         _ if has_file => TemplateSource::File,
         TemplateChoice::Continuation => TemplateSource::Continuation,
-        TemplateChoice::Auto if crosses_midline(a, b, line) => TemplateSource::Continuation,
+        TemplateChoice::Auto | TemplateChoice::Auto3d if crosses_midline(a, b, line) => {
+            TemplateSource::Continuation
+        }
         _ => TemplateSource::Mirror,
     }
 }
 
-/// [`source_for`] of a wall input under `options`.
+/// [`source_for`] of a wall input under `options`, or the kind of its 3D
+/// template ([`WallInput::surface`]) when it has one.
 pub fn template_source(input: &WallInput<'_>, options: &WallOptions) -> TemplateSource {
+    if let Some(s) = input.surface {
+        return s.kind;
+    }
     source_for(
         input.a,
         input.b,
@@ -281,8 +264,10 @@ pub(crate) fn template_for(
     match mirrored {
         Ok((ends, data)) => Ok((ends, data, source)),
         Err(e)
-            if options.template == TemplateChoice::Auto
-                && source == TemplateSource::Mirror
+            if matches!(
+                options.template,
+                TemplateChoice::Auto | TemplateChoice::Auto3d
+            ) && source == TemplateSource::Mirror
                 && mirror_failed(&e) =>
         {
             let (ends, data) = continuation_template(gap, options)?;
@@ -360,6 +345,7 @@ mod tests {
             a: at(250.0),
             b: at(290.0),
             template: None,
+            surface: None,
             tissue: None,
         };
         let options = WallOptions {

@@ -31,6 +31,10 @@
 //! | [`plausibility`] | each designed slice checked before anything is written (width jump, hull, wrap, volume, fit) |
 //! | [`units`] | the independent units of the validation verdicts (slice clusters × positions) |
 //! | [`tables`], [`tables3d`] | its tables: report sections and CSV files |
+//! | [`rim_fill`] | the rim fill: a sphere and a thin-plate spline through the bone around a defect, in 3D |
+//! | [`ray_template`], [`template_source`] | a template as a radius per ray; which template a wall used |
+//! | [`surface_template`] | the 3D templates (`mirror3d`, `rim`) sliced to one outer-wall curve per defect slice |
+//! | [`template_comparison`] | the slice-wise, 3D-mirror, rim-fill and straight templates compared by region as tested verdicts |
 //! | [`render`] | its pictures: slice overlays and the 3D preview |
 
 pub mod check_limits;
@@ -40,11 +44,15 @@ pub mod delivered;
 pub mod pipeline;
 pub mod plausibility;
 pub mod polar;
+pub mod ray_template;
 pub mod refusal;
 pub mod regions;
+pub mod rim_fill;
 pub mod seats;
 pub mod slice_error;
 pub mod smooth;
+pub mod surface_template;
+pub mod template_source;
 pub mod wall;
 pub mod wall_input;
 
@@ -71,6 +79,7 @@ pub mod tables;
 pub mod tables2d;
 pub mod tables3d;
 pub mod template;
+pub mod template_comparison;
 pub mod units;
 pub mod validation;
 pub mod validation3d;

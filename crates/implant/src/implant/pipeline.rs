@@ -12,6 +12,7 @@ use super::refusal::{accepted_runs, design_checks, finish_refused, slice_hull, w
 use super::seats::choose_seats;
 use super::slice_error::SliceError;
 use super::smooth::{lipschitz_envelope, roughness, smooth_outer_walls};
+use super::surface_template::{surface_templates, DefectSlice, SurfaceTemplates, Template3dError};
 use super::wall::{
     design_outer, finish_wall, seat_profiles, seat_rule, OuterDesign, Wall, WallInput, WallKind,
     WallOptions,
@@ -120,6 +121,10 @@ pub struct DefectConfig {
     pub smoothing: Smoothing,
     /// Explicit templates, replacing the mirror image.
     pub templates: Option<Templates>,
+    /// The 3D mid-sagittal plane for `template_source = "mirror3d"` and
+    /// `"auto3d"`; `None`: estimated from the volume
+    /// ([`crate::ct::mid_sagittal_plane`]) when needed.
+    pub plane: Option<crate::ct::Plane3>,
     /// Points per ring of the lofted mesh.
     pub ring_points: usize,
     /// The slab thickness of a one-slice design (mm; `[defect]
@@ -232,6 +237,10 @@ pub enum ImplantError {
     /// No defect slice.
     #[error("an implant needs at least one defect slice")]
     TooFewSlices,
+    /// A 3D template (`template_source = "mirror3d"`, `"rim"`) could not
+    /// be built.
+    #[error(transparent)]
+    Template3d(#[from] Template3dError),
     /// The defect slices do not increase strictly.
     #[error("the defect slices must increase strictly in z")]
     SlicesNotIncreasing,
@@ -400,6 +409,9 @@ pub struct Implant {
     pub mask: Mask3,
     /// The volume's frame.
     pub frame: Frame,
+    /// The 3D templates (`mirror3d`, `rim`, `auto3d`), with each slice's
+    /// reason; `None` for the slice-wise choices.
+    pub templates_3d: Option<SurfaceTemplates>,
 }
 
 impl Implant {
@@ -501,6 +513,14 @@ pub struct SliceContext {
     pub head: ConvexHull,
 }
 
+impl SliceContext {
+    /// What the 3D templates need of this slice.
+    pub fn defect_slice(&self) -> DefectSlice {
+        let (z, k, centre, ends) = (self.z, self.k, self.centre, self.ends);
+        DefectSlice { z, k, centre, ends }
+    }
+}
+
 /// The context of one defect slice: bone mask, ends (given or detected),
 /// tables and centre.
 pub fn slice_context(
@@ -568,7 +588,7 @@ pub fn check_distinct_ends(
 /// Runs `f` with the wall input of a slice context.
 fn with_input<R>(
     volume: &Volume,
-    cfg: &DefectConfig,
+    (cfg, surfaces): (&DefectConfig, Option<&SurfaceTemplates>),
     ctx: &SliceContext,
     midline: MidLine,
     f: impl FnOnce(&WallInput<'_>) -> R,
@@ -584,6 +604,7 @@ fn with_input<R>(
     // by the defect, ProMED CT 0051 z = 56–57).
     let outer = [&ctx.tables.outer, &ctx.tables.inner];
     let template = cfg.templates.as_ref().and_then(|t| t.slices.get(&ctx.z));
+    let surface = surfaces.and_then(|s| s.slices.get(&ctx.z));
     let input = WallInput {
         outer: &outer,
         is_bone: &is_bone,
@@ -592,6 +613,7 @@ fn with_input<R>(
         a: ctx.ends.0,
         b: ctx.ends.1,
         template,
+        surface,
         tissue: Some((&slice, cfg.threshold)),
     };
     f(&input)
@@ -667,7 +689,7 @@ pub fn reconstruct_from<S: SegmentSolver + ?Sized>(
     solver: &mut S,
 ) -> Result<Implant, ImplantError> {
     let zs: Vec<usize> = contexts.iter().map(|c| c.z).collect();
-    let designs = design_walls(volume, cfg, midline, contexts, kind, solver)?;
+    let (designs, templates_3d) = design_walls(volume, cfg, midline, contexts, kind, solver)?;
     let checks = design_checks(&designs, &zs, (&cfg.wall, kind));
     let walls = finished_walls(volume, cfg, contexts, designs, &checks)?;
     let mut slices = Vec::with_capacity(contexts.len());
@@ -716,6 +738,7 @@ pub fn reconstruct_from<S: SegmentSolver + ?Sized>(
         mesh,
         mask,
         frame: volume.frame(),
+        templates_3d,
     })
 }
 
@@ -754,7 +777,9 @@ fn finished_walls(
     Ok(walls.into_iter().map(|w| w.1).collect())
 }
 
-/// The seats and the outer design of every slice.
+/// The seats and the outer design of every slice, and the 3D templates
+/// they were fitted to ([`surface_templates`]; `None` for the slice-wise
+/// choices).
 fn design_walls<S: SegmentSolver + ?Sized>(
     volume: &Volume,
     cfg: &DefectConfig,
@@ -762,13 +787,17 @@ fn design_walls<S: SegmentSolver + ?Sized>(
     contexts: &[SliceContext],
     kind: WallKind,
     solver: &mut S,
-) -> Result<Vec<OuterDesign>, ImplantError> {
+) -> Result<(Vec<OuterDesign>, Option<SurfaceTemplates>), ImplantError> {
     let zs: Vec<usize> = contexts.iter().map(|c| c.z).collect();
+    let slices: Vec<DefectSlice> = contexts.iter().map(SliceContext::defect_slice).collect();
+    let options = (&cfg.wall, cfg.threshold, cfg.plane);
+    let templates_3d = surface_templates(volume, options, &slices, &midline)?;
+    let surfaces = templates_3d.as_ref();
     let at = |z: usize| move |source: SliceError| ImplantError::on_slice(z, source);
     let bends = contexts
         .iter()
         .map(|ctx| {
-            with_input(volume, cfg, ctx, midline, |input| {
+            with_input(volume, (cfg, surfaces), ctx, midline, |input| {
                 seat_profiles(input, &cfg.wall)
             })
             .map_err(at(ctx.z))
@@ -783,12 +812,13 @@ fn design_walls<S: SegmentSolver + ?Sized>(
         .iter()
         .zip(&seats)
         .map(|(ctx, &seat)| {
-            with_input(volume, cfg, ctx, midline, |input| {
+            with_input(volume, (cfg, surfaces), ctx, midline, |input| {
                 design_outer(input, kind, &cfg.wall, Some(seat), solver)
             })
             .map_err(at(ctx.z))
         })
-        .collect()
+        .collect::<Result<Vec<_>, _>>()
+        .map(|d| (d, templates_3d.clone()))
 }
 
 /// The thickness at A′ and B′ of every slice after the Lipschitz envelope.

@@ -50,16 +50,7 @@ pub(crate) fn angle(p: Point, o: Point) -> f64 {
     (p.y - o.y).atan2(p.x - o.x)
 }
 
-/// `d` wrapped into `(−π, π]`.
-pub(crate) fn wrap(d: f64) -> f64 {
-    let t = std::f64::consts::TAU;
-    let r = d.rem_euclid(t);
-    if r > std::f64::consts::PI {
-        r - t
-    } else {
-        r
-    }
-}
+pub(crate) use super::ray_template::wrap;
 
 /// The wall's ends on the envelope and their mirror images.
 #[derive(Clone, Copy, Debug)]
@@ -132,7 +123,11 @@ impl<'a> Gap<'a> {
     }
 
     /// The mirrored envelope `R(θ) = reflect(E(2α − θ))`.
+    /// With a 3D template ([`WallInput::surface`]), its point on the ray.
     pub fn mirrored(&self, theta: f64) -> Option<Point> {
+        if let Some(s) = self.input.surface {
+            return s.at(theta);
+        }
         let line = self.input.midline;
         self.env(2.0 * line.angle() - theta)
             .map(|p| line.reflect(p))
@@ -166,6 +161,17 @@ impl<'a> Gap<'a> {
                 b,
                 c: first,
                 d: last,
+            });
+        }
+        if let Some(s) = self.input.surface {
+            let (c, d) = (s.at(th_a), s.at(th_b));
+            on("C (the 3D template at A′)", c, a)?;
+            on("D (the 3D template at B′)", d, b)?;
+            return Ok(WallEnds {
+                a,
+                b,
+                c: c.unwrap_or(a),
+                d: d.unwrap_or(b),
             });
         }
         let line = self.input.midline;

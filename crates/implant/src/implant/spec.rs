@@ -21,7 +21,7 @@
 //! max_thickness_mm = 15     # cap on the implant thickness
 //! max_thickness_step_mm = 0.5   # thickness change between adjacent slices
 //! smooth_slices = 2         # outer-wall smoothing half-width (0: off)
-//! template_source = "mirror" # mirror (the thesis; default), auto (the continuation where the mirror cannot serve), continuation
+//! template_source = "mirror" # mirror (the thesis; default), auto (the continuation where the mirror cannot serve), continuation, mirror3d (across the 3D plane), rim (the rim fill), auto3d (mirror3d where it serves, else rim)
 //! thickness_profile = "linear" # Dis(u) linear from A′ to B′ (default), or "mirror": the other side's bone thickness
 //! fill_ends = false         # true: the section reaches the bone's cut face at both ends
 //!
@@ -585,6 +585,7 @@ impl Parser<'_> {
                 wall,
                 smoothing,
                 templates: None,
+                plane: None,
                 ring_points: 160,
                 thickness_mm: None,
             },
@@ -636,7 +637,7 @@ impl Parser<'_> {
                         v.span(),
                         "implant.template_source",
                         format!(
-                            "unknown template source \"{s}\"; valid choices: {} (\"mirror\", the default: the thesis's technique; \"auto\": the mirror, and the continuation of both sides where the mirror cannot serve a defect, across or next to the midline; an explicit template file is `[defect] template`)",
+                            "unknown template source \"{s}\"; valid choices: {} (\"mirror\", the default: the thesis's technique; \"auto\": the mirror, and the continuation of both sides where the mirror cannot serve a defect, across or next to the midline; \"mirror3d\": the outer table mirrored across the mid-sagittal plane found in 3D; \"rim\": a thin-plate spline surface through the bone around the defect; \"auto3d\": per slice the 3D mirror where it serves, else the rim fill (the 3D choices need a volume of at least 3 slices); an explicit template file is `[defect] template`)",
                             quoted(&TemplateChoice::NAMES)
                         ),
                     )

@@ -444,6 +444,34 @@ pub fn slices_off_target(implant: &Implant) -> Vec<usize> {
 
 /// The "Real defect" section of `report.md`: the run's settings, the
 /// midline, the mesh checks, the seatability figures against their targets
+/// The 3D templates' lines of the real defect's section: the plane, the
+/// rim surface's residual and, per slice, the template used and why.
+fn templates_3d_lines(report: &mut String, t: &super::surface_template::SurfaceTemplates) {
+    if let Some(p) = &t.plane {
+        let [x, y, z] = p.normal;
+        let _ = writeln!(
+            report,
+            "Mid-sagittal plane (3D, trimmed ICP of the bone surface to its mirror image): normal ({x:.4}, {y:.4}, {z:.4}), offset {:.2} mm.\n",
+            p.offset
+        );
+    }
+    if let Some(rms) = t.rim_rms_mm {
+        let _ = writeln!(
+            report,
+            "Rim fill: a sphere and a thin-plate spline through the outer table within {} mm of the defect, {rms:.3} mm RMS from its rim points.\n",
+            super::surface_template::RIM_MM
+        );
+    }
+    let rows: Vec<Vec<String>> = t
+        .slices
+        .iter()
+        .map(|(z, s)| vec![z.to_string(), s.kind.name().to_string(), s.reason.clone()])
+        .collect();
+    let header = ["z", "template", "why"].map(String::from);
+    report.push_str(&markdown::table(&header, &rows, Alignment::Unmarked));
+    report.push('\n');
+}
+
 /// and one table row per slice.
 pub fn defect_report(report: &mut String, spec: &ImplantSpec, implant: &Implant) {
     let n = implant.slices.len();
@@ -487,6 +515,9 @@ pub fn defect_report(report: &mut String, spec: &ImplantSpec, implant: &Implant)
                 " (estimated, reflection Dice {d:.3})"
             ))
     );
+    if let Some(t) = &implant.templates_3d {
+        templates_3d_lines(report, t);
+    }
     let _ = writeln!(
         report,
         "Mesh: {} vertices, {} triangles, watertight {}, consistently oriented {}, volume {:.0} mm³; voxelised implant {} voxels.\n",

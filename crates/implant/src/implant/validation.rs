@@ -227,6 +227,7 @@ pub fn reconstruct_case_with<S: SegmentSolver + ?Sized>(
         a: p.a,
         b: p.b,
         template,
+        surface: None,
         tissue: Some((&slice, p.threshold)),
     };
     reconstruct_wall(&input, kind, options, solver)

@@ -148,6 +148,7 @@ pub fn prepare_case_3d(
         slices,
         midline: super::pipeline::MidlineSpec::Given(midline),
         templates: None,
+        plane: None,
         ..cfg.clone()
     };
     let contexts = config
@@ -184,10 +185,11 @@ pub struct Metrics3d {
     pub truth_voxels: usize,
     /// Voxels of the implant.
     pub implant_voxels: usize,
-    /// How many of the implant's slices were fitted to the mirrored
-    /// template, the continuation and an explicit file, in that order
-    /// ([`super::wall::OuterDesign::template_source`]).
-    pub template_sources: [usize; 3],
+    /// How many of the implant's slices were fitted to each template
+    /// source, in the order of [`TemplateSource::ALL`] (the mirrored
+    /// template, the continuation, an explicit file, the 3D mirror, the rim
+    /// fill; [`super::wall::OuterDesign::template_source`]).
+    pub template_sources: [usize; 5],
     /// The slices the design refused (a plausibility check failed: no
     /// piece of the implant there, [`super::plausibility`]), each with the
     /// failed checks; the row is then `implausible`.
@@ -198,17 +200,13 @@ impl Metrics3d {
     /// The template sources used, by name, joined by `+` when the slices
     /// differ: `mirror`, `continuation`, `mirror+continuation`.
     pub fn template_source_name(&self) -> String {
-        [
-            TemplateSource::Mirror,
-            TemplateSource::Continuation,
-            TemplateSource::File,
-        ]
-        .iter()
-        .zip(self.template_sources)
-        .filter(|(_, n)| *n > 0)
-        .map(|(s, _)| s.name())
-        .collect::<Vec<_>>()
-        .join("+")
+        TemplateSource::ALL
+            .iter()
+            .zip(self.template_sources)
+            .filter(|(_, n)| *n > 0)
+            .map(|(s, _)| s.name())
+            .collect::<Vec<_>>()
+            .join("+")
     }
 }
 
@@ -284,16 +282,15 @@ pub fn score_3d(p: &Prepared3d, implant: &Implant, margin_mm: f64) -> Result<Met
     })
 }
 
-/// How many slices of `implant` used each template source (mirror,
-/// continuation, file).
-fn source_counts(implant: &Implant) -> [usize; 3] {
-    let mut n = [0; 3];
+/// How many slices of `implant` used each template source, in the order
+/// of [`TemplateSource::ALL`].
+fn source_counts(implant: &Implant) -> [usize; 5] {
+    let mut n = [0; 5];
     for s in &implant.slices {
-        n[match s.wall.design.template_source {
-            TemplateSource::Mirror => 0,
-            TemplateSource::Continuation => 1,
-            TemplateSource::File => 2,
-        }] += 1;
+        let source = s.wall.design.template_source;
+        if let Some(i) = TemplateSource::ALL.iter().position(|&t| t == source) {
+            n[i] += 1;
+        }
     }
     n
 }

@@ -239,6 +239,9 @@ pub struct WallInput<'a> {
     /// An explicit template (from near A to near B; either order), used
     /// instead of the mirror image; the defect may then cross the midline.
     pub template: Option<&'a Polyline>,
+    /// A 3D template sliced to this slice (`mirror3d`, `rim`), used
+    /// instead of the slice-wise mirror image.
+    pub surface: Option<&'a super::ray_template::RayTemplate>,
     /// The CT slice and bone threshold the section is clipped against
     /// (`None`: no clipping).
     pub tissue: Option<(&'a Slice<'a>, i16)>,
@@ -272,11 +275,28 @@ pub enum TemplateChoice {
     Mirror,
     /// The continuation everywhere (`continuation_template`).
     Continuation,
+    /// The outer table mirrored across the 3D mid-sagittal plane
+    /// ([`super::surface_template`]); needs a volume of several slices.
+    Mirror3d,
+    /// The rim fill ([`super::rim_fill`]); needs a volume of several
+    /// slices.
+    Rim,
+    /// Per slice, the 3D mirror where it serves, else the rim fill (the
+    /// rule of [`super::surface_template`]); on one-slice data, as `Auto`.
+    Auto3d,
 }
 
 impl TemplateChoice {
-    /// The spec's names, in order: `auto`, `mirror`, `continuation`.
-    pub const NAMES: [&'static str; 3] = ["auto", "mirror", "continuation"];
+    /// The spec's names, in order: `auto`, `mirror`, `continuation`,
+    /// `mirror3d`, `rim`, `auto3d`.
+    pub const NAMES: [&'static str; 6] = [
+        "auto",
+        "mirror",
+        "continuation",
+        "mirror3d",
+        "rim",
+        "auto3d",
+    ];
 
     /// The choice of a spec name ([`TemplateChoice::NAMES`]).
     pub fn from_name(name: &str) -> Option<TemplateChoice> {
@@ -284,6 +304,9 @@ impl TemplateChoice {
             "auto" => Some(TemplateChoice::Auto),
             "mirror" => Some(TemplateChoice::Mirror),
             "continuation" => Some(TemplateChoice::Continuation),
+            "mirror3d" => Some(TemplateChoice::Mirror3d),
+            "rim" => Some(TemplateChoice::Rim),
+            "auto3d" => Some(TemplateChoice::Auto3d),
             _ => None,
         }
     }
