@@ -217,6 +217,6 @@ pub fn comparison_report(rows: &[ComparisonRow], verdicts: &[(VerdictRow, usize)
         );
     }
     let _ = writeln!(report);
-    verdict_tables(&mut report, verdicts);
+    verdict_tables(&mut report, verdicts, "the table above");
     report
 }

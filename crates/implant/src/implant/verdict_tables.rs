@@ -95,11 +95,11 @@ pub(crate) fn both_readings(
     without: Option<(&str, Vec<(VerdictRow, usize)>)>,
 ) -> Vec<VerdictRow> {
     let _ = writeln!(report, "{}\n", implausible_text(implausible, rows));
-    verdict_tables(report, &verdicts);
+    verdict_tables(report, &verdicts, "`verdicts.csv`");
     let mut out: Vec<VerdictRow> = verdicts.into_iter().map(|v| v.0).collect();
     if let Some((table, w)) = without {
         let _ = writeln!(report, "The same verdicts without the {implausible} implausible rows (table `{table}` of `verdicts.csv`):\n");
-        verdict_tables(report, &w);
+        verdict_tables(report, &w, "`verdicts.csv`");
         out.extend(w.into_iter().map(|v| v.0));
     }
     out
@@ -236,8 +236,9 @@ fn count(n: usize, noun: &str) -> String {
 }
 
 /// One markdown table of verdict rows per scope, with the cases favouring
-/// the compared method (descriptive).
-pub(crate) fn verdict_tables(report: &mut String, rows: &[(VerdictRow, usize)]) {
+/// the compared method (descriptive); the pivot below them says every row
+/// is kept in `kept_in` (`verdicts.csv`, or "the table above").
+pub(crate) fn verdict_tables(report: &mut String, rows: &[(VerdictRow, usize)], kept_in: &str) {
     let header = [
         "method",
         "baseline",
@@ -355,7 +356,7 @@ pub(crate) fn verdict_tables(report: &mut String, rows: &[(VerdictRow, usize)]) 
     let _ = writeln!(
         report,
         "Per scope (verdict and units better/equal/worse; und. = undecided, equiv. = equivalent; \
-         every p and effect is in `verdicts.csv`):\n"
+         every p and effect is in {kept_in}):\n"
     );
     report.push_str(&markdown::table(&pivot_header, &pivot, Alignment::Unmarked));
     let _ = writeln!(report);
