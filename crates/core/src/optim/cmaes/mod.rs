@@ -54,10 +54,17 @@
 //! one while `C` keeps learning, and the next decomposition catches up.
 //! `eigen_gap = 1` is the tutorial's schedule, bit for bit; the default,
 //! [`EIGEN_GAP_DEFAULT`] = 5, is the `cmaes` crate's `0.5·λ/((c_1 + c_μ)
-//! n)` evaluations, chosen by measurement: on bbob it needs the same
-//! evaluations to `10⁻⁸` as the tutorial's (median ratio 1.00 at D = 10
-//! over 24 functions, 1.02 at D = 20 over f1–f14; `tests/cmaes_parity.rs`)
-//! at a fraction of the cost per evaluation.
+//! n)` evaluations, chosen by measurement among 5, 10 and 20: on bbob each
+//! needs the same evaluations to `10⁻⁸` as the tutorial's (median ratio
+//! over the functions 1.00, 1.00 and 1.03 at D = 10, 1.02, 0.99 and 0.97
+//! at D = 20; `tests/cmaes_parity.rs`), but between decompositions `C`
+//! changes by about `(c_1 + c_μ)` per generation, `eigen_gap/(10n)` of
+//! itself over a gap, so that at small `n` the active update's negative
+//! weights, normalised with the last decomposition, can make `C`
+//! indefinite: at 10 a run on Sphere-2 ends on `Numerics`, at 5 none of
+//! the tests does; 20 also loses the parity with pycma on f9 (1.15 times
+//! its median). On Sphere-30 in runs of 2·10⁴ evaluations gap 5 costs 0.62
+//! of the tutorial's CPU time per evaluation, gap 10 0.81 of gap 5's.
 //!
 //! # Defaults (the tutorial's Table 1)
 //!
@@ -306,8 +313,8 @@ pub const COVARIANCE_KEY: Param<&'static str> = Param::new("covariance");
 /// The key of the `x0` parameter.
 pub const X0_KEY: Param<&'static str> = Param::new("x0");
 
-/// The default of `eigen_gap`: 5 times the tutorial's gap, i.e. the
-/// `cmaes` crate's `0.5·λ/((c_1 + c_μ) n)` evaluations between
+/// The default of `eigen_gap`: 5 times the tutorial's gap, the `cmaes`
+/// crate's `0.5·λ/((c_1 + c_μ) n)` evaluations between
 /// eigendecompositions, chosen by measurement (module docs).
 pub const EIGEN_GAP_DEFAULT: f64 = 5.0;
 
@@ -537,7 +544,7 @@ impl CmaEs {
 
 impl Optimiser for CmaEs {
     /// The covariance matrix and its eigenvectors (2 D²), the sampled and
-    /// mapped populations (2 λ D) at the largest λ a restart can reach
+    /// mapped populations (2 λ D) and four words per sample at the largest λ a restart can reach
     /// within the budget (IPOP and BIPOP multiply λ by `inc_popsize` up to
     /// [`LAMBDA_MAX`]; the run before a restart spent at least one
     /// generation, λ / inc_popsize evaluations, so λ ≤ inc_popsize · budget),
@@ -558,7 +565,9 @@ impl Optimiser for CmaEs {
             }
         };
         let d = dim as u128;
-        2 * d * d * 8 + super::vectors_bytes(2 * lambda + 16, dim)
+        // Per sample also an order index, a Mahalanobis length and a
+        // coefficient of the rank-μ update (8 + 8 + 16 bytes).
+        2 * d * d * 8 + super::vectors_bytes(2 * lambda + 16, dim) + 32 * lambda as u128
     }
 
     fn minimise<P: Problem + ?Sized, R: Words + ?Sized>(
