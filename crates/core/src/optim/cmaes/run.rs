@@ -117,7 +117,7 @@ impl Ring {
     }
 }
 
-/// The state and buffers of a [`CmaEs`] call, reused by its runs.
+/// The state and buffers of a [`super::CmaEs`] call, reused by its runs.
 pub(super) struct Work {
     n: usize,
     mean: Vec<f64>,

@@ -158,7 +158,7 @@ pub enum Stop {
     RunBudget,
 }
 
-/// What one run of a [`CmaEs::minimise_recorded`] call did.
+/// What one run of a [`super::CmaEs::minimise_recorded`] call did.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RunRecord {
     /// Its population size λ.
