@@ -3,7 +3,7 @@ CARGO ?= cargo
 BIN := target/release/metabezier
 SPECS := experiments
 
-.PHONY: help build quick test test-browser test-python wheel test-dxf citation python-bench examples peer-kurbo peer-potrace fuzz test-cluster bench overhead speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 templates-3d cq500 reproduce-all check-reports fmt lint clean-results
+.PHONY: bbob-full pycma-parity help build quick test test-browser test-python wheel test-dxf citation python-bench examples peer-kurbo peer-potrace fuzz test-cluster bench overhead speedup bbob cocopp reproduce-ch4 reproduce-ch5 reproduce-ch6 templates-3d cq500 reproduce-all check-reports fmt lint clean-results
 
 help:
 	@echo "make build          the release binary, target/release/metabezier (cargo build --release --locked)"
@@ -29,7 +29,9 @@ help:
 	@echo "make reproduce-ch6  chapter 6: cranial implant from CT 0051, artificial-defect validation (results/ch6_cranial/)"
 	@echo "make templates-3d   issue 56: the slice-wise, 3D-mirror, rim-fill and straight templates by region on CT 0051's 3D patches (results/templates_3d/), and the real defect with auto3d (results/ch6_cranial_3d/)"
 	@echo "make cq500          chapter 6 on a second patient: one-slice validation on the CQ500 slice of pydicom-data (PyPI, in a venv; non-commercial data, not vendored) (results/ch6_cq500/)"
-	@echo "make bbob           COCO's bbob suite: 8 optimisers x 24 functions x D = 2, 5, 10, report and COCO logs (results/bbob/)"
+	@echo "make bbob           COCO's bbob suite: 8 optimisers x 24 functions x D = 2, 5, 10, 20, report and COCO logs (results/bbob/)"
+	@echo "make bbob-full      the Slurm array script (results/bbob_full.sbatch) for COCO's whole protocol: D = 2, 3, 5, 10, 20, 40, instances 1-15"
+	@echo "make pycma-parity   pycma's default on bbob f1-f14 at D = 10 (pinned in tools/pycma-requirements.txt, in a venv; PyPI), then the Rust test that pins its figures"
 	@echo "make cocopp         COCO's own post-processing (cocopp, pinned in tools/cocopp-requirements.txt, in a venv) of results/bbob/coco/"
 	@echo "make reproduce-all  every chapter: 4, 5 and 6 (about 40 min on 2 cores)"
 	@echo "make check-reports  every report under results/ reads on a screen: summary first, < 300 lines, report.html, pictures <= 3,000 px"
@@ -265,6 +267,28 @@ speedup: build
 bbob: build
 	$(BIN) run $(SPECS)/bbob.toml --resume --coco-log results/bbob/coco
 	$(BIN) report results/bbob $(CLAIMS)
+
+# COCO's whole protocol (experiments/bbob_full.toml, 17,280 runs, hours):
+# the sbatch script of a Slurm array of BBOB_FULL_TASKS shards. Submit it
+# with `sbatch results/bbob_full.sbatch`; its comment names the merge
+# command, after which `metabezier report results/bbob_full` reports it.
+BBOB_FULL_TASKS ?= 96
+bbob-full: build
+	mkdir -p results
+	$(BIN) slurm $(SPECS)/bbob_full.toml --tasks $(BBOB_FULL_TASKS) > results/bbob_full.sbatch
+	@echo "make bbob-full: submit results/bbob_full.sbatch with sbatch, then merge as its comment says"
+
+# pycma's default CMA-ES on bbob f1-f14 at D = 10 (tools/pycma_bbob.py, pycma
+# and cocoex pinned, in a venv under target/; not run in CI), whose medians
+# tests/cmaes_parity.rs pins; then that test, which runs ours. Compare
+# target/pycma_bbob.csv's medians with the test's literals by eye.
+PYCMA_VENV := target/pycma-venv
+pycma-parity:
+	test -x $(PYCMA_VENV)/bin/python || python3 -m venv $(PYCMA_VENV)
+	$(PYCMA_VENV)/bin/python -m pip install --quiet --disable-pip-version-check -r tools/pycma-requirements.txt
+	$(PYCMA_VENV)/bin/python tools/pycma_bbob.py > target/pycma_bbob.csv
+	sed -n '/# median/,$$p' target/pycma_bbob.csv
+	$(CARGO) test --release --locked --test cmaes_parity -- --nocapture
 
 # COCO's own post-processing of the logs `make bbob` wrote: a virtual
 # environment under target/ with cocopp and every package it imports, pinned

@@ -75,8 +75,19 @@ fn an_interrupt_ends_every_run_within_a_poll_and_is_lowered_with_the_last_watch(
         // One evaluation at a time, then a generation at a time.
         let (n, cut) = cut_at(&HarmonySearch::default(), at, 1_000_000_000);
         assert!(cut && (at..at + poll).contains(&n), "HS stopped at {n}");
-        let (n, cut) = cut_at(&CmaEs::default(), at, 1_000_000_000);
-        assert!(cut && (at..at + poll + 64).contains(&n), "CMA-ES at {n}");
+        // CMA-ES evaluates a generation as one batch: the poll is seen
+        // within it, and the generation of its run's λ completes.
+        let watch = interrupt::Watch::begin();
+        let p = Tripwire::new(at);
+        let mut eval = Evaluator::new(&p, 1_000_000_000);
+        let runs = CmaEs::default().minimise_recorded(&mut eval, &mut run_rng(3));
+        let (cut, n) = (eval.interrupted(), eval.finish().evaluations);
+        let lambda = runs.last().map_or(0, |r| r.lambda) as u64;
+        assert!(
+            cut && (at..at + poll + lambda).contains(&n),
+            "CMA-ES at {n}, λ = {lambda}"
+        );
+        drop(watch);
     }
     let outer = interrupt::Watch::begin();
     // Levenberg–Marquardt stops before its first iteration.

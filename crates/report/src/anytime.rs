@@ -39,10 +39,10 @@ fn art(runs: &[&Run], target: f64) -> (usize, Option<f64>) {
 }
 
 /// The aRT to each of `targets` of every algorithm on every function,
-/// dimension and transform, with a row of COCO's best 2009 under every bbob
-/// function and dimension it covers when `best` is given; `None` when no run
-/// has hits.
-pub(crate) fn art_table(ds: &Dataset, targets: &[f64], best: Option<&Best2009>) -> Option<Table> {
+/// dimension and transform, with a row of each of COCO's references in
+/// `best` (best 2009, best 2009–16) under every bbob function and dimension
+/// it covers; `None` when no run has hits.
+pub(crate) fn art_table(ds: &Dataset, targets: &[f64], best: &[Best2009]) -> Option<Table> {
     let any = (0..ds.problems.len())
         .any(|p| (0..ds.cells.len()).any(|c| ds.runs(p, c).iter().any(|r| !r.hits.is_empty())));
     if !any {
@@ -74,19 +74,18 @@ pub(crate) fn art_table(ds: &Dataset, targets: &[f64], best: Option<&Best2009>) 
              function, pooled over instances and budgets. The table shows six of the {} \
              targets; tables/art_targets.csv has all of them.{}",
             targets.len(),
-            if best.is_some() {
-                format!(
-                    " The row {} is COCO's virtual best of the 31 algorithms of \
-                     BBOB-2009, the smallest aRT any of them reached on the function \
-                     (instances 1–5, 15 runs; {}; beyond the thesis). In the CSV file its \
-                     `runs` and `reached` are those of the algorithm that was best for \
-                     the target.",
-                    best2009::LABEL,
-                    best2009::SOURCE
-                )
-            } else {
-                String::new()
-            }
+            best.iter()
+                .map(|b| format!(
+                    " The row {} is {}, the smallest aRT any of them reached on the \
+                     function ({}; beyond the thesis).",
+                    b.label, b.what, b.source
+                ))
+                .chain((!best.is_empty()).then(|| {
+                    " In the CSV file a reference's `runs` and `reached` are those of \
+                     the algorithm that was best for the target."
+                        .to_owned()
+                }))
+                .collect::<String>()
         )],
         md_header: ["Function", "D", "Transform", "Algorithm"]
             .map(String::from)
@@ -140,7 +139,11 @@ pub(crate) fn art_table(ds: &Dataset, targets: &[f64], best: Option<&Best2009>) 
                 ]);
             }
         }
-        if let Some((b, (f, d))) = best.zip(best2009::bbob_key(function)) {
+        for (b, (f, d)) in best
+            .iter()
+            .zip(std::iter::repeat(best2009::bbob_key(function)))
+            .filter_map(|(b, k)| Some((b, k?)))
+        {
             if b.covers(f, d) {
                 let steps: Vec<Option<best2009::Step>> =
                     targets.iter().map(|&target| b.step(f, d, target)).collect();
@@ -148,7 +151,7 @@ pub(crate) fn art_table(ds: &Dataset, targets: &[f64], best: Option<&Best2009>) 
                     function.clone(),
                     dim.to_string(),
                     transform.clone(),
-                    best2009::LABEL.to_owned(),
+                    b.label.to_owned(),
                 ];
                 md.extend(shown.iter().map(|&i| evaluations(steps[i].map(|s| s.art))));
                 t.md_rows.push(md);
@@ -157,9 +160,9 @@ pub(crate) fn art_table(ds: &Dataset, targets: &[f64], best: Option<&Best2009>) 
                         function.clone(),
                         dim.to_string(),
                         transform.clone(),
-                        best2009::LABEL.to_owned(),
+                        b.label.to_owned(),
                         "reference".to_owned(),
-                        best2009::SOURCE.to_owned(),
+                        b.source.to_owned(),
                         csv_real(*target),
                         step.map_or(15, |s| s.runs).to_string(),
                         step.map_or(0, |s| s.successes).to_string(),
@@ -181,27 +184,31 @@ type Reached = Option<(usize, usize)>;
 const READ_AT: [u64; 3] = [100, 1_000, 10_000];
 
 /// The fraction of (function, target) pairs reached within 10²·D, 10³·D and
-/// 10⁴·D evaluations per dimension, for every algorithm and COCO's best 2009:
-/// the height of the runtime ECDF over the `targets` at those budgets.
+/// 10⁴·D evaluations per dimension, for every algorithm and each of COCO's
+/// references in `best` (best 2009, best 2009–16): the height of the
+/// runtime ECDF over the `targets` at those budgets.
 ///
 /// For an algorithm it is the fraction of its (run, target) pairs whose
 /// target was first hit within the budget, over the runs of every function
 /// and instance at that dimension (every function has as many runs, so this
 /// is the mean over functions of the per-function fraction); it is left out
-/// (—) when a run's budget is smaller. For best 2009 it is the fraction of
+/// (—) when a run's budget is smaller. For a reference it is the fraction of
 /// (function, target) pairs whose aRT is within the budget, as cocopp draws
 /// the reference algorithm's ECDF from its aRTs (Hansen et al. 2021,
 /// "COCO: a platform for comparing continuous optimizers in a black-box
 /// setting", Optim. Methods Softw. 36(1):114–144). `None` unless every
-/// problem is a bbob function that the reference covers and some run has
+/// problem is a bbob function that every reference covers and some run has
 /// hits.
-pub(crate) fn reached_table(ds: &Dataset, targets: &[f64], best: &Best2009) -> Option<Table> {
+pub(crate) fn reached_table(ds: &Dataset, targets: &[f64], best: &[Best2009]) -> Option<Table> {
     let keys: Vec<(usize, usize)> = ds
         .problems
         .iter()
         .map(|p| best2009::bbob_key(&p.function))
         .collect::<Option<_>>()?;
-    if keys.iter().any(|&(f, d)| !best.covers(f, d))
+    if best.is_empty()
+        || keys
+            .iter()
+            .any(|&(f, d)| best.iter().any(|b| !b.covers(f, d)))
         || !(0..ds.problems.len())
             .any(|p| (0..ds.cells.len()).any(|c| ds.runs(p, c).iter().any(|r| !r.hits.is_empty())))
     {
@@ -219,12 +226,20 @@ pub(crate) fn reached_table(ds: &Dataset, targets: &[f64], best: &Best2009) -> O
              the campaign at each D: for an algorithm, the fraction of its (run, target) \
              pairs over all instances (the height of its runtime ECDF there); for {label}, \
              the fraction of (function, target) pairs whose aRT is within the budget, as \
-             cocopp draws the reference's ECDF. — where the runs' budget is smaller. \
-             {label} is COCO's virtual best of the 31 algorithms of BBOB-2009 ({source}), \
-             beyond the thesis.",
+             cocopp draws the reference's ECDF. — where the runs' budget is smaller.{refs}",
             n = targets.len(),
-            label = best2009::LABEL,
-            source = best2009::SOURCE,
+            label = best
+                .iter()
+                .map(|b| b.label)
+                .collect::<Vec<_>>()
+                .join(" and "),
+            refs = best
+                .iter()
+                .map(|b| format!(
+                    " {} is {} ({}), beyond the thesis.",
+                    b.label, b.what, b.source
+                ))
+                .collect::<String>(),
         )],
         md_header: ["D", "Algorithm", "functions"]
             .map(String::from)
@@ -275,23 +290,27 @@ pub(crate) fn reached_table(ds: &Dataset, targets: &[f64], best: &Best2009) -> O
                 .collect();
             rows.push((cell.label.clone(), cell.kind.clone(), counts));
         }
-        let counts = READ_AT
-            .iter()
-            .map(|&m| {
-                let budget = (m * d as u64) as f64;
-                let reached = functions
-                    .iter()
-                    .map(|&f| {
-                        targets
-                            .iter()
-                            .filter(|&&target| best.art(f, d, target).is_some_and(|a| a <= budget))
-                            .count()
-                    })
-                    .sum();
-                Some((reached, functions.len() * targets.len()))
-            })
-            .collect();
-        rows.push((best2009::LABEL.to_owned(), "reference".to_owned(), counts));
+        for best in best {
+            let counts = READ_AT
+                .iter()
+                .map(|&m| {
+                    let budget = (m * d as u64) as f64;
+                    let reached = functions
+                        .iter()
+                        .map(|&f| {
+                            targets
+                                .iter()
+                                .filter(|&&target| {
+                                    best.art(f, d, target).is_some_and(|a| a <= budget)
+                                })
+                                .count()
+                        })
+                        .sum();
+                    Some((reached, functions.len() * targets.len()))
+                })
+                .collect();
+            rows.push((best.label.to_owned(), "reference".to_owned(), counts));
+        }
         for (label, kind, counts) in rows {
             let mut md = vec![d.to_string(), label.clone(), functions.len().to_string()];
             md.extend(

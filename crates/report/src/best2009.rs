@@ -1,12 +1,18 @@
-//! COCO's best-2009 reference on the bbob suite: for every function, dimension
-//! and target precision, the smallest average runtime aRT that any of the 31
-//! algorithms of the BBOB-2009 workshop reached (Hansen, Auger, Ros, Finck &
-//! Pošík 2010, "Comparing results of 31 algorithms from the black-box
-//! optimization benchmarking BBOB-2009", GECCO '10 companion, 1689–1696).
+//! COCO's reference algorithms on the bbob suite: for every function,
+//! dimension and target precision, the smallest average runtime aRT that any
+//! algorithm of a set of archived data sets reached. *best 2009* is the
+//! virtual best of the 31 algorithms of the BBOB-2009 workshop (Hansen,
+//! Auger, Ros, Finck & Pošík 2010, "Comparing results of 31 algorithms from
+//! the black-box optimization benchmarking BBOB-2009", GECCO '10 companion,
+//! 1689–1696); *best 2009–16* that of the data sets of the BBOB workshops
+//! 2009 to 2016, cocopp's default reference since 2017 (Hansen et al. 2021,
+//! "COCO: a platform for comparing continuous optimizers in a black-box
+//! setting", Optim. Methods Softw. 36(1):114–144).
 //!
-//! The data are cocopp's own reference file `refalgs/best2009-bbob.tar.gz`,
-//! vendored unchanged in `vendor/coco/` (cocopp 2.9.1, BSD-3; provenance and
-//! sha256 in `vendor/coco/PROVENANCE.md`) and compiled into the binary. Each
+//! The data are cocopp's own reference files `refalgs/best2009-bbob.tar.gz`
+//! and `refalgs/best09-16-bbob.tar.gz`, vendored unchanged in `vendor/coco/`
+//! (cocopp 2.9.1, BSD-3; provenance and sha256 in
+//! `vendor/coco/PROVENANCE.md`) and compiled into the binary. Each
 //! `bbob-bestalg_fFF_dDD.dat` of the archive lists lines `aRT Δf Δf algorithm
 //! successes runs` in increasing aRT, written by cocopp's
 //! `bestalg.create_data_files`: one line per distinct rounded aRT, with the
@@ -24,14 +30,37 @@ use std::io::Read;
 /// cocopp's `best2009-bbob.tar.gz`, unchanged.
 static ARCHIVE: &[u8] = include_bytes!("../../../vendor/coco/best2009-bbob.tar.gz");
 
-/// The archive's length in bytes, as recorded in `vendor/coco/PROVENANCE.md`.
-const ARCHIVE_LEN: usize = 54_603;
+/// cocopp's `best09-16-bbob.tar.gz`, unchanged.
+static ARCHIVE_0916: &[u8] = include_bytes!("../../../vendor/coco/best09-16-bbob.tar.gz");
 
-/// How the reference is named in tables and plots.
-pub(crate) const LABEL: &str = "best 2009";
+/// A vendored reference: its archive, length, name and description.
+struct Vendored {
+    archive: &'static [u8],
+    /// The archive's length in bytes, as recorded in
+    /// `vendor/coco/PROVENANCE.md`.
+    len: usize,
+    label: &'static str,
+    source: &'static str,
+    what: &'static str,
+}
 
-/// The reference's provenance, for the `params` column of the tables.
-pub(crate) const SOURCE: &str = "cocopp 2.9.1 refalgs/best2009-bbob.tar.gz";
+/// The references, oldest first.
+static REFERENCES: [Vendored; 2] = [
+    Vendored {
+        archive: ARCHIVE,
+        len: 54_603,
+        label: "best 2009",
+        source: "cocopp 2.9.1 refalgs/best2009-bbob.tar.gz",
+        what: "COCO's virtual best of the 31 algorithms of BBOB-2009",
+    },
+    Vendored {
+        archive: ARCHIVE_0916,
+        len: 63_907,
+        label: "best 2009–16",
+        source: "cocopp 2.9.1 refalgs/best09-16-bbob.tar.gz",
+        what: "COCO's virtual best of the data sets of the BBOB workshops 2009–2016 (cocopp's default reference)",
+    },
+];
 
 /// One line of a `.dat` file: the aRT of the best 2009 algorithm to `target`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -46,23 +75,46 @@ pub(crate) struct Step {
     pub runs: u32,
 }
 
-/// The reference: the steps of every (function, dimension) of the archive.
+/// A reference: the steps of every (function, dimension) of its archive.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Best2009 {
     steps: BTreeMap<(usize, usize), Vec<Step>>,
+    /// How it is named in tables and plots ("best 2009").
+    pub label: &'static str,
+    /// Its provenance, for the `params` column of the tables.
+    pub source: &'static str,
+    /// What it is, for the captions.
+    pub what: &'static str,
 }
 
 impl Best2009 {
-    /// Reads the vendored archive, checking its length, the gzip checksum and
-    /// the tar headers, and parsing every `.dat` file.
+    /// Reads the vendored best 2009 archive, checking its length, the gzip
+    /// checksum and the tar headers, and parsing every `.dat` file.
+    #[cfg(test)]
     pub(crate) fn load() -> Result<Self, String> {
-        if ARCHIVE.len() != ARCHIVE_LEN {
+        Self::load_vendored(&REFERENCES[0])
+    }
+
+    /// Both references, best 2009 and best 2009–16, each read as
+    /// [`Best2009::load`] reads best 2009.
+    pub(crate) fn load_all() -> Result<Vec<Self>, String> {
+        REFERENCES.iter().map(Self::load_vendored).collect()
+    }
+
+    fn load_vendored(v: &Vendored) -> Result<Self, String> {
+        if v.archive.len() != v.len {
             return Err(format!(
-                "the vendored best2009-bbob.tar.gz has {} bytes, expected {ARCHIVE_LEN}",
-                ARCHIVE.len()
+                "the vendored {} has {} bytes, expected {}",
+                v.source,
+                v.archive.len(),
+                v.len
             ));
         }
-        Self::from_archive(ARCHIVE)
+        let mut b = Self::from_archive(v.archive)?;
+        b.label = v.label;
+        b.source = v.source;
+        b.what = v.what;
+        Ok(b)
     }
 
     /// Parses a gzip-compressed tar archive in cocopp's `bestalg` layout.
@@ -97,7 +149,10 @@ impl Best2009 {
         if steps.is_empty() {
             return Err("best2009-bbob.tar.gz holds no .dat file".into());
         }
-        Ok(Self { steps })
+        Ok(Self {
+            steps,
+            ..Self::default()
+        })
     }
 
     /// Whether the reference has data for bbob function `function` at `dim`.
@@ -218,6 +273,32 @@ mod tests {
             assert!(b.art(1, d, 1e-8).is_some(), "f1 D{d}");
         }
         assert_eq!(b.art(1, 7, 1e-8), None);
+    }
+
+    #[test]
+    fn best_2009_16_reads_and_is_at_least_as_good_as_best_2009() {
+        let all = Best2009::load_all().unwrap();
+        assert_eq!(all.len(), 2);
+        let (old, new) = (&all[0], &all[1]);
+        assert_eq!((old.label, new.label), ("best 2009", "best 2009–16"));
+        assert_eq!(new.steps.len(), 24 * 6);
+        // bbob-bestalg_f10_d10.dat of best09-16: "1 1.000000000000000e+07 …"
+        // and "236 3.981071705534973e+03 … fmincon_pal_noiseless.tgz 15 15".
+        assert_eq!(new.art(10, 10, 1e7), Some(1.0));
+        let s = new.step(10, 10, 3.981071705534973e3).unwrap();
+        assert_eq!((s.art, s.successes, s.runs), (236.0, 15, 15));
+        // Wherever best 2009 reaches 1e-8, so does best 2009–16 (its data
+        // sets include 2009's), never slower by more than rounding.
+        let mut solved = (0, 0);
+        for f in 1..=24 {
+            let (a, b) = (old.art(f, 10, 1e-8), new.art(f, 10, 1e-8));
+            solved.0 += usize::from(a.is_some());
+            solved.1 += usize::from(b.is_some());
+            if let (Some(a), Some(b)) = (a, b) {
+                assert!(b <= a * 1.01, "f{f}: {b} against {a}");
+            }
+        }
+        assert!(solved.1 >= solved.0, "{solved:?}");
     }
 
     #[test]

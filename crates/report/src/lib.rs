@@ -678,7 +678,7 @@ fn sections(
         &stats,
         heat_maps,
         provenance.threshold,
-        best.as_ref(),
+        &best,
         tests.verdict_table.as_ref(),
     );
     let mut figures = drawn.plots;
@@ -704,12 +704,9 @@ fn sections(
         figures.splice(0..0, answers);
     }
     let targets = default_targets();
-    let anytime = anytime::art_table(ds, &targets, best.as_ref())
+    let anytime = anytime::art_table(ds, &targets, &best)
         .into_iter()
-        .chain(
-            best.as_ref()
-                .and_then(|b| anytime::reached_table(ds, &targets, b)),
-        )
+        .chain(anytime::reached_table(ds, &targets, &best))
         .collect();
     Ok(Sections {
         setup,
@@ -726,21 +723,22 @@ fn sections(
     })
 }
 
-/// COCO's best-2009 reference when some problem is a bbob function; a note
-/// when the vendored reference cannot be read.
-fn best2009_for(ds: &data::Dataset, notes: &mut Vec<String>) -> Option<best2009::Best2009> {
+/// COCO's references best 2009 and best 2009–16 when some problem is a
+/// bbob function (none otherwise); a note when the vendored references
+/// cannot be read.
+fn best2009_for(ds: &data::Dataset, notes: &mut Vec<String>) -> Vec<best2009::Best2009> {
     if !ds
         .problems
         .iter()
         .any(|p| best2009::bbob_key(&p.function).is_some())
     {
-        return None;
+        return Vec::new();
     }
-    match best2009::Best2009::load() {
-        Ok(b) => Some(b),
+    match best2009::Best2009::load_all() {
+        Ok(b) => b,
         Err(e) => {
-            notes.push(format!("best 2009 left out: {e}"));
-            None
+            notes.push(format!("best 2009 and best 2009–16 left out: {e}"));
+            Vec::new()
         }
     }
 }

@@ -23,8 +23,9 @@ pub(crate) struct Ecdf {
     legend: Vec<LegendEntry>,
     /// The curves, each with its cell's style.
     series: Vec<(SeriesStyle, Vec<(f64, f64)>)>,
-    /// A reference curve drawn under the others (COCO's best 2009).
-    reference: Option<Vec<(f64, f64)>>,
+    /// Reference curves drawn under the others, each in its colour
+    /// (COCO's best 2009 and best 2009–16).
+    reference: Vec<(RGBColor, Vec<(f64, f64)>)>,
     x: (f64, f64),
     x_desc: &'static str,
     y_desc: &'static str,
@@ -111,11 +112,8 @@ impl Ecdf {
     /// The minor decades, the reference curve and the curves.
     fn draw_curves<DB: DrawingBackend>(&self, chart: &mut Chart<'_, DB>) -> DrawResult {
         draw_minor_decades(chart, self.x, (-0.02, 1.02), true, false)?;
-        if let Some(pts) = &self.reference {
-            chart.draw_series(LineSeries::new(
-                pts.iter().copied(),
-                REFERENCE.stroke_width(6),
-            ))?;
+        for (colour, pts) in &self.reference {
+            chart.draw_series(LineSeries::new(pts.iter().copied(), colour.stroke_width(6)))?;
         }
         for (style, pts) in &self.series {
             draw_line(chart, pts.clone(), *style, 2)?;
@@ -127,6 +125,9 @@ impl Ecdf {
 /// The colour of the reference curve: a wide light gold, as cocopp draws
 /// its reference algorithm behind the others, apart from the palette's grey.
 const REFERENCE: RGBColor = RGBColor(238, 203, 110);
+
+/// The colour of the second reference curve (best 2009–16): a darker gold.
+const REFERENCE_2: RGBColor = RGBColor(196, 150, 40);
 
 /// The steps of an ECDF over `total` pairs, from the sorted runtimes of
 /// the solved ones, starting at (1, 0).
@@ -289,7 +290,7 @@ pub(crate) fn overlaid_ecdfs(
         plots.extend(
             scopes
                 .into_iter()
-                .map(|scope| target_ecdf(ds, shown, &targets, None, scope)),
+                .map(|scope| target_ecdf(ds, shown, &targets, &[], scope)),
         );
     } else {
         notes.push(NoPlot::NoHits.to_string());
@@ -337,7 +338,7 @@ fn threshold_ecdf(
             title: title(threshold, &scope_text),
             legend,
             series,
-            reference: None,
+            reference: Vec::new(),
             x: (0.0, lg(xmax)),
             x_desc: "objective evaluations (log scale)",
             y_desc: "fraction of (run, problem) pairs solved",
@@ -366,7 +367,7 @@ pub(super) fn target_ecdfs(
     ds: &Dataset,
     shown: &SeriesSet,
     targets: &[f64],
-    best: Option<&Best2009>,
+    best: &[Best2009],
 ) -> Result<Vec<Plot>, NoPlot> {
     if !(0..ds.problems.len())
         .any(|p| (0..ds.cells.len()).any(|c| ds.runs(p, c).iter().any(|r| !r.hits.is_empty())))
@@ -455,12 +456,12 @@ fn reference_steps(
 }
 
 /// One runtime ECDF over all targets, for the problems of `scope`, with
-/// COCO's best 2009 beneath when `best` covers them.
+/// each of COCO's references beneath that covers them.
 fn target_ecdf(
     ds: &Dataset,
     shown: &SeriesSet,
     target_values: &[f64],
-    best: Option<&Best2009>,
+    best: &[Best2009],
     scope: Scope<'_>,
 ) -> Plot {
     let targets = target_values.len();
@@ -494,41 +495,48 @@ fn target_ecdf(
         steps.push((xmax, last));
         series.push((c, steps.into_iter().map(|(x, y)| (lg(x), y)).collect()));
     }
-    let mut reference = best.and_then(|b| reference_steps(ds, target_values, b, scope));
-    if let Some(steps) = &mut reference {
+    let mut drawn: Vec<&Best2009> = Vec::new();
+    let mut reference: Vec<(RGBColor, Vec<(f64, f64)>)> = Vec::new();
+    for (b, colour) in best.iter().zip([REFERENCE, REFERENCE_2]) {
+        let Some(mut steps) = reference_steps(ds, target_values, b, scope) else {
+            continue;
+        };
         let last = steps.last().map_or(0.0, |p| p.1);
         steps.retain(|p| p.0 <= xmax);
         steps.push((xmax, steps.last().map_or(last, |p| p.1)));
         for p in steps.iter_mut() {
             p.0 = lg(p.0);
         }
+        drawn.push(b);
+        reference.push((colour, steps));
     }
     let x0 = series
         .iter()
         .map(|(_, pts)| pts)
-        .chain(reference.iter())
+        .chain(reference.iter().map(|(_, pts)| pts))
         .filter_map(|pts| pts.first().map(|p| p.0))
         .fold(0.0f64, f64::min)
         .floor();
     let mut legend = shown.legend(series.iter().map(|(c, _)| *c));
-    if reference.is_some() {
-        legend.push((best2009::LABEL.to_owned(), SeriesStyle::solid(REFERENCE)));
+    for (b, (colour, _)) in drawn.iter().zip(&reference) {
+        legend.push((b.label.to_owned(), SeriesStyle::solid(*colour)));
     }
     let series = series
         .into_iter()
         .map(|(c, pts)| (shown.style(c), pts))
         .collect();
-    let reference_note = if reference.is_some() {
-        format!(
-            " The wide gold curve is {}, COCO's virtual best of the 31 algorithms of \
-             BBOB-2009, a (function, target) pair counted at its aRT / D as cocopp draws \
-             it ({}; beyond the thesis), cut at the campaign's largest budget.",
-            best2009::LABEL,
-            best2009::SOURCE
-        )
-    } else {
-        String::new()
-    };
+    let reference_note: String = drawn
+        .iter()
+        .zip(["light", "dark"])
+        .map(|(b, shade)| {
+            format!(
+                " The wide {shade} gold curve is {}, {}, a (function, target) pair counted \
+                 at its aRT / D as cocopp draws it ({}; beyond the thesis), cut at the \
+                 campaign's largest budget.",
+                b.label, b.what, b.source
+            )
+        })
+        .collect();
     let (stem, scope) = match scope {
         Scope::Function(f) => (
             format!("ecdf_targets_{}", f.replace('/', "_")),

@@ -429,7 +429,7 @@ pub(crate) fn figures(
     stats: &[Vec<Option<CellStats>>],
     heat_maps: Vec<HeatMap>,
     threshold: Option<f64>,
-    best: Option<&Best2009>,
+    best: &[Best2009],
     verdicts: Option<&super::format::Table>,
 ) -> Figures {
     let mut plots = Vec::new();
