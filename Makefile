@@ -33,7 +33,7 @@ help:
 	@echo "make bbob-full      the Slurm array script (results/bbob_full.sbatch) for COCO's whole protocol: D = 2, 3, 5, 10, 20, 40, instances 1-15"
 	@echo "make pycma-parity   pycma's default on bbob f1-f14 at D = 10 (pinned in tools/pycma-requirements.txt, in a venv; PyPI), then the Rust test that pins its figures"
 	@echo "make cocopp         COCO's own post-processing (cocopp, pinned in tools/cocopp-requirements.txt, in a venv) of results/bbob/coco/"
-	@echo "make reproduce-all  every chapter: 4, 5 and 6 (about 40 min on 2 cores)"
+	@echo "make reproduce-all  every chapter: 4, 5 and 6 (about 20 min on 2 cores)"
 	@echo "make check-reports  every report under results/ reads on a screen: summary first, < 300 lines, report.html, pictures <= 3,000 px"
 	@echo "make fmt            cargo fmt --all"
 	@echo "make lint           cargo clippy --all-targets -- -D warnings"
