@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::fit_outputs::{write_drawings, Drawings, FitOutput};
+use super::fit_outputs::{write_drawings, FitOutput};
 use crate::error::{Error, UsageError};
 use crate::experiment::fit_files::write_fit_records;
 use crate::files::{check_output_dir, Staging};
@@ -193,11 +193,7 @@ pub(super) fn fit(a: FitArgs, w: &mut String) -> Result<(), Error> {
         Vec::new()
     };
     let data = source.points();
-    let drawings = Drawings {
-        title: &title,
-        data: &data,
-    };
-    paths.extend(write_drawings(&a.outputs, &fit, &drawings, dir)?);
+    paths.extend(write_drawings(&a.outputs, &fit, &title, &data, dir)?);
     let paths: Vec<PathBuf> = paths.iter().map(|p| staging.final_path(p)).collect();
     staging.publish()?;
     say_fit(w, &source.label(), &fit, wall, &paths);

@@ -33,28 +33,22 @@ impl FitOutput {
     }
 }
 
-/// The drawings of a fit: what [`write_drawings`] needs beside the fit.
-pub(super) struct Drawings<'a> {
-    /// The title of the SVG and the overlay.
-    pub(super) title: &'a str,
-    /// The data points drawn under the fit.
-    pub(super) data: &'a [Point],
-}
-
 /// Writes the drawing files `chosen` asks for (all but the CSV records,
-/// which the caller writes) into `dir`; returns their paths.
+/// which the caller writes) into `dir`, titled `title`, the data points
+/// `data` under the fit; returns their paths.
 pub(super) fn write_drawings(
     chosen: &[FitOutput],
     fit: &ShapeFit,
-    d: &Drawings<'_>,
+    title: &str,
+    data: &[Point],
     dir: &Path,
 ) -> Result<Vec<PathBuf>, Error> {
     let mut paths = Vec::new();
     if FitOutput::Svg.in_list(chosen) {
-        paths.push(save_shape_svg(fit, d.data, d.title, dir, "fit")?);
+        paths.push(save_shape_svg(fit, data, title, dir, "fit")?);
     }
     if FitOutput::Png.in_list(chosen) {
-        paths.push(save_shape_png(fit, d.data, dir, "fit")?);
+        paths.push(save_shape_png(fit, data, dir, "fit")?);
     }
     if FitOutput::Dxf.in_list(chosen) {
         let dxf = dir.join("fit.dxf");
@@ -62,7 +56,7 @@ pub(super) fn write_drawings(
         paths.push(dxf);
     }
     if FitOutput::Overlay.in_list(chosen) {
-        let figure = OverlayFigure::of_fit(d.title, d.data, fit);
+        let figure = OverlayFigure::of_fit(title, data, fit);
         paths.extend(save_overlay(&figure, dir, "overlay")?);
     }
     Ok(paths)

@@ -37,10 +37,7 @@ impl Stop {
 
     /// Its name in a spec.
     pub fn name(self) -> &'static str {
-        match self {
-            Stop::Budget => "budget",
-            Stop::Target => "target",
-        }
+        Self::NAMES[self as usize]
     }
 }
 

@@ -6,7 +6,7 @@ use crate::problem::{Bounds, Problem};
 
 /// `Σ (x_i − c_i)²` on asymmetric per-variable bounds, counting calls and
 /// evaluations outside the box and points with a coordinate in
-/// `(0, 10⁻¹⁵⁴)` (whose square is subnormal), NaN where `x_0 > nan_above`.
+/// `(0, 2⁻⁵¹¹)` (whose square is subnormal: `2⁻⁵¹¹ = √2⁻¹⁰²²`), NaN where `x_0 > nan_above`.
 pub(crate) struct Bowl {
     pub(crate) bounds: Vec<Bounds>,
     pub(crate) centre: Vec<f64>,
@@ -45,7 +45,9 @@ impl Problem for Bowl {
         if x.iter().zip(&self.bounds).any(|(v, b)| !b.contains(*v)) {
             self.outside.set(self.outside.get() + 1);
         }
-        if x.iter().any(|v| v.abs() > 0.0 && v.abs() < 1e-154) {
+        if x.iter()
+            .any(|v| v.abs() > 0.0 && v.abs() < f64::MIN_POSITIVE.sqrt())
+        {
             self.tiny.set(self.tiny.get() + 1);
         }
         if x.first().is_some_and(|&v| v > self.nan_above) {

@@ -529,16 +529,17 @@ mod tests {
     }
 
     /// A swarm converging on Sphere's optimum at 0 reaches it exactly and
-    /// never evaluates a coordinate within 10⁻¹⁵⁴ of 0 (whose square would
+    /// never evaluates a coordinate within 2⁻⁵¹¹ of 0 (whose square would
     /// be subnormal), under either bound policy.
     #[test]
     fn keeps_its_points_off_the_subnormal_floor() {
+        assert_eq!(POSITION_FLOOR, f64::MIN_POSITIVE.sqrt(), "2^-511");
         for bounds in ["clip", "reflect"] {
             let algo = build(&[("bounds", Raw::Text(bounds.into()))]).unwrap();
             let p = Bowl::sphere(5);
             let out = algo.run(&p, 400_000, &mut run_rng(3));
             assert_eq!(out.best_value, 0.0, "{bounds}");
-            assert_eq!(p.tiny.get(), 0, "{bounds}: points within 1e-154 of 0");
+            assert_eq!(p.tiny.get(), 0, "{bounds}: points within 2^-511 of 0");
         }
     }
 

@@ -222,21 +222,6 @@ fn crossings(polygons: &[Vec<Point>], y: f64) -> Vec<f64> {
     xs
 }
 
-/// Writes `<dir>/<stem>.svg` ([`shape_svg`]) and `<dir>/<stem>.png`
-/// ([`save_shape_png`]); returns the two paths.
-pub fn save_shape(
-    fit: &ShapeFit,
-    data: &[Point],
-    title: &str,
-    dir: &Path,
-    stem: &str,
-) -> Result<Vec<PathBuf>, IoError> {
-    Ok(vec![
-        save_shape_svg(fit, data, title, dir, stem)?,
-        save_shape_png(fit, data, dir, stem)?,
-    ])
-}
-
 /// Writes `<dir>/<stem>.svg` ([`shape_svg`]); returns its path.
 pub fn save_shape_svg(
     fit: &ShapeFit,

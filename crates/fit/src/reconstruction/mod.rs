@@ -13,7 +13,7 @@
 //! | [`Source`], [`ContourChoice`] | an input's contours (outer boundaries and holes) and which are fitted |
 //! | [`Reconstruction`], [`Method`], [`FitMode`] | the fitting task: whole outlines or per-segment problems |
 //! | [`ShapeFit`] | every contour's fit, with the totals and the best-so-far trace |
-//! | [`shape_svg`], [`save_shape`], [`save_shape_svg`], [`save_shape_png`] | the fit as one even-odd SVG path and its PNG |
+//! | [`shape_svg`], [`save_shape_svg`], [`save_shape_png`] | the fit as one even-odd SVG path and its PNG |
 //! | [`shape_dxf`] | the fit as exact DXF `SPLINE`s (control points and weights) |
 //! | [`score`] | other tools' curves against the same data points |
 //! | [`OverlayFigure`] | the data and the curves on axes, drawn by the report |
@@ -33,9 +33,7 @@ use crate::optim::{Algorithm, Optimisers};
 use crate::outline::{find_corners, CornerOptions};
 use crate::rng::{run_rng, splitmix64};
 
-pub use drawing::{
-    cubic_pieces, save_shape, save_shape_png, save_shape_svg, shape_raster, shape_svg,
-};
+pub use drawing::{cubic_pieces, save_shape_png, save_shape_svg, shape_raster, shape_svg};
 pub use dxf::shape_dxf;
 pub use overlay::{OverlayCurve, OverlayFigure, OverlayPanel};
 pub use score::{score, segment_distance, Distances, Score, ScoreError, MAX_SCORE_COORDINATE};
