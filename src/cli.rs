@@ -30,6 +30,7 @@ mod archive;
 mod compare;
 mod fit;
 mod fit_outputs;
+mod named;
 
 use archive::ArchiveArgs;
 use fit::FitArgs;
@@ -120,8 +121,8 @@ enum Command {
         #[arg(long, value_name = "CSV")]
         external: Option<PathBuf>,
         /// The correction of the post-hoc tests after Friedman's test.
-        #[arg(long, default_value = "holm", value_parser = clap::builder::PossibleValuesParser::new(crate::report::PostHoc::NAMES))]
-        post_hoc: String,
+        #[arg(long, default_value = "holm", value_parser = named::named::<crate::report::PostHoc>())]
+        post_hoc: crate::report::PostHoc,
         /// The region of practical equivalence of a measure's Bayesian
         /// signed-rank test, `MEASURE=HALF-WIDTH` (repeatable): final-error
         /// in decades [default 0.3, or the spec's `[report]`], anytime-auc
@@ -313,7 +314,7 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
                 reference,
                 alpha,
                 external,
-                post_hoc: crate::report::PostHoc::from_name(&post_hoc).unwrap_or_default(),
+                post_hoc,
                 ropes: rope,
                 families: crate::report::Families::default(),
                 claims,

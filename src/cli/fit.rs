@@ -6,11 +6,12 @@ use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::fit_outputs::{write_drawings, FitOutput};
+use super::named::{named, ParameterisationChoice};
 use crate::error::{Error, UsageError};
 use crate::experiment::fit_files::write_fit_records;
 use crate::files::{check_output_dir, Staging};
 use crate::fit::{Chain, Closing, ErrorMeasure, FitError, FitOptions, FunctionType, SearchSpace};
-use crate::geometry::{Continuity, Parameterisation};
+use crate::geometry::Continuity;
 use crate::outline::{noise_level, parse_input, CornerOptions, Foreground, Input};
 use crate::reconstruction::{
     ContourChoice, LoadOptions, Method, Reconstruction, Segmentation, ShapeFit, Source,
@@ -23,11 +24,11 @@ pub(super) struct FitArgs {
     /// A PNG image, a CSV file of x,y points, or font:PATH:GLYPH.
     input: String,
     /// The fitting function.
-    #[arg(long, default_value = "rational-cubic", value_parser = clap::builder::PossibleValuesParser::new(FunctionType::NAMES))]
-    function: String,
+    #[arg(long, default_value = "rational-cubic", value_parser = named::<FunctionType>())]
+    function: FunctionType,
     /// Continuity at the joints between segments.
-    #[arg(long, default_value = "g1", value_parser = clap::builder::PossibleValuesParser::new(Continuity::NAMES))]
-    continuity: String,
+    #[arg(long, default_value = "g1", value_parser = named::<Continuity>())]
+    continuity: Continuity,
     /// hs, ghs, ga, pso, mhs; lm (Levenberg–Marquardt, the exact reference);
     /// or a metaheuristic polished by LM: hs+lm, …, mhs+lm. Default parameters.
     #[arg(long, default_value = "lm")]
@@ -55,8 +56,8 @@ pub(super) struct FitArgs {
     /// For an image: which class is the shape. auto: the class that does
     /// not touch the image border (if both do, the one that touches it
     /// less); dark; light [default: auto].
-    #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(Foreground::NAMES))]
-    foreground: Option<String>,
+    #[arg(long, value_parser = named::<Foreground>())]
+    foreground: Option<Foreground>,
     /// Corner threshold: turning angle in degrees over --corner-k points
     /// (0 disables corner detection).
     #[arg(long, default_value_t = 60.0, allow_negative_numbers = true, value_parser = corner_angle)]
@@ -70,26 +71,26 @@ pub(super) struct FitArgs {
     contour: Option<usize>,
     /// How a closed contour's chain closes: smooth (G1/C1 at the closing
     /// joint unless it is a corner) or c0.
-    #[arg(long, default_value = "smooth", value_parser = clap::builder::PossibleValuesParser::new(Closing::NAMES))]
-    closing: String,
+    #[arg(long, default_value = "smooth", value_parser = named::<Closing>())]
+    closing: Closing,
     /// Search space: the thesis's technique or the data's bounding box.
-    #[arg(long, default_value = "technique", value_parser = clap::builder::PossibleValuesParser::new(SearchSpace::NAMES))]
-    search_space: String,
+    #[arg(long, default_value = "technique", value_parser = named::<SearchSpace>())]
+    search_space: SearchSpace,
     /// How data points get their curve parameters s_i: auto is uniform for a
     /// glyph at its true breaks (its samples' own parameters), chord otherwise.
-    #[arg(long, default_value = "auto", value_parser = clap::builder::PossibleValuesParser::new(PARAMETERISATIONS))]
-    parameterisation: String,
+    #[arg(long, default_value = "auto", value_parser = named::<ParameterisationChoice>())]
+    parameterisation: ParameterisationChoice,
     /// What E measures: orthogonal (the distance from each point to the
     /// curve, its parameter solved with the fit) or fixed (at the
     /// parameters s_i, the thesis's E; the default in specs).
-    #[arg(long, default_value = "orthogonal", value_parser = clap::builder::PossibleValuesParser::new(ErrorMeasure::NAMES))]
-    error: String,
+    #[arg(long, default_value = "orthogonal", value_parser = named::<ErrorMeasure>())]
+    error: ErrorMeasure,
     /// How the segments are solved: joint (the sequential chain, then all
     /// segments at once by Levenberg–Marquardt with shared joins, so none
     /// inherits another's error) or sequential (one after another, the
     /// thesis's; the default in specs).
-    #[arg(long, default_value = "joint", value_parser = clap::builder::PossibleValuesParser::new(Chain::NAMES))]
-    chain: String,
+    #[arg(long, default_value = "joint", value_parser = named::<Chain>())]
+    chain: Chain,
     /// Rounds of Newton parameter correction after each segment's solve
     /// (Schneider 1990); each round solves again with a fresh budget.
     #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=100))]
@@ -131,14 +132,6 @@ fn corner_angle(text: &str) -> Result<f64, String> {
         ))
     }
 }
-
-/// The `--parameterisation` choices: `auto` and the fixed rules.
-const PARAMETERISATIONS: [&str; 4] = [
-    "auto",
-    Parameterisation::NAMES[0],
-    Parameterisation::NAMES[1],
-    Parameterisation::NAMES[2],
-];
 
 /// `metabezier fit`: load, segment, fit, write the files. Contours that
 /// cannot be fitted are named (exit 1) and the others written.
@@ -299,7 +292,7 @@ impl FitArgs {
     /// true breaks needs, the foreground of an image (refused for other
     /// inputs).
     fn load_options(&self) -> Result<LoadOptions, Error> {
-        let function = FunctionType::from_name(&self.function).expect("clap checked the name");
+        let function = self.function;
         let mut load = LoadOptions {
             contour: self
                 .contour
@@ -311,11 +304,11 @@ impl FitArgs {
             },
             ..LoadOptions::default()
         };
-        if let Some(name) = &self.foreground {
+        if let Some(foreground) = self.foreground {
             if !matches!(parse_input(&self.input), Ok(Input::Image(_))) {
                 return Err(UsageError::ForegroundNotImage(self.input.clone()).into());
             }
-            load.image.foreground = Foreground::from_name(name).expect("clap checked the name");
+            load.image.foreground = foreground;
         }
         Ok(load)
     }
@@ -331,20 +324,17 @@ impl FitArgs {
     /// Function, continuity, closing, parameterisation (`auto` resolved for
     /// `source`), search space and budget.
     fn options(&self, source: &Source) -> FitOptions {
-        let function = FunctionType::from_name(&self.function).expect("clap checked the name");
-        let continuity = Continuity::from_name(&self.continuity).expect("clap checked the name");
-        let mut options = FitOptions::new(function, continuity);
+        let mut options = FitOptions::new(self.function, self.continuity);
         options.budget_per_segment = self.budget;
-        options.closing = Closing::from_name(&self.closing).expect("clap checked the name");
-        options.parameterisation = match self.parameterisation.as_str() {
-            "auto" => source.auto_parameterisation(self.true_breaks),
-            name => Parameterisation::from_name(name).expect("clap checked the name"),
+        options.closing = self.closing;
+        options.parameterisation = match self.parameterisation {
+            ParameterisationChoice::Auto => source.auto_parameterisation(self.true_breaks),
+            ParameterisationChoice::Fixed(p) => p,
         };
         options.reparameterise = self.reparameterise;
-        options.error = ErrorMeasure::from_name(&self.error).expect("clap checked the name");
-        options.chain = Chain::from_name(&self.chain).expect("clap checked the name");
-        options.search.kind =
-            SearchSpace::from_name(&self.search_space).expect("clap checked the name");
+        options.error = self.error;
+        options.chain = self.chain;
+        options.search.kind = self.search_space;
         options
     }
 
@@ -361,7 +351,7 @@ impl FitArgs {
             }
         };
         let foreground = if r.source.is_image() {
-            self.foreground.clone().unwrap_or_else(|| "auto".into())
+            self.foreground.unwrap_or(Foreground::Auto).name().to_owned()
         } else {
             String::new()
         };
