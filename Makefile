@@ -17,8 +17,8 @@ help:
 	@echo "make python-bench   cost per evaluation of a Python objective called from metabezier, against Rust and numpy (after test-python)"
 	@echo "make examples       the library examples (examples/*.rs): your own optimiser and problem in a campaign"
 	@echo "make peer-kurbo     kurbo's curve fitting on the horse and the coin, scored by metabezier score"
-	@echo "make peer-potrace   potrace (Debian's; installed if missing) against fit on the horse, the coin and the logo: segments, two-sided distance, RMS, CPU ratio"
-	@echo "make fuzz           the seeded fuzz loops of tests/fuzz_*.rs with 100,000 mutants per reader (minutes)"
+	@echo "make peer-potrace   potrace (Debian's; installed if missing) against fit on the horse, the coin, the logo and five glyphs: segments, two-sided distance, RMS, CPU ratio"
+	@echo "make fuzz           the seeded fuzz loops of tests/fuzz/ with 100,000 mutants per reader (minutes)"
 	@echo "make test-cluster   a campaign as a Slurm array job on a private one-node Slurm (root; installs slurm-wlm, munge)"
 	@echo "make bench          criterion benchmarks: optimiser overhead per evaluation, cost of E per fitting function"
 	@echo "make overhead       each optimiser's CPU time per evaluation against a bare Sphere-30 loop in the same process, and in the first and last tenth of a 2e6-evaluation run (seconds; run it idle)"
@@ -133,7 +133,7 @@ python-bench: test-python
 	$(PY_VENV)/bin/python python/bench/overhead.py
 
 # The library examples, each a campaign through the library into a fresh
-# directory (tests/registry.rs checks their results on 1 and 2 threads).
+# directory (tests/optimisers/registry.rs checks their results on 1 and 2 threads).
 EXAMPLES := custom_optimiser custom_problem
 examples:
 	@set -e; for e in $(EXAMPLES); do \
@@ -159,15 +159,17 @@ peer-kurbo: build
 # potrace on the shape fit traces (examples/shape_pbm.rs writes it as a
 # PBM), scored by `metabezier score`, against `fit` at potrace's two-sided
 # distance and at its segment count, with the CPU time of whole processes
-# (ci/peer-potrace.sh; timing, so not in `make test`).
+# (ci/peer-potrace.sh; timing, so not in `make test`): the horse, the coin,
+# the logo and five glyphs of the vendored fonts drawn 200 px high
+# (examples/glyph_png.rs), unseen by the fitter's tests.
 peer-potrace: build
-	$(CARGO) build --release --locked --example shape_pbm
-	ci/peer-potrace.sh $(BIN) target/release/examples/shape_pbm
+	$(CARGO) build --release --locked --example shape_pbm --example glyph_png
+	ci/peer-potrace.sh $(BIN) target/release/examples/shape_pbm target/release/examples/glyph_png
 
 # The fuzz loops of `make test` (a few thousand mutants per reader), longer.
 FUZZ_MUTANTS ?= 100000
 fuzz:
-	METABEZIER_FUZZ_MUTANTS=$(FUZZ_MUTANTS) $(CARGO) test --release --locked --test 'fuzz_*' -- --test-threads 1
+	METABEZIER_FUZZ_MUTANTS=$(FUZZ_MUTANTS) $(CARGO) test --release --locked --test fuzz -- --test-threads 1
 
 # Installs Debian's slurm-wlm and munge when missing, starts private daemons,
 # runs a campaign as an array job (one task requeued mid-run), merges it and
@@ -280,7 +282,7 @@ bbob-full: build
 
 # pycma's default CMA-ES on bbob f1-f14 at D = 10 (tools/pycma_bbob.py, pycma
 # and cocoex pinned, in a venv under target/; not run in CI), whose medians
-# tests/cmaes_parity.rs pins; then that test, which runs ours. Compare
+# tests/optimisers/cmaes_parity.rs pins; then that test, which runs ours. Compare
 # target/pycma_bbob.csv's medians with the test's literals by eye.
 PYCMA_VENV := target/pycma-venv
 pycma-parity:
@@ -288,7 +290,7 @@ pycma-parity:
 	$(PYCMA_VENV)/bin/python -m pip install --quiet --disable-pip-version-check -r tools/pycma-requirements.txt
 	$(PYCMA_VENV)/bin/python tools/pycma_bbob.py > target/pycma_bbob.csv
 	sed -n '/# median/,$$p' target/pycma_bbob.csv
-	$(CARGO) test --release --locked --test cmaes_parity -- --nocapture
+	$(CARGO) test --release --locked --test optimisers cmaes_parity -- --nocapture
 
 # COCO's own post-processing of the logs `make bbob` wrote: a virtual
 # environment under target/ with cocopp and every package it imports, pinned

@@ -8,13 +8,24 @@
 set -euo pipefail
 BIN=${1:-target/release/metabezier}
 PBM=${2:-target/release/examples/shape_pbm}
+GLYPH_PNG=${3:-target/release/examples/glyph_png}
 INPUTS=${PEER_POTRACE_INPUTS:-"data/outlines/horse.png data/outlines/coin.png data/outlines/logo.png"}
+# FONT:CHARACTER, each drawn 200 px high into a PNG both tools read.
+GLYPHS=${PEER_POTRACE_GLYPHS:-"DejaVuSans.ttf:g DejaVuSans.ttf:S DejaVuSans.ttf:& Cantarell-Regular.otf:a Cantarell-Regular.otf:R"}
 if ! command -v potrace > /dev/null; then
   echo "peer-potrace: installing Debian's potrace" >&2
   (apt-get install -y potrace > /dev/null 2>&1 || { apt-get update > /dev/null && apt-get install -y potrace > /dev/null; })
 fi
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
+mkdir "$out/glyphs"
+for g in $GLYPHS; do
+  font=${g%%:*}
+  c=${g#*:}
+  name="${font%%[-.]*}-$c"
+  "$GLYPH_PNG" "data/outlines/$font" "$c" 200 "$out/glyphs/$name.png" 2> /dev/null
+  INPUTS="$INPUTS $out/glyphs/$name.png"
+done
 # CPU seconds (user + system) of running "$@" $2 times, per run, in ms.
 cpu_ms() {
   local n=$1; shift

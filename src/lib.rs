@@ -109,7 +109,7 @@
 //! stack of crates, each a floor of rooms; a crate depends only on the
 //! crates below it, so an upward import does not compile. Inside a crate a
 //! room may import the rooms listed before it and never one after it, and
-//! its files form no circle: `tests/layering.rs` reads every crate's
+//! its files form no circle: `tests/house/layering.rs` reads every crate's
 //! `src/` and fails on an upward import or a circle of files.
 //!
 //! | crate | rooms (today's paths, re-exported here) | what lives there |

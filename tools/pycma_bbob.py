@@ -1,5 +1,5 @@
 """pycma's default CMA-ES on COCO's bbob suite: the figures that
-tests/cmaes_parity.rs pins (issue 51).
+tests/optimisers/cmaes_parity.rs pins (issue 51).
 
 Not run by the build, the tests or CI. Run it once, in a virtual
 environment with the pinned packages (`make pycma-parity` does this):
@@ -14,7 +14,7 @@ covariance update, λ = 4 + ⌊3 ln D⌋, no bounds) with BBOB's usual start:
 σ₀ = 2 and x0 uniform in [−4, 4]^D, restarted with a doubled population
 (IPOP, Auger & Hansen 2005) until f − f* ≤ 1e-8 or 10^4·D evaluations are
 spent. The problem is COCO's own (coco-experiment, module cocoex), whose
-values equal metabezier's (tests/bbob.rs, tests/data/bbob_reference.csv).
+values equal metabezier's (tests/optimisers/bbob.rs, tests/data/bbob_reference.csv).
 
 It writes one line per run (function, instance, run, evaluations to 1e-8,
 empty when not reached, best f − f*) and then, after a line `# median`,

@@ -351,7 +351,10 @@ impl FitArgs {
             }
         };
         let foreground = if r.source.is_image() {
-            self.foreground.unwrap_or(Foreground::Auto).name().to_owned()
+            self.foreground
+                .unwrap_or(Foreground::Auto)
+                .name()
+                .to_owned()
         } else {
             String::new()
         };

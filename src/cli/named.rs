@@ -89,11 +89,15 @@ impl<T: Named> TypedValueParser for NamedParser<T> {
         arg: Option<&clap::Arg>,
         value: &OsStr,
     ) -> Result<T, clap::Error> {
-        let name = PossibleValuesParser::new(T::NAMES.iter().copied()).parse_ref(cmd, arg, value)?;
+        let name =
+            PossibleValuesParser::new(T::NAMES.iter().copied()).parse_ref(cmd, arg, value)?;
         T::from_name(&name).ok_or_else(|| {
             clap::Error::raw(
                 ErrorKind::InvalidValue,
-                format!("\"{name}\" is a listed name that names no value; the names: {}\n", T::NAMES.join(", ")),
+                format!(
+                    "\"{name}\" is a listed name that names no value; the names: {}\n",
+                    T::NAMES.join(", ")
+                ),
             )
         })
     }

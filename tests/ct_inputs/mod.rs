@@ -1,4 +1,4 @@
-//! Inputs for the CT reader tests (`tests/ct.rs`, `tests/fuzz_ct.rs`):
+//! Inputs for the CT reader tests (`tests/implant/ct/`, `tests/fuzz/fuzz_ct.rs`):
 //! DICOM files edited element by element, tar archives built header by
 //! header, and gzip streams (compressed or stored).
 #![allow(dead_code)]

@@ -289,6 +289,16 @@ fn first_seed() -> u64 {
 /// global).
 static SERIAL: Mutex<()> = Mutex::new(());
 
+/// The fuzz tests share one binary and so one allocator: a test that
+/// prepares its inputs while another's ceiling is armed would be refused.
+static ONE_TEST: Mutex<()> = Mutex::new(());
+
+/// Runs the tests of the binary one at a time: every fuzz test holds this
+/// guard for its whole body.
+pub fn one_test_at_a_time() -> std::sync::MutexGuard<'static, ()> {
+    ONE_TEST.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 /// What one run of [`fuzz`] saw.
 #[derive(Debug, Default)]
 pub struct Tally {

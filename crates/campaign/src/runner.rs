@@ -291,9 +291,18 @@ fn state_within_limit(spec: &Spec) -> Result<(), CampaignError> {
 /// An exclusive lock on a campaign directory (`.lock`, an advisory `flock`
 /// that the operating system releases when the process ends, so a killed
 /// or requeued run never leaves a stale lock); held while it lives.
+///
+/// A lock just released can look held for a moment: a thread of the same
+/// process that forks to start a program copies the descriptor into the
+/// child until the child's `exec` closes it. So a refused lock is tried
+/// again for [`LOCK_PATIENCE`] before it is reported.
 pub struct DirLock {
     _file: std::fs::File,
 }
+
+/// How long a held campaign lock is tried again before it is reported
+/// (see [`DirLock`]).
+pub const LOCK_PATIENCE: std::time::Duration = std::time::Duration::from_millis(500);
 
 impl DirLock {
     /// Takes the lock of `dir` (created if missing), or says who has it.
@@ -306,7 +315,15 @@ impl DirLock {
             .write(true)
             .open(&path)
             .map_err(|e| IoError::new("open", &path, e))?;
-        match file.try_lock() {
+        let started = std::time::Instant::now();
+        let mut attempt = file.try_lock();
+        while matches!(attempt, Err(std::fs::TryLockError::WouldBlock))
+            && started.elapsed() < LOCK_PATIENCE
+        {
+            std::thread::sleep(std::time::Duration::from_millis(10));
+            attempt = file.try_lock();
+        }
+        match attempt {
             Ok(()) => Ok(DirLock { _file: file }),
             Err(std::fs::TryLockError::WouldBlock) => Err(CampaignError::Locked {
                 dir: dir.to_owned(),

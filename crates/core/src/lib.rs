@@ -10,7 +10,7 @@
 //! # Rooms and the order between them
 //!
 //! A room may import the rooms listed before it and never one after it;
-//! `tests/layering.rs` (at the workspace root) reads every crate's `src/`
+//! `tests/house/layering.rs` (at the workspace root) reads every crate's `src/`
 //! and fails on an upward import or a circle of files.
 //!
 //! | # | room | what lives there |

@@ -22,7 +22,7 @@
 //! thickness and the fit RMS at most 0.67 mm; on the 2D and 3D validations
 //! of both patients (3,834 rows of CT 0051, 390 of CQ500) no built row fails
 //! a check. What they refuse (issue 48's cases, cut in code in
-//! `tests/implant_plausibility.rs`): a skull-base "defect" that is the
+//! `tests/implant/implant_plausibility.rs`): a skull-base "defect" that is the
 //! face's natural opening (walls up to 4.3 m outside the head, templates up
 //! to 81 `|A′B′|`), a detected width of 118.6 mm between neighbours of
 //! 22–26 mm, a template round the wrong side of the head (8 `|A′B′|`, join

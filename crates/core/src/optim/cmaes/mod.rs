@@ -57,7 +57,7 @@
 //! n)` evaluations, chosen by measurement among 5, 10 and 20: on bbob each
 //! needs the same evaluations to `10⁻⁸` as the tutorial's (median ratio
 //! over the functions 1.00, 1.00 and 1.03 at D = 10, 1.02, 0.99 and 0.97
-//! at D = 20; `tests/cmaes_parity.rs`), but between decompositions `C`
+//! at D = 20; `tests/optimisers/cmaes_parity.rs`), but between decompositions `C`
 //! changes by about `(c_1 + c_μ)` per generation, `eigen_gap/(10n)` of
 //! itself over a gap, so that at small `n` the active update's negative
 //! weights, normalised with the last decomposition, can make `C`
