@@ -20,6 +20,7 @@
 #[cfg(test)]
 mod bowl;
 pub mod cmaes;
+pub mod conformance;
 pub mod evaluator;
 pub mod ga;
 pub mod ghs;
