@@ -6,8 +6,9 @@
 //! [`check`] runs each property on every setting of [`settings`]: the
 //! defaults, each name of every choice parameter (so each bound policy an
 //! optimiser offers), each single name and the whole list of every sequence
-//! parameter, and each count parameter at its minimum (the smallest
-//! population), one change at a time, leaving out the combinations the
+//! parameter, and each count parameter (the smallest population) and each
+//! real parameter with a closed range at its minimum (a rate of 0, an empty
+//! archive), one change at a time, leaving out the combinations the
 //! optimiser's factory refuses. The properties:
 //!
 //! | property | the run | holds when |
@@ -127,8 +128,8 @@ pub fn check_property(def: &OptimiserDef, property: Property) -> Result<(), Conf
 
 /// The settings the suite runs `def` at: its defaults, then one change at
 /// a time (each name of a choice; each single name and the whole list of
-/// a sequence; a count at its minimum), each once, without those its
-/// factory refuses.
+/// a sequence; a count, and a real with a closed range, at its minimum),
+/// each once, without those its factory refuses.
 pub fn settings(def: &OptimiserDef) -> Vec<ParamSet> {
     let defaults = ParamSet::defaults(def.params);
     let mut out = vec![defaults.clone()];
@@ -156,7 +157,12 @@ fn probes(kind: Kind) -> Vec<Raw> {
             .chain([Raw::Text(names.join("+"))])
             .collect(),
         Kind::Count { min, .. } => i64::try_from(min).map(Raw::Int).into_iter().collect(),
-        Kind::Real { .. } => Vec::new(),
+        Kind::Real {
+            min,
+            open_min: false,
+            ..
+        } => vec![Raw::Float(min)],
+        Kind::Real { open_min: true, .. } => Vec::new(),
     }
 }
 

@@ -634,24 +634,6 @@ mod tests {
         Lshade::from_params(&p).unwrap()
     }
 
-    /// Every bound rule, and small populations that reduce quickly and fill
-    /// the archive.
-    fn variants() -> Vec<Lshade> {
-        let mut out = Vec::new();
-        for bounds in Repair::NAMES {
-            out.push(build(&[("bounds", Raw::Text(bounds.into()))]));
-            out.push(build(&[
-                ("bounds", Raw::Text(bounds.into())),
-                ("r_n_init", Raw::Float(3.0)),
-                ("memory", Raw::Int(1)),
-                ("arc_rate", Raw::Float(0.5)),
-                ("p_best", Raw::Float(1.0)),
-            ]));
-        }
-        out.push(build(&[("arc_rate", Raw::Int(0))]));
-        out
-    }
-
     #[test]
     fn defaults_are_the_published_ones() {
         let a = Lshade::default();
@@ -763,59 +745,6 @@ mod tests {
             assert!(out.best_value < 1e-8, "seed {seed}: {}", out.best_value);
         }
         assert_eq!(p.outside.get(), 0);
-    }
-
-    #[test]
-    fn stays_in_asymmetric_bounds_and_uses_exactly_the_budget() {
-        let bounds = vec![
-            Bounds::new(-1e-3, 2e-3),
-            Bounds::new(0.0, 10.0),
-            Bounds::new(-500.0, 20.0),
-            Bounds::new(0.01, 10.0),
-        ];
-        // The optimum lies beyond the upper corner, so trials keep leaving.
-        let centre: Vec<f64> = bounds.iter().map(|b| b.upper + 1.0).collect();
-        for algo in variants() {
-            let n_init = algo.initial_population(4) as u64;
-            for budget in [0, 1, 2, 7, n_init - 1, n_init, n_init + 1, 1000, 1001] {
-                let p = Bowl::new(bounds.clone(), centre.clone());
-                let out = algo.run(&p, budget, &mut run_rng(budget));
-                assert_eq!(out.evaluations, budget, "{algo:?}");
-                assert_eq!(p.calls.get(), budget, "{algo:?}");
-                assert_eq!(p.outside.get(), 0, "{algo:?}");
-            }
-        }
-    }
-
-    #[test]
-    fn survives_a_nan_region() {
-        for algo in variants() {
-            let mut p = Bowl::sphere(3);
-            p.nan_above = -50.0;
-            let out = algo.run(&p, 3000, &mut run_rng(5));
-            assert_eq!(out.evaluations, 3000);
-            assert!(out.best_value.is_finite());
-            assert!(out.best_x[0] <= -50.0);
-        }
-    }
-
-    #[test]
-    fn is_reproducible_by_seed() {
-        let p = Bowl::sphere(5);
-        for algo in variants() {
-            let a = algo.run(&p, 2000, &mut run_rng(11));
-            let b = algo.run(&p, 2000, &mut run_rng(11));
-            let c = algo.run(&p, 2000, &mut run_rng(12));
-            assert_eq!(a, b);
-            assert_ne!(a.best_x, c.best_x);
-        }
-    }
-
-    #[test]
-    fn a_zero_dimensional_problem_spends_the_budget() {
-        let p = Bowl::sphere(0);
-        let out = Lshade::default().run(&p, 5, &mut run_rng(1));
-        assert_eq!((out.evaluations, p.calls.get()), (5, 5));
     }
 
     #[test]
