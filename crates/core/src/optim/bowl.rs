@@ -2,7 +2,9 @@
 
 use std::cell::Cell;
 
+use super::Optimiser;
 use crate::problem::{Bounds, Problem};
+use crate::rng::run_rng;
 
 /// `Σ (x_i − c_i)²` on asymmetric per-variable bounds, counting evaluations
 /// outside the box and points with a coordinate in `(0, 2⁻⁵¹¹)` (whose
@@ -50,4 +52,20 @@ impl Problem for Bowl {
             .map(|(v, c)| (v - c) * (v - c))
             .sum()
     }
+}
+
+/// Asserts that `algo` drives Sphere-10 on `[−100, 100]¹⁰` below `target`
+/// within `budget` evaluations for each of the seeds 0 to 4, never
+/// evaluating outside the box.
+pub(crate) fn assert_solves_sphere_10(algo: &impl Optimiser, budget: u64, target: f64) {
+    let p = Bowl::sphere(10);
+    for seed in 0..5 {
+        let out = algo.run(&p, budget, &mut run_rng(seed));
+        assert!(
+            out.best_value < target,
+            "seed {seed}: best {}",
+            out.best_value
+        );
+    }
+    assert_eq!(p.outside.get(), 0);
 }

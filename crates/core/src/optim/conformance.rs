@@ -18,6 +18,7 @@
 //! | [`Property::NanRegion`] | 3,000 evaluations on a bowl that is NaN on three quarters of the box and `+∞` on another strip | the run spends its budget, its best is finite, lies in the finite region, is the objective's value at the best point, and no trace point is NaN |
 //! | [`Property::Seed`] | 3,000 evaluations, seeds 5, 5 and 6 | the same seed gives the same outcome bit for bit (best point, value, trace, hits), another seed another best point |
 //! | [`Property::NoVariables`] | a problem with no variables, budget 5 | the run spends the budget on the only point there is |
+//! | [`Property::SimdLevels`] | 4,000 evaluations on the built-in Rastrigin-7 and Sphere-33 (a partial block of four; two blocks of 32), at every [`Simd`] level the CPU offers | every level gives the portable level's outcome bit for bit |
 //!
 //! ```
 //! use metabezier_core::optim::{conformance, random, OptimiserDef, RandomSearch};
@@ -31,8 +32,10 @@ use std::cell::Cell;
 use std::fmt;
 
 use super::{Algorithm, Kind, OptimiserDef, Outcome, ParamSet, Raw};
+use crate::functions::{Function, TestProblem};
 use crate::problem::{Bounds, Problem};
 use crate::rng::run_rng;
+use crate::simd::{simd, with_level, Simd};
 
 /// A property of the conformance suite.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -47,16 +50,19 @@ pub enum Property {
     Seed,
     /// A problem with no variables still spends its budget.
     NoVariables,
+    /// Every SIMD level the CPU offers gives the same run, bit for bit.
+    SimdLevels,
 }
 
 impl Property {
     /// Every property, in the order [`check`] runs them.
-    pub const ALL: [Property; 5] = [
+    pub const ALL: [Property; 6] = [
         Property::Budget,
         Property::Bounds,
         Property::NanRegion,
         Property::Seed,
         Property::NoVariables,
+        Property::SimdLevels,
     ];
 
     /// The property's name in a [`ConformanceFailure`]'s message.
@@ -67,6 +73,7 @@ impl Property {
             Property::NanRegion => "NaN region",
             Property::Seed => "seed",
             Property::NoVariables => "no variables",
+            Property::SimdLevels => "SIMD levels",
         }
     }
 }
@@ -115,6 +122,7 @@ pub fn check_property(def: &OptimiserDef, property: Property) -> Result<(), Conf
             Property::NanRegion => nan_region(&algo),
             Property::Seed => seed(&algo),
             Property::NoVariables => no_variables(&algo),
+            Property::SimdLevels => simd_levels(&algo),
         };
         run.map_err(|message| ConformanceFailure {
             optimiser: def.name.clone(),
@@ -380,6 +388,28 @@ fn no_variables(algo: &Algorithm) -> Result<(), String> {
             p.calls.get(),
             out.best_value
         ));
+    }
+    Ok(())
+}
+
+/// [`Property::SimdLevels`].
+fn simd_levels(algo: &Algorithm) -> Result<(), String> {
+    let levels: Vec<Simd> = [Simd::Portable, Simd::Avx2, Simd::Avx512]
+        .into_iter()
+        .filter(|&l| l <= simd())
+        .collect();
+    for (function, dim) in [(Function::Rastrigin, 7), (Function::Sphere, 33)] {
+        let Ok(p) = TestProblem::new(function, dim) else {
+            return Err(format!("{function}-{dim} cannot be set up"));
+        };
+        let portable = with_level(Simd::Portable, || outcome_bits(&run(algo, &p, 4000, 9)));
+        for &level in &levels[1..] {
+            if with_level(level, || outcome_bits(&run(algo, &p, 4000, 9))) != portable {
+                return Err(format!(
+                    "{function}-{dim} at {level:?} differs from the portable run"
+                ));
+            }
+        }
     }
     Ok(())
 }

@@ -563,7 +563,7 @@ impl GeneticAlgorithm {
 
 #[cfg(test)]
 mod tests {
-    use crate::optim::bowl::Bowl;
+    use crate::optim::bowl::assert_solves_sphere_10;
 
     use super::*;
     use crate::optim::params::Raw;
@@ -581,17 +581,7 @@ mod tests {
     /// for each of five seeds.
     #[test]
     fn solves_sphere_10() {
-        let p = Bowl::sphere(10);
-        let algo = GeneticAlgorithm::default();
-        for seed in 0..5 {
-            let out = algo.run(&p, 100_000, &mut run_rng(seed));
-            assert!(
-                out.best_value < 1e-6,
-                "seed {seed}: best {}",
-                out.best_value
-            );
-        }
-        assert_eq!(p.outside.get(), 0);
+        assert_solves_sphere_10(&GeneticAlgorithm::default(), 100_000, 1e-6);
     }
 
     #[test]

@@ -762,9 +762,8 @@ impl Lshade {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::optim::bowl::Bowl;
+    use crate::optim::bowl::assert_solves_sphere_10;
     use crate::optim::params::Raw;
-    use crate::rng::run_rng;
 
     fn build(settings: &[(&str, Raw)]) -> Lshade {
         let mut p = ParamSet::defaults(&PARAMS);
@@ -879,12 +878,7 @@ mod tests {
     /// 100 000 evaluations for five seeds.
     #[test]
     fn solves_sphere_10() {
-        let p = Bowl::sphere(10);
-        for seed in 0..5 {
-            let out = Lshade::default().run(&p, 100_000, &mut run_rng(seed));
-            assert!(out.best_value < 1e-8, "seed {seed}: {}", out.best_value);
-        }
-        assert_eq!(p.outside.get(), 0);
+        assert_solves_sphere_10(&Lshade::default(), 100_000, 1e-8);
     }
 
     #[test]

@@ -477,7 +477,7 @@ fn move_reflected(
 
 #[cfg(test)]
 mod tests {
-    use crate::optim::bowl::Bowl;
+    use crate::optim::bowl::{assert_solves_sphere_10, Bowl};
 
     use super::*;
     use crate::optim::params::Raw;
@@ -495,17 +495,7 @@ mod tests {
     /// for each of five seeds.
     #[test]
     fn solves_sphere_10() {
-        let p = Bowl::sphere(10);
-        let algo = ParticleSwarm::default();
-        for seed in 0..5 {
-            let out = algo.run(&p, 100_000, &mut run_rng(seed));
-            assert!(
-                out.best_value < 1e-6,
-                "seed {seed}: best {}",
-                out.best_value
-            );
-        }
-        assert_eq!(p.outside.get(), 0);
+        assert_solves_sphere_10(&ParticleSwarm::default(), 100_000, 1e-6);
     }
 
     /// A swarm converging on Sphere's optimum at 0 reaches it exactly and

@@ -5,38 +5,15 @@ use super::*;
 use crate::optim::{Evaluator, Optimiser, OptimiserDef, Optimisers, ParamDef, ParamError, Setting};
 use crate::rng::{Draw, Words};
 
-/// Checks `property` of every built-in optimiser.
-fn every_builtin(property: Property) {
+/// Every built-in optimiser passes the suite, each property on each of its
+/// settings.
+#[test]
+fn every_builtin_optimiser_conforms() {
     for def in Optimisers::builtin().iter() {
-        if let Err(e) = check_property(def, property) {
+        if let Err(e) = check(def) {
             panic!("{e}");
         }
     }
-}
-
-#[test]
-fn every_builtin_spends_exactly_its_budget() {
-    every_builtin(Property::Budget);
-}
-
-#[test]
-fn every_builtin_stays_inside_per_variable_bounds() {
-    every_builtin(Property::Bounds);
-}
-
-#[test]
-fn every_builtin_ranks_a_nan_region_last() {
-    every_builtin(Property::NanRegion);
-}
-
-#[test]
-fn every_builtin_follows_its_seed() {
-    every_builtin(Property::Seed);
-}
-
-#[test]
-fn every_builtin_runs_a_problem_without_variables() {
-    every_builtin(Property::NoVariables);
 }
 
 #[test]
