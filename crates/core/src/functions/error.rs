@@ -5,8 +5,9 @@ use std::fmt;
 
 use super::{Function, Transform, MAX_ROTATION_DIM};
 
-/// Why a [`TestProblem`] could not be built: the requested dimension is not one
-/// the benchmark function of Yao et al. (1999) is defined for.
+/// Why a [`TestProblem`](super::TestProblem) could not be built: the
+/// requested dimension is not one the benchmark function of Yao et al.
+/// (1999) is defined for.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum FunctionError {
     /// Dimension 0 was requested for a scalable function (which needs `D ≥ 1`).
