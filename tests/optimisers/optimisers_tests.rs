@@ -1,14 +1,17 @@
 //! Every optimiser, seeded, solves Sphere-10 to a stated target within a
 //! stated budget (1e-6; 1e-2 for GHS, which has no fine-tuning bandwidth;
 //! CMA-ES to 1e-10 in 10,000 evaluations; random search, the floor, is
-//! instead required to lose to all of them),
-//! never evaluates outside the bounds, spends exactly its budget, and ranks
-//! NaN objectives last instead of crashing.
+//! instead required to lose to all of them), never evaluates outside the
+//! bounds there and spends exactly its budget. Budgets of every size,
+//! per-variable bounds under each bound policy, NaN regions, seeds and
+//! SIMD levels are the conformance suite's
+//! (`metabezier_core::optim::conformance`), which every registered
+//! optimiser runs.
 
 use std::cell::Cell;
 
 use metabezier::functions::{BbobProblem, Function, TestProblem};
-use metabezier::optim::{Algorithm, Evaluator, Kind, ParamSet};
+use metabezier::optim::{Algorithm, Evaluator, ParamSet};
 use metabezier::problem::{Bounds, Problem};
 use metabezier::rng::run_rng;
 
@@ -213,116 +216,6 @@ fn every_optimiser_solves_sphere_10_within_its_budget_and_bounds() {
     }
 }
 
-#[test]
-fn every_optimiser_stays_inside_different_per_variable_bounds() {
-    // Very different scales per variable, optimum near a corner, both bound policies.
-    struct Skewed(Vec<Bounds>);
-    impl Problem for Skewed {
-        fn dim(&self) -> usize {
-            self.0.len()
-        }
-        fn bounds(&self) -> &[Bounds] {
-            &self.0
-        }
-        fn objective(&self, x: &[f64]) -> f64 {
-            x.iter()
-                .zip(&self.0)
-                .map(|(v, b)| (v - b.upper - 1.0).powi(2))
-                .sum()
-        }
-    }
-    let bounds = vec![
-        Bounds::new(-1e-3, 1e-3),
-        Bounds::new(0.0, 10.0),
-        Bounds::new(-500.0, 500.0),
-        Bounds::new(0.01, 10.0),
-    ];
-    for name in Algorithm::names() {
-        // Every choice of the algorithm's `bounds` parameter (GHS and random
-        // search have none: they never leave the box).
-        let policies: &[&str] = Algorithm::params(name)
-            .unwrap()
-            .iter()
-            .find(|d| d.name == "bounds")
-            .map_or(&[""], |d| match d.kind {
-                Kind::Choice(names) => names,
-                _ => panic!("{name}: bounds is not a choice"),
-            });
-        for &policy in policies {
-            let algo = if policy.is_empty() {
-                Algorithm::default_for(name).unwrap()
-            } else {
-                configured(name, &[("bounds", Raw::Text(policy.into()))])
-            };
-            let problem = Guarded::new(Skewed(bounds.clone()));
-            let out = algo.run(&problem, 5000, &mut run_rng(3));
-            assert_eq!(
-                problem.outside.get(),
-                0,
-                "{name} with {policy} left the bounds"
-            );
-            assert_eq!(out.evaluations, 5000);
-        }
-    }
-}
-
-#[test]
-fn nan_objectives_rank_last_and_never_crash() {
-    // NaN on half the box: the optimisers must still find the finite optimum.
-    struct HalfNan(Vec<Bounds>);
-    impl Problem for HalfNan {
-        fn dim(&self) -> usize {
-            self.0.len()
-        }
-        fn bounds(&self) -> &[Bounds] {
-            &self.0
-        }
-        fn objective(&self, x: &[f64]) -> f64 {
-            if x[0] > 0.5 {
-                f64::NAN
-            } else if x[1] > 0.9 {
-                f64::INFINITY
-            } else {
-                x.iter().map(|v| v * v).sum()
-            }
-        }
-    }
-    for name in Algorithm::names() {
-        let algo = Algorithm::default_for(name).unwrap();
-        let problem = HalfNan(vec![Bounds::new(-1.0, 1.0); 3]);
-        let out = algo.run(&problem, 3000, &mut run_rng(8));
-        assert!(out.best_value.is_finite(), "{name}: {}", out.best_value);
-        assert!(out.best_x[0] <= 0.5, "{name} kept a NaN point");
-        assert!(out.trace.iter().all(|p| !p.best.is_nan()));
-    }
-}
-
-#[test]
-fn budgets_smaller_than_a_population_are_respected() {
-    for name in Algorithm::names() {
-        let algo = Algorithm::default_for(name).unwrap();
-        for budget in [0, 1, 2, 7, 13, 1001] {
-            let problem = Guarded::new(TestProblem::new(Function::Rastrigin, 4).unwrap());
-            let out = algo.run(&problem, budget, &mut run_rng(1));
-            assert_eq!(out.evaluations, budget, "{name}");
-            assert_eq!(problem.calls.get(), budget, "{name}");
-        }
-    }
-}
-
-#[test]
-fn same_seed_same_outcome_different_seed_different_outcome() {
-    for name in Algorithm::names() {
-        let algo = Algorithm::default_for(name).unwrap();
-        let p = TestProblem::new(Function::Ackley, 6).unwrap();
-        let a = algo.run(&p, 3000, &mut run_rng(5));
-        let b = algo.run(&p, 3000, &mut run_rng(5));
-        let c = algo.run(&p, 3000, &mut run_rng(6));
-        assert_eq!(a, b, "{name} is not deterministic");
-        assert_ne!(a.best_x, c.best_x, "{name} ignores its seed");
-    }
-}
-
 /// The bits of everything a run reports, so that `-0.0` and `0.0` (or two
 /// NaNs) are told apart.
 fn outcome_bits(o: &metabezier::optim::Outcome) -> Vec<u64> {
@@ -336,37 +229,22 @@ fn outcome_bits(o: &metabezier::optim::Outcome) -> Vec<u64> {
     bits
 }
 
+/// Settings beyond those the conformance suite generates (its defaults,
+/// each choice, each count at its minimum), whose runs at every SIMD level
+/// it compares too: harmony memories of twelve (three blocks of four),
+/// CMA-ES with λ = 40, and an L-SHADE population that shrinks to N_min and
+/// fills its archive within the 4000 evaluations.
 #[test]
-fn every_simd_level_gives_the_same_runs() {
+fn every_simd_level_gives_the_same_runs_beyond_the_suites_settings() {
     use metabezier::simd::{simd, with_level, Simd};
-    let reflect = || Raw::Text("reflect".into());
     let settings = [
-        ("hs", vec![]),
-        ("hs", vec![("bounds", reflect())]),
         ("hs", vec![("hms", Raw::Int(12))]),
-        ("ghs", vec![]),
         ("ghs", vec![("hms", Raw::Int(12))]),
-        ("ga", vec![]),
-        ("ga", vec![("bounds", reflect())]),
-        ("pso", vec![]),
-        ("pso", vec![("bounds", reflect())]),
-        ("mhs", vec![]),
-        ("mhs", vec![("bounds", reflect())]),
-        ("mhs", vec![("scheme", Raw::Text("per-variable".into()))]),
-        ("cmaes", vec![]),
-        ("cmaes", vec![("bounds", reflect())]),
-        ("cmaes", vec![("restarts", Raw::Text("bipop".into()))]),
         ("cmaes", vec![("lambda", Raw::Int(40))]),
-        ("lshade", vec![]),
-        ("lshade", vec![("bounds", Raw::Text("clip".into()))]),
-        ("lshade", vec![("bounds", reflect())]),
-        // A small population that shrinks to N_min and fills its archive
-        // within the 4000 evaluations.
         (
             "lshade",
             vec![("r_n_init", Raw::Float(3.0)), ("arc_rate", Raw::Float(1.0))],
         ),
-        ("random", vec![]),
     ];
     let levels: Vec<Simd> = [Simd::Portable, Simd::Avx2, Simd::Avx512]
         .into_iter()
@@ -389,19 +267,6 @@ fn every_simd_level_gives_the_same_runs() {
                 );
             }
         }
-    }
-}
-
-#[test]
-fn lshade_spends_odd_budgets_exactly() {
-    // N_init = round(18·4) = 72 at D = 4.
-    let algo = Algorithm::default_for("lshade").unwrap();
-    for budget in [1, 7, 71, 72, 73, 1001] {
-        let problem = Guarded::new(TestProblem::new(Function::Rastrigin, 4).unwrap());
-        let out = algo.run(&problem, budget, &mut run_rng(budget));
-        assert_eq!(out.evaluations, budget);
-        assert_eq!(problem.calls.get(), budget);
-        assert_eq!(problem.outside.get(), 0);
     }
 }
 

@@ -563,7 +563,7 @@ impl GeneticAlgorithm {
 
 #[cfg(test)]
 mod tests {
-    use crate::optim::bowl::Bowl;
+    use crate::optim::bowl::assert_solves_sphere_10;
 
     use super::*;
     use crate::optim::params::Raw;
@@ -577,79 +577,11 @@ mod tests {
         GeneticAlgorithm::from_params(&p).unwrap()
     }
 
-    fn variants() -> Vec<GeneticAlgorithm> {
-        let mut out = Vec::new();
-        for crossover in Crossover::NAMES {
-            for mutation in Mutation::NAMES {
-                for bounds in BoundPolicy::NAMES {
-                    out.push(ga(&[
-                        ("pop", Raw::Int(7)),
-                        ("tournament", Raw::Int(3)),
-                        ("elite", Raw::Int(2)),
-                        ("pm", Raw::Float(0.3)),
-                        ("sigma", Raw::Float(0.5)),
-                        ("crossover", Raw::Text(crossover.into())),
-                        ("mutation", Raw::Text(mutation.into())),
-                        ("bounds", Raw::Text(bounds.into())),
-                    ]));
-                }
-            }
-        }
-        out
-    }
-
     /// The default GA drives Sphere-10 below 1e-6 in 100 000 evaluations,
     /// for each of five seeds.
     #[test]
     fn solves_sphere_10() {
-        let p = Bowl::sphere(10);
-        let algo = GeneticAlgorithm::default();
-        for seed in 0..5 {
-            let out = algo.run(&p, 100_000, &mut run_rng(seed));
-            assert!(
-                out.best_value < 1e-6,
-                "seed {seed}: best {}",
-                out.best_value
-            );
-        }
-        assert_eq!(p.outside.get(), 0);
-    }
-
-    #[test]
-    fn stays_in_bounds_and_uses_exactly_the_budget() {
-        for algo in variants() {
-            for budget in [0, 1, 2, 6, 7, 8, 9, 12, 13, 1000, 1001] {
-                let p = Bowl::sphere(4);
-                let out = algo.run(&p, budget, &mut run_rng(budget));
-                assert_eq!(out.evaluations, budget, "{algo:?}");
-                assert_eq!(p.outside.get(), 0, "{algo:?}");
-                assert!(out.best_x.iter().all(|v| v.abs() <= 100.0) || budget == 0);
-            }
-        }
-    }
-
-    #[test]
-    fn survives_a_nan_region() {
-        for algo in variants() {
-            let mut p = Bowl::sphere(3);
-            p.nan_above = -50.0;
-            let out = algo.run(&p, 2000, &mut run_rng(5));
-            assert_eq!(out.evaluations, 2000);
-            assert!(out.best_value.is_finite());
-            assert!(out.best_x[0] <= -50.0);
-        }
-    }
-
-    #[test]
-    fn is_reproducible_by_seed() {
-        let p = Bowl::sphere(5);
-        for algo in variants() {
-            let a = algo.run(&p, 500, &mut run_rng(11));
-            let b = algo.run(&p, 500, &mut run_rng(11));
-            let c = algo.run(&p, 500, &mut run_rng(12));
-            assert_eq!(a, b);
-            assert_ne!(a.best_x, c.best_x);
-        }
+        assert_solves_sphere_10(&GeneticAlgorithm::default(), 100_000, 1e-6);
     }
 
     #[test]

@@ -342,6 +342,181 @@ struct TrialDraws {
     j_rand: usize,
 }
 
+/// The population (row-major, `n` rows of `D`) with its values, its
+/// p-best ranking, and the external archive of the parents that better
+/// trials replaced (Zhang & Sanderson 2009).
+struct Population {
+    dim: usize,
+    n: usize,
+    x: Vec<f64>,
+    val: Vec<f64>,
+    /// The number of p-best candidates, `order[..p_num]`.
+    p_num: usize,
+    order: Vec<usize>,
+    keep: Vec<bool>,
+    archive: Vec<f64>,
+    archived: usize,
+    arc_cap: usize,
+}
+
+impl Population {
+    /// Row `k` of the population.
+    #[inline(always)]
+    fn row(&self, k: usize) -> &[f64] {
+        &self.x[k * self.dim..(k + 1) * self.dim]
+    }
+
+    /// `x̃_r2`: population row `r2`, or archived row `r2 − n`.
+    #[inline(always)]
+    fn donor(&self, r2: usize) -> &[f64] {
+        if r2 < self.n {
+            self.row(r2)
+        } else {
+            let a = r2 - self.n;
+            &self.archive[a * self.dim..(a + 1) * self.dim]
+        }
+    }
+
+    /// The p-best candidates: the `p_num` best, sorted by value, in
+    /// `order[..p_num]`.
+    #[inline(always)]
+    fn rank_p_best(&mut self, p_num: usize) {
+        self.p_num = p_num;
+        let order = &mut self.order[..self.n];
+        for (k, o) in order.iter_mut().enumerate() {
+            *o = k;
+        }
+        if p_num < self.n {
+            order.select_nth_unstable_by(p_num - 1, by_value(&self.val));
+        }
+        order[..p_num].sort_unstable_by(by_value(&self.val));
+    }
+
+    /// Selection: a trial no worse than its target replaces it; a strictly
+    /// better one also sends the target to the archive (into a free slot,
+    /// else over a random one) and adds its `CR`, `F` and improvement to
+    /// `successes`.
+    #[inline(always)]
+    fn select<R: Words + ?Sized>(
+        &mut self,
+        trials: &Trials,
+        successes: &mut Successes,
+        rng: &mut R,
+    ) {
+        let dim = self.dim;
+        successes.clear();
+        for i in 0..self.n {
+            let (fu, fx) = (trials.val[i], self.val[i]);
+            if fu > fx {
+                continue;
+            }
+            let xi = i * dim..(i + 1) * dim;
+            if fu < fx {
+                if self.arc_cap > 0 {
+                    let slot = if self.archived < self.arc_cap {
+                        self.archived += 1;
+                        self.archived - 1
+                    } else {
+                        rng.index(self.arc_cap)
+                    };
+                    self.archive[slot * dim..(slot + 1) * dim].copy_from_slice(&self.x[xi.clone()]);
+                }
+                successes.cr.push(trials.cr[i]);
+                successes.f.push(trials.f[i]);
+                successes.delta.push(fx - fu);
+            }
+            self.x[xi.clone()].copy_from_slice(&trials.u[xi]);
+            self.val[i] = fu;
+        }
+    }
+
+    /// Linear population size reduction: keeps the `plan` best in their
+    /// order, and deletes random archived rows down to `arc_cap`.
+    #[inline(always)]
+    fn shrink<R: Words + ?Sized>(&mut self, plan: usize, arc_cap: usize, rng: &mut R) {
+        let (n, dim) = (self.n, self.dim);
+        let order = &mut self.order[..n];
+        for (k, o) in order.iter_mut().enumerate() {
+            *o = k;
+        }
+        order.select_nth_unstable_by(plan, by_value(&self.val));
+        self.keep[..n].fill(false);
+        for &k in &order[..plan] {
+            self.keep[k] = true;
+        }
+        let mut w = 0;
+        for k in 0..n {
+            if self.keep[k] {
+                if w != k {
+                    self.x.copy_within(k * dim..(k + 1) * dim, w * dim);
+                    self.val[w] = self.val[k];
+                }
+                w += 1;
+            }
+        }
+        self.n = plan;
+        self.arc_cap = arc_cap;
+        while self.archived > arc_cap {
+            let k = rng.index(self.archived);
+            self.archived -= 1;
+            if k != self.archived {
+                let last = self.archived;
+                self.archive
+                    .copy_within(last * dim..(last + 1) * dim, k * dim);
+            }
+        }
+    }
+}
+
+/// One generation's trial vectors `u_i`, their values and the `CR_i` and
+/// `F_i` that made them, with the crossover uniforms of the trial in hand.
+struct Trials {
+    u: Vec<f64>,
+    val: Vec<f64>,
+    cr: Vec<f64>,
+    f: Vec<f64>,
+    units: Vec<f64>,
+}
+
+impl Trials {
+    /// Room for `n` trials of `dim` variables.
+    fn new(n: usize, dim: usize) -> Self {
+        Trials {
+            u: vec![0.0; n * dim],
+            val: vec![f64::INFINITY; n],
+            cr: vec![0.0; n],
+            f: vec![0.0; n],
+            units: vec![0.0; dim],
+        }
+    }
+}
+
+/// The successful `CR` and `F` of a generation, `S_CR` and `S_F`, with the
+/// improvements `Δf` that weight them.
+struct Successes {
+    cr: Vec<f64>,
+    f: Vec<f64>,
+    delta: Vec<f64>,
+}
+
+impl Successes {
+    /// Room for `n` successes.
+    fn new(n: usize) -> Self {
+        Successes {
+            cr: Vec::with_capacity(n),
+            f: Vec::with_capacity(n),
+            delta: Vec::with_capacity(n),
+        }
+    }
+
+    /// Forgets the last generation's successes.
+    fn clear(&mut self) {
+        self.cr.clear();
+        self.f.clear();
+        self.delta.clear();
+    }
+}
+
 impl Optimiser for Lshade {
     /// The initial population, its trial vectors and the archive at its
     /// capacity ((2 N_init + ⌈r^arc N_init⌉) × D, N_init = r^N_init · D:
@@ -430,140 +605,105 @@ impl Lshade {
             return;
         }
         let n_init = self.initial_population(dim);
-        let first = usize::try_from(eval.remaining()).map_or(n_init, |r| r.min(n_init));
-        let mut pop = vec![0.0; first * dim];
-        let mut val = vec![f64::INFINITY; first];
-        rng.units(&mut pop);
-        for row in pop.chunks_exact_mut(dim) {
-            for (x, b) in row.iter_mut().zip(bounds) {
-                *x = b.lerp(*x);
-            }
-        }
-        eval.place_start(&mut pop);
-        if eval.evaluate_batch(&pop, &mut val) < n_init || eval.remaining() == 0 {
+        let Some(mut pop) = self.initial(eval, rng, n_init) else {
             return;
-        }
-
+        };
         let lower: Vec<f64> = bounds.iter().map(|b| b.lower).collect();
         let upper: Vec<f64> = bounds.iter().map(|b| b.upper).collect();
-        let mut trial = vec![0.0; n_init * dim];
-        let mut trial_val = vec![f64::INFINITY; n_init];
-        let mut cr = vec![0.0; n_init];
-        let mut sf = vec![0.0; n_init];
-        let mut order: Vec<usize> = (0..n_init).collect();
-        let mut keep = vec![false; n_init];
-        let (mut s_cr, mut s_f, mut s_delta) = (
-            Vec::with_capacity(n_init),
-            Vec::with_capacity(n_init),
-            Vec::with_capacity(n_init),
-        );
-        let mut units = vec![0.0; dim];
+        let mut trials = Trials::new(n_init, dim);
+        let mut successes = Successes::new(n_init);
         let mut memory = Memory::new(self.memory);
-        let mut arc_cap = self.archive_capacity(n_init);
-        let mut archive = vec![0.0; arc_cap * dim];
-        let mut archived = 0;
-        let mut n = n_init;
-
         loop {
-            // The p-best candidates: the p_num best, sorted by value.
-            let p_num = self.p_best_count(n);
-            let order = &mut order[..n];
-            for (k, o) in order.iter_mut().enumerate() {
-                *o = k;
-            }
-            if p_num < n {
-                order.select_nth_unstable_by(p_num - 1, by_value(&val));
-            }
-            order[..p_num].sort_unstable_by(by_value(&val));
-
+            pop.rank_p_best(self.p_best_count(pop.n));
+            let n = pop.n;
             let m = usize::try_from(eval.remaining()).map_or(n, |r| r.min(n));
-            for i in 0..m {
-                let d = Self::draw(&memory, i, n, archived, p_num, dim, rng);
-                rng.units(&mut units);
-                cr[i] = d.cr;
-                sf[i] = d.f;
-                let row = |k: usize| &pop[k * dim..(k + 1) * dim];
-                let xr2 = if d.r2 < n {
-                    row(d.r2)
-                } else {
-                    let a = d.r2 - n;
-                    &archive[a * dim..(a + 1) * dim]
-                };
-                self.make_trial(
-                    &mut trial[i * dim..(i + 1) * dim],
-                    [row(i), row(order[d.pbest]), row(d.r1), xr2],
-                    &units,
-                    &d,
-                    (&lower, &upper, bounds),
-                );
-            }
-            if eval.evaluate_batch(&trial[..m * dim], &mut trial_val[..m]) < n
+            self.make_trials(&pop, &mut trials, &memory, m, (&lower, &upper, bounds), rng);
+            if eval.evaluate_batch(&trials.u[..m * dim], &mut trials.val[..m]) < n
                 || eval.remaining() == 0
             {
                 return;
             }
-
-            // Selection, archive and the successful parameters.
-            s_cr.clear();
-            s_f.clear();
-            s_delta.clear();
-            for i in 0..n {
-                let (fu, fx) = (trial_val[i], val[i]);
-                if fu > fx {
-                    continue;
-                }
-                let xi = i * dim..(i + 1) * dim;
-                if fu < fx {
-                    if arc_cap > 0 {
-                        let slot = if archived < arc_cap {
-                            archived += 1;
-                            archived - 1
-                        } else {
-                            rng.index(arc_cap)
-                        };
-                        archive[slot * dim..(slot + 1) * dim].copy_from_slice(&pop[xi.clone()]);
-                    }
-                    s_cr.push(cr[i]);
-                    s_f.push(sf[i]);
-                    s_delta.push(fx - fu);
-                }
-                pop[xi.clone()].copy_from_slice(&trial[xi]);
-                val[i] = fu;
-            }
-            memory.update(&s_cr, &s_f, &s_delta);
-
-            // Linear population size reduction.
+            pop.select(&trials, &mut successes, rng);
+            memory.update(&successes.cr, &successes.f, &successes.delta);
             let plan = planned_population(n_init, eval.used(), eval.budget());
             if plan < n {
-                let order = &mut order[..n];
-                for (k, o) in order.iter_mut().enumerate() {
-                    *o = k;
-                }
-                order.select_nth_unstable_by(plan, by_value(&val));
-                keep[..n].fill(false);
-                for &k in &order[..plan] {
-                    keep[k] = true;
-                }
-                let mut w = 0;
-                for k in 0..n {
-                    if keep[k] {
-                        if w != k {
-                            pop.copy_within(k * dim..(k + 1) * dim, w * dim);
-                            val[w] = val[k];
-                        }
-                        w += 1;
-                    }
-                }
-                n = plan;
-                arc_cap = self.archive_capacity(n);
-                while archived > arc_cap {
-                    let k = rng.index(archived);
-                    archived -= 1;
-                    if k != archived {
-                        archive.copy_within(archived * dim..(archived + 1) * dim, k * dim);
-                    }
-                }
+                pop.shrink(plan, self.archive_capacity(plan), rng);
             }
+        }
+    }
+
+    /// The initial population: `N_init` uniform points in the box (or as
+    /// many as the budget allows, moved to the evaluator's start), with an
+    /// empty archive of capacity `⌈r^arc N_init⌉`; `None` when the budget
+    /// ends before or with it.
+    #[inline(always)]
+    fn initial<P: Problem + ?Sized, R: Words + ?Sized>(
+        &self,
+        eval: &mut Evaluator<'_, P>,
+        rng: &mut R,
+        n_init: usize,
+    ) -> Option<Population> {
+        let bounds = eval.bounds();
+        let dim = bounds.len();
+        let first = usize::try_from(eval.remaining()).map_or(n_init, |r| r.min(n_init));
+        let mut x = vec![0.0; first * dim];
+        let mut val = vec![f64::INFINITY; first];
+        rng.units(&mut x);
+        for row in x.chunks_exact_mut(dim) {
+            for (v, b) in row.iter_mut().zip(bounds) {
+                *v = b.lerp(*v);
+            }
+        }
+        eval.place_start(&mut x);
+        if eval.evaluate_batch(&x, &mut val) < n_init || eval.remaining() == 0 {
+            return None;
+        }
+        let arc_cap = self.archive_capacity(n_init);
+        Some(Population {
+            dim,
+            n: n_init,
+            x,
+            val,
+            p_num: 0,
+            order: (0..n_init).collect(),
+            keep: vec![false; n_init],
+            archive: vec![0.0; arc_cap * dim],
+            archived: 0,
+            arc_cap,
+        })
+    }
+
+    /// The trials of the first `m` targets: each one's draws
+    /// ([`Self::draw`]), then its `D` crossover uniforms, then its vector
+    /// ([`Self::make_trial`]).
+    #[inline(always)]
+    fn make_trials<R: Words + ?Sized>(
+        &self,
+        pop: &Population,
+        trials: &mut Trials,
+        memory: &Memory,
+        m: usize,
+        domain: (&[f64], &[f64], &[Bounds]),
+        rng: &mut R,
+    ) {
+        let dim = pop.dim;
+        for i in 0..m {
+            let d = Self::draw(memory, i, pop.n, pop.archived, pop.p_num, dim, rng);
+            rng.units(&mut trials.units);
+            trials.cr[i] = d.cr;
+            trials.f[i] = d.f;
+            self.make_trial(
+                &mut trials.u[i * dim..(i + 1) * dim],
+                [
+                    pop.row(i),
+                    pop.row(pop.order[d.pbest]),
+                    pop.row(d.r1),
+                    pop.donor(d.r2),
+                ],
+                &trials.units,
+                &d,
+                domain,
+            );
         }
     }
 
@@ -622,9 +762,8 @@ impl Lshade {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::optim::bowl::Bowl;
+    use crate::optim::bowl::assert_solves_sphere_10;
     use crate::optim::params::Raw;
-    use crate::rng::run_rng;
 
     fn build(settings: &[(&str, Raw)]) -> Lshade {
         let mut p = ParamSet::defaults(&PARAMS);
@@ -632,24 +771,6 @@ mod tests {
             p.set(name, raw).unwrap();
         }
         Lshade::from_params(&p).unwrap()
-    }
-
-    /// Every bound rule, and small populations that reduce quickly and fill
-    /// the archive.
-    fn variants() -> Vec<Lshade> {
-        let mut out = Vec::new();
-        for bounds in Repair::NAMES {
-            out.push(build(&[("bounds", Raw::Text(bounds.into()))]));
-            out.push(build(&[
-                ("bounds", Raw::Text(bounds.into())),
-                ("r_n_init", Raw::Float(3.0)),
-                ("memory", Raw::Int(1)),
-                ("arc_rate", Raw::Float(0.5)),
-                ("p_best", Raw::Float(1.0)),
-            ]));
-        }
-        out.push(build(&[("arc_rate", Raw::Int(0))]));
-        out
     }
 
     #[test]
@@ -757,65 +878,7 @@ mod tests {
     /// 100 000 evaluations for five seeds.
     #[test]
     fn solves_sphere_10() {
-        let p = Bowl::sphere(10);
-        for seed in 0..5 {
-            let out = Lshade::default().run(&p, 100_000, &mut run_rng(seed));
-            assert!(out.best_value < 1e-8, "seed {seed}: {}", out.best_value);
-        }
-        assert_eq!(p.outside.get(), 0);
-    }
-
-    #[test]
-    fn stays_in_asymmetric_bounds_and_uses_exactly_the_budget() {
-        let bounds = vec![
-            Bounds::new(-1e-3, 2e-3),
-            Bounds::new(0.0, 10.0),
-            Bounds::new(-500.0, 20.0),
-            Bounds::new(0.01, 10.0),
-        ];
-        // The optimum lies beyond the upper corner, so trials keep leaving.
-        let centre: Vec<f64> = bounds.iter().map(|b| b.upper + 1.0).collect();
-        for algo in variants() {
-            let n_init = algo.initial_population(4) as u64;
-            for budget in [0, 1, 2, 7, n_init - 1, n_init, n_init + 1, 1000, 1001] {
-                let p = Bowl::new(bounds.clone(), centre.clone());
-                let out = algo.run(&p, budget, &mut run_rng(budget));
-                assert_eq!(out.evaluations, budget, "{algo:?}");
-                assert_eq!(p.calls.get(), budget, "{algo:?}");
-                assert_eq!(p.outside.get(), 0, "{algo:?}");
-            }
-        }
-    }
-
-    #[test]
-    fn survives_a_nan_region() {
-        for algo in variants() {
-            let mut p = Bowl::sphere(3);
-            p.nan_above = -50.0;
-            let out = algo.run(&p, 3000, &mut run_rng(5));
-            assert_eq!(out.evaluations, 3000);
-            assert!(out.best_value.is_finite());
-            assert!(out.best_x[0] <= -50.0);
-        }
-    }
-
-    #[test]
-    fn is_reproducible_by_seed() {
-        let p = Bowl::sphere(5);
-        for algo in variants() {
-            let a = algo.run(&p, 2000, &mut run_rng(11));
-            let b = algo.run(&p, 2000, &mut run_rng(11));
-            let c = algo.run(&p, 2000, &mut run_rng(12));
-            assert_eq!(a, b);
-            assert_ne!(a.best_x, c.best_x);
-        }
-    }
-
-    #[test]
-    fn a_zero_dimensional_problem_spends_the_budget() {
-        let p = Bowl::sphere(0);
-        let out = Lshade::default().run(&p, 5, &mut run_rng(1));
-        assert_eq!((out.evaluations, p.calls.get()), (5, 5));
+        assert_solves_sphere_10(&Lshade::default(), 100_000, 1e-8);
     }
 
     #[test]

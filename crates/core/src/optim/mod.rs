@@ -4,7 +4,10 @@
 //! Every optimiser minimises a [`Problem`] through an [`Evaluator`], which
 //! counts the objective evaluations against a budget, so that algorithms
 //! are compared at equal cost. Optimisers take their random number
-//! generator from the caller and keep no global state.
+//! generator from the caller and keep no global state. The contract they
+//! share (exact budgets, per-variable bounds, NaN regions ranked last, runs
+//! fixed by their seed) is checked once for every registered optimiser by
+//! [`conformance`].
 //!
 //! | spec name | algorithm | source |
 //! |---|---|---|
@@ -20,6 +23,7 @@
 #[cfg(test)]
 mod bowl;
 pub mod cmaes;
+pub mod conformance;
 pub mod evaluator;
 pub mod ga;
 pub mod ghs;

@@ -180,6 +180,16 @@ impl Raw {
             other => other.to_string(),
         }
     }
+
+    /// The value as a real number, for a TOML integer or float (the values
+    /// a [`Kind::Real`] parameter admits); `None` for any other type.
+    pub fn as_real(&self) -> Option<f64> {
+        match self {
+            Raw::Int(n) => Some(*n as f64),
+            Raw::Float(x) => Some(*x),
+            Raw::Text(_) | Raw::Other(_) => None,
+        }
+    }
 }
 
 impl fmt::Display for Raw {
@@ -246,32 +256,27 @@ impl ParamDef {
                 _ => raw.to_string(),
             },
         };
-        match (self.kind, raw) {
-            (Kind::Count { min, max }, Raw::Int(n)) => {
+        match (self.kind, raw, raw.as_real()) {
+            (Kind::Count { min, max }, Raw::Int(n), _) => {
                 let n = u64::try_from(*n).map_err(|_| bad())?;
                 if n < min || n > max {
                     return Err(bad());
                 }
                 Ok(Setting::Count(n))
             }
-            (Kind::Real { min, max, open_min }, Raw::Int(_) | Raw::Float(_)) => {
-                let x = match raw {
-                    Raw::Int(n) => *n as f64,
-                    Raw::Float(x) => *x,
-                    _ => unreachable!(),
-                };
+            (Kind::Real { min, max, open_min }, _, Some(x)) => {
                 let above = if open_min { x > min } else { x >= min };
                 if !x.is_finite() || !above || x > max {
                     return Err(bad());
                 }
                 Ok(Setting::Real(x))
             }
-            (Kind::Choice(names), Raw::Text(s)) => names
+            (Kind::Choice(names), Raw::Text(s), _) => names
                 .iter()
                 .find(|n| **n == s)
                 .map(|n| Setting::Choice(n))
                 .ok_or_else(bad),
-            (Kind::Sequence(names), Raw::Text(s)) => {
+            (Kind::Sequence(names), Raw::Text(s), _) => {
                 let mut out = Vec::new();
                 for part in s.split('+') {
                     let part = part.trim();
@@ -433,6 +438,17 @@ mod tests {
             omit_at_default: false,
         },
     ];
+
+    #[test]
+    fn integers_and_floats_are_reals_and_nothing_else_is() {
+        assert_eq!(Raw::Int(-3).as_real(), Some(-3.0));
+        assert_eq!(Raw::Float(0.25).as_real(), Some(0.25));
+        assert_eq!(Raw::Text("0.5".into()).as_real(), None);
+        assert_eq!(Raw::Other("boolean").as_real(), None);
+        let real = &DEFS[1];
+        assert_eq!(real.check(&Raw::Int(1)), Ok(Setting::Real(1.0)));
+        assert!(real.check(&Raw::Text("0.5".into())).is_err());
+    }
 
     #[test]
     fn checks_ranges_and_types_with_clear_messages() {

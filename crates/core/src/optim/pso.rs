@@ -477,7 +477,7 @@ fn move_reflected(
 
 #[cfg(test)]
 mod tests {
-    use crate::optim::bowl::Bowl;
+    use crate::optim::bowl::{assert_solves_sphere_10, Bowl};
 
     use super::*;
     use crate::optim::params::Raw;
@@ -491,41 +491,11 @@ mod tests {
         ParticleSwarm::from_params(&p)
     }
 
-    fn variants() -> Vec<ParticleSwarm> {
-        let mut out = Vec::new();
-        for inertia in Inertia::NAMES {
-            for bounds in BoundPolicy::NAMES {
-                out.push(
-                    build(&[
-                        ("swarm", Raw::Int(7)),
-                        ("vmax", Raw::Float(1.0)),
-                        ("c1", Raw::Float(4.0)),
-                        ("c2", Raw::Float(4.0)),
-                        ("inertia", Raw::Text(inertia.into())),
-                        ("bounds", Raw::Text(bounds.into())),
-                    ])
-                    .unwrap(),
-                );
-            }
-        }
-        out
-    }
-
     /// The default PSO drives Sphere-10 below 1e-6 in 100 000 evaluations,
     /// for each of five seeds.
     #[test]
     fn solves_sphere_10() {
-        let p = Bowl::sphere(10);
-        let algo = ParticleSwarm::default();
-        for seed in 0..5 {
-            let out = algo.run(&p, 100_000, &mut run_rng(seed));
-            assert!(
-                out.best_value < 1e-6,
-                "seed {seed}: best {}",
-                out.best_value
-            );
-        }
-        assert_eq!(p.outside.get(), 0);
+        assert_solves_sphere_10(&ParticleSwarm::default(), 100_000, 1e-6);
     }
 
     /// A swarm converging on Sphere's optimum at 0 reaches it exactly and
@@ -540,42 +510,6 @@ mod tests {
             let out = algo.run(&p, 400_000, &mut run_rng(3));
             assert_eq!(out.best_value, 0.0, "{bounds}");
             assert_eq!(p.tiny.get(), 0, "{bounds}: points within 2^-511 of 0");
-        }
-    }
-
-    #[test]
-    fn stays_in_bounds_and_uses_exactly_the_budget() {
-        for algo in variants() {
-            for budget in [0, 1, 2, 6, 7, 8, 13, 1000, 1001] {
-                let p = Bowl::sphere(4);
-                let out = algo.run(&p, budget, &mut run_rng(budget));
-                assert_eq!(out.evaluations, budget, "{algo:?}");
-                assert_eq!(p.outside.get(), 0, "{algo:?}");
-            }
-        }
-    }
-
-    #[test]
-    fn survives_a_nan_region() {
-        for algo in variants() {
-            let mut p = Bowl::sphere(3);
-            p.nan_above = -50.0;
-            let out = algo.run(&p, 2000, &mut run_rng(5));
-            assert_eq!(out.evaluations, 2000);
-            assert!(out.best_value.is_finite());
-            assert!(out.best_x[0] <= -50.0);
-        }
-    }
-
-    #[test]
-    fn is_reproducible_by_seed() {
-        let p = Bowl::sphere(5);
-        for algo in variants() {
-            let a = algo.run(&p, 500, &mut run_rng(11));
-            let b = algo.run(&p, 500, &mut run_rng(11));
-            let c = algo.run(&p, 500, &mut run_rng(12));
-            assert_eq!(a, b);
-            assert_ne!(a.best_x, c.best_x);
         }
     }
 

@@ -88,34 +88,12 @@ mod tests {
     use super::*;
     use crate::rng::{run_rng, Draw};
 
-    /// `Σ x_i²` on `bounds`, counting calls and evaluations outside them.
-    fn counted(bounds: Vec<Bounds>) -> Bowl {
-        let n = bounds.len();
-        Bowl::new(bounds, vec![0.0; n])
-    }
-
-    #[test]
-    fn uses_exactly_the_budget_inside_the_box() {
-        let bounds = vec![
-            Bounds::new(-1e-3, 2e-3),
-            Bounds::new(0.0, 10.0),
-            Bounds::new(-500.0, 20.0),
-            Bounds::new(3.0, 3.0),
-        ];
-        for budget in [0, 1, 7, 63, 64, 65, 1001] {
-            let p = counted(bounds.clone());
-            let out = RandomSearch.run(&p, budget, &mut run_rng(budget));
-            assert_eq!((out.evaluations, p.calls.get()), (budget, budget));
-            assert_eq!(p.outside.get(), 0);
-        }
-        let p = counted(Vec::new());
-        assert_eq!(RandomSearch.run(&p, 9, &mut run_rng(1)).evaluations, 9);
-    }
-
+    /// (Budgets, bounds and seeds are the conformance suite's,
+    /// [`crate::optim::conformance`].)
     #[test]
     fn the_best_is_the_best_of_the_points_drawn_one_by_one() {
         let bounds = vec![Bounds::new(-5.0, 5.0), Bounds::new(0.0, 2.0)];
-        let p = counted(bounds.clone());
+        let p = Bowl::new(bounds.clone(), vec![0.0; 2]);
         let out = RandomSearch.run(&p, 200, &mut run_rng(4));
         let mut rng = run_rng(4);
         let mut best = (f64::INFINITY, vec![]);
@@ -127,15 +105,5 @@ mod tests {
             }
         }
         assert_eq!((out.best_value, out.best_x), best);
-    }
-
-    #[test]
-    fn is_reproducible_by_seed() {
-        let p = counted(vec![Bounds::new(-1.0, 1.0); 5]);
-        let a = RandomSearch.run(&p, 500, &mut run_rng(11));
-        let b = RandomSearch.run(&p, 500, &mut run_rng(11));
-        let c = RandomSearch.run(&p, 500, &mut run_rng(12));
-        assert_eq!(a, b);
-        assert_ne!(a.best_x, c.best_x);
     }
 }

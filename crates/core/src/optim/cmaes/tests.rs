@@ -176,8 +176,12 @@ fn the_active_update_is_faster_on_an_ellipsoid() {
     }
 }
 
+/// (Budgets, bounds, NaN regions and seeds are the conformance suite's,
+/// `optim::conformance`, for every setting of CMA-ES.) Clipped samples
+/// land on a corner whose variables differ in scale by 10⁵, and the run
+/// finds it; mirrored ones keep the search off it.
 #[test]
-fn spends_exactly_the_budget_inside_the_bounds() {
+fn clipped_runs_find_the_corner_beyond_which_the_optimum_lies() {
     let bounds = vec![
         Bounds::new(-1e-3, 2e-3),
         Bounds::new(0.0, 10.0),
@@ -186,37 +190,16 @@ fn spends_exactly_the_budget_inside_the_bounds() {
     ];
     // The optimum lies outside the box, beyond a corner.
     let centre = vec![5e-3, 11.0, -600.0, 3.0];
-    for algo in variants() {
-        for budget in [0, 1, 2, 7, 13, 1001, 5003] {
-            let p = Bowl::new(bounds.clone(), centre.clone());
-            let out = algo.run(&p, budget, &mut run_rng(budget));
-            assert_eq!(out.evaluations, budget, "{algo:?}");
-            assert_eq!(p.calls.get(), budget, "{algo:?}");
-            assert_eq!(p.outside.get(), 0, "{algo:?}");
-            if budget == 5003 && algo.policy == BoundPolicy::Clip {
-                // (Mirrored samples keep the search off a corner whose
-                // variables differ in scale by 10⁵; clipped ones land on it.)
-                let corner = [2e-3, 10.0, -500.0, 3.0];
-                for (x, c) in out.best_x.iter().zip(corner) {
-                    assert!(
-                        (x - c).abs() < 1e-6 * c.abs().max(1e-3),
-                        "{algo:?}: {x} {c}"
-                    );
-                }
-            }
+    let corner = [2e-3, 10.0, -500.0, 3.0];
+    for algo in variants().iter().filter(|a| a.policy == BoundPolicy::Clip) {
+        let p = Bowl::new(bounds.clone(), centre.clone());
+        let out = algo.run(&p, 5003, &mut run_rng(5003));
+        for (x, c) in out.best_x.iter().zip(corner) {
+            assert!(
+                (x - c).abs() < 1e-6 * c.abs().max(1e-3),
+                "{algo:?}: {x} {c}"
+            );
         }
-    }
-}
-
-#[test]
-fn is_reproducible_by_seed() {
-    let p = Bowl::sphere(5);
-    for algo in variants() {
-        let a = algo.run(&p, 3000, &mut run_rng(11));
-        let b = algo.run(&p, 3000, &mut run_rng(11));
-        let c = algo.run(&p, 3000, &mut run_rng(12));
-        assert_eq!(a, b);
-        assert_ne!(a.best_x, c.best_x);
     }
 }
 
@@ -353,37 +336,11 @@ fn runs_end_on_the_tutorials_criteria() {
 }
 
 #[test]
-fn survives_a_nan_region() {
-    for algo in variants() {
-        let mut p = Bowl::sphere(3);
-        p.nan_above = -50.0;
-        let out = algo.run(&p, 3000, &mut run_rng(5));
-        assert_eq!(out.evaluations, 3000);
-        assert!(out.best_value.is_finite());
-        assert!(out.best_x[0] <= -50.0);
-    }
-}
-
-#[test]
-fn one_variable_and_none_at_all() {
+fn a_single_variable_is_solved_to_tolfun() {
     let p = Bowl::sphere(1);
     let out = CmaEs::default().run(&p, 2000, &mut run_rng(1));
     // tolfun (an absolute 10⁻¹²) restarts a run once f is that small.
     assert!(out.best_value < 1e-12, "{}", out.best_value);
-    struct Empty;
-    impl Problem for Empty {
-        fn dim(&self) -> usize {
-            0
-        }
-        fn bounds(&self) -> &[Bounds] {
-            &[]
-        }
-        fn objective(&self, _: &[f64]) -> f64 {
-            4.0
-        }
-    }
-    let out = CmaEs::default().run(&Empty, 5, &mut run_rng(1));
-    assert_eq!((out.evaluations, out.best_value), (5, 4.0));
 }
 
 #[test]
