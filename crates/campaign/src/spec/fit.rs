@@ -59,8 +59,11 @@ use std::path::Path;
 use std::sync::Arc;
 
 use super::super::outcome::FitDetail;
+use super::budget::Budget;
+use super::family::Problems;
+use super::parser::Parser;
 use super::Factor;
-use super::{choices_hint, Budget, Parser, ProblemEntry, ProblemKind, SpecError, Table, Value};
+use super::{choices_hint, ProblemEntry, ProblemKind, SpecError, Table, Value};
 use crate::files::fmt_real;
 
 /// The most fitting problems one spec may have: 10⁴ (each is loaded and
@@ -429,33 +432,36 @@ impl Parser<'_> {
         Ok(Some((a, b)))
     }
 
-    /// The `[[fit]]` problems of the spec.
+    /// The `[[fit]]` problems of the spec, appended to `problems`.
     pub(super) fn fits(
         &self,
         root: &Table<'_>,
         default_budget: Option<&Budget>,
         span: Range<usize>,
-    ) -> Result<Vec<ProblemEntry>, SpecError> {
+        problems: &mut Problems,
+    ) -> Result<(), SpecError> {
         let base = self
             .path
             .parent()
             .map(Path::to_path_buf)
             .unwrap_or_default();
-        let mut out: Vec<ProblemEntry> = Vec::new();
+        let first = problems.list.len();
         for (i, entry) in self
             .array_of_tables(root, "fit", span)?
             .into_iter()
             .enumerate()
         {
             let section = format!("fit[{}]", i + 1);
-            self.fit_section(entry, &section, default_budget, &base, &mut out)?;
+            let at = (first, base.as_path());
+            self.fit_section(entry, &section, default_budget, at, problems)?;
         }
         // One record layout per campaign: the current one if any section
         // asks for it.
-        let current = out
+        let fits = &mut problems.list[first..];
+        let current = fits
             .iter()
             .any(|p| p.kind_as::<FitCase>().is_some_and(|c| c.extended));
-        for p in &mut out {
+        for p in fits {
             // Each case has one owner until the spec is returned.
             let kind: Option<&mut dyn std::any::Any> =
                 Arc::get_mut(&mut p.kind).map(|k| k as &mut dyn std::any::Any);
@@ -463,20 +469,21 @@ impl Parser<'_> {
                 c.extended = current;
             }
         }
-        Ok(out)
+        Ok(())
     }
 
-    /// Appends the problems of one `[[fit]]` section to `out`: every input
-    /// × function × continuity × search space × α_size × budget, each
-    /// dry-run.
+    /// Appends the problems of one `[[fit]]` section to `problems`, whose
+    /// fitting problems start at `first`: every input × function ×
+    /// continuity × search space × α_size × budget, each dry-run.
     fn fit_section(
         &self,
         entry: &Value<'_>,
         section: &str,
         default_budget: Option<&Budget>,
-        base: &Path,
-        out: &mut Vec<ProblemEntry>,
+        (first, base): (usize, &Path),
+        problems: &mut Problems,
     ) -> Result<(), SpecError> {
+        let have = problems.list.len() - first;
         let table = self.table(entry, section)?;
         self.check_keys(table, section, &FIT_KEYS)?;
         let settings = self.fit_settings(table, section, entry, default_budget)?;
@@ -486,17 +493,17 @@ impl Parser<'_> {
         let inputs = self.one_or_many(iv, &input_field)?;
         let label = self.fit_label(table, section, inputs.len())?;
         let count = (inputs.len() as u128).saturating_mul(settings.count());
-        self.check_problem_count(out.len(), count, &entry.span(), section)?;
-        if out.len() as u128 + count > MAX_FIT_PROBLEMS as u128 {
+        self.check_problem_count(have, count, &entry.span(), section)?;
+        if have as u128 + count > MAX_FIT_PROBLEMS as u128 {
             return Err(self.error(
                 entry.span(),
                 section,
                 format!(
                     "this section makes {count} fitting problems{}, over the limit of {MAX_FIT_PROBLEMS} fitting problems of a spec (each is loaded and dry-run when the spec is read); split the spec",
-                    if out.is_empty() {
+                    if have == 0 {
                         String::new()
                     } else {
-                        format!(" (after {} before it)", out.len())
+                        format!(" (after {have} before it)")
                     }
                 ),
             ));
@@ -566,14 +573,7 @@ impl Parser<'_> {
                 }
                 let mut p = self.fit_problem(case, &segments)?;
                 p.budget_factor = settings.budget_grid;
-                if out.iter().any(|q| q.key() == p.key()) {
-                    return Err(self.error(
-                        item.span(),
-                        section,
-                        format!("problem {} is listed twice", p.key()),
-                    ));
-                }
-                out.push(p);
+                problems.push(self, p, item.span(), section)?;
             }
         }
         Ok(())
