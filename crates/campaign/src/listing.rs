@@ -84,3 +84,82 @@ fn fitting() -> String {
     }
     w
 }
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Arc;
+
+    use super::list;
+    use crate::problem::{Bounds, Problem};
+    use crate::registry::{ProblemDef, Registry};
+    use crate::spec::{ProblemFamily, ProblemSection, ProblemSink, SpecError};
+
+    /// `f(x) = Σ |x_i|` on `[−1, 1]^D`.
+    struct Abs(Vec<Bounds>);
+
+    impl Problem for Abs {
+        fn dim(&self) -> usize {
+            self.0.len()
+        }
+        fn bounds(&self) -> &[Bounds] {
+            &self.0
+        }
+        fn objective(&self, x: &[f64]) -> f64 {
+            x.iter().map(|v| v.abs()).sum()
+        }
+    }
+
+    /// A suite with no problems, whose entry names it.
+    #[derive(Debug)]
+    struct Empty;
+
+    impl ProblemFamily for Empty {
+        fn suite(&self) -> &str {
+            "empty"
+        }
+        fn keys(&self) -> &[&str] {
+            &["suite"]
+        }
+        fn read(
+            &self,
+            _: &ProblemSection<'_, '_>,
+            _: &mut ProblemSink<'_>,
+        ) -> Result<(), SpecError> {
+            Ok(())
+        }
+        fn list_entry(&self, _: &Registry) -> String {
+            "\nThe empty suite ([[problem]] suite = \"empty\")\n".to_owned()
+        }
+    }
+
+    #[test]
+    fn the_list_shows_registered_problems_and_suites() {
+        let builtin = list(Registry::builtin());
+        assert!(!builtin.contains("abs_sum"));
+        let mut reg = Registry::with_builtins();
+        reg.register_problem(ProblemDef::new(
+            "abs_sum",
+            "a test of the list",
+            |d| Ok(Abs(vec![Bounds::new(-1.0, 1.0); d])),
+            |_| 0.0,
+        ))
+        .unwrap();
+        reg.register_family(Arc::new(Empty)).unwrap();
+        let text = list(&reg);
+        assert!(
+            text.contains("  abs_sum          registered: a test of the list\n"),
+            "{text}"
+        );
+        // The suite's entry follows COCO's, before the fitting methods.
+        let bbob = text.find("COCO's bbob suite").unwrap();
+        let empty = text.find("The empty suite").unwrap();
+        let fitting = text.find("Fitting methods").unwrap();
+        assert!(bbob < empty && empty < fitting, "{text}");
+        // Nothing else changes.
+        assert_eq!(
+            text.replace("  abs_sum          registered: a test of the list\n", "")
+                .replace("\nThe empty suite ([[problem]] suite = \"empty\")\n", ""),
+            builtin
+        );
+    }
+}

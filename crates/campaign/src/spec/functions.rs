@@ -15,7 +15,7 @@ use std::ops::Range;
 use std::sync::{Arc, OnceLock};
 
 use super::family::{FamilyProblem, ProblemFamily, ProblemSection, ProblemSink};
-use super::problem::{benchmark_evaluator, metaheuristic, minimise_problem};
+use super::problem::{benchmark_evaluator, execute_benchmark, metaheuristic};
 use super::{choices_hint, ProblemEntry, ProblemKind, Spec, SpecError, WithSpan};
 use crate::functions::{Function, TestProblem, Transform};
 use crate::optim::Outcome;
@@ -111,9 +111,7 @@ impl ProblemKind for RegisteredProblem {
         method: &Method,
         seed: u64,
     ) -> (Outcome, Option<FitDetail>) {
-        let algorithm = metaheuristic(method);
-        let out = minimise_problem(spec, entry, algorithm, &*self.problem, self.optimum, seed);
-        (out, None)
+        execute_benchmark(spec, entry, method, &*self.problem, self.optimum, seed)
     }
 }
 

@@ -55,7 +55,8 @@ pub use family::{FamilyProblem, ProblemFamily, ProblemSection, ProblemSink};
 pub use fit::FitCase;
 pub use functions::{Benchmark, Functions, RegisteredProblem};
 pub use problem::{
-    benchmark_evaluator, factor_suffix, minimise_problem, Factor, ProblemEntry, ProblemKind,
+    benchmark_evaluator, execute_benchmark, factor_suffix, minimise_problem, Factor, ProblemEntry,
+    ProblemKind,
 };
 pub use report::{rope_measure, REPORT_KEYS};
 pub use stop::Stop;

@@ -177,6 +177,24 @@ pub fn minimise_problem(
     eval.finish()
 }
 
+/// One run of a benchmark problem of any family (a registered problem, a
+/// registered suite's): the cell's metaheuristic minimises `problem`,
+/// whose optimum is `f_star`, under the run's budget, target, target
+/// precisions and checkpoints ([`minimise_problem`]); a benchmark run has
+/// no fit record.
+pub fn execute_benchmark(
+    spec: &Spec,
+    entry: &ProblemEntry,
+    method: &Method,
+    problem: &dyn Problem,
+    f_star: f64,
+    seed: u64,
+) -> (Outcome, Option<FitDetail>) {
+    let algorithm = metaheuristic(method);
+    let out = minimise_problem(spec, entry, algorithm, problem, f_star, seed);
+    (out, None)
+}
+
 /// The metaheuristic of a benchmark run: the spec refuses least-squares
 /// methods on benchmark functions.
 pub(crate) fn metaheuristic(method: &Method) -> &Algorithm {
