@@ -28,18 +28,14 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::sync::Arc;
 
-use metabezier::experiment::outcome::FitDetail;
 use metabezier::experiment::spec::{
-    execute_benchmark, FamilyProblem, ProblemEntry, ProblemFamily, ProblemKind, ProblemSection,
-    ProblemSink,
+    FamilyProblem, ProblemFamily, ProblemSection, ProblemSink, RegisteredProblem,
 };
 use metabezier::experiment::{
     run_campaign, Registry, RunOptions, Spec, SpecError, SpecLimits, Summary,
 };
 use metabezier::functions::Transform;
-use metabezier::optim::Outcome;
 use metabezier::problem::{Bounds, Problem};
-use metabezier::reconstruction::Method;
 use metabezier::report::{write_report, ReportOptions};
 
 /// The points `a_i` of Shekel's foxholes (Dixon & Szegő 1978, table 1).
@@ -107,33 +103,6 @@ impl Problem for Shekel {
     }
 }
 
-/// One function of the suite, as the campaign runs it.
-#[derive(Debug)]
-pub struct ShekelKind {
-    problem: Shekel,
-    optimum: f64,
-}
-
-impl ProblemKind for ShekelKind {
-    fn name(&self, _: &ProblemEntry) -> String {
-        format!("shekel{}", self.problem.m)
-    }
-
-    fn optimum(&self) -> f64 {
-        self.optimum
-    }
-
-    fn execute(
-        &self,
-        spec: &Spec,
-        entry: &ProblemEntry,
-        method: &Method,
-        seed: u64,
-    ) -> (Outcome, Option<FitDetail>) {
-        execute_benchmark(spec, entry, method, &self.problem, self.optimum, seed)
-    }
-}
-
 /// The suite: `[[problem]] suite = "shekel"` with its key `maxima`.
 #[derive(Debug)]
 pub struct ShekelSuite;
@@ -163,9 +132,10 @@ impl ProblemFamily for ShekelSuite {
                 return Err(section.error(item.span(), &field, message));
             };
             sink.add(FamilyProblem {
-                kind: Arc::new(ShekelKind {
-                    problem: Shekel::new(m),
+                kind: Arc::new(RegisteredProblem {
+                    name: format!("shekel{m}"),
                     optimum,
+                    problem: Arc::new(Shekel::new(m)),
                 }),
                 dim: 4,
                 transform: Transform::None,

@@ -156,7 +156,7 @@ pub const fn heap_block(n: u64) -> u64 {
 }
 
 /// The heap one segment row of a fitting run's record takes (its vector of
-/// [`FIT_SEGMENT_HEADER`] strings and each string's block), measured by
+/// [`FIT_SEGMENT_HEADER`](crate::segments::FIT_SEGMENT_HEADER) strings and each string's block), measured by
 /// `tests/memory.rs` over the four fitting functions: the one figure of
 /// [`record_heap`] that depends on the values (the length of each real's
 /// shortest round-trip form), so the test fails when it drifts.

@@ -58,6 +58,14 @@ use std::sync::Arc;
 use super::super::outcome::FitDetail;
 use super::{Factor, ProblemEntry, ProblemKind};
 use crate::files::fmt_real;
+use crate::fit::{
+    Chain, ErrorMeasure, FitError, FitOptions, SearchSpace, SegmentProblem, SegmentSolver,
+    Solution, ALPHA_SIZE,
+};
+use crate::optim::Outcome;
+use crate::outline::CornerOptions;
+use crate::problem::Problem;
+use crate::reconstruction::{FitMode, Method, Reconstruction, Segmentation, ShapeFit, Source};
 
 mod section;
 mod settings;
@@ -69,15 +77,7 @@ pub(crate) use settings::{FitSegments, FitSettings, Segs};
 /// hundred).
 pub const MAX_FIT_PROBLEMS: usize = 10_000;
 
-use crate::fit::{
-    Chain, ErrorMeasure, FitError, FitOptions, SearchSpace, SegmentProblem, SegmentSolver,
-    Solution, ALPHA_SIZE,
-};
-use crate::optim::Outcome;
-use crate::outline::CornerOptions;
-use crate::problem::Problem;
-use crate::reconstruction::{FitMode, Method, Reconstruction, Segmentation, ShapeFit, Source};
-
+/// The keys of a `[[fit]]` section.
 pub(super) const FIT_KEYS: [&str; 21] = [
     "input",
     "contour",

@@ -75,10 +75,12 @@ impl ProblemKind for Benchmark {
     }
 }
 
-/// A registered problem at one dimension, built once and shared by its runs.
+/// A benchmark problem at one dimension with its optimum `f*`, built once
+/// and shared by its runs: a registered problem, or one of a registered
+/// suite's (its [`ProblemFamily::read`] may build it so).
 #[derive(Clone)]
 pub struct RegisteredProblem {
-    /// Its registered name.
+    /// Its name in results.
     pub name: String,
     /// Its optimum value `f*` at this dimension.
     pub optimum: f64,
@@ -219,7 +221,7 @@ fn builtin_problems(
     section: &ProblemSection<'_, '_>,
     sink: &mut ProblemSink<'_>,
     (f, fspan): (Function, &Range<usize>),
-    (dims, transforms, instances): (&[WithSpan<Option<usize>>], &[WithSpan<Transform>], &[u32]),
+    (dims, transforms, instances): (&[Dim], &[TransformAt], &[u32]),
 ) -> Result<(), SpecError> {
     for (dim, dspan) in dims {
         let dim = problem_dim(section, f, *dim, fspan, dspan)?;
@@ -248,9 +250,7 @@ fn builtin_problems(
 }
 
 /// The optional `transform` of a `[[problem]]`: a name or a list.
-fn problem_transforms(
-    section: &ProblemSection<'_, '_>,
-) -> Result<Vec<WithSpan<Transform>>, SpecError> {
+fn problem_transforms(section: &ProblemSection<'_, '_>) -> Result<Vec<TransformAt>, SpecError> {
     let Some(tv) = section.get(section.table, "transform") else {
         return Ok(vec![(Transform::None, section.span())]);
     };
@@ -283,8 +283,8 @@ fn registered_problems(
     section: &ProblemSection<'_, '_>,
     sink: &mut ProblemSink<'_>,
     (def, fspan): (&ProblemDef, &Range<usize>),
-    dims: &[WithSpan<Option<usize>>],
-    transforms: &[WithSpan<Transform>],
+    dims: &[Dim],
+    transforms: &[TransformAt],
 ) -> Result<(), SpecError> {
     if let Some((_, tspan)) = transforms.iter().find(|(t, _)| *t != Transform::None) {
         return Err(section.error(
@@ -361,9 +361,7 @@ fn problem_functions(
 
 /// The optional `dim` of a `[[problem]]`: the dimensions with their
 /// spans, or one unset dimension (each function's fixed one).
-fn problem_dims(
-    section: &ProblemSection<'_, '_>,
-) -> Result<Vec<WithSpan<Option<usize>>>, SpecError> {
+fn problem_dims(section: &ProblemSection<'_, '_>) -> Result<Vec<Dim>, SpecError> {
     let Some(dv) = section.get(section.table, "dim") else {
         return Ok(vec![(None, section.span())]);
     };
@@ -408,6 +406,12 @@ fn problem_dim(
     }
     Ok(dim)
 }
+
+/// A dimension given (or none, for a function's fixed one), with its span.
+type Dim = WithSpan<Option<usize>>;
+
+/// A transform with its span.
+type TransformAt = WithSpan<Transform>;
 
 /// A `[[problem]] function` name, resolved.
 enum FunctionRef {

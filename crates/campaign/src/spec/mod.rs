@@ -21,6 +21,11 @@
 //! hmcr = [0.7, 0.8, 0.9]    # a list expands into a grid of cells
 //! ```
 //!
+//! A `[[problem]]` with `suite = "…"` is read by that suite's
+//! [`ProblemFamily`] (COCO's `bbob`, or one a library user registers), with
+//! its own keys; the spec reads `[experiment]` and `[[algorithm]]`, and
+//! expands every family's problems over their budgets in one place.
+//!
 //! A spec may also hold `[[fit]]` sections, outline-fitting problems
 //! (see [`FitCase`]), beside or instead of `[[problem]]`;
 //! its algorithms may then also be `lm` or `<alg>+lm`.
