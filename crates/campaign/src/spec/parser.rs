@@ -125,11 +125,9 @@ impl<'a> Parser<'a> {
                 .filter_map(|p| p.factor_value(factor))
                 .collect();
             if values.len() < 2 {
-                let varying: Vec<&str> = Factor::NAMES
-                    .iter()
-                    .copied()
-                    .filter(|n| {
-                        let f = Factor::from_name(n).expect("a factor name");
+                let varying: Vec<&str> = Factor::ALL
+                    .into_iter()
+                    .filter(|&f| {
                         problems
                             .iter()
                             .filter_map(|p| p.factor_value(f))
@@ -137,6 +135,7 @@ impl<'a> Parser<'a> {
                             .len()
                             > 1
                     })
+                    .map(Factor::name)
                     .collect();
                 return Err(self.error(
                     item.span(),

@@ -63,17 +63,18 @@ impl Factor {
         "alpha_size",
     ];
 
+    /// Every factor, in the order of [`Factor::NAMES`].
+    pub const ALL: [Factor; 5] = [
+        Factor::Budget,
+        Factor::Transform,
+        Factor::Instance,
+        Factor::SearchSpace,
+        Factor::AlphaSize,
+    ];
+
     /// Parses a factor name.
     pub fn from_name(name: &str) -> Option<Factor> {
-        Self::NAMES.iter().position(|n| *n == name).map(|i| {
-            [
-                Factor::Budget,
-                Factor::Transform,
-                Factor::Instance,
-                Factor::SearchSpace,
-                Factor::AlphaSize,
-            ][i]
-        })
+        Self::ALL.into_iter().find(|f| f.name() == name)
     }
 
     /// The factor's name.
