@@ -5,7 +5,7 @@ use std::ops::Range;
 
 use super::parser::Parser;
 use super::{choices_hint, raw, Cell, SpecError, Table, WithSpan, MAX_CELLS};
-use crate::optim::{quoted_list, ParamDef, ParamSet, Setting};
+use crate::optim::{quoted_list, OptimiserDef, ParamDef, ParamSet, Setting};
 use crate::reconstruction::Method;
 
 impl Parser<'_> {
@@ -113,17 +113,9 @@ impl Parser<'_> {
         span: Range<usize>,
         benchmarks: bool,
     ) -> Result<AlgorithmEntry, SpecError> {
-        let (name, base, polish) = self.method_name(table, &section, span.clone(), benchmarks)?;
-        let defs: &'static [ParamDef] = match &base {
-            Some(b) => {
-                self.registry
-                    .optimisers
-                    .get(b)
-                    .expect("a known algorithm")
-                    .params
-            }
-            None => &[],
-        };
+        let (name, def, polish) = self.method_name(table, &section, span.clone(), benchmarks)?;
+        let base = def.map(|d| d.name.clone());
+        let defs: &'static [ParamDef] = def.map_or(&[], |d| d.params);
         let label = self.cell_label(table, &section, &name)?;
         self.check_params(table, &section, &name, defs)?;
         let axes = self.param_axes(table, &section, defs)?;
@@ -146,7 +138,7 @@ impl Parser<'_> {
         section: &str,
         span: Range<usize>,
         benchmarks: bool,
-    ) -> Result<(String, Option<String>, bool), SpecError> {
+    ) -> Result<(String, Option<&OptimiserDef>, bool), SpecError> {
         let nv = self.required(table, section, "name", span)?;
         let field = format!("{section}.name");
         let name = self.string(nv, &field)?;
@@ -178,8 +170,8 @@ impl Parser<'_> {
                 ),
             ));
         }
-        let base = base.map(str::to_owned);
-        Ok((name, base, polish))
+        let def = base.and_then(|b| optimisers.get(b));
+        Ok((name, def, polish))
     }
 
     /// The cell label: `label` if given, else the method name.
