@@ -134,7 +134,7 @@ python-bench: test-python
 
 # The library examples, each a campaign through the library into a fresh
 # directory (tests/optimisers/registry.rs checks their results on 1 and 2 threads).
-EXAMPLES := custom_optimiser custom_problem
+EXAMPLES := custom_optimiser custom_problem shekel_suite
 examples:
 	@set -e; for e in $(EXAMPLES); do \
 	  out=$$(mktemp -d); \

@@ -16,7 +16,7 @@ use std::error::Error;
 use std::path::Path;
 
 use metabezier::experiment::{
-    run_campaign, ProblemDef, Registry, RunOptions, Spec, SpecLimits, Summary,
+    run_campaign, BuildError, ProblemDef, Registry, RunOptions, Spec, SpecLimits, Summary,
 };
 use metabezier::problem::{Bounds, Problem};
 use metabezier::report::{write_report, ReportOptions};
@@ -32,7 +32,7 @@ pub const OPTIMUM_PER_DIM: f64 = -39.166_165_703_771_41;
 
 impl StyblinskiTang {
     /// The function on `[−5, 5]^dim`.
-    pub fn new(dim: usize) -> Result<Self, String> {
+    pub fn new(dim: usize) -> Result<Self, BuildError> {
         if dim == 0 {
             return Err("the dimension must be at least 1".into());
         }

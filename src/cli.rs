@@ -13,10 +13,9 @@ use crate::experiment::slurm::{self, SlurmOptions};
 use crate::experiment::Registry;
 use crate::experiment::{coco_log, Spec, SpecError, SpecLimits};
 use crate::files::{check_output_dir, IoError};
-use crate::functions::{Function, Transform};
 use crate::geometry::Point;
 use crate::outline::{load_svg, OutlineError};
-use crate::reconstruction::{score, ContourChoice, LoadOptions, Method, Source, SourceError};
+use crate::reconstruction::{score, ContourChoice, LoadOptions, Source, SourceError};
 use crate::report::{self, ReportOptions};
 
 /// Appends one line of output to the buffer printed when the command ends.
@@ -511,96 +510,7 @@ fn write_report(
 /// `metabezier list`: the algorithms with their parameters, and the
 /// benchmark functions.
 fn list(w: &mut String) {
-    say!(
-        w,
-        "Algorithms (parameters with defaults and admissible values):"
-    );
-    for def in Registry::builtin().optimisers.iter() {
-        say!(w, "\n  {}  ({})", def.name, def.source);
-        let defs = def.params;
-        if defs.is_empty() {
-            say!(w, "    (no parameters)");
-        }
-        let width = defs.iter().map(|d| d.name.len()).max().unwrap_or(0);
-        for d in defs {
-            say!(
-                w,
-                "    {:<width$} = {:<12} {} ({})",
-                d.name,
-                d.default.to_string(),
-                d.doc,
-                d.expected()
-            );
-        }
-    }
-    say!(w, "\nBenchmark functions (name, domain, optimum):");
-    for f in Function::ALL {
-        let b = f.domain();
-        let dim = match f.fixed_dim() {
-            Some(d) => format!(", dimension {d} only"),
-            None => String::new(),
-        };
-        let transforms = if f.is_transformable() {
-            ""
-        } else {
-            " (no transforms)"
-        };
-        say!(
-            w,
-            "  {:<16} [{}, {}]^D, f* = {}{dim}{transforms}",
-            f.name(),
-            b.lower,
-            b.upper,
-            f.optimum_value()
-        );
-    }
-    say!(
-        w,
-        "\nBenchmark transforms ([[problem]] transform = ..., instances = N):"
-    );
-    for t in [Transform::None, Transform::Shift, Transform::ShiftRotate] {
-        say!(w, "  {:<16} {}", t.name(), t.doc());
-    }
-    say!(
-        w,
-        "\nCOCO's bbob suite ([[problem]] suite = \"bbob\", function = 1..=24 or names; dim in {:?}):",
-        crate::functions::bbob::BBOB_DIMENSIONS
-    );
-    for (i, name) in crate::functions::bbob::BBOB_NAMES.iter().enumerate() {
-        say!(w, "  f{:<3} {name}", i + 1);
-    }
-    say!(
-        w,
-        "\nFitting methods ([[fit]] problems and `metabezier fit --algorithm`):"
-    );
-    say!(
-        w,
-        "  {:<16} Levenberg–Marquardt from the linear least-squares fit (Levenberg 1944; Marquardt 1963)",
-        Method::EXACT
-    );
-    say!(
-        w,
-        "  {:<16} any algorithm above on 80 % of the budget, then an LM polish, e.g. mhs{}",
-        format!("<name>{}", Method::POLISH_SUFFIX),
-        Method::POLISH_SUFFIX
-    );
-    say!(
-        w,
-        "\nFitting functions ([[fit]] function = ..., `metabezier fit --function`):"
-    );
-    for f in crate::fit::FunctionType::ALL {
-        say!(
-            w,
-            "  {:<20} degree {}{}",
-            f.name(),
-            f.degree(),
-            if f.is_rational() {
-                ", rational (inner weights free)"
-            } else {
-                ""
-            }
-        );
-    }
+    w.push_str(&crate::experiment::listing::list(Registry::builtin()));
 }
 
 /// `metabezier implant`: load and check the spec, then run it; nothing is

@@ -18,6 +18,9 @@ mod custom_optimiser;
 #[allow(dead_code)]
 #[path = "../../examples/custom_problem.rs"]
 mod custom_problem;
+#[allow(dead_code)]
+#[path = "../examples/shekel_suite.rs"]
+mod shekel_suite;
 
 /// An example's campaign: into a directory, with a number of threads.
 type Campaign =
@@ -66,6 +69,41 @@ fn a_custom_problem_runs_beside_a_builtin_function() {
         4 * 2 * 10,
         &["styblinski_tang", "sphere", "MHS", "PSO"],
     );
+}
+
+#[test]
+fn a_registered_suite_with_its_own_section_runs() {
+    same_on_one_and_two_threads(
+        shekel_suite::campaign,
+        3 * 2 * 5,
+        &["shekel5", "shekel7", "shekel10", "MHS", "PSO"],
+    );
+}
+
+#[test]
+fn a_registered_suite_reads_its_own_keys_and_is_listed() {
+    let reg = shekel_suite::registry();
+    let text = shekel_suite::SPEC.replace("maxima = [5, 7, 10]", "maxima = [5, 6]");
+    let e = Spec::parse_in(Path::new("s.toml"), &text, SpecLimits::DEFAULT, &reg).unwrap_err();
+    assert_eq!(e.field, "problem[1].maxima", "{e}");
+    assert!(e.message.contains("5, 7 or 10 maxima, not 6"), "{e}");
+    // Its key is its own: the thesis's functions do not take it, and it
+    // does not take theirs.
+    let text = shekel_suite::SPEC.replace("maxima = [5, 7, 10]", "maxima = 5\ndim = 4");
+    let e = Spec::parse_in(Path::new("s.toml"), &text, SpecLimits::DEFAULT, &reg).unwrap_err();
+    assert_eq!(e.field, "problem[1].dim", "{e}");
+    let text =
+        shekel_suite::SPEC.replace("suite = \"shekel\"\n", "function = \"sphere\"\ndim = 2\n");
+    let e = Spec::parse_in(Path::new("s.toml"), &text, SpecLimits::DEFAULT, &reg).unwrap_err();
+    assert_eq!(e.field, "problem[1].maxima", "{e}");
+    // A suite is unknown to a registry without it (its own keys, checked
+    // before the suite as ever, are unknown there too).
+    let text = shekel_suite::SPEC.replace("maxima = [5, 7, 10]\n", "");
+    let e = Spec::parse(Path::new("s.toml"), &text).unwrap_err();
+    assert!(e.message.contains("unknown suite \"shekel\""), "{e}");
+    let list = metabezier::experiment::listing::list(&reg);
+    assert!(list.contains("suite = \"shekel\""), "{list}");
+    assert!(list.contains("  shekel10 "), "{list}");
 }
 
 #[test]

@@ -24,6 +24,7 @@ pub mod coco_log;
 pub mod fit_files;
 pub mod journal;
 pub mod journal_check;
+pub mod listing;
 pub mod outcome;
 pub mod provenance;
 pub mod reading;
@@ -41,7 +42,10 @@ use std::path::PathBuf;
 use crate::files::IoError;
 
 pub use records::{DataError, DataProblem, ReadError, RunRecord};
-pub use registry::{ProblemDef, ProblemRegistryError, Registry, SharedProblem};
+pub use registry::{
+    BuildError, FamilyRegistryError, InstanceError, ProblemDef, ProblemRegistryError, Registry,
+    SharedProblem,
+};
 pub use runner::{run_campaign, RunOptions, Shard, ShardError, ShardProblem, Summary};
 pub use shards::{find_shards, merge, MergeInputs, ShardGap};
 pub use slurm::{SlurmError, SlurmOptions};

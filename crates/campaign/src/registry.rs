@@ -34,11 +34,12 @@ use std::sync::{Arc, OnceLock};
 use crate::functions::Function;
 use crate::optim::{OptimiserDef, Optimisers, RegistryError};
 use crate::problem::Problem;
+use crate::spec::{BbobSuite, ProblemFamily};
 
 /// A problem built at one dimension, shared by every run of a campaign.
 pub type SharedProblem = Arc<dyn Problem + Send + Sync>;
 
-type Build = dyn Fn(usize) -> Result<SharedProblem, String> + Send + Sync;
+type Build = dyn Fn(usize) -> Result<SharedProblem, BuildError> + Send + Sync;
 type Optimum = dyn Fn(usize) -> f64 + Send + Sync;
 
 /// A registered benchmark problem: a name, a builder for each dimension and
@@ -68,7 +69,7 @@ impl ProblemDef {
     pub fn new<P, B, F>(name: &str, source: &str, build: B, optimum: F) -> ProblemDef
     where
         P: Problem + Send + Sync + 'static,
-        B: Fn(usize) -> Result<P, String> + Send + Sync + 'static,
+        B: Fn(usize) -> Result<P, BuildError> + Send + Sync + 'static,
         F: Fn(usize) -> f64 + Send + Sync + 'static,
     {
         ProblemDef {
@@ -81,24 +82,29 @@ impl ProblemDef {
 
     /// The problem at dimension `dim`, checked: it has that dimension, one
     /// bound per variable, and every bound is finite with `lower < upper`.
-    pub fn instance(&self, dim: usize) -> Result<SharedProblem, String> {
+    pub fn instance(&self, dim: usize) -> Result<SharedProblem, InstanceError> {
+        let name = || self.name.clone();
         if dim == 0 {
-            return Err(format!("{} needs a dimension of at least 1", self.name));
+            return Err(InstanceError::NoDimension { name: name() });
         }
-        let p = (self.build)(dim).map_err(|e| format!("{} at D = {dim}: {e}", self.name))?;
+        let p = (self.build)(dim).map_err(|refusal| InstanceError::Refused {
+            name: name(),
+            dim,
+            refusal,
+        })?;
         if p.dim() != dim {
-            return Err(format!(
-                "{} built for D = {dim} reports dimension {}",
-                self.name,
-                p.dim()
-            ));
+            return Err(InstanceError::WrongDimension {
+                name: name(),
+                dim,
+                reported: p.dim(),
+            });
         }
         if p.bounds().len() != dim {
-            return Err(format!(
-                "{} at D = {dim} has {} bounds; expected one per variable, {dim}",
-                self.name,
-                p.bounds().len()
-            ));
+            return Err(InstanceError::WrongBoundCount {
+                name: name(),
+                dim,
+                count: p.bounds().len(),
+            });
         }
         if let Some((i, b)) = p
             .bounds()
@@ -106,20 +112,21 @@ impl ProblemDef {
             .enumerate()
             .find(|(_, b)| !(b.lower.is_finite() && b.upper.is_finite() && b.lower < b.upper))
         {
-            return Err(format!(
-                "{} at D = {dim}: the bounds of x_{} are [{}, {}]; expected finite bounds with lower < upper",
-                self.name,
-                i + 1,
-                b.lower,
-                b.upper
-            ));
+            return Err(InstanceError::BadBounds {
+                name: name(),
+                dim,
+                variable: i + 1,
+                lower: b.lower,
+                upper: b.upper,
+            });
         }
         let f_star = self.optimum(dim);
         if !f_star.is_finite() {
-            return Err(format!(
-                "{} at D = {dim}: its optimum value is {f_star}; expected a finite f*",
-                self.name
-            ));
+            return Err(InstanceError::BadOptimum {
+                name: name(),
+                dim,
+                f_star,
+            });
         }
         Ok(p)
     }
@@ -128,6 +135,95 @@ impl ProblemDef {
     pub fn optimum(&self, dim: usize) -> f64 {
         (self.optimum)(dim)
     }
+}
+
+/// Why a registered problem's builder refuses a dimension, in its own
+/// words (`"at most 3 variables"`); made from a `&str` or a `String`.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{message}")]
+pub struct BuildError {
+    /// What the builder says.
+    pub message: String,
+}
+
+impl From<String> for BuildError {
+    fn from(message: String) -> Self {
+        BuildError { message }
+    }
+}
+
+impl From<&str> for BuildError {
+    fn from(message: &str) -> Self {
+        BuildError {
+            message: message.to_owned(),
+        }
+    }
+}
+
+/// Why a registered problem has no checked instance at a dimension
+/// ([`ProblemDef::instance`]).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum InstanceError {
+    /// The dimension is 0.
+    #[error("{name} needs a dimension of at least 1")]
+    NoDimension {
+        /// The problem's name.
+        name: String,
+    },
+    /// The builder refused the dimension.
+    #[error("{name} at D = {dim}: {refusal}")]
+    Refused {
+        /// The problem's name.
+        name: String,
+        /// The dimension asked for.
+        dim: usize,
+        /// The builder's reason.
+        refusal: BuildError,
+    },
+    /// The built problem reports another dimension.
+    #[error("{name} built for D = {dim} reports dimension {reported}")]
+    WrongDimension {
+        /// The problem's name.
+        name: String,
+        /// The dimension asked for.
+        dim: usize,
+        /// The dimension the problem reports.
+        reported: usize,
+    },
+    /// The built problem has not one bound per variable.
+    #[error("{name} at D = {dim} has {count} bounds; expected one per variable, {dim}")]
+    WrongBoundCount {
+        /// The problem's name.
+        name: String,
+        /// The dimension asked for.
+        dim: usize,
+        /// The number of bounds it has.
+        count: usize,
+    },
+    /// A bound is not finite or not `lower < upper`.
+    #[error("{name} at D = {dim}: the bounds of x_{variable} are [{lower}, {upper}]; expected finite bounds with lower < upper")]
+    BadBounds {
+        /// The problem's name.
+        name: String,
+        /// The dimension asked for.
+        dim: usize,
+        /// The variable, from 1.
+        variable: usize,
+        /// Its lower bound.
+        lower: f64,
+        /// Its upper bound.
+        upper: f64,
+    },
+    /// The optimum value is not finite.
+    #[error("{name} at D = {dim}: its optimum value is {f_star}; expected a finite f*")]
+    BadOptimum {
+        /// The problem's name.
+        name: String,
+        /// The dimension asked for.
+        dim: usize,
+        /// The optimum value `f*` given.
+        f_star: f64,
+    },
 }
 
 /// Why a problem cannot be registered.
@@ -141,13 +237,26 @@ pub enum ProblemRegistryError {
     BadName(String),
 }
 
-/// The optimisers and problems a spec may name: the built-ins and a
-/// library user's own. [`Registry::builtin`] is what the command line uses.
+/// Why a problem family cannot be registered.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum FamilyRegistryError {
+    /// An earlier family has the suite name.
+    #[error("a suite named \"{0}\" already exists (the registered suites: {1})")]
+    Taken(String, String),
+    /// The suite name is not one a spec can write.
+    #[error("\"{0}\" cannot name a suite: expected 1 to 60 ASCII letters, digits, '_' or '-', starting with a letter")]
+    BadName(String),
+}
+
+/// The optimisers, problems and problem families a spec may name: the
+/// built-ins and a library user's own. [`Registry::builtin`] is what the
+/// command line uses.
 #[derive(Clone, Debug, Default)]
 pub struct Registry {
     /// The optimisers.
     pub optimisers: Optimisers,
     problems: Vec<Arc<ProblemDef>>,
+    families: Vec<Arc<dyn ProblemFamily>>,
 }
 
 impl Registry {
@@ -157,6 +266,7 @@ impl Registry {
         BUILTIN.get_or_init(|| Registry {
             optimisers: Optimisers::with_builtins(),
             problems: Vec::new(),
+            families: vec![Arc::new(BbobSuite)],
         })
     }
 
@@ -174,13 +284,7 @@ impl Registry {
     /// problem has, or one a spec cannot write.
     pub fn register_problem(&mut self, def: ProblemDef) -> Result<(), ProblemRegistryError> {
         let name = def.name.as_str();
-        let good = (1..=60).contains(&name.len())
-            && name.starts_with(|c: char| c.is_ascii_alphabetic())
-            && name
-                .chars()
-                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
-            && !name.to_ascii_lowercase().starts_with("bbob");
-        if !good {
+        if !spec_name(name) || name.to_ascii_lowercase().starts_with("bbob") {
             return Err(ProblemRegistryError::BadName(def.name));
         }
         if Function::from_name(name).is_some() || self.problem(name).is_some() {
@@ -212,4 +316,52 @@ impl Registry {
             .chain(self.problems.iter().map(|p| p.name.as_str()))
             .collect()
     }
+
+    /// Adds a problem family, read from a `[[problem]]` whose `suite` is
+    /// its [`ProblemFamily::suite`]; refuses a suite name an earlier family
+    /// has, or one a spec cannot write.
+    pub fn register_family(
+        &mut self,
+        family: Arc<dyn ProblemFamily>,
+    ) -> Result<(), FamilyRegistryError> {
+        let name = family.suite();
+        if !spec_name(name) {
+            return Err(FamilyRegistryError::BadName(name.to_owned()));
+        }
+        if self.family(name).is_some() {
+            let suites = self.suites().join(", ");
+            return Err(FamilyRegistryError::Taken(name.to_owned(), suites));
+        }
+        self.families.push(family);
+        Ok(())
+    }
+
+    /// The family of `suite = "<suite>"`.
+    pub fn family(&self, suite: &str) -> Option<&dyn ProblemFamily> {
+        self.families
+            .iter()
+            .find(|f| f.suite() == suite)
+            .map(|f| &**f)
+    }
+
+    /// The registered families, in registration order (COCO's bbob first
+    /// among the built-ins).
+    pub fn families(&self) -> impl Iterator<Item = &dyn ProblemFamily> {
+        self.families.iter().map(|f| &**f)
+    }
+
+    /// The names `[[problem]] suite` accepts.
+    pub fn suites(&self) -> Vec<&str> {
+        self.families.iter().map(|f| f.suite()).collect()
+    }
+}
+
+/// Whether `name` can name a problem or a suite in a spec: 1 to 60 ASCII
+/// letters, digits, `_` or `-`, starting with a letter.
+fn spec_name(name: &str) -> bool {
+    (1..=60).contains(&name.len())
+        && name.starts_with(|c: char| c.is_ascii_alphabetic())
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
 }

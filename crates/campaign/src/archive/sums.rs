@@ -72,19 +72,22 @@ pub fn format_sums(sums: &[(String, String)]) -> String {
         .collect()
 }
 
+/// A line of a `SHA256SUMS` text that is not `<hex>  <path>`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("line {line} is not \"<64 hex digits>  <path>\" as sha256sum writes it")]
+pub struct SumsLineError {
+    /// The line, from 1.
+    pub line: usize,
+}
+
 /// The `(path, hex)` pairs of a `SHA256SUMS` text, in its order; the
 /// error names the line (from 1) that is not `<hex>  <path>` (or the
 /// binary-mode `<hex> *<path>`).
-pub fn parse_sums(text: &str) -> Result<Vec<(String, String)>, String> {
+pub fn parse_sums(text: &str) -> Result<Vec<(String, String)>, SumsLineError> {
     text.lines()
         .enumerate()
         .map(|(i, line)| {
-            let bad = || {
-                format!(
-                    "line {} is not \"<64 hex digits>  <path>\" as sha256sum writes it",
-                    i + 1
-                )
-            };
+            let bad = || SumsLineError { line: i + 1 };
             let (hex, rest) = line.split_at_checked(64).ok_or_else(bad)?;
             let path = rest
                 .strip_prefix("  ")
@@ -128,7 +131,7 @@ mod tests {
             [("plots/x.svg".to_owned(), b), ("z.csv".to_owned(), a)]
         );
         assert_eq!(
-            parse_sums("abc  x\n").unwrap_err(),
+            parse_sums("abc  x\n").unwrap_err().to_string(),
             "line 1 is not \"<64 hex digits>  <path>\" as sha256sum writes it"
         );
     }

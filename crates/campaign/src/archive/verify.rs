@@ -44,7 +44,7 @@ pub fn verify(path: &Path, cap: u64) -> Result<Verified, ArchiveError> {
     let text = found
         .sums
         .ok_or_else(|| fail(&sums_path, "is missing".into()))?;
-    let listed = parse_sums(&text).map_err(|e| fail(&sums_path, e))?;
+    let listed = parse_sums(&text).map_err(|e| fail(&sums_path, e.to_string()))?;
     let mut bytes = 0u64;
     let mut seen = BTreeMap::new();
     for (rel, hex) in &listed {

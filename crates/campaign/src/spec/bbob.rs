@@ -14,25 +14,24 @@
 //! Each problem is named by COCO's id (`bbob_f008_i02_d05`); its optimum
 //! f* and its targets are COCO's.
 
-use std::collections::HashSet;
-use std::ops::Range;
+use std::fmt::Write as _;
 use std::sync::Arc;
 
-use super::{
-    choices_hint, Budget, Factor, Parser, ProblemEntry, ProblemKind, Spec, SpecError, Table, Value,
-};
+use super::family::{FamilyProblem, ProblemFamily, ProblemSection, ProblemSink};
 #[cfg(feature = "coco")]
-use super::{metaheuristic, minimise_problem};
+use super::problem::{metaheuristic, minimise_problem};
+use super::{choices_hint, Factor, ProblemEntry, ProblemKind, Spec, SpecError, WithSpan};
 use crate::functions::Transform;
 use crate::optim::Outcome;
 use crate::outcome::FitDetail;
 use crate::reconstruction::Method;
+use crate::registry::Registry;
 #[cfg(feature = "coco")]
 use metabezier_bbob::BbobProblem;
 use metabezier_bbob::{bbob_function, BBOB_DIMENSIONS, BBOB_NAMES};
 
 /// The keys of a bbob `[[problem]]`.
-pub(super) const BBOB_KEYS: [&str; 6] = [
+const BBOB_KEYS: [&str; 6] = [
     "suite",
     "function",
     "dim",
@@ -111,7 +110,8 @@ impl ProblemKind for Bbob {
 pub const NO_COCO: &str = "the bbob suite needs COCO's C core, which this build leaves out: \
                            build with the `coco` feature (on by default: `cargo build --release`)";
 
-/// f* of bbob function `f` at dimension `d`, instance `k`, from COCO.
+/// f* of bbob function `f` at dimension `d`, instance `k`, from COCO, or
+/// COCO's refusal.
 #[cfg(feature = "coco")]
 fn bbob_fopt(f: usize, d: usize, k: u32) -> Result<f64, String> {
     BbobProblem::new(f, d, k as usize)
@@ -125,114 +125,113 @@ fn bbob_fopt(_f: usize, _d: usize, _k: u32) -> Result<f64, String> {
     Err(NO_COCO.to_owned())
 }
 
-impl Parser<'_> {
-    /// The problems of a `[[problem]]` section with `suite = "bbob"`:
-    /// every function × dimension × instance × budget, appended to `out`.
-    pub(super) fn bbob_problems(
+/// COCO's bbob suite as a problem family: `suite = "bbob"`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct BbobSuite;
+
+impl ProblemFamily for BbobSuite {
+    fn suite(&self) -> &str {
+        "bbob"
+    }
+
+    fn keys(&self) -> &[&str] {
+        &BBOB_KEYS
+    }
+
+    fn unavailable(&self) -> Option<&str> {
+        (!cfg!(feature = "coco")).then_some(NO_COCO)
+    }
+
+    /// Every function × dimension × instance of the section.
+    fn read(
         &self,
-        table: &Table<'_>,
-        section: &str,
-        entry: &Value<'_>,
-        budget: &Budget,
-        out: &mut Vec<ProblemEntry>,
-        seen: &mut HashSet<String>,
+        section: &ProblemSection<'_, '_>,
+        sink: &mut ProblemSink<'_>,
     ) -> Result<(), SpecError> {
-        self.check_keys(table, section, &BBOB_KEYS)?;
-        let functions = self.bbob_functions(table, section, entry)?;
-        let dims = self.bbob_dims(table, section, entry)?;
-        let instances = self.instances(table, section, 10_000, 1_000_000)?;
-        let budgets = match budget {
-            Budget::Fixed(b) | Budget::PerDim(b) => b.len(),
-        };
+        let functions = bbob_functions(section)?;
+        let dims = bbob_dims(section)?;
+        let instances = section.instances(10_000, 1_000_000)?;
         let count = (functions.len() as u128)
             .saturating_mul(dims.len() as u128)
-            .saturating_mul(instances.len() as u128)
-            .saturating_mul(budgets as u128);
-        self.check_problem_count(out.len(), count, &entry.span(), section)?;
+            .saturating_mul(instances.len() as u128);
+        sink.reserve(count)?;
         for &(f, _) in &functions {
             for &(d, ref dspan) in &dims {
                 for &k in &instances {
                     let fopt = bbob_fopt(f, d, k)
-                        .map_err(|e| self.error(dspan.clone(), &format!("{section}.dim"), e))?;
-                    for b in self.dim_budgets(budget, d, dspan, section)? {
-                        let p = ProblemEntry {
-                            kind: Arc::new(Bbob { function: f, fopt }),
-                            dim: d,
-                            budget: b,
-                            budget_factor: budget.is_grid(),
-                            transform: Transform::None,
-                            instance: k,
-                        };
-                        if !seen.insert(p.key()) {
-                            return Err(self.error(
-                                entry.span(),
-                                section,
-                                format!("problem {} is listed twice", p.key()),
-                            ));
-                        }
-                        out.push(p);
-                    }
+                        .map_err(|e| section.error(dspan.clone(), &section.field("dim"), e))?;
+                    sink.add(FamilyProblem {
+                        kind: Arc::new(Bbob { function: f, fopt }),
+                        dim: d,
+                        transform: Transform::None,
+                        instance: k,
+                        budget_span: dspan.clone(),
+                        span: section.span(),
+                    })?;
                 }
             }
         }
         Ok(())
     }
 
-    fn bbob_functions(
-        &self,
-        table: &Table<'_>,
-        section: &str,
-        entry: &Value<'_>,
-    ) -> Result<Vec<(usize, Range<usize>)>, SpecError> {
-        let field = format!("{section}.function");
-        let v = self.required(table, section, "function", entry.span())?;
-        self.one_or_many(v, &field)?
-            .into_iter()
-            .map(|item| {
-                let text = match item.get_ref() {
-                    toml::de::DeValue::Integer(i) => i.as_str().to_owned(),
-                    _ => self.string(item, &field)?,
-                };
-                let f = bbob_function(&text).ok_or_else(|| {
-                    self.error(
-                        item.span(),
-                        &field,
-                        format!(
-                            "unknown bbob function \"{text}\"; give an index 1 to 24 or a COCO name ({})",
-                            choices_hint(&text, &BBOB_NAMES)
-                        ),
-                    )
-                })?;
-                Ok((f, item.span()))
-            })
-            .collect()
+    /// The 24 functions by index and COCO name, and the dimensions.
+    fn list_entry(&self, _: &Registry) -> String {
+        let mut w = format!(
+            "\nCOCO's bbob suite ([[problem]] suite = \"bbob\", function = 1..=24 or names; dim in {BBOB_DIMENSIONS:?}):\n"
+        );
+        for (i, name) in BBOB_NAMES.iter().enumerate() {
+            let _ = writeln!(w, "  f{:<3} {name}", i + 1);
+        }
+        w
     }
+}
 
-    fn bbob_dims(
-        &self,
-        table: &Table<'_>,
-        section: &str,
-        entry: &Value<'_>,
-    ) -> Result<Vec<(usize, Range<usize>)>, SpecError> {
-        let field = format!("{section}.dim");
-        let v = self.required(table, section, "dim", entry.span())?;
-        self.one_or_many(v, &field)?
-            .into_iter()
-            .map(|item| {
-                let d = self.integer(item, &field, 1, 1_000_000)? as usize;
-                if !BBOB_DIMENSIONS.contains(&d) {
-                    return Err(self.error(
-                        item.span(),
-                        &field,
-                        format!(
-                            "bbob is defined for the dimensions 2, 3, 5, 10, 20 and 40, not {d}"
-                        ),
-                    ));
-                }
-                Ok((d, item.span()))
-            })
-            .collect()
-    }
+/// The required `function`: indices 1..=24 or COCO names.
+fn bbob_functions(section: &ProblemSection<'_, '_>) -> Result<Vec<WithSpan<usize>>, SpecError> {
+    let field = section.field("function");
+    let v = section.required(section.table, section.name, "function", section.span())?;
+    section
+        .one_or_many(v, &field)?
+        .into_iter()
+        .map(|item| {
+            let text = match item.get_ref() {
+                toml::de::DeValue::Integer(i) => i.as_str().to_owned(),
+                _ => section.string(item, &field)?,
+            };
+            let f = bbob_function(&text).ok_or_else(|| {
+                section.error(
+                    item.span(),
+                    &field,
+                    format!(
+                        "unknown bbob function \"{text}\"; give an index 1 to 24 or a COCO name ({})",
+                        choices_hint(&text, &BBOB_NAMES)
+                    ),
+                )
+            })?;
+            Ok((f, item.span()))
+        })
+        .collect()
+}
+
+/// The required `dim`: dimensions COCO defines the suite for.
+fn bbob_dims(section: &ProblemSection<'_, '_>) -> Result<Vec<WithSpan<usize>>, SpecError> {
+    let field = section.field("dim");
+    let v = section.required(section.table, section.name, "dim", section.span())?;
+    section
+        .one_or_many(v, &field)?
+        .into_iter()
+        .map(|item| {
+            let d = section.integer(item, &field, 1, 1_000_000)? as usize;
+            if !BBOB_DIMENSIONS.contains(&d) {
+                return Err(section.error(
+                    item.span(),
+                    &field,
+                    format!("bbob is defined for the dimensions 2, 3, 5, 10, 20 and 40, not {d}"),
+                ));
+            }
+            Ok((d, item.span()))
+        })
+        .collect()
 }
 
 #[cfg(test)]
