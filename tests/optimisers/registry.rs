@@ -19,7 +19,7 @@ mod custom_optimiser;
 #[path = "../../examples/custom_problem.rs"]
 mod custom_problem;
 #[allow(dead_code)]
-#[path = "../examples/shekel_suite.rs"]
+#[path = "../../examples/shekel_suite.rs"]
 mod shekel_suite;
 
 /// An example's campaign: into a directory, with a number of threads.

@@ -43,13 +43,12 @@ use crate::files::IoError;
 
 pub use records::{DataError, DataProblem, ReadError, RunRecord};
 pub use registry::{
-    BuildError, FamilyRegistryError, InstanceError, ProblemDef, ProblemRegistryError, Registry,
-    SharedProblem,
+    BuildError, InstanceError, ProblemDef, ProblemRegistryError, Registry, SharedProblem,
 };
 pub use runner::{run_campaign, RunOptions, Shard, ShardError, ShardProblem, Summary};
 pub use shards::{find_shards, merge, MergeInputs, ShardGap};
 pub use slurm::{SlurmError, SlurmOptions};
-pub use spec::{Spec, SpecError, SpecLimits};
+pub use spec::{FamilyRegistryError, Spec, SpecError, SpecLimits};
 
 /// Why a campaign cannot proceed as asked: a resume or a merge that would
 /// mix runs of different campaigns, or a machine that cannot start it.

@@ -29,9 +29,10 @@ mod read;
 mod schema;
 mod write;
 
+pub(crate) use data::parse;
 pub(crate) use data::{data, parse_real, Real};
 pub use data::{DataError, DataProblem, ReadError};
-pub(crate) use read::{parse, parse_transform, record_from_fields};
+pub(crate) use read::{parse_transform, record_from_fields};
 pub use read::{read_results, read_runs};
 pub use schema::Schema;
 pub(crate) use write::write_files;

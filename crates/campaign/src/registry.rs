@@ -28,13 +28,13 @@
 //! assert!(reg.problem("styblinski_tang").is_some());
 //! ```
 
+use std::any::Any;
 use std::fmt;
 use std::sync::{Arc, OnceLock};
 
 use crate::functions::Function;
 use crate::optim::{OptimiserDef, Optimisers, RegistryError};
 use crate::problem::Problem;
-use crate::spec::{BbobSuite, ProblemFamily};
 
 /// A problem built at one dimension, shared by every run of a campaign.
 pub type SharedProblem = Arc<dyn Problem + Send + Sync>;
@@ -237,17 +237,6 @@ pub enum ProblemRegistryError {
     BadName(String),
 }
 
-/// Why a problem family cannot be registered.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-pub enum FamilyRegistryError {
-    /// An earlier family has the suite name.
-    #[error("a suite named \"{0}\" already exists (the registered suites: {1})")]
-    Taken(String, String),
-    /// The suite name is not one a spec can write.
-    #[error("\"{0}\" cannot name a suite: expected 1 to 60 ASCII letters, digits, '_' or '-', starting with a letter")]
-    BadName(String),
-}
-
 /// The optimisers, problems and problem families a spec may name: the
 /// built-ins and a library user's own. [`Registry::builtin`] is what the
 /// command line uses.
@@ -256,8 +245,13 @@ pub struct Registry {
     /// The optimisers.
     pub optimisers: Optimisers,
     problems: Vec<Arc<ProblemDef>>,
-    families: Vec<Arc<dyn ProblemFamily>>,
+    families: Vec<FamilySlot>,
 }
+
+/// A registered problem family as the registry keeps it: an
+/// `Arc<dyn ProblemFamily>` behind `Any` (the family's trait belongs to the
+/// spec, above the registry).
+pub(crate) type FamilySlot = Arc<dyn Any + Send + Sync>;
 
 impl Registry {
     /// The built-in optimisers and functions, shared.
@@ -266,7 +260,7 @@ impl Registry {
         BUILTIN.get_or_init(|| Registry {
             optimisers: Optimisers::with_builtins(),
             problems: Vec::new(),
-            families: vec![Arc::new(BbobSuite)],
+            families: Vec::new(),
         })
     }
 
@@ -317,48 +311,23 @@ impl Registry {
             .collect()
     }
 
-    /// Adds a problem family, read from a `[[problem]]` whose `suite` is
-    /// its [`ProblemFamily::suite`]; refuses a suite name an earlier family
-    /// has, or one a spec cannot write.
-    pub fn register_family(
-        &mut self,
-        family: Arc<dyn ProblemFamily>,
-    ) -> Result<(), FamilyRegistryError> {
-        let name = family.suite();
-        if !spec_name(name) {
-            return Err(FamilyRegistryError::BadName(name.to_owned()));
-        }
-        if self.family(name).is_some() {
-            let suites = self.suites().join(", ");
-            return Err(FamilyRegistryError::Taken(name.to_owned(), suites));
-        }
+    /// The problem families a library user registered, type-erased: the
+    /// registry sits below the spec, whose `ProblemFamily` they are
+    /// (`spec/family.rs` registers and reads them, beside the built-in
+    /// COCO suite).
+    pub(crate) fn family_slots(&self) -> &[FamilySlot] {
+        &self.families
+    }
+
+    /// Keeps a registered family (see [`Registry::family_slots`]).
+    pub(crate) fn push_family_slot(&mut self, family: FamilySlot) {
         self.families.push(family);
-        Ok(())
-    }
-
-    /// The family of `suite = "<suite>"`.
-    pub fn family(&self, suite: &str) -> Option<&dyn ProblemFamily> {
-        self.families
-            .iter()
-            .find(|f| f.suite() == suite)
-            .map(|f| &**f)
-    }
-
-    /// The registered families, in registration order (COCO's bbob first
-    /// among the built-ins).
-    pub fn families(&self) -> impl Iterator<Item = &dyn ProblemFamily> {
-        self.families.iter().map(|f| &**f)
-    }
-
-    /// The names `[[problem]] suite` accepts.
-    pub fn suites(&self) -> Vec<&str> {
-        self.families.iter().map(|f| f.suite()).collect()
     }
 }
 
 /// Whether `name` can name a problem or a suite in a spec: 1 to 60 ASCII
 /// letters, digits, `_` or `-`, starting with a letter.
-fn spec_name(name: &str) -> bool {
+pub(crate) fn spec_name(name: &str) -> bool {
     (1..=60).contains(&name.len())
         && name.starts_with(|c: char| c.is_ascii_alphabetic())
         && name

@@ -2,7 +2,6 @@
 
 use std::path::Path;
 
-use super::read::parse;
 use crate::files::{excerpt, IoError};
 
 /// What is wrong with a results file at one line.
@@ -181,4 +180,24 @@ pub enum ReadError {
 
 pub(crate) fn data(path: &Path, line: u64, problem: DataProblem) -> ReadError {
     ReadError::Data(DataError::new(path, line, problem))
+}
+
+/// The cell `text` of `column` at `line` of `path` read as a `T`, or the
+/// located error of a cell its column cannot hold.
+pub(crate) fn parse<T: std::str::FromStr>(
+    path: &Path,
+    line: u64,
+    column: &str,
+    text: &str,
+) -> Result<T, ReadError> {
+    text.parse().map_err(|_| {
+        data(
+            path,
+            line,
+            DataProblem::Cell {
+                column: column.to_owned(),
+                text: text.to_owned(),
+            },
+        )
+    })
 }

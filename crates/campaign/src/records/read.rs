@@ -9,24 +9,6 @@ use crate::functions::Transform;
 use crate::reading::{open_csv, CsvFile, RESULT_LIMITS, RUNS_LIMITS};
 use crate::segments::{FIT_SEGMENT_HEADER, SEGMENT_HEADER};
 
-pub(crate) fn parse<T: std::str::FromStr>(
-    path: &Path,
-    line: u64,
-    column: &str,
-    text: &str,
-) -> Result<T, ReadError> {
-    text.parse().map_err(|_| {
-        data(
-            path,
-            line,
-            DataProblem::Cell {
-                column: column.to_owned(),
-                text: text.to_owned(),
-            },
-        )
-    })
-}
-
 /// Parses a transform name.
 pub(crate) fn parse_transform(path: &Path, line: u64, text: &str) -> Result<Transform, ReadError> {
     Transform::from_name(text).ok_or_else(|| {

@@ -43,6 +43,7 @@ use crate::registry::Registry;
 mod bbob;
 mod budget;
 mod cells;
+mod families;
 mod family;
 mod fit;
 mod fit_tolerance;
@@ -56,6 +57,7 @@ pub use metabezier_spec::SpecError;
 pub(crate) use metabezier_spec::{choices_hint, raw, Table, Value};
 
 pub use bbob::{Bbob, BbobSuite, NO_COCO};
+pub use families::FamilyRegistryError;
 pub use family::{FamilyProblem, ProblemFamily, ProblemSection, ProblemSink};
 pub use fit::FitCase;
 pub use functions::{Benchmark, Functions, RegisteredProblem};
