@@ -16,7 +16,7 @@ use super::data::Dataset;
 use super::data::Problem;
 use super::design::{design_points, factor_name, Levels};
 use super::format::{p_value, sci, Table};
-use super::significance::{Comparison, Significance, Tally};
+use super::significance::{tally_text, Comparison, Significance, Tally};
 use super::verdicts::{find, short, Measure};
 
 /// The first-level tallies per (design point, cell, measure).
@@ -135,9 +135,9 @@ fn verdict_lines(
 fn cell_text(k: Option<&Tally>, v: Option<&VerdictRow>) -> String {
     match (k, v) {
         (None, None) => "\u{2014}".into(),
-        (Some(k), None) => format!("marks {}", k.text()),
+        (Some(k), None) => format!("marks {}", tally_text(k)),
         (None, Some(v)) => short(v),
-        (Some(k), Some(v)) => format!("marks {}; {}", k.text(), short(v)),
+        (Some(k), Some(v)) => format!("marks {}; {}", tally_text(k), short(v)),
     }
 }
 

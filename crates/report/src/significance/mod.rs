@@ -40,7 +40,9 @@ use super::verdicts::Measure;
 
 pub(crate) use self::friedman::friedman_report;
 pub(crate) use self::observations::observations;
-pub(crate) use self::tables::{comparison_table, friedman_table, marks_summary_table, tests_table};
+pub(crate) use self::tables::{
+    comparison_table, friedman_table, marks_summary_table, tally_text, tests_table,
+};
 pub(crate) use self::tally::Tally;
 
 /// Resamples of every bootstrap interval.

@@ -9,8 +9,18 @@ use super::super::descriptive::{mean_sd, CellStats};
 use super::super::format::{csv_opt, csv_real, fixed2, p_value, sci, Table};
 use super::super::verdicts::Measure;
 use super::friedman::{FriedmanReport, Ranking};
-use super::tally::tally;
+use super::tally::{tally, Tally};
 use super::{Comparison, Outcome, Significance, TestKind, BOOTSTRAP_RESAMPLES};
+
+/// A tally in a cell: `b/s/w`, with ` (n both solved)` when there are
+/// some.
+pub(crate) fn tally_text(t: &Tally) -> String {
+    let mut s = format!("{}/{}/{}", t.better, t.same, t.worse);
+    if t.both_solved > 0 {
+        s.push_str(&format!(" ({} both solved)", t.both_solved));
+    }
+    s
+}
 
 fn outcome_text(o: Option<Outcome>) -> String {
     o.map_or_else(|| "n/a".into(), |o| o.symbol().to_owned())
@@ -173,7 +183,7 @@ pub(crate) fn comparison_table(
         last.push(if c == reference {
             "\u{2014}".into()
         } else {
-            tl.text()
+            tally_text(tl)
         });
     }
     t.md_rows.push(last);
@@ -408,11 +418,11 @@ pub(crate) fn marks_summary_table(ds: &Dataset, s: &Significance) -> Table {
         }
         t.md_rows.push(vec![
             cell.name.clone(),
-            e[c].text(),
+            tally_text(&e[c]),
             if a[c].total() == 0 {
                 "\u{2014}".into()
             } else {
-                a[c].text()
+                tally_text(&a[c])
             },
         ]);
         for (measure, tl) in [(Measure::FinalError, &e[c]), (Measure::AnytimeAuc, &a[c])] {

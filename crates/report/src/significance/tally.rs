@@ -52,13 +52,4 @@ impl Tally {
     pub fn total(&self) -> usize {
         self.better + self.same + self.worse + self.both_solved
     }
-
-    /// `b/s/w`, with `, n both solved` when there are some.
-    pub fn text(&self) -> String {
-        let mut s = format!("{}/{}/{}", self.better, self.same, self.worse);
-        if self.both_solved > 0 {
-            s.push_str(&format!(" ({} both solved)", self.both_solved));
-        }
-        s
-    }
 }
