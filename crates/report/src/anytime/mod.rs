@@ -351,4 +351,60 @@ mod tests {
         assert_eq!(run_auc(&run(&[(1e2, 5)]), 10, 10, 2), 0.5);
         assert!(run_auc(&run(&[]), 10, 10, 0).is_nan());
     }
+
+    #[test]
+    fn the_art_rows_pool_the_runs_of_a_function() {
+        use crate::experiment::RunRecord;
+        use crate::optim::TargetHit;
+        // Two runs of 1000 evaluations on f at D = 2: the first reaches
+        // 10² at 10 and 10⁰ at 400, the second 10² at 30 only.
+        let record = |run: u32, hits: &[(f64, u64)]| RunRecord {
+            algorithm: "A".into(),
+            kind: "hs".into(),
+            params: String::new(),
+            problem: "f".into(),
+            dim: 2,
+            budget: 1000,
+            transform: crate::functions::Transform::None,
+            instance: 1,
+            run,
+            seed: u64::from(run),
+            best: 1.0,
+            error: 1.0,
+            evaluations: 1000,
+            evaluations_to_target: None,
+            success: false,
+            trace: Vec::new(),
+            hits: hits
+                .iter()
+                .map(|&(precision, evaluations)| TargetHit {
+                    precision,
+                    evaluations,
+                })
+                .collect(),
+            fit: None,
+            wall_seconds: 0.0,
+        };
+        let ds = Dataset::from_records(vec![
+            (record(0, &[(1e2, 10), (1e0, 400)]), false),
+            (record(1, &[(1e2, 30)]), false),
+        ]);
+        let rows = art_rows(&ds, &[1e2, 1e0, 1e-2], &[]).unwrap();
+        assert_eq!(rows.len(), 1);
+        assert!(matches!(rows[0].who, Who::Cell(0)));
+        assert_eq!((rows[0].function.as_str(), rows[0].dim), ("f", 2));
+        let points: Vec<(usize, usize, Option<f64>)> = rows[0]
+            .points
+            .iter()
+            .map(|p| (p.runs, p.reached, p.art))
+            .collect();
+        // aRT: (10 + 30) / 2; (400 + 1000) / 1; none reached 10⁻².
+        assert_eq!(
+            points,
+            [(2, 2, Some(20.0)), (2, 1, Some(1400.0)), (2, 0, None)]
+        );
+        // Without hits there are no rows.
+        let none = Dataset::from_records(vec![(record(0, &[]), false)]);
+        assert!(art_rows(&none, &[1e2], &[]).is_none());
+    }
 }
