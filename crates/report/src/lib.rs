@@ -50,6 +50,8 @@ mod robustness;
 mod setup;
 mod significance;
 mod summary;
+#[cfg(test)]
+mod test_records;
 mod tuning;
 mod verdicts;
 

@@ -359,22 +359,6 @@ mod tests {
         // Two runs of 1000 evaluations on f at D = 2: the first reaches
         // 10² at 10 and 10⁰ at 400, the second 10² at 30 only.
         let record = |run: u32, hits: &[(f64, u64)]| RunRecord {
-            algorithm: "A".into(),
-            kind: "hs".into(),
-            params: String::new(),
-            problem: "f".into(),
-            dim: 2,
-            budget: 1000,
-            transform: crate::functions::Transform::None,
-            instance: 1,
-            run,
-            seed: u64::from(run),
-            best: 1.0,
-            error: 1.0,
-            evaluations: 1000,
-            evaluations_to_target: None,
-            success: false,
-            trace: Vec::new(),
             hits: hits
                 .iter()
                 .map(|&(precision, evaluations)| TargetHit {
@@ -382,8 +366,7 @@ mod tests {
                     evaluations,
                 })
                 .collect(),
-            fit: None,
-            wall_seconds: 0.0,
+            ..crate::test_records::record("A", "f", run, 1.0)
         };
         let ds = Dataset::from_records(vec![
             (record(0, &[(1e2, 10), (1e0, 400)]), false),

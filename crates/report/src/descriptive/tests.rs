@@ -2,29 +2,15 @@
 
 use super::*;
 use crate::experiment::RunRecord;
+use crate::test_records::record;
 
 fn rec(run: u32, error: f64, evals_to_target: Option<u64>) -> (RunRecord, bool) {
     (
         RunRecord {
-            algorithm: "A".into(),
-            kind: "hs".into(),
             params: "x=1".into(),
-            problem: "sphere".into(),
-            dim: 2,
-            budget: 1000,
-            transform: crate::functions::Transform::None,
-            instance: 1,
-            run,
-            seed: u64::from(run),
-            best: error,
-            error,
-            evaluations: 1000,
             evaluations_to_target: evals_to_target,
             success: evals_to_target.is_some(),
-            trace: Vec::new(),
-            hits: Vec::new(),
-            fit: None,
-            wall_seconds: 0.0,
+            ..record("A", "sphere", run, error)
         },
         false,
     )

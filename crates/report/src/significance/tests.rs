@@ -3,29 +3,16 @@
 use super::friedman::NoRanking;
 use super::*;
 use crate::experiment::RunRecord;
+use crate::test_records::record;
 
 fn rec(alg: &str, problem: &str, run: u32, seed: u64, error: f64) -> (RunRecord, bool) {
     (
         RunRecord {
-            algorithm: alg.into(),
-            kind: "hs".into(),
-            params: String::new(),
-            problem: problem.into(),
-            dim: 2,
             budget: 100,
-            transform: crate::functions::Transform::None,
-            instance: 1,
-            run,
             seed,
-            best: error,
-            error,
             evaluations: 100,
-            evaluations_to_target: None,
             success: error <= 1e-8,
-            trace: Vec::new(),
-            hits: Vec::new(),
-            fit: None,
-            wall_seconds: 0.0,
+            ..record(alg, problem, run, error)
         },
         false,
     )

@@ -5,29 +5,17 @@ use super::tables::duration;
 use super::*;
 use crate::descriptive::compute;
 use crate::experiment::RunRecord;
+use crate::test_records::record;
 
 fn rec(alg: &str, params: &str, problem: &str, run: u32, error: f64) -> (RunRecord, bool) {
     (
         RunRecord {
-            algorithm: alg.into(),
             kind: "mhs".into(),
             params: params.into(),
-            problem: problem.into(),
-            dim: 2,
             budget: 100,
-            transform: crate::functions::Transform::None,
-            instance: 1,
-            run,
             seed: 0,
-            best: error,
-            error,
             evaluations: 100,
-            evaluations_to_target: None,
-            success: false,
-            trace: Vec::new(),
-            hits: Vec::new(),
-            fit: None,
-            wall_seconds: 0.0,
+            ..record(alg, problem, run, error)
         },
         false,
     )
