@@ -448,7 +448,6 @@ mod tests {
     use super::*;
     use crate::data::Dataset;
     use crate::experiment::RunRecord;
-    use crate::functions::Transform;
     use crate::significance::{observations, significance};
     use crate::verdicts::{verdicts, PostHoc, Settings};
 
@@ -465,25 +464,12 @@ mod tests {
                 let error = base + f64::from(run) * 1e-3;
                 (
                     RunRecord {
-                        algorithm: alg.into(),
                         kind: alg.to_lowercase(),
-                        params: String::new(),
-                        problem: function.into(),
                         dim,
                         budget,
-                        transform: Transform::None,
-                        instance: 1,
-                        run,
                         seed: u64::from(run) + if alg == "A" { 0 } else { 1000 },
-                        best: error,
-                        error,
                         evaluations: budget,
-                        evaluations_to_target: None,
-                        success: false,
-                        trace: Vec::new(),
-                        hits: Vec::new(),
-                        fit: None,
-                        wall_seconds: 0.0,
+                        ..crate::test_records::record(alg, function, run, error)
                     },
                     false,
                 )
