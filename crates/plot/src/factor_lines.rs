@@ -22,11 +22,11 @@ use crate::files::fmt_real;
 use crate::format::pow_tick;
 use crate::layout::{
     decade_labels, draw_floor_label, floored_tick, frame, frame_height, grid_shape, pages_of, Axis,
-    AXIS_FONT, PANEL_H, PANEL_TITLE_FONT, PANEL_W, TICK_FONT,
+    Chart, AXIS_FONT, PANEL_H, PANEL_TITLE_FONT, PANEL_W, TICK_FONT,
 };
 use crate::render::{
     draw_line, draw_minor_decades, font, lg, log_floor, log_range, on_log_axis, Draw, DrawResult,
-    FloorTick,
+    FloorTick, PlotError,
 };
 use crate::style::{LegendEntry, SeriesStyle};
 
@@ -250,6 +250,52 @@ fn draw_panel<DB: DrawingBackend>(
     let xs: Vec<f64> = levels.iter().map(|&l| x_of(l, fig.x_log)).collect();
     let (x, dodge) = x_range(&xs, panel.series.len(), fig.spread);
     let (y, floor, floor_tick) = y_range(panel);
+    let mut chart = panel_chart(fig, panel, a, (x, y), floor_tick)?;
+    draw_levels(&mut chart, a, levels, &xs, y)?;
+    let y_log = panel.y_log;
+    let on_y = |v: f64| {
+        if y_log {
+            lg(on_log_axis(v, floor))
+        } else {
+            v
+        }
+    };
+    if let Some((value, label)) = &panel.reference {
+        draw_reference(&mut chart, a, on_y(*value), label, x)?;
+    }
+    let n = panel.series.len();
+    for (i, s) in panel.series.iter().enumerate() {
+        let shift = dodge * (i as f64 - (n as f64 - 1.0) / 2.0);
+        let pts: Vec<(f64, f64, f64, f64)> = s
+            .points
+            .iter()
+            .filter(|q| q.2.is_finite() || (y_log && q.2 <= 0.0))
+            .map(|q| {
+                (
+                    x_of(q.0, fig.x_log) + shift,
+                    on_y(q.1),
+                    on_y(q.2),
+                    on_y(q.3),
+                )
+            })
+            .filter(|q| q.0.is_finite())
+            .collect();
+        draw_method(&mut chart, fig.spread, s.style, &pts)?;
+    }
+    Ok(())
+}
+
+/// The chart of a panel over `x` × `y` (data ranges, log10 where the axis
+/// is): its title, axes and mesh, on a log axis the minor decades, the
+/// floor's label and, on fewer than 3 decades, labels at 2 and 5 times
+/// each decade.
+fn panel_chart<'a, DB: DrawingBackend>(
+    fig: &FactorLines,
+    panel: &FactorPanel,
+    a: &'a DrawingArea<DB, Shift>,
+    (x, y): ((f64, f64), (f64, f64)),
+    floor_tick: Option<FloorTick>,
+) -> Result<Chart<'a, DB>, PlotError> {
     let y_desc = if panel.y_log {
         format!("{} (log scale)", panel.y_label)
     } else {
@@ -295,12 +341,12 @@ fn draw_panel<DB: DrawingBackend>(
         .bold_line_style(RGBColor(215, 215, 215))
         .disable_x_mesh()
         .draw()?;
-    let base = a.get_base_pixel();
     if y_log {
         draw_minor_decades(&mut chart, x, y, false, true)?;
         draw_floor_label(a, &chart, floor_tick, (Axis::Y, y), x.0)?;
         // On an axis of fewer than 3 decades, 2 and 5 times each decade are
         // labelled too, so that every panel reads at least two values.
+        let base = a.get_base_pixel();
         let style = font(TICK_FONT).pos(Pos::new(HPos::Right, VPos::Center));
         for (v, text) in between_decades(y, floor_tick) {
             let (px, py) = chart.backend_coord(&(x.0, v));
@@ -312,14 +358,27 @@ fn draw_panel<DB: DrawingBackend>(
             a.draw_text(&text, &style, (px - 8, py))?;
         }
     }
-    // The factor's levels: a light vertical line and a tick label at each.
+    Ok(chart)
+}
+
+/// The factor's levels: a light vertical line and a tick label at each
+/// (`xs` their positions on the horizontal axis, `y` the vertical axis's
+/// range).
+fn draw_levels<DB: DrawingBackend>(
+    chart: &mut Chart<'_, DB>,
+    a: &DrawingArea<DB, Shift>,
+    levels: &[f64],
+    xs: &[f64],
+    y: (f64, f64),
+) -> DrawResult {
     let grid = RGBColor(215, 215, 215).stroke_width(1);
     chart.draw_series(
         xs.iter()
             .map(|&v| PathElement::new(vec![(v, y.0), (v, y.1)], grid)),
     )?;
+    let base = a.get_base_pixel();
     let tick = font(TICK_FONT).pos(Pos::new(HPos::Center, VPos::Top));
-    for (&l, &v) in levels.iter().zip(&xs) {
+    for (&l, &v) in levels.iter().zip(xs) {
         let (px, py) = chart.backend_coord(&(v, y.0));
         let (px, py) = (px - base.0, py - base.1);
         a.draw(&PathElement::new(
@@ -328,66 +387,62 @@ fn draw_panel<DB: DrawingBackend>(
         ))?;
         a.draw_text(&level_text(l), &tick, (px, py + 8))?;
     }
-    let on_y = |v: f64| {
-        if y_log {
-            lg(on_log_axis(v, floor))
-        } else {
-            v
-        }
+    Ok(())
+}
+
+/// The horizontal reference line at `at` (on the axis) across `x`, dashed
+/// grey, with its label at the right end.
+fn draw_reference<DB: DrawingBackend>(
+    chart: &mut Chart<'_, DB>,
+    a: &DrawingArea<DB, Shift>,
+    at: f64,
+    label: &str,
+    x: (f64, f64),
+) -> DrawResult {
+    let grey = SeriesStyle {
+        colour: RGBColor(90, 90, 90),
+        dashed: true,
     };
-    if let Some((value, label)) = &panel.reference {
-        let at = on_y(*value);
-        let grey = SeriesStyle {
-            colour: RGBColor(90, 90, 90),
-            dashed: true,
-        };
-        draw_line(&mut chart, vec![(x.0, at), (x.1, at)], grey, 2)?;
-        let (px, py) = chart.backend_coord(&(x.1, at));
-        let style = font(TICK_FONT).pos(Pos::new(HPos::Right, VPos::Bottom));
-        a.draw_text(label, &style, (px - base.0 - 4, py - base.1 - 3))?;
-    }
-    let n = panel.series.len();
-    for (i, s) in panel.series.iter().enumerate() {
-        let shift = dodge * (i as f64 - (n as f64 - 1.0) / 2.0);
-        let pts: Vec<(f64, f64, f64, f64)> = s
-            .points
-            .iter()
-            .filter(|q| q.2.is_finite() || (y_log && q.2 <= 0.0))
-            .map(|q| {
-                (
-                    x_of(q.0, fig.x_log) + shift,
-                    on_y(q.1),
-                    on_y(q.2),
-                    on_y(q.3),
-                )
-            })
-            .filter(|q| q.0.is_finite())
-            .collect();
-        let c = s.style.colour;
-        match fig.spread {
-            Spread::Band if pts.len() >= 2 => {
-                let mut poly: Vec<(f64, f64)> = pts.iter().map(|p| (p.0, p.3)).collect();
-                poly.extend(pts.iter().rev().map(|p| (p.0, p.1)));
-                chart.draw_series(std::iter::once(Polygon::new(poly, c.mix(0.15).filled())))?;
-            }
-            Spread::Band => {}
-            Spread::Bars => {
-                chart
-                    .draw_series(pts.iter().map(|p| {
-                        PathElement::new(vec![(p.0, p.1), (p.0, p.3)], c.stroke_width(2))
-                    }))?;
-            }
+    draw_line(chart, vec![(x.0, at), (x.1, at)], grey, 2)?;
+    let base = a.get_base_pixel();
+    let (px, py) = chart.backend_coord(&(x.1, at));
+    let style = font(TICK_FONT).pos(Pos::new(HPos::Right, VPos::Bottom));
+    a.draw_text(label, &style, (px - base.0 - 4, py - base.1 - 3))?;
+    Ok(())
+}
+
+/// One method's spread (band or bars), its median line and markers, from
+/// its points (x, q1, median, q3) on the axes.
+fn draw_method<DB: DrawingBackend>(
+    chart: &mut Chart<'_, DB>,
+    spread: Spread,
+    style: SeriesStyle,
+    pts: &[(f64, f64, f64, f64)],
+) -> DrawResult {
+    let c = style.colour;
+    match spread {
+        Spread::Band if pts.len() >= 2 => {
+            let mut poly: Vec<(f64, f64)> = pts.iter().map(|p| (p.0, p.3)).collect();
+            poly.extend(pts.iter().rev().map(|p| (p.0, p.1)));
+            chart.draw_series(std::iter::once(Polygon::new(poly, c.mix(0.15).filled())))?;
         }
-        // Beside bars the line only links a method's medians: thinner.
-        let width = if fig.spread == Spread::Bars { 1 } else { 2 };
-        draw_line(
-            &mut chart,
-            pts.iter().map(|p| (p.0, p.2)).collect(),
-            s.style,
-            width,
-        )?;
-        chart.draw_series(pts.iter().map(|p| Circle::new((p.0, p.2), 4, c.filled())))?;
+        Spread::Band => {}
+        Spread::Bars => {
+            chart.draw_series(
+                pts.iter()
+                    .map(|p| PathElement::new(vec![(p.0, p.1), (p.0, p.3)], c.stroke_width(2))),
+            )?;
+        }
     }
+    // Beside bars the line only links a method's medians: thinner.
+    let width = if spread == Spread::Bars { 1 } else { 2 };
+    draw_line(
+        chart,
+        pts.iter().map(|p| (p.0, p.2)).collect(),
+        style,
+        width,
+    )?;
+    chart.draw_series(pts.iter().map(|p| Circle::new((p.0, p.2), 4, c.filled())))?;
     Ok(())
 }
 

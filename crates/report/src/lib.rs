@@ -47,8 +47,11 @@ mod overlay;
 pub(crate) mod plots;
 pub(crate) mod render;
 mod robustness;
+mod setup;
 mod significance;
 mod summary;
+#[cfg(test)]
+mod test_records;
 mod tuning;
 mod verdicts;
 
@@ -221,98 +224,6 @@ fn resolve_reference(
         (a, b) => a.or(b),
     };
     Ok((found, note))
-}
-
-/// The table of the compared algorithm configurations.
-fn algorithms_table(ds: &data::Dataset) -> Table {
-    let mut t = Table {
-        stem: "algorithms".into(),
-        title: "Algorithms".into(),
-        intro: vec![
-            "The algorithm configurations compared, with their complete parameters.".into(),
-        ],
-        md_header: ["Algorithm", "Optimiser", "Parameters", "Source"]
-            .map(String::from)
-            .to_vec(),
-        csv_header: ["name", "algorithm", "kind", "params", "external"]
-            .map(String::from)
-            .to_vec(),
-        ..Table::default()
-    };
-    for c in &ds.cells {
-        t.md_rows.push(vec![
-            c.name.clone(),
-            c.kind.clone(),
-            format!("`{}`", c.params.replace('`', "'")),
-            if c.external { "external" } else { "results" }.into(),
-        ]);
-        t.csv_rows.push(vec![
-            c.name.clone(),
-            c.label.clone(),
-            c.kind.clone(),
-            c.params.clone(),
-            c.external.to_string(),
-        ]);
-    }
-    t
-}
-
-/// The table of the problems with their budgets and run counts.
-fn problems_table(ds: &data::Dataset) -> Table {
-    let mut t = Table {
-        stem: "problems".into(),
-        title: "Problems".into(),
-        intro: vec![if ds.problems.iter().any(|p| p.function.contains('/')) {
-            "Each problem is a benchmark function at a dimension D, or a fitting case \
-             source/function/continuity, whose D is its number of segments and whose budget \
-             is the total over its segments."
-                .into()
-        } else {
-            "Each problem is a benchmark function at a dimension D.".into()
-        }],
-        md_header: ["Problem", "D", "Budget", "Algorithms", "Runs"]
-            .map(String::from)
-            .to_vec(),
-        csv_header: ["problem", "dim", "budget", "algorithms", "runs"]
-            .map(String::from)
-            .to_vec(),
-        ..Table::default()
-    };
-    for (p, problem) in ds.problems.iter().enumerate() {
-        let mut budgets: Vec<u64> = Vec::new();
-        let mut algorithms = 0usize;
-        let mut runs = 0usize;
-        for c in 0..ds.cells.len() {
-            let r = ds.runs(p, c);
-            if !r.is_empty() {
-                algorithms += 1;
-                runs += r.len();
-            }
-            budgets.extend(r.iter().map(|x| x.budget));
-        }
-        budgets.sort_unstable();
-        budgets.dedup();
-        let budget = budgets
-            .iter()
-            .map(u64::to_string)
-            .collect::<Vec<_>>()
-            .join(" / ");
-        t.md_rows.push(vec![
-            problem.short(),
-            problem.dim.to_string(),
-            budget.clone(),
-            algorithms.to_string(),
-            runs.to_string(),
-        ]);
-        t.csv_rows.push(vec![
-            problem.label(),
-            problem.dim.to_string(),
-            budget,
-            algorithms.to_string(),
-            runs.to_string(),
-        ]);
-    }
-    t
 }
 
 /// The statistical tests of a report, or why there are none.
@@ -540,93 +451,6 @@ impl Sections {
             .chain(&self.tuning_overview)
             .chain(&self.fitting)
     }
-
-    /// The figures, after the summary.
-    fn figures_markdown(&self) -> String {
-        let mut md = String::from("## Plots\n\n");
-        if self.figures.is_empty() {
-            md.push_str(&markdown::paragraph(
-                "No plot could be drawn from these results.",
-            ));
-        }
-        md.push_str(&markdown::plot_sections(&self.figures));
-        md
-    }
-
-    /// The body of `report.md` after the summary, figures and provenance.
-    fn markdown(&self) -> String {
-        let mut md = String::new();
-        if let Some(t) = &self.tests.verdict_table {
-            md.push_str("## Verdicts\n\n");
-            for p in &t.intro {
-                md.push_str(&markdown::paragraph(p));
-            }
-            md.push_str(&markdown::paragraph(&format!(
-                "The summary lists the verdicts over all problems; tables/verdicts.csv has all {} \
-                 (every factor level and design point), and the Robustness section shows them \
-                 per design point.",
-                t.md_rows.len()
-            )));
-        }
-        md.push_str("## Setup\n\n");
-        for t in &self.setup {
-            md.push_str(&markdown::table_section(t, 3));
-        }
-        md.push_str("## Results\n\n");
-        md.push_str(&markdown::table_section(&self.results, 3));
-        md.push_str("## Statistical tests\n\n");
-        match &self.tests.text {
-            Some(text) => md.push_str(&markdown::paragraph(text)),
-            None => {
-                for t in &self.tests.tables {
-                    md.push_str(&markdown::table_section(t, 3));
-                }
-            }
-        }
-        md.push_str("## Robustness\n\n");
-        if self.tests.robustness.is_empty() {
-            md.push_str(&markdown::paragraph(
-                "There is a single algorithm configuration: there is no comparison whose range could be shown.",
-            ));
-        }
-        for t in &self.tests.robustness {
-            md.push_str(&markdown::table_section(t, 3));
-        }
-        let tuning = if self.tuning_overview.is_empty() {
-            &self.tuning
-        } else {
-            &self.tuning_overview
-        };
-        for (title, tables) in [
-            ("Anytime performance", &self.anytime),
-            ("Parameter tuning", tuning),
-            ("Curve fitting", &self.fitting),
-        ] {
-            if !tables.is_empty() {
-                md.push_str(&format!("## {title}\n\n"));
-                for t in tables {
-                    md.push_str(&markdown::table_section(t, 3));
-                }
-            }
-        }
-        if !self.tuning_overview.is_empty() {
-            let links: Vec<String> = self
-                .tuning
-                .iter()
-                .map(|t| format!("[`{0}.csv`](tables/{0}.csv)", t.stem))
-                .collect();
-            md.push_str(&format!(
-                "Every grid's own tables (best setting per problem with its errors, the mean \
-                 rank of every setting, the pick with its stability, edges and cost): {}.\n\n",
-                links.join(", ")
-            ));
-        }
-        md.push_str(&markdown::notes_section(
-            "Skipped or limited parts",
-            &self.notes,
-        ));
-        md
-    }
 }
 
 /// The question a report answers, from what its results hold.
@@ -664,7 +488,7 @@ fn sections(
 ) -> Result<Sections, ReportError> {
     let stats = descriptive::compute(ds);
     let mut notes: Vec<String> = Vec::new();
-    let setup = [algorithms_table(ds), problems_table(ds)];
+    let setup = [setup::algorithms_table(ds), setup::problems_table(ds)];
     let results = descriptive::table(ds, &stats);
     let fit_records = fitting::records(dir)?;
     let fits = fit_records

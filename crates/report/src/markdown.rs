@@ -5,6 +5,7 @@
 use super::data::{Dataset, Provenance};
 use super::format::{sci_digits, Table};
 use super::plots::Plot;
+use super::Sections;
 use metabezier_plot::markdown::escape as md_escape;
 
 /// What the report says at the top.
@@ -378,4 +379,88 @@ pub(crate) fn notes_section(title: &str, notes: &[String]) -> String {
     }
     s.push('\n');
     s
+}
+
+impl Sections {
+    /// The figures, after the summary.
+    pub(crate) fn figures_markdown(&self) -> String {
+        let mut md = String::from("## Plots\n\n");
+        if self.figures.is_empty() {
+            md.push_str(&paragraph("No plot could be drawn from these results."));
+        }
+        md.push_str(&plot_sections(&self.figures));
+        md
+    }
+
+    /// The body of `report.md` after the summary, figures and provenance.
+    pub(crate) fn markdown(&self) -> String {
+        let mut md = String::new();
+        if let Some(t) = &self.tests.verdict_table {
+            md.push_str("## Verdicts\n\n");
+            for p in &t.intro {
+                md.push_str(&paragraph(p));
+            }
+            md.push_str(&paragraph(&format!(
+                "The summary lists the verdicts over all problems; tables/verdicts.csv has all {} \
+                 (every factor level and design point), and the Robustness section shows them \
+                 per design point.",
+                t.md_rows.len()
+            )));
+        }
+        md.push_str("## Setup\n\n");
+        for t in &self.setup {
+            md.push_str(&table_section(t, 3));
+        }
+        md.push_str("## Results\n\n");
+        md.push_str(&table_section(&self.results, 3));
+        md.push_str("## Statistical tests\n\n");
+        match &self.tests.text {
+            Some(text) => md.push_str(&paragraph(text)),
+            None => {
+                for t in &self.tests.tables {
+                    md.push_str(&table_section(t, 3));
+                }
+            }
+        }
+        md.push_str("## Robustness\n\n");
+        if self.tests.robustness.is_empty() {
+            md.push_str(&paragraph(
+                "There is a single algorithm configuration: there is no comparison whose range could be shown.",
+            ));
+        }
+        for t in &self.tests.robustness {
+            md.push_str(&table_section(t, 3));
+        }
+        let tuning = if self.tuning_overview.is_empty() {
+            &self.tuning
+        } else {
+            &self.tuning_overview
+        };
+        for (title, tables) in [
+            ("Anytime performance", &self.anytime),
+            ("Parameter tuning", tuning),
+            ("Curve fitting", &self.fitting),
+        ] {
+            if !tables.is_empty() {
+                md.push_str(&format!("## {title}\n\n"));
+                for t in tables {
+                    md.push_str(&table_section(t, 3));
+                }
+            }
+        }
+        if !self.tuning_overview.is_empty() {
+            let links: Vec<String> = self
+                .tuning
+                .iter()
+                .map(|t| format!("[`{0}.csv`](tables/{0}.csv)", t.stem))
+                .collect();
+            md.push_str(&format!(
+                "Every grid's own tables (best setting per problem with its errors, the mean \
+                 rank of every setting, the pick with its stability, edges and cost): {}.\n\n",
+                links.join(", ")
+            ));
+        }
+        md.push_str(&notes_section("Skipped or limited parts", &self.notes));
+        md
+    }
 }

@@ -16,7 +16,7 @@ use super::data::Dataset;
 use super::data::Problem;
 use super::design::{design_points, factor_name, Levels};
 use super::format::{p_value, sci, Table};
-use super::significance::{Comparison, Significance, Tally};
+use super::significance::{tally_text, Comparison, Significance, Tally};
 use super::verdicts::{find, short, Measure};
 
 /// The first-level tallies per (design point, cell, measure).
@@ -135,9 +135,9 @@ fn verdict_lines(
 fn cell_text(k: Option<&Tally>, v: Option<&VerdictRow>) -> String {
     match (k, v) {
         (None, None) => "\u{2014}".into(),
-        (Some(k), None) => format!("marks {}", k.text()),
+        (Some(k), None) => format!("marks {}", tally_text(k)),
         (None, Some(v)) => short(v),
-        (Some(k), Some(v)) => format!("marks {}; {}", k.text(), short(v)),
+        (Some(k), Some(v)) => format!("marks {}; {}", tally_text(k), short(v)),
     }
 }
 
@@ -448,7 +448,6 @@ mod tests {
     use super::*;
     use crate::data::Dataset;
     use crate::experiment::RunRecord;
-    use crate::functions::Transform;
     use crate::significance::{observations, significance};
     use crate::verdicts::{verdicts, PostHoc, Settings};
 
@@ -465,25 +464,12 @@ mod tests {
                 let error = base + f64::from(run) * 1e-3;
                 (
                     RunRecord {
-                        algorithm: alg.into(),
                         kind: alg.to_lowercase(),
-                        params: String::new(),
-                        problem: function.into(),
                         dim,
                         budget,
-                        transform: Transform::None,
-                        instance: 1,
-                        run,
                         seed: u64::from(run) + if alg == "A" { 0 } else { 1000 },
-                        best: error,
-                        error,
                         evaluations: budget,
-                        evaluations_to_target: None,
-                        success: false,
-                        trace: Vec::new(),
-                        hits: Vec::new(),
-                        fit: None,
-                        wall_seconds: 0.0,
+                        ..crate::test_records::record(alg, function, run, error)
                     },
                     false,
                 )

@@ -455,16 +455,15 @@ fn reference_steps(
     Some(real_steps(&times, keys.len() * targets.len(), start))
 }
 
-/// One runtime ECDF over all targets, for the problems of `scope`, with
-/// each of COCO's references beneath that covers them.
-fn target_ecdf(
+/// The runtime ECDF of every shown configuration over the problems of
+/// `scope` (x in log10 of evaluations / D), each ended at the largest
+/// budget seen so far, and that largest budget over all of them.
+fn cell_curves(
     ds: &Dataset,
     shown: &SeriesSet,
-    target_values: &[f64],
-    best: &[Best2009],
+    targets: usize,
     scope: Scope<'_>,
-) -> Plot {
-    let targets = target_values.len();
+) -> (Vec<Line>, f64) {
     let mut series: Vec<Line> = Vec::new();
     let mut xmax = 1.0f64;
     for &c in &shown.cells {
@@ -495,8 +494,25 @@ fn target_ecdf(
         steps.push((xmax, last));
         series.push((c, steps.into_iter().map(|(x, y)| (lg(x), y)).collect()));
     }
+    (series, xmax)
+}
+
+/// A reference's curve: its colour and its points (log10 of evaluations
+/// / D, fraction reached).
+type ReferenceCurve = (RGBColor, Vec<(f64, f64)>);
+
+/// The curves of COCO's references in `best` that cover the problems of
+/// `scope`, cut at `xmax` (x in log10 of evaluations / D), with their
+/// colours: light gold for the first, dark for the second.
+fn reference_curves<'b>(
+    ds: &Dataset,
+    target_values: &[f64],
+    best: &'b [Best2009],
+    scope: Scope<'_>,
+    xmax: f64,
+) -> (Vec<&'b Best2009>, Vec<ReferenceCurve>) {
     let mut drawn: Vec<&Best2009> = Vec::new();
-    let mut reference: Vec<(RGBColor, Vec<(f64, f64)>)> = Vec::new();
+    let mut reference: Vec<ReferenceCurve> = Vec::new();
     for (b, colour) in best.iter().zip([REFERENCE, REFERENCE_2]) {
         let Some(mut steps) = reference_steps(ds, target_values, b, scope) else {
             continue;
@@ -510,6 +526,52 @@ fn target_ecdf(
         drawn.push(b);
         reference.push((colour, steps));
     }
+    (drawn, reference)
+}
+
+/// The caption's sentences on the reference curves drawn.
+fn reference_note(drawn: &[&Best2009]) -> String {
+    drawn
+        .iter()
+        .zip(["light", "dark"])
+        .map(|(b, shade)| {
+            format!(
+                " The wide {shade} gold curve is {}, {}, a (function, target) pair counted \
+                 at its aRT / D as cocopp draws it ({}; beyond the thesis), cut at the \
+                 campaign's largest budget.",
+                b.label, b.what, b.source
+            )
+        })
+        .collect()
+}
+
+/// The file stem and the caption's words of a target ECDF's scope.
+fn scope_names(scope: Scope<'_>) -> (String, String) {
+    match scope {
+        Scope::Function(f) => (
+            format!("ecdf_targets_{}", f.replace('/', "_")),
+            f.to_owned(),
+        ),
+        Scope::Dim(d) => (
+            format!("ecdf_targets_d{d}"),
+            format!("all problems at D = {d}"),
+        ),
+        Scope::All => ("ecdf_targets".to_owned(), "all problems".to_owned()),
+    }
+}
+
+/// One runtime ECDF over all targets, for the problems of `scope`, with
+/// each of COCO's references beneath that covers them.
+fn target_ecdf(
+    ds: &Dataset,
+    shown: &SeriesSet,
+    target_values: &[f64],
+    best: &[Best2009],
+    scope: Scope<'_>,
+) -> Plot {
+    let targets = target_values.len();
+    let (series, xmax) = cell_curves(ds, shown, targets, scope);
+    let (drawn, reference) = reference_curves(ds, target_values, best, scope, xmax);
     let x0 = series
         .iter()
         .map(|(_, pts)| pts)
@@ -525,29 +587,8 @@ fn target_ecdf(
         .into_iter()
         .map(|(c, pts)| (shown.style(c), pts))
         .collect();
-    let reference_note: String = drawn
-        .iter()
-        .zip(["light", "dark"])
-        .map(|(b, shade)| {
-            format!(
-                " The wide {shade} gold curve is {}, {}, a (function, target) pair counted \
-                 at its aRT / D as cocopp draws it ({}; beyond the thesis), cut at the \
-                 campaign's largest budget.",
-                b.label, b.what, b.source
-            )
-        })
-        .collect();
-    let (stem, scope) = match scope {
-        Scope::Function(f) => (
-            format!("ecdf_targets_{}", f.replace('/', "_")),
-            f.to_owned(),
-        ),
-        Scope::Dim(d) => (
-            format!("ecdf_targets_d{d}"),
-            format!("all problems at D = {d}"),
-        ),
-        Scope::All => ("ecdf_targets".to_owned(), "all problems".to_owned()),
-    };
+    let reference_note = reference_note(&drawn);
+    let (stem, scope) = scope_names(scope);
     Plot {
         page: Page::SINGLE,
         stem,

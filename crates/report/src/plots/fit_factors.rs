@@ -252,10 +252,180 @@ fn unit_ratios(fr: &FitRuns<'_>, pt: usize, pb: usize, fc: usize, per_segment: b
     }
 }
 
+/// A technique problem of the α_size figure: (problem, case, α_size).
+type TechniqueRun<'a> = (usize, Case<'a>, f64);
+
+/// The panels of the α_size figure and what they were drawn from.
+struct AlphaPanels<'s, 'f> {
+    /// The shown configurations.
+    series: &'s SeriesSet,
+    /// The fitting runs.
+    fr: &'f FitRuns<'f>,
+    /// The dataset cell of every fitting method ([`dataset_cells`]).
+    cells: Vec<Option<usize>>,
+    /// The technique problems.
+    technique: Vec<TechniqueRun<'f>>,
+    /// The configurations drawn in some panel.
+    used: Vec<usize>,
+    /// The most units behind a point.
+    units: usize,
+}
+
+/// The bounding-box twin of the technique problem `pt` (the same case and
+/// budget with the naive bounding box), if the campaign ran it.
+fn twin(fr: &FitRuns<'_>, pt: usize, c: &Case<'_>) -> Option<usize> {
+    fr.problems.iter().enumerate().position(|(pb, bb)| {
+        pb != pt
+            && bb.budget == fr.problems[pt].budget
+            && split(&bb.name)
+                .is_some_and(|d| d.space == Some("bounding-box") && d.base() == c.base())
+    })
+}
+
+impl AlphaPanels<'_, '_> {
+    /// Panels by (function/continuity/mode/variant, budget), pooling the
+    /// sources (a ratio has no unit): the ratio of E with the technique to
+    /// E in the bounding box, per α_size.
+    fn ratio_panels(&mut self) -> Vec<FactorPanel> {
+        let fr = self.fr;
+        let mut keys: Vec<(AlphaKey, Case<'_>)> = Vec::new();
+        for (p, c, _) in &self.technique {
+            let base = c.base();
+            let tail = base.split_once('/').map_or(base.as_str(), |(_, t)| t);
+            let key = (tail.to_owned(), fr.problems[*p].budget);
+            if !keys.iter().any(|(k, _)| *k == key) {
+                keys.push((key, *c));
+            }
+        }
+        keys.sort_by(|a, b| a.0.cmp(&b.0));
+        let mut panels = Vec::new();
+        for ((tail, budget), case) in keys {
+            let technique = &self.technique;
+            let points = |fc: usize, units: &mut usize| {
+                let mut by_alpha: BTreeMap<u64, (f64, Vec<f64>)> = BTreeMap::new();
+                for (pt, c, a) in technique {
+                    let base = c.base();
+                    let t = base.split_once('/').map_or(base.as_str(), |(_, t)| t);
+                    if t != tail || fr.problems[*pt].budget != budget {
+                        continue;
+                    }
+                    let Some(pb) = twin(fr, *pt, c) else { continue };
+                    let r = unit_ratios(fr, *pt, pb, fc, c.per_segment);
+                    by_alpha
+                        .entry(a.to_bits())
+                        .or_insert((*a, Vec::new()))
+                        .1
+                        .extend(r);
+                }
+                let mut pts: Vec<(f64, f64, f64, f64)> = by_alpha
+                    .into_values()
+                    .filter_map(|(a, r)| {
+                        *units = (*units).max(r.len());
+                        quartiles(a, &r)
+                    })
+                    .collect();
+                pts.sort_by(|x, y| x.0.total_cmp(&y.0));
+                pts
+            };
+            let mut units = self.units;
+            let lines = panel_series(self.series, &self.cells, &mut self.used, |fc| {
+                points(fc, &mut units)
+            });
+            self.units = units;
+            if !lines.is_empty() {
+                panels.push(FactorPanel {
+                    title: alpha_title(&case, budget),
+                    y_label: "E (technique) / E (bounding box)".into(),
+                    y_log: true,
+                    series: lines,
+                    reference: Some((1.0, "bounding box".into())),
+                });
+            }
+        }
+        panels
+    }
+
+    /// Panels by case (with its source) and budget: the median E per
+    /// α_size.
+    fn median_panels(&mut self) -> Vec<FactorPanel> {
+        let fr = self.fr;
+        let mut keys: Vec<(String, Option<u64>, usize, Case<'_>)> = Vec::new();
+        for (p, c, _) in &self.technique {
+            let key = (c.base(), fr.problems[*p].budget);
+            if !keys.iter().any(|k| (&k.0, k.1) == (&key.0, key.1)) {
+                keys.push((key.0, key.1, *p, *c));
+            }
+        }
+        let mut panels = Vec::new();
+        for (base, budget, first, case) in keys {
+            let technique = &self.technique;
+            let mut units = self.units;
+            let lines = panel_series(self.series, &self.cells, &mut self.used, |fc| {
+                let mut pts: Vec<(f64, f64, f64, f64)> = technique
+                    .iter()
+                    .filter(|(p, c, _)| c.base() == base && fr.problems[*p].budget == budget)
+                    .filter_map(|(p, _, a)| {
+                        let e = fr.errors(*p, fc)?;
+                        units = units.max(e.len());
+                        quartiles(*a, &e)
+                    })
+                    .collect();
+                pts.sort_by(|x, y| x.0.total_cmp(&y.0));
+                pts
+            });
+            self.units = units;
+            if !lines.is_empty() {
+                let title = Case {
+                    alpha: None,
+                    ..case
+                };
+                let mut t = case_title(&title, segments(fr, first));
+                if let Some(b) = budget {
+                    t.push_str(&format!(", budget {b}"));
+                }
+                panels.push(e_panel(t, lines));
+            }
+        }
+        panels
+    }
+
+    /// The caption of the α_size figure: of the ratios to the bounding box
+    /// when `relative`, else of the median E.
+    fn caption(&self, relative: bool) -> String {
+        let units = self.units;
+        if relative {
+            format!(
+                "The search-space technique against the naive bounding box, per α_size (the \
+                 half-width of the technique's boxes is α_size × the chord), both axes on log \
+                 scales: for each {unit} and method, the ratio of its median E over the runs \
+                 with the technique at that α_size to its median E in the bounding box at the \
+                 same budget (the observation the {unit}-level verdicts test); the line is the \
+                 median of the ratios over the {unit}s (up to {units}) and the band their \
+                 interquartile range. Below the dashed line at 1 the technique fits better than \
+                 the bounding box; above it, worse.{}",
+                self.series.caption_note(),
+                unit = if self.technique.iter().any(|t| t.1.per_segment) {
+                    "segment"
+                } else {
+                    "outline"
+                },
+            )
+        } else {
+            format!(
+                "The median fitting error E = Σ|Rᵢ − P(sᵢ)|² of the whole outline (pixels² for \
+                 images, font units² for glyphs) over the runs of each method (up to {units}) \
+                 with the search-space technique at each α_size, with the interquartile band, \
+                 both axes on log scales (no bounding-box run to compare with).{}",
+                self.series.caption_note()
+            )
+        }
+    }
+}
+
 /// The figure of E per α_size against the bounding box; `None` unless the
 /// technique ran at two α_size values or more.
 fn alpha_figure(ds: &Dataset, series: &SeriesSet, fr: &FitRuns<'_>) -> Option<Plot> {
-    let technique: Vec<(usize, Case<'_>, f64)> = fr
+    let technique: Vec<TechniqueRun<'_>> = fr
         .problems
         .iter()
         .enumerate()
@@ -270,135 +440,27 @@ fn alpha_figure(ds: &Dataset, series: &SeriesSet, fr: &FitRuns<'_>) -> Option<Pl
     if alphas.len() < 2 {
         return None;
     }
-    // The bounding-box twin of every technique problem.
-    let twin = |pt: usize, c: &Case<'_>| {
-        fr.problems.iter().enumerate().position(|(pb, bb)| {
-            pb != pt
-                && bb.budget == fr.problems[pt].budget
-                && split(&bb.name)
-                    .is_some_and(|d| d.space == Some("bounding-box") && d.base() == c.base())
-        })
+    let mut a = AlphaPanels {
+        series,
+        fr,
+        cells: dataset_cells(ds, fr),
+        technique,
+        used: Vec::new(),
+        units: 0,
     };
-    let relative = technique.iter().any(|(p, c, _)| twin(*p, c).is_some());
-    let cells = dataset_cells(ds, fr);
-    let mut used = Vec::new();
-    let mut panels = Vec::new();
-    let mut units = 0usize;
-    if relative {
-        // Panels by (function/continuity/mode/variant, budget), pooling the
-        // sources: a ratio has no unit.
-        let mut keys: Vec<(AlphaKey, Case<'_>)> = Vec::new();
-        for (p, c, _) in &technique {
-            let base = c.base();
-            let tail = base.split_once('/').map_or(base.as_str(), |(_, t)| t);
-            let key = (tail.to_owned(), fr.problems[*p].budget);
-            if !keys.iter().any(|(k, _)| *k == key) {
-                keys.push((key, *c));
-            }
-        }
-        keys.sort_by(|a, b| a.0.cmp(&b.0));
-        for ((tail, budget), case) in keys {
-            let lines = panel_series(series, &cells, &mut used, |fc| {
-                let mut by_alpha: BTreeMap<u64, (f64, Vec<f64>)> = BTreeMap::new();
-                for (pt, c, a) in &technique {
-                    let base = c.base();
-                    let t = base.split_once('/').map_or(base.as_str(), |(_, t)| t);
-                    if t != tail || fr.problems[*pt].budget != budget {
-                        continue;
-                    }
-                    let Some(pb) = twin(*pt, c) else { continue };
-                    let r = unit_ratios(fr, *pt, pb, fc, c.per_segment);
-                    by_alpha
-                        .entry(a.to_bits())
-                        .or_insert((*a, Vec::new()))
-                        .1
-                        .extend(r);
-                }
-                let mut pts: Vec<(f64, f64, f64, f64)> = by_alpha
-                    .into_values()
-                    .filter_map(|(a, r)| {
-                        units = units.max(r.len());
-                        quartiles(a, &r)
-                    })
-                    .collect();
-                pts.sort_by(|x, y| x.0.total_cmp(&y.0));
-                pts
-            });
-            if !lines.is_empty() {
-                panels.push(FactorPanel {
-                    title: alpha_title(&case, budget),
-                    y_label: "E (technique) / E (bounding box)".into(),
-                    y_log: true,
-                    series: lines,
-                    reference: Some((1.0, "bounding box".into())),
-                });
-            }
-        }
+    let relative = a
+        .technique
+        .iter()
+        .any(|(p, c, _)| twin(fr, *p, c).is_some());
+    let panels = if relative {
+        a.ratio_panels()
     } else {
-        // Panels by case (with its source) and budget: the median E.
-        let mut keys: Vec<(String, Option<u64>, usize, Case<'_>)> = Vec::new();
-        for (p, c, _) in &technique {
-            let key = (c.base(), fr.problems[*p].budget);
-            if !keys.iter().any(|k| (&k.0, k.1) == (&key.0, key.1)) {
-                keys.push((key.0, key.1, *p, *c));
-            }
-        }
-        for (base, budget, first, case) in keys {
-            let lines = panel_series(series, &cells, &mut used, |fc| {
-                let mut pts: Vec<(f64, f64, f64, f64)> = technique
-                    .iter()
-                    .filter(|(p, c, _)| c.base() == base && fr.problems[*p].budget == budget)
-                    .filter_map(|(p, _, a)| {
-                        let e = fr.errors(*p, fc)?;
-                        units = units.max(e.len());
-                        quartiles(*a, &e)
-                    })
-                    .collect();
-                pts.sort_by(|x, y| x.0.total_cmp(&y.0));
-                pts
-            });
-            if !lines.is_empty() {
-                let title = Case {
-                    alpha: None,
-                    ..case
-                };
-                let mut t = case_title(&title, segments(fr, first));
-                if let Some(b) = budget {
-                    t.push_str(&format!(", budget {b}"));
-                }
-                panels.push(e_panel(t, lines));
-            }
-        }
-    }
+        a.median_panels()
+    };
     if panels.is_empty() {
         return None;
     }
-    let caption = if relative {
-        format!(
-            "The search-space technique against the naive bounding box, per α_size (the \
-             half-width of the technique's boxes is α_size × the chord), both axes on log \
-             scales: for each {unit} and method, the ratio of its median E over the runs \
-             with the technique at that α_size to its median E in the bounding box at the \
-             same budget (the observation the {unit}-level verdicts test); the line is the \
-             median of the ratios over the {unit}s (up to {units}) and the band their \
-             interquartile range. Below the dashed line at 1 the technique fits better than \
-             the bounding box; above it, worse.{}",
-            series.caption_note(),
-            unit = if technique.iter().any(|t| t.1.per_segment) {
-                "segment"
-            } else {
-                "outline"
-            },
-        )
-    } else {
-        format!(
-            "The median fitting error E = Σ|Rᵢ − P(sᵢ)|² of the whole outline (pixels² for \
-             images, font units² for glyphs) over the runs of each method (up to {units}) \
-             with the search-space technique at each α_size, with the interquartile band, \
-             both axes on log scales (no bounding-box run to compare with).{}",
-            series.caption_note()
-        )
-    };
+    let caption = a.caption(relative);
     let title = if relative {
         "E per α_size against the bounding box"
     } else {
@@ -410,7 +472,7 @@ fn alpha_figure(ds: &Dataset, series: &SeriesSet, fr: &FitRuns<'_>) -> Option<Pl
         caption,
         figure: Figure::FactorLines(FactorLines {
             title: format!("{title} (band: interquartile range)"),
-            legend: legend(series, &used),
+            legend: legend(series, &a.used),
             x_label: "α_size".into(),
             x_log: true,
             spread: Spread::Band,

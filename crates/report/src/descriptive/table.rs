@@ -1,55 +1,10 @@
-//! Descriptive statistics of the final errors and the success measures of
-//! every (cell, problem).
+//! The descriptive table rendered from the statistics of every (cell,
+//! problem): three significant digits in `report.md`, full precision in
+//! `tables/descriptive.csv`.
 
-use crate::stats::{success_summary, summarize, RunOutcome, SuccessSummary, Summary};
-
-use super::data::{Dataset, Run};
-use super::external::BELOW_OPTIMUM_ROUNDING;
-use super::format::{csv_opt, evaluations, percent, sci, sci_opt, Table};
-
-/// The statistics of one (cell, problem).
-#[derive(Clone, Debug, PartialEq)]
-pub(crate) struct CellStats {
-    /// Number of runs.
-    pub runs: usize,
-    /// Summary of the final errors; `None` when an error is NaN.
-    pub summary: Option<Summary>,
-    /// Success rate, mean evaluations to success and aRT.
-    pub success: Option<SuccessSummary>,
-}
-
-/// The COCO outcome of a run: for a successful run the evaluations until the
-/// target was first reached, for an unsuccessful one all its evaluations.
-pub(crate) fn outcome(r: &Run) -> RunOutcome {
-    if r.success {
-        RunOutcome::new(r.evaluations_to_target.unwrap_or(r.evaluations), true)
-    } else {
-        RunOutcome::new(r.evaluations, false)
-    }
-}
-
-/// `stats[problem][cell]`, `None` where the cell did not run the problem.
-pub(crate) fn compute(ds: &Dataset) -> Vec<Vec<Option<CellStats>>> {
-    (0..ds.problems.len())
-        .map(|p| {
-            (0..ds.cells.len())
-                .map(|c| {
-                    let runs = ds.runs(p, c);
-                    if runs.is_empty() {
-                        return None;
-                    }
-                    let errors: Vec<f64> = runs.iter().map(|r| r.error).collect();
-                    let outcomes: Vec<RunOutcome> = runs.iter().map(outcome).collect();
-                    Some(CellStats {
-                        runs: runs.len(),
-                        summary: summarize(&errors).ok(),
-                        success: success_summary(&outcomes).ok(),
-                    })
-                })
-                .collect()
-        })
-        .collect()
-}
+use super::super::data::Dataset;
+use super::super::format::{csv_opt, evaluations, percent, sci, sci_opt, Table};
+use super::{shown_error, CellStats};
 
 /// The empty descriptive table, with its headers and first paragraph.
 fn frame() -> Table {
@@ -126,16 +81,6 @@ fn fitting_vocabulary(t: &mut Table) {
     t.md_header[2] = "Method".into();
     for row in &mut t.md_rows {
         row.truncate(keep);
-    }
-}
-
-/// A final error as the report shows it: an error in
-/// (−[`BELOW_OPTIMUM_ROUNDING`], 0) is 0 (the CSV keeps the value).
-pub(crate) fn shown_error(x: f64) -> f64 {
-    if x < 0.0 && x > -BELOW_OPTIMUM_ROUNDING {
-        0.0
-    } else {
-        x
     }
 }
 
@@ -228,86 +173,5 @@ pub(crate) fn mean_sd(s: Option<&CellStats>) -> String {
             Some(sd) => format!("{} ({})", sci(x.mean), sci(sd)),
             None => sci(x.mean),
         },
-    }
-}
-
-/// The mean final error of a cell on a problem, when defined.
-pub(crate) fn mean_error(stats: &[Vec<Option<CellStats>>], p: usize, c: usize) -> Option<f64> {
-    stats
-        .get(p)?
-        .get(c)?
-        .as_ref()?
-        .summary
-        .as_ref()
-        .map(|s| s.mean)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::experiment::RunRecord;
-
-    fn rec(run: u32, error: f64, evals_to_target: Option<u64>) -> (RunRecord, bool) {
-        (
-            RunRecord {
-                algorithm: "A".into(),
-                kind: "hs".into(),
-                params: "x=1".into(),
-                problem: "sphere".into(),
-                dim: 2,
-                budget: 1000,
-                transform: crate::functions::Transform::None,
-                instance: 1,
-                run,
-                seed: u64::from(run),
-                best: error,
-                error,
-                evaluations: 1000,
-                evaluations_to_target: evals_to_target,
-                success: evals_to_target.is_some(),
-                trace: Vec::new(),
-                hits: Vec::new(),
-                fit: None,
-                wall_seconds: 0.0,
-            },
-            false,
-        )
-    }
-
-    #[test]
-    fn art_counts_evaluations_to_target_of_successes_and_all_of_failures() {
-        let ds = Dataset::from_records(vec![
-            rec(0, 1e-9, Some(100)),
-            rec(1, 0.5, None),
-            rec(2, 1e-9, Some(300)),
-            rec(3, 0.2, None),
-        ]);
-        let stats = compute(&ds);
-        let s = stats[0][0].as_ref().unwrap();
-        let sc = s.success.as_ref().unwrap();
-        assert_eq!(sc.success_rate, 0.5);
-        assert_eq!(sc.mean_evaluations_to_success, Some(200.0));
-        assert_eq!(
-            sc.average_runtime,
-            Some((100.0 + 1000.0 + 300.0 + 1000.0) / 2.0)
-        );
-        let t = table(&ds, &stats);
-        assert_eq!(t.md_rows.len(), 1);
-        assert_eq!(t.md_rows[0][9], "50%");
-        assert_eq!(t.md_rows[0][11], "1200");
-        assert_eq!(t.csv_rows[0][16], "1200");
-    }
-
-    #[test]
-    fn single_run_and_nan() {
-        let ds = Dataset::from_records(vec![rec(0, f64::NAN, None)]);
-        let stats = compute(&ds);
-        let t = table(&ds, &stats);
-        assert_eq!(t.md_rows[0][6], "\u{2014}");
-        assert_eq!(t.md_rows[0][11], "\u{2014}");
-        assert_eq!(mean_sd(stats[0][0].as_ref()), "\u{2014}");
-        let ds = Dataset::from_records(vec![rec(0, 0.25, None)]);
-        let stats = compute(&ds);
-        assert_eq!(mean_sd(stats[0][0].as_ref()), "2.50e-01");
     }
 }

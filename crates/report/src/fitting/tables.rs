@@ -1,80 +1,16 @@
-//! The curve-fitting part of a report, for campaigns with `[[fit]]`
-//! problems: fit quality beyond `E`, the gap of every method to the best
-//! `E` found by any method, whether the hybrid beats both of its parts, the
-//! search-space technique against the bounding box, overlays of the best
-//! fit of each function on each outline and, for campaigns in the
-//! per-segment mode, the segment-level tests ([`super::fit_units`]).
-//!
-//! Problem names of fitting campaigns are `source/function/continuity`,
-//! then `/bounding-box` for the naive search space, `/alpha=A` for a listed
-//! α_size other than 0.5, `/per-segment` in the per-segment mode. When runs
-//! of one name differ in budget, each budget per segment is its own problem
-//! here, as in the rest of the report.
+//! The tables of the fitting section, rendered from the fitting runs: fit
+//! quality beyond E, the gap of every method to the best E, the hybrid
+//! against its parts and the search-space technique against the bounding
+//! box.
 
-use std::collections::BTreeMap;
-use std::path::Path;
-
-use super::data::Dataset;
-use super::fit_runs::{cell_name, same_seeds, split, two_sample_test, Case, FitRuns, SpaceTest};
-use super::format::{sci, Table};
-use super::plots::{Figure, Page, Plot};
-use super::verdicts::Observation;
-use crate::experiment::reading::{open_csv, RESULT_LIMITS};
-use crate::experiment::records::{read_results, FitDetail, RunRecord};
-use crate::experiment::segments::segment_from_row;
-use crate::experiment::{DataError, DataProblem, ReadError};
+use super::super::fit_runs::{same_seeds, split, two_sample_test, FitRuns, SpaceTest};
+use super::super::format::{sci, Table};
+use crate::experiment::records::{FitDetail, RunRecord};
 use crate::files::fmt_real;
-use crate::fit::Segment;
-use crate::geometry::Point;
-use crate::reconstruction::{OverlayCurve, OverlayFigure, OverlayPanel};
-use crate::stats::{holm_bonferroni, median, Mark, VerdictRow};
-
-/// What the fitting section adds to a report.
-pub(crate) struct FittingSection {
-    /// Its tables.
-    pub tables: Vec<Table>,
-    /// Its figures (one overlay per source).
-    pub figures: Vec<Plot>,
-    /// Remarks.
-    pub notes: Vec<String>,
-}
+use crate::stats::{holm_bonferroni, median, Mark};
 
 fn mean(v: &[f64]) -> f64 {
     v.iter().sum::<f64>() / v.len() as f64
-}
-
-/// A fitted outline read back from its segment rows, for an overlay;
-/// `None` if a row does not describe a segment.
-fn overlay_from_rows(label: String, rows: &[Vec<String>]) -> Option<OverlayCurve> {
-    let segments: Vec<Segment> = rows
-        .iter()
-        .map(|r| segment_from_row(r))
-        .collect::<Option<_>>()?;
-    Some(OverlayCurve::of_segments(label, &segments))
-}
-
-/// Reads `outlines.csv` (source, x, y): the data points of every source.
-fn read_outlines(dir: &Path) -> Result<BTreeMap<String, Vec<Point>>, ReadError> {
-    let path = dir.join("outlines.csv");
-    let mut out: BTreeMap<String, Vec<Point>> = BTreeMap::new();
-    if !path.exists() {
-        return Ok(out);
-    }
-    let mut reader = open_csv(&path, RESULT_LIMITS, true)?;
-    for (i, row) in reader.records().enumerate() {
-        let line = i as u64 + 2;
-        let row = row.map_err(|e| DataError::new(&path, line, DataProblem::Csv(e)))?;
-        let num = |k: usize| -> Result<f64, DataError> {
-            row.get(k)
-                .unwrap_or("")
-                .parse()
-                .map_err(|_| DataError::new(&path, line, DataProblem::NotANumber(k + 1)))
-        };
-        out.entry(row.get(0).unwrap_or("").to_owned())
-            .or_default()
-            .push(Point::new(num(1)?, num(2)?));
-    }
-    Ok(out)
 }
 
 /// The empty fit-quality table, with its headers.
@@ -178,7 +114,7 @@ impl Quality {
 /// The fit quality of every method on every problem, with the gap of its
 /// mean E to the best E found (`known`); the orthogonal RMS when the
 /// records have it.
-fn quality_table(fr: &FitRuns<'_>, best: &[(f64, String)]) -> Table {
+pub(super) fn quality_table(fr: &FitRuns<'_>, best: &[(f64, String)]) -> Table {
     let mut quality = quality_frame();
     let orthogonal = fr
         .runs
@@ -254,7 +190,7 @@ fn quality_table(fr: &FitRuns<'_>, best: &[(f64, String)]) -> Table {
 
 /// Which function fits each source best, per continuity (and space): the
 /// best E per problem, grouped by source.
-fn functions_table(fr: &FitRuns<'_>, best: &[(f64, String)]) -> Table {
+pub(super) fn functions_table(fr: &FitRuns<'_>, best: &[(f64, String)]) -> Table {
     let mut functions = Table {
         stem: "fit_functions".into(),
         title: "Best E per fitting function".into(),
@@ -368,7 +304,7 @@ fn hybrid_frame() -> Table {
 
 /// Hybrids against their two parts: for every X+LM whose X and LM also
 /// ran, whether its median E is below both of theirs.
-fn hybrid_table(fr: &FitRuns<'_>) -> Table {
+pub(super) fn hybrid_table(fr: &FitRuns<'_>) -> Table {
     let mut hybrid = hybrid_frame();
     let kinds = fr.kinds();
     let Some(lm) = kinds.iter().position(|k| k.as_deref() == Some("lm")) else {
@@ -492,7 +428,7 @@ fn space_pairs(fr: &FitRuns<'_>) -> Vec<SpacePair> {
 
 /// The search-space technique against the naive bounding box, with Holm's
 /// correction over all rows.
-fn search_space_table(fr: &FitRuns<'_>, alpha: f64) -> Table {
+pub(super) fn search_space_table(fr: &FitRuns<'_>, alpha: f64) -> Table {
     let mut space = search_space_frame(alpha);
     let pairs = space_pairs(fr);
     if pairs.is_empty() {
@@ -529,300 +465,4 @@ fn search_space_table(fr: &FitRuns<'_>, alpha: f64) -> Table {
         ]);
     }
     space
-}
-
-/// The overlay panel of one function on one source: the best fit of each
-/// continuity (technique search space at its default α_size, any budget),
-/// titled with their E and method.
-fn overlay_panel(
-    ds: &Dataset,
-    fr: &FitRuns<'_>,
-    source: &str,
-    function: &str,
-    data: &[Point],
-) -> OverlayPanel {
-    let mut best: Vec<(String, &RunRecord)> = Vec::new();
-    for ((p, _), rs) in &fr.runs {
-        let Some(c) = split(&fr.problems[*p].name) else {
-            continue;
-        };
-        // At equal segments only: a panel compares the continuities and
-        // the variants (error, chain) of one function.
-        if c.source != source
-            || c.function != function
-            || c.space.is_some()
-            || c.alpha.is_some()
-            || c.params.is_some()
-        {
-            continue;
-        }
-        let variant = c.variant();
-        let cont = if variant.is_empty() {
-            c.continuity.to_uppercase()
-        } else {
-            format!("{} {variant}", c.continuity.to_uppercase())
-        };
-        for r in rs {
-            match best.iter_mut().find(|(k, _)| *k == cont) {
-                Some((_, b)) if r.best < b.best => *b = r,
-                Some(_) => {}
-                None => best.push((cont.clone(), r)),
-            }
-        }
-    }
-    let mut curves = Vec::new();
-    let mut bests = Vec::new();
-    for (cont, r) in best {
-        if let Some(curve) = r
-            .fit
-            .as_ref()
-            .and_then(|f| overlay_from_rows(cont.clone(), &f.segments))
-        {
-            bests.push(format!("{cont} E = {} ({})", sci(r.best), cell_name(ds, r)));
-            curves.push(curve);
-        }
-    }
-    OverlayPanel {
-        title: format!("{function}: {}", bests.join(", ")),
-        data: data.to_vec(),
-        curves,
-        y_down: false,
-    }
-}
-
-/// The overlay plot of one source: a panel per fitting function, or
-/// `None` when it has none.
-fn overlay_plot(ds: &Dataset, fr: &FitRuns<'_>, source: &str, data: &[Point]) -> Option<Plot> {
-    let mut function_names: Vec<&str> = Vec::new();
-    for p in &fr.problems {
-        if let Some(c) = split(&p.name) {
-            if c.source == source
-                && c.space.is_none()
-                && c.alpha.is_none()
-                && !function_names.contains(&c.function)
-            {
-                function_names.push(c.function);
-            }
-        }
-    }
-    let panels: Vec<OverlayPanel> = function_names
-        .into_iter()
-        .map(|function| overlay_panel(ds, fr, source, function, data))
-        .collect();
-    if panels.is_empty() {
-        return None;
-    }
-    let slug: String = source
-        .chars()
-        .map(|ch| if ch.is_ascii_alphanumeric() { ch } else { '_' })
-        .collect();
-    Some(Plot {
-        page: Page::SINGLE,
-        stem: format!("overlay_{slug}"),
-        title: format!("Best fits of {source}"),
-        caption: format!(
-            "The data points of {source} (grey) and, for each fitting function, the fit \
-             with the lowest E over all methods and runs for each continuity (circles mark \
-             the segments' start points; the legend gives E and the method). Equal scale \
-             in x and y."
-        ),
-        figure: Figure::Overlay(OverlayFigure {
-            title: format!("{source}: best fit of each function"),
-            panels,
-            columns: 2,
-        }),
-    })
-}
-
-/// Overlays: per source, a panel per function with the best fit of each
-/// continuity (technique search space). A source whose points are not in
-/// `outlines` gets a note instead.
-fn overlays(
-    ds: &Dataset,
-    fr: &FitRuns<'_>,
-    outlines: &BTreeMap<String, Vec<Point>>,
-    notes: &mut Vec<String>,
-) -> Vec<Plot> {
-    let mut sources: Vec<&str> = fr
-        .problems
-        .iter()
-        .filter_map(|p| split(&p.name).map(|c| c.source))
-        .collect();
-    sources.dedup();
-    let mut seen = std::collections::BTreeSet::new();
-    sources.retain(|s| seen.insert(*s));
-    let mut figures = Vec::new();
-    for source in sources {
-        let Some(data) = outlines.get(source) else {
-            notes.push(format!(
-                "no overlay for {source}: outlines.csv does not hold its points"
-            ));
-            continue;
-        };
-        figures.extend(overlay_plot(ds, fr, source, data));
-    }
-    figures
-}
-
-/// The observations of the comparisons between fitting functions and
-/// between continuities on whole outlines, outlines as units: every
-/// function against the rational cubic (table `fitting-function`) and G1
-/// against C1 (table `continuity`), each method's median E on one case
-/// against its median E on the twin case (same source, search space and
-/// budget), log10 of the ratio. With four outlines no such verdict can
-/// reject at α = 0.05 (p_min = 0.125): the claims they test stay
-/// descriptive, and the report says so. Only the thesis's methods enter:
-/// the thesis's claims are about them, and the methods beyond it (CMA-ES,
-/// L-SHADE, random search, alone or before LM) are judged against the
-/// reference instead, so adding them leaves these verdicts as they were.
-pub(crate) fn treatment_observations(fr: &FitRuns<'_>) -> Vec<Observation> {
-    use super::design::{Level, Levels};
-    use super::verdicts::Measure;
-    let thesis: Vec<bool> = fr
-        .kinds()
-        .iter()
-        .map(|k| !fr.families.beyond_the_thesis(k.as_deref().unwrap_or("")))
-        .collect();
-    // Cases of whole outlines by (source, space level, budget, variant).
-    type CaseKey = (String, String, Option<u64>, String);
-    let mut cases: BTreeMap<CaseKey, Vec<(usize, Case<'_>)>> = BTreeMap::new();
-    for (p, problem) in fr.problems.iter().enumerate() {
-        let Some(c) = split(&problem.name).filter(|c| !c.per_segment) else {
-            continue;
-        };
-        cases
-            .entry((
-                c.source.to_owned(),
-                c.space_level(),
-                problem.budget,
-                c.variant(),
-            ))
-            .or_default()
-            .push((p, c));
-    }
-    let mut obs = Vec::new();
-    let mut compare = |table: &'static str,
-                       (pa, a): (usize, &str),
-                       (pb, b): (usize, &str),
-                       source: &str,
-                       fixed: (&'static str, &str),
-                       case: &Case<'_>| {
-        for (c, cell) in fr.cells.iter().enumerate() {
-            if !thesis[c] {
-                continue;
-            }
-            let (Some(ea), Some(eb)) = (fr.errors(pa, c), fr.errors(pb, c)) else {
-                continue;
-            };
-            let value = (median(&ea) / median(&eb)).log10();
-            if value.is_nan() {
-                continue;
-            }
-            obs.push(Observation {
-                table,
-                measure: Measure::FinalError,
-                algorithm: a.to_owned(),
-                reference: b.to_owned(),
-                unit: source.to_owned(),
-                levels: Levels(vec![
-                    (fixed.0, Level::Text(fixed.1.to_owned())),
-                    ("error", Level::Text(case.error().to_owned())),
-                    ("chain", Level::Text(case.chain().to_owned())),
-                    ("size", Level::Text(case.size().into())),
-                    ("method", Level::Text(cell.clone())),
-                ]),
-                value,
-            });
-        }
-    };
-    for ((source, _, _, _), list) in &cases {
-        for &(p, c) in list {
-            // Every function against the rational cubic of the same continuity.
-            if c.function != "rational-cubic" {
-                if let Some(&(q, _)) = list
-                    .iter()
-                    .find(|(_, d)| d.function == "rational-cubic" && d.continuity == c.continuity)
-                {
-                    let a = (p, c.function);
-                    let b = (q, "rational-cubic");
-                    compare(
-                        "fitting-function",
-                        a,
-                        b,
-                        source,
-                        ("continuity", c.continuity),
-                        &c,
-                    );
-                }
-            }
-            // G1 against C1 with the same function.
-            if c.continuity == "g1" {
-                if let Some(&(q, _)) = list
-                    .iter()
-                    .find(|(_, d)| d.function == c.function && d.continuity == "c1")
-                {
-                    compare(
-                        "continuity",
-                        (p, "g1"),
-                        (q, "c1"),
-                        source,
-                        ("function", c.function),
-                        &c,
-                    );
-                }
-            }
-        }
-    }
-    obs
-}
-
-/// The records of a fitting campaign in `dir` (runs with their fit
-/// details), or `None` when it has no `fits.csv`.
-pub(crate) fn records(dir: &Path) -> Result<Option<Vec<RunRecord>>, ReadError> {
-    if !dir.join("fits.csv").exists() {
-        return Ok(None);
-    }
-    read_results(dir).map(Some)
-}
-
-/// The fitting section of the report in `dir`, or `None` if the campaign
-/// has no fitting runs; `observations` and `verdicts` are those of the
-/// report, whose segment-level rows the per-segment tables show.
-pub(crate) fn section(
-    dir: &Path,
-    ds: &Dataset,
-    fits: Option<&FitRuns<'_>>,
-    observations: &[Observation],
-    verdicts: &[VerdictRow],
-    alpha: f64,
-) -> Result<Option<FittingSection>, ReadError> {
-    let Some(fr) = fits else {
-        return Ok(None);
-    };
-    let best = fr.best();
-    let mut notes = Vec::new();
-    let mut tables = vec![quality_table(fr, &best), functions_table(fr, &best)];
-    let space = search_space_table(fr, alpha);
-    if !space.md_rows.is_empty() {
-        tables.push(space);
-    }
-    let (units, unit_notes) = super::fit_units::tables(fr, observations, verdicts, alpha);
-    tables.extend(units);
-    notes.extend(unit_notes);
-    let hybrid = hybrid_table(fr);
-    if hybrid.md_rows.is_empty() {
-        notes.push(
-            "no hybrid table: the campaign does not run a metaheuristic X, LM and X+lm together"
-                .into(),
-        );
-    } else {
-        tables.push(hybrid);
-    }
-    let outlines = read_outlines(dir)?;
-    let figures = overlays(ds, fr, &outlines, &mut notes);
-    Ok(Some(FittingSection {
-        tables,
-        figures,
-        notes,
-    }))
 }

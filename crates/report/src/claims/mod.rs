@@ -17,7 +17,9 @@ use metabezier_spec::{Parser, SpecError};
 
 use crate::stats::{holm_bonferroni, Verdict, VerdictRow, VerdictTest};
 
-use super::format::{effect_interval, p_value, posterior};
+mod section;
+
+pub(crate) use self::section::section;
 
 /// The keys of a `[[claim]]`.
 const CLAIM_KEYS: [&str; 11] = [
@@ -143,93 +145,90 @@ fn primary<'r>(claim: &Claim, rows: &'r [VerdictRow]) -> Option<&'r VerdictRow> 
     })
 }
 
-/// The claims of `campaign` answered by their primary rows: the summary's
-/// section (empty when the file has no claim of this campaign), or the
-/// error naming a claim whose row is missing.
-pub(crate) fn section(
+/// A claim of the campaign answered by its primary row: the row, its p
+/// corrected over the campaign's primary rows (Holm), and the verdict
+/// decided on that p.
+pub(crate) struct Answer<'c, 'r> {
+    /// The claim.
+    pub claim: &'c Claim,
+    /// Its primary row of `verdicts.csv`.
+    pub row: &'r VerdictRow,
+    /// The row's p, Holm-corrected over the primary rows of the campaign.
+    pub primary_holm: f64,
+    /// The verdict decided on `primary_holm`.
+    pub verdict: Verdict,
+    /// What the verdict makes of the claim ([`reading`]).
+    pub reading: &'static str,
+}
+
+/// The claims of `campaign` answered by their primary rows, the primary
+/// rows Holm-corrected as a family of their own (empty when the file has
+/// no claim of this campaign), or the error naming a claim whose row is
+/// missing (`path` is the claims file's, for the message).
+pub(crate) fn answers<'c, 'r>(
     path: &Path,
-    claims: &[Claim],
+    claims: &'c [Claim],
     campaign: &str,
-    rows: &[VerdictRow],
+    rows: &'r [VerdictRow],
     alpha: f64,
-) -> Result<String, ClaimError> {
+) -> Result<Vec<Answer<'c, 'r>>, ClaimError> {
     let ours: Vec<&Claim> = claims.iter().filter(|c| c.campaign == campaign).collect();
-    if ours.is_empty() {
-        return Ok(String::new());
-    }
     let mut found = Vec::new();
     for c in &ours {
-        let row = primary(c, rows).ok_or_else(|| {
-            let scopes: Vec<&str> = rows
-                .iter()
-                .filter(|r| {
-                    r.test == VerdictTest::WilcoxonSignedRank
-                        && r.algorithm == c.row[2]
-                        && r.reference == c.row[3]
-                        && r.measure == c.row[1]
-                })
-                .map(|r| r.scope.as_str())
-                .collect();
-            let [table, measure, algorithm, reference, scope] = &c.row;
-            ClaimError::NoRow(format!(
-                "{}:{}: claim \"{}\": campaign {campaign} has no Wilcoxon verdict row \
-                 table={table}, measure={measure}, algorithm={algorithm}, \
-                 reference={reference}, scope={scope} (its scopes for this comparison: {})",
-                path.display(),
-                c.line,
-                c.id,
-                if scopes.is_empty() {
-                    "none".to_owned()
-                } else {
-                    scopes.join(", ")
-                }
-            ))
-        })?;
+        let row = primary(c, rows).ok_or_else(|| no_row(path, c, campaign, rows))?;
         found.push(row);
     }
     let raw: Vec<f64> = found.iter().map(|r| r.across.p_value).collect();
     let holm = holm_bonferroni(&raw).unwrap_or_else(|_| vec![f64::NAN; raw.len()]);
-    let mut md = format!(
-        "### The thesis's claims (primary rows)\n\nEach claim of the thesis that this campaign \
-         answers, with its one primary row of tables/verdicts.csv (from {}); every other row \
-         of this report is exploratory. The primary rows were chosen after the data were \
-         seen. The claims' family is their primary rows: p (primary Holm) corrects over the \
-         {} primary row(s) of this campaign, and the verdict is decided on it (equivalent \
-         where P(≈) ≥ 0.95; better or worse where p (primary Holm) < α; else undecided); \
-         p_Holm (family) is the row's exploratory correction within its table and scope.\n\n",
+    Ok(ours
+        .into_iter()
+        .zip(found)
+        .zip(holm)
+        .map(|((claim, row), primary_holm)| {
+            let verdict = Verdict::decide(
+                primary_holm,
+                alpha,
+                row.across.improvement,
+                &row.equivalence,
+            );
+            Answer {
+                claim,
+                row,
+                primary_holm,
+                verdict,
+                reading: reading(claim, verdict),
+            }
+        })
+        .collect())
+}
+
+/// The error of a claim whose primary row the campaign does not have,
+/// with the scopes it has for that comparison.
+fn no_row(path: &Path, c: &Claim, campaign: &str, rows: &[VerdictRow]) -> ClaimError {
+    let scopes: Vec<&str> = rows
+        .iter()
+        .filter(|r| {
+            r.test == VerdictTest::WilcoxonSignedRank
+                && r.algorithm == c.row[2]
+                && r.reference == c.row[3]
+                && r.measure == c.row[1]
+        })
+        .map(|r| r.scope.as_str())
+        .collect();
+    let [table, measure, algorithm, reference, scope] = &c.row;
+    ClaimError::NoRow(format!(
+        "{}:{}: claim \"{}\": campaign {campaign} has no Wilcoxon verdict row \
+         table={table}, measure={measure}, algorithm={algorithm}, \
+         reference={reference}, scope={scope} (its scopes for this comparison: {})",
         path.display(),
-        found.len()
-    );
-    md.push_str(
-        "| Claim | Primary row | Units +/=/− | HL [95 % CI] | p_Holm (family) | p (primary Holm) \
-         | P(better/≈/worse) | Verdict | The claim |\n| :-- | :-- | --: | --: | --: | --: | --: \
-         | :-- | :-- |\n",
-    );
-    for ((c, r), ph) in ours.iter().zip(&found).zip(holm) {
-        let a = &r.across;
-        let e = &r.equivalence;
-        let verdict = Verdict::decide(ph, alpha, a.improvement, e);
-        md.push_str(&format!(
-            "| {} | {} against {}, {}, `{}` | {}/{}/{} | {} | {} ({}) | {} | {} | {} | {} |\n",
-            c.claim,
-            r.algorithm,
-            r.reference,
-            r.measure,
-            r.scope,
-            a.better,
-            a.equal,
-            a.worse,
-            effect_interval(r.shift.estimate, r.shift.low, r.shift.high),
-            p_value(r.p_adjusted),
-            r.family,
-            p_value(ph),
-            posterior(e.better, e.within, e.worse),
-            verdict,
-            reading(c, verdict)
-        ));
-    }
-    md.push('\n');
-    Ok(md)
+        c.line,
+        c.id,
+        if scopes.is_empty() {
+            "none".to_owned()
+        } else {
+            scopes.join(", ")
+        }
+    ))
 }
 
 /// What the primary row's verdict makes of the claim: `holds`,
