@@ -4,7 +4,7 @@
 
 use std::ops::Range;
 
-use super::parser::Parser;
+use super::reader::Parser;
 use super::{raw, SpecError, Table, Value, MAX_PROBLEMS};
 use crate::optim::Raw;
 

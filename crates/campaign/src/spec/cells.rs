@@ -3,7 +3,7 @@
 
 use std::ops::Range;
 
-use super::parser::Parser;
+use super::reader::Parser;
 use super::{choices_hint, raw, Cell, SpecError, Table, WithSpan, MAX_CELLS};
 use crate::optim::{quoted_list, OptimiserDef, ParamDef, ParamSet, Setting};
 use crate::reconstruction::Method;

@@ -50,6 +50,8 @@ mod fit_tolerance;
 mod functions;
 mod parser;
 mod problem;
+mod problem_sections;
+mod reader;
 mod report;
 mod stop;
 
@@ -68,7 +70,7 @@ pub use problem::{
 pub use report::{rope_measure, REPORT_KEYS};
 pub use stop::Stop;
 
-use parser::Parser;
+use reader::Parser;
 
 /// A value with the span of the text it was read from.
 type WithSpan<T> = (T, Range<usize>);

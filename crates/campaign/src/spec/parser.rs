@@ -1,40 +1,17 @@
 //! The spec reader: the `[experiment]` header, the sections a spec may
 //! have, and the order they are read in.
 
-use std::ops::{Deref, Range};
+use std::ops::Range;
 
 use toml::de::DeValue;
 
 use super::budget::Budget;
 use super::family::Problems;
+use super::reader::Parser;
 use super::{
-    choices_hint, Factor, ProblemEntry, Spec, SpecError, SpecLimits, Stop, Table, WithSpan,
-    MAX_NAME_CHARS,
+    choices_hint, Factor, ProblemEntry, Spec, SpecError, Stop, Table, WithSpan, MAX_NAME_CHARS,
 };
 use crate::optim::quoted_list;
-use crate::registry::Registry;
-
-/// The spec reader: the grammar's [`metabezier_spec::Parser`] (the file's
-/// path and text, for errors located by line and column, and the
-/// primitives: fields, tables, strings, numbers, known keys), reached
-/// through `Deref`, with the limits and the registry a campaign spec is
-/// read under.
-pub(crate) struct Parser<'a> {
-    /// The file and its text, and the grammar's primitives.
-    pub(crate) grammar: metabezier_spec::Parser<'a>,
-    /// The limits of runs and budgets.
-    pub(crate) limits: SpecLimits,
-    /// The optimisers and problems names resolve in.
-    pub(crate) registry: &'a Registry,
-}
-
-impl<'a> Deref for Parser<'a> {
-    type Target = metabezier_spec::Parser<'a>;
-
-    fn deref(&self) -> &Self::Target {
-        &self.grammar
-    }
-}
 
 const EXPERIMENT_KEYS: [&str; 10] = [
     "name",

@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use super::super::budget::Budget;
 use super::super::family::Problems;
-use super::super::parser::Parser;
+use super::super::reader::Parser;
 use super::super::{choices_hint, ProblemEntry, SpecError, Table, Value};
 use super::settings::{raw_string, FitChoices, SearchOverrides};
 use super::*;
