@@ -40,7 +40,12 @@ impl Layout {
     /// and its `C₁` then comes from the end, or [`Start::G1`] with a G¹ end,
     /// and its `C₁` is then `meet`, where the two tangent lines cross
     /// (checked by the caller).
-    pub(super) fn new(function: FunctionType, start: Start, end: End, meet: Option<Point>) -> Layout {
+    pub(super) fn new(
+        function: FunctionType,
+        start: Start,
+        end: End,
+        meet: Option<Point>,
+    ) -> Layout {
         let mut dim = 0;
         let mut take = |k: usize| {
             let i = dim;

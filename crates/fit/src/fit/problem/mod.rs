@@ -6,7 +6,6 @@
 //! it implements [`Problem`] for the metaheuristics and [`LeastSquares`] for
 //! Levenberg–Marquardt.
 
-
 mod joins;
 mod layout;
 mod least_squares;
@@ -451,7 +450,6 @@ impl SegmentProblem {
             .expect("weights clipped into a positive range and finite points")
     }
 
-
     /// One Newton step of every interior parameter towards the foot of its
     /// data point on `curve`: `s ← s − g/g′` with `g = (Q(s) − R)·Q′(s)`,
     /// `g′ = |Q′|² + (Q − R)·Q″` (Schneider 1990, "NewtonRaphsonRootFind"),
@@ -507,4 +505,3 @@ impl Problem for SegmentProblem {
         }
     }
 }
-

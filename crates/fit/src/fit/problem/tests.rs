@@ -151,9 +151,8 @@ fn joins_are_built_in() {
     let o = SearchSpaceOptions::default();
     for f in FunctionType::ALL {
         for cont in [Continuity::C1, Continuity::G1] {
-            let p =
-                SegmentProblem::new(f, pts.clone(), ps.clone(), Start::after(&prev, cont), &o)
-                    .unwrap();
+            let p = SegmentProblem::new(f, pts.clone(), ps.clone(), Start::after(&prev, cont), &o)
+                .unwrap();
             let x: Vec<f64> = p.bounds().iter().map(|b| b.lerp(0.8)).collect();
             let seg = p.segment(&x);
             assert!(
