@@ -808,6 +808,55 @@ mod tests {
     }
 
     #[test]
+    fn a_chain_between_given_ends_holds_them() {
+        use crate::fit::LmSolver;
+        // A quarter circle, sampled at 61 points: two cubics between the
+        // given end tangents (+y at the start, −x at the end), G¹ inside.
+        let pts: Vec<Point> = (0..=60)
+            .map(|k| {
+                let a = std::f64::consts::FRAC_PI_2 * k as f64 / 60.0;
+                Point::new(a.cos(), a.sin())
+            })
+            .collect();
+        let ends = ChainEnds {
+            start: Start::G1 {
+                leg: Point::new(0.0, 1.0),
+            },
+            end: End::G1 {
+                dir: Point::new(-1.0, 0.0),
+            },
+        };
+        let options = FitOptions::new(super::super::FunctionType::Cubic, Continuity::G1);
+        let fit = fit_between(&pts, &[0, 30], ends, &options, &mut LmSolver::default()).unwrap();
+        assert_eq!(fit.breaks(), vec![0, 30]);
+        assert!(fit.joins_hold(1e-9));
+        let (first, last) = (&fit.segments[0], &fit.segments[1]);
+        assert_eq!(first.join, Continuity::G1);
+        assert_eq!(last.end, ends.end);
+        let d0 = first.segment.deriv(0.0);
+        let d1 = last.segment.deriv(1.0);
+        assert!(d0.x.abs() < 1e-12 && d0.y > 0.0, "{d0:?}");
+        assert!(d1.y.abs() < 1e-12 && d1.x < 0.0, "{d1:?}");
+        assert!(fit.metrics.max_distance < 1e-3);
+        // A quadratic cannot be joined C¹ at both ends: the given end fails
+        // instead of being left free.
+        let quadratic = FitOptions::new(super::super::FunctionType::Quadratic, Continuity::C1);
+        let both = ChainEnds {
+            start: Start::C1 {
+                derivative: Point::new(0.0, 1.0),
+            },
+            end: End::C1 {
+                derivative: Point::new(-1.0, 0.0),
+            },
+        };
+        let e = fit_between(&pts, &[], both, &quadratic, &mut LmSolver::default()).unwrap_err();
+        assert!(
+            matches!(e, FitError::InvalidOption { name: "end", .. }),
+            "{e:?}"
+        );
+    }
+
+    #[test]
     fn closing_joint_measures_angle_and_gap() {
         use crate::geometry::QuadBez;
         let last = QuadBez::new(Point::new(-1.0, -1.0), Point::new(0.0, -1.0), Point::ZERO);
