@@ -242,7 +242,7 @@ pub fn read_dicom_file(path: &Path) -> Result<DicomSlice, CtError> {
 /// data set is checked before any value is used: declared lengths against
 /// the bytes that remain (in the file and in the enclosing sequence or
 /// item), the transfer syntax (implicit or explicit VR little endian only),
-/// sequence nesting ([`MAX_DICOM_NESTING`]) and the PixelData length
+/// sequence nesting ([`super::MAX_DICOM_NESTING`]) and the PixelData length
 /// against `rows·cols·BitsAllocated/8`. Other errors: more than one frame
 /// or sample per pixel, bits allocated other than 8/16, missing Rows,
 /// Columns, PixelSpacing or PixelData, a RescaleSlope that is zero or not
