@@ -293,6 +293,23 @@ struct Member {
     padding: u64,
 }
 
+impl Member {
+    /// Its base name (after the last `/`).
+    fn base(&self) -> String {
+        self.name.rsplit('/').next().unwrap_or("").to_string()
+    }
+
+    /// [`Inv3Problem::DuplicateMember`]: a second member of its base name,
+    /// the first at `first`.
+    fn duplicate_of(&self, first: u64) -> Inv3Problem {
+        Inv3Problem::DuplicateMember {
+            name: self.base(),
+            first,
+            second: self.at,
+        }
+    }
+}
+
 /// The member whose checked `header` is at `at`, with the `pending`
 /// extensions applied, its size checked against the bytes that remain.
 fn member<R: BufRead>(
@@ -382,11 +399,7 @@ fn read_plist<R: BufRead>(
 ) -> Result<(), CtError> {
     let bad = |problem: Inv3Problem| CtError::inv3(path, problem);
     if let Some((first, _)) = found.plist {
-        return Err(bad(Inv3Problem::DuplicateMember {
-            name: m.name.rsplit('/').next().unwrap_or("").to_string(),
-            first,
-            second: m.at,
-        }));
+        return Err(bad(m.duplicate_of(first)));
     }
     if m.size > MAX_PLIST_BYTES {
         return Err(bad(Inv3Problem::PlistTooLarge {
@@ -419,11 +432,7 @@ fn read_matrix<R: BufRead>(
 ) -> Result<(), CtError> {
     let bad = |problem: Inv3Problem| CtError::inv3(path, problem);
     if let Some(held) = &found.matrix {
-        return Err(bad(Inv3Problem::DuplicateMember {
-            name: m.name.rsplit('/').next().unwrap_or("").to_string(),
-            first: held.at,
-            second: m.at,
-        }));
+        return Err(bad(m.duplicate_of(held.at)));
     }
     if let Some((_, Ok(info))) = &found.plist {
         if m.size != info.bytes {
@@ -494,7 +503,7 @@ fn scan<R: BufRead>(
                 continue;
             }
         }
-        let base = m.name.rsplit('/').next().unwrap_or("").to_string();
+        let base = m.base();
         let target = match (only, &found.plist) {
             (Some((want, _)), _) => Some(want),
             (None, None) => Some(DEFAULT_MATRIX),
