@@ -11,10 +11,10 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use metabezier::ct::{mid_sagittal_plane, Plane3};
+use metabezier::ct::{mid_sagittal_plane, MidLine, Plane3, SymmetryPlane, Volume};
 use metabezier::implant::regions::RegionRule;
 use metabezier::implant::template_comparison::{
-    compare_templates, comparison_report, comparison_verdicts,
+    compare_templates, comparison_report, comparison_verdicts, ComparisonRow,
 };
 use metabezier::implant::*;
 
@@ -30,6 +30,58 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let plane_secs = t0.elapsed().as_secs_f64();
     let line_plane = Plane3::from_midline(&midline);
     let mut report = String::from("# The four templates by region (CT 0051, issue 56)\n\n");
+    plane_section(&mut report, (&sym, plane_secs), &midline, &volume, cfg);
+    let val = spec
+        .validation_3d
+        .as_ref()
+        .ok_or("the spec has no [validation_3d]")?;
+    let cases = cases(val, quick);
+    let rule = RegionRule::of(&volume, cfg.first_z, cfg.threshold, &midline);
+    let region = |c: &Case3d| rule.region(0.5 * (c.range.0 + c.range.1) as f64, c.position_deg);
+    let t1 = std::time::Instant::now();
+    // `--plane-from-midline`: the 3D mirror across the per-slice midline's
+    // plane (a check of the 3D mirror's implementation: it should then
+    // follow the slice-wise mirror).
+    let plane = if std::env::args().any(|a| a == "--plane-from-midline") {
+        let _ = writeln!(
+            report,
+            "**The 3D mirror uses the per-slice midline's plane (`--plane-from-midline`).**\n"
+        );
+        line_plane
+    } else {
+        sym.plane
+    };
+    let rows = compare_templates(&volume, cfg, (midline, plane), &cases, &region);
+    let _ = writeln!(
+        report,
+        "{} cases × 4 templates in {:.0} s (LM fits).\n",
+        cases.len(),
+        t1.elapsed().as_secs_f64()
+    );
+    let verdicts = comparison_verdicts(&rows, 0.05);
+    report.push_str(&comparison_report(&rows, &verdicts));
+    named_cases(&mut report, &rows);
+    let out = Path::new(if plane == sym.plane {
+        "results/templates_3d"
+    } else {
+        "results/templates_3d_line_plane"
+    });
+    std::fs::create_dir_all(out)?;
+    std::fs::write(out.join("report.md"), &report)?;
+    println!("{report}");
+    Ok(())
+}
+
+/// The mid-sagittal plane `sym` (found in `secs` seconds) against the
+/// per-slice `midline`, and its traces on five slices.
+fn plane_section(
+    report: &mut String,
+    (sym, plane_secs): (&SymmetryPlane, f64),
+    midline: &MidLine,
+    volume: &Volume,
+    cfg: &DefectConfig,
+) {
+    let line_plane = Plane3::from_midline(midline);
     let [nx, ny, nz] = sym.plane.normal;
     let _ = writeln!(
         report,
@@ -58,10 +110,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     let _ = writeln!(report);
-    let val = spec
-        .validation_3d
-        .as_ref()
-        .ok_or("the spec has no [validation_3d]")?;
+}
+
+/// The cases of `val`'s 3D validation patches (`quick`: the first range and
+/// two positions), each position also at 15 mm, and the vertex case of
+/// issue 56.
+fn cases(val: &Validation3dSpec, quick: bool) -> Vec<Case3d> {
     let mut cases = Vec::new();
     let ranges = if quick {
         &val.ranges[..1]
@@ -96,30 +150,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         position_deg: 95.0,
         width_mm: 45.0,
     });
-    let rule = RegionRule::of(&volume, cfg.first_z, cfg.threshold, &midline);
-    let region = |c: &Case3d| rule.region(0.5 * (c.range.0 + c.range.1) as f64, c.position_deg);
-    let t1 = std::time::Instant::now();
-    // `--plane-from-midline`: the 3D mirror across the per-slice midline's
-    // plane (a check of the 3D mirror's implementation: it should then
-    // follow the slice-wise mirror).
-    let plane = if std::env::args().any(|a| a == "--plane-from-midline") {
-        let _ = writeln!(
-            report,
-            "**The 3D mirror uses the per-slice midline's plane (`--plane-from-midline`).**\n"
-        );
-        line_plane
-    } else {
-        sym.plane
-    };
-    let rows = compare_templates(&volume, cfg, (midline, plane), &cases, &region);
-    let _ = writeln!(
-        report,
-        "{} cases × 4 templates in {:.0} s (LM fits).\n",
-        cases.len(),
-        t1.elapsed().as_secs_f64()
-    );
-    let verdicts = comparison_verdicts(&rows, 0.05);
-    report.push_str(&comparison_report(&rows, &verdicts));
+    cases
+}
+
+/// The named cases of `rows`: the 15 mm defects and the vertex patch.
+fn named_cases(report: &mut String, rows: &[ComparisonRow]) {
     let _ = writeln!(report, "\n## Named cases\n");
     for r in rows
         .iter()
@@ -146,13 +181,4 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
         );
     }
-    let out = Path::new(if plane == sym.plane {
-        "results/templates_3d"
-    } else {
-        "results/templates_3d_line_plane"
-    });
-    std::fs::create_dir_all(out)?;
-    std::fs::write(out.join("report.md"), &report)?;
-    println!("{report}");
-    Ok(())
 }

@@ -144,6 +144,7 @@ impl<S: SegmentSolver + ?Sized> Splitter<'_, '_, S> {
             join,
             start: start_after(built.segments.last(), join),
             end,
+            hold_end: false,
         };
         let (fit, spent) = fit_guarded(self.outline, piece, self.options, &mut *self.solver)?;
         built.discarded += spent;

@@ -442,49 +442,15 @@ fn build(
     let closed = outline.closed;
     // Joint k is segment k's start; an open chain has one more at its end.
     let count = if closed { n } else { n + 1 };
-    let mut continuity: Vec<Continuity> = fitted.iter().map(|f| f.segment.join).collect();
-    // The first joint: the closing one, smooth when the sequential chain
-    // closed smoothly (the last segment joined the first).
-    continuity[0] = match fitted.last().map(|f| f.segment.end) {
-        Some(End::G1 { .. }) if closed => Continuity::G1,
-        Some(End::C1 { .. }) if closed => Continuity::C1,
-        _ => Continuity::C0,
-    };
-    if !closed {
-        continuity.push(Continuity::C0);
-    }
-    if m == 2 && continuity.contains(&Continuity::C1) {
-        return Err(FitError::JointQuadraticC1);
-    }
+    let continuity = joint_continuities(fitted, closed, m)?;
     let (lo, hi) = bounding_box(outline.points).expect("an outline has points");
     let centre = lo.lerp(hi, 0.5);
     let reach = 1e3 * (hi - lo).hypot().max(1.0);
     let mut vars = Vars::default();
     // Joint variables, the closing joint's last (the border).
     let mut kinds = vec![Joint::Corner; count];
-    let joint_vars = |k: usize, vars: &mut Vars| -> Joint {
-        let seg = &fitted[k % n].segment.segment;
-        let d = if k < n {
-            seg.deriv(0.0)
-        } else {
-            fitted[n - 1].segment.segment.deriv(1.0)
-        };
-        match continuity[k] {
-            Continuity::C0 => Joint::Corner,
-            Continuity::G1 => {
-                let theta = d.y.atan2(d.x);
-                Joint::G1(vars.add(
-                    theta,
-                    theta - 2.0 * std::f64::consts::TAU,
-                    theta + 2.0 * std::f64::consts::TAU,
-                ))
-            }
-            Continuity::C1 => {
-                let i = vars.add(d.x, -reach * m as f64, reach * m as f64);
-                vars.add(d.y, -reach * m as f64, reach * m as f64);
-                Joint::C1(i)
-            }
-        }
+    let joint_vars = |k: usize, vars: &mut Vars| {
+        joint_variables(fitted, continuity[k], k, reach * m as f64, vars)
     };
     let mut links: Vec<Link> = Vec::with_capacity(n);
     let mut offset = 0;
@@ -502,38 +468,8 @@ fn build(
         let legs = (tmin * chord / m as f64, tmax * chord / m as f64);
         let end_joint = if closed { (k + 1) % n } else { k + 1 };
         let (ka, kb) = (continuity[k], continuity[end_joint]);
-        let free_point = |p: Point, vars: &mut Vars| {
-            let i = vars.add(p.x, centre.x - reach, centre.x + reach);
-            vars.add(p.y, centre.y - reach, centre.y + reach);
-            Side::Free(i)
-        };
-        let (start, end) = if m == 2 {
-            let side = match (ka, kb) {
-                (Continuity::G1, Continuity::G1) => Side::Meet,
-                (Continuity::G1, _) => {
-                    let a = cp[1].distance(j0);
-                    Side::Length(vars.add(a, legs.0, legs.1))
-                }
-                (_, Continuity::G1) => {
-                    let b = j1.distance(cp[1]);
-                    Side::Length(vars.add(b, legs.0, legs.1))
-                }
-                _ => free_point(cp[1], &mut vars),
-            };
-            (side, Side::Free(usize::MAX))
-        } else {
-            let start = match ka {
-                Continuity::G1 => Side::Length(vars.add(cp[1].distance(j0), legs.0, legs.1)),
-                Continuity::C1 => Side::Derivative,
-                Continuity::C0 => free_point(cp[1], &mut vars),
-            };
-            let end = match kb {
-                Continuity::G1 => Side::Length(vars.add(j1.distance(cp[2]), legs.0, legs.1)),
-                Continuity::C1 => Side::Derivative,
-                Continuity::C0 => free_point(cp[2], &mut vars),
-            };
-            (start, end)
-        };
+        let box_ = PointBox { centre, reach };
+        let (start, end) = link_sides(m, (ka, kb), &cp, legs, box_, &mut vars);
         let (w1, w2) = match function {
             FunctionType::RationalQuadratic => (Some(vars.add(weights[1], wmin, wmax)), None),
             FunctionType::RationalCubic => (
@@ -577,22 +513,146 @@ fn build(
         border,
         feet: RefCell::new((Vec::new(), Vec::new())),
     };
-    // The half-bandwidth: the widest spread of one link's non-border variables.
-    let mut width = 0;
-    for k in 0..n {
-        if let Some((_, sens, used)) = chain.controls(k, &x0) {
-            let idx = sens[..used].iter().map(|s| s.var).filter(|&v| v < lead);
-            let (a, b) = idx.fold((usize::MAX, 0), |(a, b), v| (a.min(v), b.max(v)));
-            if a <= b {
-                width = width.max(b - a);
-            }
-        } else {
-            // Tangent lines of a straight quadratic are parallel: no meet.
-            return Ok(None);
-        }
-    }
+    // Tangent lines of a straight quadratic are parallel: no meet.
+    let Some(width) = half_bandwidth(&chain, &x0, lead) else {
+        return Ok(None);
+    };
     chain.width = width;
     Ok(Some((chain, x0)))
+}
+
+/// The box of a free control point: `centre ± reach` on both axes.
+#[derive(Clone, Copy, Debug)]
+struct PointBox {
+    centre: Point,
+    reach: f64,
+}
+
+/// How the inner control points `cp[1]` (and `cp[2]`) of a link of degree
+/// `m` between joints of continuity `ka` and `kb` are set, their variables
+/// added to `vars` (started at the sequential curve): a free point in
+/// `free` (C⁰), a length along the joint's tangent within `legs` (G¹), the
+/// joint's derivative (C¹); a quadratic's one point where both tangent
+/// lines meet when both joints are G¹.
+fn link_sides(
+    m: usize,
+    (ka, kb): (Continuity, Continuity),
+    cp: &[Point],
+    legs: (f64, f64),
+    free: PointBox,
+    vars: &mut Vars,
+) -> (Side, Side) {
+    let (j0, j1) = (cp[0], cp[m]);
+    let (centre, reach) = (free.centre, free.reach);
+    let free_point = |p: Point, vars: &mut Vars| {
+        let i = vars.add(p.x, centre.x - reach, centre.x + reach);
+        vars.add(p.y, centre.y - reach, centre.y + reach);
+        Side::Free(i)
+    };
+    if m == 2 {
+        let side = match (ka, kb) {
+            (Continuity::G1, Continuity::G1) => Side::Meet,
+            (Continuity::G1, _) => {
+                let a = cp[1].distance(j0);
+                Side::Length(vars.add(a, legs.0, legs.1))
+            }
+            (_, Continuity::G1) => {
+                let b = j1.distance(cp[1]);
+                Side::Length(vars.add(b, legs.0, legs.1))
+            }
+            _ => free_point(cp[1], vars),
+        };
+        (side, Side::Free(usize::MAX))
+    } else {
+        let start = match ka {
+            Continuity::G1 => Side::Length(vars.add(cp[1].distance(j0), legs.0, legs.1)),
+            Continuity::C1 => Side::Derivative,
+            Continuity::C0 => free_point(cp[1], vars),
+        };
+        let end = match kb {
+            Continuity::G1 => Side::Length(vars.add(j1.distance(cp[2]), legs.0, legs.1)),
+            Continuity::C1 => Side::Derivative,
+            Continuity::C0 => free_point(cp[2], vars),
+        };
+        (start, end)
+    }
+}
+
+/// The continuity at each joint of the chain of `fitted` (joint `k` is
+/// segment `k`'s start; an open chain has one more at its end, C⁰): the
+/// sequential chain's joins, the first joint the closing one, smooth when
+/// the sequential chain closed smoothly (the last segment joined the
+/// first). Fails for a quadratic (degree `m` 2) with a C¹ joint.
+fn joint_continuities(
+    fitted: &[Fitted<'_>],
+    closed: bool,
+    m: usize,
+) -> Result<Vec<Continuity>, FitError> {
+    let mut continuity: Vec<Continuity> = fitted.iter().map(|f| f.segment.join).collect();
+    continuity[0] = match fitted.last().map(|f| f.segment.end) {
+        Some(End::G1 { .. }) if closed => Continuity::G1,
+        Some(End::C1 { .. }) if closed => Continuity::C1,
+        _ => Continuity::C0,
+    };
+    if !closed {
+        continuity.push(Continuity::C0);
+    }
+    if m == 2 && continuity.contains(&Continuity::C1) {
+        return Err(FitError::JointQuadraticC1);
+    }
+    Ok(continuity)
+}
+
+/// The variables of joint `k` of `continuity`, added to `vars`, started at
+/// the sequential chain's derivative there (segment `k`'s start, or the
+/// last segment's end for the open end): none at a corner, the tangent
+/// angle `θ` within ±2 turns (G¹), the derivative within ±`reach` (C¹).
+fn joint_variables(
+    fitted: &[Fitted<'_>],
+    continuity: Continuity,
+    k: usize,
+    reach: f64,
+    vars: &mut Vars,
+) -> Joint {
+    let n = fitted.len();
+    let seg = &fitted[k % n].segment.segment;
+    let d = if k < n {
+        seg.deriv(0.0)
+    } else {
+        fitted[n - 1].segment.segment.deriv(1.0)
+    };
+    match continuity {
+        Continuity::C0 => Joint::Corner,
+        Continuity::G1 => {
+            let theta = d.y.atan2(d.x);
+            Joint::G1(vars.add(
+                theta,
+                theta - 2.0 * std::f64::consts::TAU,
+                theta + 2.0 * std::f64::consts::TAU,
+            ))
+        }
+        Continuity::C1 => {
+            let i = vars.add(d.x, -reach, reach);
+            vars.add(d.y, -reach, reach);
+            Joint::C1(i)
+        }
+    }
+}
+
+/// The half-bandwidth of `chain` at `x0`: the widest spread of one link's
+/// variables below `lead` (the border's are after it); `None` when a
+/// link's controls cannot be built (a straight quadratic).
+fn half_bandwidth(chain: &JointChain, x0: &[f64], lead: usize) -> Option<usize> {
+    let mut width = 0;
+    for k in 0..chain.links.len() {
+        let (_, sens, used) = chain.controls(k, x0)?;
+        let idx = sens[..used].iter().map(|s| s.var).filter(|&v| v < lead);
+        let (a, b) = idx.fold((usize::MAX, 0), |(a, b), v| (a.min(v), b.max(v)));
+        if a <= b {
+            width = width.max(b - a);
+        }
+    }
+    Some(width)
 }
 
 /// Solves the chain of a sequential fit's segments jointly with `lm` within

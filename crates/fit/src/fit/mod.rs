@@ -34,6 +34,7 @@
 //! | [`linear_fit`] | fixed-weight linear least squares |
 //! | [`SegmentSolver`] | metaheuristic, LM and hybrid solvers |
 //! | [`fit_piecewise`], [`fit_segment_count`], [`fit_adaptive`] | whole outlines, closed smoothly or C⁰ ([`Closing`]) |
+//! | [`fit_between`], [`ChainEnds`] | an open chain joined to known curves beyond its ends |
 //! | [`fit_independent`] | every segment of a reference fit as its own problem |
 //! | [`densify`] | points inserted into a span too short for its function |
 //! | [`SegmentMetrics`], [`FitMetrics`] | E, RMS, data → curve and curve → data distances (Hausdorff), evaluations |
@@ -89,8 +90,8 @@ pub use options::{
     SearchSpaceOptions, ALPHA_SIZE, MARGIN, PT,
 };
 pub use piecewise::{
-    equal_arc_breaks, fit_breaks, fit_independent, fit_piecewise, fit_segment_count, ClosingJoint,
-    PiecewiseFit,
+    equal_arc_breaks, fit_between, fit_breaks, fit_independent, fit_piecewise, fit_segment_count,
+    ChainEnds, ClosingJoint, PiecewiseFit,
 };
 pub use problem::{tangent_meet, End, SegmentProblem, Start};
 pub use segment::Segment;

@@ -342,12 +342,46 @@ pub(super) fn joint_chain(
     solve_joint(outline, &fitted, options, &lm, budget)
 }
 
+/// How an open chain joins what lies beyond its ends: the first segment's
+/// start and the last segment's end, each joined to a known curve outside
+/// the data (as the cranial implant's outer wall joins the intact bone at
+/// A′ and B′, thesis chapter 6). The default joins nothing: both ends free.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ChainEnds {
+    /// How the first segment starts ([`Start::Free`]: C⁰, nothing before).
+    pub start: Start,
+    /// How the last segment ends ([`End::Free`]: nothing after).
+    pub end: End,
+}
+
+impl Default for ChainEnds {
+    fn default() -> Self {
+        ChainEnds {
+            start: Start::Free,
+            end: End::Free,
+        }
+    }
+}
+
+impl ChainEnds {
+    /// The continuity the start join imposes: C⁰ when free.
+    fn start_continuity(&self) -> Continuity {
+        match self.start {
+            Start::Free => Continuity::C0,
+            Start::C1 { .. } => Continuity::C1,
+            Start::G1 { .. } => Continuity::G1,
+        }
+    }
+}
+
 /// The spans of a chain in fitting order, the continuity at each start,
-/// and whether the first starts at a corner.
+/// whether the first starts at a corner, and the joins beyond the ends of
+/// an open chain.
 pub(super) struct Plan {
     pub(super) spans: Vec<(usize, usize)>,
     pub(super) joins: Vec<Continuity>,
     pub(super) at_corner: bool,
+    pub(super) ends: ChainEnds,
 }
 
 impl Plan {
@@ -397,6 +431,7 @@ impl Plan {
             spans,
             joins,
             at_corner,
+            ends: ChainEnds::default(),
         }
     }
 
@@ -436,8 +471,9 @@ impl Plan {
     }
 }
 
-/// Fits the chain's spans in order, each inheriting its join; the last one
-/// joins the first when the chain closes smoothly.
+/// Fits the chain's spans in order, each inheriting its join; the first
+/// one starts and the last one ends as the plan's [`ChainEnds`] say, and
+/// the last one joins the first when the chain closes smoothly.
 fn fit_chain<S: SegmentSolver + ?Sized>(
     outline: &Outline<'_>,
     chain: &Plan,
@@ -449,16 +485,23 @@ fn fit_chain<S: SegmentSolver + ?Sized>(
     let mut segments: Vec<FittedSegment> = Vec::with_capacity(n);
     let mut discarded = 0;
     for (k, (&(first, last), &join)) in chain.spans.iter().zip(&chain.joins).enumerate() {
+        let given = k + 1 == n && chain.ends.end != End::Free;
         let end = match segments.first() {
             Some(f) if close && k + 1 == n => end_before(f, options.continuity),
+            _ if given => chain.ends.end,
             _ => End::Free,
+        };
+        let start = match segments.last() {
+            None => chain.ends.start,
+            previous => start_after(previous, join),
         };
         let piece = Piece {
             first,
             last,
             join,
-            start: start_after(segments.last(), join),
+            start,
             end,
+            hold_end: given,
         };
         let (fit, spent) = fit_guarded(outline, piece, options, solver)?;
         discarded += spent;
@@ -511,6 +554,35 @@ pub fn fit_breaks<S: SegmentSolver + ?Sized>(
     options.validate()?;
     let outline = Outline::new(points, closed, options.function.min_points())?;
     let chain = Plan::at_corners(&outline, outline.spans(breaks)?, corners, options);
+    fit_chain(&outline, &chain, options, solver)
+}
+
+/// [`fit_piecewise`] on an open outline whose ends join known curves
+/// outside it: the first segment starts as `ends.start` says and the last
+/// ends as `ends.end` says, every interior joint with `options.continuity`,
+/// segments in sequence, each solved by `solver` with
+/// `options.budget_per_segment` evaluations. The end join must hold: one
+/// the function cannot hold (a quadratic joined at both ends, a zero end
+/// tangent) fails with [`FitError::InvalidOption`] named `"end"`.
+///
+/// Used by the cranial implant's outer wall, a chain between the intact
+/// bone at A′ and at B′ (thesis chapter 6).
+pub fn fit_between<S: SegmentSolver + ?Sized>(
+    points: &[Point],
+    breaks: &[usize],
+    ends: ChainEnds,
+    options: &FitOptions,
+    solver: &mut S,
+) -> Result<PiecewiseFit, FitError> {
+    options.validate()?;
+    let outline = Outline::new(points, false, options.function.min_points())?;
+    let spans = outline.spans(breaks)?;
+    let corner = vec![false; spans.len()];
+    let mut chain = Plan::new(&outline, spans, &corner, options);
+    if let Some(j) = chain.joins.first_mut() {
+        *j = ends.start_continuity();
+    }
+    chain.ends = ends;
     fit_chain(&outline, &chain, options, solver)
 }
 
@@ -663,6 +735,7 @@ where
             join: r.join,
             start,
             end: r.end,
+            hold_end: false,
         };
         segments.push(fit_one(&outline, piece, options, &mut solver_for(k))?);
     }
@@ -731,6 +804,55 @@ mod tests {
                 requested: 2,
                 minimum: 3
             })
+        );
+    }
+
+    #[test]
+    fn a_chain_between_given_ends_holds_them() {
+        use crate::fit::LmSolver;
+        // A quarter circle, sampled at 61 points: two cubics between the
+        // given end tangents (+y at the start, −x at the end), G¹ inside.
+        let pts: Vec<Point> = (0..=60)
+            .map(|k| {
+                let a = std::f64::consts::FRAC_PI_2 * k as f64 / 60.0;
+                Point::new(a.cos(), a.sin())
+            })
+            .collect();
+        let ends = ChainEnds {
+            start: Start::G1 {
+                leg: Point::new(0.0, 1.0),
+            },
+            end: End::G1 {
+                dir: Point::new(-1.0, 0.0),
+            },
+        };
+        let options = FitOptions::new(super::super::FunctionType::Cubic, Continuity::G1);
+        let fit = fit_between(&pts, &[0, 30], ends, &options, &mut LmSolver::default()).unwrap();
+        assert_eq!(fit.breaks(), vec![0, 30]);
+        assert!(fit.joins_hold(1e-9));
+        let (first, last) = (&fit.segments[0], &fit.segments[1]);
+        assert_eq!(first.join, Continuity::G1);
+        assert_eq!(last.end, ends.end);
+        let d0 = first.segment.deriv(0.0);
+        let d1 = last.segment.deriv(1.0);
+        assert!(d0.x.abs() < 1e-12 && d0.y > 0.0, "{d0:?}");
+        assert!(d1.y.abs() < 1e-12 && d1.x < 0.0, "{d1:?}");
+        assert!(fit.metrics.max_distance < 1e-3);
+        // A quadratic cannot be joined C¹ at both ends: the given end fails
+        // instead of being left free.
+        let quadratic = FitOptions::new(super::super::FunctionType::Quadratic, Continuity::C1);
+        let both = ChainEnds {
+            start: Start::C1 {
+                derivative: Point::new(0.0, 1.0),
+            },
+            end: End::C1 {
+                derivative: Point::new(-1.0, 0.0),
+            },
+        };
+        let e = fit_between(&pts, &[], both, &quadratic, &mut LmSolver::default()).unwrap_err();
+        assert!(
+            matches!(e, FitError::InvalidOption { name: "end", .. }),
+            "{e:?}"
         );
     }
 

@@ -160,6 +160,10 @@ pub(super) struct Piece {
     pub start: Start,
     /// How it ends.
     pub end: End,
+    /// Whether the end join must hold (a given end of an open chain,
+    /// [`super::ChainEnds`]): a join the function cannot hold fails the fit
+    /// instead of leaving the end free, as a closing joint's does.
+    pub hold_end: bool,
 }
 
 /// `points` with midpoints inserted into the longest gaps (the first of
@@ -211,6 +215,9 @@ fn piece_problem(
     .with_error(options.error);
     if piece.end == End::Free {
         return Ok((problem, original, End::Free));
+    }
+    if piece.hold_end {
+        return Ok((problem.with_end(piece.end)?, original, piece.end));
     }
     Ok(match problem.clone().with_end(piece.end) {
         Ok(joined) => (joined, original, piece.end),

@@ -2,7 +2,7 @@
 
 use std::fmt;
 use std::io;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use super::image::MAX_DEFLATE_RATIO;
 
@@ -279,15 +279,7 @@ impl fmt::Display for OutlineError {
                 bits,
                 need,
                 after,
-            } => write!(
-                f,
-                "{}: the PNG header declares {width}×{height} pixels at {bits} bits each, \
-                 {need} bytes of pixel data, but the {after} bytes after the header decompress \
-                 to at most {} (deflate expands at most 1032:1): the file is truncated or its \
-                 header is corrupt",
-                path.display(),
-                MAX_DEFLATE_RATIO * (after + 1)
-            ),
+            } => image_data(f, path, (*width, *height), *bits, (*need, *after)),
             Self::UniformImage { path, level } => write!(
                 f,
                 "{}: every pixel has grey level {level}, so no threshold separates a shape \
@@ -317,26 +309,14 @@ impl fmt::Display for OutlineError {
                 id,
                 table,
                 reported,
-            } => write!(
-                f,
-                "{}: the font file is malformed: the outline of the glyph for {}, glyph id {id} \
-                 in table '{table}', cannot be read: {reported}",
-                path.display(),
-                describe_char(*glyph)
-            ),
+            } => malformed_glyph(f, path, *glyph, (*id, table), reported),
             Self::GlyphLimit {
                 path,
                 glyph,
                 what,
                 found,
                 limit,
-            } => write!(
-                f,
-                "{}: the glyph for {} has at least {found} {what}, beyond this reader's limit of \
-                 {limit} per glyph (the font is malformed, or far beyond any real glyph)",
-                path.display(),
-                describe_char(*glyph)
-            ),
+            } => glyph_limit(f, path, *glyph, what, (*found, *limit)),
             Self::MissingGlyph { path, glyph } => write!(
                 f,
                 "{}: the font has no glyph for {}",
@@ -359,14 +339,7 @@ impl fmt::Display for OutlineError {
                 input,
                 asked,
                 count,
-            } => write!(
-                f,
-                "{input}: contour {asked} was asked for, but the input has {count} contour{} \
-                 (numbered from 0 by decreasing area: 0..={}); to fit them all, leave --contour \
-                 out (or write contour = \"all\" in a spec)",
-                if *count == 1 { "" } else { "s" },
-                count.saturating_sub(1)
-            ),
+            } => contour_out_of_range(f, input, *asked, *count),
             csv => csv.fmt_csv(f),
         }
     }
@@ -451,6 +424,81 @@ impl std::error::Error for OutlineError {
             _ => None,
         }
     }
+}
+
+/// The message of [`OutlineError::ContourOutOfRange`]: contour `asked`
+/// of an input with `count` contours.
+fn contour_out_of_range(
+    f: &mut fmt::Formatter<'_>,
+    input: &str,
+    asked: usize,
+    count: usize,
+) -> fmt::Result {
+    write!(
+        f,
+        "{input}: contour {asked} was asked for, but the input has {count} contour{} \
+         (numbered from 0 by decreasing area: 0..={}); to fit them all, leave --contour \
+         out (or write contour = \"all\" in a spec)",
+        if count == 1 { "" } else { "s" },
+        count.saturating_sub(1)
+    )
+}
+
+/// The message of [`OutlineError::ImageData`]: the PNG header's `size`
+/// (width, height) at `bits` per pixel needs `need` bytes, which the
+/// `after` bytes after the header cannot decompress to.
+fn image_data(
+    f: &mut fmt::Formatter<'_>,
+    path: &Path,
+    (width, height): (u32, u32),
+    bits: u64,
+    (need, after): (u64, u64),
+) -> fmt::Result {
+    write!(
+        f,
+        "{}: the PNG header declares {width}×{height} pixels at {bits} bits each, \
+         {need} bytes of pixel data, but the {after} bytes after the header decompress \
+         to at most {} (deflate expands at most 1032:1): the file is truncated or its \
+         header is corrupt",
+        path.display(),
+        MAX_DEFLATE_RATIO * (after + 1)
+    )
+}
+
+/// The message of [`OutlineError::MalformedGlyph`]: the outline of the
+/// glyph for `glyph` (glyph id, table) cannot be read.
+fn malformed_glyph(
+    f: &mut fmt::Formatter<'_>,
+    path: &Path,
+    glyph: char,
+    (id, table): (u16, &str),
+    reported: &str,
+) -> fmt::Result {
+    write!(
+        f,
+        "{}: the font file is malformed: the outline of the glyph for {}, glyph id {id} \
+         in table '{table}', cannot be read: {reported}",
+        path.display(),
+        describe_char(glyph)
+    )
+}
+
+/// The message of [`OutlineError::GlyphLimit`]: at least `found` of
+/// `what`, beyond the reader's `limit`.
+fn glyph_limit(
+    f: &mut fmt::Formatter<'_>,
+    path: &Path,
+    glyph: char,
+    what: &str,
+    (found, limit): (u64, u64),
+) -> fmt::Result {
+    write!(
+        f,
+        "{}: the glyph for {} has at least {found} {what}, beyond this reader's limit of \
+         {limit} per glyph (the font is malformed, or far beyond any real glyph)",
+        path.display(),
+        describe_char(glyph)
+    )
 }
 
 #[cfg(test)]

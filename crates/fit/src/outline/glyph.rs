@@ -26,7 +26,7 @@ use std::collections::HashMap;
 use std::panic::{catch_unwind, resume_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 
-use ttf_parser::{Face, GlyphId, OutlineBuilder, RawFace, Tag};
+use ttf_parser::{Face, GlyphId, OutlineBuilder, RawFace, Rect, Tag};
 
 use super::csv_points::MAX_COORDINATE;
 use super::{Orientation, Outline, OutlineError};
@@ -615,6 +615,132 @@ fn glyf_structure(face: &Face<'_>, id: GlyphId) -> Option<Result<(u64, bool), Cy
     Some(c.visit(id.0, 0))
 }
 
+/// The errors of one glyph's outline, naming the font, the character and
+/// its glyph id.
+struct GlyphErrors<'a> {
+    path: &'a Path,
+    glyph: char,
+    id: GlyphId,
+}
+
+impl GlyphErrors<'_> {
+    /// [`OutlineError::NoOutline`].
+    fn no_outline(&self) -> OutlineError {
+        OutlineError::NoOutline {
+            path: self.path.to_owned(),
+            glyph: self.glyph,
+        }
+    }
+
+    /// [`OutlineError::MalformedGlyph`] in `table`, as `reported`.
+    fn malformed(&self, table: &str, reported: String) -> OutlineError {
+        OutlineError::MalformedGlyph {
+            path: self.path.to_owned(),
+            glyph: self.glyph,
+            id: self.id.0,
+            table: table.to_owned(),
+            reported,
+        }
+    }
+
+    /// [`OutlineError::GlyphLimit`]: at least `found` of `what`, beyond `limit`.
+    fn limit(&self, what: &'static str, found: u64, limit: u64) -> OutlineError {
+        OutlineError::GlyphLimit {
+            path: self.path.to_owned(),
+            glyph: self.glyph,
+            what,
+            found,
+            limit,
+        }
+    }
+}
+
+/// Draws the `glyf` outline of glyph `id` into `collector`, as
+/// `Face::outline_glyph` does, telling a glyph that draws nothing from one
+/// that cannot be read; returns its bounding box.
+fn draw_glyf(
+    face: &Face<'_>,
+    collector: &mut Collector,
+    errors: &GlyphErrors<'_>,
+) -> Result<Rect, OutlineError> {
+    let id = errors.id;
+    let (visits, draws) = match glyf_structure(face, id) {
+        Some(Ok(structure)) => structure,
+        Some(Err(Cycle)) => {
+            return Err(errors.malformed(
+                "glyf",
+                "its components refer back to one another (a cycle)".into(),
+            ))
+        }
+        None => (1, true),
+    };
+    if visits > MAX_GLYPH_COMPONENTS {
+        return Err(errors.limit("component references", visits, MAX_GLYPH_COMPONENTS));
+    }
+    // The closing line of the last contour counts towards the limit too,
+    // so `finish` runs inside the catch.
+    let outlined = catch_unwind(AssertUnwindSafe(|| {
+        let rect = face.outline_glyph(id, &mut *collector);
+        collector.finish();
+        rect
+    }));
+    match outlined {
+        Ok(Some(rect)) => Ok(rect),
+        Ok(None) if !draws => Err(errors.no_outline()),
+        Ok(None) => Err(errors.malformed(
+            "glyf",
+            "ttf-parser cannot read its outline data (it gives no reason for 'glyf' \
+             glyphs: a contour, point or component record is cut short or out of range)"
+                .into(),
+        )),
+        Err(payload) => Err(cap_or_resume(payload, |w, f, l| errors.limit(w, f, l))),
+    }
+}
+
+/// Draws the CFF outline of glyph `id` into `collector`; returns its
+/// bounding box.
+fn draw_cff(
+    cff: &ttf_parser::cff::Table<'_>,
+    collector: &mut Collector,
+    errors: &GlyphErrors<'_>,
+) -> Result<Rect, OutlineError> {
+    let outlined = catch_unwind(AssertUnwindSafe(|| {
+        let rect = cff.outline(errors.id, &mut *collector);
+        collector.finish();
+        rect
+    }));
+    match outlined {
+        Ok(Ok(rect)) => Ok(rect),
+        Ok(Err(ttf_parser::CFFError::ZeroBBox)) => Err(errors.no_outline()),
+        Ok(Err(e)) => Err(errors.malformed(
+            "CFF ",
+            format!("ttf-parser reports {e:?} in its charstring"),
+        )),
+        Err(payload) => Err(cap_or_resume(payload, |w, f, l| errors.limit(w, f, l))),
+    }
+}
+
+/// The error of a font with neither usable `glyf` nor CFF outlines,
+/// saying which tables it has.
+fn no_usable_outlines(face: &Face<'_>, path: &Path) -> OutlineError {
+    let raw = face.raw_face();
+    let has = |t: &[u8; 4]| raw.table(Tag::from_bytes(t)).is_some();
+    let message = if has(b"glyf") {
+        "the font file is malformed: its 'glyf' outlines cannot be used, because its \
+         'loca' index is missing or malformed"
+    } else if has(b"CFF ") {
+        "the font file is malformed: ttf-parser cannot read its 'CFF ' table"
+    } else if has(b"CFF2") {
+        "the font has only 'CFF2' (variable) outlines, which this reader does not support"
+    } else {
+        "the font has no glyph outlines (neither a 'glyf' nor a 'CFF ' table)"
+    };
+    OutlineError::MalformedFont {
+        path: path.to_owned(),
+        message: message.into(),
+    }
+}
+
 /// Reads the outline of `glyph` from font data; `path` only names the font
 /// in the result and in errors.
 pub fn glyph_from_bytes(data: &[u8], path: &Path, glyph: char) -> Result<Glyph, OutlineError> {
@@ -630,107 +756,27 @@ pub fn glyph_from_bytes(data: &[u8], path: &Path, glyph: char) -> Result<Glyph, 
             path: path.to_owned(),
             glyph,
         })?;
-    let no_outline = || OutlineError::NoOutline {
-        path: path.to_owned(),
-        glyph,
-    };
-    let malformed = |table: &str, reported: String| OutlineError::MalformedGlyph {
-        path: path.to_owned(),
-        glyph,
-        id: id.0,
-        table: table.to_owned(),
-        reported,
-    };
-    let limit = |what: &'static str, found: u64, limit: u64| OutlineError::GlyphLimit {
-        path: path.to_owned(),
-        glyph,
-        what,
-        found,
-        limit,
-    };
+    let errors = GlyphErrors { path, glyph, id };
     let mut collector = Collector::default();
-    // The outline, as `Face::outline_glyph` draws it (glyf first, then CFF),
-    // but telling a glyph that draws nothing from one that cannot be read.
+    // The outline, as `Face::outline_glyph` draws it (glyf first, then CFF).
     let drawn = if face.tables().glyf.is_some() {
-        let (visits, draws) = match glyf_structure(&face, id) {
-            Some(Ok(structure)) => structure,
-            Some(Err(Cycle)) => {
-                return Err(malformed(
-                    "glyf",
-                    "its components refer back to one another (a cycle)".into(),
-                ))
-            }
-            None => (1, true),
-        };
-        if visits > MAX_GLYPH_COMPONENTS {
-            return Err(limit("component references", visits, MAX_GLYPH_COMPONENTS));
-        }
-        // The closing line of the last contour counts towards the limit too,
-        // so `finish` runs inside the catch.
-        let outlined = catch_unwind(AssertUnwindSafe(|| {
-            let rect = face.outline_glyph(id, &mut collector);
-            collector.finish();
-            rect
-        }));
-        match outlined {
-            Ok(Some(rect)) => rect,
-            Ok(None) if !draws => return Err(no_outline()),
-            Ok(None) => {
-                return Err(malformed(
-                    "glyf",
-                    "ttf-parser cannot read its outline data (it gives no reason for 'glyf' \
-                     glyphs: a contour, point or component record is cut short or out of range)"
-                        .into(),
-                ))
-            }
-            Err(payload) => return Err(cap_or_resume(payload, limit)),
-        }
+        draw_glyf(&face, &mut collector, &errors)?
     } else if let Some(cff) = face.tables().cff.as_ref() {
-        let outlined = catch_unwind(AssertUnwindSafe(|| {
-            let rect = cff.outline(id, &mut collector);
-            collector.finish();
-            rect
-        }));
-        match outlined {
-            Ok(Ok(rect)) => rect,
-            Ok(Err(ttf_parser::CFFError::ZeroBBox)) => return Err(no_outline()),
-            Ok(Err(e)) => {
-                return Err(malformed(
-                    "CFF ",
-                    format!("ttf-parser reports {e:?} in its charstring"),
-                ))
-            }
-            Err(payload) => return Err(cap_or_resume(payload, limit)),
-        }
+        draw_cff(cff, &mut collector, &errors)?
     } else {
-        let raw = face.raw_face();
-        let has = |t: &[u8; 4]| raw.table(Tag::from_bytes(t)).is_some();
-        let message = if has(b"glyf") {
-            "the font file is malformed: its 'glyf' outlines cannot be used, because its \
-             'loca' index is missing or malformed"
-        } else if has(b"CFF ") {
-            "the font file is malformed: ttf-parser cannot read its 'CFF ' table"
-        } else if has(b"CFF2") {
-            "the font has only 'CFF2' (variable) outlines, which this reader does not support"
-        } else {
-            "the font has no glyph outlines (neither a 'glyf' nor a 'CFF ' table)"
-        };
-        return Err(OutlineError::MalformedFont {
-            path: path.to_owned(),
-            message: message.into(),
-        });
+        return Err(no_usable_outlines(&face, path));
     };
     let mut contours = std::mem::take(&mut collector.contours);
     if contours.is_empty() {
-        return Err(no_outline());
+        return Err(errors.no_outline());
     }
     let far = collector.far;
     if contours.len() > MAX_GLYPH_CONTOURS {
         let n = contours.len() as u64;
-        return Err(limit("contours", n, MAX_GLYPH_CONTOURS as u64));
+        return Err(errors.limit("contours", n, MAX_GLYPH_CONTOURS as u64));
     }
     if let Some(value) = far {
-        return Err(malformed(
+        return Err(errors.malformed(
             if face.tables().glyf.is_some() {
                 "glyf"
             } else {

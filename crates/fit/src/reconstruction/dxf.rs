@@ -86,6 +86,141 @@ impl Dxf {
     }
 }
 
+impl Dxf {
+    /// The TABLES section: the symbol tables a DXF reader expects, and the
+    /// block records with the fixed handles `model` and `paper`.
+    fn tables(&mut self, model: &str, paper: &str) {
+        self.pair(0, "SECTION");
+        self.pair(2, "TABLES");
+        self.symbol_tables();
+        // BLOCK_RECORD with the two fixed handles.
+        let records = self.handle();
+        self.table_of(
+            "BLOCK_RECORD",
+            &records,
+            &[
+                ("*Model_Space", model.to_owned()),
+                ("*Paper_Space", paper.to_owned()),
+            ],
+            |d, name| {
+                d.pair(100, "AcDbBlockTableRecord");
+                d.pair(2, name);
+            },
+        );
+        self.pair(0, "ENDSEC");
+    }
+
+    /// The symbol tables before the block records: a viewport, the line
+    /// types, layer `0`, the standard text style, the application id and
+    /// dimension style, no views and no UCS.
+    fn symbol_tables(&mut self) {
+        self.table("VPORT", &["*Active"], |d, name| {
+            d.pair(100, "AcDbViewportTableRecord");
+            d.pair(2, name);
+            d.pair(70, 0);
+        });
+        self.table("LTYPE", &["ByBlock", "ByLayer", "Continuous"], |d, name| {
+            d.pair(100, "AcDbLinetypeTableRecord");
+            d.pair(2, name);
+            d.pair(70, 0);
+            d.pair(
+                3,
+                if name == "Continuous" {
+                    "Solid line"
+                } else {
+                    ""
+                },
+            );
+            d.pair(72, 65);
+            d.pair(73, 0);
+            d.pair(40, 0.0);
+        });
+        self.table("LAYER", &["0"], |d, name| {
+            d.pair(100, "AcDbLayerTableRecord");
+            d.pair(2, name);
+            d.pair(70, 0);
+            d.pair(62, 7);
+            d.pair(6, "Continuous");
+        });
+        self.table("STYLE", &["Standard"], |d, name| {
+            d.pair(100, "AcDbTextStyleTableRecord");
+            d.pair(2, name);
+            d.pair(70, 0);
+            d.pair(40, 0.0);
+            d.pair(41, 1.0);
+            d.pair(50, 0.0);
+            d.pair(71, 0);
+            d.pair(42, 2.5);
+            d.pair(3, "txt");
+            d.pair(4, "");
+        });
+        self.table("VIEW", &[], |_, _| {});
+        self.table("UCS", &[], |_, _| {});
+        self.table("APPID", &["ACAD"], |d, name| {
+            d.pair(100, "AcDbRegAppTableRecord");
+            d.pair(2, name);
+            d.pair(70, 0);
+        });
+        self.table("DIMSTYLE", &["Standard"], |d, name| {
+            d.pair(100, "AcDbDimStyleTableRecord");
+            d.pair(2, name);
+            d.pair(70, 0);
+        });
+    }
+
+    /// The BLOCKS section: the two layout blocks, owned by the block
+    /// records `model` and `paper`, empty.
+    fn blocks(&mut self, model: &str, paper: &str) {
+        // BLOCKS: the two layout blocks, empty (model space's entities are in
+        // ENTITIES).
+        self.pair(0, "SECTION");
+        self.pair(2, "BLOCKS");
+        for (name, owner) in [("*Model_Space", model), ("*Paper_Space", paper)] {
+            let (block, end) = (self.handle(), self.handle());
+            self.pair(0, "BLOCK");
+            self.pair(5, &block);
+            self.pair(330, owner);
+            self.pair(100, "AcDbEntity");
+            self.pair(8, "0");
+            self.pair(100, "AcDbBlockBegin");
+            self.pair(2, name);
+            self.pair(70, 0);
+            for code in [10, 20, 30] {
+                self.pair(code, 0.0);
+            }
+            self.pair(3, name);
+            self.pair(1, "");
+            self.pair(0, "ENDBLK");
+            self.pair(5, &end);
+            self.pair(330, owner);
+            self.pair(100, "AcDbEntity");
+            self.pair(8, "0");
+            self.pair(100, "AcDbBlockEnd");
+        }
+        self.pair(0, "ENDSEC");
+    }
+
+    /// The HEADER and CLASSES sections, with the handle seed `handseed`.
+    fn header(&mut self, handseed: u64) {
+        self.pair(
+            999,
+            "metabezier fit: every segment one SPLINE, exact (control points and weights)",
+        );
+        self.pair(0, "SECTION");
+        self.pair(2, "HEADER");
+        self.pair(9, "$ACADVER");
+        self.pair(1, "AC1015");
+        self.pair(9, "$HANDSEED");
+        self.pair(5, format!("{:X}", handseed));
+        self.pair(9, "$INSUNITS");
+        self.pair(70, 0);
+        self.pair(0, "ENDSEC");
+        self.pair(0, "SECTION");
+        self.pair(2, "CLASSES");
+        self.pair(0, "ENDSEC");
+    }
+}
+
 /// The DXF R2000 document of `fit`: one `SPLINE` per segment on layer `0`
 /// of model space, in contour order.
 pub fn shape_dxf(fit: &ShapeFit) -> String {
@@ -100,106 +235,8 @@ pub fn shape_dxf(fit: &ShapeFit) -> String {
         text: String::new(),
         next_handle: 0x100,
     };
-    // TABLES.
-    body.pair(0, "SECTION");
-    body.pair(2, "TABLES");
-    body.table("VPORT", &["*Active"], |d, name| {
-        d.pair(100, "AcDbViewportTableRecord");
-        d.pair(2, name);
-        d.pair(70, 0);
-    });
-    body.table("LTYPE", &["ByBlock", "ByLayer", "Continuous"], |d, name| {
-        d.pair(100, "AcDbLinetypeTableRecord");
-        d.pair(2, name);
-        d.pair(70, 0);
-        d.pair(
-            3,
-            if name == "Continuous" {
-                "Solid line"
-            } else {
-                ""
-            },
-        );
-        d.pair(72, 65);
-        d.pair(73, 0);
-        d.pair(40, 0.0);
-    });
-    body.table("LAYER", &["0"], |d, name| {
-        d.pair(100, "AcDbLayerTableRecord");
-        d.pair(2, name);
-        d.pair(70, 0);
-        d.pair(62, 7);
-        d.pair(6, "Continuous");
-    });
-    body.table("STYLE", &["Standard"], |d, name| {
-        d.pair(100, "AcDbTextStyleTableRecord");
-        d.pair(2, name);
-        d.pair(70, 0);
-        d.pair(40, 0.0);
-        d.pair(41, 1.0);
-        d.pair(50, 0.0);
-        d.pair(71, 0);
-        d.pair(42, 2.5);
-        d.pair(3, "txt");
-        d.pair(4, "");
-    });
-    body.table("VIEW", &[], |_, _| {});
-    body.table("UCS", &[], |_, _| {});
-    body.table("APPID", &["ACAD"], |d, name| {
-        d.pair(100, "AcDbRegAppTableRecord");
-        d.pair(2, name);
-        d.pair(70, 0);
-    });
-    body.table("DIMSTYLE", &["Standard"], |d, name| {
-        d.pair(100, "AcDbDimStyleTableRecord");
-        d.pair(2, name);
-        d.pair(70, 0);
-    });
-    // BLOCK_RECORD with the two fixed handles.
-    let records = body.handle();
-    body.table_of(
-        "BLOCK_RECORD",
-        &records,
-        &[
-            ("*Model_Space", model_record.clone()),
-            ("*Paper_Space", paper_record.clone()),
-        ],
-        |d, name| {
-            d.pair(100, "AcDbBlockTableRecord");
-            d.pair(2, name);
-        },
-    );
-    body.pair(0, "ENDSEC");
-    // BLOCKS: the two layout blocks, empty (model space's entities are in
-    // ENTITIES).
-    body.pair(0, "SECTION");
-    body.pair(2, "BLOCKS");
-    for (name, owner) in [
-        ("*Model_Space", &model_record),
-        ("*Paper_Space", &paper_record),
-    ] {
-        let (block, end) = (body.handle(), body.handle());
-        body.pair(0, "BLOCK");
-        body.pair(5, &block);
-        body.pair(330, owner);
-        body.pair(100, "AcDbEntity");
-        body.pair(8, "0");
-        body.pair(100, "AcDbBlockBegin");
-        body.pair(2, name);
-        body.pair(70, 0);
-        for code in [10, 20, 30] {
-            body.pair(code, 0.0);
-        }
-        body.pair(3, name);
-        body.pair(1, "");
-        body.pair(0, "ENDBLK");
-        body.pair(5, &end);
-        body.pair(330, owner);
-        body.pair(100, "AcDbEntity");
-        body.pair(8, "0");
-        body.pair(100, "AcDbBlockEnd");
-    }
-    body.pair(0, "ENDSEC");
+    body.tables(&model_record, &paper_record);
+    body.blocks(&model_record, &paper_record);
     // ENTITIES: one SPLINE per segment.
     body.pair(0, "SECTION");
     body.pair(2, "ENTITIES");
@@ -218,22 +255,7 @@ pub fn shape_dxf(fit: &ShapeFit) -> String {
     body.pair(0, "ENDSEC");
     body.pair(0, "EOF");
     // HEADER last, once the handle seed is known.
-    d.pair(
-        999,
-        "metabezier fit: every segment one SPLINE, exact (control points and weights)",
-    );
-    d.pair(0, "SECTION");
-    d.pair(2, "HEADER");
-    d.pair(9, "$ACADVER");
-    d.pair(1, "AC1015");
-    d.pair(9, "$HANDSEED");
-    d.pair(5, format!("{:X}", body.next_handle));
-    d.pair(9, "$INSUNITS");
-    d.pair(70, 0);
-    d.pair(0, "ENDSEC");
-    d.pair(0, "SECTION");
-    d.pair(2, "CLASSES");
-    d.pair(0, "ENDSEC");
+    d.header(body.next_handle);
     d.text.push_str(&body.text);
     d.text
 }

@@ -250,6 +250,210 @@ struct Found {
     matrix: Option<Matrix>,
 }
 
+/// Checks the header checksum of the tar header `header` at `at`: the sum
+/// of its bytes with the checksum field read as spaces.
+fn check_checksum(header: &[u8], at: u64) -> Result<(), Inv3Problem> {
+    let stored = tar_number(&header[148..156]);
+    let computed: u64 = header
+        .iter()
+        .enumerate()
+        .map(|(i, &b)| {
+            if (148..156).contains(&i) {
+                32
+            } else {
+                b as u64
+            }
+        })
+        .sum();
+    if stored != Some(computed) {
+        return Err(Inv3Problem::HeaderChecksum {
+            offset: at,
+            stored: tar_text(&header[148..156]),
+            computed,
+        });
+    }
+    Ok(())
+}
+
+/// The extensions pending for the next member: a GNU long name and a pax
+/// header's path and size.
+#[derive(Default)]
+struct Pending {
+    long_name: Option<String>,
+    pax: (Option<String>, Option<u64>),
+}
+
+/// One tar member's header: its type flag, name, size and the padding
+/// after its data.
+struct Member {
+    at: u64,
+    kind: u8,
+    name: String,
+    size: u64,
+    padding: u64,
+}
+
+impl Member {
+    /// Its base name (after the last `/`).
+    fn base(&self) -> String {
+        self.name.rsplit('/').next().unwrap_or("").to_string()
+    }
+
+    /// [`Inv3Problem::DuplicateMember`]: a second member of its base name,
+    /// the first at `first`.
+    fn duplicate_of(&self, first: u64) -> Inv3Problem {
+        Inv3Problem::DuplicateMember {
+            name: self.base(),
+            first,
+            second: self.at,
+        }
+    }
+}
+
+/// The member whose checked `header` is at `at`, with the `pending`
+/// extensions applied, its size checked against the bytes that remain.
+fn member<R: BufRead>(
+    tar: &Tar<R>,
+    header: &[u8],
+    at: u64,
+    pending: &mut Pending,
+) -> Result<Member, Inv3Problem> {
+    let field = |name: &'static str, range: std::ops::Range<usize>| {
+        tar_number(&header[range.clone()]).ok_or_else(|| Inv3Problem::HeaderField {
+            offset: at,
+            field: name,
+            text: tar_text(&header[range]),
+        })
+    };
+    let kind = header[156];
+    let size = match pending.pax.1.take() {
+        Some(s) => s,
+        None => field("size", 124..136)?,
+    };
+    let mut name = tar_text(&header[..100]);
+    if &header[257..262] == b"ustar" && header[345] != 0 {
+        name = format!("{}/{name}", tar_text(&header[345..500]));
+    }
+    let name = pending
+        .long_name
+        .take()
+        .or(pending.pax.0.take())
+        .unwrap_or(name);
+    let remaining = tar.total.saturating_sub(tar.pos);
+    let padded = size.div_ceil(BLOCK).saturating_mul(BLOCK);
+    if size > remaining {
+        return Err(Inv3Problem::MemberTooLarge {
+            name,
+            offset: at,
+            declared: size,
+            remaining,
+            total: tar.total,
+        });
+    }
+    Ok(Member {
+        at,
+        kind,
+        name,
+        size,
+        padding: padded.min(remaining) - size,
+    })
+}
+
+/// Reads the extension member `m` (a pax extended header or a GNU long
+/// name, at most [`MAX_TAR_EXTENSION_BYTES`]) into `pending`.
+fn read_extension<R: BufRead>(
+    tar: &mut Tar<R>,
+    m: &Member,
+    pending: &mut Pending,
+) -> Result<(), Inv3Problem> {
+    if m.size > MAX_TAR_EXTENSION_BYTES {
+        return Err(Inv3Problem::Extension {
+            kind: if m.kind == b'x' {
+                "pax extended header"
+            } else {
+                "GNU long name"
+            },
+            offset: m.at,
+            declared: m.size,
+            limit: MAX_TAR_EXTENSION_BYTES,
+        });
+    }
+    let mut data = vec![0u8; m.size as usize];
+    tar.exact(&mut data)?;
+    tar.skip(m.padding)?;
+    if m.kind == b'x' {
+        pending.pax = pax_records(&data, m.at)?;
+    } else {
+        pending.long_name = Some(tar_text(&data));
+    }
+    Ok(())
+}
+
+/// Reads the member `m`, `main.plist` (at most [`MAX_PLIST_BYTES`], once),
+/// into `found`, checking a volume member already held against it.
+fn read_plist<R: BufRead>(
+    tar: &mut Tar<R>,
+    path: &Path,
+    m: Member,
+    found: &mut Found,
+) -> Result<(), CtError> {
+    let bad = |problem: Inv3Problem| CtError::inv3(path, problem);
+    if let Some((first, _)) = found.plist {
+        return Err(bad(m.duplicate_of(first)));
+    }
+    if m.size > MAX_PLIST_BYTES {
+        return Err(bad(Inv3Problem::PlistTooLarge {
+            declared: m.size,
+            limit: MAX_PLIST_BYTES,
+        }));
+    }
+    let mut text = vec![0u8; m.size as usize];
+    tar.exact(&mut text).map_err(bad)?;
+    tar.skip(m.padding).map_err(bad)?;
+    let info = plist_info(&text, path);
+    if let (Ok(info), Some(held)) = (&info, &found.matrix) {
+        if info.filename != DEFAULT_MATRIX {
+            found.matrix = None; // held as `matrix.dat`, not the one named
+        } else if held.bytes != info.bytes {
+            return Err(byte_count(path, info.bytes, held.bytes));
+        }
+    }
+    found.plist = Some((m.at, info));
+    Ok(())
+}
+
+/// Reads the volume member `m` (once; its size checked against the plist's
+/// shape when known) into `found`: its samples, or none for an odd size.
+fn read_matrix<R: BufRead>(
+    tar: &mut Tar<R>,
+    path: &Path,
+    m: Member,
+    found: &mut Found,
+) -> Result<(), CtError> {
+    let bad = |problem: Inv3Problem| CtError::inv3(path, problem);
+    if let Some(held) = &found.matrix {
+        return Err(bad(m.duplicate_of(held.at)));
+    }
+    if let Some((_, Ok(info))) = &found.plist {
+        if m.size != info.bytes {
+            return Err(byte_count(path, info.bytes, m.size));
+        }
+    }
+    let data = if m.size.is_multiple_of(2) {
+        tar.samples(m.size).map_err(bad)?
+    } else {
+        tar.skip(m.size).map_err(bad)?;
+        Vec::new()
+    };
+    tar.skip(m.padding).map_err(bad)?;
+    found.matrix = Some(Matrix {
+        at: m.at,
+        bytes: m.size,
+        data,
+    });
+    Ok(())
+}
+
 /// One pass over the tar entries of `tar` up to the end-of-archive block.
 /// With `only = None` it keeps `main.plist` and the volume member it names
 /// (`matrix.dat` while the plist is not yet read); with `only =
@@ -266,8 +470,7 @@ fn scan<R: BufRead>(
     let bad = |problem: Inv3Problem| CtError::inv3(path, problem);
     let mut found = Found::default();
     let mut header = [0u8; BLOCK as usize];
-    let (mut long_name, mut pax): (Option<String>, (Option<String>, Option<u64>)) =
-        (None, (None, None));
+    let mut pending = Pending::default();
     loop {
         let at = tar.pos;
         if only.is_some_and(|(_, stop)| at >= stop) {
@@ -286,88 +489,21 @@ fn scan<R: BufRead>(
         if header.iter().all(|&b| b == 0) {
             return Ok(found); // end of archive
         }
-        let stored = tar_number(&header[148..156]);
-        let computed: u64 = header
-            .iter()
-            .enumerate()
-            .map(|(i, &b)| {
-                if (148..156).contains(&i) {
-                    32
-                } else {
-                    b as u64
-                }
-            })
-            .sum();
-        if stored != Some(computed) {
-            return Err(bad(Inv3Problem::HeaderChecksum {
-                offset: at,
-                stored: tar_text(&header[148..156]),
-                computed,
-            }));
-        }
-        let field = |name: &'static str, range: std::ops::Range<usize>| {
-            tar_number(&header[range.clone()]).ok_or_else(|| {
-                bad(Inv3Problem::HeaderField {
-                    offset: at,
-                    field: name,
-                    text: tar_text(&header[range]),
-                })
-            })
-        };
-        let kind = header[156];
-        let size = match pax.1.take() {
-            Some(s) => s,
-            None => field("size", 124..136)?,
-        };
-        let mut name = tar_text(&header[..100]);
-        if &header[257..262] == b"ustar" && header[345] != 0 {
-            name = format!("{}/{name}", tar_text(&header[345..500]));
-        }
-        let name = long_name.take().or(pax.0.take()).unwrap_or(name);
-        let remaining = tar.total.saturating_sub(tar.pos);
-        let padded = size.div_ceil(BLOCK).saturating_mul(BLOCK);
-        if size > remaining {
-            return Err(bad(Inv3Problem::MemberTooLarge {
-                name,
-                offset: at,
-                declared: size,
-                remaining,
-                total: tar.total,
-            }));
-        }
-        let padding = padded.min(remaining) - size;
-        match kind {
+        check_checksum(&header, at).map_err(bad)?;
+        let m = member(tar, &header, at, &mut pending).map_err(bad)?;
+        match m.kind {
             b'x' | b'L' => {
-                if size > MAX_TAR_EXTENSION_BYTES {
-                    return Err(bad(Inv3Problem::Extension {
-                        kind: if kind == b'x' {
-                            "pax extended header"
-                        } else {
-                            "GNU long name"
-                        },
-                        offset: at,
-                        declared: size,
-                        limit: MAX_TAR_EXTENSION_BYTES,
-                    }));
-                }
-                let mut data = vec![0u8; size as usize];
-                tar.exact(&mut data).map_err(bad)?;
-                tar.skip(padding).map_err(bad)?;
-                if kind == b'x' {
-                    pax = pax_records(&data, at).map_err(bad)?;
-                } else {
-                    long_name = Some(tar_text(&data));
-                }
+                read_extension(tar, &m, &mut pending).map_err(bad)?;
                 continue;
             }
             b'0' | b'\0' | b'7' => {}
             _ => {
                 // Directories, links, global pax headers, ...: not used.
-                tar.skip(size + padding).map_err(bad)?;
+                tar.skip(m.size + m.padding).map_err(bad)?;
                 continue;
             }
         }
-        let base = name.rsplit('/').next().unwrap_or("").to_string();
+        let base = m.base();
         let target = match (only, &found.plist) {
             (Some((want, _)), _) => Some(want),
             (None, None) => Some(DEFAULT_MATRIX),
@@ -375,61 +511,14 @@ fn scan<R: BufRead>(
             (None, Some((_, Err(_)))) => None,
         };
         if only.is_none() && base == "main.plist" {
-            if let Some((first, _)) = found.plist {
-                return Err(bad(Inv3Problem::DuplicateMember {
-                    name: base,
-                    first,
-                    second: at,
-                }));
-            }
-            if size > MAX_PLIST_BYTES {
-                return Err(bad(Inv3Problem::PlistTooLarge {
-                    declared: size,
-                    limit: MAX_PLIST_BYTES,
-                }));
-            }
-            let mut text = vec![0u8; size as usize];
-            tar.exact(&mut text).map_err(bad)?;
-            tar.skip(padding).map_err(bad)?;
-            let info = plist_info(&text, path);
-            if let (Ok(info), Some(m)) = (&info, &found.matrix) {
-                if info.filename != DEFAULT_MATRIX {
-                    found.matrix = None; // held as `matrix.dat`, not the one named
-                } else if m.bytes != info.bytes {
-                    return Err(byte_count(path, info.bytes, m.bytes));
-                }
-            }
-            found.plist = Some((at, info));
+            read_plist(tar, path, m, &mut found)?;
         } else if target == Some(base.as_str()) {
-            if let Some(m) = &found.matrix {
-                return Err(bad(Inv3Problem::DuplicateMember {
-                    name: base,
-                    first: m.at,
-                    second: at,
-                }));
-            }
-            if let Some((_, Ok(info))) = &found.plist {
-                if size != info.bytes {
-                    return Err(byte_count(path, info.bytes, size));
-                }
-            }
-            let data = if size % 2 == 0 {
-                tar.samples(size).map_err(bad)?
-            } else {
-                tar.skip(size).map_err(bad)?;
-                Vec::new()
-            };
-            tar.skip(padding).map_err(bad)?;
-            found.matrix = Some(Matrix {
-                at,
-                bytes: size,
-                data,
-            });
+            read_matrix(tar, path, m, &mut found)?;
             if only.is_some() {
                 return Ok(found);
             }
         } else {
-            tar.skip(size + padding).map_err(bad)?;
+            tar.skip(m.size + m.padding).map_err(bad)?;
         }
     }
 }

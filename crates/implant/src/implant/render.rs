@@ -484,6 +484,29 @@ fn method_styles(methods: &[String]) -> Vec<metabezier_plot::style::SeriesStyle>
 /// Black, for a style that has no colour of its own.
 const BLACK_RGB: plotters::style::RGBColor = plotters::style::RGBColor(0, 0, 0);
 
+/// The caption of the validation figure: what its points and bars are,
+/// and how many reconstructions (`no_hd95`) have no finite HD95.
+fn validation_caption(no_hd95: usize) -> String {
+    let mut caption = String::from(
+        "Dice of the implant and the removed bone (larger is better) and HD95, the 95th \
+         percentile of the surface distances in mm (smaller is better), of every method at \
+         each defect width (mm): the point is the median over the validation cases (slices \
+         or slice ranges, and positions) and the runs of a stochastic method, the bar the \
+         interquartile range (25 % to 75 %, type-7 quantiles); the methods are set side by \
+         side at each width. template: the mirrored template; straight: the straight \
+         bridge; curve:<method>: the curve-fitted wall, in the method's colour of every \
+         report. The verdicts across independent units are in the sections above and in \
+         verdicts.csv.",
+    );
+    if no_hd95 > 0 {
+        caption.push_str(&format!(
+            " {no_hd95} reconstruction(s) without a finite HD95 (an empty implant) are left \
+             out of the HD95 panels."
+        ));
+    }
+    caption
+}
+
 /// The figure of Dice and HD95 (mm) per method and defect width: for each
 /// validation that ran (`two_d`, slice by slice, from `validation.csv`;
 /// `three_d`, in 3D, from `validation_3d.csv`), a Dice panel and an HD95
@@ -578,23 +601,7 @@ pub fn validation_figure(
             message: format!("{VALIDATION_FIGURE}: {}", e.0),
         })
     })?;
-    let mut caption = String::from(
-        "Dice of the implant and the removed bone (larger is better) and HD95, the 95th \
-         percentile of the surface distances in mm (smaller is better), of every method at \
-         each defect width (mm): the point is the median over the validation cases (slices \
-         or slice ranges, and positions) and the runs of a stochastic method, the bar the \
-         interquartile range (25 % to 75 %, type-7 quantiles); the methods are set side by \
-         side at each width. template: the mirrored template; straight: the straight \
-         bridge; curve:<method>: the curve-fitted wall, in the method's colour of every \
-         report. The verdicts across independent units are in the sections above and in \
-         verdicts.csv.",
-    );
-    if no_hd95 > 0 {
-        caption.push_str(&format!(
-            " {no_hd95} reconstruction(s) without a finite HD95 (an empty implant) are left \
-             out of the HD95 panels."
-        ));
-    }
+    let caption = validation_caption(no_hd95);
     let section = format!(
         "## Dice and HD95 per method and width\n\n![Dice and HD95 per method and width]({VALIDATION_FIGURE}.png)\n\n{caption}\n\n"
     );

@@ -336,6 +336,56 @@ pub struct Template3dError {
     pub message: String,
 }
 
+/// What a 3D template choice builds its slices' templates from: the
+/// mirror across the mid-sagittal plane (`mirror3d`), the rim's filled
+/// surface (`rim`), or both, the mirror where it serves (`auto3d`).
+enum Sources {
+    Mirror(Plane3),
+    Rim(RimSurface),
+    Both(Plane3, RimSurface),
+}
+
+impl Sources {
+    /// The template of the slice with `rays` whose defect ends are `ends`,
+    /// at bone `threshold`, with the reason it was chosen; `auto3d` keeps
+    /// the mirror where it lies within `tolerance_mm` of the ends
+    /// ([`mirror3d_serves`]), else fills the rim.
+    fn template(
+        &self,
+        volume: &Volume,
+        r: &Rays,
+        ends: (Point, Point),
+        (threshold, tolerance_mm): (i16, f64),
+    ) -> RayTemplate {
+        match self {
+            Sources::Mirror(p) => {
+                let mut m = mirror3d_template(volume, r, p, threshold);
+                m.reason = "template_source = \"mirror3d\"".into();
+                m
+            }
+            Sources::Rim(s) => {
+                let mut t = rim_template(s, r);
+                t.reason = "template_source = \"rim\"".into();
+                t
+            }
+            Sources::Both(p, s) => {
+                let mut m = mirror3d_template(volume, r, p, threshold);
+                match mirror3d_serves(&m, r, p, ends, tolerance_mm) {
+                    Ok(why) => {
+                        m.reason = why;
+                        m
+                    }
+                    Err(why) => {
+                        let mut t = rim_template(s, r);
+                        t.reason = format!("rim fill: {why}");
+                        t
+                    }
+                }
+            }
+        }
+    }
+}
+
 /// The 3D templates the wall options ask for (`mirror3d`, `rim`, `auto3d`;
 /// `None` for the slice-wise choices, and for `auto3d` on a one-slice
 /// volume, which then chooses as `auto`), of the defect slices `contexts`
@@ -375,49 +425,26 @@ pub fn surface_templates(
         .iter()
         .map(|c| (c.k, Rays::of(volume, c, wall.seat_max_mm)))
         .collect();
-    let plane = match choice {
-        TemplateChoice::Rim => None,
-        _ => Some(match plane {
+    let plane = || -> Result<Plane3, Template3dError> {
+        Ok(match plane {
             Some(p) => p,
             None => mid_sagittal_plane(volume, threshold, midline)
                 .ok_or_else(|| fail("the mid-sagittal plane could not be estimated (fewer than 20 mirror pairs of bone-surface points within 8 mm of the midline's plane)".into()))?
                 .plane,
-        }),
+        })
     };
-    let rim = match choice {
-        TemplateChoice::Mirror3d => None,
-        _ => Some(rim_surface(volume, &rays, RIM_MM, threshold).map_err(|e| fail(e.to_string()))?),
+    let rim = || rim_surface(volume, &rays, RIM_MM, threshold).map_err(|e| fail(e.to_string()));
+    let sources = match choice {
+        TemplateChoice::Mirror3d => Sources::Mirror(plane()?),
+        TemplateChoice::Rim => Sources::Rim(rim()?),
+        _ => {
+            let p = plane()?;
+            Sources::Both(p, rim()?)
+        }
     };
     let mut slices = BTreeMap::new();
     for (ctx, (_, r)) in contexts.iter().zip(&rays) {
-        let mirrored = plane.map(|p| (p, mirror3d_template(volume, r, &p, threshold)));
-        let t = match (&mirrored, &rim) {
-            (Some((_, m)), None) => {
-                let mut m = m.clone();
-                m.reason = "template_source = \"mirror3d\"".into();
-                m
-            }
-            (None, Some(s)) => {
-                let mut t = rim_template(s, r);
-                t.reason = "template_source = \"rim\"".into();
-                t
-            }
-            (Some((p, m)), Some(s)) => {
-                match mirror3d_serves(m, r, p, ctx.ends, wall.mirror_tolerance_mm) {
-                    Ok(why) => {
-                        let mut m = m.clone();
-                        m.reason = why;
-                        m
-                    }
-                    Err(why) => {
-                        let mut t = rim_template(s, r);
-                        t.reason = format!("rim fill: {why}");
-                        t
-                    }
-                }
-            }
-            (None, None) => unreachable!("a 3D choice builds a template"),
-        };
+        let t = sources.template(volume, r, ctx.ends, (threshold, wall.mirror_tolerance_mm));
         if !t.covers(r.th_a, r.span) {
             return Err(fail(format!(
                 "slice z = {}: the {} template misses a ray of the defect (no mirrored outer table within 0.7–1.3×, or filled surface within 0.5–1.5×, the ends' radius {:.1} mm from the polar centre)",
@@ -428,9 +455,14 @@ pub fn surface_templates(
         }
         slices.insert(ctx.z, t);
     }
+    let (plane, rim_rms_mm) = match sources {
+        Sources::Mirror(p) => (Some(p), None),
+        Sources::Rim(s) => (None, Some(s.rim_rms_mm)),
+        Sources::Both(p, s) => (Some(p), Some(s.rim_rms_mm)),
+    };
     Ok(Some(SurfaceTemplates {
         slices,
         plane,
-        rim_rms_mm: rim.map(|s| s.rim_rms_mm),
+        rim_rms_mm,
     }))
 }

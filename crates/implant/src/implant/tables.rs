@@ -76,6 +76,57 @@ pub fn report_header(spec: &ImplantSpec, volume: &Volume) -> String {
     report
 }
 
+/// The measures of `all` over all units whose verdict for the pair `(table,
+/// fit, against)` is `verdict`, each with its evidence: the units and
+/// `p_min` for a row no test can decide (its `p_min ≥ alpha`), the Bayesian
+/// probabilities for undecided and equivalent rows, the units that favour
+/// each side and the adjusted p otherwise; `"none"` when there is none.
+fn verdict_measures(
+    all: &[&VerdictRow],
+    (table, fit, against): (&str, &str, &str),
+    verdict: &str,
+    alpha: f64,
+) -> String {
+    let m: Vec<String> = all
+        .iter()
+        .filter(|v| {
+            v.table == table
+                && v.algorithm == fit
+                && v.reference == against
+                && match verdict {
+                    // A row that cannot reject is no finding.
+                    UNDECIDABLE => v.across.p_min >= alpha && v.verdict.as_str() == "undecided",
+                    "undecided" => v.verdict.as_str() == verdict && v.across.p_min < alpha,
+                    _ => v.verdict.as_str() == verdict,
+                }
+        })
+        .map(|v| {
+            let a = &v.across;
+            if verdict == UNDECIDABLE {
+                format!("{} ({} units, p_min {:.2})", v.measure, a.units, a.p_min)
+            } else if verdict == "undecided" || verdict == "equivalent" {
+                let e = &v.equivalence;
+                format!(
+                    "{} (P(better/≈/worse) {:.2}/{:.2}/{:.2})",
+                    v.measure, e.better, e.within, e.worse
+                )
+            } else {
+                let p = if v.p_adjusted < 0.001 {
+                    "p < 0.001".to_owned()
+                } else {
+                    format!("p {:.3}", v.p_adjusted)
+                };
+                format!("{} ({}/{}/{}, {p})", v.measure, a.better, a.equal, a.worse)
+            }
+        })
+        .collect();
+    if m.is_empty() {
+        "none".to_owned()
+    } else {
+        m.join(", ")
+    }
+}
+
 /// The `## Summary` that opens `report.md`, after its title: the
 /// chapter's question, every verdict over all units of the curve fit
 /// against its baselines (the validation's, 2D and 3D) in one table with a
@@ -109,50 +160,7 @@ pub fn report_summary(verdicts: &[VerdictRow], pictures: &[String], alpha: f64) 
             }
         }
         for (table, fit, against) in pairs {
-            let of = |verdict: &str| -> String {
-                let m: Vec<String> = all
-                    .iter()
-                    .filter(|v| {
-                        v.table == table
-                            && v.algorithm == fit
-                            && v.reference == against
-                            && match verdict {
-                                // A row that cannot reject is no finding.
-                                UNDECIDABLE => {
-                                    v.across.p_min >= alpha && v.verdict.as_str() == "undecided"
-                                }
-                                "undecided" => {
-                                    v.verdict.as_str() == verdict && v.across.p_min < alpha
-                                }
-                                _ => v.verdict.as_str() == verdict,
-                            }
-                    })
-                    .map(|v| {
-                        let a = &v.across;
-                        if verdict == UNDECIDABLE {
-                            format!("{} ({} units, p_min {:.2})", v.measure, a.units, a.p_min)
-                        } else if verdict == "undecided" || verdict == "equivalent" {
-                            let e = &v.equivalence;
-                            format!(
-                                "{} (P(better/≈/worse) {:.2}/{:.2}/{:.2})",
-                                v.measure, e.better, e.within, e.worse
-                            )
-                        } else {
-                            let p = if v.p_adjusted < 0.001 {
-                                "p < 0.001".to_owned()
-                            } else {
-                                format!("p {:.3}", v.p_adjusted)
-                            };
-                            format!("{} ({}/{}/{}, {p})", v.measure, a.better, a.equal, a.worse)
-                        }
-                    })
-                    .collect();
-                if m.is_empty() {
-                    "none".to_owned()
-                } else {
-                    m.join(", ")
-                }
-            };
+            let of = |verdict: &str| verdict_measures(&all, (table, fit, against), verdict, alpha);
             let scope = match table {
                 VALIDATION_2D_TABLE => "slice by slice",
                 VALIDATION_3D_TABLE => "in 3D",

@@ -235,6 +235,55 @@ fn count(n: usize, noun: &str) -> String {
     format!("{n} {noun}{}", if n == 1 { "" } else { "s" })
 }
 
+/// The cells of verdict row `v` in its scope's table (see
+/// [`verdict_tables`]), `cases_better` the cases favouring the compared
+/// method.
+fn verdict_row(v: &VerdictRow, cases_better: usize) -> Vec<String> {
+    let a = &v.across;
+    vec![
+        v.algorithm.clone(),
+        v.reference.clone(),
+        v.measure.clone(),
+        v.scope.clone(),
+        a.units.to_string(),
+        v.problems.to_string(),
+        format!("{}/{}/{}", a.better, a.equal, a.worse),
+        // A difference that rounds to zero is shown as +0.0000.
+        format!(
+            "{:+.4}",
+            if (a.effect_size * 1e4).round() == 0.0 {
+                0.0
+            } else {
+                a.effect_size
+            }
+        ),
+        format!("{:.2e}", a.p_value),
+        format!("{:.2e}", v.p_adjusted),
+        format!("{:.2e}", a.p_min),
+        effect_interval(v.shift.estimate, v.shift.low, v.shift.high),
+        format!("±{}", v.equivalence.rope),
+        posterior(
+            v.equivalence.better,
+            v.equivalence.within,
+            v.equivalence.worse,
+        ),
+        v.verdict.to_string(),
+        format!("{cases_better}/{}", v.problems),
+    ]
+}
+
+/// The pivot's cell of verdict row `v`: its verdict (abbreviated) and
+/// the units better/equal/worse.
+fn pivot_cell(v: &VerdictRow) -> String {
+    let a = &v.across;
+    let word = match v.verdict.as_str() {
+        "undecided" => "und.",
+        "equivalent" => "equiv.",
+        w => w,
+    };
+    format!("{word} {}/{}/{}", a.better, a.equal, a.worse)
+}
+
 /// One markdown table of verdict rows per scope, with the cases favouring
 /// the compared method (descriptive); the pivot below them says every row
 /// is kept in `kept_in` (`verdicts.csv`, or "the table above").
@@ -269,39 +318,7 @@ pub(crate) fn verdict_tables(report: &mut String, rows: &[(VerdictRow, usize)], 
         let table: Vec<Vec<String>> = rows
             .iter()
             .filter(|r| r.0.scope == scope)
-            .map(|(v, cases_better)| {
-                let a = &v.across;
-                vec![
-                    v.algorithm.clone(),
-                    v.reference.clone(),
-                    v.measure.clone(),
-                    v.scope.clone(),
-                    a.units.to_string(),
-                    v.problems.to_string(),
-                    format!("{}/{}/{}", a.better, a.equal, a.worse),
-                    // A difference that rounds to zero is shown as +0.0000.
-                    format!(
-                        "{:+.4}",
-                        if (a.effect_size * 1e4).round() == 0.0 {
-                            0.0
-                        } else {
-                            a.effect_size
-                        }
-                    ),
-                    format!("{:.2e}", a.p_value),
-                    format!("{:.2e}", v.p_adjusted),
-                    format!("{:.2e}", a.p_min),
-                    effect_interval(v.shift.estimate, v.shift.low, v.shift.high),
-                    format!("±{}", v.equivalence.rope),
-                    posterior(
-                        v.equivalence.better,
-                        v.equivalence.within,
-                        v.equivalence.worse,
-                    ),
-                    v.verdict.to_string(),
-                    format!("{cases_better}/{}", v.problems),
-                ]
-            })
+            .map(|(v, cases_better)| verdict_row(v, *cases_better))
             .collect();
         let _ = writeln!(report, "Scope `{scope}`:\n");
         report.push_str(&markdown::table(&header, &table, Alignment::Unmarked));
@@ -337,18 +354,7 @@ pub(crate) fn verdict_tables(report: &mut String, rows: &[(VerdictRow, usize)], 
                             && v.reference == base
                             && v.measure == metric
                     })
-                    .map_or_else(
-                        || "—".to_owned(),
-                        |(v, _)| {
-                            let a = &v.across;
-                            let word = match v.verdict.as_str() {
-                                "undecided" => "und.",
-                                "equivalent" => "equiv.",
-                                w => w,
-                            };
-                            format!("{word} {}/{}/{}", a.better, a.equal, a.worse)
-                        },
-                    )
+                    .map_or_else(|| "—".to_owned(), |(v, _)| pivot_cell(v))
             }));
             row
         })

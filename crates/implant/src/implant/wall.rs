@@ -21,7 +21,10 @@ use super::polar::{
 use super::seats::{choose_seats, SeatProfile, SeatRule};
 use super::SliceError;
 use crate::ct::{clip_to_tissue_keeping, CtError, Polyline, Slice};
-use crate::fit::{equal_arc_breaks, End, Segment, SegmentProblem, SegmentSolver, Start};
+use crate::fit::{
+    equal_arc_breaks, fit_between, ChainEnds, End, ErrorMeasure, FitOptions, Segment,
+    SegmentSolver, Start,
+};
 use crate::geometry::{Continuity, Curve, Parameterisation, Point};
 
 pub use super::polar::{angle_deg, envelope_radius};
@@ -209,47 +212,41 @@ struct OuterWall {
     points: Vec<Point>,
 }
 
-/// The fitting problem of one piece of the outer wall: `options.function`
-/// on `data` (chord-length parameters), the ends fixed, joined at its
-/// start after `previous` (the chain's last segment; `None`: the bone at
-/// A′) and, when `last`, to the bone at B′, with `options.continuity`.
-fn wall_problem(
-    options: &WallOptions,
-    data: &[Point],
-    joins: &Joins,
-    previous: Option<&Segment>,
-    last: bool,
-) -> Result<SegmentProblem, SliceError> {
+/// The joins of the outer wall's chain to the bone at A′ and B′, with
+/// `options.continuity` (C⁰: free). A quadratic has one inner control
+/// point: it is joined at B′ only.
+fn chain_ends(options: &WallOptions, joins: &Joins) -> ChainEnds {
     let (d_a, d_b) = joins.derivatives;
-    let start = match (previous, options.continuity) {
-        (Some(p), c) => Start::after(p, c),
-        (None, Continuity::C0) => Start::Free,
-        (None, Continuity::C1) => Start::C1 { derivative: d_a },
-        (None, Continuity::G1) => Start::G1 {
+    let start = match options.continuity {
+        _ if options.function.degree() == 2 => Start::Free,
+        Continuity::C0 => Start::Free,
+        Continuity::C1 => Start::C1 { derivative: d_a },
+        Continuity::G1 => Start::G1 {
             leg: joins.tangents.0,
         },
     };
-    let end = match (last, options.continuity) {
-        (false, _) | (true, Continuity::C0) => End::Free,
-        (true, Continuity::C1) => End::C1 { derivative: d_b },
-        (true, Continuity::G1) => End::G1 {
+    let end = match options.continuity {
+        Continuity::C0 => End::Free,
+        Continuity::C1 => End::C1 { derivative: d_b },
+        Continuity::G1 => End::G1 {
             dir: joins.tangents.1,
         },
     };
-    let start = if options.function.degree() == 2 {
-        Start::Free
-    } else {
-        start
-    };
-    SegmentProblem::with_parameterisation(
-        options.function,
-        data.to_vec(),
-        Parameterisation::ChordLength,
-        start,
-        &options.search,
-    )
-    .and_then(|p| p.with_end(end))
-    .map_err(fit_err)
+    ChainEnds { start, end }
+}
+
+/// The fit options of the outer wall's chain: `options.function` and
+/// `options.continuity` on the template's chord-length parameters (the
+/// thesis's fixed-parameter `E`), `options.search`, `budget` evaluations
+/// per piece.
+fn chain_options(options: &WallOptions, budget: u64) -> FitOptions {
+    FitOptions {
+        search: options.search,
+        budget_per_segment: budget,
+        parameterisation: Parameterisation::ChordLength,
+        error: ErrorMeasure::Fixed,
+        ..FitOptions::new(options.function, options.continuity)
+    }
 }
 
 /// The break indices of a chain of `count` pieces on `data`: equal arc
@@ -276,7 +273,7 @@ fn chain_error(segments: &[Segment], data: &[Point]) -> Result<f64, SliceError> 
 }
 
 /// The chain of `count` segments fitted to `data` in sequence (the
-/// chapter-5 sequential chain, [`crate::fit::fit_piecewise`], with the
+/// chapter-5 sequential chain, [`crate::fit::fit_between`], with the
 /// bone's joins at both ends), each piece solved by `solver` with
 /// `budget` evaluations.
 fn fit_chain<S: SegmentSolver + ?Sized>(
@@ -288,16 +285,14 @@ fn fit_chain<S: SegmentSolver + ?Sized>(
     solver: &mut S,
 ) -> Result<(Vec<Segment>, u64), SliceError> {
     let breaks = chain_breaks(data, count)?;
-    let mut segments: Vec<Segment> = Vec::with_capacity(count);
-    let mut evaluations = 0;
-    for (k, w) in breaks.windows(2).enumerate() {
-        let last = k + 2 == breaks.len();
-        let problem = wall_problem(options, &data[w[0]..=w[1]], joins, segments.last(), last)?;
-        let sol = solver.solve(&problem, budget);
-        evaluations += sol.evaluations;
-        segments.push(problem.segment(&sol.x));
-    }
-    Ok((segments, evaluations))
+    let ends = chain_ends(options, joins);
+    let fit = fit_between(data, &breaks, ends, &chain_options(options, budget), solver)
+        .map_err(fit_err)?;
+    let evaluations = fit.metrics.evaluations;
+    Ok((
+        fit.segments.into_iter().map(|s| s.segment).collect(),
+        evaluations,
+    ))
 }
 
 /// The points of a chain at `m` parameters: `u = (k + v)/count` on its
@@ -834,7 +829,7 @@ pub fn finish_wall(
 ///    `R(θ) = reflect(E(2α − θ))` for `θ` from θ_A to θ_B
 ///    (`template_points` rays), or the explicit template; its ends are
 ///    replaced by A′ and B′.
-/// 2. [`WallKind::CurveFit`]: one [`SegmentProblem`] of `options.function`
+/// 2. [`WallKind::CurveFit`]: one [`crate::fit::SegmentProblem`] of `options.function`
 ///    on the template (chord-length parameters), `C₀ = A′`, `C_m = B′`, with
 ///    [`Start::G1`]/[`End::G1`] (or C¹) joins whose tangent is the slope at
 ///    A′ (B′) of a least-squares quadratic through the outer table over
