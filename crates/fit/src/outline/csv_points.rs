@@ -17,7 +17,7 @@
 
 use std::path::Path;
 
-use super::{Outline, OutlineError};
+use super::{CsvError, Outline, OutlineError};
 use crate::geometry::{bounding_box, Point};
 
 /// Options for reading a CSV point list.
@@ -127,35 +127,37 @@ pub fn csv_from_bytes(
     let mut points = Vec::new();
     let mut first = true;
     for record in reader.records() {
-        let record = record.map_err(|e| OutlineError::Csv {
-            path: path.to_owned(),
-            line: line_of(e.position()),
-            message: match e.kind() {
-                csv::ErrorKind::Utf8 { .. } => "expected UTF-8 text".to_string(),
-                _ => e.to_string(),
-            },
+        let record = record.map_err(|e| {
+            OutlineError::Csv(CsvError::Malformed {
+                path: path.to_owned(),
+                line: line_of(e.position()),
+                message: match e.kind() {
+                    csv::ErrorKind::Utf8 { .. } => "expected UTF-8 text".to_string(),
+                    _ => e.to_string(),
+                },
+            })
         })?;
         let line = line_of(record.position());
         let bytes = record.as_slice().len() + record.len().saturating_sub(1);
         if bytes > MAX_CSV_LINE_BYTES {
-            return Err(OutlineError::CsvLimit {
+            return Err(OutlineError::Csv(CsvError::Limit {
                 path: path.to_owned(),
                 line,
                 what: "bytes on one line",
                 found: bytes,
                 limit: MAX_CSV_LINE_BYTES,
-            });
+            }));
         }
         // A line of only spaces is a record with one empty cell.
         if record.len() == 1 && record[0].is_empty() {
             continue;
         }
         if record.len() != 2 {
-            return Err(OutlineError::CsvFields {
+            return Err(OutlineError::Csv(CsvError::Fields {
                 path: path.to_owned(),
                 line,
                 found: record.len(),
-            });
+            }));
         }
         let (x, y) = (number(&record[0]), number(&record[1]));
         if first && x.is_none() && y.is_none() {
@@ -163,32 +165,34 @@ pub fn csv_from_bytes(
             continue; // a header such as "x,y"
         }
         first = false;
-        let bad = |column: usize| OutlineError::CsvNumber {
-            path: path.to_owned(),
-            line,
-            column,
-            text: record[column - 1].to_string(),
+        let bad = |column: usize| {
+            OutlineError::Csv(CsvError::Number {
+                path: path.to_owned(),
+                line,
+                column,
+                text: record[column - 1].to_string(),
+            })
         };
         let x = x.ok_or_else(|| bad(1))?;
         let y = y.ok_or_else(|| bad(2))?;
         for (column, v) in [(1, x), (2, y)] {
             if v.abs() > MAX_COORDINATE {
-                return Err(OutlineError::CsvRange {
+                return Err(OutlineError::Csv(CsvError::Range {
                     path: path.to_owned(),
                     line,
                     column,
                     value: v,
-                });
+                }));
             }
         }
         if points.len() == MAX_CSV_POINTS {
-            return Err(OutlineError::CsvLimit {
+            return Err(OutlineError::Csv(CsvError::Limit {
                 path: path.to_owned(),
                 line,
                 what: "points",
                 found: MAX_CSV_POINTS + 1,
                 limit: MAX_CSV_POINTS,
-            });
+            }));
         }
         points.push(Point::new(x, y));
     }
@@ -247,12 +251,12 @@ fn check_extent(points: &[Point], path: &Path) -> Result<(), OutlineError> {
     let extent = (hi.x - lo.x).hypot(hi.y - lo.y);
     let need = MIN_EXTENT.max(MIN_RELATIVE_EXTENT * largest);
     if extent < need {
-        return Err(OutlineError::CsvExtent {
+        return Err(OutlineError::Csv(CsvError::Extent {
             path: path.to_owned(),
             extent,
             largest,
             need,
-        });
+        }));
     }
     Ok(())
 }
@@ -336,11 +340,11 @@ mod tests {
         assert!(
             matches!(
                 e,
-                OutlineError::CsvNumber {
+                OutlineError::Csv(CsvError::Number {
                     line: 3,
                     column: 1,
                     ..
-                }
+                })
             ),
             "{e}"
         );
@@ -348,11 +352,11 @@ mod tests {
         assert!(
             matches!(
                 e,
-                OutlineError::CsvNumber {
+                OutlineError::Csv(CsvError::Number {
                     line: 7,
                     column: 1,
                     ..
-                }
+                })
             ),
             "{e}"
         );

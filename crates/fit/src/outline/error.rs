@@ -154,63 +154,8 @@ pub enum OutlineError {
         /// Points needed.
         need: usize,
     },
-    /// A CSV cell is not a finite number.
-    CsvNumber {
-        /// The CSV file.
-        path: PathBuf,
-        /// 1-based line.
-        line: u64,
-        /// 1-based column (1 = x, 2 = y).
-        column: usize,
-        /// The text found in the cell.
-        text: String,
-    },
-    /// A CSV coordinate is finite but beyond ±[`crate::outline::MAX_COORDINATE`].
-    CsvRange {
-        /// The CSV file.
-        path: PathBuf,
-        /// 1-based line.
-        line: u64,
-        /// 1-based column (1 = x, 2 = y).
-        column: usize,
-        /// The value found.
-        value: f64,
-    },
-    /// The points of a CSV outline span too little for E to be resolved
-    /// ([`crate::outline::MIN_EXTENT`], [`crate::outline::MIN_RELATIVE_EXTENT`]).
-    CsvExtent {
-        /// The CSV file.
-        path: PathBuf,
-        /// The diagonal of the points' bounding box.
-        extent: f64,
-        /// The largest coordinate magnitude.
-        largest: f64,
-        /// The smallest diagonal accepted.
-        need: f64,
-    },
-    /// A CSV file goes beyond a limit of the reader
-    /// ([`crate::outline::MAX_CSV_POINTS`], [`crate::outline::MAX_CSV_LINE_BYTES`]).
-    CsvLimit {
-        /// The CSV file.
-        path: PathBuf,
-        /// 1-based line where the limit was passed.
-        line: u64,
-        /// What is counted (`points`, `bytes on one line`).
-        what: &'static str,
-        /// How many were found (at least).
-        found: usize,
-        /// The limit.
-        limit: usize,
-    },
-    /// A CSV line does not have exactly two cells `x,y`.
-    CsvFields {
-        /// The CSV file.
-        path: PathBuf,
-        /// 1-based line.
-        line: u64,
-        /// Number of cells found.
-        found: usize,
-    },
+    /// A CSV outline file could not be read: its line, column and why.
+    Csv(super::CsvError),
     /// The paths of an SVG file could not be read.
     Svg(super::SvgError),
     /// A contour number beyond the input's contours.
@@ -221,15 +166,6 @@ pub enum OutlineError {
         asked: usize,
         /// How many contours the input has.
         count: usize,
-    },
-    /// A CSV file is malformed in another way (such as invalid UTF-8).
-    Csv {
-        /// The CSV file.
-        path: PathBuf,
-        /// 1-based line, or 0 if unknown.
-        line: u64,
-        /// The reader's explanation.
-        message: String,
     },
 }
 
@@ -340,78 +276,7 @@ impl fmt::Display for OutlineError {
                 asked,
                 count,
             } => contour_out_of_range(f, input, *asked, *count),
-            csv => csv.fmt_csv(f),
-        }
-    }
-}
-
-impl OutlineError {
-    /// The messages of the CSV variants, with their line and column.
-    fn fmt_csv(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::CsvRange {
-                path,
-                line,
-                column,
-                value,
-            } => write!(
-                f,
-                "{}:{line}: column {column} ({}): {value:e} is beyond ±1e15, the range of coordinates this tool fits (squared distances must not overflow)",
-                path.display(),
-                if *column == 1 { "x" } else { "y" }
-            ),
-            Self::CsvExtent {
-                path,
-                extent,
-                largest,
-                need,
-            } => write!(
-                f,
-                "{}: the points span {extent:e} units (bounding-box diagonal) at coordinates up to {largest:e}; an outline must span at least {need:e} (1e-9 of its largest coordinate, and 1e-100) for its squared distances to be resolved: rescale the data",
-                path.display()
-            ),
-            Self::CsvNumber {
-                path,
-                line,
-                column,
-                text,
-            } => {
-                let axis = if *column == 1 { "x" } else { "y" };
-                write!(
-                    f,
-                    "{}:{line}: column {column} ({axis}): expected a finite number, found \"{}\"",
-                    path.display(),
-                    crate::files::excerpt(text)
-                )
-            }
-            Self::CsvLimit {
-                path,
-                line,
-                what,
-                found,
-                limit,
-            } => write!(
-                f,
-                "{}:{line}: at least {found} {what}, beyond this reader's limit of {limit} \
-                 (expected one \"x,y\" pair per line)",
-                path.display()
-            ),
-            Self::CsvFields { path, line, found } => write!(
-                f,
-                "{}:{line}: expected 2 cells \"x,y\", found {found}",
-                path.display()
-            ),
-            Self::Csv {
-                path,
-                line: 0,
-                message,
-            } => write!(f, "{}: {message}", path.display()),
-            Self::Csv {
-                path,
-                line,
-                message,
-            } => write!(f, "{}:{line}: {message}", path.display()),
-            other => unreachable!("fmt_csv is only called for the CSV variants, not {other:?}"),
+            Self::Csv(e) => write!(f, "{e}"),
         }
     }
 }
@@ -421,6 +286,7 @@ impl std::error::Error for OutlineError {
         match self {
             Self::Io { source, .. } => Some(source),
             Self::Svg(e) => std::error::Error::source(e),
+            Self::Csv(e) => std::error::Error::source(e),
             _ => None,
         }
     }
@@ -507,12 +373,12 @@ mod tests {
 
     #[test]
     fn messages_name_the_file_and_the_place() {
-        let e = OutlineError::CsvNumber {
+        let e = OutlineError::Csv(crate::outline::CsvError::Number {
             path: "pts.csv".into(),
             line: 7,
             column: 2,
             text: "abc".into(),
-        };
+        });
         assert_eq!(
             e.to_string(),
             "pts.csv:7: column 2 (y): expected a finite number, found \"abc\""

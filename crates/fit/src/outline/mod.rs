@@ -25,6 +25,7 @@
 
 mod border;
 mod corners;
+mod csv_error;
 mod csv_points;
 mod error;
 mod glyph;
@@ -42,6 +43,7 @@ pub use self::image::{
 pub use crate::geometry::Orientation;
 pub use border::{find_borders, BinaryImage, Border, BorderKind, Side};
 pub use corners::{find_corners, split_at, turning_angles, CornerOptions};
+pub use csv_error::CsvError;
 pub use csv_points::{
     csv_from_bytes, load_csv, outline_from_points, CsvOptions, MAX_COORDINATE, MAX_CSV_LINE_BYTES,
     MAX_CSV_POINTS, MIN_EXTENT, MIN_RELATIVE_EXTENT,
