@@ -29,6 +29,7 @@ mod archive;
 mod compare;
 mod fit;
 mod fit_outputs;
+mod list_markdown;
 mod named;
 
 use archive::ArchiveArgs;
@@ -150,7 +151,12 @@ enum Command {
     /// outline points `fit` would use: orthogonal max and RMS distance.
     Score(ScoreArgs),
     /// List the algorithms with their parameters, and the benchmark functions.
-    List,
+    List {
+        /// Print the documents' tables instead: the optimisers and "Which
+        /// optimiser?" by dimension and budget, as Markdown.
+        #[arg(long)]
+        markdown: bool,
+    },
     /// Design a cranial implant from CT slices (thesis chapter 6): the real
     /// defect to implant.stl, overlays, a 3D preview, and the
     /// artificial-defect validation.
@@ -329,8 +335,12 @@ fn dispatch(cli: Cli, w: &mut String) -> Result<(), Error> {
             out,
             allow_partial,
         } => implant(&spec, out, allow_partial, w),
-        Command::List => {
-            list(w);
+        Command::List { markdown } => {
+            if markdown {
+                w.push_str(&list_markdown::list_markdown(Registry::builtin()));
+            } else {
+                list(w);
+            }
             Ok(())
         }
     }

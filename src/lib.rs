@@ -187,3 +187,9 @@ pub mod experiment {
 pub mod error;
 
 pub mod cli;
+
+/// The README's Rust blocks, compiled and run by `cargo test --doc` (so by
+/// `make test`), so that what the README shows builds as written.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

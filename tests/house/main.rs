@@ -1,4 +1,6 @@
-//! The house's own rules: the crates' layering, and rooms that stay small.
+//! The house's own rules: the crates' layering, rooms that stay small, and
+//! documents that quote the registry.
 
+mod documents;
 mod layering;
 mod rooms;
