@@ -540,7 +540,8 @@ fn register_problem(
                         "registered with {} bounds, so only for D = {}",
                         bounds.len(),
                         bounds.len()
-                    ));
+                    )
+                    .into());
                 }
                 bounds.clone()
             } else {
