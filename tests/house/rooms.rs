@@ -94,10 +94,10 @@ fn exemptions_are_few_reasoned_and_still_needed() {
 }
 
 /// The type arguments of `Result<...>` starting at `text[open..]` (the
-/// `<`), split at the top level, and where the generic list ends.
-fn type_arguments(text: &str, open: usize) -> (Vec<String>, usize) {
+/// `<`), split at the top level.
+fn type_arguments(text: &str, open: usize) -> Vec<String> {
     let (mut depth, mut args, mut current) = (0i32, Vec::new(), String::new());
-    for (i, c) in text[open..].char_indices() {
+    for c in text[open..].chars() {
         match c {
             '<' | '(' | '[' => {
                 depth += 1;
@@ -109,7 +109,7 @@ fn type_arguments(text: &str, open: usize) -> (Vec<String>, usize) {
                 depth -= 1;
                 if depth == 0 {
                     args.push(current.trim().to_owned());
-                    return (args, open + i);
+                    return args;
                 }
                 current.push(c);
             }
@@ -118,7 +118,7 @@ fn type_arguments(text: &str, open: usize) -> (Vec<String>, usize) {
             _ => {}
         }
     }
-    (args, text.len())
+    args
 }
 
 /// Whether `signature` names a `Result` whose error type is `String`.
@@ -126,7 +126,7 @@ fn has_string_error(signature: &str) -> bool {
     let mut from = 0;
     while let Some(at) = signature[from..].find("Result<") {
         let open = from + at + "Result".len();
-        let (args, end) = type_arguments(signature, open);
+        let args = type_arguments(signature, open);
         if args
             .last()
             .is_some_and(|e| e == "String" || e == "std::string::String")
@@ -134,10 +134,8 @@ fn has_string_error(signature: &str) -> bool {
         {
             return true;
         }
-        from = open.max(end.min(signature.len()));
-        if from >= signature.len() {
-            break;
-        }
+        // On from the `<`: a `Result` nested in the arguments is read too.
+        from = open;
     }
     false
 }
@@ -213,7 +211,8 @@ fn the_check_finds_a_string_error_where_it_is_public() {
                 pub fn d<B>(\n    x: u8,\n) -> u8\nwhere\n    A: Copy,\n    B: Fn(usize) -> Result<u8, String>,\n{}\n\
                 pub trait T {\n    fn e(&self) -> Result<(), String>;\n}\n\
                 fn f() -> Result<u8, String> {}\n\
-                pub struct S {\n    pub g: HashMap<String, String>,\n}\n";
+                pub struct S {\n    pub g: HashMap<String, String>,\n}\n\
+                pub fn h() -> Result<Result<u8, String>, E> {}\n";
     let lines: Vec<usize> = string_errors(text).into_iter().map(|(l, _)| l).collect();
-    assert_eq!(lines, [1, 5, 13]);
+    assert_eq!(lines, [1, 5, 13, 19]);
 }
