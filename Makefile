@@ -265,7 +265,7 @@ speedup: build
 	sh ci/thread-speedup.sh $(BIN)
 
 # COCO's bbob suite through COCO's own code, with its report and COCO-format
-# logs for cocopp in results/bbob/coco/ (see the README).
+# logs for cocopp in results/bbob/coco/ (see docs/guide/bbob.md).
 bbob: build
 	$(BIN) run $(SPECS)/bbob.toml --resume --coco-log results/bbob/coco
 	$(BIN) report results/bbob $(CLAIMS)

@@ -193,3 +193,9 @@ pub mod cli;
 #[cfg(doctest)]
 #[doc = include_str!("../README.md")]
 pub struct ReadmeDoctests;
+
+/// The guide's library chapter (`docs/guide/library.md`), its Rust blocks
+/// compiled and run by `cargo test --doc` as the README's are.
+#[cfg(doctest)]
+#[doc = include_str!("../docs/guide/library.md")]
+pub struct GuideLibraryDoctests;

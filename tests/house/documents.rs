@@ -1,8 +1,9 @@
 //! The documents quote the registry, never a copy of their own: every
 //! table `metabezier list --markdown` makes (the optimisers with their
 //! defaults; "Which optimiser?" from `optim::recommended`, the rule
-//! Python's `minimize` takes its default from) stands in README.md exactly
-//! as the command prints it, under the line that says so.
+//! Python's `minimize` takes its default from) stands in its document
+//! (README.md, docs/guide/optimisers.md) exactly as the command prints it,
+//! under the line that says so.
 
 use std::process::Command;
 
@@ -33,26 +34,42 @@ fn generated() -> (String, Vec<(String, String)>) {
     (marker.to_owned(), sections)
 }
 
+/// Where each generated table stands: (heading, document).
+const PLACES: [(&str, &str); 2] = [
+    ("Optimisers", "docs/guide/optimisers.md"),
+    ("Which optimiser?", "README.md"),
+];
+
 #[test]
-fn the_readme_holds_the_registrys_tables_as_they_are() {
-    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+fn the_documents_hold_the_registrys_tables_as_they_are() {
     let (marker, sections) = generated();
     assert_eq!(
         sections.iter().map(|(h, _)| h.as_str()).collect::<Vec<_>>(),
-        ["Optimisers", "Which optimiser?"]
+        PLACES.map(|(h, _)| h)
     );
-    for (heading, table) in &sections {
+    for ((heading, table), (_, file)) in sections.iter().zip(PLACES) {
+        let text = std::fs::read_to_string(root().join(file)).unwrap();
         let copy = format!("{marker}\n{table}\n");
         assert!(
-            readme.contains(&copy),
-            "README.md lacks the current \"{heading}\" table; paste `metabezier list --markdown`'s:\n{copy}"
+            text.contains(&copy),
+            "{file} lacks the current \"{heading}\" table; paste `metabezier list --markdown`'s:\n{copy}"
+        );
+        assert_eq!(
+            text.matches(&marker).count(),
+            1,
+            "{file} holds a stale generated table beside the current one"
         );
     }
-    assert_eq!(
-        readme.matches(&marker).count(),
-        sections.len(),
-        "a stale generated table is left in README.md"
-    );
+    // No copy elsewhere in the documents, where no test would hold it.
+    for file in crate::code_blocks::documents() {
+        let text = std::fs::read_to_string(root().join(&file)).unwrap();
+        let here = PLACES.iter().any(|(_, f)| std::path::Path::new(f) == file);
+        assert!(
+            here || !text.contains(&marker),
+            "{} holds a generated table; it belongs in {PLACES:?}",
+            file.display()
+        );
+    }
 }
 
 #[test]
@@ -96,4 +113,64 @@ fn the_optim_module_lists_every_registered_optimiser_in_order() {
         .collect();
     let registered = metabezier::optim::Optimisers::builtin().names();
     assert_eq!(listed, registered, "optim/mod.rs's table of optimisers");
+}
+
+#[test]
+fn the_readme_stays_short() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let lines = readme.lines().count();
+    assert!(
+        lines <= 250,
+        "README.md has {lines} lines; at most 250 (the detail belongs in docs/guide/)"
+    );
+}
+
+/// The README's picture is what its caption's command draws today.
+#[test]
+fn the_readmes_picture_is_current() {
+    let out = std::env::temp_dir().join(format!("metabezier-picture-{}", std::process::id()));
+    let status = Command::new(env!("CARGO_BIN_EXE_metabezier"))
+        .args([
+            "fit",
+            "data/outlines/horse.png",
+            "--outputs",
+            "png",
+            "--out",
+        ])
+        .arg(&out)
+        .current_dir(root())
+        .output()
+        .unwrap();
+    assert!(
+        status.status.success(),
+        "{}",
+        String::from_utf8_lossy(&status.stderr)
+    );
+    let drawn = std::fs::read(out.join("fit.png")).unwrap();
+    std::fs::remove_dir_all(&out).unwrap();
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    assert!(readme.contains("(docs/img/horse-fit.png)"));
+    assert!(readme.contains("`metabezier fit data/outlines/horse.png\n--outputs png`"));
+    assert!(
+        drawn == std::fs::read(root().join("docs/img/horse-fit.png")).unwrap(),
+        "docs/img/horse-fit.png is not what `metabezier fit data/outlines/horse.png --outputs png` draws; copy its fit.png there"
+    );
+}
+
+/// `experiments/ch6_quick.toml` designs the implant exactly as
+/// `ch6_cranial.toml` does: its sections are that spec's first part.
+#[test]
+fn the_quick_implant_spec_is_the_chapter_specs_first_part() {
+    let read = |f: &str| std::fs::read_to_string(root().join("experiments").join(f)).unwrap();
+    let body = |t: &str| -> String {
+        t.lines()
+            .skip_while(|l| !l.starts_with("[implant]"))
+            .take_while(|l| !l.starts_with("[validation"))
+            .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    let quick = body(&read("ch6_quick.toml"));
+    assert!(quick.contains("[defect]"), "{quick}");
+    assert_eq!(quick, body(&read("ch6_cranial.toml")));
 }
