@@ -7,7 +7,8 @@
 //!   implant spec the implant's reader accepts); `toml fragment` is a
 //!   section of a spec, checked inside a minimal one.
 //! - `sh`: run, command by command, in a scratch directory that sees
-//!   `data/` and `experiments/`; each must exit 0. `sh no_run` (long
+//!   `data/` and `experiments/`; each must exit 0 (only `metabezier`
+//!   and `cmp` run). `sh no_run` (long
 //!   campaigns, clusters, installs): each command held to what exists —
 //!   a Makefile target, a `metabezier` subcommand and its options, an
 //!   example or bench of the crate, or a program named in [`EXTERNAL`].
@@ -21,6 +22,10 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use crate::layering::root;
+
+/// Programs a block that runs may call: the binary, and `cmp` to show
+/// that two of its files are the same bytes.
+const RUNS: [&str; 2] = ["metabezier", "cmp"];
 
 /// Programs a `sh no_run` block may name besides `make`, `metabezier` and
 /// `cargo`, each outside the project (so not checked further).
@@ -312,10 +317,9 @@ fn every_sh_block_runs_or_names_what_exists() {
         }
         let scratch = Scratch::new(&format!("sh{k}"));
         for c in &commands {
-            assert_eq!(
-                words(c).first(),
-                Some(&"metabezier"),
-                "{}: `{c}` in a block that runs: only `metabezier` commands run here; mark the block `sh no_run`",
+            assert!(
+                words(c).first().is_some_and(|p| RUNS.contains(p)),
+                "{}: `{c}` in a block that runs: only {RUNS:?} run here; mark the block `sh no_run`",
                 b.at()
             );
             let out = scratch.sh(c);
