@@ -199,3 +199,9 @@ pub struct ReadmeDoctests;
 #[cfg(doctest)]
 #[doc = include_str!("../docs/guide/library.md")]
 pub struct GuideLibraryDoctests;
+
+/// The guide's extending chapter (`docs/guide/extending.md`), its Rust
+/// blocks compiled and run by `cargo test --doc`.
+#[cfg(doctest)]
+#[doc = include_str!("../docs/guide/extending.md")]
+pub struct GuideExtendingDoctests;
