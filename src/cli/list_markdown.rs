@@ -2,6 +2,7 @@
 //! the registry and the project's own rule, so that a document holds them
 //! only as copies that `make test` checks (`tests/house/documents.rs`):
 //! the optimisers with their sources, comparison families and defaults,
+//! every parameter with its default, what it admits and what it means,
 //! and "Which optimiser?" by dimension and budget from
 //! [`crate::optim::recommended`], the function Python's `minimize` takes
 //! its default from.
@@ -23,9 +24,35 @@ const GENERATED: &str =
 /// The Markdown of `metabezier list --markdown` for `registry`.
 pub(crate) fn list_markdown(registry: &Registry) -> String {
     format!(
-        "{GENERATED}\n{}\n{}",
+        "{GENERATED}\n{}\n{}\n{}",
         optimisers(registry),
+        parameters(registry),
         which_optimiser()
+    )
+}
+
+/// One row per parameter of every registered optimiser: its default, what
+/// it admits (the phrase a spec's error gives) and what it means.
+fn parameters(registry: &Registry) -> String {
+    let header = ["optimiser", "parameter", "default", "admits", "meaning"].map(String::from);
+    let rows: Vec<Vec<String>> = registry
+        .optimisers
+        .iter()
+        .flat_map(|def| {
+            def.params.iter().map(|p| {
+                vec![
+                    format!("`{}`", def.name),
+                    format!("`{}`", p.name),
+                    p.default.to_string(),
+                    p.expected(),
+                    p.doc.to_owned(),
+                ]
+            })
+        })
+        .collect();
+    format!(
+        "### Parameters\n\n{}",
+        table(&header, &rows, Alignment::Unmarked)
     )
 }
 
