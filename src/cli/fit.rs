@@ -55,8 +55,9 @@ pub(super) struct FitArgs {
     /// With --tolerance: how the search's trial segments are solved.
     /// coarse: Levenberg–Marquardt stops once a step gains less than 0.3%
     /// of E, and a trial that then misses the tolerance by at most 1.5
-    /// times is solved again fully before it is rejected (2–3 times faster
-    /// on images; segment counts within one or two of full's either way);
+    /// times is solved again fully before it is rejected (1.1–3.4 times
+    /// faster on the peer-potrace inputs; segment counts within one or two
+    /// of full's either way);
     /// full: every trial solved to convergence (the fit before issue 52).
     #[arg(long, default_value = "coarse", value_parser = ["coarse", "full"])]
     trials: String,

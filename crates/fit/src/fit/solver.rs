@@ -199,7 +199,7 @@ const FULL_REDUCTION: f64 = 1e-6;
 
 /// The orthogonal stage of [`LmSolver`]'s [`SegmentSolver::solve_coarse`]
 /// stops once a step gains less than this fraction of `E`: 3·10⁻³ (the
-/// function-value test of Moré 1978, as [`orthogonal_lm`]'s 10⁻⁶). A trial
+/// function-value test of Moré 1978, as the full solve's 10⁻⁶). A trial
 /// of a tolerance search only needs to know whether the curve can come
 /// within the tolerance, and the joint solve polishes the chain kept; the
 /// full solve's orthogonal stage creeps along near-reparameterisations of
