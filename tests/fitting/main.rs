@@ -5,6 +5,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod coarse_trials;
 mod exact_fit;
 mod fit;
 mod fit_campaign_tolerance;

@@ -78,7 +78,7 @@ mod solver;
 mod span;
 mod trace;
 
-pub use adaptive::{fit_adaptive, SplitOptions};
+pub use adaptive::{fit_adaptive, SplitOptions, COARSE_RECHECK};
 pub use error::FitError;
 pub use function::FunctionType;
 pub use linear::linear_fit;
@@ -97,6 +97,7 @@ pub use problem::{tangent_meet, End, SegmentProblem, Start};
 pub use segment::Segment;
 pub use solver::{
     HybridSolver, LmSolver, LmStart, OptimiserSolver, SegmentSolver, Solution, SolvePart,
+    COARSE_REDUCTION,
 };
 pub use span::{densify, FittedSegment};
 pub use trace::outline_trace;

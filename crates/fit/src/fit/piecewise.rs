@@ -502,6 +502,7 @@ fn fit_chain<S: SegmentSolver + ?Sized>(
             start,
             end,
             hold_end: given,
+            coarse: false,
         };
         let (fit, spent) = fit_guarded(outline, piece, options, solver)?;
         discarded += spent;
@@ -736,6 +737,7 @@ where
             start,
             end: r.end,
             hold_end: false,
+            coarse: false,
         };
         segments.push(fit_one(&outline, piece, options, &mut solver_for(k))?);
     }

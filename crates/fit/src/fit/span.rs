@@ -164,6 +164,9 @@ pub(super) struct Piece {
     /// [`super::ChainEnds`]): a join the function cannot hold fails the fit
     /// instead of leaving the end free, as a closing joint's does.
     pub hold_end: bool,
+    /// Whether the solve may stop early ([`SegmentSolver::solve_coarse`]):
+    /// a trial of the tolerance search ([`super::SplitOptions::coarse`]).
+    pub coarse: bool,
 }
 
 /// `points` with midpoints inserted into the longest gaps (the first of
@@ -227,15 +230,19 @@ fn piece_problem(
     })
 }
 
-/// Solves `problem` with the solver, or without one when nothing is free.
+/// Solves `problem` with the solver (coarsely if `coarse`), or without one
+/// when nothing is free.
 fn solve<S: SegmentSolver + ?Sized>(
     problem: &SegmentProblem,
     solver: &mut S,
     budget: u64,
+    coarse: bool,
 ) -> Solution {
     if problem.dim() == 0 {
         // Fully determined (a quadratic with a C¹ join): no optimiser.
         Solution::fixed(problem, budget)
+    } else if coarse {
+        solver.solve_coarse(problem, budget)
     } else {
         solver.solve(problem, budget)
     }
@@ -250,7 +257,7 @@ pub(super) fn fit_one<S: SegmentSolver + ?Sized>(
 ) -> Result<FittedSegment, FitError> {
     let (mut problem, original, end) = piece_problem(outline, &piece, options)?;
     let budget = options.budget_per_segment;
-    let mut solution = solve(&problem, solver, budget);
+    let mut solution = solve(&problem, solver, budget, piece.coarse);
     let mut trace = solution.trace.clone();
     let mut spent = solution.evaluations;
     for _ in 0..options.reparameterise {
@@ -262,7 +269,7 @@ pub(super) fn fit_one<S: SegmentSolver + ?Sized>(
             (ErrorMeasure::Orthogonal, None) => problem.measured_params(&solution.x),
         };
         problem = problem.with_params(params)?;
-        solution = solve(&problem, solver, budget);
+        solution = solve(&problem, solver, budget, piece.coarse);
         trace.extend(solution.trace.iter().map(|p| TracePoint {
             evaluations: p.evaluations + spent,
             best: p.best,

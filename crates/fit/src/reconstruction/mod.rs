@@ -218,6 +218,17 @@ pub enum Segmentation {
     /// staircase's allowance within it, with as few segments as the split
     /// and merge passes find, or the contour fails.
     Tolerance(f64),
+    /// [`Segmentation::Tolerance`] with coarse trial fits
+    /// ([`crate::fit::SplitOptions::coarse`]): each trial of the search is
+    /// solved coarsely, and again fully when it misses the tolerance by at
+    /// most `recheck` times (`metabezier fit`'s default, `recheck` =
+    /// [`crate::fit::COARSE_RECHECK`]).
+    Coarse {
+        /// The tolerance (data units).
+        tolerance: f64,
+        /// The recheck factor (`≥ 1`).
+        recheck: f64,
+    },
     /// A glyph's own break points on each contour, C⁰ at its corners.
     TrueBreaks,
     /// These break indices, used as given on every contour (corners are not
@@ -246,6 +257,15 @@ pub struct ContourBreaks {
 }
 
 impl Segmentation {
+    /// The tolerance of [`Segmentation::Tolerance`] and
+    /// [`Segmentation::Coarse`]; `None` for the others.
+    pub fn tolerance(&self) -> Option<f64> {
+        match *self {
+            Segmentation::Tolerance(t) | Segmentation::Coarse { tolerance: t, .. } => Some(t),
+            _ => None,
+        }
+    }
+
     /// The segmentation of `fit`: every contour's segment starts as breaks,
     /// and as corners those joined C⁰ (and the chain's start where the
     /// chain closes at a corner), so that [`fit_breaks`] poses the same
@@ -426,14 +446,19 @@ impl Reconstruction<'_> {
                 });
                 fit_breaks(points, closed, breaks, corners, options, solver)
             }
-            Segmentation::Tolerance(t) => {
+            Segmentation::Tolerance(_) | Segmentation::Coarse { .. } => {
+                let (t, coarse) = match self.segmentation {
+                    Segmentation::Coarse { tolerance, recheck } => (tolerance, Some(recheck)),
+                    _ => (self.segmentation.tolerance().unwrap_or(0.0), None),
+                };
                 let corners = self.corner_indices(contour);
                 // The staircase's allowance is for traced images only:
                 // points sampled from exact curves (glyphs) or given as
                 // they are (CSV) turn sharply only at corners of the shape.
                 let split = SplitOptions {
                     staircase: self.source.is_image(),
-                    ..SplitOptions::new(*t)
+                    coarse,
+                    ..SplitOptions::new(t)
                 };
                 fit_adaptive(points, closed, &corners, &split, options, solver)
             }
