@@ -12,8 +12,9 @@
 //! with MHS (10,000 evaluations per segment, the `metabezier fit` default),
 //! and cut into 101 segments (rational cubic, G1, LM); then the coin, which
 //! has no corner, at 20 segments closed smoothly and closed C⁰ (what the
-//! smooth closing costs). The last lines give the 101-segment horse's
-//! orthogonal distances. Run with `cargo bench --bench fitting`.
+//! smooth closing costs), and the output stage alone: the horse's default
+//! files, and with the PNG and the DXF. The last lines give the
+//! 101-segment horse's orthogonal distances. Run with `cargo bench --bench fitting`.
 
 mod common;
 
@@ -185,9 +186,41 @@ fn horse(c: &mut Criterion) {
     group.bench_function("load-and-trace", |b| {
         b.iter(|| horse_source().points().len())
     });
+    outputs(&mut group, &source);
     group.finish();
     closing(c);
     orthogonal_scaling(c);
+}
+
+/// The output stage alone, on the default fit of the horse at 101
+/// segments: what `metabezier fit` writes by default (`fit.csv`,
+/// `metrics.csv`, `timing.csv` and `fit.svg`), and with the raster and the
+/// DXF too (`--outputs csv,svg,png,dxf`), into a scratch directory.
+fn outputs(
+    group: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    source: &metabezier::reconstruction::Source,
+) {
+    use metabezier::experiment::fit_files::write_fit_records;
+    use metabezier::reconstruction::{save_shape_png, save_shape_svg, shape_dxf, Method};
+    let fit = horse_101(source, ErrorMeasure::Orthogonal, Chain::Joint)
+        .fit(&Method::Exact, 1)
+        .expect("a valid fit");
+    let data = source.points();
+    let dir = std::env::temp_dir().join(format!("metabezier-bench-out-{}", std::process::id()));
+    let case = [("input", "horse.png".to_owned())];
+    let default = |dir: &Path| {
+        write_fit_records(dir, &fit, &case, 0.0).expect("records written");
+        save_shape_svg(&fit, &data, "horse", dir, "fit").expect("svg written");
+    };
+    group.bench_function("output-default", |b| b.iter(|| default(&dir)));
+    group.bench_function("output-with-png-dxf", |b| {
+        b.iter(|| {
+            default(&dir);
+            save_shape_png(&fit, &data, &dir, "fit").expect("png written");
+            std::fs::write(dir.join("fit.dxf"), shape_dxf(&fit)).expect("dxf written");
+        })
+    });
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// The orthogonal LM's cost against the number of points: a rotated ellipse
@@ -326,6 +359,8 @@ fn main() {
         "lm-orthogonal-joint",
         "end-to-end",
         "load-and-trace",
+        "output-default",
+        "output-with-png-dxf",
     ] {
         if let Some(t) = mean_ns("horse-101", id) {
             println!("{id:<22} {:>8.2} ms", t / 1e6);
