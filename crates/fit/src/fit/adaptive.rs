@@ -182,18 +182,20 @@ impl<S: SegmentSolver + ?Sized> Splitter<'_, '_, S> {
         };
         let (fit, spent) = fit_guarded(self.outline, piece, self.options, &mut *self.solver)?;
         built.discarded += spent;
-        let recheck = self.split.coarse.unwrap_or(0.0) * self.split.tolerance;
-        let measured = self.split.measure(&fit);
-        if piece.coarse && measured > self.split.tolerance && measured <= recheck {
-            built.discarded += fit.metrics.evaluations;
-            let full = Piece {
-                coarse: false,
-                ..piece
-            };
-            let (fit, spent) = fit_guarded(self.outline, full, self.options, &mut *self.solver)?;
-            built.discarded += spent;
+        let Some(recheck) = self.split.coarse.filter(|_| piece.coarse) else {
+            return Ok(fit);
+        };
+        let (tolerance, measured) = (self.split.tolerance, self.split.measure(&fit));
+        if measured <= tolerance || measured > recheck * tolerance {
             return Ok(fit);
         }
+        built.discarded += fit.metrics.evaluations;
+        let full = Piece {
+            coarse: false,
+            ..piece
+        };
+        let (fit, spent) = fit_guarded(self.outline, full, self.options, &mut *self.solver)?;
+        built.discarded += spent;
         Ok(fit)
     }
 

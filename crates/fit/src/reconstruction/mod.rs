@@ -446,23 +446,40 @@ impl Reconstruction<'_> {
                 });
                 fit_breaks(points, closed, breaks, corners, options, solver)
             }
-            Segmentation::Tolerance(_) | Segmentation::Coarse { .. } => {
-                let (t, coarse) = match self.segmentation {
-                    Segmentation::Coarse { tolerance, recheck } => (tolerance, Some(recheck)),
-                    _ => (self.segmentation.tolerance().unwrap_or(0.0), None),
-                };
-                let corners = self.corner_indices(contour);
-                // The staircase's allowance is for traced images only:
-                // points sampled from exact curves (glyphs) or given as
-                // they are (CSV) turn sharply only at corners of the shape.
-                let split = SplitOptions {
-                    staircase: self.source.is_image(),
-                    coarse,
-                    ..SplitOptions::new(t)
-                };
-                fit_adaptive(points, closed, &corners, &split, options, solver)
+            Segmentation::Tolerance(t) => self.fit_tolerance(contour, *t, None, solver),
+            Segmentation::Coarse { tolerance, recheck } => {
+                self.fit_tolerance(contour, *tolerance, Some(*recheck), solver)
             }
         }
+    }
+
+    /// `contour` split to `tolerance` ([`fit_adaptive`]), with coarse
+    /// trials rechecked at `coarse` times the tolerance if given.
+    fn fit_tolerance<S: SegmentSolver + ?Sized>(
+        &self,
+        contour: &SourceContour,
+        tolerance: f64,
+        coarse: Option<f64>,
+        solver: &mut S,
+    ) -> Result<PiecewiseFit, FitError> {
+        let corners = self.corner_indices(contour);
+        // The staircase's allowance is for traced images only: points
+        // sampled from exact curves (glyphs) or given as they are (CSV)
+        // turn sharply only at corners of the shape.
+        let split = SplitOptions {
+            staircase: self.source.is_image(),
+            coarse,
+            ..SplitOptions::new(tolerance)
+        };
+        let outline = &contour.outline;
+        fit_adaptive(
+            &outline.points,
+            outline.closed,
+            &corners,
+            &split,
+            &self.options,
+            solver,
+        )
     }
 
     /// The exact reference of the per-segment mode: every contour fitted by
