@@ -152,10 +152,10 @@ fn every_file_with_rust_blocks_is_a_doctest() {
 
 /// A scratch directory that sees the repository's `data/` and
 /// `experiments/`, removed when dropped.
-struct Scratch(PathBuf);
+pub(crate) struct Scratch(pub(crate) PathBuf);
 
 impl Scratch {
-    fn new(tag: &str) -> Scratch {
+    pub(crate) fn new(tag: &str) -> Scratch {
         let dir =
             std::env::temp_dir().join(format!("metabezier-blocks-{}-{tag}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
@@ -175,7 +175,7 @@ impl Scratch {
     }
 
     /// `sh -c script` in the directory with the binary first on `PATH`.
-    fn sh(&self, script: &str) -> std::process::Output {
+    pub(crate) fn sh(&self, script: &str) -> std::process::Output {
         let path = format!(
             "{}:{}",
             self.0.join("bin").display(),
@@ -303,7 +303,7 @@ fn every_sh_block_runs_or_names_what_exists() {
         blocks.iter().any(|b| !b.marked("no_run")),
         "no sh block is run"
     );
-    let known = Known::read();
+    let known = Known::get();
     for (k, b) in blocks.iter().enumerate() {
         let commands = commands(&b.text);
         assert!(!commands.is_empty(), "{}: an empty sh block", b.at());
@@ -342,6 +342,12 @@ struct Known {
 }
 
 impl Known {
+    /// The binary's and the Makefile's names, read once for every test.
+    fn get() -> &'static Known {
+        static KNOWN: std::sync::OnceLock<Known> = std::sync::OnceLock::new();
+        KNOWN.get_or_init(Known::read)
+    }
+
     fn read() -> Known {
         let makefile = std::fs::read_to_string(root().join("Makefile")).unwrap();
         let targets = makefile
@@ -449,7 +455,7 @@ fn the_shell_reading_splits_and_checks_as_meant() {
         ["a b c", "d 'e # f'"]
     );
     assert_eq!(words("X_Y=1 make fuzz > log"), ["make", "fuzz"]);
-    let known = Known::read();
+    let known = Known::get();
     assert!(known.check("make quick test").is_ok());
     assert!(known.check("make reproduce-everything").is_err());
     assert!(known
@@ -467,7 +473,7 @@ fn the_shell_reading_splits_and_checks_as_meant() {
 #[test]
 fn the_commands_table_names_every_subcommand() {
     let table = std::fs::read_to_string(root().join("docs/guide/running.md")).unwrap();
-    for (sub, _) in &Known::read().options {
+    for (sub, _) in &Known::get().options {
         assert!(
             table.contains(&format!("| `metabezier {sub}")),
             "docs/guide/running.md's commands table has no row for `metabezier {sub}`"

@@ -130,26 +130,14 @@ fn the_readme_stays_short() {
 /// The README's picture is what its caption's command draws today.
 #[test]
 fn the_readmes_picture_is_current() {
-    let out = std::env::temp_dir().join(format!("metabezier-picture-{}", std::process::id()));
-    let status = Command::new(env!("CARGO_BIN_EXE_metabezier"))
-        .args([
-            "fit",
-            "data/outlines/horse.png",
-            "--outputs",
-            "png",
-            "--out",
-        ])
-        .arg(&out)
-        .current_dir(root())
-        .output()
-        .unwrap();
+    let scratch = crate::code_blocks::Scratch::new("picture");
+    let run = scratch.sh("metabezier fit data/outlines/horse.png --outputs png --out pic");
     assert!(
-        status.status.success(),
+        run.status.success(),
         "{}",
-        String::from_utf8_lossy(&status.stderr)
+        String::from_utf8_lossy(&run.stderr)
     );
-    let drawn = std::fs::read(out.join("fit.png")).unwrap();
-    std::fs::remove_dir_all(&out).unwrap();
+    let drawn = std::fs::read(scratch.0.join("pic/fit.png")).unwrap();
     let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
     assert!(readme.contains("(docs/img/horse-fit.png)"));
     assert!(readme.contains("`metabezier fit data/outlines/horse.png\n--outputs png`"));
